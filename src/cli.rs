@@ -1,0 +1,202 @@
+//! Command-line front end: raw clap arguments, checked into ready-to-run settings.
+
+use anyhow::{Context, Result};
+use clap::{Args, Parser, Subcommand};
+use hdgear::integrate::Options;
+use hdgear::params::{self, ParamOverrides, Params, Scenario, Warning};
+use hdgear::simulate::{SimOptions, Start};
+use std::path::PathBuf;
+
+/// hdgear: fast-slow dynamics of harmonic drive gears.
+#[derive(Parser, Debug)]
+#[command(name = "hdgear", version, about, long_about = None)]
+pub struct Cli {
+    /// What to do.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// Subcommands.
+#[derive(Subcommand, Debug)]
+pub enum Command {
+    /// Simulate the dimensionless model and write its trajectory (t,a,x,xdot).
+    Simulate(SimulateArgs),
+}
+
+/// Model parameters shared by every command: preset, then file, then flags.
+#[derive(Args, Debug, Clone)]
+pub struct ParamArgs {
+    /// Named parameter set: paper (= paper-g0.1), paper-g30, paper-g10, paper-g1, paper-g0.1.
+    #[arg(long, default_value = "paper")]
+    pub preset: String,
+    /// TOML scenario file with a [params] table (keys alpha, gamma, eps, mu, delta, omega).
+    #[arg(long, value_name = "FILE")]
+    pub config: Option<PathBuf>,
+    /// α > 0, cubic stiffness.
+    #[arg(long, allow_negative_numbers = true)]
+    pub alpha: Option<f64>,
+    /// γ, linear stiffness.
+    #[arg(long, allow_negative_numbers = true)]
+    pub gamma: Option<f64>,
+    /// ε, backlash offset.
+    #[arg(long, allow_negative_numbers = true)]
+    pub eps: Option<f64>,
+    /// μ, mean load.
+    #[arg(long, allow_negative_numbers = true)]
+    pub mu: Option<f64>,
+    /// δ ≥ 0, amplitude of the slow disturbance.
+    #[arg(long, allow_negative_numbers = true)]
+    pub delta: Option<f64>,
+    /// ω > 0, frequency of the slow disturbance.
+    #[arg(long, allow_negative_numbers = true)]
+    pub omega: Option<f64>,
+}
+
+impl ParamArgs {
+    /// The parameter set these sources give, validated, with its warnings.
+    pub fn resolve(&self) -> Result<(Params, Vec<Warning>)> {
+        let file = match &self.config {
+            Some(path) => Some(Scenario::load(path)?),
+            None => None,
+        };
+        let flags = ParamOverrides {
+            alpha: self.alpha,
+            gamma: self.gamma,
+            eps: self.eps,
+            mu: self.mu,
+            delta: self.delta,
+            omega: self.omega,
+        };
+        Ok(params::resolve(&self.preset, file.as_ref(), &flags)?)
+    }
+}
+
+/// Integrator tolerances.
+#[derive(Args, Debug, Clone)]
+pub struct TolArgs {
+    /// Relative tolerance (> 0).
+    #[arg(long, default_value_t = 1e-10, allow_negative_numbers = true)]
+    pub rtol: f64,
+    /// Absolute tolerance (≥ 0).
+    #[arg(long, default_value_t = 1e-10, allow_negative_numbers = true)]
+    pub atol: f64,
+}
+
+impl TolArgs {
+    /// Checked integrator options.
+    pub fn options(&self) -> Result<Options> {
+        let o = Options {
+            rtol: self.rtol,
+            atol: self.atol,
+            ..Options::default()
+        };
+        o.validate()?;
+        Ok(o)
+    }
+}
+
+/// Arguments of `hdgear simulate`.
+#[derive(Args, Debug)]
+pub struct SimulateArgs {
+    #[command(flatten)]
+    pub params: ParamArgs,
+    #[command(flatten)]
+    pub tol: TolArgs,
+    /// Duration in slow periods 2π/ω.
+    #[arg(
+        long,
+        default_value_t = 3.0,
+        conflicts_with = "t_end",
+        allow_negative_numbers = true
+    )]
+    pub periods: f64,
+    /// Duration in dimensionless time (instead of --periods).
+    #[arg(long, allow_negative_numbers = true)]
+    pub t_end: Option<f64>,
+    /// Initial x (default: the stable equilibrium at a = 0).
+    #[arg(long, allow_negative_numbers = true, conflicts_with = "from_rest")]
+    pub x0: Option<f64>,
+    /// Initial x' (default 0).
+    #[arg(long, allow_negative_numbers = true, conflicts_with = "from_rest")]
+    pub v0: Option<f64>,
+    /// Start at rest: x0 = v0 = 0.
+    #[arg(long)]
+    pub from_rest: bool,
+    /// Output spacing (sampled from dense output).
+    #[arg(long, default_value_t = 0.05, allow_negative_numbers = true)]
+    pub dt: f64,
+    /// Output file, .csv or .json (CSV on stdout without it).
+    #[arg(long, value_name = "FILE")]
+    pub out: Option<PathBuf>,
+    /// Print one JSON summary object to stdout instead of the trajectory.
+    #[arg(long)]
+    pub summary: bool,
+}
+
+/// `hdgear simulate`, checked.
+pub struct SimulateRun {
+    pub params: Params,
+    pub warnings: Vec<Warning>,
+    pub opts: SimOptions,
+    pub out: Option<PathBuf>,
+    pub summary: bool,
+}
+
+fn check_positive(name: &str, v: f64) -> Result<f64> {
+    if v.is_finite() && v > 0.0 {
+        Ok(v)
+    } else {
+        anyhow::bail!("invalid option --{name} = {v}: must be finite and > 0")
+    }
+}
+
+fn check_finite(name: &str, v: f64) -> Result<f64> {
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        anyhow::bail!("invalid option --{name} = {v}: must be finite")
+    }
+}
+
+impl SimulateArgs {
+    /// Checks every value and resolves the parameters.
+    pub fn check(&self) -> Result<SimulateRun> {
+        let (params, warnings) = self.params.resolve()?;
+        let tol = self.tol.options()?;
+        let t_end = match self.t_end {
+            Some(t) => check_positive("t-end", t)?,
+            None => check_positive("periods", self.periods)? * params.slow_period(),
+        };
+        let dt = check_positive("dt", self.dt)?;
+        let start = if self.from_rest {
+            Start::Rest
+        } else {
+            match (self.x0, self.v0) {
+                (None, None) => Start::Equilibrium,
+                (x0, v0) => {
+                    let x0 = match x0 {
+                        Some(x) => check_finite("x0", x)?,
+                        None => hdgear::fast::stable_equilibrium(&params, 0.0),
+                    };
+                    let v0 = check_finite("v0", v0.unwrap_or(0.0))?;
+                    Start::Given { x0, v0 }
+                }
+            }
+        };
+        if let Some(out) = &self.out {
+            hdgear::output::Format::from_path(out).context("--out")?;
+        }
+        Ok(SimulateRun {
+            params,
+            warnings,
+            opts: SimOptions {
+                t_end,
+                dt,
+                start,
+                tol,
+            },
+            out: self.out.clone(),
+            summary: self.summary,
+        })
+    }
+}

@@ -1,0 +1,98 @@
+//! The library's error type. Every variant carries what a user needs to fix the problem: the
+//! offending name and value, or the time at which an integration failed.
+
+use std::path::PathBuf;
+
+/// Errors of the hdgear library.
+#[derive(Debug, thiserror::Error)]
+pub enum Error {
+    /// A model parameter is out of its domain.
+    #[error("invalid parameter {name} = {value}: {reason}")]
+    InvalidParameter {
+        /// Parameter name as the user writes it (e.g. `alpha`, `j_in`).
+        name: String,
+        /// The rejected value.
+        value: f64,
+        /// What the value must satisfy.
+        reason: &'static str,
+    },
+    /// A numerical or run option is out of its domain.
+    #[error("invalid option {name} = {value}: {reason}")]
+    InvalidOption {
+        /// Option name.
+        name: &'static str,
+        /// The rejected value.
+        value: f64,
+        /// What the value must satisfy.
+        reason: &'static str,
+    },
+    /// A malformed argument that is not a single number (a range, a parameter name, ...).
+    #[error("invalid {what} '{text}': {reason}")]
+    InvalidInput {
+        /// What was being parsed.
+        what: &'static str,
+        /// The offending text.
+        text: String,
+        /// What is expected.
+        reason: String,
+    },
+    /// A preset name that does not exist.
+    #[error("unknown preset '{name}' (known: {known})")]
+    UnknownPreset {
+        /// The name asked for.
+        name: String,
+        /// Comma-separated list of valid names.
+        known: String,
+    },
+    /// A scenario file that cannot be read or parsed, or that has an unknown key.
+    #[error("scenario file {}: {message}", path.display())]
+    Config {
+        /// The file.
+        path: PathBuf,
+        /// What is wrong, naming the key or line.
+        message: String,
+    },
+    /// The adaptive step size fell below the rounding level of t.
+    #[error(
+        "step size underflow at t = {t} (h = {h:e}): the solution is too stiff or singular there"
+    )]
+    StepSizeTooSmall {
+        /// Time reached.
+        t: f64,
+        /// The step that was too small.
+        h: f64,
+    },
+    /// A state component grew beyond the blow-up threshold.
+    #[error("the solution blew up at t = {t} (a state component reached {value:e})")]
+    BlowUp {
+        /// Time of the step that exceeded the threshold.
+        t: f64,
+        /// The offending value.
+        value: f64,
+    },
+    /// The step budget ran out.
+    #[error("more than {max_steps} steps were needed before t = {t}")]
+    TooManySteps {
+        /// Time reached.
+        t: f64,
+        /// The budget.
+        max_steps: u64,
+    },
+    /// The reduction to dimensionless form does not exist for this drive.
+    #[error("no dimensionless reduction: {reason}")]
+    NoReduction {
+        /// Why, and what to do instead.
+        reason: String,
+    },
+    /// An output file could not be written.
+    #[error("cannot write {}: {source}", path.display())]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The underlying error.
+        source: std::io::Error,
+    },
+}
+
+/// Result alias of the library.
+pub type Result<T> = std::result::Result<T, Error>;

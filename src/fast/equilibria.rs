@@ -1,0 +1,254 @@
+//! Equilibria of the fast subsystem at a frozen slow variable a: the real roots of the cubic
+//! F(x, a) = α x³ − x² + γ (x − ε) − μ − δ a, with their linear stability.
+//!
+//! Method: F is monotone between its critical points (the folds x± where g'(x) = 0, when they
+//! exist), so each real root lies in a known interval with a sign change: (−∞, x−], [x−, x+],
+//! [x+, ∞), or all of ℝ without folds. The infinite ends are cut at the Cauchy bound
+//! 1 + max|coefficient/α|. Each root is then found by Newton's method safeguarded by bisection in
+//! its bracket, which converges to the correctly rounded neighbourhood of the root whatever the
+//! conditioning, and stays accurate next to a double root (where the closed-form Cardano formula
+//! loses half the digits). A fold value within rounding of zero (|F(x±)| ≤ 8·ε_mach·Σ|terms|) is
+//! reported as a double root.
+
+use crate::params::Params;
+use serde::Serialize;
+
+/// Linear type of an equilibrium (x, 0) of x'' + x' + g(x) = μ + δ a.
+///
+/// The Jacobian is [[0, 1], [−g'(x), −1]]: trace −1, determinant g'(x), eigenvalues
+/// (−1 ± √(1 − 4 g'))/2.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum EqType {
+    /// 0 < g' ≤ 1/4: two real negative eigenvalues.
+    StableNode,
+    /// g' > 1/4: complex eigenvalues with real part −1/2.
+    StableFocus,
+    /// g' < 0: one positive, one negative eigenvalue.
+    Saddle,
+    /// g' = 0 (a fold point): a zero eigenvalue.
+    Degenerate,
+}
+
+impl EqType {
+    /// The type for a given g'(x).
+    pub fn from_g_prime(gp: f64) -> EqType {
+        if gp > 0.25 {
+            EqType::StableFocus
+        } else if gp > 0.0 {
+            EqType::StableNode
+        } else if gp < 0.0 {
+            EqType::Saddle
+        } else {
+            EqType::Degenerate
+        }
+    }
+
+    /// Name used in CSV/JSON output.
+    pub fn name(self) -> &'static str {
+        match self {
+            EqType::StableNode => "stable-node",
+            EqType::StableFocus => "stable-focus",
+            EqType::Saddle => "saddle",
+            EqType::Degenerate => "degenerate",
+        }
+    }
+
+    /// True for the asymptotically stable types.
+    pub fn is_stable(self) -> bool {
+        matches!(self, EqType::StableNode | EqType::StableFocus)
+    }
+}
+
+/// The two eigenvalues λ = re ± i·im of the Jacobian for a given g'(x), larger real part first.
+pub fn eigenvalues(gp: f64) -> [(f64, f64); 2] {
+    let disc = 1.0 - 4.0 * gp;
+    if disc >= 0.0 {
+        let s = disc.sqrt();
+        [(-0.5 + 0.5 * s, 0.0), (-0.5 - 0.5 * s, 0.0)]
+    } else {
+        let w = 0.5 * (-disc).sqrt();
+        [(-0.5, w), (-0.5, -w)]
+    }
+}
+
+/// One equilibrium (x, 0) of the fast subsystem.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Equilibrium {
+    /// Position x.
+    pub x: f64,
+    /// g'(x) = 3αx² − 2x + γ (the Jacobian's determinant).
+    pub g_prime: f64,
+    /// Eigenvalues as (re, im) pairs.
+    pub eigenvalues: [(f64, f64); 2],
+    /// Linear type.
+    pub kind: EqType,
+    /// 1 for a simple root, 2 for a double root (a fold), 3 at the cusp.
+    pub multiplicity: u8,
+}
+
+impl Equilibrium {
+    fn at(p: &Params, x: f64, multiplicity: u8) -> Equilibrium {
+        let gp = if multiplicity > 1 { 0.0 } else { p.g_prime(x) };
+        Equilibrium {
+            x,
+            g_prime: gp,
+            eigenvalues: eigenvalues(gp),
+            kind: EqType::from_g_prime(gp),
+            multiplicity,
+        }
+    }
+}
+
+/// All equilibria at one value of the slow variable.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Equilibria {
+    /// The slow variable a.
+    pub a: f64,
+    /// Distinct real roots in increasing x.
+    pub roots: Vec<Equilibrium>,
+    /// Discriminant Δ = 18abcd − 4b³d + b²c² − 4ac³ − 27a²d² of the cubic ax³ + bx² + cx + d
+    /// with a = α, b = −1, c = γ, d = −(γε + μ + δa). Sign convention (the usual one): Δ > 0 three
+    /// distinct real roots, Δ = 0 a multiple root, Δ < 0 one real root. (The study states the
+    /// opposite sign for "one root"; it uses another convention.)
+    pub discriminant: f64,
+}
+
+impl Equilibria {
+    /// Number of distinct real equilibria (1, 2 or 3).
+    pub fn count(&self) -> usize {
+        self.roots.len()
+    }
+}
+
+/// The fold abscissae x− < x+ where g'(x) = 0, if 1 − 3αγ > 0 (γ < 1/(3α)).
+///
+/// x± = (1 ± s)/(3α) with s = √(1 − 3αγ); x− is computed as γ/(1 + s) to avoid cancellation.
+pub fn fold_abscissae(p: &Params) -> Option<(f64, f64)> {
+    let d = 1.0 - 3.0 * p.alpha * p.gamma;
+    if d <= 0.0 {
+        return None;
+    }
+    let s = d.sqrt();
+    let xp = (1.0 + s) / (3.0 * p.alpha);
+    let xm = p.gamma / (1.0 + s);
+    Some((xm, xp))
+}
+
+/// F(x, a) and the sum of the magnitudes of its terms (the rounding scale of F).
+fn f_and_scale(p: &Params, x: f64, rhs: f64) -> (f64, f64) {
+    let f = p.g(x) - rhs;
+    let scale = (p.alpha * x * x * x).abs()
+        + x * x
+        + (p.gamma * x).abs()
+        + (p.gamma * p.eps).abs()
+        + rhs.abs();
+    (f, scale)
+}
+
+/// A root of the monotone F on [lo, hi] with F(lo), F(hi) of opposite signs (or zero).
+fn bracketed_root(p: &Params, rhs: f64, mut lo: f64, mut hi: f64) -> f64 {
+    let f = |x: f64| p.g(x) - rhs;
+    let (flo, fhi) = (f(lo), f(hi));
+    if flo == 0.0 {
+        return lo;
+    }
+    if fhi == 0.0 {
+        return hi;
+    }
+    let increasing = fhi > flo;
+    let mut x = 0.5 * (lo + hi);
+    for _ in 0..300 {
+        let fx = f(x);
+        if fx == 0.0 {
+            return x;
+        }
+        // shrink the bracket
+        if (fx < 0.0) == increasing {
+            lo = x;
+        } else {
+            hi = x;
+        }
+        let d = p.g_prime(x);
+        let newton = x - fx / d;
+        let next = if d != 0.0 && newton > lo && newton < hi {
+            newton
+        } else {
+            0.5 * (lo + hi)
+        };
+        if next == x || (hi - lo) <= 2.0 * f64::EPSILON * x.abs().max(f64::MIN_POSITIVE) {
+            return next;
+        }
+        if (next - x).abs() <= f64::EPSILON * x.abs() {
+            // one more Newton step polishes to the last bit
+            let fx2 = f(next);
+            let d2 = p.g_prime(next);
+            return if d2 != 0.0 { next - fx2 / d2 } else { next };
+        }
+        x = next;
+    }
+    x
+}
+
+/// All real equilibria at slow variable `a`, with their stability.
+///
+/// ```
+/// let p = hdgear::Params::default();
+/// let e = hdgear::fast::equilibria(&p, 0.0);
+/// assert_eq!(e.count(), 1);
+/// assert!(e.roots[0].kind.is_stable());
+/// ```
+pub fn equilibria(p: &Params, a: f64) -> Equilibria {
+    let rhs = p.forcing(a) + p.gamma * p.eps; // α x³ − x² + γ x = rhs
+    let (ca, cb, cc, cd) = (p.alpha, -1.0, p.gamma, -rhs);
+    let discriminant = 18.0 * ca * cb * cc * cd - 4.0 * cb.powi(3) * cd + cb * cb * cc * cc
+        - 4.0 * ca * cc.powi(3)
+        - 27.0 * ca * ca * cd * cd;
+    let bound = 1.0 + (1.0 / ca).max((cc / ca).abs()).max((cd / ca).abs());
+    let rhs_f = p.forcing(a);
+    let mut roots = Vec::with_capacity(3);
+    match fold_abscissae(p) {
+        None => {
+            let x = bracketed_root(p, rhs_f, -bound, bound);
+            // At the cusp (γ = 1/(3α) exactly) a triple root is possible.
+            let mult = if p.g_prime(x) == 0.0 { 3 } else { 1 };
+            roots.push(Equilibrium::at(p, x, mult));
+        }
+        Some((xm, xp)) => {
+            let (fm, sm) = f_and_scale(p, xm, rhs_f);
+            let (fp, sp) = f_and_scale(p, xp, rhs_f);
+            let zero_m = fm.abs() <= 8.0 * f64::EPSILON * sm;
+            let zero_p = fp.abs() <= 8.0 * f64::EPSILON * sp;
+            if zero_m {
+                roots.push(Equilibrium::at(p, xm, 2));
+            } else if fm > 0.0 {
+                roots.push(Equilibrium::at(p, bracketed_root(p, rhs_f, -bound, xm), 1));
+            }
+            if !zero_m && !zero_p && fm > 0.0 && fp < 0.0 {
+                roots.push(Equilibrium::at(p, bracketed_root(p, rhs_f, xm, xp), 1));
+            }
+            if zero_p {
+                roots.push(Equilibrium::at(p, xp, 2));
+            } else if fp < 0.0 {
+                roots.push(Equilibrium::at(p, bracketed_root(p, rhs_f, xp, bound), 1));
+            }
+        }
+    }
+    Equilibria {
+        a,
+        roots,
+        discriminant,
+    }
+}
+
+/// The stable equilibrium the default initial condition starts on at slow variable `a`: the only
+/// one without folds; in the hysteresis regime (two stable branches) the lower one.
+pub fn stable_equilibrium(p: &Params, a: f64) -> f64 {
+    let e = equilibria(p, a);
+    e.roots
+        .iter()
+        .find(|r| r.kind.is_stable())
+        .or(e.roots.first())
+        .map(|r| r.x)
+        .expect("a real cubic has at least one real root")
+}

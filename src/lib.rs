@@ -1,0 +1,39 @@
+//! # hdgear — fast-slow dynamics of harmonic drive gears
+//!
+//! hdgear simulates and analyses the harmonic drive model with nonlinear torsional stiffness of
+//! Han, Huang, Ding & Bi (2022), in its dimensionless form
+//!
+//! ```text
+//! x'' + x' + α x³ − x² + γ (x − ε) = μ + δ sin(ω τ)
+//! ```
+//!
+//! and (see the `physical` issue) its two-inertia physical form. The slow variable
+//! a = sin(ω τ) (ω ≪ 1) sweeps the fast subsystem x'' + x' + g(x) = μ + δ a, g(x) = αx³ − x² + γ(x − ε),
+//! through its equilibrium curve; where that curve is steep the state cannot follow and bursts.
+//!
+//! Principal types:
+//! * [`Params`]: the dimensionless parameters, presets and validation ([`params`]).
+//! * [`model::Dimensionless`]: the right-hand side.
+//! * [`integrate::Dop853`]: the adaptive 8th-order integrator with dense output and events.
+//! * [`simulate::simulate`]: a sampled trajectory with a summary.
+//! * [`fast`]: equilibria and stability of the fast subsystem.
+//!
+//! ```
+//! use hdgear::{Params, simulate::{simulate, SimOptions}};
+//! let p = Params { gamma: 30.0, ..Params::default() };
+//! let opts = SimOptions { t_end: 50.0, ..SimOptions::default() };
+//! let run = simulate(&p, &opts, |_t, _y| {}).unwrap();
+//! assert!(run.max_abs_xdot < 1.0);
+//! ```
+#![warn(missing_docs)]
+
+pub mod error;
+pub mod fast;
+pub mod integrate;
+pub mod model;
+pub mod output;
+pub mod params;
+pub mod simulate;
+
+pub use error::{Error, Result};
+pub use params::Params;

@@ -1,0 +1,35 @@
+//! Right-hand sides of the models.
+//!
+//! The dimensionless model in first-order form, with state (x, v = x'):
+//!
+//! x' = v,  v' = μ + δ sin(ω τ) − v − g(x),  g(x) = α x³ − x² + γ (x − ε).
+
+use crate::integrate::System;
+use crate::params::Params;
+
+/// The dimensionless harmonic drive model (SPEC §2) as a [`System`] with state [x, x'].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Dimensionless {
+    /// The parameters.
+    pub p: Params,
+}
+
+impl Dimensionless {
+    /// Wraps a parameter set.
+    pub fn new(p: Params) -> Self {
+        Dimensionless { p }
+    }
+
+    /// Jacobian ∂f/∂y at (t, y): [[0, 1], [−g'(x), −1]].
+    pub fn jacobian(&self, y: &[f64; 2]) -> [[f64; 2]; 2] {
+        [[0.0, 1.0], [-self.p.g_prime(y[0]), -1.0]]
+    }
+}
+
+impl System<2> for Dimensionless {
+    #[inline(always)]
+    fn rhs(&self, t: f64, y: &[f64; 2]) -> [f64; 2] {
+        let p = &self.p;
+        [y[1], p.forcing((p.omega * t).sin()) - y[1] - p.g(y[0])]
+    }
+}

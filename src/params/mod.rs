@@ -1,0 +1,303 @@
+//! Model parameters: the dimensionless set ([`Params`]), named presets, and TOML scenario files.
+//!
+//! Sources are applied in order, later overriding earlier: a named preset, a scenario file's
+//! `[params]` table, then single values (the command line's flags). [`ParamOverrides`] is the
+//! partial set both the file and the flags produce.
+
+use crate::error::{Error, Result};
+use serde::{Deserialize, Serialize};
+use std::fmt;
+use std::path::Path;
+
+/// The dimensionless parameters of
+/// x'' + x' + α x³ − x² + γ (x − ε) = μ + δ sin(ω τ).
+///
+/// The default is the study's point with γ = 0.1 (pronounced bursting).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Params {
+    /// α > 0: cubic stiffness (what confines the motion).
+    pub alpha: f64,
+    /// γ: linear stiffness. Any finite value.
+    pub gamma: f64,
+    /// ε: backlash offset of the linear term. Any finite value.
+    pub eps: f64,
+    /// μ: mean load. Any finite value.
+    pub mu: f64,
+    /// δ ≥ 0: amplitude of the slow torque disturbance.
+    pub delta: f64,
+    /// ω > 0: frequency of the slow disturbance.
+    pub omega: f64,
+}
+
+impl Default for Params {
+    fn default() -> Self {
+        Params {
+            alpha: 16.0,
+            gamma: 0.1,
+            eps: 0.71,
+            mu: 0.07,
+            delta: 15.0,
+            omega: 0.01,
+        }
+    }
+}
+
+/// Names of the six dimensionless parameters, in the order used by tables and sweeps.
+pub const PARAM_NAMES: [&str; 6] = ["alpha", "gamma", "eps", "mu", "delta", "omega"];
+
+/// Named parameter sets: the study's point and its four γ cases.
+pub const PRESETS: [(&str, f64); 5] = [
+    ("paper", 0.1),
+    ("paper-g30", 30.0),
+    ("paper-g10", 10.0),
+    ("paper-g1", 1.0),
+    ("paper-g0.1", 0.1),
+];
+
+/// A non-fatal remark about a parameter set.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(tag = "kind", rename_all = "kebab-case")]
+pub enum Warning {
+    /// α·ε ≠ 1: no physical drive reduces to this set (SPEC §2: α·ε = C²/(k2φ²J)·k2φ²J/C² = 1).
+    AlphaEpsNotOne {
+        /// The product α·ε.
+        alpha_eps: f64,
+    },
+}
+
+impl fmt::Display for Warning {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Warning::AlphaEpsNotOne { alpha_eps } => write!(
+                f,
+                "alpha*eps = {alpha_eps} differs from 1: no physical drive reduces to this \
+                 dimensionless set (the reduction gives alpha*eps = 1 exactly); it is studied \
+                 as a dimensionless model only"
+            ),
+        }
+    }
+}
+
+impl Params {
+    /// The named preset (see [`PRESETS`]).
+    ///
+    /// ```
+    /// let p = hdgear::Params::preset("paper-g30").unwrap();
+    /// assert_eq!(p.gamma, 30.0);
+    /// assert!(hdgear::Params::preset("nope").is_err());
+    /// ```
+    pub fn preset(name: &str) -> Result<Params> {
+        PRESETS
+            .iter()
+            .find(|(n, _)| *n == name)
+            .map(|&(_, gamma)| Params {
+                gamma,
+                ..Params::default()
+            })
+            .ok_or_else(|| Error::UnknownPreset {
+                name: name.to_string(),
+                known: PRESETS.map(|(n, _)| n).join(", "),
+            })
+    }
+
+    /// The value of a parameter by name.
+    pub fn get(&self, name: &str) -> Option<f64> {
+        Some(match name {
+            "alpha" => self.alpha,
+            "gamma" => self.gamma,
+            "eps" => self.eps,
+            "mu" => self.mu,
+            "delta" => self.delta,
+            "omega" => self.omega,
+            _ => return None,
+        })
+    }
+
+    /// Sets a parameter by name; an unknown name is an error naming it.
+    pub fn set(&mut self, name: &str, value: f64) -> Result<()> {
+        let slot = match name {
+            "alpha" => &mut self.alpha,
+            "gamma" => &mut self.gamma,
+            "eps" => &mut self.eps,
+            "mu" => &mut self.mu,
+            "delta" => &mut self.delta,
+            "omega" => &mut self.omega,
+            _ => {
+                return Err(Error::InvalidInput {
+                    what: "parameter name",
+                    text: name.to_string(),
+                    reason: format!("expected one of {}", PARAM_NAMES.join(", ")),
+                });
+            }
+        };
+        *slot = value;
+        Ok(())
+    }
+
+    /// Checks the domain (all finite, α > 0, ω > 0, δ ≥ 0) and returns the warnings of a valid set.
+    pub fn validate(&self) -> Result<Vec<Warning>> {
+        for name in PARAM_NAMES {
+            let v = self.get(name).expect("known name");
+            if !v.is_finite() {
+                return Err(invalid(name, v, "must be finite"));
+            }
+        }
+        if self.alpha <= 0.0 {
+            return Err(invalid(
+                "alpha",
+                self.alpha,
+                "must be > 0 (the cubic stiffness confines the motion)",
+            ));
+        }
+        if self.omega <= 0.0 {
+            return Err(invalid("omega", self.omega, "must be > 0"));
+        }
+        if self.delta < 0.0 {
+            return Err(invalid(
+                "delta",
+                self.delta,
+                "must be ≥ 0 (its sign is the phase of the disturbance)",
+            ));
+        }
+        let mut w = Vec::new();
+        let ae = self.alpha * self.eps;
+        if (ae - 1.0).abs() > 1e-9 {
+            w.push(Warning::AlphaEpsNotOne { alpha_eps: ae });
+        }
+        Ok(w)
+    }
+
+    /// g(x) = α x³ − x² + γ (x − ε): the restoring force of the fast subsystem.
+    #[inline(always)]
+    pub fn g(&self, x: f64) -> f64 {
+        ((self.alpha * x - 1.0) * x + self.gamma) * x - self.gamma * self.eps
+    }
+
+    /// g'(x) = 3α x² − 2x + γ.
+    #[inline(always)]
+    pub fn g_prime(&self, x: f64) -> f64 {
+        (3.0 * self.alpha * x - 2.0) * x + self.gamma
+    }
+
+    /// The forcing μ + δ a for slow variable a.
+    #[inline(always)]
+    pub fn forcing(&self, a: f64) -> f64 {
+        self.mu + self.delta * a
+    }
+
+    /// The slow period 2π/ω.
+    pub fn slow_period(&self) -> f64 {
+        std::f64::consts::TAU / self.omega
+    }
+
+    /// The critical γ = 1/(3α): folds exist below it, the cusp is at it.
+    pub fn critical_gamma(&self) -> f64 {
+        1.0 / (3.0 * self.alpha)
+    }
+}
+
+pub(crate) fn invalid(name: &str, value: f64, reason: &'static str) -> Error {
+    Error::InvalidParameter {
+        name: name.to_string(),
+        value,
+        reason,
+    }
+}
+
+/// A partial parameter set: the `[params]` table of a scenario file, or command-line flags.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ParamOverrides {
+    /// α
+    pub alpha: Option<f64>,
+    /// γ
+    pub gamma: Option<f64>,
+    /// ε
+    pub eps: Option<f64>,
+    /// μ
+    pub mu: Option<f64>,
+    /// δ
+    pub delta: Option<f64>,
+    /// ω
+    pub omega: Option<f64>,
+}
+
+impl ParamOverrides {
+    /// Applies the values that are present to `p`.
+    pub fn apply(&self, p: &mut Params) {
+        let pairs = [
+            (&mut p.alpha, self.alpha),
+            (&mut p.gamma, self.gamma),
+            (&mut p.eps, self.eps),
+            (&mut p.mu, self.mu),
+            (&mut p.delta, self.delta),
+            (&mut p.omega, self.omega),
+        ];
+        for (slot, v) in pairs {
+            if let Some(v) = v {
+                *slot = v;
+            }
+        }
+    }
+}
+
+/// A scenario file. Tables: `[params]` (dimensionless) and `[physical]` (a drive in SI units; read
+/// by the physical-model commands). Unknown tables or keys are errors that name them.
+#[derive(Clone, Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Scenario {
+    /// Dimensionless parameters.
+    #[serde(default)]
+    pub params: ParamOverrides,
+    /// Physical drive parameters, kept as a raw table here and checked by the physical model.
+    pub physical: Option<toml::Table>,
+}
+
+impl Scenario {
+    /// Parses a scenario from TOML text; `path` is used in error messages.
+    pub fn parse(text: &str, path: &Path) -> Result<Scenario> {
+        toml::from_str(text).map_err(|e| Error::Config {
+            path: path.to_path_buf(),
+            message: e.message().to_string()
+                + &e.span()
+                    .map(|s| {
+                        let line = text[..s.start].matches('\n').count() + 1;
+                        format!(" (line {line})")
+                    })
+                    .unwrap_or_default(),
+        })
+    }
+
+    /// Reads and parses a scenario file.
+    pub fn load(path: &Path) -> Result<Scenario> {
+        let text = std::fs::read_to_string(path).map_err(|e| Error::Config {
+            path: path.to_path_buf(),
+            message: e.to_string(),
+        })?;
+        Scenario::parse(&text, path)
+    }
+}
+
+/// Resolves the parameter set from its sources: preset, then file overrides, then flag overrides,
+/// and validates it. Returns the set and its warnings.
+///
+/// ```
+/// use hdgear::params::{resolve, ParamOverrides};
+/// let flags = ParamOverrides { gamma: Some(1.0), ..Default::default() };
+/// let (p, warnings) = resolve("paper", None, &flags).unwrap();
+/// assert_eq!(p.gamma, 1.0);
+/// assert_eq!(warnings.len(), 1); // the study's α·ε = 11.36 ≠ 1
+/// ```
+pub fn resolve(
+    preset: &str,
+    file: Option<&Scenario>,
+    flags: &ParamOverrides,
+) -> Result<(Params, Vec<Warning>)> {
+    let mut p = Params::preset(preset)?;
+    if let Some(s) = file {
+        s.params.apply(&mut p);
+    }
+    flags.apply(&mut p);
+    let w = p.validate()?;
+    Ok((p, w))
+}

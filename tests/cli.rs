@@ -1,0 +1,237 @@
+//! The command line: formats, row counts, summary keys, and every bad input.
+
+use crate::common::{files_in, hdgear};
+use predicates::prelude::*;
+
+#[test]
+fn simulate_csv_header_and_row_count() {
+    let out = hdgear()
+        .args(["simulate", "--t-end", "10", "--dt", "0.5"])
+        .assert()
+        .success()
+        .get_output()
+        .stdout
+        .clone();
+    let text = String::from_utf8(out).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(lines.next(), Some("t,a,x,xdot"));
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| l.split(',').map(|v| v.parse().unwrap()).collect())
+        .collect();
+    assert_eq!(rows.len(), 21); // t = 0, 0.5, …, 10
+    assert_eq!(rows[0][0], 0.0);
+    assert_eq!(rows[20][0], 10.0);
+    for r in &rows {
+        assert_eq!(r.len(), 4);
+        assert!((r[1] - (0.01 * r[0]).sin()).abs() < 1e-15, "a = sin(ωt)");
+    }
+    // t_end off the grid: the final time is appended
+    let text = String::from_utf8(
+        hdgear()
+            .args(["simulate", "--t-end", "1.25", "--dt", "0.5"])
+            .assert()
+            .success()
+            .get_output()
+            .stdout
+            .clone(),
+    )
+    .unwrap();
+    let ts: Vec<&str> = text
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').next().unwrap())
+        .collect();
+    assert_eq!(ts, ["0", "0.5", "1", "1.25"]);
+}
+
+#[test]
+fn simulate_writes_csv_and_json_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("run.csv");
+    let json = dir.path().join("run.json");
+    for f in [&csv, &json] {
+        hdgear()
+            .args([
+                "simulate", "--preset", "paper-g1", "--t-end", "20", "--dt", "1", "--out",
+            ])
+            .arg(f)
+            .assert()
+            .success()
+            .stdout("");
+    }
+    let text = std::fs::read_to_string(&csv).unwrap();
+    assert_eq!(text.lines().count(), 22);
+    let doc: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(doc["columns"], serde_json::json!(["t", "a", "x", "xdot"]));
+    assert_eq!(doc["t"].as_array().unwrap().len(), 21);
+    assert_eq!(doc["meta"]["params"]["gamma"], 1.0);
+    // the CSV and JSON carry the same numbers
+    let last_csv: f64 = text
+        .lines()
+        .last()
+        .unwrap()
+        .split(',')
+        .nth(2)
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert_eq!(doc["x"][20].as_f64().unwrap(), last_csv);
+    assert_eq!(files_in(dir.path()), ["run.csv", "run.json"]);
+}
+
+#[test]
+fn simulate_summary_has_the_documented_keys() {
+    let out = hdgear()
+        .args(["simulate", "--summary", "--periods", "0.1"])
+        .assert()
+        .success()
+        .get_output()
+        .stdout
+        .clone();
+    let doc: serde_json::Value = serde_json::from_slice(&out).unwrap();
+    for key in [
+        "params",
+        "t_end",
+        "final",
+        "stats",
+        "max_abs_xdot",
+        "warnings",
+    ] {
+        assert!(doc.get(key).is_some(), "missing {key} in {doc}");
+    }
+    for key in ["alpha", "gamma", "eps", "mu", "delta", "omega"] {
+        assert!(doc["params"][key].is_f64(), "params.{key}");
+    }
+    for key in ["x", "xdot"] {
+        assert!(doc["final"][key].is_f64());
+    }
+    for key in ["steps", "rejected", "rhs_evals"] {
+        assert!(doc["stats"][key].is_u64());
+    }
+    let t_end = doc["t_end"].as_f64().unwrap();
+    assert!((t_end - 0.1 * std::f64::consts::TAU / 0.01).abs() < 1e-9);
+    // the study's α·ε = 11.36 is flagged
+    assert!(doc["warnings"][0].as_str().unwrap().contains("alpha*eps"));
+}
+
+#[test]
+fn parameter_sources_override_in_order() {
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = dir.path().join("s.toml");
+    std::fs::write(&cfg, "[params]\ngamma = 2.5\ndelta = 10\n").unwrap();
+    let out = hdgear()
+        .args([
+            "simulate",
+            "--summary",
+            "--t-end",
+            "1",
+            "--preset",
+            "paper-g30",
+            "--config",
+        ])
+        .arg(&cfg)
+        .args(["--delta", "12"])
+        .assert()
+        .success()
+        .get_output()
+        .stdout
+        .clone();
+    let doc: serde_json::Value = serde_json::from_slice(&out).unwrap();
+    assert_eq!(doc["params"]["gamma"], 2.5); // file over preset
+    assert_eq!(doc["params"]["delta"], 12.0); // flag over file
+    assert_eq!(doc["params"]["alpha"], 16.0); // preset
+}
+
+/// Runs a bad command with `--out` into an empty directory: exit 2, the message names the
+/// offending value, and the directory stays empty.
+fn rejects(args: &[&str], needle: &str) {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out.csv");
+    hdgear()
+        .args(args)
+        .arg("--out")
+        .arg(&out)
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains(needle))
+        .stderr(predicate::str::contains("panicked").not());
+    assert!(
+        files_in(dir.path()).is_empty(),
+        "{args:?} left {:?}",
+        files_in(dir.path())
+    );
+}
+
+#[test]
+fn bad_parameters_exit_2_naming_the_value() {
+    rejects(&["simulate", "--alpha", "nan"], "alpha = NaN");
+    rejects(&["simulate", "--gamma", "inf"], "gamma = inf");
+    rejects(&["simulate", "--alpha", "0"], "alpha = 0");
+    rejects(&["simulate", "--alpha=-3"], "alpha = -3");
+    rejects(&["simulate", "--omega", "0"], "omega = 0");
+    rejects(&["simulate", "--delta=-1"], "delta = -1");
+    rejects(&["simulate", "--mu=-inf"], "mu = -inf");
+    rejects(&["simulate", "--preset", "paper-g2"], "paper-g2");
+}
+
+#[test]
+fn bad_options_exit_2_naming_the_value() {
+    rejects(&["simulate", "--t-end", "0"], "t-end = 0");
+    rejects(&["simulate", "--t-end=-5"], "t-end = -5");
+    rejects(&["simulate", "--periods", "nan"], "periods = NaN");
+    rejects(&["simulate", "--rtol", "0"], "rtol = 0");
+    rejects(&["simulate", "--rtol=-1e-8"], "rtol = -0.00000001");
+    rejects(&["simulate", "--atol", "nan"], "atol = NaN");
+    rejects(&["simulate", "--dt", "0"], "dt = 0");
+    rejects(&["simulate", "--x0", "nan"], "x0 = NaN");
+    rejects(&["simulate", "--gamma", "abc"], "abc");
+}
+
+#[test]
+fn bad_config_files_exit_2_naming_the_key() {
+    let dir = tempfile::tempdir().unwrap();
+    let unknown = dir.path().join("unknown.toml");
+    std::fs::write(&unknown, "[params]\ngamma = 1\nbeta = 2\n").unwrap();
+    let malformed = dir.path().join("malformed.toml");
+    std::fs::write(&malformed, "[params\ngamma = 1\n").unwrap();
+    let wrong_type = dir.path().join("type.toml");
+    std::fs::write(&wrong_type, "[params]\ngamma = \"one\"\n").unwrap();
+    let nan = dir.path().join("nan.toml");
+    std::fs::write(&nan, "[params]\nalpha = nan\n").unwrap();
+    for (f, needle) in [
+        (&unknown, "beta"),
+        (&malformed, "malformed.toml"),
+        (&wrong_type, "type.toml"),
+        (&nan, "alpha = NaN"),
+    ] {
+        rejects(&["simulate", "--config", f.to_str().unwrap()], needle);
+    }
+    rejects(
+        &["simulate", "--config", "/nonexistent/x.toml"],
+        "/nonexistent/x.toml",
+    );
+}
+
+#[test]
+fn unwritable_output_exits_2_and_leaves_nothing() {
+    hdgear()
+        .args([
+            "simulate",
+            "--t-end",
+            "1",
+            "--out",
+            "/nonexistent-dir/run.csv",
+        ])
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("/nonexistent-dir/run.csv"));
+    let dir = tempfile::tempdir().unwrap();
+    hdgear()
+        .args(["simulate", "--t-end", "1", "--out"])
+        .arg(dir.path().join("run.txt"))
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("run.txt"));
+    assert!(files_in(dir.path()).is_empty());
+}

@@ -1,0 +1,260 @@
+//! The integrator against closed forms: convergence order, dense output, events, accounting.
+
+use hdgear::Params;
+use hdgear::integrate::events::{Detector, Direction};
+use hdgear::integrate::{Dop853, Options, System, sample};
+use hdgear::model::Dimensionless;
+
+/// y' = cos(t)·y, y(0) = 1  ⇒  y = exp(sin t). Non-autonomous, so a stage evaluated at the wrong
+/// time shows up as a lost order.
+struct ExpSin;
+impl System<1> for ExpSin {
+    fn rhs(&self, t: f64, y: &[f64; 1]) -> [f64; 1] {
+        [t.cos() * y[0]]
+    }
+}
+
+/// y'' = −y: y = sin t.
+struct Osc;
+impl System<2> for Osc {
+    fn rhs(&self, _t: f64, y: &[f64; 2]) -> [f64; 2] {
+        [y[1], -y[0]]
+    }
+}
+
+/// Fixed steps h: tolerances so loose that no step is rejected, h_init = h_max = h.
+fn fixed(h: f64) -> Options {
+    Options {
+        rtol: 1e3,
+        atol: 1e3,
+        h_init: Some(h),
+        h_max: Some(h),
+        ..Options::default()
+    }
+}
+
+fn observed_order(errors: &[f64]) -> Vec<f64> {
+    errors.windows(2).map(|w| (w[0] / w[1]).log2()).collect()
+}
+
+/// Max error at the step ends over [0, 16] with fixed steps h.
+fn max_step_error<S: System<N>, const N: usize>(
+    sys: &S,
+    y0: [f64; N],
+    exact: impl Fn(f64) -> f64,
+    h: f64,
+) -> f64 {
+    let mut s = Dop853::new(sys, 0.0, y0, fixed(h)).unwrap();
+    let mut worst: f64 = 0.0;
+    while s.t() < 16.0 {
+        s.step(16.0).unwrap();
+        worst = worst.max((s.y()[0] - exact(s.t())).abs());
+    }
+    assert_eq!(s.stats().rejected, 0);
+    assert_eq!(s.stats().steps, (16.0 / h).round() as u64);
+    worst
+}
+
+/// Least-squares slope of log2(error) against log2(h).
+fn fitted_order(hs: &[f64], errors: &[f64]) -> f64 {
+    let xs: Vec<f64> = hs.iter().map(|h| h.log2()).collect();
+    let ys: Vec<f64> = errors.iter().map(|e| e.log2()).collect();
+    let n = xs.len() as f64;
+    let (mx, my) = (xs.iter().sum::<f64>() / n, ys.iter().sum::<f64>() / n);
+    let sxy: f64 = xs.iter().zip(&ys).map(|(x, y)| (x - mx) * (y - my)).sum();
+    let sxx: f64 = xs.iter().map(|x| (x - mx).powi(2)).sum();
+    sxy / sxx
+}
+
+#[test]
+fn global_error_converges_with_order_8() {
+    // Steps 1.6 … 0.2: errors from ~1e-4 down to ~1e-12, above rounding (~1e-14).
+    let hs = [1.6, 0.8, 0.4, 0.2];
+    let osc: Vec<f64> = hs
+        .iter()
+        .map(|&h| max_step_error(&Osc, [0.0, 1.0], f64::sin, h))
+        .collect();
+    let orders = observed_order(&osc);
+    eprintln!("oscillator errors {osc:?}, pairwise orders {orders:?}");
+    for p in orders {
+        assert!((7.7..=8.3).contains(&p), "observed order {p}");
+    }
+    // Non-autonomous: a stage evaluated at the wrong time would drop the order to 1 or 2.
+    let exps: Vec<f64> = hs
+        .iter()
+        .map(|&h| max_step_error(&ExpSin, [1.0], |t| t.sin().exp(), h))
+        .collect();
+    let p = fitted_order(&hs, &exps);
+    eprintln!("exp(sin t) errors {exps:?}, fitted order {p}");
+    assert!((7.5..=8.7).contains(&p), "fitted order {p}");
+}
+
+#[test]
+fn dense_output_converges_with_order_at_least_7() {
+    // max error of the interpolant at 7 interior points of every step, fixed steps
+    let t_end = 8.0;
+    let mut errors = Vec::new();
+    for h in [0.8, 0.4, 0.2] {
+        let mut s = Dop853::new(&ExpSin, 0.0, [1.0], fixed(h)).unwrap();
+        let mut worst: f64 = 0.0;
+        while s.t() < t_end {
+            s.step(t_end).unwrap();
+            let d = s.dense();
+            for j in 1..8 {
+                let t = d.t_start() + (d.t_end() - d.t_start()) * j as f64 / 8.0;
+                worst = worst.max((d.eval(t)[0] - t.sin().exp()).abs());
+            }
+        }
+        errors.push(worst);
+    }
+    let orders = observed_order(&errors);
+    eprintln!("dense errors {errors:?}, observed orders {orders:?}");
+    for p in orders {
+        assert!(p >= 6.5, "observed dense order {p}");
+    }
+}
+
+#[test]
+fn adaptive_error_tracks_tolerance() {
+    for tol in [1e-6, 1e-8, 1e-10, 1e-12] {
+        let o = Options {
+            rtol: tol,
+            atol: tol,
+            ..Options::default()
+        };
+        let mut s = Dop853::new(&Osc, 0.0, [0.0, 1.0], o).unwrap();
+        s.integrate_to(50.0).unwrap();
+        let err = (s.y()[0] - 50f64.sin()).abs();
+        // global error over ~8 periods stays within a modest multiple of the local tolerance
+        assert!(err < 100.0 * tol, "tol {tol}: error {err:e}");
+    }
+}
+
+#[test]
+fn sampling_does_not_change_the_steps() {
+    let p = Params::default();
+    let sys = Dimensionless::new(p);
+    let o = Options::default();
+    let mut plain = Dop853::new(&sys, 0.0, [0.0, 0.0], o).unwrap();
+    plain.integrate_to(300.0).unwrap();
+    for dt in [0.05, 1.0, 7.0] {
+        let mut n = 0;
+        let (y, st) = sample(&sys, 0.0, [0.0, 0.0], 300.0, dt, o, |_, _| n += 1).unwrap();
+        assert_eq!(st.steps, plain.stats().steps, "dt {dt}");
+        assert_eq!(
+            y,
+            *plain.y(),
+            "dt {dt}: the final state must be bit-identical"
+        );
+        assert_eq!(
+            n,
+            (300.0 / dt + 1e-9).floor() as usize + 1 + usize::from(dt == 7.0)
+        );
+    }
+}
+
+#[test]
+fn rhs_evaluations_are_counted_exactly() {
+    // A counting wrapper: the solver's own statistics must equal the true count.
+    struct Counting<'a>(&'a std::cell::Cell<u64>, Dimensionless);
+    impl System<2> for Counting<'_> {
+        fn rhs(&self, t: f64, y: &[f64; 2]) -> [f64; 2] {
+            self.0.set(self.0.get() + 1);
+            self.1.rhs(t, y)
+        }
+    }
+    let calls = std::cell::Cell::new(0);
+    let sys = Counting(&calls, Dimensionless::new(Params::default()));
+    let mut s = Dop853::new(&sys, 0.0, [0.0, 0.0], Options::default()).unwrap();
+    while s.t() < 200.0 {
+        s.step(200.0).unwrap();
+        if s.stats().steps % 3 == 0 {
+            s.dense();
+            s.dense(); // cached: no further evaluations
+        }
+    }
+    assert_eq!(s.stats().rhs_evals, calls.get());
+}
+
+#[test]
+fn events_locate_zero_crossings() {
+    // zeros of sin t at kπ, falling at odd k
+    let mut s = Dop853::new(&Osc, 0.0, [0.0, 1.0], Options::default()).unwrap();
+    let mut det = Detector::new(|_t, y: &[f64; 2]| y[0], Direction::Falling);
+    let mut found = Vec::new();
+    while s.t() < 20.0 {
+        s.step(20.0).unwrap();
+        let d = s.dense();
+        det.scan(&d, |c| found.push(c));
+    }
+    let expect: Vec<f64> = (0..7)
+        .map(|k| (2 * k + 1) as f64 * std::f64::consts::PI)
+        .filter(|t| *t < 20.0)
+        .collect();
+    assert_eq!(found.len(), expect.len());
+    for (c, t) in found.iter().zip(expect) {
+        assert!(!c.rising);
+        assert!((c.t - t).abs() < 1e-9, "{} vs {t}", c.t);
+        assert!(c.y[0].abs() < 1e-9);
+    }
+}
+
+#[test]
+fn paper_runs_stay_within_the_evaluation_budget() {
+    // The foundation issue's bar: ≤ 130k right-hand-side evaluations for 3 slow periods at
+    // rtol = atol = 1e-10 (no dense output). A work count, not a timing.
+    for gamma in [30.0, 0.1] {
+        let p = Params {
+            gamma,
+            ..Params::default()
+        };
+        let sys = Dimensionless::new(p);
+        let x0 = hdgear::fast::stable_equilibrium(&p, 0.0);
+        let mut s = Dop853::new(&sys, 0.0, [x0, 0.0], Options::default()).unwrap();
+        s.integrate_to(3.0 * p.slow_period()).unwrap();
+        let st = s.stats();
+        eprintln!("gamma {gamma}: {st:?}");
+        assert!(st.rhs_evals <= 130_000, "gamma {gamma}: {st:?}");
+    }
+}
+
+#[test]
+fn invalid_options_are_rejected_by_name() {
+    for (o, name) in [
+        (
+            Options {
+                rtol: 0.0,
+                ..Options::default()
+            },
+            "rtol",
+        ),
+        (
+            Options {
+                atol: f64::NAN,
+                ..Options::default()
+            },
+            "atol",
+        ),
+    ] {
+        let e = Dop853::new(&Osc, 0.0, [0.0, 1.0], o).err().unwrap();
+        assert!(e.to_string().contains(name), "{e}");
+    }
+}
+
+#[test]
+fn blow_up_is_a_typed_error_with_its_time() {
+    // y' = y²: y = 1/(1 − t) escapes at t = 1
+    struct Riccati;
+    impl System<1> for Riccati {
+        fn rhs(&self, _t: f64, y: &[f64; 1]) -> [f64; 1] {
+            [y[0] * y[0]]
+        }
+    }
+    let mut s = Dop853::new(&Riccati, 0.0, [1.0], Options::default()).unwrap();
+    match s.integrate_to(2.0) {
+        Err(hdgear::Error::BlowUp { t, .. }) | Err(hdgear::Error::StepSizeTooSmall { t, .. }) => {
+            assert!((t - 1.0).abs() < 1e-3, "reported at t = {t}");
+        }
+        other => panic!("expected a blow-up, got {other:?}"),
+    }
+}

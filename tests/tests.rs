@@ -1,0 +1,7 @@
+//! The one integration-test binary (ripgrep style): one module per capability.
+
+mod common;
+
+mod cli;
+mod integrate;
+mod reference;
