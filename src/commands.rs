@@ -2,8 +2,9 @@
 
 use crate::cli::{Cli, Command, SimulateRun};
 use anyhow::{Context, Result};
-use hdgear::output::{AtomicFile, Format, TableWriter};
+use hdgear::output::{AtomicFile, Format, RecordWriter};
 use hdgear::params::Warning;
+use serde::Serialize;
 use std::io::Write;
 
 /// Exit code for an error: 1 when a computation failed on valid input (step-size underflow,
@@ -40,6 +41,15 @@ fn warn(warnings: &[Warning]) {
     }
 }
 
+/// One trajectory sample: the CSV columns `t,a,x,xdot`.
+#[derive(Serialize)]
+struct Sample {
+    t: f64,
+    a: f64,
+    x: f64,
+    xdot: f64,
+}
+
 /// Streams a simulation into a table on `sink`; returns the sink (for committing) and the summary.
 fn simulate_into<W: Write>(
     run: &SimulateRun,
@@ -48,11 +58,16 @@ fn simulate_into<W: Write>(
 ) -> Result<(W, hdgear::simulate::SimSummary)> {
     let p = run.params;
     let meta = serde_json::json!({ "params": p, "options": run.opts });
-    let mut table = TableWriter::new(sink, format, &["t", "a", "x", "xdot"], meta)?;
+    let mut table = RecordWriter::new(sink, format, &meta)?;
     let mut io_err: Option<std::io::Error> = None;
     let summary = hdgear::simulate::simulate(&p, &run.opts, |t, y| {
         if io_err.is_none()
-            && let Err(e) = table.row(&[t, (p.omega * t).sin(), y[0], y[1]])
+            && let Err(e) = table.row(&Sample {
+                t,
+                a: (p.omega * t).sin(),
+                x: y[0],
+                xdot: y[1],
+            })
         {
             io_err = Some(e);
         }

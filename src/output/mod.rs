@@ -120,68 +120,55 @@ impl Format {
     }
 }
 
-/// Streams a table of f64 columns as CSV or as JSON (an object of column arrays, plus a
-/// `meta` object), row by row.
-pub struct TableWriter<W: Write> {
-    w: W,
-    format: Format,
-    columns: Vec<&'static str>,
+/// Streams records (any `Serialize` struct with scalar fields) as CSV with a header row, or as
+/// JSON `{"meta": …, "rows": [{…}, …]}`, row by row, so a late failure loses nothing already
+/// computed and memory stays flat however long the output.
+pub struct RecordWriter<W: Write> {
+    inner: Inner<W>,
     rows: u64,
-    json_cols: Vec<Vec<f64>>,
-    meta: serde_json::Value,
 }
 
-impl<W: Write> TableWriter<W> {
-    /// Starts a table with the given columns. `meta` is written into JSON output only.
-    pub fn new(
-        mut w: W,
-        format: Format,
-        columns: &[&'static str],
-        meta: serde_json::Value,
-    ) -> std::io::Result<Self> {
-        if format == Format::Csv {
-            writeln!(w, "{}", columns.join(","))?;
-        }
-        Ok(TableWriter {
-            w,
-            format,
-            columns: columns.to_vec(),
-            rows: 0,
-            json_cols: vec![
-                Vec::new();
-                if format == Format::Json {
-                    columns.len()
-                } else {
-                    0
-                }
-            ],
-            meta,
-        })
+enum Inner<W: Write> {
+    Csv(Box<csv::Writer<W>>),
+    Json(W),
+}
+
+fn csv_io(e: csv::Error) -> std::io::Error {
+    match e.into_kind() {
+        csv::ErrorKind::Io(io) => io,
+        other => std::io::Error::other(format!("{other:?}")),
+    }
+}
+
+impl<W: Write> RecordWriter<W> {
+    /// Starts the output. `meta` (the parameters and options that produced the rows) goes into
+    /// JSON output only.
+    pub fn new(mut w: W, format: Format, meta: &serde_json::Value) -> std::io::Result<Self> {
+        let inner = match format {
+            Format::Csv => Inner::Csv(Box::new(csv::Writer::from_writer(w))),
+            Format::Json => {
+                w.write_all(b"{\"meta\":")?;
+                serde_json::to_writer(&mut w, meta)?;
+                w.write_all(b",\"rows\":[")?;
+                Inner::Json(w)
+            }
+        };
+        Ok(RecordWriter { inner, rows: 0 })
     }
 
-    /// Appends one row (its length must equal the number of columns).
-    pub fn row(&mut self, values: &[f64]) -> std::io::Result<()> {
-        debug_assert_eq!(values.len(), self.columns.len());
-        self.rows += 1;
-        match self.format {
-            Format::Csv => {
-                let mut first = true;
-                for v in values {
-                    if !first {
-                        self.w.write_all(b",")?;
-                    }
-                    first = false;
-                    write!(self.w, "{v}")?;
+    /// Appends one record.
+    pub fn row<T: serde::Serialize>(&mut self, record: &T) -> std::io::Result<()> {
+        match &mut self.inner {
+            Inner::Csv(c) => c.serialize(record).map_err(csv_io)?,
+            Inner::Json(w) => {
+                if self.rows > 0 {
+                    w.write_all(b",\n")?;
                 }
-                self.w.write_all(b"\n")
-            }
-            Format::Json => {
-                for (c, v) in self.json_cols.iter_mut().zip(values) {
-                    c.push(*v);
-                }
-                Ok(())
+                serde_json::to_writer(&mut *w, record)?;
             }
         }
+        self.rows += 1;
+        Ok(())
     }
 
     /// Rows written so far.
@@ -189,19 +176,15 @@ impl<W: Write> TableWriter<W> {
         self.rows
     }
 
-    /// Finishes the table and returns the writer.
-    pub fn finish(mut self) -> std::io::Result<W> {
-        if self.format == Format::Json {
-            let mut obj = serde_json::Map::new();
-            obj.insert("meta".into(), self.meta.take());
-            obj.insert("columns".into(), serde_json::json!(self.columns));
-            for (name, col) in self.columns.iter().zip(&self.json_cols) {
-                obj.insert((*name).into(), serde_json::json!(col));
+    /// Finishes the output and returns the writer.
+    pub fn finish(self) -> std::io::Result<W> {
+        match self.inner {
+            Inner::Csv(c) => c.into_inner().map_err(|e| e.into_error()),
+            Inner::Json(mut w) => {
+                w.write_all(b"]}\n")?;
+                w.flush()?;
+                Ok(w)
             }
-            serde_json::to_writer(&mut self.w, &obj)?;
-            self.w.write_all(b"\n")?;
         }
-        self.w.flush()?;
-        Ok(self.w)
     }
 }
