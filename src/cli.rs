@@ -21,6 +21,79 @@ pub struct Cli {
 pub enum Command {
     /// Simulate the dimensionless model and write its trajectory (t,a,x,xdot).
     Simulate(SimulateArgs),
+    /// Sample the fast subsystem's equilibrium curve (a,x,slope,gprime,re1,im1,re2,im2,type,branch).
+    Equilibria(EquilibriaArgs),
+    /// Analyse the fast subsystem: folds, cusp, steepest point, Hopf, spiking areas.
+    Analyze(AnalyzeArgs),
+    /// The fold curves in the (a, gamma) plane up to the cusp (gamma,a_lower,x_lower,a_upper,x_upper).
+    Bifurcation(BifurcationArgs),
+}
+
+/// Parses `A0:A1` into a checked range.
+pub fn parse_range(text: &str) -> Result<(f64, f64)> {
+    let bad = || anyhow::anyhow!("invalid --a-range '{text}': expected A0:A1 with finite A0 < A1");
+    let (l, r) = text.split_once(':').ok_or_else(bad)?;
+    let (l, r): (f64, f64) = (
+        l.trim().parse().map_err(|_| bad())?,
+        r.trim().parse().map_err(|_| bad())?,
+    );
+    if !(l.is_finite() && r.is_finite() && l < r) {
+        return Err(bad());
+    }
+    Ok((l, r))
+}
+
+/// Arguments of `hdgear equilibria`.
+#[derive(Args, Debug)]
+pub struct EquilibriaArgs {
+    #[command(flatten)]
+    pub params: ParamArgs,
+    /// Number of curve points (≥ 2), spread uniformly in arc length.
+    #[arg(long, default_value_t = 1001)]
+    pub points: usize,
+    /// Range of the slow variable a, as A0:A1.
+    #[arg(long, default_value = "-1:1", allow_hyphen_values = true)]
+    pub a_range: String,
+    /// Output file, .csv or .json (CSV on stdout without it).
+    #[arg(long, value_name = "FILE")]
+    pub out: Option<PathBuf>,
+}
+
+/// Arguments of `hdgear analyze`.
+#[derive(Args, Debug)]
+pub struct AnalyzeArgs {
+    #[command(flatten)]
+    pub params: ParamArgs,
+    /// Range of the slow variable a, as A0:A1.
+    #[arg(long, default_value = "-1:1", allow_hyphen_values = true)]
+    pub a_range: String,
+    /// Print one JSON document instead of the readable summary.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Arguments of `hdgear bifurcation`.
+#[derive(Args, Debug)]
+pub struct BifurcationArgs {
+    #[command(flatten)]
+    pub params: ParamArgs,
+    /// Smallest gamma (must be below the critical 1/(3 alpha)).
+    #[arg(long, allow_negative_numbers = true)]
+    pub gamma_min: f64,
+    /// Number of rows (≥ 2), equally spaced in gamma, the last at the cusp.
+    #[arg(long, default_value_t = 200)]
+    pub points: usize,
+    /// Output file, .csv or .json (CSV on stdout without it).
+    #[arg(long, value_name = "FILE")]
+    pub out: Option<PathBuf>,
+}
+
+/// Checks an optional output path's extension.
+pub fn check_out(out: &Option<PathBuf>) -> Result<()> {
+    if let Some(out) = out {
+        hdgear::output::Format::from_path(out).context("--out")?;
+    }
+    Ok(())
 }
 
 /// Model parameters shared by every command: preset, then file, then flags.
@@ -183,9 +256,7 @@ impl SimulateArgs {
                 }
             }
         };
-        if let Some(out) = &self.out {
-            hdgear::output::Format::from_path(out).context("--out")?;
-        }
+        check_out(&self.out)?;
         Ok(SimulateRun {
             params,
             warnings,

@@ -1,11 +1,14 @@
 //! Running the checked commands and exporting their results.
 
-use crate::cli::{Cli, Command, SimulateRun};
+use crate::cli::{
+    AnalyzeArgs, BifurcationArgs, Cli, Command, EquilibriaArgs, SimulateRun, check_out, parse_range,
+};
 use anyhow::{Context, Result};
 use hdgear::output::{AtomicFile, Format, RecordWriter};
 use hdgear::params::Warning;
 use serde::Serialize;
 use std::io::Write;
+use std::path::Path;
 
 /// Exit code for an error: 1 when a computation failed on valid input (step-size underflow,
 /// blow-up, step budget), 2 for everything the user can fix in the input.
@@ -32,6 +35,9 @@ pub fn is_broken_pipe(e: &anyhow::Error) -> bool {
 pub fn run(cli: Cli) -> Result<()> {
     match cli.command {
         Command::Simulate(a) => simulate(a.check()?),
+        Command::Equilibria(a) => equilibria(a),
+        Command::Analyze(a) => analyze(a),
+        Command::Bifurcation(a) => bifurcation(a),
     }
 }
 
@@ -94,16 +100,102 @@ fn simulate(run: SimulateRun) -> Result<()> {
         println!("{}", serde_json::to_string_pretty(&doc)?);
         return Ok(());
     }
-    match &run.out {
-        Some(path) => {
-            let file = AtomicFile::create(path)?;
-            let (file, _) = simulate_into(&run, file, Format::from_path(path)?)?;
-            file.commit()?;
+    let (sink, format) = Sink::open(run.out.as_deref())?;
+    let (sink, _) = simulate_into(&run, sink, format)?;
+    sink.commit()
+}
+
+/// Where records go: an atomic file, or stdout.
+enum Sink {
+    File(AtomicFile),
+    Stdout(std::io::BufWriter<std::io::StdoutLock<'static>>),
+}
+
+impl Sink {
+    /// The file (format from its extension) or stdout (CSV).
+    fn open(out: Option<&Path>) -> Result<(Sink, Format)> {
+        Ok(match out {
+            Some(path) => (
+                Sink::File(AtomicFile::create(path)?),
+                Format::from_path(path)?,
+            ),
+            None => (
+                Sink::Stdout(std::io::BufWriter::new(std::io::stdout().lock())),
+                Format::Csv,
+            ),
+        })
+    }
+
+    /// Makes the output final (renames the file into place; flushes stdout).
+    fn commit(self) -> Result<()> {
+        match self {
+            Sink::File(f) => Ok(f.commit()?),
+            Sink::Stdout(mut s) => Ok(s.flush()?),
         }
-        None => {
-            let out = std::io::BufWriter::new(std::io::stdout().lock());
-            let _ = simulate_into(&run, out, Format::Csv)?;
+    }
+}
+
+impl Write for Sink {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        match self {
+            Sink::File(f) => f.write(buf),
+            Sink::Stdout(s) => s.write(buf),
         }
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        match self {
+            Sink::File(f) => f.flush(),
+            Sink::Stdout(s) => s.flush(),
+        }
+    }
+}
+
+/// Writes `rows` as records to `--out` (or stdout), atomically.
+fn write_records<T: Serialize>(
+    out: Option<&Path>,
+    meta: &serde_json::Value,
+    rows: impl IntoIterator<Item = T>,
+) -> Result<()> {
+    let (sink, format) = Sink::open(out)?;
+    let mut w = RecordWriter::new(sink, format, meta)?;
+    for r in rows {
+        w.row(&r).context("writing the output")?;
+    }
+    w.finish().context("writing the output")?.commit()
+}
+
+fn equilibria(a: EquilibriaArgs) -> Result<()> {
+    let (p, warnings) = a.params.resolve()?;
+    let range = parse_range(&a.a_range)?;
+    check_out(&a.out)?;
+    warn(&warnings);
+    let curve = hdgear::fast::curve(&p, range, a.points)?;
+    let meta = serde_json::json!({ "params": p, "a_range": [range.0, range.1] });
+    write_records(a.out.as_deref(), &meta, curve)
+}
+
+fn bifurcation(a: BifurcationArgs) -> Result<()> {
+    let (p, warnings) = a.params.resolve()?;
+    check_out(&a.out)?;
+    warn(&warnings);
+    let rows = hdgear::fast::fold_curves(&p, a.gamma_min, a.points)?;
+    let cusp = hdgear::fast::cusp(&p);
+    let meta = serde_json::json!({ "params": p, "cusp": cusp });
+    write_records(a.out.as_deref(), &meta, rows)
+}
+
+fn analyze(a: AnalyzeArgs) -> Result<()> {
+    let (p, warnings) = a.params.resolve()?;
+    let range = parse_range(&a.a_range)?;
+    let an = hdgear::fast::analyze(&p, range)?;
+    if a.json {
+        let mut doc = serde_json::to_value(&an)?;
+        doc["warnings"] =
+            serde_json::json!(warnings.iter().map(|w| w.to_string()).collect::<Vec<_>>());
+        println!("{}", serde_json::to_string_pretty(&doc)?);
+    } else {
+        warn(&warnings);
+        print!("{}", crate::summary::analysis_text(&an));
     }
     Ok(())
 }

@@ -238,3 +238,156 @@ fn unwritable_output_exits_2_and_leaves_nothing() {
         .stderr(predicate::str::contains("run.txt"));
     assert!(files_in(dir.path()).is_empty());
 }
+
+#[test]
+fn equilibria_writes_the_documented_columns() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("curve.csv");
+    hdgear()
+        .args([
+            "equilibria",
+            "--preset",
+            "paper-g1",
+            "--points",
+            "301",
+            "--out",
+        ])
+        .arg(&out)
+        .assert()
+        .success();
+    let text = std::fs::read_to_string(&out).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(
+        lines.next(),
+        Some("a,x,slope,gprime,re1,im1,re2,im2,type,branch")
+    );
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    assert_eq!(rows.len(), 301);
+    assert!(rows.iter().all(|r| r[9] == "single"));
+    assert!(
+        rows.iter()
+            .all(|r| r[8] == "stable-focus" || r[8] == "stable-node")
+    );
+    // the fold regime has three branches and saddles on the middle one
+    let text = String::from_utf8(
+        hdgear()
+            .args([
+                "equilibria",
+                "--gamma",
+                "0.01",
+                "--a-range",
+                "-0.01:0",
+                "--points",
+                "500",
+            ])
+            .assert()
+            .success()
+            .get_output()
+            .stdout
+            .clone(),
+    )
+    .unwrap();
+    for (branch, kind) in [
+        ("lower", "stable"),
+        ("middle", "saddle"),
+        ("upper", "stable"),
+    ] {
+        assert!(
+            text.lines()
+                .any(|l| l.ends_with(&format!(",{branch}")) && l.contains(kind)),
+            "{branch}"
+        );
+    }
+}
+
+#[test]
+fn analyze_json_has_the_documented_keys() {
+    let out = hdgear()
+        .args(["analyze", "--json", "--gamma", "0.01"])
+        .assert()
+        .success()
+        .get_output()
+        .stdout
+        .clone();
+    let doc: serde_json::Value = serde_json::from_slice(&out).unwrap();
+    assert!((doc["critical_gamma"].as_f64().unwrap() - 1.0 / 48.0).abs() < 1e-15);
+    for k in ["gamma", "a", "x"] {
+        assert!(doc["cusp"][k].is_f64(), "cusp.{k}");
+    }
+    let e = &doc["equilibria"];
+    assert_eq!(e["min_count"], 1);
+    assert_eq!(e["max_count"], 3);
+    assert_eq!(e["stable_everywhere"], false);
+    assert_eq!(e["hopf_possible"], false);
+    assert_eq!(e["folds"].as_array().unwrap().len(), 2);
+    for k in ["a", "x"] {
+        assert!(e["folds"][0][k].is_f64());
+    }
+    assert!(e["max_slope"]["value"].is_null(), "infinite at a fold");
+    assert!(e["spiking_areas"][0]["a_min"].is_f64());
+    // the readable form says the same
+    hdgear()
+        .args(["analyze", "--preset", "paper-g1"])
+        .assert()
+        .success()
+        .stdout(predicate::str::contains(
+            "largest |dx/da| on the range: 15.31",
+        ))
+        .stdout(predicate::str::contains("Hopf bifurcation possible: no"))
+        .stdout(predicate::str::contains("spiking area: a in"));
+}
+
+#[test]
+fn bifurcation_writes_the_fold_curves() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("folds.csv");
+    hdgear()
+        .args([
+            "bifurcation",
+            "--gamma-min",
+            "0.001",
+            "--points",
+            "11",
+            "--out",
+        ])
+        .arg(&out)
+        .assert()
+        .success();
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert_eq!(
+        text.lines().next(),
+        Some("gamma,a_lower,x_lower,a_upper,x_upper")
+    );
+    assert_eq!(text.lines().count(), 12);
+    let last: Vec<f64> = text
+        .lines()
+        .last()
+        .unwrap()
+        .split(',')
+        .map(|v| v.parse().unwrap())
+        .collect();
+    assert_eq!(last[0], 1.0 / 48.0);
+    assert_eq!(last[2], last[4]);
+}
+
+#[test]
+fn analysis_bad_input_exits_2() {
+    rejects(&["bifurcation", "--gamma-min", "0.5"], "gamma-min = 0.5");
+    rejects(
+        &["bifurcation", "--gamma-min", "0", "--points", "1"],
+        "points = 1",
+    );
+    rejects(&["equilibria", "--a-range", "1:-1"], "'1:-1'");
+    rejects(&["equilibria", "--a-range", "nan:1"], "'nan:1'");
+    rejects(&["equilibria", "--points", "1"], "points = 1");
+    hdgear()
+        .args(["analyze", "--delta", "0"])
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("delta = 0"));
+    hdgear()
+        .args(["analyze", "--a-range", "0"])
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("'0'"));
+}

@@ -3,5 +3,6 @@
 mod common;
 
 mod cli;
+mod fast;
 mod integrate;
 mod reference;

@@ -3,10 +3,18 @@
 //! Exact facts used throughout (SPEC §3): the Jacobian at an equilibrium is
 //! [[0, 1], [−g'(x), −1]], so the trace is −1 for every parameter and every equilibrium: the fast
 //! subsystem can never undergo a Hopf bifurcation. Equilibria are stable iff g'(x) > 0; the only
-//! bifurcations are folds where g'(x) = 0, which exist iff γ < 1/(3α).
+//! bifurcations are folds where g'(x) = 0, which exist iff γ < 1/(3α); γ = 1/(3α) is a cusp.
 
+mod analysis;
+mod curve;
 mod equilibria;
 
+pub use analysis::{
+    Analysis, Cusp, EquilibriaSummary, Fold, FoldRow, Interval, NO_HOPF_REASON, Point,
+    SPIKING_THRESHOLD, Slope, SpikingCriterion, analyze, cusp, fold_curves, folds, relaxation_rate,
+    spiking_ratio,
+};
+pub use curve::{Branch, CurvePoint, check_a_range, curve, x_intervals};
 pub use equilibria::{
     EqType, Equilibria, Equilibrium, eigenvalues, equilibria, fold_abscissae, stable_equilibrium,
 };

@@ -1,0 +1,515 @@
+//! Exact features of the fast subsystem over a range of the slow variable: equilibrium counts,
+//! folds, the cusp, the steepest point and largest slope, the impossibility of Hopf
+//! bifurcations, and the spiking and quiescent areas.
+//!
+//! Everything except the spiking areas is a closed form. The spiking areas use the criterion
+//! documented at [`SPIKING_THRESHOLD`]; their boundaries are located by bisection on the exact
+//! curve a(x), x(a) to 1e-12 in x.
+
+use super::curve::{check_a_range, x_intervals};
+use super::equilibria::{eigenvalues, fold_abscissae};
+use crate::error::{Error, Result};
+use crate::params::Params;
+use serde::Serialize;
+
+/// A point (a, x) of the (a, x) plane.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Point {
+    /// Slow variable.
+    pub a: f64,
+    /// Position.
+    pub x: f64,
+}
+
+/// A fold (saddle-node) point of the fast subsystem: g'(x) = 0 on the equilibrium curve.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Fold {
+    /// a at the fold.
+    pub a: f64,
+    /// x at the fold.
+    pub x: f64,
+    /// True when a lies in the analysed a-range (so the slow variable traverses it).
+    pub in_range: bool,
+}
+
+/// The cusp point of the (a, γ) bifurcation set: γ = 1/(3α), x = 1/(3α), where both folds meet.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Cusp {
+    /// γ at the cusp, 1/(3α).
+    pub gamma: f64,
+    /// a at the cusp (with the other parameters as given).
+    pub a: f64,
+    /// x at the cusp, 1/(3α).
+    pub x: f64,
+}
+
+/// A slope value with where it is attained.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Slope {
+    /// |dx/da|; +inf at a fold (written as `null` in JSON).
+    pub value: f64,
+    /// a where it is attained.
+    pub a: f64,
+    /// x where it is attained.
+    pub x: f64,
+}
+
+/// An interval [a_min, a_max] of the slow variable.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Interval {
+    /// Lower end.
+    pub a_min: f64,
+    /// Upper end.
+    pub a_max: f64,
+}
+
+/// Spiking criterion threshold: a point of a stable branch belongs to a *spiking area* where
+///
+/// R(a) = v_eq(a) / (r(a) · X) > 0.05,
+///
+/// * v_eq = |dx*/dτ| = ω·|dx*/da|·√(1 − a²): the speed of the equilibrium when a = sin(ωτ) sweeps
+///   through a (da/dτ = ω cos ωτ = ±ω√(1 − a²));
+/// * r = min |Re λ|: the slowest relaxation rate of the fast subsystem there (1/2 for a focus,
+///   (1 − √(1 − 4g'))/2 for a node);
+/// * X: the x-extent of the equilibrium curve over the analysed a-range (so R does not depend on
+///   the unit of x).
+///
+/// R is the distance the equilibrium travels during one relaxation time 1/r, as a fraction of the
+/// whole curve's extent. Where it is small the state follows the equilibrium adiabatically
+/// (quiescent); where it is large the equilibrium escapes faster than the state can relax
+/// towards it, and the state is left behind and then rings (spiking). Near a fold r → 0, so
+/// R → ∞: fold jumps are spiking areas too.
+///
+/// Why 0.05: over a ∈ [−1, 1] the study's four cases have max R = 0.0104 (γ = 30),
+/// 0.0182 (γ = 10), 0.160 (γ = 1) and 11.2 (γ = 0.1) (measured by `hdgear analyze`), and
+/// simulations show bursts for γ = 1 and 0.1 only. 0.05 sits near the geometric middle of the gap
+/// between 0.018 and 0.16, a factor 2.7 above the largest adiabatic case and 3.2 below the weakest
+/// bursting one: "the equilibrium moves a twentieth of the curve within one relaxation time".
+pub const SPIKING_THRESHOLD: f64 = 0.05;
+
+/// The spiking criterion as reported.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct SpikingCriterion {
+    /// The threshold on R (see [`SPIKING_THRESHOLD`]).
+    pub threshold: f64,
+    /// The largest R over the stable branches in the range, and where.
+    pub max_ratio: f64,
+    /// a at the largest R.
+    pub max_ratio_a: f64,
+    /// The x-extent X of the curve used to normalise R.
+    pub x_extent: f64,
+    /// The definition, in words.
+    pub definition: &'static str,
+}
+
+/// Why no Hopf bifurcation can occur, as derived.
+pub const NO_HOPF_REASON: &str = "the Jacobian [[0, 1], [-g'(x), -1]] has trace -1 at every \
+equilibrium for every parameter value; a Hopf bifurcation needs a pair of purely imaginary \
+eigenvalues, i.e. trace 0, so none can occur";
+
+/// Summary of the equilibria over the a-range.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct EquilibriaSummary {
+    /// Fewest distinct equilibria at any a in the range.
+    pub min_count: usize,
+    /// Most distinct equilibria at any a in the range.
+    pub max_count: usize,
+    /// Every equilibrium at every a in the range is asymptotically stable.
+    pub stable_everywhere: bool,
+    /// Largest |dx/da| over the range (on any branch), and where.
+    pub max_slope: Slope,
+    /// dx/da at a = 0 of the stable equilibrium the default start uses (null if 0 is out of range).
+    pub slope_at_a0: Option<f64>,
+    /// All fold points of the fast subsystem (empty for γ ≥ 1/(3α)).
+    pub folds: Vec<Fold>,
+    /// Always false: see `hopf_reason`.
+    pub hopf_possible: bool,
+    /// The derivation.
+    pub hopf_reason: &'static str,
+    /// The spiking areas (a-intervals), merged and sorted.
+    pub spiking_areas: Vec<Interval>,
+    /// The rest of the range.
+    pub quiescent_areas: Vec<Interval>,
+    /// The criterion and its largest value.
+    pub spiking_criterion: SpikingCriterion,
+}
+
+/// The analysis of the fast subsystem: the document `hdgear analyze --json` prints.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Analysis {
+    /// The parameters.
+    pub params: Params,
+    /// The analysed range of the slow variable.
+    pub a_range: [f64; 2],
+    /// 1/(3α): folds exist iff γ is below it.
+    pub critical_gamma: f64,
+    /// γ − 1/(3α).
+    pub gamma_margin: f64,
+    /// `monotone` (γ > 1/(3α)), `cusp` (equal) or `fold-hysteresis` (below).
+    pub regime: &'static str,
+    /// The cusp point.
+    pub cusp: Cusp,
+    /// The steepest point of the whole curve when it is monotone: x = 1/(3α), slope
+    /// δ/(γ − 1/(3α)) (null in the fold regime, where the slope is infinite at the folds).
+    pub steepest_point: Option<Slope>,
+    /// Equilibria over the range.
+    pub equilibria: EquilibriaSummary,
+}
+
+/// The slowest relaxation rate min |Re λ| for g' > 0 (0 otherwise).
+pub fn relaxation_rate(gp: f64) -> f64 {
+    if gp <= 0.0 {
+        return 0.0;
+    }
+    let [(r1, _), (r2, _)] = eigenvalues(gp);
+    r1.abs().min(r2.abs())
+}
+
+fn a_of(p: &Params, x: f64) -> f64 {
+    (p.g(x) - p.mu) / p.delta
+}
+
+/// The spiking ratio R at abscissa x (see [`SPIKING_THRESHOLD`]); +inf at or past a fold.
+pub fn spiking_ratio(p: &Params, x: f64, x_extent: f64) -> f64 {
+    let gp = p.g_prime(x);
+    if gp <= 0.0 {
+        return f64::INFINITY;
+    }
+    let a = a_of(p, x);
+    let v_eq = p.omega * (p.delta / gp) * (1.0 - a * a).max(0.0).sqrt();
+    v_eq / (relaxation_rate(gp) * x_extent)
+}
+
+/// The fold points of the fast subsystem (closed form), each flagged in or out of `a_range`.
+pub fn folds(p: &Params, a_range: (f64, f64)) -> Vec<Fold> {
+    match fold_abscissae(p) {
+        None => Vec::new(),
+        Some((xm, xp)) if p.delta > 0.0 => [xm, xp]
+            .iter()
+            .map(|&x| {
+                let a = a_of(p, x);
+                Fold {
+                    a,
+                    x,
+                    in_range: a >= a_range.0 && a <= a_range.1,
+                }
+            })
+            .collect(),
+        Some(_) => Vec::new(),
+    }
+}
+
+/// The cusp with the other parameters of `p`.
+pub fn cusp(p: &Params) -> Cusp {
+    let gc = p.critical_gamma();
+    let q = Params { gamma: gc, ..*p };
+    let x = gc; // 1/(3α)
+    Cusp {
+        gamma: gc,
+        a: if p.delta > 0.0 { a_of(&q, x) } else { f64::NAN },
+        x,
+    }
+}
+
+/// Bisection for the boundary where `inside(x)` changes between xa (inside = ia) and xb.
+fn boundary(mut xa: f64, mut xb: f64, inside: impl Fn(f64) -> bool) -> f64 {
+    let ia = inside(xa);
+    for _ in 0..200 {
+        let xm = 0.5 * (xa + xb);
+        if (xb - xa).abs() <= 1e-12 * xm.abs().max(1e-3) {
+            break;
+        }
+        if inside(xm) == ia {
+            xa = xm;
+        } else {
+            xb = xm;
+        }
+    }
+    0.5 * (xa + xb)
+}
+
+/// Merges overlapping intervals (sorted by a_min).
+fn merge(mut v: Vec<Interval>) -> Vec<Interval> {
+    v.sort_by(|a, b| a.a_min.total_cmp(&b.a_min));
+    let mut out: Vec<Interval> = Vec::new();
+    for i in v {
+        match out.last_mut() {
+            Some(last) if i.a_min <= last.a_max => last.a_max = last.a_max.max(i.a_max),
+            _ => out.push(i),
+        }
+    }
+    out
+}
+
+/// Analyses the fast subsystem over `a_range` (δ must be > 0: with δ = 0 the slow variable does
+/// not move the equilibria at all).
+///
+/// ```
+/// let p = hdgear::Params { gamma: 1.0, ..Default::default() };
+/// let an = hdgear::fast::analyze(&p, (-1.0, 1.0)).unwrap();
+/// assert!(!an.equilibria.hopf_possible);
+/// assert!(an.equilibria.folds.is_empty());
+/// assert_eq!(an.equilibria.spiking_areas.len(), 1);
+/// ```
+pub fn analyze(p: &Params, a_range: (f64, f64)) -> Result<Analysis> {
+    p.validate()?;
+    check_a_range(a_range)?;
+    if p.delta == 0.0 {
+        return Err(Error::InvalidParameter {
+            name: "delta".into(),
+            value: 0.0,
+            reason: "must be > 0 for the fast-slow analysis (with δ = 0 the slow variable does \
+                     not move the equilibria)",
+        });
+    }
+    let (a0, a1) = a_range;
+    let gc = p.critical_gamma();
+    let fold_list = folds(p, a_range);
+    let regime = if p.gamma > gc {
+        "monotone"
+    } else if p.gamma == gc {
+        "cusp"
+    } else {
+        "fold-hysteresis"
+    };
+    // --- counts over the range: 3 strictly between the fold values of a, 2 at them, else 1
+    let (min_count, max_count) = match fold_list.as_slice() {
+        [f1, f2] => {
+            let (lo, hi) = (f2.a.min(f1.a), f2.a.max(f1.a));
+            let max_c = if a0 < hi && a1 > lo {
+                3
+            } else if a0 <= hi && a1 >= lo {
+                2
+            } else {
+                1
+            };
+            let min_c = if a0 < lo || a1 > hi {
+                1
+            } else if a0 > lo && a1 < hi {
+                3
+            } else {
+                2
+            };
+            (min_c, max_c)
+        }
+        _ => (1, 1),
+    };
+    let cusp_pt = cusp(p);
+    let cusp_in_range = regime == "cusp" && cusp_pt.a >= a0 && cusp_pt.a <= a1;
+    let stable_everywhere = max_count == 1 && !cusp_in_range;
+
+    // --- largest |slope|: at x = 1/(3α) if on the traversed curve, at the folds, or at the ends
+    let intervals = x_intervals(p, a_range);
+    let x_lo = intervals.first().map_or(0.0, |i| i.0);
+    let x_hi = intervals.last().map_or(0.0, |i| i.1);
+    let on_curve = |x: f64| intervals.iter().any(|&(l, r)| x >= l && x <= r);
+    let mut candidates: Vec<f64> = intervals.iter().flat_map(|&(l, r)| [l, r]).collect();
+    let x0 = 1.0 / (3.0 * p.alpha);
+    if on_curve(x0) {
+        candidates.push(x0);
+    }
+    for f in fold_list.iter().filter(|f| f.in_range) {
+        candidates.push(f.x);
+    }
+    let slope_at = |x: f64| {
+        let gp = p.g_prime(x);
+        if gp == 0.0 || fold_list.iter().any(|f| f.x == x) {
+            f64::INFINITY
+        } else {
+            (p.delta / gp).abs()
+        }
+    };
+    let best = candidates
+        .iter()
+        .copied()
+        .max_by(|a, b| slope_at(*a).total_cmp(&slope_at(*b)))
+        .unwrap_or(x0);
+    let max_slope = Slope {
+        value: slope_at(best),
+        a: a_of(p, best).clamp(a0, a1),
+        x: best,
+    };
+    let steepest_point = (p.gamma > gc).then(|| Slope {
+        value: p.delta / (p.gamma - gc),
+        a: a_of(p, x0),
+        x: x0,
+    });
+    let slope_at_a0 = (a0 <= 0.0 && a1 >= 0.0).then(|| {
+        let x = super::equilibria::stable_equilibrium(p, 0.0);
+        p.delta / p.g_prime(x)
+    });
+
+    // --- spiking areas on the stable parts of the traversed curve
+    let x_extent = (x_hi - x_lo).max(f64::MIN_POSITIVE);
+    let ratio = |x: f64| spiking_ratio(p, x, x_extent);
+    let inside = |x: f64| ratio(x) > SPIKING_THRESHOLD;
+    let mut areas = Vec::new();
+    let (mut max_ratio, mut max_ratio_a) = (0.0f64, a0);
+    const SAMPLES: usize = 4000;
+    for &(l, r) in &intervals {
+        // split at the fold abscissae so each piece is monotone in a and of one stability
+        let mut cuts = vec![l, r];
+        if let Some((xm, xp)) = fold_abscissae(p) {
+            cuts.extend([xm, xp].iter().filter(|&&c| c > l && c < r));
+        }
+        cuts.sort_by(f64::total_cmp);
+        for w in cuts.windows(2) {
+            let (pl, pr) = (w[0], w[1]);
+            let mid = 0.5 * (pl + pr);
+            if p.g_prime(mid) <= 0.0 {
+                continue; // saddle branch: not followed by any trajectory
+            }
+            let mut start: Option<f64> = None;
+            let mut prev_x = pl;
+            for j in 0..=SAMPLES {
+                let x = pl + (pr - pl) * j as f64 / SAMPLES as f64;
+                let rv = ratio(x);
+                if rv.is_finite() && rv > max_ratio {
+                    max_ratio = rv;
+                    max_ratio_a = a_of(p, x);
+                }
+                let now = rv > SPIKING_THRESHOLD;
+                match (start, now) {
+                    (None, true) => {
+                        start = Some(if j == 0 {
+                            x
+                        } else {
+                            boundary(prev_x, x, inside)
+                        })
+                    }
+                    (Some(s), false) => {
+                        let e = boundary(prev_x, x, inside);
+                        areas.push((s, e));
+                        start = None;
+                    }
+                    _ => {}
+                }
+                prev_x = x;
+            }
+            if let Some(s) = start {
+                areas.push((s, pr));
+            }
+        }
+    }
+    let spiking_areas = merge(
+        areas
+            .into_iter()
+            .map(|(xl, xr)| {
+                let (al, ar) = (a_of(p, xl), a_of(p, xr));
+                Interval {
+                    a_min: al.min(ar).clamp(a0, a1),
+                    a_max: al.max(ar).clamp(a0, a1),
+                }
+            })
+            .collect(),
+    );
+    let mut quiescent_areas = Vec::new();
+    let mut cursor = a0;
+    for s in &spiking_areas {
+        if s.a_min > cursor {
+            quiescent_areas.push(Interval {
+                a_min: cursor,
+                a_max: s.a_min,
+            });
+        }
+        cursor = cursor.max(s.a_max);
+    }
+    if cursor < a1 {
+        quiescent_areas.push(Interval {
+            a_min: cursor,
+            a_max: a1,
+        });
+    }
+
+    Ok(Analysis {
+        params: *p,
+        a_range: [a0, a1],
+        critical_gamma: gc,
+        gamma_margin: p.gamma - gc,
+        regime,
+        cusp: cusp_pt,
+        steepest_point,
+        equilibria: EquilibriaSummary {
+            min_count,
+            max_count,
+            stable_everywhere,
+            max_slope,
+            slope_at_a0,
+            folds: fold_list,
+            hopf_possible: false,
+            hopf_reason: NO_HOPF_REASON,
+            spiking_areas,
+            quiescent_areas,
+            spiking_criterion: SpikingCriterion {
+                threshold: SPIKING_THRESHOLD,
+                max_ratio,
+                max_ratio_a,
+                x_extent,
+                definition: "R = omega*|dx*/da|*sqrt(1-a^2) / (min|Re lambda| * X) > threshold, \
+                             X = x-extent of the curve over the a-range",
+            },
+        },
+    })
+}
+
+/// One row of the two-parameter bifurcation set: the two folds at one γ < 1/(3α).
+/// `lower` is the fold at the smaller x (x−, where g has its local maximum: the larger a).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct FoldRow {
+    /// γ.
+    pub gamma: f64,
+    /// a at the fold x−.
+    pub a_lower: f64,
+    /// x− = γ/(1 + √(1 − 3αγ)).
+    pub x_lower: f64,
+    /// a at the fold x+.
+    pub a_upper: f64,
+    /// x+ = (1 + √(1 − 3αγ))/(3α).
+    pub x_upper: f64,
+}
+
+/// The fold curves in the (a, γ) plane for γ from `gamma_min` up to the cusp 1/(3α) (the last
+/// row, where both folds meet), `points` rows equally spaced in γ. Closed forms throughout.
+pub fn fold_curves(p: &Params, gamma_min: f64, points: usize) -> Result<Vec<FoldRow>> {
+    p.validate()?;
+    let gc = p.critical_gamma();
+    if !(gamma_min.is_finite() && gamma_min < gc) {
+        return Err(Error::InvalidOption {
+            name: "gamma-min",
+            value: gamma_min,
+            reason: "must be finite and below the critical gamma 1/(3*alpha), where folds exist",
+        });
+    }
+    if p.delta == 0.0 {
+        return Err(Error::InvalidParameter {
+            name: "delta".into(),
+            value: 0.0,
+            reason: "must be > 0: with δ = 0 the folds have no a-coordinate",
+        });
+    }
+    if points < 2 {
+        return Err(Error::InvalidOption {
+            name: "points",
+            value: points as f64,
+            reason: "must be ≥ 2",
+        });
+    }
+    Ok((0..points)
+        .map(|k| {
+            let gamma = if k == points - 1 {
+                gc
+            } else {
+                gamma_min + (gc - gamma_min) * k as f64 / (points - 1) as f64
+            };
+            let q = Params { gamma, ..*p };
+            let (xm, xp) = fold_abscissae(&q).unwrap_or((gc, gc));
+            FoldRow {
+                gamma,
+                a_lower: a_of(&q, xm),
+                x_lower: xm,
+                a_upper: a_of(&q, xp),
+                x_upper: xp,
+            }
+        })
+        .collect())
+}

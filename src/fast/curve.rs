@@ -1,0 +1,249 @@
+//! The equilibrium curve {(a, x): F(x, a) = 0} over an a-range, sampled by x.
+//!
+//! The curve is a graph over x: a(x) = (g(x) − μ)/δ (SPEC §3). Every point is therefore computed
+//! *exactly* from its x, and steep parts (where x changes fast with a) are resolved for free. The
+//! x values are spread uniformly in arc length of the curve drawn in the box a-range × x-extent
+//! (both normalised to 1), so flat and steep parts get points alike.
+
+use super::equilibria::{EqType, eigenvalues, equilibria, fold_abscissae};
+use crate::error::{Error, Result};
+use crate::params::Params;
+use serde::Serialize;
+
+/// Which branch of the equilibrium curve a point lies on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Branch {
+    /// No folds (γ ≥ 1/(3α)): the curve is one monotone branch.
+    Single,
+    /// x < x− (the lower fold abscissa): stable.
+    Lower,
+    /// x− < x < x+: saddles.
+    Middle,
+    /// x > x+: stable.
+    Upper,
+}
+
+impl Branch {
+    /// The branch of abscissa x.
+    pub fn of(p: &Params, x: f64) -> Branch {
+        match fold_abscissae(p) {
+            None => Branch::Single,
+            Some((xm, xp)) => {
+                if x < xm {
+                    Branch::Lower
+                } else if x > xp {
+                    Branch::Upper
+                } else {
+                    Branch::Middle
+                }
+            }
+        }
+    }
+}
+
+/// One point of the equilibrium curve: the columns of `hdgear equilibria`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct CurvePoint {
+    /// Slow variable.
+    pub a: f64,
+    /// Equilibrium position.
+    pub x: f64,
+    /// dx/da = δ / g'(x) (±inf at a fold).
+    pub slope: f64,
+    /// g'(x) = 3αx² − 2x + γ.
+    pub gprime: f64,
+    /// Real part of the first eigenvalue (the larger).
+    pub re1: f64,
+    /// Imaginary part of the first eigenvalue.
+    pub im1: f64,
+    /// Real part of the second eigenvalue.
+    pub re2: f64,
+    /// Imaginary part of the second eigenvalue.
+    pub im2: f64,
+    /// Linear type.
+    #[serde(rename = "type")]
+    pub kind: EqType,
+    /// Branch.
+    pub branch: Branch,
+}
+
+impl CurvePoint {
+    /// The curve point with abscissa x (a computed from x; requires δ > 0).
+    pub fn at_x(p: &Params, x: f64) -> CurvePoint {
+        let a = (p.g(x) - p.mu) / p.delta;
+        Self::at(p, a, x)
+    }
+
+    fn at(p: &Params, a: f64, x: f64) -> CurvePoint {
+        let gp = p.g_prime(x);
+        let [(re1, im1), (re2, im2)] = eigenvalues(gp);
+        CurvePoint {
+            a,
+            x,
+            slope: if p.delta == 0.0 { 0.0 } else { p.delta / gp },
+            gprime: gp,
+            re1,
+            im1,
+            re2,
+            im2,
+            kind: EqType::from_g_prime(gp),
+            branch: Branch::of(p, x),
+        }
+    }
+}
+
+/// Checks an a-range: finite, a_min < a_max.
+pub fn check_a_range(a_range: (f64, f64)) -> Result<()> {
+    let (a0, a1) = a_range;
+    if !(a0.is_finite() && a1.is_finite() && a0 < a1) {
+        return Err(Error::InvalidInput {
+            what: "a-range",
+            text: format!("{a0}:{a1}"),
+            reason: "needs finite A0 < A1".into(),
+        });
+    }
+    Ok(())
+}
+
+/// The x-intervals on which a(x) ∈ [a0, a1], in increasing x (δ > 0).
+pub fn x_intervals(p: &Params, a_range: (f64, f64)) -> Vec<(f64, f64)> {
+    let (a0, a1) = a_range;
+    let mut ends: Vec<f64> = equilibria(p, a0)
+        .roots
+        .iter()
+        .chain(equilibria(p, a1).roots.iter())
+        .map(|r| r.x)
+        .collect();
+    ends.sort_by(f64::total_cmp);
+    ends.dedup();
+    let a_of = |x: f64| (p.g(x) - p.mu) / p.delta;
+    ends.windows(2)
+        .filter(|w| {
+            let am = a_of(0.5 * (w[0] + w[1]));
+            am >= a0 && am <= a1
+        })
+        .map(|w| (w[0], w[1]))
+        .collect()
+}
+
+/// Samples the curve over `a_range` with `points` points (≥ 2), uniformly in normalised arc
+/// length. With δ = 0 the equilibria do not depend on a: the curve is horizontal lines, sampled
+/// uniformly in a.
+///
+/// ```
+/// let p = hdgear::Params { gamma: 1.0, ..Default::default() };
+/// let c = hdgear::fast::curve(&p, (-1.0, 1.0), 1000).unwrap();
+/// assert_eq!(c.len(), 1000);
+/// assert!(c.iter().all(|q| q.kind.is_stable()));
+/// ```
+pub fn curve(p: &Params, a_range: (f64, f64), points: usize) -> Result<Vec<CurvePoint>> {
+    p.validate()?;
+    check_a_range(a_range)?;
+    if points < 2 {
+        return Err(Error::InvalidOption {
+            name: "points",
+            value: points as f64,
+            reason: "must be ≥ 2",
+        });
+    }
+    let (a0, a1) = a_range;
+    if p.delta == 0.0 {
+        let roots = equilibria(p, a0).roots;
+        let per = points.div_ceil(roots.len());
+        let mut out = Vec::with_capacity(points);
+        for r in &roots {
+            for k in 0..per {
+                let a = a0 + (a1 - a0) * k as f64 / (per - 1).max(1) as f64;
+                out.push(CurvePoint::at(p, a, r.x));
+            }
+        }
+        out.truncate(points);
+        return Ok(out);
+    }
+    let intervals = x_intervals(p, a_range);
+    let x_lo = intervals.first().map_or(0.0, |i| i.0);
+    let x_hi = intervals.last().map_or(0.0, |i| i.1);
+    let (sa, sx) = (a1 - a0, (x_hi - x_lo).max(f64::MIN_POSITIVE));
+    let a_of = |x: f64| (p.g(x) - p.mu) / p.delta;
+    // Fine polyline per interval for the arc length (4 sub-samples per output point).
+    let fine = (4 * points).max(64);
+    let total_x: f64 = intervals.iter().map(|i| i.1 - i.0).sum();
+    let mut polylines: Vec<(Vec<f64>, Vec<f64>)> = Vec::new(); // (x, cumulative length)
+    for &(xl, xr) in &intervals {
+        let m = ((fine as f64 * (xr - xl) / total_x).ceil() as usize).max(8);
+        let mut xs = Vec::with_capacity(m + 1);
+        let mut ss = Vec::with_capacity(m + 1);
+        let (mut s, mut prev) = (0.0, (a_of(xl), xl));
+        for j in 0..=m {
+            let x = if j == m {
+                xr
+            } else {
+                xl + (xr - xl) * j as f64 / m as f64
+            };
+            let q = (a_of(x), x);
+            s += (((q.0 - prev.0) / sa).powi(2) + ((q.1 - prev.1) / sx).powi(2)).sqrt();
+            xs.push(x);
+            ss.push(s);
+            prev = q;
+        }
+        polylines.push((xs, ss));
+    }
+    let total: f64 = polylines
+        .iter()
+        .map(|(_, s)| s.last().copied().unwrap_or(0.0))
+        .sum();
+    // points per interval ∝ arc length, at least 2 each
+    let n_int = polylines.len();
+    let mut counts: Vec<usize> = polylines
+        .iter()
+        .map(|(_, s)| ((points as f64 * s.last().unwrap() / total).round() as usize).max(2))
+        .collect();
+    // fix the total to exactly `points`
+    while counts.iter().sum::<usize>() > points {
+        let i = (0..n_int).max_by_key(|&i| counts[i]).unwrap();
+        counts[i] -= 1;
+    }
+    while counts.iter().sum::<usize>() < points {
+        let i = (0..n_int).max_by_key(|&i| counts[i]).unwrap();
+        counts[i] += 1;
+    }
+    let mut out = Vec::with_capacity(points);
+    for ((xs, ss), n) in polylines.iter().zip(counts) {
+        let len = *ss.last().unwrap();
+        let mut j = 0;
+        for k in 0..n {
+            let target = len * k as f64 / (n - 1) as f64;
+            while j + 1 < ss.len() - 1 && ss[j + 1] < target {
+                j += 1;
+            }
+            let x = if k == 0 {
+                xs[0]
+            } else if k == n - 1 {
+                *xs.last().unwrap()
+            } else {
+                let (s0, s1) = (ss[j], ss[j + 1]);
+                let w = if s1 > s0 {
+                    (target - s0) / (s1 - s0)
+                } else {
+                    0.0
+                };
+                xs[j] + w.clamp(0.0, 1.0) * (xs[j + 1] - xs[j])
+            };
+            let mut pt = CurvePoint::at_x(p, x);
+            // Interval ends are the exact roots at a0 or a1, and a(x) stays within [a0, a1]
+            // inside an interval: remove the rounding noise of evaluating a(x).
+            if k == 0 || k == n - 1 {
+                pt.a = if (pt.a - a0).abs() < (pt.a - a1).abs() {
+                    a0
+                } else {
+                    a1
+                };
+            } else {
+                pt.a = pt.a.clamp(a0, a1);
+            }
+            out.push(pt);
+        }
+    }
+    Ok(out)
+}

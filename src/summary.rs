@@ -1,0 +1,98 @@
+//! Readable (non-JSON) summaries for the terminal.
+
+use hdgear::fast::Analysis;
+use std::fmt::Write;
+
+fn num(v: f64) -> String {
+    if v.is_infinite() {
+        "infinite (a fold)".into()
+    } else {
+        format!("{v:.6}")
+    }
+}
+
+/// The readable form of `hdgear analyze`.
+pub fn analysis_text(an: &Analysis) -> String {
+    let p = &an.params;
+    let e = &an.equilibria;
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "fast subsystem x'' + x' + {a}x^3 - x^2 + {g}(x - {ep}) = {mu} + {d}a,  a in [{a0}, {a1}]",
+        a = p.alpha,
+        g = p.gamma,
+        ep = p.eps,
+        mu = p.mu,
+        d = p.delta,
+        a0 = an.a_range[0],
+        a1 = an.a_range[1]
+    );
+    let _ = writeln!(
+        s,
+        "critical gamma 1/(3 alpha) = {:.6}; gamma - critical = {:.6} ({})",
+        an.critical_gamma, an.gamma_margin, an.regime
+    );
+    let _ = writeln!(
+        s,
+        "cusp: gamma = {:.6}, a = {:.6}, x = {:.6}",
+        an.cusp.gamma, an.cusp.a, an.cusp.x
+    );
+    let _ = writeln!(
+        s,
+        "equilibria per a: {}..{}; stable everywhere: {}",
+        e.min_count, e.max_count, e.stable_everywhere
+    );
+    if e.folds.is_empty() {
+        let _ = writeln!(s, "folds: none (gamma >= 1/(3 alpha))");
+    }
+    for f in &e.folds {
+        let _ = writeln!(
+            s,
+            "fold: a = {:.12}, x = {:.12}{}",
+            f.a,
+            f.x,
+            if f.in_range {
+                ""
+            } else {
+                " (outside the a-range)"
+            }
+        );
+    }
+    let _ = writeln!(
+        s,
+        "largest |dx/da| on the range: {} at a = {:.6}, x = {:.6}",
+        num(e.max_slope.value),
+        e.max_slope.a,
+        e.max_slope.x
+    );
+    if let Some(sp) = &an.steepest_point {
+        let _ = writeln!(
+            s,
+            "steepest point of the whole curve: x = 1/(3 alpha) = {:.6}, a = {:.6}, slope = {:.6}",
+            sp.x, sp.a, sp.value
+        );
+    }
+    if let Some(s0) = e.slope_at_a0 {
+        let _ = writeln!(s, "dx/da at a = 0: {s0:.6}");
+    }
+    let _ = writeln!(s, "Hopf bifurcation possible: no ({})", e.hopf_reason);
+    let c = &e.spiking_criterion;
+    let _ = writeln!(
+        s,
+        "spiking criterion: R = equilibrium speed / (relaxation rate * curve extent) > {}; max R = {:.4} at a = {:.6}",
+        c.threshold, c.max_ratio, c.max_ratio_a
+    );
+    if e.spiking_areas.is_empty() {
+        let _ = writeln!(
+            s,
+            "spiking areas: none (the state follows the equilibrium everywhere)"
+        );
+    }
+    for i in &e.spiking_areas {
+        let _ = writeln!(s, "spiking area: a in [{:.6}, {:.6}]", i.a_min, i.a_max);
+    }
+    for i in &e.quiescent_areas {
+        let _ = writeln!(s, "quiescent area: a in [{:.6}, {:.6}]", i.a_min, i.a_max);
+    }
+    s
+}
