@@ -27,6 +27,93 @@ pub enum Command {
     Analyze(AnalyzeArgs),
     /// The fold curves in the (a, gamma) plane up to the cusp (gamma,a_lower,x_lower,a_upper,x_upper).
     Bifurcation(BifurcationArgs),
+    /// Detect the bursts of a response and list them one per row.
+    Bursts(BurstsArgs),
+    /// The study's gamma table and parameter-effects table with measured numbers.
+    Table(TableArgs),
+    /// Sweep one or two parameters over a grid in parallel (resumable).
+    Sweep(SweepArgs),
+}
+
+/// Burst-detection settings shared by the commands that measure a response.
+#[derive(Args, Debug, Clone)]
+pub struct BurstArgs {
+    /// Slow periods discarded as transient.
+    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
+    pub discard: f64,
+    /// Whole slow periods analysed after the transient.
+    #[arg(long, default_value_t = 2)]
+    pub window_periods: u32,
+    #[command(flatten)]
+    pub tol: TolArgs,
+}
+
+impl BurstArgs {
+    /// Checked burst options.
+    pub fn options(&self) -> Result<hdgear::burst::BurstOptions> {
+        let o = hdgear::burst::BurstOptions {
+            discard_periods: self.discard,
+            periods: self.window_periods,
+            tol: self.tol.options()?,
+            ..Default::default()
+        };
+        o.validate()?;
+        Ok(o)
+    }
+}
+
+/// Arguments of `hdgear bursts`.
+#[derive(Args, Debug)]
+pub struct BurstsArgs {
+    #[command(flatten)]
+    pub params: ParamArgs,
+    #[command(flatten)]
+    pub burst: BurstArgs,
+    /// Output file, .csv or .json (CSV on stdout without it).
+    #[arg(long, value_name = "FILE")]
+    pub out: Option<PathBuf>,
+}
+
+/// Arguments of `hdgear table`.
+#[derive(Args, Debug)]
+pub struct TableArgs {
+    #[command(flatten)]
+    pub params: ParamArgs,
+    #[command(flatten)]
+    pub burst: BurstArgs,
+    /// JSON instead of Markdown.
+    #[arg(long, conflicts_with = "csv")]
+    pub json: bool,
+    /// CSV instead of Markdown (the gamma table, a blank line, the effects table).
+    #[arg(long)]
+    pub csv: bool,
+}
+
+/// Arguments of `hdgear sweep`.
+#[derive(Args, Debug)]
+pub struct SweepArgs {
+    #[command(flatten)]
+    pub params: ParamArgs,
+    #[command(flatten)]
+    pub burst: BurstArgs,
+    /// An axis NAME=START:END:COUNT[:log] (one or two).
+    #[arg(
+        long = "param",
+        value_name = "SPEC",
+        required = true,
+        allow_hyphen_values = true
+    )]
+    pub axes: Vec<String>,
+    /// Worker threads (default: one per core).
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// Output file, .csv or .json. Rows stream into FILE.partial as they finish; FILE is written
+    /// in grid order at the end.
+    #[arg(long, value_name = "FILE")]
+    pub out: PathBuf,
+    /// Continue an interrupted sweep from FILE.partial.
+    #[arg(long)]
+    pub resume: bool,
 }
 
 /// Parses `A0:A1` into a checked range.
@@ -70,6 +157,11 @@ pub struct AnalyzeArgs {
     /// Print one JSON document instead of the readable summary.
     #[arg(long)]
     pub json: bool,
+    /// Skip the simulated response and its classification (fast-subsystem analysis only).
+    #[arg(long)]
+    pub no_response: bool,
+    #[command(flatten)]
+    pub burst: BurstArgs,
 }
 
 /// Arguments of `hdgear bifurcation`.

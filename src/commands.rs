@@ -1,7 +1,8 @@
 //! Running the checked commands and exporting their results.
 
 use crate::cli::{
-    AnalyzeArgs, BifurcationArgs, Cli, Command, EquilibriaArgs, SimulateRun, check_out, parse_range,
+    AnalyzeArgs, BifurcationArgs, BurstsArgs, Cli, Command, EquilibriaArgs, SimulateRun, TableArgs,
+    check_out, parse_range,
 };
 use anyhow::{Context, Result};
 use hdgear::output::{AtomicFile, Format, RecordWriter};
@@ -38,10 +39,13 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Equilibria(a) => equilibria(a),
         Command::Analyze(a) => analyze(a),
         Command::Bifurcation(a) => bifurcation(a),
+        Command::Bursts(a) => bursts(a),
+        Command::Table(a) => table(a),
+        Command::Sweep(a) => crate::sweep_cmd::sweep(a),
     }
 }
 
-fn warn(warnings: &[Warning]) {
+pub fn warn(warnings: &[Warning]) {
     for w in warnings {
         eprintln!("warning: {w}");
     }
@@ -55,6 +59,7 @@ struct Sample {
     x: f64,
     xdot: f64,
 }
+hdgear::record!(Sample: "t", "a", "x", "xdot");
 
 /// Streams a simulation into a table on `sink`; returns the sink (for committing) and the summary.
 fn simulate_into<W: Write>(
@@ -64,7 +69,7 @@ fn simulate_into<W: Write>(
 ) -> Result<(W, hdgear::simulate::SimSummary)> {
     let p = run.params;
     let meta = serde_json::json!({ "params": p, "options": run.opts });
-    let mut table = RecordWriter::new(sink, format, &meta)?;
+    let mut table = RecordWriter::<_, Sample>::new(sink, format, &meta)?;
     let mut io_err: Option<std::io::Error> = None;
     let summary = hdgear::simulate::simulate(&p, &run.opts, |t, y| {
         if io_err.is_none()
@@ -151,7 +156,7 @@ impl Write for Sink {
 }
 
 /// Writes `rows` as records to `--out` (or stdout), atomically.
-fn write_records<T: Serialize>(
+pub fn write_records<T: hdgear::output::Record>(
     out: Option<&Path>,
     meta: &serde_json::Value,
     rows: impl IntoIterator<Item = T>,
@@ -187,15 +192,63 @@ fn bifurcation(a: BifurcationArgs) -> Result<()> {
 fn analyze(a: AnalyzeArgs) -> Result<()> {
     let (p, warnings) = a.params.resolve()?;
     let range = parse_range(&a.a_range)?;
+    let opts = a.burst.options()?;
     let an = hdgear::fast::analyze(&p, range)?;
+    let measured = if a.no_response {
+        None
+    } else {
+        let r = hdgear::burst::response(&p, &opts)?;
+        let c = hdgear::burst::classify(&p, &r);
+        Some((r, c))
+    };
     if a.json {
         let mut doc = serde_json::to_value(&an)?;
+        if let Some((r, c)) = &measured {
+            doc["response"] = serde_json::to_value(r)?;
+            doc["classification"] = serde_json::to_value(c)?;
+        }
         doc["warnings"] =
             serde_json::json!(warnings.iter().map(|w| w.to_string()).collect::<Vec<_>>());
         println!("{}", serde_json::to_string_pretty(&doc)?);
     } else {
         warn(&warnings);
         print!("{}", crate::summary::analysis_text(&an));
+        if let Some((r, c)) = &measured {
+            print!("{}", crate::summary::response_text(r, c));
+        }
     }
+    Ok(())
+}
+
+fn bursts(a: BurstsArgs) -> Result<()> {
+    let (p, warnings) = a.params.resolve()?;
+    let opts = a.burst.options()?;
+    check_out(&a.out)?;
+    warn(&warnings);
+    let r = hdgear::burst::response(&p, &opts)?;
+    let c = hdgear::burst::classify(&p, &r);
+    let meta = serde_json::json!({
+        "params": p,
+        "options": opts,
+        "classification": c,
+        "bursts_per_period": r.bursts_per_period,
+        "window": [r.window_start, r.window_end],
+    });
+    write_records(a.out.as_deref(), &meta, r.bursts)
+}
+
+fn table(a: TableArgs) -> Result<()> {
+    let (p, warnings) = a.params.resolve()?;
+    let opts = a.burst.options()?;
+    warn(&warnings);
+    let t = hdgear::table::tables(&p, &opts)?;
+    let text = if a.json {
+        serde_json::to_string_pretty(&t)? + "\n"
+    } else if a.csv {
+        hdgear::output::tables::csv(&t)?
+    } else {
+        hdgear::output::tables::markdown(&t)
+    };
+    print!("{text}");
     Ok(())
 }

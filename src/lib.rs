@@ -27,6 +27,7 @@
 //! ```
 #![warn(missing_docs)]
 
+pub mod burst;
 pub mod error;
 pub mod fast;
 pub mod integrate;
@@ -34,6 +35,8 @@ pub mod model;
 pub mod output;
 pub mod params;
 pub mod simulate;
+pub mod sweep;
+pub mod table;
 
 pub use error::{Error, Result};
 pub use params::Params;

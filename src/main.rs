@@ -3,6 +3,7 @@
 mod cli;
 mod commands;
 mod summary;
+mod sweep_cmd;
 
 use clap::Parser;
 use std::process::ExitCode;

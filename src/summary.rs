@@ -96,3 +96,30 @@ pub fn analysis_text(an: &Analysis) -> String {
     }
     s
 }
+
+/// The readable form of a measured response and its classification.
+pub fn response_text(r: &hdgear::burst::Response, c: &hdgear::burst::Classification) -> String {
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "response (window t in [{:.1}, {:.1}]): {} bursts per slow period, {:.2} spikes per burst, \
+         burst amplitude {:.4}, peak |x'| {:.4}, quiescent {:.1} time units ({:.1} % of the time), \
+         max |x - x*| {:.4}",
+        r.window_start,
+        r.window_end,
+        r.bursts_per_period,
+        r.spikes_per_burst,
+        r.burst_amplitude,
+        r.peak_abs_xdot,
+        r.quiescent_duration,
+        100.0 * r.quiescent_fraction,
+        r.max_tracking_error
+    );
+    let _ = writeln!(
+        s,
+        "classification: mode {}, mechanism {}",
+        c.mode.name(),
+        c.mechanism.name()
+    );
+    s
+}

@@ -391,3 +391,246 @@ fn analysis_bad_input_exits_2() {
         .code(2)
         .stderr(predicate::str::contains("'0'"));
 }
+
+#[test]
+fn analyze_json_gains_response_and_classification() {
+    let out = hdgear()
+        .args(["analyze", "--json", "--preset", "paper-g1"])
+        .assert()
+        .success()
+        .get_output()
+        .stdout
+        .clone();
+    let doc: serde_json::Value = serde_json::from_slice(&out).unwrap();
+    for k in [
+        "bursts_per_period",
+        "spikes_per_burst",
+        "peak_abs_xdot",
+        "quiescent_fraction",
+        "max_tracking_error",
+    ] {
+        assert!(doc["response"][k].is_f64(), "response.{k}");
+    }
+    assert_eq!(doc["response"]["bursts_per_period"], 2.0);
+    assert_eq!(doc["classification"]["mode"], "fast-slow");
+    assert_eq!(
+        doc["classification"]["mechanism"],
+        "sharp-quantitative-change"
+    );
+    let out = hdgear()
+        .args(["analyze", "--json", "--no-response"])
+        .assert()
+        .success()
+        .get_output()
+        .stdout
+        .clone();
+    let doc: serde_json::Value = serde_json::from_slice(&out).unwrap();
+    assert!(doc.get("response").is_none());
+}
+
+#[test]
+fn bursts_lists_one_burst_per_row() {
+    let text = String::from_utf8(
+        hdgear()
+            .args(["bursts", "--preset", "paper-g0.1"])
+            .assert()
+            .success()
+            .get_output()
+            .stdout
+            .clone(),
+    )
+    .unwrap();
+    let mut lines = text.lines();
+    assert_eq!(
+        lines.next(),
+        Some("onset,end,a_onset,duration,peak_abs_xdot,peak_deviation,spikes,complete")
+    );
+    assert_eq!(lines.count(), 4); // 2 per period over the 2 analysed periods
+    let text = String::from_utf8(
+        hdgear()
+            .args(["bursts", "--preset", "paper-g30"])
+            .assert()
+            .success()
+            .get_output()
+            .stdout
+            .clone(),
+    )
+    .unwrap();
+    assert_eq!(
+        text.lines().count(),
+        1,
+        "no bursts, only the header: {text}"
+    );
+}
+
+#[test]
+fn table_formats_agree() {
+    let json: serde_json::Value = serde_json::from_slice(
+        &hdgear()
+            .args(["table", "--json"])
+            .assert()
+            .success()
+            .get_output()
+            .stdout,
+    )
+    .unwrap();
+    let rows = json["gamma_table"].as_array().unwrap();
+    assert_eq!(rows.len(), 4);
+    let modes: Vec<&str> = rows.iter().map(|r| r["mode"].as_str().unwrap()).collect();
+    assert_eq!(
+        modes,
+        ["normal", "transitional", "fast-slow", "pronounced-bursting"]
+    );
+    assert_eq!(json["effects_table"].as_array().unwrap().len(), 5);
+    let md = String::from_utf8(
+        hdgear()
+            .arg("table")
+            .assert()
+            .success()
+            .get_output()
+            .stdout
+            .clone(),
+    )
+    .unwrap();
+    assert!(md.contains("| 0.1 | extremely steep, near-vertical | 189.4737 |"));
+    assert!(md.contains("**contradicts**"));
+    let csv = String::from_utf8(
+        hdgear()
+            .args(["table", "--csv"])
+            .assert()
+            .success()
+            .get_output()
+            .stdout
+            .clone(),
+    )
+    .unwrap();
+    assert!(csv.starts_with("gamma,shape,max_slope,"));
+    assert!(csv.contains("\n\nparameter,low,high,"));
+}
+
+fn lines(path: &std::path::Path) -> usize {
+    std::fs::read_to_string(path)
+        .map(|t| t.lines().count())
+        .unwrap_or(0)
+}
+
+#[test]
+fn a_killed_sweep_resumes_to_the_same_rows() {
+    let dir = tempfile::tempdir().unwrap();
+    let full = dir.path().join("full.csv");
+    let spec = "gamma=0.1:30:400:log";
+    hdgear()
+        .args(["sweep", "--param", spec, "--threads", "2", "--out"])
+        .arg(&full)
+        .assert()
+        .success();
+    assert_eq!(lines(&full), 401);
+
+    let out = dir.path().join("cut.csv");
+    let partial = dir.path().join("cut.csv.partial");
+    let mut child = std::process::Command::new(assert_cmd::cargo::cargo_bin("hdgear"))
+        .args(["sweep", "--param", spec, "--threads", "1", "--out"])
+        .arg(&out)
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let t0 = std::time::Instant::now();
+    while lines(&partial) < 40 && t0.elapsed().as_secs() < 60 {
+        std::thread::sleep(std::time::Duration::from_millis(2));
+    }
+    child.kill().unwrap(); // SIGKILL
+    child.wait().unwrap();
+    let kept = lines(&partial);
+    assert!(
+        !out.exists(),
+        "the sweep finished before it could be killed"
+    );
+    assert!(kept > 1 && kept < 401, "partial rows: {kept}");
+
+    // without --resume, the partial file is not silently overwritten
+    hdgear()
+        .args(["sweep", "--param", spec, "--out"])
+        .arg(&out)
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("--resume"));
+    hdgear()
+        .args([
+            "sweep",
+            "--param",
+            spec,
+            "--threads",
+            "2",
+            "--resume",
+            "--out",
+        ])
+        .arg(&out)
+        .assert()
+        .success();
+    assert!(!partial.exists());
+    assert_eq!(
+        std::fs::read_to_string(&out).unwrap(),
+        std::fs::read_to_string(&full).unwrap()
+    );
+}
+
+#[test]
+fn sweep_writes_json_in_grid_order() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("s.json");
+    hdgear()
+        .args([
+            "sweep",
+            "--param",
+            "gamma=0.5:2:3",
+            "--param",
+            "omega=0.01:0.02:2",
+            "--out",
+        ])
+        .arg(&out)
+        .assert()
+        .success();
+    let doc: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    let rows = doc["rows"].as_array().unwrap();
+    assert_eq!(rows.len(), 6);
+    for (i, r) in rows.iter().enumerate() {
+        assert_eq!(r["index"], i);
+        for k in [
+            "alpha",
+            "gamma",
+            "eps",
+            "mu",
+            "delta",
+            "omega",
+            "mode",
+            "mechanism",
+            "bursts_per_period",
+            "spikes_per_burst",
+            "peak_abs_xdot",
+            "quiescent_fraction",
+            "max_tracking_error",
+            "max_slope",
+        ] {
+            assert!(r.get(k).is_some(), "{k}");
+        }
+    }
+    assert_eq!(rows[4]["gamma"], 1.25);
+    assert_eq!(rows[4]["omega"], 0.02);
+    assert_eq!(files_in(dir.path()), ["s.json"]);
+}
+
+#[test]
+fn sweep_bad_input_exits_2() {
+    rejects(&["sweep", "--param", "gamma=1:2"], "gamma=1:2");
+    rejects(&["sweep", "--param", "zeta=1:2:3"], "zeta");
+    rejects(&["sweep", "--param", "omega=-1:1:3"], "omega = -1");
+    rejects(
+        &["sweep", "--param", "gamma=1:2:3", "--param", "gamma=1:2:3"],
+        "different parameters",
+    );
+    rejects(
+        &["sweep", "--param", "gamma=1:2:3", "--threads", "0"],
+        "threads = 0",
+    );
+}

@@ -2,7 +2,9 @@
 
 mod common;
 
+mod burst;
 mod cli;
 mod fast;
 mod integrate;
+mod output;
 mod reference;

@@ -3,6 +3,8 @@
 //! Every file is written to a temporary sibling (`.NAME.tmp-PID`) and renamed over the target
 //! only when complete, so a failure never leaves a half-written file behind.
 
+pub mod tables;
+
 use crate::error::{Error, Result};
 use std::fs::File;
 use std::io::{BufWriter, Write};
@@ -120,12 +122,21 @@ impl Format {
     }
 }
 
-/// Streams records (any `Serialize` struct with scalar fields) as CSV with a header row, or as
-/// JSON `{"meta": …, "rows": [{…}, …]}`, row by row, so a late failure loses nothing already
-/// computed and memory stays flat however long the output.
-pub struct RecordWriter<W: Write> {
+/// A row type of a table: a `Serialize` struct with scalar fields, and its column names (the
+/// field names, in order; a test checks they match what serde writes), so that a CSV with no
+/// rows still has its header.
+pub trait Record: serde::Serialize {
+    /// Column names, in field order.
+    const COLUMNS: &'static [&'static str];
+}
+
+/// Streams records as CSV with a header row, or as JSON `{"meta": …, "rows": [{…}, …]}`, row by
+/// row, so a late failure loses nothing already computed and memory stays flat however long the
+/// output.
+pub struct RecordWriter<W: Write, T: Record> {
     inner: Inner<W>,
     rows: u64,
+    _t: std::marker::PhantomData<fn(&T)>,
 }
 
 enum Inner<W: Write> {
@@ -140,12 +151,16 @@ fn csv_io(e: csv::Error) -> std::io::Error {
     }
 }
 
-impl<W: Write> RecordWriter<W> {
-    /// Starts the output. `meta` (the parameters and options that produced the rows) goes into
-    /// JSON output only.
+impl<W: Write, T: Record> RecordWriter<W, T> {
+    /// Starts the output (the CSV header is written at once). `meta` (the parameters and options
+    /// that produced the rows) goes into JSON output only.
     pub fn new(mut w: W, format: Format, meta: &serde_json::Value) -> std::io::Result<Self> {
         let inner = match format {
-            Format::Csv => Inner::Csv(Box::new(csv::Writer::from_writer(w))),
+            Format::Csv => {
+                let mut c = csv::WriterBuilder::new().has_headers(false).from_writer(w);
+                c.write_record(T::COLUMNS).map_err(csv_io)?;
+                Inner::Csv(Box::new(c))
+            }
             Format::Json => {
                 w.write_all(b"{\"meta\":")?;
                 serde_json::to_writer(&mut w, meta)?;
@@ -153,11 +168,15 @@ impl<W: Write> RecordWriter<W> {
                 Inner::Json(w)
             }
         };
-        Ok(RecordWriter { inner, rows: 0 })
+        Ok(RecordWriter {
+            inner,
+            rows: 0,
+            _t: std::marker::PhantomData,
+        })
     }
 
     /// Appends one record.
-    pub fn row<T: serde::Serialize>(&mut self, record: &T) -> std::io::Result<()> {
+    pub fn row(&mut self, record: &T) -> std::io::Result<()> {
         match &mut self.inner {
             Inner::Csv(c) => c.serialize(record).map_err(csv_io)?,
             Inner::Json(w) => {
@@ -188,3 +207,18 @@ impl<W: Write> RecordWriter<W> {
         }
     }
 }
+
+/// Implements [`Record`] for a type with the given column names.
+#[macro_export]
+macro_rules! record {
+    ($t:ty: $($c:literal),+ $(,)?) => {
+        impl $crate::output::Record for $t {
+            const COLUMNS: &'static [&'static str] = &[$($c),+];
+        }
+    };
+}
+
+record!(crate::fast::CurvePoint: "a", "x", "slope", "gprime", "re1", "im1", "re2", "im2", "type", "branch");
+record!(crate::fast::FoldRow: "gamma", "a_lower", "x_lower", "a_upper", "x_upper");
+record!(crate::burst::Burst: "onset", "end", "a_onset", "duration", "peak_abs_xdot", "peak_deviation", "spikes", "complete");
+record!(crate::sweep::SweepRow: "index", "alpha", "gamma", "eps", "mu", "delta", "omega", "mode", "mechanism", "bursts_per_period", "spikes_per_burst", "burst_amplitude", "peak_abs_xdot", "quiescent_duration", "quiescent_fraction", "max_tracking_error", "max_slope", "error");

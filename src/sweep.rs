@@ -1,0 +1,290 @@
+//! Parameter sweeps: one- or two-parameter grids run in parallel, one [`SweepRow`] per point.
+//!
+//! Every point is computed independently and deterministically (same input, same bits), so the
+//! result does not depend on the number of threads or on the order in which points finish.
+//! Rows are handed to the caller as they finish (for streaming and resuming); the caller puts
+//! them in grid order at the end.
+
+use crate::burst::{BurstOptions, classify, response};
+use crate::error::{Error, Result};
+use crate::fast;
+use crate::params::{PARAM_NAMES, Params};
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+use std::collections::HashSet;
+
+/// One axis of a grid: `NAME=START:END:COUNT[:log]`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Axis {
+    /// Parameter name (alpha, gamma, eps, mu, delta, omega).
+    pub name: String,
+    /// First value.
+    pub start: f64,
+    /// Last value.
+    pub end: f64,
+    /// Number of values (≥ 1).
+    pub count: usize,
+    /// Logarithmic spacing (START and END > 0).
+    pub log: bool,
+}
+
+impl Axis {
+    /// Parses `NAME=START:END:COUNT[:log]`; errors name the offending text.
+    ///
+    /// ```
+    /// let ax = hdgear::sweep::Axis::parse("gamma=0.05:30:200:log").unwrap();
+    /// assert_eq!((ax.count, ax.log), (200, true));
+    /// assert!((ax.value(199) - 30.0).abs() < 1e-12);
+    /// ```
+    pub fn parse(text: &str) -> Result<Axis> {
+        let bad = |reason: &str| Error::InvalidInput {
+            what: "--param",
+            text: text.to_string(),
+            reason: reason.to_string(),
+        };
+        let (name, spec) = text
+            .split_once('=')
+            .ok_or_else(|| bad("expected NAME=START:END:COUNT[:log]"))?;
+        let name = name.trim();
+        if !PARAM_NAMES.contains(&name) {
+            return Err(bad(&format!(
+                "unknown parameter '{name}' (expected one of {})",
+                PARAM_NAMES.join(", ")
+            )));
+        }
+        let parts: Vec<&str> = spec.split(':').map(str::trim).collect();
+        if !(parts.len() == 3 || parts.len() == 4) {
+            return Err(bad("expected NAME=START:END:COUNT[:log]"));
+        }
+        let num = |s: &str, what: &str| {
+            s.parse::<f64>()
+                .ok()
+                .filter(|v| v.is_finite())
+                .ok_or_else(|| bad(&format!("{what} '{s}' is not a finite number")))
+        };
+        let start = num(parts[0], "START")?;
+        let end = num(parts[1], "END")?;
+        let count: usize = parts[2]
+            .parse()
+            .ok()
+            .filter(|&c| c >= 1)
+            .ok_or_else(|| bad(&format!("COUNT '{}' is not a whole number ≥ 1", parts[2])))?;
+        let log = match parts.get(3) {
+            None => false,
+            Some(&"log") => true,
+            Some(other) => {
+                return Err(bad(&format!(
+                    "'{other}': the fourth field can only be 'log'"
+                )));
+            }
+        };
+        if log && !(start > 0.0 && end > 0.0) {
+            return Err(bad("a log axis needs START > 0 and END > 0"));
+        }
+        if count == 1 && start != end {
+            return Err(bad("COUNT 1 needs START = END"));
+        }
+        Ok(Axis {
+            name: name.to_string(),
+            start,
+            end,
+            count,
+            log,
+        })
+    }
+
+    /// The i-th value (the ends exactly).
+    pub fn value(&self, i: usize) -> f64 {
+        if self.count == 1 || i == 0 {
+            return self.start;
+        }
+        if i == self.count - 1 {
+            return self.end;
+        }
+        let f = i as f64 / (self.count - 1) as f64;
+        if self.log {
+            (self.start.ln() + f * (self.end.ln() - self.start.ln())).exp()
+        } else {
+            self.start + f * (self.end - self.start)
+        }
+    }
+}
+
+/// A grid of one or two axes over a base parameter set. Index i runs over the first axis fastest.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Grid {
+    /// The parameters not swept.
+    pub base: Params,
+    /// One or two axes with distinct names.
+    pub axes: Vec<Axis>,
+}
+
+impl Grid {
+    /// Checks the axes (one or two, distinct) and that every grid point is a valid parameter set,
+    /// so an impossible range fails before any work is done.
+    pub fn new(base: Params, axes: Vec<Axis>) -> Result<Grid> {
+        if axes.is_empty() || axes.len() > 2 {
+            return Err(Error::InvalidInput {
+                what: "--param",
+                text: format!("{} axes", axes.len()),
+                reason: "give one or two --param axes".into(),
+            });
+        }
+        if axes.len() == 2 && axes[0].name == axes[1].name {
+            return Err(Error::InvalidInput {
+                what: "--param",
+                text: axes[1].name.clone(),
+                reason: "the two axes must sweep different parameters".into(),
+            });
+        }
+        let g = Grid { base, axes };
+        for i in 0..g.len() {
+            g.point(i).validate()?;
+        }
+        Ok(g)
+    }
+
+    /// Number of points.
+    pub fn len(&self) -> usize {
+        self.axes.iter().map(|a| a.count).product()
+    }
+
+    /// True for an empty grid (never, after [`Grid::new`]).
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// The parameter set at index i.
+    pub fn point(&self, i: usize) -> Params {
+        let mut p = self.base;
+        let mut rest = i;
+        for ax in &self.axes {
+            let j = rest % ax.count;
+            rest /= ax.count;
+            p.set(&ax.name, ax.value(j))
+                .expect("axis names are checked");
+        }
+        p
+    }
+}
+
+/// One sweep result: the CSV columns of `hdgear sweep`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SweepRow {
+    /// Grid index (first axis fastest).
+    pub index: usize,
+    /// α
+    pub alpha: f64,
+    /// γ
+    pub gamma: f64,
+    /// ε
+    pub eps: f64,
+    /// μ
+    pub mu: f64,
+    /// δ
+    pub delta: f64,
+    /// ω
+    pub omega: f64,
+    /// Oscillation mode (`error` when the point failed).
+    pub mode: String,
+    /// Mechanism (`error` when the point failed).
+    pub mechanism: String,
+    /// Bursts per slow period.
+    pub bursts_per_period: f64,
+    /// Mean spikes per burst.
+    pub spikes_per_burst: f64,
+    /// Mean peak |x'| of the bursts.
+    pub burst_amplitude: f64,
+    /// Largest |x'| in the window.
+    pub peak_abs_xdot: f64,
+    /// Mean quiescent duration between bursts.
+    pub quiescent_duration: f64,
+    /// Fraction of the window outside bursts.
+    pub quiescent_fraction: f64,
+    /// Largest tracking error max|x − x*|.
+    pub max_tracking_error: f64,
+    /// Largest |dx/da| on a ∈ [−1, 1] (inf with folds in range).
+    pub max_slope: f64,
+    /// Empty, or the error that stopped this point (its metrics are then NaN).
+    pub error: String,
+}
+
+/// Runs one point.
+pub fn run_point(index: usize, p: &Params, opts: &BurstOptions) -> SweepRow {
+    let result = response(p, opts).and_then(|r| {
+        let an = fast::analyze(p, (-1.0, 1.0))?;
+        Ok((classify(p, &r), r, an.equilibria.max_slope.value))
+    });
+    let mut row = SweepRow {
+        index,
+        alpha: p.alpha,
+        gamma: p.gamma,
+        eps: p.eps,
+        mu: p.mu,
+        delta: p.delta,
+        omega: p.omega,
+        mode: "error".into(),
+        mechanism: "error".into(),
+        bursts_per_period: f64::NAN,
+        spikes_per_burst: f64::NAN,
+        burst_amplitude: f64::NAN,
+        peak_abs_xdot: f64::NAN,
+        quiescent_duration: f64::NAN,
+        quiescent_fraction: f64::NAN,
+        max_tracking_error: f64::NAN,
+        max_slope: f64::NAN,
+        error: String::new(),
+    };
+    match result {
+        Ok((c, r, slope)) => {
+            row.mode = c.mode.name().into();
+            row.mechanism = c.mechanism.name().into();
+            row.bursts_per_period = r.bursts_per_period;
+            row.spikes_per_burst = r.spikes_per_burst;
+            row.burst_amplitude = r.burst_amplitude;
+            row.peak_abs_xdot = r.peak_abs_xdot;
+            row.quiescent_duration = r.quiescent_duration;
+            row.quiescent_fraction = r.quiescent_fraction;
+            row.max_tracking_error = r.max_tracking_error;
+            row.max_slope = slope;
+        }
+        Err(e) => row.error = e.to_string(),
+    }
+    row
+}
+
+/// Runs every grid point not in `done` on `threads` worker threads (0: one per core) and calls
+/// `on_row` from the calling thread as each point finishes. Returns when all are done.
+pub fn run(
+    grid: &Grid,
+    opts: &BurstOptions,
+    done: &HashSet<usize>,
+    threads: usize,
+    mut on_row: impl FnMut(SweepRow),
+) -> Result<()> {
+    opts.validate()?;
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map_err(|e| Error::InvalidInput {
+            what: "--threads",
+            text: threads.to_string(),
+            reason: e.to_string(),
+        })?;
+    let todo: Vec<usize> = (0..grid.len()).filter(|i| !done.contains(i)).collect();
+    let (tx, rx) = std::sync::mpsc::channel();
+    std::thread::scope(|s| {
+        s.spawn(move || {
+            pool.install(|| {
+                todo.par_iter().for_each_with(tx, |tx, &i| {
+                    // the receiver only goes away if the caller panicked
+                    let _ = tx.send(run_point(i, &grid.point(i), opts));
+                });
+            });
+        });
+        for row in rx {
+            on_row(row);
+        }
+    });
+    Ok(())
+}

@@ -1,0 +1,227 @@
+//! The study's two tables, with measured numbers: the γ table (curve shape, slopes, bursts, mode)
+//! and the parameter-effects table (each parameter halved and doubled around the study's point).
+
+use crate::burst::{BurstOptions, Mode, classify, response};
+use crate::error::Result;
+use crate::fast::analyze;
+use crate::params::Params;
+use rayon::prelude::*;
+use serde::Serialize;
+
+/// The study's γ values and the mode it reports for each.
+pub const STUDY_GAMMAS: [(f64, Mode); 4] = [
+    (30.0, Mode::Normal),
+    (10.0, Mode::Transitional),
+    (1.0, Mode::FastSlow),
+    (0.1, Mode::PronouncedBursting),
+];
+
+/// Words for the curve's shape, derived from its largest |dx/da| on a ∈ [−1, 1] in decades:
+/// < 1 "smooth and gradual" (x changes less than a), 1–10 "moderately steep", 10–100 "very steep,
+/// sharp turn", ≥ 100 "extremely steep, near-vertical", infinite "folded (hysteresis)".
+/// The study's four curves (0.47, 1.50, 15.3, 189.5) land in its four words.
+pub fn shape_words(max_slope: f64) -> &'static str {
+    if max_slope.is_infinite() {
+        "folded (hysteresis)"
+    } else if max_slope < 1.0 {
+        "smooth and gradual"
+    } else if max_slope < 10.0 {
+        "moderately steep"
+    } else if max_slope < 100.0 {
+        "very steep, sharp turn"
+    } else {
+        "extremely steep, near-vertical"
+    }
+}
+
+/// One row of the γ table.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct GammaRow {
+    /// γ.
+    pub gamma: f64,
+    /// Shape words (see [`shape_words`]).
+    pub shape: &'static str,
+    /// Largest |dx/da| on a ∈ [−1, 1].
+    pub max_slope: f64,
+    /// dx/da at a = 0.
+    pub slope_at_a0: f64,
+    /// Bursts per slow period.
+    pub bursts_per_period: f64,
+    /// Mean spikes per burst.
+    pub spikes_per_burst: f64,
+    /// Largest |x'|.
+    pub peak_abs_xdot: f64,
+    /// Measured mode.
+    pub mode: &'static str,
+    /// Mechanism.
+    pub mechanism: &'static str,
+    /// The study's mode.
+    pub study_mode: &'static str,
+    /// Measured mode equals the study's.
+    pub agrees: bool,
+}
+
+/// One row of the parameter-effects table: a parameter at half and at twice its study value.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct EffectRow {
+    /// Parameter name.
+    pub parameter: &'static str,
+    /// Lower value (half the study's).
+    pub low: f64,
+    /// Upper value (twice the study's).
+    pub high: f64,
+    /// Burst amplitude (mean peak |x'|) at low, high.
+    pub amplitude: [f64; 2],
+    /// Spikes per burst at low, high.
+    pub spikes: [f64; 2],
+    /// Quiescent duration at low, high.
+    pub quiescent_duration: [f64; 2],
+    /// Centre of the spiking area nearest a = 0 at low, high (NaN without one).
+    pub spiking_center: [f64; 2],
+    /// What was measured, in words, with the size of the change.
+    pub measured: String,
+    /// The study's claim.
+    pub claim: &'static str,
+    /// `agrees` or `contradicts` (the claim's own metric, changes under 2 % count as none).
+    pub verdict: &'static str,
+}
+
+/// Both tables.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Tables {
+    /// The study's point (γ varies in the first table).
+    pub base: Params,
+    /// The γ table.
+    pub gamma_table: Vec<GammaRow>,
+    /// The parameter-effects table.
+    pub effects_table: Vec<EffectRow>,
+}
+
+struct Measured {
+    amplitude: f64,
+    spikes: f64,
+    quiescent: f64,
+    center: f64,
+}
+
+fn measure(p: &Params, opts: &BurstOptions) -> Result<Measured> {
+    let r = response(p, opts)?;
+    let an = analyze(p, (-1.0, 1.0))?;
+    let center = an
+        .equilibria
+        .spiking_areas
+        .iter()
+        .map(|s| 0.5 * (s.a_min + s.a_max))
+        .min_by(|u, v| u.abs().total_cmp(&v.abs()))
+        .unwrap_or(f64::NAN);
+    Ok(Measured {
+        amplitude: r.burst_amplitude,
+        spikes: r.spikes_per_burst,
+        quiescent: r.quiescent_duration,
+        center,
+    })
+}
+
+fn change(lo: f64, hi: f64) -> (&'static str, f64) {
+    let rel = if lo != 0.0 { (hi - lo) / lo.abs() } else { 0.0 };
+    if (hi - lo).abs() <= 0.02 * lo.abs().max(hi.abs()) {
+        ("unchanged", rel)
+    } else if hi > lo {
+        ("increases", rel)
+    } else {
+        ("decreases", rel)
+    }
+}
+
+/// Computes both tables at `base` (the study's point: `Params::default()`).
+pub fn tables(base: &Params, opts: &BurstOptions) -> Result<Tables> {
+    base.validate()?;
+    let gamma_table = STUDY_GAMMAS
+        .par_iter()
+        .map(|&(gamma, study)| {
+            let p = Params { gamma, ..*base };
+            let r = response(&p, opts)?;
+            let c = classify(&p, &r);
+            let an = analyze(&p, (-1.0, 1.0))?;
+            Ok(GammaRow {
+                gamma,
+                shape: shape_words(an.equilibria.max_slope.value),
+                max_slope: an.equilibria.max_slope.value,
+                slope_at_a0: an.equilibria.slope_at_a0.unwrap_or(f64::NAN),
+                bursts_per_period: r.bursts_per_period,
+                spikes_per_burst: r.spikes_per_burst,
+                peak_abs_xdot: r.peak_abs_xdot,
+                mode: c.mode.name(),
+                mechanism: c.mechanism.name(),
+                study_mode: study.name(),
+                agrees: c.mode == study,
+            })
+        })
+        .collect::<Result<Vec<_>>>()?;
+    let specs: [(&'static str, &'static str); 5] = [
+        (
+            "gamma",
+            "decreasing gamma gives steeper curves and stronger bursts",
+        ),
+        (
+            "alpha",
+            "higher alpha strengthens the cubic term, possibly larger bursts",
+        ),
+        ("delta", "larger delta makes the bursts more pronounced"),
+        ("omega", "smaller omega lengthens the quiescent phases"),
+        (
+            "eps",
+            "increasing eps shifts the location of the spiking area",
+        ),
+    ];
+    let effects_table = specs
+        .par_iter()
+        .map(|&(name, claim)| {
+            let v = base.get(name).expect("known name");
+            let (low, high) = (0.5 * v, 2.0 * v);
+            let mut pl = *base;
+            pl.set(name, low)?;
+            let mut ph = *base;
+            ph.set(name, high)?;
+            let (ml, mh) = (measure(&pl, opts)?, measure(&ph, opts)?);
+            let (amp_dir, amp_rel) = change(ml.amplitude, mh.amplitude);
+            let (spk_dir, _) = change(ml.spikes, mh.spikes);
+            let (q_dir, q_rel) = change(ml.quiescent, mh.quiescent);
+            let shift = mh.center - ml.center;
+            let measured = format!(
+                "from {name} = {low} to {high}: burst amplitude {amp_dir} ({:+.1} %), spikes per \
+                 burst {spk_dir} ({} to {}), quiescent duration {q_dir} ({:+.1} %), spiking-area \
+                 centre moves by {:+.4} in a",
+                100.0 * amp_rel,
+                ml.spikes,
+                mh.spikes,
+                100.0 * q_rel,
+                shift
+            );
+            let holds = match name {
+                // the claimed metric, in the claimed direction
+                "gamma" => amp_dir == "decreases",
+                "alpha" | "delta" => amp_dir == "increases",
+                "omega" => q_dir == "decreases",
+                _ => shift.abs() > 1e-3,
+            };
+            Ok(EffectRow {
+                parameter: name,
+                low,
+                high,
+                amplitude: [ml.amplitude, mh.amplitude],
+                spikes: [ml.spikes, mh.spikes],
+                quiescent_duration: [ml.quiescent, mh.quiescent],
+                spiking_center: [ml.center, mh.center],
+                measured,
+                claim,
+                verdict: if holds { "agrees" } else { "contradicts" },
+            })
+        })
+        .collect::<Result<Vec<_>>>()?;
+    Ok(Tables {
+        base: *base,
+        gamma_table,
+        effects_table,
+    })
+}

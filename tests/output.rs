@@ -1,0 +1,59 @@
+//! Output encodings: explicit CSV headers equal serde's field names; atomic files.
+
+use hdgear::Params;
+use hdgear::output::{AtomicFile, Format, Record, RecordWriter};
+use std::io::Write;
+
+/// The header serde/csv would derive from an instance.
+fn serde_header<T: serde::Serialize>(v: &T) -> String {
+    let mut w = csv::Writer::from_writer(Vec::new());
+    w.serialize(v).unwrap();
+    let text = String::from_utf8(w.into_inner().unwrap()).unwrap();
+    text.lines().next().unwrap().to_string()
+}
+
+fn check<T: Record>(v: &T) {
+    assert_eq!(serde_header(v), T::COLUMNS.join(","));
+}
+
+#[test]
+fn record_columns_match_the_fields() {
+    let p = Params::default();
+    check(&hdgear::fast::curve(&p, (-1.0, 1.0), 2).unwrap()[0]);
+    check(&hdgear::fast::fold_curves(&p, 0.0, 2).unwrap()[0]);
+    let r = hdgear::burst::response(&p, &Default::default()).unwrap();
+    check(&r.bursts[0]);
+    check(&hdgear::sweep::run_point(0, &p, &Default::default()));
+}
+
+#[test]
+fn json_records_stream_with_meta() {
+    let p = Params::default();
+    let mut w = RecordWriter::new(Vec::new(), Format::Json, &serde_json::json!({"k": 1})).unwrap();
+    for q in hdgear::fast::curve(&p, (-1.0, 1.0), 3).unwrap() {
+        w.row(&q).unwrap();
+    }
+    assert_eq!(w.rows(), 3);
+    let doc: serde_json::Value = serde_json::from_slice(&w.finish().unwrap()).unwrap();
+    assert_eq!(doc["meta"]["k"], 1);
+    assert_eq!(doc["rows"].as_array().unwrap().len(), 3);
+    assert_eq!(doc["rows"][0]["type"], "stable-focus");
+}
+
+#[test]
+fn atomic_files_appear_only_when_committed() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("a.csv");
+    {
+        let mut f = AtomicFile::create(&path).unwrap();
+        f.write_all(b"partial").unwrap();
+        // dropped without commit: nothing, not even the temporary, remains
+    }
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
+    let mut f = AtomicFile::create(&path).unwrap();
+    f.write_all(b"done").unwrap();
+    assert!(!path.exists());
+    f.commit().unwrap();
+    assert_eq!(std::fs::read_to_string(&path).unwrap(), "done");
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
+}
