@@ -33,6 +33,107 @@ pub enum Command {
     Table(TableArgs),
     /// Sweep one or two parameters over a grid in parallel (resumable).
     Sweep(SweepArgs),
+    /// A physical drive in SI units: reduction, two-inertia simulation, design check.
+    Physical(PhysicalArgs),
+}
+
+/// Arguments of `hdgear physical`.
+#[derive(Args, Debug)]
+pub struct PhysicalArgs {
+    /// Catalogue drive for the stiffness (k1, k2 fitted to its curve) with documented assumptions
+    /// for the rest: CSF-14-50, CSF-20-50, CSF-32-50, CSF-32-30.
+    #[arg(long, default_value = "CSF-20-50")]
+    pub drive: String,
+    /// Torque up to which the catalogue curve is fitted [N m] (default T2).
+    #[arg(long, allow_negative_numbers = true)]
+    pub fit_torque: Option<f64>,
+    /// TOML scenario file with a [physical] table (keys j_in, j_out, ratio, k1, k2, backlash,
+    /// c_eq, t_m, t_am, omega).
+    #[arg(long, value_name = "FILE")]
+    pub config: Option<PathBuf>,
+    /// J_i, input inertia [kg m^2].
+    #[arg(long, allow_negative_numbers = true)]
+    pub j_in: Option<f64>,
+    /// J_o, output inertia [kg m^2].
+    #[arg(long, allow_negative_numbers = true)]
+    pub j_out: Option<f64>,
+    /// N, reduction ratio.
+    #[arg(long, allow_negative_numbers = true)]
+    pub ratio: Option<f64>,
+    /// k1, linear stiffness [N m/rad].
+    #[arg(long, allow_negative_numbers = true)]
+    pub k1: Option<f64>,
+    /// k2, cubic stiffness [N m/rad^3].
+    #[arg(long, allow_negative_numbers = true)]
+    pub k2: Option<f64>,
+    /// phi, backlash [rad].
+    #[arg(long, allow_negative_numbers = true)]
+    pub backlash: Option<f64>,
+    /// C, equivalent damping [N m s/rad].
+    #[arg(long, allow_negative_numbers = true)]
+    pub c_eq: Option<f64>,
+    /// T_m, mean torque [N m].
+    #[arg(long, allow_negative_numbers = true)]
+    pub t_m: Option<f64>,
+    /// T_am, disturbance amplitude [N m].
+    #[arg(long, allow_negative_numbers = true)]
+    pub t_am: Option<f64>,
+    /// Omega, disturbance frequency [rad/s].
+    #[arg(long, allow_negative_numbers = true)]
+    pub omega: Option<f64>,
+    /// Print one JSON document.
+    #[arg(long)]
+    pub json: bool,
+    /// Simulate the two-inertia model from rest instead (SI time).
+    #[arg(long)]
+    pub simulate: bool,
+    /// End time of the simulation [s].
+    #[arg(long, requires = "simulate", allow_negative_numbers = true)]
+    pub t_end: Option<f64>,
+    /// Output spacing [s] (default J_eq/C / 20).
+    #[arg(long, requires = "simulate", allow_negative_numbers = true)]
+    pub dt: Option<f64>,
+    /// Trajectory file (.csv or .json; CSV on stdout without it and without --summary).
+    #[arg(long, value_name = "FILE", requires = "simulate")]
+    pub out: Option<PathBuf>,
+    /// Print a JSON summary of the simulation.
+    #[arg(long, requires = "simulate")]
+    pub summary: bool,
+    /// Design check: distance to the bursting regime and the single changes that cross it.
+    #[arg(long, conflicts_with = "simulate")]
+    pub design: bool,
+    #[command(flatten)]
+    pub burst: BurstArgs,
+}
+
+impl PhysicalArgs {
+    /// The drive: catalogue preset, then file, then flags; validated.
+    pub fn drive(
+        &self,
+    ) -> Result<(
+        hdgear::params::physical::PhysicalParams,
+        hdgear::params::catalogue::Fit,
+    )> {
+        let (mut d, fit) = hdgear::params::catalogue::preset(&self.drive, self.fit_torque)?;
+        if let Some(path) = &self.config {
+            Scenario::load(path)?.physical.apply(&mut d);
+        }
+        hdgear::params::physical::PhysicalOverrides {
+            j_in: self.j_in,
+            j_out: self.j_out,
+            ratio: self.ratio,
+            k1: self.k1,
+            k2: self.k2,
+            backlash: self.backlash,
+            c_eq: self.c_eq,
+            t_m: self.t_m,
+            t_am: self.t_am,
+            omega: self.omega,
+        }
+        .apply(&mut d);
+        d.validate()?;
+        Ok((d, fit))
+    }
 }
 
 /// Burst-detection settings shared by the commands that measure a response.

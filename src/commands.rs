@@ -42,6 +42,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Bursts(a) => bursts(a),
         Command::Table(a) => table(a),
         Command::Sweep(a) => crate::sweep_cmd::sweep(a),
+        Command::Physical(a) => crate::physical_cmd::physical(a),
     }
 }
 
@@ -111,14 +112,14 @@ fn simulate(run: SimulateRun) -> Result<()> {
 }
 
 /// Where records go: an atomic file, or stdout.
-enum Sink {
+pub enum Sink {
     File(AtomicFile),
     Stdout(std::io::BufWriter<std::io::StdoutLock<'static>>),
 }
 
 impl Sink {
     /// The file (format from its extension) or stdout (CSV).
-    fn open(out: Option<&Path>) -> Result<(Sink, Format)> {
+    pub fn open(out: Option<&Path>) -> Result<(Sink, Format)> {
         Ok(match out {
             Some(path) => (
                 Sink::File(AtomicFile::create(path)?),
@@ -132,7 +133,7 @@ impl Sink {
     }
 
     /// Makes the output final (renames the file into place; flushes stdout).
-    fn commit(self) -> Result<()> {
+    pub fn commit(self) -> Result<()> {
         match self {
             Sink::File(f) => Ok(f.commit()?),
             Sink::Stdout(mut s) => Ok(s.flush()?),

@@ -28,6 +28,7 @@
 #![warn(missing_docs)]
 
 pub mod burst;
+pub mod design;
 pub mod error;
 pub mod fast;
 pub mod integrate;

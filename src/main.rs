@@ -2,6 +2,7 @@
 
 mod cli;
 mod commands;
+mod physical_cmd;
 mod summary;
 mod sweep_cmd;
 

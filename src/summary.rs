@@ -123,3 +123,93 @@ pub fn response_text(r: &hdgear::burst::Response, c: &hdgear::burst::Classificat
     );
     s
 }
+
+/// The readable form of `hdgear physical` (from its JSON document).
+pub fn physical_text(doc: &serde_json::Value) -> String {
+    let mut s = String::new();
+    let r = &doc["reduced"];
+    let _ = writeln!(s, "drive: {}", doc["drive"]);
+    let _ = writeln!(
+        s,
+        "J_eq = {:.6e} kg m^2, time scale T = {:.6e} s, length scale L = {:.6e} rad",
+        doc["j_eq"].as_f64().unwrap_or(f64::NAN),
+        doc["time_scale"].as_f64().unwrap_or(f64::NAN),
+        doc["length_scale"].as_f64().unwrap_or(f64::NAN)
+    );
+    let _ = writeln!(
+        s,
+        "reduced: alpha = {:.6}, gamma = {:.6}, eps = {:.6}, mu = {:.6}, delta = {:.6}, omega = {:.6} (alpha*eps = {})",
+        r["alpha"].as_f64().unwrap_or(f64::NAN),
+        r["gamma"].as_f64().unwrap_or(f64::NAN),
+        r["eps"].as_f64().unwrap_or(f64::NAN),
+        r["mu"].as_f64().unwrap_or(f64::NAN),
+        r["delta"].as_f64().unwrap_or(f64::NAN),
+        r["omega"].as_f64().unwrap_or(f64::NAN),
+        doc["alpha_eps"]
+    );
+    let _ = writeln!(
+        s,
+        "critical gamma 1/(3 alpha) = {:.6}, gamma margin = {:.6}",
+        doc["critical_gamma"].as_f64().unwrap_or(f64::NAN),
+        doc["gamma_margin"].as_f64().unwrap_or(f64::NAN)
+    );
+    let _ = writeln!(s, "predicted: {}", doc["predicted"]);
+    s
+}
+
+/// The readable form of the design check.
+pub fn design_text(c: &hdgear::design::DesignCheck) -> String {
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "the drive {} (decided by {}); mode {}, mechanism {}",
+        if c.bursting {
+            "bursts"
+        } else {
+            "does not burst"
+        },
+        c.basis,
+        c.mode.unwrap_or("-"),
+        c.mechanism.unwrap_or("-")
+    );
+    let _ = writeln!(
+        s,
+        "reduced gamma = {:.6} (margin to the fold regime {:.6}); spiking ratio R = {:.4} (threshold {})",
+        c.reduced.params.gamma, c.gamma_margin, c.spiking_ratio, c.spiking_threshold
+    );
+    let _ = writeln!(
+        s,
+        "steepest point of the equilibrium curve at a = {:.4} (the slow variable covers [-1, 1]; distance {:.4})",
+        c.steepest_point_a, c.distance_in_a
+    );
+    for m in &c.margins {
+        match (m.factor, m.boundary_value) {
+            (Some(f), Some(v)) => {
+                let _ = writeln!(
+                    s,
+                    "  {:<9} {:.6e} -> {:.6e} ({:+.1} %, x{:.4}) {}",
+                    m.parameter,
+                    m.current,
+                    v,
+                    100.0 * (f - 1.0),
+                    f,
+                    m.effect
+                );
+            }
+            _ => {
+                let _ = writeln!(
+                    s,
+                    "  {:<9} {:.6e}: no single change within x1/64..x64 {}",
+                    m.parameter,
+                    m.current,
+                    if c.bursting {
+                        "stops the bursts"
+                    } else {
+                        "makes it burst"
+                    }
+                );
+            }
+        }
+    }
+    s
+}

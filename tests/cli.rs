@@ -634,3 +634,157 @@ fn sweep_bad_input_exits_2() {
         "threads = 0",
     );
 }
+
+#[test]
+fn physical_json_has_the_documented_keys() {
+    let out = hdgear()
+        .args(["physical", "--json", "--drive", "CSF-14-50"])
+        .assert()
+        .success()
+        .get_output()
+        .stdout
+        .clone();
+    let doc: serde_json::Value = serde_json::from_slice(&out).unwrap();
+    for k in ["alpha", "gamma", "eps", "mu", "delta", "omega"] {
+        assert!(doc["reduced"][k].is_f64(), "reduced.{k}");
+    }
+    for k in [
+        "time_scale",
+        "length_scale",
+        "j_eq",
+        "alpha_eps",
+        "critical_gamma",
+        "gamma_margin",
+    ] {
+        assert!(doc[k].is_f64(), "{k}");
+    }
+    assert!((doc["alpha_eps"].as_f64().unwrap() - 1.0).abs() < 1e-12);
+    assert!(doc["predicted"]["mode"].is_string());
+    assert!(doc["predicted"]["mechanism"].is_string());
+    assert_eq!(doc["drive"]["ratio"], 50.0);
+    assert!(doc["catalogue"]["fit"]["twist_error_t1"].as_f64().unwrap() < 0.05);
+}
+
+#[test]
+fn physical_simulation_summary_and_file() {
+    let out = hdgear()
+        .args(["physical", "--simulate", "--t-end", "0.5", "--summary"])
+        .assert()
+        .success()
+        .get_output()
+        .stdout
+        .clone();
+    let doc: serde_json::Value = serde_json::from_slice(&out).unwrap();
+    assert_eq!(doc["t_end"], 0.5);
+    for k in ["theta", "theta_dot", "theta_in", "theta_out"] {
+        assert!(doc["final"][k].is_f64(), "final.{k}");
+    }
+    for k in ["steps", "rejected", "rhs_evals"] {
+        assert!(doc["stats"][k].is_u64());
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let f = dir.path().join("drive.csv");
+    hdgear()
+        .args([
+            "physical",
+            "--simulate",
+            "--t-end",
+            "0.1",
+            "--dt",
+            "0.01",
+            "--out",
+        ])
+        .arg(&f)
+        .assert()
+        .success();
+    let text = std::fs::read_to_string(&f).unwrap();
+    assert_eq!(
+        text.lines().next(),
+        Some("t,theta_in,theta_out,theta,theta_dot")
+    );
+    assert_eq!(text.lines().count(), 12);
+    // θ = θo − θi/N on every row (N = 50)
+    for l in text.lines().skip(1) {
+        let v: Vec<f64> = l.split(',').map(|x| x.parse().unwrap()).collect();
+        assert!((v[3] - (v[2] - v[1] / 50.0)).abs() <= 1e-12 * v[2].abs().max(1e-9));
+    }
+}
+
+#[test]
+fn physical_design_check_names_the_changes() {
+    let out = hdgear()
+        .args([
+            "physical", "--design", "--json", "--t-am", "112", "--k1", "2000",
+        ])
+        .assert()
+        .success()
+        .get_output()
+        .stdout
+        .clone();
+    let doc: serde_json::Value = serde_json::from_slice(&out).unwrap();
+    assert_eq!(doc["bursting"], true);
+    let margins = doc["margins"].as_array().unwrap();
+    let names: Vec<&str> = margins
+        .iter()
+        .map(|m| m["parameter"].as_str().unwrap())
+        .collect();
+    assert_eq!(names, ["k1", "k2", "c_eq", "t_am", "backlash", "t_m"]);
+    let k1 = &margins[0];
+    assert_eq!(k1["effect"], "leaves bursting");
+    // raising k1 ends the bursts: check the boundary by running both sides of it
+    let f = k1["factor"].as_f64().unwrap();
+    assert!(f > 1.0);
+    for (factor, bursts) in [(f * 0.97, true), (f * 1.03, false)] {
+        let out = hdgear()
+            .args(["physical", "--json", "--t-am", "112", "--k1"])
+            .arg((2000.0 * factor).to_string())
+            .assert()
+            .success()
+            .get_output()
+            .stdout
+            .clone();
+        let doc: serde_json::Value = serde_json::from_slice(&out).unwrap();
+        let bpp = doc["predicted"]["bursts_per_period"].as_f64().unwrap();
+        assert_eq!(bpp > 0.0, bursts, "k1 x{factor}");
+    }
+}
+
+#[test]
+fn physical_bad_input_exits_2() {
+    let fail = |args: &[&str], needle: &str| {
+        hdgear()
+            .args(args)
+            .assert()
+            .code(2)
+            .stderr(predicate::str::contains(needle))
+            .stderr(predicate::str::contains("panicked").not());
+    };
+    fail(&["physical", "--j-in", "0"], "j_in = 0");
+    fail(&["physical", "--c-eq=-1"], "c_eq = -1");
+    fail(&["physical", "--k2=-5"], "k2 = -5");
+    fail(&["physical", "--omega", "nan"], "omega = NaN");
+    fail(&["physical", "--backlash", "0"], "backlash = 0");
+    fail(
+        &["physical", "--backlash", "0", "--design"],
+        "simulate the physical model",
+    );
+    fail(&["physical", "--drive", "CSF-99"], "CSF-99");
+    fail(&["physical", "--simulate"], "--t-end");
+    let dir = tempfile::tempdir().unwrap();
+    let cfg = dir.path().join("d.toml");
+    std::fs::write(&cfg, "[physical]\nj_in = 1e-4\ninertia = 2\n").unwrap();
+    fail(&["physical", "--config", cfg.to_str().unwrap()], "inertia");
+    // φ = 0 still simulates
+    hdgear()
+        .args([
+            "physical",
+            "--backlash",
+            "0",
+            "--simulate",
+            "--t-end",
+            "0.1",
+            "--summary",
+        ])
+        .assert()
+        .success();
+}

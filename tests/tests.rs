@@ -7,4 +7,5 @@ mod cli;
 mod fast;
 mod integrate;
 mod output;
+mod physical;
 mod reference;

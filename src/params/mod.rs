@@ -4,7 +4,11 @@
 //! `[params]` table, then single values (the command line's flags). [`ParamOverrides`] is the
 //! partial set both the file and the flags produce.
 
+pub mod catalogue;
+pub mod physical;
+
 use crate::error::{Error, Result};
+use physical::PhysicalOverrides;
 use serde::{Deserialize, Serialize};
 use std::fmt;
 use std::path::Path;
@@ -249,8 +253,9 @@ pub struct Scenario {
     /// Dimensionless parameters.
     #[serde(default)]
     pub params: ParamOverrides,
-    /// Physical drive parameters, kept as a raw table here and checked by the physical model.
-    pub physical: Option<toml::Table>,
+    /// Physical drive parameters (SI units), checked by the physical-model commands.
+    #[serde(default)]
+    pub physical: PhysicalOverrides,
 }
 
 impl Scenario {

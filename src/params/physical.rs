@@ -1,0 +1,312 @@
+//! The physical two-inertia drive in SI units, and its reduction to the dimensionless model
+//! (SPEC §1–2). The reduction lives here and nowhere else.
+//!
+//! ```text
+//! J_o θo'' + C (θo' − θi'/N) + K(θ) f(θ)      =  T_m + T_am sin(Ω t)
+//! J_i θi'' − C (θo' − θi'/N)/N − K(θ) f(θ)/N  = −T_m/N
+//! θ = θo − θi/N,  K(θ) = k1 + k2 θ²,  f(θ) = θ − φ
+//! ```
+//!
+//! Eliminating the rigid-body mode: θ'' + (C/J) θ' + K(θ)(θ − φ)/J = T_m/J + (T_am/J_o) sin Ωt,
+//! J = J_eq = N² J_i J_o / (N² J_i + J_o). With t = T τ, T = J/C, and θ = L x, L = C²/(J k2 φ):
+//!
+//! ```text
+//! α = C²/(k2 φ² J)   γ = k1 J/C²   ε = k2 φ² J/C²   μ = k2 φ J² T_m/C⁴
+//! δ = k2 φ J³ T_am/(J_o C⁴)   ω = Ω J/C
+//! ```
+//!
+//! (δ with C⁴, not the C² the study prints; α·ε = 1 identically.)
+
+use super::{Params, invalid};
+use crate::error::{Error, Result};
+use serde::{Deserialize, Serialize};
+
+/// A harmonic drive in SI units.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PhysicalParams {
+    /// J_i: input-side inertia (motor + wave generator) [kg m²], > 0.
+    pub j_in: f64,
+    /// J_o: output-side inertia (flexspline + load) [kg m²], > 0.
+    pub j_out: f64,
+    /// N: reduction ratio [-], > 0.
+    pub ratio: f64,
+    /// k1: linear torsional stiffness [N m/rad], ≥ 0.
+    pub k1: f64,
+    /// k2: cubic torsional stiffness [N m/rad³], ≥ 0.
+    pub k2: f64,
+    /// φ: backlash [rad], ≥ 0.
+    pub backlash: f64,
+    /// C: equivalent damping [N m s/rad], > 0.
+    pub c_eq: f64,
+    /// T_m: mean torque [N m], finite.
+    pub t_m: f64,
+    /// T_am: amplitude of the slow output torque disturbance [N m], ≥ 0.
+    pub t_am: f64,
+    /// Ω: frequency of the disturbance [rad/s], > 0.
+    pub omega: f64,
+}
+
+/// Names of the physical parameters (TOML keys; CLI flags with `-` for `_`).
+pub const PHYSICAL_NAMES: [&str; 10] = [
+    "j_in", "j_out", "ratio", "k1", "k2", "backlash", "c_eq", "t_m", "t_am", "omega",
+];
+
+impl PhysicalParams {
+    /// The value of a parameter by name.
+    pub fn get(&self, name: &str) -> Option<f64> {
+        Some(match name {
+            "j_in" => self.j_in,
+            "j_out" => self.j_out,
+            "ratio" => self.ratio,
+            "k1" => self.k1,
+            "k2" => self.k2,
+            "backlash" => self.backlash,
+            "c_eq" => self.c_eq,
+            "t_m" => self.t_m,
+            "t_am" => self.t_am,
+            "omega" => self.omega,
+            _ => return None,
+        })
+    }
+
+    /// Sets a parameter by name.
+    pub fn set(&mut self, name: &str, v: f64) -> Result<()> {
+        let slot = match name {
+            "j_in" => &mut self.j_in,
+            "j_out" => &mut self.j_out,
+            "ratio" => &mut self.ratio,
+            "k1" => &mut self.k1,
+            "k2" => &mut self.k2,
+            "backlash" => &mut self.backlash,
+            "c_eq" => &mut self.c_eq,
+            "t_m" => &mut self.t_m,
+            "t_am" => &mut self.t_am,
+            "omega" => &mut self.omega,
+            _ => {
+                return Err(Error::InvalidInput {
+                    what: "physical parameter name",
+                    text: name.into(),
+                    reason: format!("expected one of {}", PHYSICAL_NAMES.join(", ")),
+                });
+            }
+        };
+        *slot = v;
+        Ok(())
+    }
+
+    /// Checks the domain: all finite; inertias, ratio, damping and Ω > 0; k1, k2, backlash and
+    /// T_am ≥ 0.
+    pub fn validate(&self) -> Result<()> {
+        for name in PHYSICAL_NAMES {
+            let v = self.get(name).expect("known");
+            if !v.is_finite() {
+                return Err(invalid(name, v, "must be finite"));
+            }
+        }
+        for (name, v) in [
+            ("j_in", self.j_in),
+            ("j_out", self.j_out),
+            ("ratio", self.ratio),
+            ("c_eq", self.c_eq),
+            ("omega", self.omega),
+        ] {
+            if v <= 0.0 {
+                return Err(invalid(name, v, "must be > 0"));
+            }
+        }
+        for (name, v) in [
+            ("k1", self.k1),
+            ("k2", self.k2),
+            ("backlash", self.backlash),
+            ("t_am", self.t_am),
+        ] {
+            if v < 0.0 {
+                return Err(invalid(name, v, "must be ≥ 0"));
+            }
+        }
+        Ok(())
+    }
+
+    /// J_eq = N² J_i J_o / (N² J_i + J_o) [kg m²].
+    pub fn j_eq(&self) -> f64 {
+        let n2ji = self.ratio * self.ratio * self.j_in;
+        n2ji * self.j_out / (n2ji + self.j_out)
+    }
+
+    /// The reduction to dimensionless form; an error when φ = 0 or k2 = 0 (L undefined).
+    ///
+    /// ```
+    /// use hdgear::params::physical::PhysicalParams;
+    /// let d = PhysicalParams { j_in: 1e-4, j_out: 1.0, ratio: 50.0, k1: 2e3, k2: 1e9,
+    ///     backlash: 1e-3, c_eq: 5.0, t_m: 1.0, t_am: 0.5, omega: 1.0 };
+    /// let r = d.reduce().unwrap();
+    /// assert!((r.params.alpha * r.params.eps - 1.0).abs() < 1e-12);
+    /// ```
+    pub fn reduce(&self) -> Result<Reduction> {
+        self.validate()?;
+        if self.backlash == 0.0 {
+            return Err(Error::NoReduction {
+                reason: "backlash = 0: the length scale L = C²/(J k2 φ) is undefined, so no \
+                         dimensionless model corresponds to a zero-backlash drive; simulate the \
+                         physical model instead (hdgear physical --simulate)"
+                    .into(),
+            });
+        }
+        if self.k2 == 0.0 {
+            return Err(Error::NoReduction {
+                reason: "k2 = 0: the length scale L = C²/(J k2 φ) is undefined (a linear \
+                         stiffness has no cubic term to scale by); simulate the physical model \
+                         instead (hdgear physical --simulate)"
+                    .into(),
+            });
+        }
+        let j = self.j_eq();
+        let c = self.c_eq;
+        let (k1, k2, phi) = (self.k1, self.k2, self.backlash);
+        let c2 = c * c;
+        let c4 = c2 * c2;
+        let params = Params {
+            alpha: c2 / (k2 * phi * phi * j),
+            gamma: k1 * j / c2,
+            eps: k2 * phi * phi * j / c2,
+            mu: k2 * phi * j * j * self.t_m / c4,
+            delta: k2 * phi * j * j * j * self.t_am / (self.j_out * c4),
+            omega: self.omega * j / c,
+        };
+        Ok(Reduction {
+            params,
+            j_eq: j,
+            time_scale: j / c,
+            length_scale: c2 / (j * k2 * phi),
+        })
+    }
+
+    /// The way back: the drive with the given J_i, J_o, N, C and φ whose reduction is `p`.
+    /// Requires α·ε = 1 (otherwise no drive reduces to `p`) and δ ≥ 0.
+    pub fn from_dimensionless(
+        p: &Params,
+        j_in: f64,
+        j_out: f64,
+        ratio: f64,
+        c_eq: f64,
+        backlash: f64,
+    ) -> Result<PhysicalParams> {
+        p.validate()?;
+        if (p.alpha * p.eps - 1.0).abs() > 1e-9 {
+            return Err(Error::NoReduction {
+                reason: format!(
+                    "alpha*eps = {} differs from 1: no physical drive reduces to this set",
+                    p.alpha * p.eps
+                ),
+            });
+        }
+        let mut d = PhysicalParams {
+            j_in,
+            j_out,
+            ratio,
+            k1: 0.0,
+            k2: 1.0,
+            backlash,
+            c_eq,
+            t_m: 0.0,
+            t_am: 0.0,
+            omega: 1.0,
+        };
+        d.validate()?;
+        if backlash == 0.0 {
+            return Err(invalid("backlash", 0.0, "must be > 0 for a reduction"));
+        }
+        let j = d.j_eq();
+        let c = c_eq;
+        let (c2, phi) = (c * c, backlash);
+        d.k2 = c2 / (p.alpha * phi * phi * j);
+        d.k1 = p.gamma * c2 / j;
+        d.t_m = p.mu * c2 * c2 / (d.k2 * phi * j * j);
+        d.t_am = p.delta * j_out * c2 * c2 / (d.k2 * phi * j * j * j);
+        d.omega = p.omega * c / j;
+        d.validate()?;
+        Ok(d)
+    }
+}
+
+/// The dimensionless parameters of a drive with the scales that map them back.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Reduction {
+    /// α, γ, ε, μ, δ, ω.
+    pub params: Params,
+    /// J_eq [kg m²].
+    pub j_eq: f64,
+    /// T = J_eq/C [s]: t = T τ.
+    pub time_scale: f64,
+    /// L = C²/(J_eq k2 φ) [rad]: θ = L x.
+    pub length_scale: f64,
+}
+
+impl Reduction {
+    /// Physical time [s] of dimensionless time τ.
+    pub fn time(&self, tau: f64) -> f64 {
+        self.time_scale * tau
+    }
+    /// Dimensionless time of physical time t [s].
+    pub fn tau(&self, t: f64) -> f64 {
+        t / self.time_scale
+    }
+    /// Relative torsion θ [rad] of dimensionless x.
+    pub fn theta(&self, x: f64) -> f64 {
+        self.length_scale * x
+    }
+    /// Torsion rate θ' [rad/s] of dimensionless x' (= dx/dτ).
+    pub fn theta_dot(&self, xdot: f64) -> f64 {
+        self.length_scale * xdot / self.time_scale
+    }
+}
+
+/// A partial physical set (the `[physical]` table of a scenario file, or CLI flags).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PhysicalOverrides {
+    /// J_i [kg m²]
+    pub j_in: Option<f64>,
+    /// J_o [kg m²]
+    pub j_out: Option<f64>,
+    /// N
+    pub ratio: Option<f64>,
+    /// k1 [N m/rad]
+    pub k1: Option<f64>,
+    /// k2 [N m/rad³]
+    pub k2: Option<f64>,
+    /// φ [rad]
+    pub backlash: Option<f64>,
+    /// C [N m s/rad]
+    pub c_eq: Option<f64>,
+    /// T_m [N m]
+    pub t_m: Option<f64>,
+    /// T_am [N m]
+    pub t_am: Option<f64>,
+    /// Ω [rad/s]
+    pub omega: Option<f64>,
+}
+
+impl PhysicalOverrides {
+    /// Applies the values present.
+    pub fn apply(&self, d: &mut PhysicalParams) {
+        let pairs = [
+            ("j_in", self.j_in),
+            ("j_out", self.j_out),
+            ("ratio", self.ratio),
+            ("k1", self.k1),
+            ("k2", self.k2),
+            ("backlash", self.backlash),
+            ("c_eq", self.c_eq),
+            ("t_m", self.t_m),
+            ("t_am", self.t_am),
+            ("omega", self.omega),
+        ];
+        for (name, v) in pairs {
+            if let Some(v) = v {
+                d.set(name, v).expect("known name");
+            }
+        }
+    }
+}
