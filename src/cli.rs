@@ -35,6 +35,38 @@ pub enum Command {
     Sweep(SweepArgs),
     /// A physical drive in SI units: reduction, two-inertia simulation, design check.
     Physical(PhysicalArgs),
+    /// Draw one figure: xdot-gamma, x-equilibrium, transformed-phase, phase-plane, slope, sweep, map.
+    Plot(PlotArgs),
+    /// Run everything on the study's defaults and write a self-contained HTML report.
+    Report(ReportArgs),
+}
+
+/// Arguments of `hdgear report`.
+#[derive(Args, Debug)]
+pub struct ReportArgs {
+    /// Output directory (index.html, figures/, data/).
+    #[arg(long, default_value = "report", value_name = "DIR")]
+    pub out: PathBuf,
+    /// Worker threads (default: one per core).
+    #[arg(long)]
+    pub threads: Option<usize>,
+}
+
+/// Arguments of `hdgear plot`.
+#[derive(Args, Debug)]
+pub struct PlotArgs {
+    /// The figure: xdot-gamma, x-equilibrium, transformed-phase, phase-plane, slope, sweep, map.
+    pub kind: String,
+    #[command(flatten)]
+    pub params: ParamArgs,
+    #[command(flatten)]
+    pub burst: BurstArgs,
+    /// Output file, .svg or .png.
+    #[arg(long, value_name = "FILE")]
+    pub out: PathBuf,
+    /// Worker threads for the sweep and map figures (default: one per core).
+    #[arg(long)]
+    pub threads: Option<usize>,
 }
 
 /// Arguments of `hdgear physical`.

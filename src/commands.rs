@@ -43,6 +43,8 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Table(a) => table(a),
         Command::Sweep(a) => crate::sweep_cmd::sweep(a),
         Command::Physical(a) => crate::physical_cmd::physical(a),
+        Command::Plot(a) => plot(a),
+        Command::Report(a) => report(a),
     }
 }
 
@@ -251,5 +253,55 @@ fn table(a: TableArgs) -> Result<()> {
         hdgear::output::tables::markdown(&t)
     };
     print!("{text}");
+    Ok(())
+}
+
+fn plot(a: crate::cli::PlotArgs) -> Result<()> {
+    let (p, warnings) = a.params.resolve()?;
+    let opts = a.burst.options()?;
+    if !hdgear::figures::KINDS.contains(&a.kind.as_str()) {
+        anyhow::bail!(
+            "invalid figure kind '{}': expected one of {}",
+            a.kind,
+            hdgear::figures::KINDS.join(", ")
+        );
+    }
+    match a.out.extension().and_then(|e| e.to_str()) {
+        Some("svg" | "png") => {}
+        _ => anyhow::bail!(
+            "--out {}: the extension must be .svg or .png",
+            a.out.display()
+        ),
+    }
+    if a.threads == Some(0) {
+        anyhow::bail!("invalid option --threads = 0: must be ≥ 1");
+    }
+    warn(&warnings);
+    let f = hdgear::figures::by_kind(&a.kind, &p, &opts, a.threads.unwrap_or(0))?;
+    hdgear::output::plot::write(&f, &a.out)?;
+    Ok(())
+}
+
+fn report(a: crate::cli::ReportArgs) -> Result<()> {
+    if a.threads == Some(0) {
+        anyhow::bail!("invalid option --threads = 0: must be ≥ 1");
+    }
+    let opts = hdgear::report::ReportOptions {
+        threads: a.threads.unwrap_or(0),
+        ..Default::default()
+    };
+    let start = std::time::Instant::now();
+    let mut step = 0;
+    let summary = hdgear::report::build(&a.out, &opts, &mut |stage| {
+        step += 1;
+        eprintln!("[{step}/8 {:5.1} s] {stage}", start.elapsed().as_secs_f64());
+    })
+    .with_context(|| format!("writing the report to {}", a.out.display()))?;
+    eprintln!(
+        "wrote {} files in {:.1} s; open {}",
+        summary.files.len(),
+        start.elapsed().as_secs_f64(),
+        a.out.join("index.html").display()
+    );
     Ok(())
 }

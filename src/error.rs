@@ -84,6 +84,14 @@ pub enum Error {
         /// Why, and what to do instead.
         reason: String,
     },
+    /// A figure could not be drawn.
+    #[error("cannot draw figure {figure}: {message}")]
+    Plot {
+        /// The figure's name.
+        figure: String,
+        /// What went wrong.
+        message: String,
+    },
     /// An output file could not be written.
     #[error("cannot write {}: {source}", path.display())]
     Io {

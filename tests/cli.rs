@@ -788,3 +788,33 @@ fn physical_bad_input_exits_2() {
         .assert()
         .success();
 }
+
+#[test]
+fn plot_writes_svg_and_png_and_rejects_bad_input() {
+    let dir = tempfile::tempdir().unwrap();
+    for (kind, file) in [("slope", "s.svg"), ("phase-plane", "p.png")] {
+        hdgear()
+            .args(["plot", kind, "--preset", "paper-g1", "--out"])
+            .arg(dir.path().join(file))
+            .assert()
+            .success();
+    }
+    let svg = std::fs::read_to_string(dir.path().join("s.svg")).unwrap();
+    assert!(svg.contains("<svg") && svg.contains("|dx/da|"));
+    let png = std::fs::read(dir.path().join("p.png")).unwrap();
+    assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
+    assert_eq!(files_in(dir.path()), ["p.png", "s.svg"]);
+    let bad = dir.path().join("x.pdf");
+    hdgear()
+        .args(["plot", "slope", "--out"])
+        .arg(&bad)
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("x.pdf"));
+    hdgear()
+        .args(["plot", "spectrum", "--out", "a.svg"])
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("spectrum"));
+    assert_eq!(files_in(dir.path()), ["p.png", "s.svg"]);
+}

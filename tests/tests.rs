@@ -9,3 +9,4 @@ mod integrate;
 mod output;
 mod physical;
 mod reference;
+mod report;

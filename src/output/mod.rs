@@ -3,6 +3,7 @@
 //! Every file is written to a temporary sibling (`.NAME.tmp-PID`) and renamed over the target
 //! only when complete, so a failure never leaves a half-written file behind.
 
+pub mod plot;
 pub mod tables;
 
 use crate::error::{Error, Result};

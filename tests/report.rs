@@ -1,0 +1,240 @@
+//! The report: built once by the binary (the README's main command), then checked for structure,
+//! numbers (against `hdgear table --json`), valid figures, and in a real browser.
+
+use crate::common::hdgear;
+use std::path::{Path, PathBuf};
+use std::sync::OnceLock;
+
+const FIGURES: [&str; 8] = [
+    "xdot-gamma",
+    "x-equilibrium",
+    "transformed-phase-g0.1",
+    "transformed-phase-g0.01",
+    "phase-plane",
+    "slope",
+    "sweep",
+    "map",
+];
+
+/// Builds the report once per test run.
+fn report_dir() -> &'static Path {
+    static DIR: OnceLock<PathBuf> = OnceLock::new();
+    DIR.get_or_init(|| {
+        let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("report-test");
+        let _ = std::fs::remove_dir_all(&dir);
+        hdgear()
+            .args(["report", "--out"])
+            .arg(&dir)
+            .assert()
+            .success()
+            .stderr(predicates::str::contains("index.html"));
+        dir
+    })
+}
+
+fn html() -> String {
+    std::fs::read_to_string(report_dir().join("index.html")).unwrap()
+}
+
+#[test]
+fn report_has_every_section_and_figure_inline() {
+    let h = html();
+    assert!(h.starts_with("<!DOCTYPE html>"));
+    assert!(h.trim_end().ends_with("</html>"));
+    for id in [
+        "summary",
+        "model",
+        "corrections",
+        "tables",
+        "figures",
+        "mechanism",
+        "physical",
+        "methods",
+    ] {
+        assert!(
+            h.contains(&format!("<section id=\"{id}\">")),
+            "section {id}"
+        );
+    }
+    for f in FIGURES {
+        let start = h
+            .find(&format!("<figure id=\"fig-{f}\""))
+            .unwrap_or_else(|| panic!("figure {f}"));
+        let end = start + h[start..].find("</figure>").unwrap();
+        let block = &h[start..end];
+        assert!(
+            block.contains("<svg") && block.contains("</svg>"),
+            "{f}: inline SVG"
+        );
+        assert!(block.contains("<figcaption>"), "{f}: caption");
+    }
+    // self-contained: no script, no remote resource
+    assert!(!h.contains("<script"));
+    assert!(!h.contains("src=\"http") && !h.contains("href=\"http"));
+    // the corrections and the mechanism's evidence are stated
+    assert!(h.contains("C<sup>4</sup>"));
+    assert!(h.contains("α·ε = 11.36"));
+    assert!(h.contains("trace -1"));
+}
+
+/// `data-value` of the cell `key` in the row that starts with `row_attr`.
+fn cell_value(h: &str, row_attr: &str, key: &str) -> f64 {
+    let row = &h[h.find(row_attr).unwrap_or_else(|| panic!("{row_attr}"))..];
+    let row = &row[..row.find("</tr>").unwrap()];
+    let at = row
+        .find(&format!("data-key=\"{key}\" data-value=\""))
+        .unwrap_or_else(|| panic!("{row_attr} {key}"));
+    let rest = &row[at..];
+    let v = rest.split("data-value=\"").nth(1).unwrap();
+    v[..v.find('"').unwrap()].parse().unwrap()
+}
+
+#[test]
+fn report_tables_equal_hdgear_table_json() {
+    let h = html();
+    let out = hdgear().args(["table", "--json"]).assert().success();
+    let t: serde_json::Value = serde_json::from_slice(&out.get_output().stdout).unwrap();
+    for row in t["gamma_table"].as_array().unwrap() {
+        let g = row["gamma"].as_f64().unwrap();
+        let attr = format!("<tr data-gamma=\"{g}\">");
+        for key in [
+            "max_slope",
+            "slope_at_a0",
+            "bursts_per_period",
+            "spikes_per_burst",
+            "peak_abs_xdot",
+        ] {
+            assert_eq!(
+                cell_value(&h, &attr, key),
+                row[key].as_f64().unwrap(),
+                "gamma {g} {key}"
+            );
+        }
+        let mode = row["mode"].as_str().unwrap();
+        assert!(h.contains(&format!("<td data-key=\"mode\">{mode}</td>")));
+    }
+    for row in t["effects_table"].as_array().unwrap() {
+        let name = row["parameter"].as_str().unwrap();
+        let attr = format!("<tr data-parameter=\"{name}\">");
+        for (key, json, i) in [
+            ("amplitude_low", "amplitude", 0),
+            ("amplitude_high", "amplitude", 1),
+            ("spikes_low", "spikes", 0),
+            ("quiescent_high", "quiescent_duration", 1),
+        ] {
+            assert_eq!(
+                cell_value(&h, &attr, key),
+                row[json][i].as_f64().unwrap(),
+                "{name} {key}"
+            );
+        }
+    }
+}
+
+fn png_stats(path: &Path) -> (u32, u32, f64) {
+    let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(path).unwrap()));
+    let mut reader = decoder.read_info().unwrap();
+    let mut buf = vec![0; reader.output_buffer_size().unwrap()];
+    let info = reader.next_frame(&mut buf).unwrap();
+    let bytes = &buf[..info.buffer_size()];
+    let channels = info.color_type.samples();
+    let px = bytes.len() / channels;
+    let non_white = bytes
+        .chunks(channels)
+        .filter(|c| c.iter().take(3).any(|&v| v < 235))
+        .count();
+    (info.width, info.height, non_white as f64 / px as f64)
+}
+
+#[test]
+fn every_figure_file_is_valid_and_not_empty() {
+    let dir = report_dir();
+    for f in FIGURES {
+        let svg = std::fs::read_to_string(dir.join(format!("figures/{f}.svg"))).unwrap();
+        assert!(
+            svg.contains("<svg") && svg.trim_end().ends_with("</svg>"),
+            "{f}.svg"
+        );
+        assert!(
+            svg.contains("<polyline") || svg.contains("<rect"),
+            "{f}.svg draws something"
+        );
+        let (w, h, ink) = png_stats(&dir.join(format!("figures/{f}.png")));
+        assert!(w >= 800 && h >= 400, "{f}.png is {w}x{h}");
+        assert!(ink > 0.02, "{f}.png is nearly blank ({ink})");
+    }
+    for d in [
+        "tables.json",
+        "tables.csv",
+        "sweep-gamma.csv",
+        "map-gamma-delta.csv",
+    ] {
+        assert!(
+            std::fs::metadata(dir.join("data").join(d)).unwrap().len() > 100,
+            "{d}"
+        );
+    }
+}
+
+fn chromium() -> Option<String> {
+    if let Ok(c) = std::env::var("HDGEAR_CHROMIUM") {
+        return Some(c);
+    }
+    ["chromium", "chromium-browser", "google-chrome"]
+        .into_iter()
+        .find(|c| {
+            std::process::Command::new(c)
+                .arg("--version")
+                .output()
+                .is_ok_and(|o| o.status.success())
+        })
+        .map(str::to_string)
+}
+
+#[test]
+fn report_renders_in_headless_chromium() {
+    let Some(browser) = chromium() else {
+        // CI installs Chromium (.ci/run) and must run this test; elsewhere it is optional.
+        assert!(
+            std::env::var_os("CI").is_none(),
+            "CI=true but no Chromium found: .ci/run should install it"
+        );
+        eprintln!("skipped: no Chromium on this machine (set HDGEAR_CHROMIUM or install chromium)");
+        return;
+    };
+    let dir = report_dir();
+    let profile = tempfile::tempdir().unwrap();
+    let shot = dir.join("screenshot.png");
+    let _ = std::fs::remove_file(&shot);
+    let out = std::process::Command::new(&browser)
+        .args([
+            "--headless",
+            "--no-sandbox",
+            "--disable-gpu",
+            "--disable-quic",
+            "--no-first-run",
+            "--disable-background-networking",
+            "--disable-component-update",
+            "--disable-sync",
+            "--hide-scrollbars",
+            "--enable-logging=stderr",
+            "--v=0",
+            "--window-size=1200,3000",
+        ])
+        .arg(format!("--user-data-dir={}", profile.path().display()))
+        .arg(format!("--screenshot={}", shot.display()))
+        .arg(format!("file://{}", dir.join("index.html").display()))
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "chromium failed: {stderr}");
+    let console: Vec<&str> = stderr.lines().filter(|l| l.contains("CONSOLE")).collect();
+    assert!(console.is_empty(), "console messages: {console:?}");
+    let (w, h, ink) = png_stats(&shot);
+    assert_eq!((w, h), (1200, 3000));
+    assert!(
+        ink > 0.05,
+        "the page looks blank: {:.3} of the pixels are not white",
+        ink
+    );
+}
