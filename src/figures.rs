@@ -316,12 +316,56 @@ pub fn transformed_phase(p: &Params, opts: &BurstOptions) -> Result<Figure> {
         .map(|f| (f.a, f.x, "fold".into()))
         .collect();
     let areas = &an.equilibria.spiking_areas;
+    let full = Panel {
+        title: format!("trajectory in the (a, x) plane, γ = {}", p.gamma),
+        x_label: "a = sin(ωτ)".into(),
+        y_label: "x".into(),
+        x_range: Some((-1.02, 1.02)),
+        series: series.clone(),
+        shaded: areas.iter().map(|s| (s.a_min, s.a_max, 4)).collect(),
+        shaded_label: if areas.is_empty() {
+            String::new()
+        } else {
+            "spiking area".into()
+        },
+        markers: folds.clone(),
+        ..Panel::default()
+    };
+    // zoom on the spiking areas (or the steepest point): where the trajectory leaves the curve
+    let (lo, hi) = match (areas.first(), areas.last()) {
+        (Some(f), Some(l)) => (f.a_min, l.a_max),
+        _ => (an.equilibria.max_slope.a, an.equilibria.max_slope.a),
+    };
+    let half = (3.0 * (hi - lo)).max(0.06);
+    let (z0, z1) = (
+        (0.5 * (lo + hi) - half).max(-1.0),
+        (0.5 * (lo + hi) + half).min(1.0),
+    );
+    let zoomed: Vec<Series> = series
+        .iter()
+        .map(|s| Series {
+            points: s
+                .points
+                .iter()
+                .copied()
+                .filter(|q| q.0 >= z0 && q.0 <= z1)
+                .collect(),
+            ..s.clone()
+        })
+        .collect();
+    let zoom = Panel {
+        title: format!("zoom: a from {z0:.3} to {z1:.3}"),
+        x_range: Some((z0, z1)),
+        series: zoomed,
+        ..full.clone()
+    };
     Ok(Figure {
         name: "transformed-phase".into(),
         caption: format!(
             "The transformed phase portrait: the trajectory (a(τ), x(τ)) over one slow period on \
-             the equilibrium curve of the fast subsystem, γ = {}. Shaded: the spiking area{} \
-             predicted by the fast subsystem ({}). {}",
+             the equilibrium curve of the fast subsystem, γ = {} (top: the whole range; bottom: \
+             a zoom around a ≈ 0). Shaded: the spiking area{} predicted by the fast subsystem \
+             ({}). {}",
             p.gamma,
             if areas.len() == 1 { "" } else { "s" },
             if areas.is_empty() {
@@ -334,29 +378,17 @@ pub fn transformed_phase(p: &Params, opts: &BurstOptions) -> Result<Figure> {
                     .join(", ")
             },
             if folds.is_empty() {
-                "The curve has no fold: one stable equilibrium for every a; the trajectory leaves \
-                 it only where the curve is steep."
+                "The curve has no fold: one stable equilibrium for every a. The trajectory \
+                 follows it in the quiescent areas and leaves it only where the curve is steep, \
+                 overshooting and ringing back onto it."
             } else {
-                "Folds (crosses) lie in the traversed range: the trajectory jumps between the \
-                 stable branches there (hysteresis)."
+                "Folds (crosses) lie in the traversed range: between them the curve has three \
+                 branches (the middle one saddles), and the trajectory jumps between the stable \
+                 branches (hysteresis)."
             }
         ),
-        size: (1000, 600),
-        panels: vec![Panel {
-            title: format!("trajectory in the (a, x) plane, γ = {}", p.gamma),
-            x_label: "a = sin(ωτ)".into(),
-            y_label: "x".into(),
-            x_range: Some((-1.02, 1.02)),
-            series,
-            shaded: areas.iter().map(|s| (s.a_min, s.a_max, 4)).collect(),
-            shaded_label: if areas.is_empty() {
-                String::new()
-            } else {
-                "spiking area".into()
-            },
-            markers: folds,
-            ..Panel::default()
-        }],
+        size: (1000, 1000),
+        panels: vec![full, zoom],
         map: None,
     })
 }
