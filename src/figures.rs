@@ -94,6 +94,15 @@ fn burst_spans(w: &Window, t1: f64) -> Vec<(f64, f64, usize)> {
         .collect()
 }
 
+/// The legend label of shaded bursts (none when there are none).
+fn burst_label(w: &Window) -> String {
+    if w.response.bursts.is_empty() {
+        String::new()
+    } else {
+        "burst".into()
+    }
+}
+
 fn y_span(points: &[(f64, f64)]) -> f64 {
     let (lo, hi) = points
         .iter()
@@ -129,11 +138,7 @@ pub fn xdot_gamma(base: &Params, opts: &BurstOptions) -> Result<Figure> {
                 style: Style::Line,
             }],
             shaded: burst_spans(&w, t1),
-            shaded_label: if w.response.bursts.is_empty() {
-                String::new()
-            } else {
-                "burst".into()
-            },
+            shaded_label: burst_label(&w),
             ..Panel::default()
         });
     }
@@ -192,11 +197,7 @@ pub fn x_equilibrium(p: &Params, opts: &BurstOptions) -> Result<Figure> {
             },
         ],
         shaded: burst_spans(&w, t1),
-        shaded_label: if w.response.bursts.is_empty() {
-            String::new()
-        } else {
-            "burst".into()
-        },
+        shaded_label: burst_label(&w),
         ..Panel::default()
     }];
     // a zoom on the first burst (or on the steepest passage when there is none)
@@ -244,11 +245,7 @@ pub fn x_equilibrium(p: &Params, opts: &BurstOptions) -> Result<Figure> {
             .into_iter()
             .filter(|b| b.1 > z0 && b.0 < z1)
             .collect(),
-        shaded_label: if w.response.bursts.is_empty() {
-            String::new()
-        } else {
-            "burst".into()
-        },
+        shaded_label: burst_label(&w),
         ..Panel::default()
     });
     Ok(Figure {

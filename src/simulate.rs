@@ -174,9 +174,7 @@ pub fn simulate_physical(
         atol: tol.atol * scale,
         ..tol
     };
-    let mut grid = Grid::new(0.0, t_end, dt)?;
     let z0 = [0.0; 4];
-    let mut solver = Dop853::new(&sys, 0.0, z0, tol)?;
     let sample = |t: f64, z: &[f64; 4]| {
         let s = sys.from_internal(z);
         PhysicalSample {
@@ -187,23 +185,14 @@ pub fn simulate_physical(
             theta_dot: s[5],
         }
     };
-    let mut emit = |t: f64, z: &[f64; 4]| out(&sample(t, z));
-    grid.start(&z0, &mut emit);
-    while solver.t() < t_end {
-        solver.step(t_end)?;
-        if grid.wants(solver.t()) {
-            let dn = solver.dense();
-            grid.fill(&dn, solver.y(), &mut emit);
-        }
-    }
-    grid.finish(solver.y(), &mut emit);
-    let z = *solver.y();
+    let (z, stats) =
+        crate::integrate::sample(&sys, 0.0, z0, t_end, dt, tol, |t, z| out(&sample(t, z)))?;
     let s = sys.from_internal(&z);
     Ok(PhysicalSummary {
-        t_end: solver.t(),
-        final_state: sample(solver.t(), &z),
+        t_end,
+        final_state: sample(t_end, &z),
         final_rates: [s[1], s[3]],
-        stats: solver.stats(),
+        stats,
         angle_scale: scale,
     })
 }

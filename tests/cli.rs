@@ -1,18 +1,11 @@
 //! The command line: formats, row counts, summary keys, and every bad input.
 
-use crate::common::{files_in, hdgear};
+use crate::common::{files_in, hdgear, json_of, stdout_of};
 use predicates::prelude::*;
 
 #[test]
 fn simulate_csv_header_and_row_count() {
-    let out = hdgear()
-        .args(["simulate", "--t-end", "10", "--dt", "0.5"])
-        .assert()
-        .success()
-        .get_output()
-        .stdout
-        .clone();
-    let text = String::from_utf8(out).unwrap();
+    let text = stdout_of(&["simulate", "--t-end", "10", "--dt", "0.5"]);
     let mut lines = text.lines();
     assert_eq!(lines.next(), Some("t,a,x,xdot"));
     let rows: Vec<Vec<f64>> = lines
@@ -26,16 +19,7 @@ fn simulate_csv_header_and_row_count() {
         assert!((r[1] - (0.01 * r[0]).sin()).abs() < 1e-15, "a = sin(ωt)");
     }
     // t_end off the grid: the final time is appended
-    let text = String::from_utf8(
-        hdgear()
-            .args(["simulate", "--t-end", "1.25", "--dt", "0.5"])
-            .assert()
-            .success()
-            .get_output()
-            .stdout
-            .clone(),
-    )
-    .unwrap();
+    let text = stdout_of(&["simulate", "--t-end", "1.25", "--dt", "0.5"]);
     let ts: Vec<f64> = text
         .lines()
         .skip(1)
@@ -85,14 +69,7 @@ fn simulate_writes_csv_and_json_files() {
 
 #[test]
 fn simulate_summary_has_the_documented_keys() {
-    let out = hdgear()
-        .args(["simulate", "--summary", "--periods", "0.1"])
-        .assert()
-        .success()
-        .get_output()
-        .stdout
-        .clone();
-    let doc: serde_json::Value = serde_json::from_slice(&out).unwrap();
+    let doc = json_of(&["simulate", "--summary", "--periods", "0.1"]);
     for key in [
         "params",
         "t_end",
@@ -269,24 +246,15 @@ fn equilibria_writes_the_documented_columns() {
             .all(|r| r[8] == "stable-focus" || r[8] == "stable-node")
     );
     // the fold regime has three branches and saddles on the middle one
-    let text = String::from_utf8(
-        hdgear()
-            .args([
-                "equilibria",
-                "--gamma",
-                "0.01",
-                "--a-range",
-                "-0.01:0",
-                "--points",
-                "500",
-            ])
-            .assert()
-            .success()
-            .get_output()
-            .stdout
-            .clone(),
-    )
-    .unwrap();
+    let text = stdout_of(&[
+        "equilibria",
+        "--gamma",
+        "0.01",
+        "--a-range",
+        "-0.01:0",
+        "--points",
+        "500",
+    ]);
     for (branch, kind) in [
         ("lower", "stable"),
         ("middle", "saddle"),
@@ -302,14 +270,7 @@ fn equilibria_writes_the_documented_columns() {
 
 #[test]
 fn analyze_json_has_the_documented_keys() {
-    let out = hdgear()
-        .args(["analyze", "--json", "--gamma", "0.01"])
-        .assert()
-        .success()
-        .get_output()
-        .stdout
-        .clone();
-    let doc: serde_json::Value = serde_json::from_slice(&out).unwrap();
+    let doc = json_of(&["analyze", "--json", "--gamma", "0.01"]);
     assert!((doc["critical_gamma"].as_f64().unwrap() - 1.0 / 48.0).abs() < 1e-15);
     for k in ["gamma", "a", "x"] {
         assert!(doc["cusp"][k].is_f64(), "cusp.{k}");
@@ -394,14 +355,7 @@ fn analysis_bad_input_exits_2() {
 
 #[test]
 fn analyze_json_gains_response_and_classification() {
-    let out = hdgear()
-        .args(["analyze", "--json", "--preset", "paper-g1"])
-        .assert()
-        .success()
-        .get_output()
-        .stdout
-        .clone();
-    let doc: serde_json::Value = serde_json::from_slice(&out).unwrap();
+    let doc = json_of(&["analyze", "--json", "--preset", "paper-g1"]);
     for k in [
         "bursts_per_period",
         "spikes_per_burst",
@@ -417,45 +371,20 @@ fn analyze_json_gains_response_and_classification() {
         doc["classification"]["mechanism"],
         "sharp-quantitative-change"
     );
-    let out = hdgear()
-        .args(["analyze", "--json", "--no-response"])
-        .assert()
-        .success()
-        .get_output()
-        .stdout
-        .clone();
-    let doc: serde_json::Value = serde_json::from_slice(&out).unwrap();
+    let doc = json_of(&["analyze", "--json", "--no-response"]);
     assert!(doc.get("response").is_none());
 }
 
 #[test]
 fn bursts_lists_one_burst_per_row() {
-    let text = String::from_utf8(
-        hdgear()
-            .args(["bursts", "--preset", "paper-g0.1"])
-            .assert()
-            .success()
-            .get_output()
-            .stdout
-            .clone(),
-    )
-    .unwrap();
+    let text = stdout_of(&["bursts", "--preset", "paper-g0.1"]);
     let mut lines = text.lines();
     assert_eq!(
         lines.next(),
         Some("onset,end,a_onset,duration,peak_abs_xdot,peak_deviation,spikes,complete")
     );
     assert_eq!(lines.count(), 4); // 2 per period over the 2 analysed periods
-    let text = String::from_utf8(
-        hdgear()
-            .args(["bursts", "--preset", "paper-g30"])
-            .assert()
-            .success()
-            .get_output()
-            .stdout
-            .clone(),
-    )
-    .unwrap();
+    let text = stdout_of(&["bursts", "--preset", "paper-g30"]);
     assert_eq!(
         text.lines().count(),
         1,
@@ -465,15 +394,7 @@ fn bursts_lists_one_burst_per_row() {
 
 #[test]
 fn table_formats_agree() {
-    let json: serde_json::Value = serde_json::from_slice(
-        &hdgear()
-            .args(["table", "--json"])
-            .assert()
-            .success()
-            .get_output()
-            .stdout,
-    )
-    .unwrap();
+    let json = json_of(&["table", "--json"]);
     let rows = json["gamma_table"].as_array().unwrap();
     assert_eq!(rows.len(), 4);
     let modes: Vec<&str> = rows.iter().map(|r| r["mode"].as_str().unwrap()).collect();
@@ -482,28 +403,10 @@ fn table_formats_agree() {
         ["normal", "transitional", "fast-slow", "pronounced-bursting"]
     );
     assert_eq!(json["effects_table"].as_array().unwrap().len(), 5);
-    let md = String::from_utf8(
-        hdgear()
-            .arg("table")
-            .assert()
-            .success()
-            .get_output()
-            .stdout
-            .clone(),
-    )
-    .unwrap();
+    let md = stdout_of(&["table"]);
     assert!(md.contains("| 0.1 | extremely steep, near-vertical | 189.4737 |"));
     assert!(md.contains("**contradicts**"));
-    let csv = String::from_utf8(
-        hdgear()
-            .args(["table", "--csv"])
-            .assert()
-            .success()
-            .get_output()
-            .stdout
-            .clone(),
-    )
-    .unwrap();
+    let csv = stdout_of(&["table", "--csv"]);
     assert!(csv.starts_with("gamma,shape,max_slope,"));
     assert!(csv.contains("\n\nparameter,low,high,"));
 }
@@ -637,14 +540,7 @@ fn sweep_bad_input_exits_2() {
 
 #[test]
 fn physical_json_has_the_documented_keys() {
-    let out = hdgear()
-        .args(["physical", "--json", "--drive", "CSF-14-50"])
-        .assert()
-        .success()
-        .get_output()
-        .stdout
-        .clone();
-    let doc: serde_json::Value = serde_json::from_slice(&out).unwrap();
+    let doc = json_of(&["physical", "--json", "--drive", "CSF-14-50"]);
     for k in ["alpha", "gamma", "eps", "mu", "delta", "omega"] {
         assert!(doc["reduced"][k].is_f64(), "reduced.{k}");
     }
@@ -667,14 +563,7 @@ fn physical_json_has_the_documented_keys() {
 
 #[test]
 fn physical_simulation_summary_and_file() {
-    let out = hdgear()
-        .args(["physical", "--simulate", "--t-end", "0.5", "--summary"])
-        .assert()
-        .success()
-        .get_output()
-        .stdout
-        .clone();
-    let doc: serde_json::Value = serde_json::from_slice(&out).unwrap();
+    let doc = json_of(&["physical", "--simulate", "--t-end", "0.5", "--summary"]);
     assert_eq!(doc["t_end"], 0.5);
     for k in ["theta", "theta_dot", "theta_in", "theta_out"] {
         assert!(doc["final"][k].is_f64(), "final.{k}");
@@ -712,16 +601,9 @@ fn physical_simulation_summary_and_file() {
 
 #[test]
 fn physical_design_check_names_the_changes() {
-    let out = hdgear()
-        .args([
-            "physical", "--design", "--json", "--t-am", "112", "--k1", "2000",
-        ])
-        .assert()
-        .success()
-        .get_output()
-        .stdout
-        .clone();
-    let doc: serde_json::Value = serde_json::from_slice(&out).unwrap();
+    let doc = json_of(&[
+        "physical", "--design", "--json", "--t-am", "112", "--k1", "2000",
+    ]);
     assert_eq!(doc["bursting"], true);
     let margins = doc["margins"].as_array().unwrap();
     let names: Vec<&str> = margins
@@ -735,15 +617,8 @@ fn physical_design_check_names_the_changes() {
     let f = k1["factor"].as_f64().unwrap();
     assert!(f > 1.0);
     for (factor, bursts) in [(f * 0.97, true), (f * 1.03, false)] {
-        let out = hdgear()
-            .args(["physical", "--json", "--t-am", "112", "--k1"])
-            .arg((2000.0 * factor).to_string())
-            .assert()
-            .success()
-            .get_output()
-            .stdout
-            .clone();
-        let doc: serde_json::Value = serde_json::from_slice(&out).unwrap();
+        let k1 = (2000.0 * factor).to_string();
+        let doc = json_of(&["physical", "--json", "--t-am", "112", "--k1", &k1]);
         let bpp = doc["predicted"]["bursts_per_period"].as_f64().unwrap();
         assert_eq!(bpp > 0.0, bursts, "k1 x{factor}");
     }

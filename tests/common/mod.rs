@@ -37,3 +37,14 @@ pub fn files_in(dir: &std::path::Path) -> Vec<String> {
     v.sort();
     v
 }
+
+/// Runs `hdgear ARGS`, expects success, and returns stdout.
+pub fn stdout_of(args: &[&str]) -> String {
+    let out = hdgear().args(args).assert().success();
+    String::from_utf8(out.get_output().stdout.clone()).unwrap()
+}
+
+/// Runs `hdgear ARGS`, expects success, and parses stdout as JSON.
+pub fn json_of(args: &[&str]) -> serde_json::Value {
+    serde_json::from_str(&stdout_of(args)).unwrap()
+}
