@@ -448,6 +448,24 @@ fn check_positive(name: &str, v: f64) -> Result<f64> {
     }
 }
 
+/// Refuses outputs too large to be meant (more than 10⁸ rows).
+pub fn check_rows(rows: f64) -> Result<()> {
+    if rows > 1e8 {
+        anyhow::bail!(
+            "the run would write {rows:.3e} rows (more than 1e8): choose a larger --dt or a shorter run"
+        );
+    }
+    Ok(())
+}
+
+/// Refuses point counts too large to be meant (more than 10⁷).
+pub fn check_points(points: usize) -> Result<()> {
+    if points > 10_000_000 {
+        anyhow::bail!("invalid option --points = {points}: at most 10000000");
+    }
+    Ok(())
+}
+
 fn check_finite(name: &str, v: f64) -> Result<f64> {
     if v.is_finite() {
         Ok(v)
@@ -466,6 +484,7 @@ impl SimulateArgs {
             None => check_positive("periods", self.periods)? * params.slow_period(),
         };
         let dt = check_positive("dt", self.dt)?;
+        check_rows(t_end / dt)?;
         let start = if self.from_rest {
             Start::Rest
         } else {

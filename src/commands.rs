@@ -176,6 +176,7 @@ fn equilibria(a: EquilibriaArgs) -> Result<()> {
     let (p, warnings) = a.params.resolve()?;
     let range = parse_range(&a.a_range)?;
     check_out(&a.out)?;
+    crate::cli::check_points(a.points)?;
     warn(&warnings);
     let curve = hdgear::fast::curve(&p, range, a.points)?;
     let meta = serde_json::json!({ "params": p, "a_range": [range.0, range.1] });
@@ -185,6 +186,7 @@ fn equilibria(a: EquilibriaArgs) -> Result<()> {
 fn bifurcation(a: BifurcationArgs) -> Result<()> {
     let (p, warnings) = a.params.resolve()?;
     check_out(&a.out)?;
+    crate::cli::check_points(a.points)?;
     warn(&warnings);
     let rows = hdgear::fast::fold_curves(&p, a.gamma_min, a.points)?;
     let cusp = hdgear::fast::cusp(&p);

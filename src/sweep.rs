@@ -138,6 +138,14 @@ impl Grid {
             });
         }
         let g = Grid { base, axes };
+        let total = g.axes.iter().map(|a| a.count as f64).product::<f64>();
+        if total > 1e7 {
+            return Err(Error::InvalidInput {
+                what: "--param",
+                text: format!("{total} grid points"),
+                reason: "at most 10000000 points per sweep".into(),
+            });
+        }
         for i in 0..g.len() {
             g.point(i).validate()?;
         }

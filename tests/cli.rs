@@ -166,6 +166,12 @@ fn bad_options_exit_2_naming_the_value() {
     rejects(&["simulate", "--dt", "0"], "dt = 0");
     rejects(&["simulate", "--x0", "nan"], "x0 = NaN");
     rejects(&["simulate", "--gamma", "abc"], "abc");
+    // absurd sizes are refused before any work
+    rejects(&["simulate", "--dt", "1e-300", "--t-end", "1"], "rows");
+    rejects(
+        &["equilibria", "--points", "1000000000"],
+        "points = 1000000000",
+    );
 }
 
 #[test]
