@@ -39,7 +39,7 @@ impl System<2> for Dimensionless {
 
 /// The physical two-inertia drive (SPEC §1), integrated in well-conditioned coordinates.
 ///
-/// Internal state z = [θ, T_c·θ', θo, T_c·θo'] with physical time t [s], where θ = θo − θi/N is
+/// Internal state z = [θ, T_c·θ', θo, T_c·θo'] with physical time t \[s\], where θ = θo − θi/N is
 /// the relative torsion and T_c = J_eq/C. Integrating θ rather than θi avoids computing the small
 /// torsion as the difference of two large rotations (the rigid-body swing under a slow
 /// disturbance can exceed the torsion by many orders of magnitude), and scaling the rates by T_c
@@ -52,7 +52,7 @@ impl System<2> for Dimensionless {
 pub struct Physical {
     /// The drive.
     pub d: crate::params::physical::PhysicalParams,
-    /// T_c = J_eq/C [s].
+    /// T_c = J_eq/C \[s\].
     pub t_c: f64,
 }
 

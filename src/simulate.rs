@@ -112,15 +112,15 @@ pub fn simulate(
 /// A sample of the physical simulation: the CSV columns `t,theta_in,theta_out,theta,theta_dot`.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct PhysicalSample {
-    /// Time [s].
+    /// Time \[s\].
     pub t: f64,
-    /// θi [rad].
+    /// θi \[rad\].
     pub theta_in: f64,
-    /// θo [rad].
+    /// θo \[rad\].
     pub theta_out: f64,
-    /// θ = θo − θi/N [rad].
+    /// θ = θo − θi/N \[rad\].
     pub theta: f64,
-    /// θ' [rad/s].
+    /// θ' \[rad/s\].
     pub theta_dot: f64,
 }
 crate::record!(PhysicalSample: "t", "theta_in", "theta_out", "theta", "theta_dot");
@@ -128,19 +128,19 @@ crate::record!(PhysicalSample: "t", "theta_in", "theta_out", "theta", "theta_dot
 /// The outcome of a physical simulation besides its samples.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct PhysicalSummary {
-    /// Final time [s].
+    /// Final time \[s\].
     pub t_end: f64,
     /// Final state.
     pub final_state: PhysicalSample,
-    /// Final input and output rates [rad/s].
+    /// Final input and output rates \[rad/s\].
     pub final_rates: [f64; 2],
     /// Integrator work.
     pub stats: Stats,
-    /// The angle scale Θ [rad] the absolute tolerance was multiplied by.
+    /// The angle scale Θ \[rad\] the absolute tolerance was multiplied by.
     pub angle_scale: f64,
 }
 
-/// The angle scale Θ [rad] of a drive: the length scale L where the reduction exists, else the
+/// The angle scale Θ \[rad\] of a drive: the length scale L where the reduction exists, else the
 /// static twist under |T_m| + T_am (or 1 rad when nothing loads the drive). Absolute tolerances
 /// of the physical simulation are in units of Θ.
 pub fn angle_scale(d: &crate::params::physical::PhysicalParams) -> f64 {

@@ -1,7 +1,7 @@
 //! Catalogue drives and the fit of the cubic torque-twist law to their piecewise-linear curves.
 //!
 //! Source of the stiffness data: Harmonic Drive CSF series component-set catalogue, table
-//! "Torsional stiffness" (T1, T2 [N m] and K1, K2, K3 [N m/rad]; the torque-twist curve is
+//! "Torsional stiffness" (T1, T2 \[N m\] and K1, K2, K3 \[N m/rad\]; the torque-twist curve is
 //! linear with slope K1 up to T1, K2 from T1 to T2 and K3 above T2), with the values quoted in
 //! hdgear's physical-model issue. Only the stiffness comes from the catalogue: inertias,
 //! damping, load, disturbance and backlash are the user's, and the defaults below are stated
@@ -18,15 +18,15 @@ pub struct CatalogueDrive {
     pub name: &'static str,
     /// Reduction ratio.
     pub ratio: f64,
-    /// T1 [N m]: end of the first linear segment.
+    /// T1 \[N m\]: end of the first linear segment.
     pub t1: f64,
-    /// T2 [N m]: end of the second linear segment.
+    /// T2 \[N m\]: end of the second linear segment.
     pub t2: f64,
-    /// K1 [N m/rad]: stiffness from 0 to T1.
+    /// K1 \[N m/rad\]: stiffness from 0 to T1.
     pub k1: f64,
-    /// K2 [N m/rad]: stiffness from T1 to T2.
+    /// K2 \[N m/rad\]: stiffness from T1 to T2.
     pub k2: f64,
-    /// K3 [N m/rad]: stiffness above T2, where the catalogue gives it.
+    /// K3 \[N m/rad\]: stiffness above T2, where the catalogue gives it.
     pub k3: Option<f64>,
 }
 
@@ -92,7 +92,7 @@ impl CatalogueDrive {
         }
     }
 
-    /// Catalogue twist θ(T) [rad] of the piecewise-linear curve, for 0 ≤ T ≤ max_torque.
+    /// Catalogue twist θ(T) \[rad\] of the piecewise-linear curve, for 0 ≤ T ≤ max_torque.
     pub fn twist(&self, t: f64) -> f64 {
         if t <= self.t1 {
             t / self.k1
@@ -108,11 +108,11 @@ impl CatalogueDrive {
 /// The least-squares fit T(θ) = k1 θ + k2 θ³ of a catalogue curve up to a torque.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct Fit {
-    /// The torque the fit runs to [N m].
+    /// The torque the fit runs to \[N m\].
     pub t_fit: f64,
-    /// k1 [N m/rad].
+    /// k1 \[N m/rad\].
     pub k1: f64,
-    /// k2 [N m/rad³].
+    /// k2 \[N m/rad³\].
     pub k2: f64,
     /// Largest |T_fit(θ) − T_catalogue(θ)| over the fitted range, relative to t_fit.
     pub max_torque_error: f64,

@@ -25,25 +25,25 @@ use serde::{Deserialize, Serialize};
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PhysicalParams {
-    /// J_i: input-side inertia (motor + wave generator) [kg m²], > 0.
+    /// J_i: input-side inertia (motor + wave generator) \[kg m²\], > 0.
     pub j_in: f64,
-    /// J_o: output-side inertia (flexspline + load) [kg m²], > 0.
+    /// J_o: output-side inertia (flexspline + load) \[kg m²\], > 0.
     pub j_out: f64,
-    /// N: reduction ratio [-], > 0.
+    /// N: reduction ratio \[-\], > 0.
     pub ratio: f64,
-    /// k1: linear torsional stiffness [N m/rad], ≥ 0.
+    /// k1: linear torsional stiffness \[N m/rad\], ≥ 0.
     pub k1: f64,
-    /// k2: cubic torsional stiffness [N m/rad³], ≥ 0.
+    /// k2: cubic torsional stiffness \[N m/rad³\], ≥ 0.
     pub k2: f64,
-    /// φ: backlash [rad], ≥ 0.
+    /// φ: backlash \[rad\], ≥ 0.
     pub backlash: f64,
-    /// C: equivalent damping [N m s/rad], > 0.
+    /// C: equivalent damping \[N m s/rad\], > 0.
     pub c_eq: f64,
-    /// T_m: mean torque [N m], finite.
+    /// T_m: mean torque \[N m\], finite.
     pub t_m: f64,
-    /// T_am: amplitude of the slow output torque disturbance [N m], ≥ 0.
+    /// T_am: amplitude of the slow output torque disturbance \[N m\], ≥ 0.
     pub t_am: f64,
-    /// Ω: frequency of the disturbance [rad/s], > 0.
+    /// Ω: frequency of the disturbance \[rad/s\], > 0.
     pub omega: f64,
 }
 
@@ -128,7 +128,7 @@ impl PhysicalParams {
         Ok(())
     }
 
-    /// J_eq = N² J_i J_o / (N² J_i + J_o) [kg m²].
+    /// J_eq = N² J_i J_o / (N² J_i + J_o) \[kg m²\].
     pub fn j_eq(&self) -> f64 {
         let n2ji = self.ratio * self.ratio * self.j_in;
         n2ji * self.j_out / (n2ji + self.j_out)
@@ -235,28 +235,28 @@ impl PhysicalParams {
 pub struct Reduction {
     /// α, γ, ε, μ, δ, ω.
     pub params: Params,
-    /// J_eq [kg m²].
+    /// J_eq \[kg m²\].
     pub j_eq: f64,
-    /// T = J_eq/C [s]: t = T τ.
+    /// T = J_eq/C \[s\]: t = T τ.
     pub time_scale: f64,
-    /// L = C²/(J_eq k2 φ) [rad]: θ = L x.
+    /// L = C²/(J_eq k2 φ) \[rad\]: θ = L x.
     pub length_scale: f64,
 }
 
 impl Reduction {
-    /// Physical time [s] of dimensionless time τ.
+    /// Physical time \[s\] of dimensionless time τ.
     pub fn time(&self, tau: f64) -> f64 {
         self.time_scale * tau
     }
-    /// Dimensionless time of physical time t [s].
+    /// Dimensionless time of physical time t \[s\].
     pub fn tau(&self, t: f64) -> f64 {
         t / self.time_scale
     }
-    /// Relative torsion θ [rad] of dimensionless x.
+    /// Relative torsion θ \[rad\] of dimensionless x.
     pub fn theta(&self, x: f64) -> f64 {
         self.length_scale * x
     }
-    /// Torsion rate θ' [rad/s] of dimensionless x' (= dx/dτ).
+    /// Torsion rate θ' \[rad/s\] of dimensionless x' (= dx/dτ).
     pub fn theta_dot(&self, xdot: f64) -> f64 {
         self.length_scale * xdot / self.time_scale
     }
@@ -266,25 +266,25 @@ impl Reduction {
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct PhysicalOverrides {
-    /// J_i [kg m²]
+    /// J_i \[kg m²\]
     pub j_in: Option<f64>,
-    /// J_o [kg m²]
+    /// J_o \[kg m²\]
     pub j_out: Option<f64>,
     /// N
     pub ratio: Option<f64>,
-    /// k1 [N m/rad]
+    /// k1 \[N m/rad\]
     pub k1: Option<f64>,
-    /// k2 [N m/rad³]
+    /// k2 \[N m/rad³\]
     pub k2: Option<f64>,
-    /// φ [rad]
+    /// φ \[rad\]
     pub backlash: Option<f64>,
-    /// C [N m s/rad]
+    /// C \[N m s/rad\]
     pub c_eq: Option<f64>,
-    /// T_m [N m]
+    /// T_m \[N m\]
     pub t_m: Option<f64>,
-    /// T_am [N m]
+    /// T_am \[N m\]
     pub t_am: Option<f64>,
-    /// Ω [rad/s]
+    /// Ω \[rad/s\]
     pub omega: Option<f64>,
 }
 
