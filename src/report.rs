@@ -78,6 +78,14 @@ fn cell(key: &str, v: f64) -> String {
     format!("<td data-key=\"{key}\" data-value=\"{v}\">{}</td>", num(v))
 }
 
+/// The six dimensionless parameters as table cells, in the order α, γ, ε, μ, δ, ω.
+fn param_cells(p: &Params) -> String {
+    crate::params::PARAM_NAMES
+        .iter()
+        .map(|n| cell(n, p.get(n).expect("known name")))
+        .collect()
+}
+
 fn io(path: &Path) -> impl Fn(std::io::Error) -> Error + '_ {
     move |source| Error::Io {
         path: path.to_path_buf(),
@@ -348,15 +356,10 @@ fn page(
          <span class=\"eq\">x'' + x' + α x³ − x² + γ (x − ε) = μ + δ sin(ω τ)\n\
          fast subsystem (a = sin ωτ frozen):  x'' + x' + g(x) = μ + δ a,   g(x) = α x³ − x² + γ (x − ε)</span>\
          <table><tr><th>parameter</th><th>α</th><th>γ</th><th>ε</th><th>μ</th><th>δ</th><th>ω</th></tr>\
-         <tr><td>study's point</td>{}{}{}{}{}{}</tr></table>\
+         <tr><td>study's point</td>{}</tr></table>\
          <p>γ varies over 30, 10, 1, 0.1 where the study varies it; everything else is fixed unless a table or figure says \
          otherwise. The critical value 1/(3α) = {:.6} is where the fast subsystem acquires folds (a cusp).</p></section>\n",
-        cell("alpha", base.alpha),
-        cell("gamma", base.gamma),
-        cell("eps", base.eps),
-        cell("mu", base.mu),
-        cell("delta", base.delta),
-        cell("omega", base.omega),
+        param_cells(base),
         gc
     );
     let _ = write!(
@@ -529,7 +532,7 @@ fn page(
          <p>Catalogue stiffness (T1 = 7 N m, T2 = 25 N m, K1 = 1.3e4, K2 = 1.8e4 N m/rad) fitted by T = k1θ + k2θ³: \
          k1 = {}, k2 = {} (twist error {:.1} % at T1, {:.1} % at T2). Assumed: {}.</p>\
          <table><tr><th>J_eq [kg m²]</th><th>T = J/C [s]</th><th>L [rad]</th><th>α</th><th>γ</th><th>ε</th><th>μ</th><th>δ</th><th>ω</th><th>α·ε</th></tr>\
-         <tr>{}{}{}{}{}{}{}{}{}{}</tr></table>\
+         <tr>{}{}{}{}{}</tr></table>\
          <p>Design check: the drive {} ({}); the steepest point of its equilibrium curve lies at a = {:.3}, {} The single changes that cross the \
          bursting boundary:</p><table><tr><th>parameter</th><th>current</th><th>boundary</th><th>change</th></tr>\n",
         num(d.k1),
@@ -540,12 +543,7 @@ fn page(
         cell("j_eq", ph.reduction.j_eq),
         cell("time_scale", ph.reduction.time_scale),
         cell("length_scale", ph.reduction.length_scale),
-        cell("alpha", rp.alpha),
-        cell("gamma", rp.gamma),
-        cell("eps", rp.eps),
-        cell("mu", rp.mu),
-        cell("delta", rp.delta),
-        cell("omega", rp.omega),
+        param_cells(rp),
         cell("alpha_eps", rp.alpha * rp.eps),
         if ph.check.bursting {
             "bursts"
