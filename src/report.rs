@@ -86,6 +86,23 @@ fn param_cells(p: &Params) -> String {
         .collect()
 }
 
+/// The rows of a design check's margin table.
+fn margin_rows(c: &crate::design::DesignCheck) -> String {
+    c.margins
+        .iter()
+        .map(|m| {
+            format!(
+                "<tr><td>{}</td>{}<td>{}</td><td>{}</td></tr>\n",
+                m.parameter,
+                cell("current", m.current),
+                m.boundary_value.map_or("none within ×1/64…×64".into(), num),
+                m.change_percent
+                    .map_or("–".into(), |c| format!("{c:+.1} % ({})", m.effect))
+            )
+        })
+        .collect()
+}
+
 fn io(path: &Path) -> impl Fn(std::io::Error) -> Error + '_ {
     move |source| Error::Io {
         path: path.to_path_buf(),
@@ -228,6 +245,8 @@ struct PhysicalEvidence {
     fit: crate::params::catalogue::Fit,
     reduction: crate::params::physical::Reduction,
     check: crate::design::DesignCheck,
+    /// The same drive made to burst (softer k1, larger disturbance), and its design check.
+    variant: (PhysicalParams, crate::design::DesignCheck),
     agreement: f64,
 }
 
@@ -235,6 +254,15 @@ fn physical_section(opts: &BurstOptions) -> Result<PhysicalEvidence> {
     let (drive, fit) = crate::params::catalogue::preset("CSF-20-50", None)?;
     let reduction = drive.reduce()?;
     let check = crate::design::design_check(&drive, opts)?;
+    let variant_drive = PhysicalParams {
+        k1: 2000.0,
+        t_am: 112.0,
+        ..drive
+    };
+    let variant = (
+        variant_drive,
+        crate::design::design_check(&variant_drive, opts)?,
+    );
     // the two-inertia model against the reduced model over 300 dimensionless time units
     let tau_end = 300.0;
     let tol = crate::integrate::Options {
@@ -273,6 +301,7 @@ fn physical_section(opts: &BurstOptions) -> Result<PhysicalEvidence> {
         fit,
         reduction,
         check,
+        variant,
         agreement,
     })
 }
@@ -558,17 +587,26 @@ fn page(
             "inside the range the slow variable covers."
         }
     );
-    for m in &ph.check.margins {
-        let _ = writeln!(
-            h,
-            "<tr><td>{}</td>{}<td>{}</td><td>{}</td></tr>",
-            m.parameter,
-            cell("current", m.current),
-            m.boundary_value.map_or("none within ×1/64…×64".into(), num),
-            m.change_percent
-                .map_or("–".into(), |c| format!("{c:+.1} % ({})", m.effect))
-        );
-    }
+    h.push_str(&margin_rows(&ph.check));
+    let (vd, vc) = &ph.variant;
+    let _ = write!(
+        h,
+        "</table><p>The same drive made softer and more disturbed (k1 = {} N m/rad, T_am = {} N m; \
+         reduced γ = {:.3}, δ = {:.2}) {} ({}, {}); the single changes that end the bursts:</p>\
+         <table><tr><th>parameter</th><th>current</th><th>boundary</th><th>change</th></tr>\n",
+        num(vd.k1),
+        num(vd.t_am),
+        vc.reduced.params.gamma,
+        vc.reduced.params.delta,
+        if vc.bursting {
+            "bursts"
+        } else {
+            "does not burst"
+        },
+        vc.mode.unwrap_or("not simulated"),
+        vc.mechanism.unwrap_or("-")
+    );
+    h.push_str(&margin_rows(vc));
     h.push_str("</table></section>\n");
     // methods
     let _ = write!(
