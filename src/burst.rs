@@ -256,13 +256,7 @@ fn nearest_stable(p: &Params, a: f64, x: f64, multi: Option<(f64, f64)>, hint: f
             }
         }
     }
-    fast::equilibria(p, a)
-        .roots
-        .iter()
-        .filter(|r| r.kind.is_stable())
-        .map(|r| r.x)
-        .min_by(|u, v| (u - x).abs().total_cmp(&(v - x).abs()))
-        .unwrap_or(x)
+    fast::nearest_stable_equilibrium(p, a, x).unwrap_or(x)
 }
 
 /// The x-extent X of the equilibrium curve over a ∈ [−1, 1].

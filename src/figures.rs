@@ -167,14 +167,11 @@ pub fn x_equilibrium(p: &Params, opts: &BurstOptions) -> Result<Figure> {
         .samples
         .iter()
         .map(|s| {
-            let e = fast::equilibria(p, (p.omega * s.0).sin());
-            let best = e
-                .roots
-                .iter()
-                .filter(|r| r.kind.is_stable())
-                .min_by(|a, b| (a.x - s.1).abs().total_cmp(&(b.x - s.1).abs()))
-                .map_or(f64::NAN, |r| r.x);
-            (s.0, best)
+            let a = (p.omega * s.0).sin();
+            (
+                s.0,
+                fast::nearest_stable_equilibrium(p, a, s.1).unwrap_or(f64::NAN),
+            )
         })
         .collect();
     let mut panels = vec![Panel {

@@ -252,3 +252,14 @@ pub fn stable_equilibrium(p: &Params, a: f64) -> f64 {
         .map(|r| r.x)
         .expect("a real cubic has at least one real root")
 }
+
+/// The stable equilibrium at slow variable `a` nearest to the state `x` (the one a trajectory at
+/// x is attracted to or tracking), or `None` when no equilibrium there is stable.
+pub fn nearest_stable_equilibrium(p: &Params, a: f64, x: f64) -> Option<f64> {
+    equilibria(p, a)
+        .roots
+        .iter()
+        .filter(|r| r.kind.is_stable())
+        .map(|r| r.x)
+        .min_by(|u, v| (u - x).abs().total_cmp(&(v - x).abs()))
+}

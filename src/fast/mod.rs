@@ -16,5 +16,6 @@ pub use analysis::{
 };
 pub use curve::{Branch, CurvePoint, check_a_range, curve, x_intervals};
 pub use equilibria::{
-    EqType, Equilibria, Equilibrium, eigenvalues, equilibria, fold_abscissae, stable_equilibrium,
+    EqType, Equilibria, Equilibrium, eigenvalues, equilibria, fold_abscissae,
+    nearest_stable_equilibrium, stable_equilibrium,
 };
