@@ -293,6 +293,10 @@ pub struct AnalyzeArgs {
     /// Skip the simulated response and its classification (fast-subsystem analysis only).
     #[arg(long)]
     pub no_response: bool,
+    /// Also locate the simulated bursting boundaries in gamma and omega through this point, by
+    /// bisection from the predicted ones (a few seconds: small omega is slow to simulate).
+    #[arg(long)]
+    pub simulated_boundaries: bool,
     #[command(flatten)]
     pub burst: BurstArgs,
 }

@@ -206,11 +206,19 @@ fn analyze(a: AnalyzeArgs) -> Result<()> {
         let c = hdgear::burst::classify(&p, &r);
         Some((r, c))
     };
+    let bounds = if a.simulated_boundaries {
+        Some(hdgear::burst::boundaries(&p, &opts)?)
+    } else {
+        None
+    };
     if a.json {
         let mut doc = serde_json::to_value(&an)?;
         if let Some((r, c)) = &measured {
             doc["response"] = serde_json::to_value(r)?;
             doc["classification"] = serde_json::to_value(c)?;
+        }
+        if let Some(b) = &bounds {
+            doc["boundaries"] = serde_json::to_value(b)?;
         }
         doc["warnings"] =
             serde_json::json!(warnings.iter().map(|w| w.to_string()).collect::<Vec<_>>());
@@ -220,6 +228,17 @@ fn analyze(a: AnalyzeArgs) -> Result<()> {
         print!("{}", crate::summary::analysis_text(&an));
         if let Some((r, c)) = &measured {
             print!("{}", crate::summary::response_text(r, c));
+        }
+        if let Some(b) = &bounds {
+            let g = |v: Option<f64>| v.map_or("none".to_string(), |v| format!("{v:.4}"));
+            let w = |v: Option<f64>| v.map_or("none".to_string(), |v| format!("{v:.4e}"));
+            println!(
+                "bursting boundary in gamma: predicted {}, simulated {}; in omega: predicted {}, simulated {}",
+                g(b.predicted_gamma),
+                g(b.simulated_gamma),
+                w(Some(b.predicted_omega)),
+                w(b.simulated_omega)
+            );
         }
     }
     Ok(())

@@ -1,26 +1,79 @@
-//! The design check: how far a physical drive is from the bursting regime, and which single
-//! change of k1, k2, C, T_am or backlash moves it across, by how much.
+//! The design check: how far a physical drive is from bursting, and which single change of k1,
+//! k2, C, T_am, backlash or T_m moves it across, by how much.
 //!
-//! "Bursting" is decided as everywhere else: the drive is reduced to dimensionless form and its
-//! response simulated and measured ([`crate::burst::response`]); it bursts when bursts are
-//! detected. When the reduced ω is below 1e-4 (a slow period beyond 63,000 time units, too long
-//! to simulate routinely) the fast-subsystem spiking criterion decides instead
-//! ([`crate::fast::SPIKING_THRESHOLD`]), and the report says so.
+//! "Bursting" is decided as everywhere else: the drive is reduced to dimensionless form, its
+//! response simulated and judged by its signatures ([`crate::burst::classify`]). When the reduced
+//! ω is below [`MIN_SIMULATED_OMEGA`] (a slow period beyond 63,000 time units, too long to simulate
+//! routinely) the prediction from the equilibrium curve ([`crate::fast::predict`]) decides
+//! instead, and the result says so.
 //!
 //! For each parameter the factor f that first flips the verdict is searched on f = 2^k,
 //! k = ±1 … ±6 (a change within ×1/64 … ×64; the side nearer to 1 wins), then refined by 12
-//! bisections in log f (to 0.02 %). A scaled drive whose simulation needs more than
-//! [`SEARCH_MAX_STEPS`] steps is judged by the criterion.
+//! bisections in log f (to 0.02 %). Both ends of the final bracket are reported with their
+//! verdicts, so every margin shows the response just inside and just outside. A move that takes
+//! the drive out of the fast-slow domain (the reduced ω no longer small against the relaxation
+//! rate, or fast motion that never stops) is refused: past it the verdict has no fast-slow
+//! meaning, and the margin says so instead of giving a factor.
 
-use crate::burst::{BurstOptions, classify, response};
+use crate::burst::{BurstOptions, Verdict, classify, response, turning_point_rate};
 use crate::error::Result;
-use crate::fast::{SPIKING_THRESHOLD, analyze};
+use crate::fast::predict;
 use crate::params::physical::{PhysicalParams, Reduction};
 use serde::Serialize;
 
 /// Parameters a designer can change, in the order reported (the mean load t_m too: it sets
 /// where on the equilibrium curve the drive operates).
 pub const DESIGN_PARAMETERS: [&str; 6] = ["k1", "k2", "c_eq", "t_am", "backlash", "t_m"];
+
+/// How a verdict was reached.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Basis {
+    /// Simulated and judged by the signatures.
+    Simulation,
+    /// Predicted from the equilibrium curve (reduced ω too small to simulate).
+    Prediction,
+}
+
+/// The verdict on one drive.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Judgement {
+    /// Bursting or not.
+    pub bursting: bool,
+    /// The strongest signature (null when predicted).
+    pub verdict: Option<Verdict>,
+    /// Whether the drive is in the fast-slow domain.
+    pub fast_slow_domain: bool,
+    /// How it was decided.
+    pub basis: Basis,
+}
+
+impl Judgement {
+    /// The verdict's name, or `bursting (predicted)` / `no-bursts (predicted)` when predicted.
+    pub fn label(&self) -> &'static str {
+        match (self.verdict, self.bursting) {
+            (Some(v), _) => v.name(),
+            (None, true) => "bursting (predicted)",
+            (None, false) => "no-bursts (predicted)",
+        }
+    }
+}
+
+/// One end of a margin's final bracket.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Side {
+    /// The factor applied to the parameter.
+    pub factor: f64,
+    /// The verdict there.
+    pub judgement: Judgement,
+}
+
+impl std::fmt::Display for Side {
+    /// `×1.2345 overshoot`: the factor and the verdict there.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "×{:.4} {}", self.factor, self.judgement.label())
+    }
+}
 
 /// How one parameter moves the drive across the bursting boundary.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -29,7 +82,7 @@ pub struct Margin {
     pub parameter: &'static str,
     /// Its current value (SI).
     pub current: f64,
-    /// Multiplicative factor that crosses the boundary (null if none within 1/64…64).
+    /// Multiplicative factor that crosses the boundary (null if none within 1/64…64, or refused).
     pub factor: Option<f64>,
     /// The value at the boundary (SI).
     pub boundary_value: Option<f64>,
@@ -37,6 +90,12 @@ pub struct Margin {
     pub change_percent: Option<f64>,
     /// `enters bursting` or `leaves bursting`.
     pub effect: &'static str,
+    /// The end of the bracket with the current verdict.
+    pub inside: Option<Side>,
+    /// The end of the bracket with the other verdict.
+    pub outside: Option<Side>,
+    /// Why no factor is given although the search went on: the move leaves the fast-slow domain.
+    pub refused: Option<String>,
 }
 
 /// The design check of a drive.
@@ -52,114 +111,162 @@ pub struct DesignCheck {
     /// max(0, |steepest_point_a| − 1): how far the slow variable would have to go beyond its
     /// range to reach the steep part (0 when it is reached).
     pub distance_in_a: f64,
-    /// Largest spiking ratio R of the fast subsystem and its threshold.
-    pub spiking_ratio: f64,
-    /// The threshold on R.
-    pub spiking_threshold: f64,
-    /// Whether the drive bursts now.
-    pub bursting: bool,
-    /// `simulation` or `fast-subsystem criterion` (see the module docs).
-    pub basis: &'static str,
+    /// The prediction from the equilibrium curve.
+    pub prediction: crate::fast::Prediction,
+    /// The verdict on the drive as it is.
+    pub judgement: Judgement,
     /// Predicted mode (null when not simulated).
-    pub mode: Option<&'static str>,
+    pub mode: Option<crate::burst::Mode>,
     /// Predicted mechanism (null when not simulated).
-    pub mechanism: Option<&'static str>,
+    pub mechanism: Option<crate::burst::Mechanism>,
     /// One entry per changeable parameter.
     pub margins: Vec<Margin>,
 }
 
-/// Below this reduced ω the criterion replaces simulation.
+/// Below this reduced ω the prediction replaces simulation.
 pub const MIN_SIMULATED_OMEGA: f64 = 1e-4;
 
 /// Step budget of one simulated verdict in the search (a scaled drive can need very small
-/// steps, e.g. C/64 makes the reduced γ 4096 times larger); past it the criterion decides.
+/// steps, e.g. C/64 makes the reduced γ 4096 times larger); past it the prediction decides.
 pub const SEARCH_MAX_STEPS: u64 = 2_000_000;
 
-fn bursts(d: &PhysicalParams, opts: &BurstOptions) -> Result<bool> {
-    let r = d.reduce()?;
-    if r.params.omega >= MIN_SIMULATED_OMEGA {
+/// Judges one drive (see the module docs).
+pub fn judge(d: &PhysicalParams, opts: &BurstOptions) -> Result<Judgement> {
+    let p = d.reduce()?.params;
+    let domain_predicted = p.omega <= turning_point_rate(&p) / 10.0;
+    if p.omega >= MIN_SIMULATED_OMEGA {
         let mut o = *opts;
-        o.tol.max_steps = SEARCH_MAX_STEPS;
-        match response(&r.params, &o) {
-            Ok(resp) => return Ok(resp.bursts_per_period > 0.0),
+        o.tol.max_steps = o.tol.max_steps.min(SEARCH_MAX_STEPS);
+        match response(&p, &o) {
+            Ok(resp) => {
+                let c = classify(&p, &resp);
+                return Ok(Judgement {
+                    bursting: c.bursting,
+                    verdict: Some(c.verdict),
+                    fast_slow_domain: c.fast_slow_domain,
+                    basis: Basis::Simulation,
+                });
+            }
             Err(crate::Error::TooManySteps { .. }) => {}
             Err(e) => return Err(e),
         }
     }
-    let an = analyze(&r.params, (-1.0, 1.0))?;
-    Ok(an.equilibria.spiking_criterion.max_ratio > SPIKING_THRESHOLD)
+    Ok(Judgement {
+        bursting: predict(&p).bursting,
+        verdict: None,
+        fast_slow_domain: domain_predicted,
+        basis: Basis::Prediction,
+    })
 }
 
 fn scaled(d: &PhysicalParams, name: &str, f: f64) -> PhysicalParams {
     let mut e = *d;
-    let v = d.get(name).expect("known name");
-    e.set(name, v * f).expect("known name");
+    let v = d
+        .get(name)
+        .expect("a design parameter is a drive parameter");
+    e.set(name, v * f)
+        .expect("a design parameter is a drive parameter");
     e
+}
+
+/// The margin of one parameter.
+fn margin(
+    d: &PhysicalParams,
+    name: &'static str,
+    now: Judgement,
+    opts: &BurstOptions,
+) -> Result<Margin> {
+    let current = d
+        .get(name)
+        .expect("a design parameter is a drive parameter");
+    let at = |lf: f64| judge(&scaled(d, name, lf.exp2()), opts);
+    let mut found: Option<(f64, f64)> = None; // (inside, outside) in log2 f
+    let mut refused: Option<String> = None;
+    if current != 0.0 {
+        let mut blocked = [false, false];
+        'search: for k in 1..=6 {
+            for (i, sign) in [-1.0, 1.0].into_iter().enumerate() {
+                if blocked[i] {
+                    continue;
+                }
+                let lf = sign * f64::from(k);
+                let j = at(lf)?;
+                if !j.fast_slow_domain {
+                    blocked[i] = true;
+                    refused.get_or_insert_with(|| {
+                        format!(
+                            "x{} leaves the fast-slow domain before the verdict changes",
+                            lf.exp2()
+                        )
+                    });
+                    continue;
+                }
+                if j.bursting != now.bursting {
+                    found = Some((lf - sign, lf));
+                    break 'search;
+                }
+            }
+        }
+    }
+    let mut margin = Margin {
+        parameter: name,
+        current,
+        factor: None,
+        boundary_value: None,
+        change_percent: None,
+        effect: if now.bursting {
+            "leaves bursting"
+        } else {
+            "enters bursting"
+        },
+        inside: None,
+        outside: None,
+        refused: None,
+    };
+    let Some((mut a, mut b)) = found else {
+        margin.refused = refused;
+        return Ok(margin);
+    };
+    let (mut ja, mut jb) = (if a == 0.0 { now } else { at(a)? }, at(b)?);
+    for _ in 0..12 {
+        let m = 0.5 * (a + b);
+        let j = at(m)?;
+        if j.bursting != now.bursting {
+            (b, jb) = (m, j);
+        } else {
+            (a, ja) = (m, j);
+        }
+    }
+    let f = (0.5 * (a + b)).exp2();
+    margin.factor = Some(f);
+    margin.boundary_value = Some(f * current);
+    margin.change_percent = Some(100.0 * (f - 1.0));
+    margin.inside = Some(Side {
+        factor: a.exp2(),
+        judgement: ja,
+    });
+    margin.outside = Some(Side {
+        factor: b.exp2(),
+        judgement: jb,
+    });
+    Ok(margin)
 }
 
 /// Runs the design check.
 pub fn design_check(d: &PhysicalParams, opts: &BurstOptions) -> Result<DesignCheck> {
     let r = d.reduce()?;
     let p = r.params;
-    let an = analyze(&p, (-1.0, 1.0))?;
-    let simulated = p.omega >= MIN_SIMULATED_OMEGA;
-    let (bursting, mode, mechanism) = if simulated {
-        let resp = response(&p, opts)?;
-        let c = classify(&p, &resp);
-        (
-            resp.bursts_per_period > 0.0,
-            Some(c.mode.name()),
-            Some(c.mechanism.name()),
-        )
+    let judgement = judge(d, opts)?;
+    let (mode, mechanism) = if judgement.basis == Basis::Simulation {
+        let c = classify(&p, &response(&p, opts)?);
+        (Some(c.mode), Some(c.mechanism))
     } else {
-        (
-            an.equilibria.spiking_criterion.max_ratio > SPIKING_THRESHOLD,
-            None,
-            None,
-        )
+        (None, None)
     };
-    let mut margins = Vec::new();
-    for name in DESIGN_PARAMETERS {
-        let current = d.get(name).expect("known");
-        let mut found: Option<(f64, f64)> = None; // bracket (inside, outside) in log2 f
-        if current != 0.0 {
-            'search: for k in 1..=6 {
-                for sign in [-1.0, 1.0] {
-                    let lf = sign * k as f64;
-                    if bursts(&scaled(d, name, lf.exp2()), opts)? != bursting {
-                        found = Some((lf - sign, lf));
-                        break 'search;
-                    }
-                }
-            }
-        }
-        let factor = match found {
-            None => None,
-            Some((mut a, mut b)) => {
-                for _ in 0..12 {
-                    let m = 0.5 * (a + b);
-                    if bursts(&scaled(d, name, m.exp2()), opts)? != bursting {
-                        b = m;
-                    } else {
-                        a = m;
-                    }
-                }
-                Some((0.5 * (a + b)).exp2())
-            }
-        };
-        margins.push(Margin {
-            parameter: name,
-            current,
-            factor,
-            boundary_value: factor.map(|f| f * current),
-            change_percent: factor.map(|f| 100.0 * (f - 1.0)),
-            effect: if bursting {
-                "leaves bursting"
-            } else {
-                "enters bursting"
-            },
-        });
-    }
+    let margins = DESIGN_PARAMETERS
+        .iter()
+        .map(|&name| margin(d, name, judgement, opts))
+        .collect::<Result<Vec<_>>>()?;
     let x0 = 1.0 / (3.0 * p.alpha);
     let steepest_point_a = (p.g(x0) - p.mu) / p.delta;
     Ok(DesignCheck {
@@ -167,14 +274,8 @@ pub fn design_check(d: &PhysicalParams, opts: &BurstOptions) -> Result<DesignChe
         steepest_point_a,
         distance_in_a: (steepest_point_a.abs() - 1.0).max(0.0),
         gamma_margin: p.gamma - p.critical_gamma(),
-        spiking_ratio: an.equilibria.spiking_criterion.max_ratio,
-        spiking_threshold: SPIKING_THRESHOLD,
-        bursting,
-        basis: if simulated {
-            "simulation"
-        } else {
-            "fast-subsystem criterion"
-        },
+        prediction: predict(&p),
+        judgement,
         mode,
         mechanism,
         margins,

@@ -558,7 +558,14 @@ pub fn fold_delta(p: &Params) -> Option<f64> {
 
 /// The (γ, δ) plane coloured by mode, with the fold curve and the cusp over it.
 pub fn map_figure(base: &Params, grid: &Grid, rows: &[SweepRow]) -> Figure {
-    let modes = ["normal", "transitional", "fast-slow", "pronounced-bursting"];
+    let modes = [
+        "normal",
+        "transitional",
+        "fast-slow",
+        "pronounced-bursting",
+        "relaxation",
+        "not-fast-slow",
+    ];
     let (ga, da) = (&grid.axes[0], &grid.axes[1]);
     let edges = |ax: &Axis, i: usize| {
         // cell edges halfway between grid values (geometric for log axes)
@@ -615,6 +622,23 @@ pub fn map_figure(base: &Params, grid: &Grid, rows: &[SweepRow]) -> Figure {
         .collect();
     fold.push((gc, cusp_delta));
     fold.push((gc, yr.1));
+    // the boundary predicted from the equilibrium curve alone: for each γ the δ above which
+    // bursting is predicted
+    let predicted: Vec<(f64, f64)> = (0..160)
+        .map(|k| xr.0 * (xr.1 / xr.0).powf(f64::from(k) / 159.0))
+        .filter(|&g| g > gc)
+        .filter_map(|g| {
+            let quiet = |d: f64| {
+                !fast::predict(&Params {
+                    gamma: g,
+                    delta: d,
+                    ..*base
+                })
+                .bursting
+            };
+            fast::bisect_log(yr.0, yr.1, quiet).map(|d| (g, d))
+        })
+        .collect();
     Figure {
         name: "map".into(),
         caption: format!(
@@ -623,7 +647,9 @@ pub fn map_figure(base: &Params, grid: &Grid, rows: &[SweepRow]) -> Figure {
              of γ = 1/(3α) = {:.4} and above the fold curve) the folds of the fast subsystem lie \
              in the traversed range a ∈ [−1, 1] and the bursting is fold-hysteresis; the cross \
              marks the cusp. Everything that bursts outside it bursts with no bifurcation at all \
-             (sharp-quantitative-change): by far the larger part of the bursting region.",
+             (sharp-quantitative-change): by far the larger part of the bursting region. Dots: the \
+             boundary predicted from the equilibrium curve alone (bursting above them), to compare \
+             with the simulated modes.",
             ga.count, da.count, gc
         ),
         size: (1000, 700),
@@ -638,12 +664,20 @@ pub fn map_figure(base: &Params, grid: &Grid, rows: &[SweepRow]) -> Figure {
                 legend_left: true,
                 x_range: Some(xr),
                 y_range: Some(yr),
-                series: vec![Series {
-                    label: "fold boundary".into(),
-                    points: fold,
-                    color: 6,
-                    style: Style::Line,
-                }],
+                series: vec![
+                    Series {
+                        label: "fold boundary".into(),
+                        points: fold,
+                        color: 6,
+                        style: Style::Line,
+                    },
+                    Series {
+                        label: "predicted bursting boundary".into(),
+                        points: predicted,
+                        color: 6,
+                        style: Style::Points,
+                    },
+                ],
                 markers: if cusp_delta <= yr.1 {
                     vec![(gc, cusp_delta.max(yr.0), "cusp".into())]
                 } else {

@@ -28,9 +28,11 @@ pub fn physical(a: PhysicalArgs) -> Result<()> {
     let predicted = if p.omega >= hdgear::design::MIN_SIMULATED_OMEGA {
         let resp = hdgear::burst::response(&p, &opts)?;
         let c = hdgear::burst::classify(&p, &resp);
-        serde_json::json!({ "mode": c.mode, "mechanism": c.mechanism, "bursts_per_period": resp.bursts_per_period })
+        serde_json::json!({ "bursting": c.bursting, "verdict": c.verdict, "mode": c.mode, "mechanism": c.mechanism,
+            "fast_slow_domain": c.fast_slow_domain, "bursts_per_period": resp.bursts_per_period })
     } else {
-        serde_json::json!({ "mode": null, "mechanism": null, "note": "reduced omega below 1e-4: not simulated" })
+        serde_json::json!({ "bursting": hdgear::fast::predict(&p).bursting, "verdict": null, "mode": null,
+            "mechanism": null, "note": "reduced omega below 1e-4: not simulated; predicted from the equilibrium curve" })
     };
     let doc = serde_json::json!({
         "drive": d,

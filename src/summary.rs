@@ -76,12 +76,26 @@ pub fn analysis_text(an: &Analysis) -> String {
         let _ = writeln!(s, "dx/da at a = 0: {s0:.6}");
     }
     let _ = writeln!(s, "Hopf bifurcation possible: no ({})", e.hopf_reason);
-    let c = &e.spiking_criterion;
-    let _ = writeln!(
-        s,
-        "spiking criterion: R = equilibrium speed / (relaxation rate * curve extent) > {}; max R = {:.4} at a = {:.6}",
-        c.threshold, c.max_ratio, c.max_ratio_a
-    );
+    let c = &e.prediction;
+    if c.fold_in_range {
+        let _ = writeln!(
+            s,
+            "prediction: bursting (a fold lies in a in [-1, 1]: jumps at every omega)"
+        );
+    } else {
+        let _ = writeln!(
+            s,
+            "prediction: {} (kappa = rate of change of the equilibrium's speed on the focus part = {:.4} at a = {:.6}; \
+             threshold {}); predicted boundary omega = {:.4e}{}",
+            if c.bursting { "bursting" } else { "no bursts" },
+            c.forcing_rate,
+            c.at_a,
+            c.threshold,
+            c.omega_boundary,
+            e.predicted_gamma_boundary
+                .map_or(String::new(), |g| format!(", gamma = {g:.4}"))
+        );
+    }
     if e.spiking_areas.is_empty() {
         let _ = writeln!(
             s,
@@ -100,14 +114,17 @@ pub fn analysis_text(an: &Analysis) -> String {
 /// The readable form of a measured response and its classification.
 pub fn response_text(r: &hdgear::burst::Response, c: &hdgear::burst::Classification) -> String {
     let mut s = String::new();
+    let rate = r.bursts_per_period.map_or_else(
+        || "continuous fast motion (no separate bursts)".to_string(),
+        |b| format!("{b} bursts per slow period"),
+    );
     let _ = writeln!(
         s,
-        "response (window t in [{:.1}, {:.1}]): {} bursts per slow period, {:.2} spikes per burst, \
+        "response (window t in [{:.1}, {:.1}]): {rate}, {:.2} spikes per burst, \
          burst amplitude {:.4}, peak |x'| {:.4}, quiescent {:.1} time units ({:.1} % of the time), \
          max |x - x*| {:.4}",
         r.window_start,
         r.window_end,
-        r.bursts_per_period,
         r.spikes_per_burst,
         r.burst_amplitude,
         r.peak_abs_xdot,
@@ -115,11 +132,42 @@ pub fn response_text(r: &hdgear::burst::Response, c: &hdgear::burst::Classificat
         100.0 * r.quiescent_fraction,
         r.max_tracking_error
     );
+    let g = &r.signatures;
+    let yes = |b: bool| if b { "yes" } else { "no" };
     let _ = writeln!(
         s,
-        "classification: mode {}, mechanism {}",
+        "signatures: jump {} ({} per period), overshoot {} (largest lead {:.3e} X), ringing {} \
+         (largest swing {:.3e} omega X)",
+        yes(g.jump),
+        g.jumps_per_period,
+        yes(g.overshoot),
+        g.max_overshoot,
+        yes(g.ringing),
+        g.max_ringing_swing
+    );
+    let m = &r.measures;
+    let _ = writeln!(
+        s,
+        "measures: peak |x'| / (omega max|dx*/da|) = {:.4}, lag / first-order adiabatic lag = {:.4}, \
+         lag / X = {:.4}",
+        m.speed_ratio, m.lag_ratio, m.relative_lag
+    );
+    let _ = writeln!(
+        s,
+        "classification: {} ({}), mode {}, mechanism {}{}",
+        if c.bursting {
+            "bursting"
+        } else {
+            "not bursting"
+        },
+        c.verdict.name(),
         c.mode.name(),
-        c.mechanism.name()
+        c.mechanism.name(),
+        if c.fast_slow_domain {
+            ""
+        } else {
+            "; outside the fast-slow domain (omega is not slow against the fast subsystem)"
+        }
     );
     s
 }
@@ -162,20 +210,37 @@ pub fn design_text(c: &hdgear::design::DesignCheck) -> String {
     let mut s = String::new();
     let _ = writeln!(
         s,
-        "the drive {} (decided by {}); mode {}, mechanism {}",
-        if c.bursting {
+        "the drive {} (decided by {}); signature {}, mode {}, mechanism {}{}",
+        if c.judgement.bursting {
             "bursts"
         } else {
             "does not burst"
         },
-        c.basis,
-        c.mode.unwrap_or("-"),
-        c.mechanism.unwrap_or("-")
+        match c.judgement.basis {
+            hdgear::design::Basis::Simulation => "simulation",
+            hdgear::design::Basis::Prediction => "prediction from the equilibrium curve",
+        },
+        c.judgement.verdict.map_or("-", |v| v.name()),
+        c.mode.map_or("-", |m| m.name()),
+        c.mechanism.map_or("-", |m| m.name()),
+        if c.judgement.fast_slow_domain {
+            ""
+        } else {
+            " (outside the fast-slow domain)"
+        }
     );
     let _ = writeln!(
         s,
-        "reduced gamma = {:.6} (margin to the fold regime {:.6}); spiking ratio R = {:.4} (threshold {})",
-        c.reduced.params.gamma, c.gamma_margin, c.spiking_ratio, c.spiking_threshold
+        "reduced gamma = {:.6} (margin to the fold regime {:.6}); predicted: {} (kappa = {:.4}, threshold {})",
+        c.reduced.params.gamma,
+        c.gamma_margin,
+        if c.prediction.bursting {
+            "bursting"
+        } else {
+            "no bursts"
+        },
+        c.prediction.forcing_rate,
+        c.prediction.threshold
     );
     let _ = writeln!(
         s,
@@ -185,29 +250,33 @@ pub fn design_text(c: &hdgear::design::DesignCheck) -> String {
     for m in &c.margins {
         match (m.factor, m.boundary_value) {
             (Some(f), Some(v)) => {
+                let side =
+                    |x: &Option<hdgear::design::Side>| x.map_or("-".into(), |x| x.to_string());
                 let _ = writeln!(
                     s,
-                    "  {:<9} {:.6e} -> {:.6e} ({:+.1} %, x{:.4}) {}",
+                    "  {:<9} {:.6e} -> {:.6e} ({:+.1} %, x{:.4}) {}; inside {}, outside {}",
                     m.parameter,
                     m.current,
                     v,
                     100.0 * (f - 1.0),
                     f,
-                    m.effect
+                    m.effect,
+                    side(&m.inside),
+                    side(&m.outside)
                 );
             }
             _ => {
-                let _ = writeln!(
-                    s,
-                    "  {:<9} {:.6e}: no single change within x1/64..x64 {}",
-                    m.parameter,
-                    m.current,
-                    if c.bursting {
-                        "stops the bursts"
-                    } else {
-                        "makes it burst"
-                    }
-                );
+                let why = m.refused.clone().unwrap_or_else(|| {
+                    format!(
+                        "no single change within x1/64..x64 {}",
+                        if c.judgement.bursting {
+                            "stops the bursts"
+                        } else {
+                            "makes it burst"
+                        }
+                    )
+                });
+                let _ = writeln!(s, "  {:<9} {:.6e}: {why}", m.parameter, m.current);
             }
         }
     }

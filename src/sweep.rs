@@ -247,7 +247,7 @@ pub fn run_point(index: usize, p: &Params, opts: &BurstOptions) -> SweepRow {
         Ok((c, r, slope)) => {
             row.mode = c.mode.name().into();
             row.mechanism = c.mechanism.name().into();
-            row.bursts_per_period = r.bursts_per_period;
+            row.bursts_per_period = r.bursts_per_period.unwrap_or(f64::NAN);
             row.spikes_per_burst = r.spikes_per_burst;
             row.burst_amplitude = r.burst_amplitude;
             row.peak_abs_xdot = r.peak_abs_xdot;

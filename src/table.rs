@@ -51,6 +51,8 @@ pub struct GammaRow {
     pub spikes_per_burst: f64,
     /// Largest |x'|.
     pub peak_abs_xdot: f64,
+    /// The strongest signature measured.
+    pub verdict: &'static str,
     /// Measured mode.
     pub mode: &'static str,
     /// Mechanism.
@@ -82,7 +84,8 @@ pub struct EffectRow {
     pub measured: String,
     /// The study's claim.
     pub claim: &'static str,
-    /// `agrees` or `contradicts` (the claim's own metric, changes under 2 % count as none).
+    /// `agrees` or `contradicts` (the claim's own metric, changes under 2 % count as none), or
+    /// `n/a (no bursts at either end)` when the claim's metric does not exist at either end.
     pub verdict: &'static str,
 }
 
@@ -98,6 +101,7 @@ pub struct Tables {
 }
 
 struct Measured {
+    bursting: bool,
     amplitude: f64,
     spikes: f64,
     quiescent: f64,
@@ -115,6 +119,7 @@ fn measure(p: &Params, opts: &BurstOptions) -> Result<Measured> {
         .min_by(|u, v| u.abs().total_cmp(&v.abs()))
         .unwrap_or(f64::NAN);
     Ok(Measured {
+        bursting: classify(p, &r).bursting,
         amplitude: r.burst_amplitude,
         spikes: r.spikes_per_burst,
         quiescent: r.quiescent_duration,
@@ -148,10 +153,11 @@ pub fn tables(base: &Params, opts: &BurstOptions) -> Result<Tables> {
                 shape: shape_words(an.equilibria.max_slope.value),
                 max_slope: an.equilibria.max_slope.value,
                 slope_at_a0: an.equilibria.slope_at_a0.unwrap_or(f64::NAN),
-                bursts_per_period: r.bursts_per_period,
+                bursts_per_period: r.bursts_per_period.unwrap_or(f64::NAN),
                 spikes_per_burst: r.spikes_per_burst,
                 peak_abs_xdot: r.peak_abs_xdot,
                 mode: c.mode.name(),
+                verdict: c.verdict.name(),
                 mechanism: c.mechanism.name(),
                 study_mode: study.name(),
                 agrees: c.mode == study,
@@ -188,22 +194,34 @@ pub fn tables(base: &Params, opts: &BurstOptions) -> Result<Tables> {
             let (spk_dir, _) = change(ml.spikes, mh.spikes);
             let (q_dir, q_rel) = change(ml.quiescent, mh.quiescent);
             let shift = mh.center - ml.center;
-            let measured = format!(
-                "from {name} = {low} to {high}: burst amplitude {amp_dir} ({:+.1} %), spikes per \
-                 burst {spk_dir} ({} to {}), quiescent duration {q_dir} ({:+.1} %), spiking-area \
-                 centre moves by {:+.4} in a",
-                100.0 * amp_rel,
-                ml.spikes,
-                mh.spikes,
-                100.0 * q_rel,
-                shift
-            );
+            let any_bursts = ml.bursting || mh.bursting;
+            let shift_text = if shift.is_finite() {
+                format!("moves by {shift:+.4} in a")
+            } else {
+                "n/a (no spiking area at one end)".to_string()
+            };
+            let measured = if any_bursts {
+                format!(
+                    "from {name} = {low} to {high}: burst amplitude {amp_dir} ({:+.1} %), spikes per \
+                     burst {spk_dir} ({} to {}), quiescent duration {q_dir} ({:+.1} %), spiking-area \
+                     centre {shift_text}",
+                    100.0 * amp_rel,
+                    ml.spikes,
+                    mh.spikes,
+                    100.0 * q_rel,
+                )
+            } else {
+                format!(
+                    "from {name} = {low} to {high}: no bursts at either end; spiking-area centre \
+                     {shift_text}"
+                )
+            };
+            // the claimed metric, in the claimed direction; None where it does not exist
             let holds = match name {
-                // the claimed metric, in the claimed direction
-                "gamma" => amp_dir == "decreases",
-                "alpha" | "delta" => amp_dir == "increases",
-                "omega" => q_dir == "decreases",
-                _ => shift.abs() > 1e-3,
+                "gamma" => any_bursts.then_some(amp_dir == "decreases"),
+                "alpha" | "delta" => any_bursts.then_some(amp_dir == "increases"),
+                "omega" => any_bursts.then_some(q_dir == "decreases"),
+                _ => shift.is_finite().then_some(shift.abs() > 1e-3),
             };
             Ok(EffectRow {
                 parameter: name,
@@ -215,7 +233,12 @@ pub fn tables(base: &Params, opts: &BurstOptions) -> Result<Tables> {
                 spiking_center: [ml.center, mh.center],
                 measured,
                 claim,
-                verdict: if holds { "agrees" } else { "contradicts" },
+                verdict: match holds {
+                    Some(true) => "agrees",
+                    Some(false) => "contradicts",
+                    None if name == "eps" => "n/a (no spiking area at one end)",
+                    None => "n/a (no bursts at either end)",
+                },
             })
         })
         .collect::<Result<Vec<_>>>()?;

@@ -387,7 +387,9 @@ fn bursts_lists_one_burst_per_row() {
     let mut lines = text.lines();
     assert_eq!(
         lines.next(),
-        Some("onset,end,a_onset,duration,peak_abs_xdot,peak_deviation,spikes,complete")
+        Some(
+            "onset,end,a_onset,duration,t_peak,a_peak,peak_abs_xdot,spikes,extrema,ringing_swing,overshoot,overshoot_lobes,jumps,complete"
+        )
     );
     assert_eq!(lines.count(), 4); // 2 per period over the 2 analysed periods
     let text = stdout_of(&["bursts", "--preset", "paper-g30"]);
@@ -406,7 +408,7 @@ fn table_formats_agree() {
     let modes: Vec<&str> = rows.iter().map(|r| r["mode"].as_str().unwrap()).collect();
     assert_eq!(
         modes,
-        ["normal", "transitional", "fast-slow", "pronounced-bursting"]
+        ["normal", "normal", "fast-slow", "pronounced-bursting"]
     );
     assert_eq!(json["effects_table"].as_array().unwrap().len(), 5);
     let md = stdout_of(&["table"]);
@@ -610,7 +612,7 @@ fn physical_design_check_names_the_changes() {
     let doc = json_of(&[
         "physical", "--design", "--json", "--t-am", "112", "--k1", "2000",
     ]);
-    assert_eq!(doc["bursting"], true);
+    assert_eq!(doc["judgement"]["bursting"], true);
     let margins = doc["margins"].as_array().unwrap();
     let names: Vec<&str> = margins
         .iter()
@@ -619,14 +621,15 @@ fn physical_design_check_names_the_changes() {
     assert_eq!(names, ["k1", "k2", "c_eq", "t_am", "backlash", "t_m"]);
     let k1 = &margins[0];
     assert_eq!(k1["effect"], "leaves bursting");
-    // raising k1 ends the bursts: check the boundary by running both sides of it
+    assert_eq!(k1["inside"]["judgement"]["bursting"], true);
+    assert_eq!(k1["outside"]["judgement"]["bursting"], false);
+    // raising k1 ends the bursts: check the boundary through the plain command on both sides
     let f = k1["factor"].as_f64().unwrap();
     assert!(f > 1.0);
     for (factor, bursts) in [(f * 0.97, true), (f * 1.03, false)] {
         let k1 = (2000.0 * factor).to_string();
         let doc = json_of(&["physical", "--json", "--t-am", "112", "--k1", &k1]);
-        let bpp = doc["predicted"]["bursts_per_period"].as_f64().unwrap();
-        assert_eq!(bpp > 0.0, bursts, "k1 x{factor}");
+        assert_eq!(doc["predicted"]["bursting"], bursts, "k1 x{factor}");
     }
 }
 

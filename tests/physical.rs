@@ -182,3 +182,45 @@ fn zero_backlash_or_linear_stiffness_has_no_reduction() {
     d.k2 = 0.0;
     assert!(d.reduce().unwrap_err().to_string().contains("k2 = 0"));
 }
+
+#[test]
+fn every_design_margin_of_the_bursting_variant_is_real() {
+    // the report's bursting variant of CSF-20-50: each reported factor f is checked by simulating
+    // the drive at 0.97 f and 1.03 f: the verdicts must differ (bursting inside, not outside)
+    use hdgear::burst::BurstOptions;
+    use hdgear::design::{design_check, judge};
+    let (d, _) = hdgear::params::catalogue::preset("CSF-20-50", None).unwrap();
+    let d = PhysicalParams {
+        k1: 2000.0,
+        t_am: 112.0,
+        ..d
+    };
+    let o = BurstOptions::default();
+    let c = design_check(&d, &o).unwrap();
+    assert!(c.judgement.bursting);
+    let mut checked = 0;
+    for m in &c.margins {
+        let Some(f) = m.factor else { continue };
+        let at = |g: f64| {
+            let mut e = d;
+            e.set(m.parameter, m.current * g).unwrap();
+            judge(&e, &o).unwrap()
+        };
+        // inside is the side nearer to the current value
+        let (near, far) = if f > 1.0 {
+            (0.97 * f, 1.03 * f)
+        } else {
+            (1.03 * f, 0.97 * f)
+        };
+        let (jn, jf) = (at(near), at(far));
+        assert!(
+            jn.bursting && !jf.bursting,
+            "{}: x{near} {jn:?}, x{far} {jf:?}",
+            m.parameter
+        );
+        assert!(m.inside.unwrap().judgement.bursting);
+        assert!(!m.outside.unwrap().judgement.bursting);
+        checked += 1;
+    }
+    assert_eq!(checked, 6, "{:?}", c.margins);
+}

@@ -8,6 +8,10 @@
 
 use super::curve::{check_a_range, x_intervals};
 use super::equilibria::{eigenvalues, fold_abscissae};
+use super::predict::{
+    FORCING_RATE_THRESHOLD, Prediction, focus_pieces, forcing_rate, predict,
+    predicted_gamma_boundary,
+};
 use crate::error::{Error, Result};
 use crate::params::Params;
 use serde::Serialize;
@@ -63,45 +67,6 @@ pub struct Interval {
     pub a_max: f64,
 }
 
-/// Spiking criterion threshold: a point of a stable branch belongs to a *spiking area* where
-///
-/// R(a) = v_eq(a) / (r(a) · X) > 0.05,
-///
-/// * v_eq = |dx*/dτ| = ω·|dx*/da|·√(1 − a²): the speed of the equilibrium when a = sin(ωτ) sweeps
-///   through a (da/dτ = ω cos ωτ = ±ω√(1 − a²));
-/// * r = min |Re λ|: the slowest relaxation rate of the fast subsystem there (1/2 for a focus,
-///   (1 − √(1 − 4g'))/2 for a node);
-/// * X: the x-extent of the equilibrium curve over the analysed a-range (so R does not depend on
-///   the unit of x).
-///
-/// R is the distance the equilibrium travels during one relaxation time 1/r, as a fraction of the
-/// whole curve's extent. Where it is small the state follows the equilibrium adiabatically
-/// (quiescent); where it is large the equilibrium escapes faster than the state can relax
-/// towards it, and the state is left behind and then rings (spiking). Near a fold r → 0, so
-/// R → ∞: fold jumps are spiking areas too.
-///
-/// Why 0.05: over a ∈ [−1, 1] the study's four cases have max R = 0.0104 (γ = 30),
-/// 0.0182 (γ = 10), 0.160 (γ = 1) and 11.2 (γ = 0.1) (measured by `hdgear analyze`), and
-/// simulations show bursts for γ = 1 and 0.1 only. 0.05 sits near the geometric middle of the gap
-/// between 0.018 and 0.16, a factor 2.7 above the largest adiabatic case and 3.2 below the weakest
-/// bursting one: "the equilibrium moves a twentieth of the curve within one relaxation time".
-pub const SPIKING_THRESHOLD: f64 = 0.05;
-
-/// The spiking criterion as reported.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct SpikingCriterion {
-    /// The threshold on R (see [`SPIKING_THRESHOLD`]).
-    pub threshold: f64,
-    /// The largest R over the stable branches in the range, and where.
-    pub max_ratio: f64,
-    /// a at the largest R.
-    pub max_ratio_a: f64,
-    /// The x-extent X of the curve used to normalise R.
-    pub x_extent: f64,
-    /// The definition, in words.
-    pub definition: &'static str,
-}
-
 /// Why no Hopf bifurcation can occur, as derived.
 pub const NO_HOPF_REASON: &str = "the Jacobian [[0, 1], [-g'(x), -1]] has trace -1 at every \
 equilibrium for every parameter value; a Hopf bifurcation needs a pair of purely imaginary \
@@ -126,12 +91,17 @@ pub struct EquilibriaSummary {
     pub hopf_possible: bool,
     /// The derivation.
     pub hopf_reason: &'static str,
-    /// The spiking areas (a-intervals), merged and sorted.
+    /// The spiking areas (a-intervals), merged and sorted: where the prediction's forcing rate κ
+    /// exceeds its threshold on the focus part of the traversed curve, and each fold in range
+    /// (a zero-width interval at the fold's a, where the jump starts).
     pub spiking_areas: Vec<Interval>,
     /// The rest of the range.
     pub quiescent_areas: Vec<Interval>,
-    /// The criterion and its largest value.
-    pub spiking_criterion: SpikingCriterion,
+    /// The prediction from the curve alone (over a ∈ [−1, 1], the range a = sin ωτ traverses).
+    pub prediction: Prediction,
+    /// The predicted γ boundary with the other parameters fixed: bursting predicted below it
+    /// (`None` when no switch exists between the cusp and 10⁶).
+    pub predicted_gamma_boundary: Option<f64>,
 }
 
 /// The analysis of the fast subsystem: the document `hdgear analyze --json` prints.
@@ -167,17 +137,6 @@ pub fn relaxation_rate(gp: f64) -> f64 {
 
 fn a_of(p: &Params, x: f64) -> f64 {
     (p.g(x) - p.mu) / p.delta
-}
-
-/// The spiking ratio R at abscissa x (see [`SPIKING_THRESHOLD`]); +inf at or past a fold.
-pub fn spiking_ratio(p: &Params, x: f64, x_extent: f64) -> f64 {
-    let gp = p.g_prime(x);
-    if gp <= 0.0 {
-        return f64::INFINITY;
-    }
-    let a = a_of(p, x);
-    let v_eq = p.omega * (p.delta / gp) * (1.0 - a * a).max(0.0).sqrt();
-    v_eq / (relaxation_rate(gp) * x_extent)
 }
 
 /// The fold points of the fast subsystem (closed form), each flagged in or out of `a_range`.
@@ -300,8 +259,6 @@ pub fn analyze(p: &Params, a_range: (f64, f64)) -> Result<Analysis> {
 
     // --- largest |slope|: at x = 1/(3α) if on the traversed curve, at the folds, or at the ends
     let intervals = x_intervals(p, a_range);
-    let x_lo = intervals.first().map_or(0.0, |i| i.0);
-    let x_hi = intervals.last().map_or(0.0, |i| i.1);
     let on_curve = |x: f64| intervals.iter().any(|&(l, r)| x >= l && x <= r);
     let mut candidates: Vec<f64> = intervals.iter().flat_map(|&(l, r)| [l, r]).collect();
     let x0 = 1.0 / (3.0 * p.alpha);
@@ -339,57 +296,57 @@ pub fn analyze(p: &Params, a_range: (f64, f64)) -> Result<Analysis> {
         p.delta / p.g_prime(x)
     });
 
-    // --- spiking areas on the stable parts of the traversed curve
-    let x_extent = (x_hi - x_lo).max(f64::MIN_POSITIVE);
-    let ratio = |x: f64| spiking_ratio(p, x, x_extent);
-    let inside = |x: f64| ratio(x) > SPIKING_THRESHOLD;
+    // --- spiking areas: the focus parts of the traversed curve where κ > κ_c, and the folds
+    let prediction = predict(p);
+    let inside = |x: f64| forcing_rate(p, x) > FORCING_RATE_THRESHOLD;
     let mut areas = Vec::new();
-    let (mut max_ratio, mut max_ratio_a) = (0.0f64, a0);
     const SAMPLES: usize = 4000;
-    for &(l, r) in &intervals {
-        // split at the fold abscissae so each piece is monotone in a and of one stability
-        let mut cuts = vec![l, r];
-        if let Some((xm, xp)) = fold_abscissae(p) {
-            cuts.extend([xm, xp].iter().filter(|&&c| c > l && c < r));
-        }
-        cuts.sort_by(f64::total_cmp);
-        for w in cuts.windows(2) {
-            let (pl, pr) = (w[0], w[1]);
-            let mid = 0.5 * (pl + pr);
-            if p.g_prime(mid) <= 0.0 {
-                continue; // saddle branch: not followed by any trajectory
-            }
-            let mut start: Option<f64> = None;
-            let mut prev_x = pl;
-            for j in 0..=SAMPLES {
-                let x = pl + (pr - pl) * j as f64 / SAMPLES as f64;
-                let rv = ratio(x);
-                if rv.is_finite() && rv > max_ratio {
-                    max_ratio = rv;
-                    max_ratio_a = a_of(p, x);
+    for (pl, pr) in focus_pieces(p) {
+        let mut start: Option<f64> = None;
+        let mut prev_x = pl;
+        for j in 0..=SAMPLES {
+            let x = pl + (pr - pl) * j as f64 / SAMPLES as f64;
+            let now = inside(x);
+            match (start, now) {
+                (None, true) => {
+                    start = Some(if j == 0 {
+                        x
+                    } else {
+                        boundary(prev_x, x, inside)
+                    })
                 }
-                let now = rv > SPIKING_THRESHOLD;
-                match (start, now) {
-                    (None, true) => {
-                        start = Some(if j == 0 {
-                            x
-                        } else {
-                            boundary(prev_x, x, inside)
-                        })
-                    }
-                    (Some(s), false) => {
-                        let e = boundary(prev_x, x, inside);
-                        areas.push((s, e));
-                        start = None;
-                    }
-                    _ => {}
+                (Some(s), false) => {
+                    areas.push((s, boundary(prev_x, x, inside)));
+                    start = None;
                 }
-                prev_x = x;
+                _ => {}
             }
-            if let Some(s) = start {
-                areas.push((s, pr));
-            }
+            prev_x = x;
         }
+        if let Some(s) = start {
+            areas.push((s, pr));
+        }
+    }
+    // κ vanishes at the inflection x = 1/(3α) (g'' = 0), and the node part around it cannot ring:
+    // areas on either side of the inflection on one stable branch are one steep region
+    areas.sort_by(|l, r| l.0.total_cmp(&r.0));
+    let xc = p.critical_gamma();
+    let mut joined: Vec<(f64, f64)> = Vec::new();
+    for (l, r) in areas {
+        match joined.last_mut() {
+            Some(last)
+                if last.1 <= xc
+                    && l >= xc
+                    && fold_abscissae(p).is_none_or(|(xm, xp)| xp < last.1 || xm > l) =>
+            {
+                last.1 = r;
+            }
+            _ => joined.push((l, r)),
+        }
+    }
+    let mut areas = joined;
+    for f in fold_list.iter().filter(|f| f.in_range) {
+        areas.push((f.x, f.x));
     }
     let spiking_areas = merge(
         areas
@@ -440,14 +397,8 @@ pub fn analyze(p: &Params, a_range: (f64, f64)) -> Result<Analysis> {
             hopf_reason: NO_HOPF_REASON,
             spiking_areas,
             quiescent_areas,
-            spiking_criterion: SpikingCriterion {
-                threshold: SPIKING_THRESHOLD,
-                max_ratio,
-                max_ratio_a,
-                x_extent,
-                definition: "R = omega*|dx*/da|*sqrt(1-a^2) / (min|Re lambda| * X) > threshold, \
-                             X = x-extent of the curve over the a-range",
-            },
+            prediction,
+            predicted_gamma_boundary: predicted_gamma_boundary(p),
         },
     })
 }

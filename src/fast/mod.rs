@@ -8,14 +8,18 @@
 mod analysis;
 mod curve;
 mod equilibria;
+mod predict;
 
 pub use analysis::{
-    Analysis, Cusp, EquilibriaSummary, Fold, FoldRow, Interval, NO_HOPF_REASON, Point,
-    SPIKING_THRESHOLD, Slope, SpikingCriterion, analyze, cusp, fold_curves, folds, relaxation_rate,
-    spiking_ratio,
+    Analysis, Cusp, EquilibriaSummary, Fold, FoldRow, Interval, NO_HOPF_REASON, Point, Slope,
+    analyze, cusp, fold_curves, folds, relaxation_rate,
 };
 pub use curve::{Branch, CurvePoint, check_a_range, curve, x_intervals};
 pub use equilibria::{
     EqType, Equilibria, Equilibrium, eigenvalues, equilibria, fold_abscissae,
     nearest_stable_equilibrium, stable_equilibrium,
+};
+pub use predict::{
+    FORCING_RATE_THRESHOLD, Prediction, bisect_log, focus_pieces, forcing_rate,
+    max_equilibrium_speed, predict, predicted_gamma_boundary,
 };

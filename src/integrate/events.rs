@@ -74,7 +74,8 @@ impl<G: FnMut(f64, &[f64; N]) -> f64, const N: usize> Detector<G, N> {
                 Direction::Either => rising || falling,
             };
             if wanted {
-                let t = self.refine(dense, ta, ga, tb, gb);
+                let g = &mut self.g;
+                let t = refine_root(|t| g(t, &dense.eval(t)), ta, ga, tb, gb);
                 found(Crossing {
                     t,
                     y: dense.eval(t),
@@ -86,51 +87,55 @@ impl<G: FnMut(f64, &[f64; N]) -> f64, const N: usize> Detector<G, N> {
         }
         self.last = Some((t1, ga));
     }
+}
 
-    /// Illinois regula falsi on [a, b] with g(a)·g(b) ≤ 0.
-    fn refine(
-        &mut self,
-        dense: &Dense<N>,
-        mut a: f64,
-        mut ga: f64,
-        mut b: f64,
-        mut gb: f64,
-    ) -> f64 {
-        if gb == 0.0 {
-            return b;
-        }
-        let tol = 1e-13 * a.abs().max(1.0);
-        let mut side = 0i8;
-        for _ in 0..100 {
-            if (b - a).abs() <= tol {
-                break;
-            }
-            let c = (a * gb - b * ga) / (gb - ga);
-            let c = if c.is_finite() && c > a && c < b {
-                c
-            } else {
-                0.5 * (a + b)
-            };
-            let gc = (self.g)(c, &dense.eval(c));
-            if gc == 0.0 {
-                return c;
-            }
-            if (gc < 0.0) == (ga < 0.0) {
-                a = c;
-                ga = gc;
-                if side == -1 {
-                    gb *= 0.5;
-                }
-                side = -1;
-            } else {
-                b = c;
-                gb = gc;
-                if side == 1 {
-                    ga *= 0.5;
-                }
-                side = 1;
-            }
-        }
-        if ga.abs() < gb.abs() { a } else { b }
+/// A root of a scalar function f on [a, b] with f(a)·f(b) ≤ 0, by the Illinois variant of
+/// regula falsi, to a bracket of 1e-13·max(1, |a|) (the interpolants it is used on are accurate to
+/// the integration tolerance, so refining further would be pointless). `fa`, `fb` are f(a), f(b).
+///
+/// ```
+/// let r = hdgear::integrate::events::refine_root(|t| t * t - 2.0, 1.0, -1.0, 2.0, 2.0);
+/// assert!((r - 2f64.sqrt()).abs() < 1e-12);
+/// ```
+pub fn refine_root(mut f: impl FnMut(f64) -> f64, a: f64, fa: f64, b: f64, fb: f64) -> f64 {
+    let (mut a, mut fa, mut b, mut fb) = (a, fa, b, fb);
+    if fb == 0.0 {
+        return b;
     }
+    if fa == 0.0 {
+        return a;
+    }
+    let tol = 1e-13 * a.abs().max(1.0);
+    let mut side = 0i8;
+    for _ in 0..100 {
+        if (b - a).abs() <= tol {
+            break;
+        }
+        let c = (a * fb - b * fa) / (fb - fa);
+        let c = if c.is_finite() && c > a && c < b {
+            c
+        } else {
+            0.5 * (a + b)
+        };
+        let fc = f(c);
+        if fc == 0.0 {
+            return c;
+        }
+        if (fc < 0.0) == (fa < 0.0) {
+            a = c;
+            fa = fc;
+            if side == -1 {
+                fb *= 0.5;
+            }
+            side = -1;
+        } else {
+            b = c;
+            fb = fc;
+            if side == 1 {
+                fa *= 0.5;
+            }
+            side = 1;
+        }
+    }
+    if fa.abs() < fb.abs() { a } else { b }
 }

@@ -22,12 +22,12 @@ pub fn markdown(t: &Tables) -> String {
         "Study point: alpha = {}, eps = {}, mu = {}, delta = {}, omega = {} (gamma varies).\n",
         b.alpha, b.eps, b.mu, b.delta, b.omega
     );
-    s.push_str("| gamma | equilibrium curve | largest dx/da | dx/da at a = 0 | bursts per period | spikes per burst | peak abs(x') | mode (measured) | mechanism | study's mode |\n");
-    s.push_str("|---|---|---|---|---|---|---|---|---|---|\n");
+    s.push_str("| gamma | equilibrium curve | largest dx/da | dx/da at a = 0 | bursts per period | spikes per burst | peak abs(x') | signature | mode (measured) | mechanism | study's mode |\n");
+    s.push_str("|---|---|---|---|---|---|---|---|---|---|---|\n");
     for r in &t.gamma_table {
         let _ = writeln!(
             s,
-            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {}{} |",
+            "| {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {}{} |",
             r.gamma,
             r.shape,
             g(r.max_slope),
@@ -35,6 +35,7 @@ pub fn markdown(t: &Tables) -> String {
             r.bursts_per_period,
             g(r.spikes_per_burst),
             g(r.peak_abs_xdot),
+            r.verdict,
             r.mode,
             r.mechanism,
             r.study_mode,
@@ -63,10 +64,10 @@ pub fn markdown(t: &Tables) -> String {
             g(r.spiking_center[0]),
             g(r.spiking_center[1]),
             r.claim,
-            if r.verdict == "agrees" {
-                "agrees".to_string()
-            } else {
+            if r.verdict == "contradicts" {
                 format!("**contradicts**: {}", r.measured)
+            } else {
+                r.verdict.to_string()
             }
         );
     }
@@ -88,6 +89,7 @@ pub fn csv(t: &Tables) -> std::io::Result<String> {
         "bursts_per_period",
         "spikes_per_burst",
         "peak_abs_xdot",
+        "verdict",
         "mode",
         "mechanism",
         "study_mode",
@@ -102,6 +104,7 @@ pub fn csv(t: &Tables) -> std::io::Result<String> {
             r.bursts_per_period.to_string(),
             r.spikes_per_burst.to_string(),
             r.peak_abs_xdot.to_string(),
+            r.verdict.into(),
             r.mode.into(),
             r.mechanism.into(),
             r.study_mode.into(),

@@ -1,0 +1,707 @@
+//! Bursts in a response, judged by their physical signatures, with continuous measures of degree
+//! and the classification into the study's modes.
+//!
+//! # What can show the fast mode
+//!
+//! The fast subsystem x'' + x' + g(x) = μ + δa has trace −1 at every equilibrium: no Hopf
+//! bifurcation and no limit cycle exists (SPEC §3). So a passage of the slow variable a = sin ωτ
+//! can show the fast mode in only three ways, and each is measured as an event located on the
+//! dense output (a root of a smooth function of the interpolant, never a step end):
+//!
+//! * **jump**: x crosses the whole unstable band [x−, x+] between the fold abscissae (only with
+//!   folds) — a crossing of the far edge of the band after the state was beyond the near one;
+//! * **overshoot**: the state gets *ahead* of the equilibrium x*(a) it follows. Adiabatic tracking
+//!   on a stable branch always lags (dx*/da = δ/g' > 0), so e = x − x* has the sign opposite to
+//!   da/dτ ∝ cos ωτ. A *leading lobe* is an interval where e·cos ωτ > 0 bounded by zeros of e on
+//!   both sides; its size is max|e| (at a zero of e', located). Lobes that begin or end at a turning
+//!   point of a (cos ωτ = 0) are not overshoot: there the direction of the drive reverses while
+//!   the state still lags, so the sign test is void. An overshoot is a leading lobe of at least
+//!   [`BurstOptions::overshoot_floor`]·X (X: the curve's x-extent over a ∈ [−1, 1]);
+//! * **ringing**: the fast mode oscillates about the moving equilibrium, so x' has extra extrema.
+//!   Extrema of x' are zeros of x'' (located); swings smaller than
+//!   [`BurstOptions::swing_floor`]·ω·X are pruned with the extremum they would create (ω·X is the
+//!   scale of the slow drift's own speed). Ringing is three or more extrema in one group.
+//!
+//! Events closer than the *group gap* G = min(10·τ_r, T/8) form one group (τ_r = 2 is the decay
+//! time of every oscillatory fast motion: its eigenvalues have real part −1/2 for any g' > 1/4;
+//! ringing extrema further apart than 10·τ_r have decayed by e⁻¹⁰ in between; T/8 keeps the two
+//! passages of a slow period apart). A group with a signature is a **burst**. Its *pulse* is its
+//! largest |x'|; a burst counts in the window when its pulse does; its onset is the last time
+//! before the pulse at which |x'| was below half the pulse. A group longer than T/2 means the
+//! fast motion never stops: the response is then reported as `continuous_fast_motion` and has no
+//! bursts-per-period (`null`), and it is outside the fast-slow domain.
+//!
+//! # Why these floors (and why the verdicts do not depend on them)
+//!
+//! Both floors only remove what no plot could show and what the integration cannot resolve: at
+//! rtol = 1e-10 the state carries errors near 1e-10, and an adiabatic response has no leading
+//! lobe and no extra extremum at all. `tests/burst.rs` reruns the reference cases with each floor
+//! and the gap multiplied and divided by 10 and checks that no verdict changes.
+//!
+//! # Window
+//!
+//! Bursts are counted in a window of whole slow periods starting at the first turning point of a
+//! (a = ±1) after the discarded transient; the scan starts a margin earlier and ends a margin later
+//! (min(T/4, 5G)) so that bursts at the window's edges are seen whole.
+
+mod boundary;
+mod scan;
+
+pub use boundary::{BOUNDARY_REL_TOL, Boundaries, OMEGA_SEARCH_MIN, boundaries};
+
+use scan::{Pivot, Scan, Scanner};
+
+use crate::error::{Error, Result};
+use crate::fast::{self, stable_equilibrium};
+use crate::integrate::{Dop853, Options};
+use crate::model::Dimensionless;
+use crate::params::Params;
+use serde::{Deserialize, Serialize};
+use std::f64::consts::{FRAC_PI_2, PI};
+
+/// A tolerance (rtol = atol) for runs that only need verdicts, modes and counts (sweeps, maps):
+/// `tests/burst.rs` shows that none of them changes from 1e-6 to 1e-12 over the 20 reference
+/// cases and a 200-point γ sweep; 1e-8 keeps two decades of margin and needs 1.8 times fewer
+/// steps than the default 1e-10.
+pub const CLASSIFICATION_TOL: f64 = 1e-8;
+
+/// Decay time of every oscillatory fast motion: the eigenvalues of a focus have real part −1/2.
+pub const RINGING_DECAY_TIME: f64 = 2.0;
+
+/// Options of burst detection; `Default` is the documented rule.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct BurstOptions {
+    /// Slow periods discarded as transient before the window (default 1).
+    pub discard_periods: f64,
+    /// Whole slow periods analysed (default 2).
+    pub periods: u32,
+    /// Smallest swing of x' that counts, in units of ω·X (default 1e-3).
+    pub swing_floor: f64,
+    /// Smallest leading lobe of x − x* that counts as overshoot, in units of X (default 1e-4).
+    pub overshoot_floor: f64,
+    /// Group gap in decay times τ_r = 2 (default 10; the gap is also capped at T/8).
+    pub gap_decay_times: f64,
+    /// Fraction of a burst's largest swing of x' a swing must reach to count as a spike
+    /// (default 0.2: each ringing swing is about a third of the one before, so the pulse and its
+    /// first one or two echoes count, the decayed tail does not).
+    pub spike_fraction: f64,
+    /// Integrator tolerances.
+    pub tol: Options,
+}
+
+impl Default for BurstOptions {
+    fn default() -> Self {
+        BurstOptions {
+            discard_periods: 1.0,
+            periods: 2,
+            swing_floor: 1e-3,
+            overshoot_floor: 1e-4,
+            gap_decay_times: 10.0,
+            spike_fraction: 0.2,
+            tol: Options::default(),
+        }
+    }
+}
+
+impl BurstOptions {
+    /// Checks the options.
+    pub fn validate(&self) -> Result<()> {
+        let bad = |name, value, reason| {
+            Err(Error::InvalidOption {
+                name,
+                value,
+                reason,
+            })
+        };
+        if !(self.discard_periods.is_finite() && self.discard_periods >= 0.0) {
+            return bad("discard", self.discard_periods, "must be finite and ≥ 0");
+        }
+        if self.periods == 0 {
+            return bad("periods", 0.0, "must be ≥ 1");
+        }
+        for (name, v) in [
+            ("swing_floor", self.swing_floor),
+            ("overshoot_floor", self.overshoot_floor),
+            ("gap_decay_times", self.gap_decay_times),
+        ] {
+            if !(v.is_finite() && v > 0.0) {
+                return bad(name, v, "must be finite and > 0");
+            }
+        }
+        if !(self.spike_fraction.is_finite()
+            && self.spike_fraction > 0.0
+            && self.spike_fraction < 1.0)
+        {
+            return bad("spike_fraction", self.spike_fraction, "must be in (0, 1)");
+        }
+        self.tol.validate()
+    }
+
+    /// The group gap G = min(gap_decay_times·τ_r, T/8) for slow period `period`.
+    pub fn group_gap(&self, period: f64) -> f64 {
+        (self.gap_decay_times * RINGING_DECAY_TIME).min(period / 8.0)
+    }
+}
+
+/// One burst: a group of events with at least one signature.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Burst {
+    /// Last time before the pulse at which |x'| was below half the pulse.
+    pub onset: f64,
+    /// Time of the group's last event.
+    pub end: f64,
+    /// Slow variable at onset.
+    pub a_onset: f64,
+    /// end − onset.
+    pub duration: f64,
+    /// Time of the pulse (largest |x'|).
+    pub t_peak: f64,
+    /// Slow variable at the pulse.
+    pub a_peak: f64,
+    /// |x'| at the pulse.
+    pub peak_abs_xdot: f64,
+    /// Swings of x' inside the burst of at least spike_fraction of its largest swing: the pulse's
+    /// fall and the echoes that stand out of it (≥ 1; unlike the count of all extrema it does not
+    /// depend on the swing floor).
+    pub spikes: u32,
+    /// Extrema of x' in the burst after pruning (ringing when ≥ 3).
+    pub extrema: u32,
+    /// Largest swing of x' between consecutive extrema after the pulse, in units of ω·X.
+    pub ringing_swing: f64,
+    /// Largest leading lobe of x − x*, in units of X (0 without overshoot).
+    pub overshoot: f64,
+    /// Leading lobes of at least the overshoot floor.
+    pub overshoot_lobes: u32,
+    /// Crossings of the unstable band.
+    pub jumps: u32,
+    /// False when the simulation ended before the burst did.
+    pub complete: bool,
+}
+
+impl Burst {
+    /// The burst's strongest signature.
+    pub fn verdict(&self) -> Verdict {
+        if self.jumps > 0 {
+            Verdict::FoldJump
+        } else if self.overshoot_lobes > 0 {
+            Verdict::Overshoot
+        } else if self.extrema >= 3 {
+            Verdict::Ringing
+        } else {
+            Verdict::NoBursts
+        }
+    }
+}
+
+/// Which signatures a response shows, with their rates and sizes.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Signatures {
+    /// A jump across the unstable band was measured.
+    pub jump: bool,
+    /// A leading lobe of at least the floor was measured.
+    pub overshoot: bool,
+    /// A group of three or more extrema of x' was measured.
+    pub ringing: bool,
+    /// Jumps in the window per slow period.
+    pub jumps_per_period: f64,
+    /// Bursts with ringing per slow period.
+    pub ringing_bursts_per_period: f64,
+    /// Largest leading lobe in the window, in units of X (0: the state never gets ahead).
+    pub max_overshoot: f64,
+    /// Largest ringing swing of x' in the window's bursts, in units of ω·X.
+    pub max_ringing_swing: f64,
+}
+
+/// Continuous measures of how far a response is from adiabatic tracking.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Measures {
+    /// peak |x'| / max|dx*/dτ|, the largest speed of the equilibrium as a = sin ωτ sweeps the
+    /// curve (ω·δ·√(1 − a²)/g'): 1 for quasi-static tracking, below 1 when the state cannot keep up
+    /// with the equilibrium, above 1 when it overshoots (0 with a fold in range, where the
+    /// equilibrium's speed is unbounded).
+    pub speed_ratio: f64,
+    /// max|x − x*| / max|e₁|, e₁ = −(dx*/dτ)/g'(x*) the first-order adiabatic lag: → 1 as ω → 0
+    /// on a normally hyperbolic branch (Fenichel); far from 1 when the state leaves the curve.
+    pub lag_ratio: f64,
+    /// max|x − x*| / X.
+    pub relative_lag: f64,
+}
+
+/// The measured response.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Response {
+    /// Start of the analysis window.
+    pub window_start: f64,
+    /// End of the analysis window.
+    pub window_end: f64,
+    /// Bursts whose pulse lies in the window, per slow period; `None` when the fast motion never
+    /// stops ([`Response::continuous_fast_motion`]).
+    pub bursts_per_period: Option<f64>,
+    /// Mean spikes per burst (0 without bursts).
+    pub spikes_per_burst: f64,
+    /// Mean pulse |x'| over the bursts (0 without bursts).
+    pub burst_amplitude: f64,
+    /// Largest |x'| in the window.
+    pub peak_abs_xdot: f64,
+    /// Mean time from the end of one burst to the onset of the next (the slow period without
+    /// bursts).
+    pub quiescent_duration: f64,
+    /// Fraction of the window outside bursts.
+    pub quiescent_fraction: f64,
+    /// max |x − x*(a)| over the window (x*: the stable equilibrium followed), located.
+    pub max_tracking_error: f64,
+    /// A burst lasts longer than half a slow period: the fast motion never settles.
+    pub continuous_fast_motion: bool,
+    /// The signatures.
+    pub signatures: Signatures,
+    /// The continuous measures.
+    pub measures: Measures,
+    /// X, the curve's x-extent over a ∈ [−1, 1].
+    pub x_extent: f64,
+    /// The group gap G used.
+    pub group_gap: f64,
+    /// The bursts whose pulse lies in the window.
+    pub bursts: Vec<Burst>,
+}
+
+/// The strongest signature of a response (order: fold-jump > overshoot > ringing > no-bursts).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Verdict {
+    /// The state follows the equilibrium adiabatically.
+    NoBursts,
+    /// The fast mode rings about the moving equilibrium; the state never gets ahead.
+    Ringing,
+    /// The state gets ahead of the equilibrium it follows.
+    Overshoot,
+    /// The state jumps across the unstable band between two folds.
+    FoldJump,
+}
+
+/// The oscillation mode: the study's four words, defined from the signatures (each keeps its
+/// meaning as ω changes), plus the two cases the study's words do not cover.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Mode {
+    /// No signature: the state follows the equilibrium (x' is the smooth slow wave).
+    Normal,
+    /// Ringing only: the fast mode is excited, but the state never gets ahead.
+    Transitional,
+    /// Overshoot on a branch whose slowest point is a focus (g' > 1/4): a pulse and ringing.
+    FastSlow,
+    /// Overshoot where the slowest point of the traversed branch is a node (g' ≤ 1/4): the
+    /// state creeps behind the equilibrium, then snaps ahead of it.
+    PronouncedBursting,
+    /// Jumps between two stable branches across the folds: a relaxation (hysteresis) loop, the only
+    /// bursting that survives ω → 0.
+    Relaxation,
+    /// Outside the fast-slow domain: the forcing is not slow against the fast subsystem.
+    NotFastSlow,
+}
+
+/// The mechanism behind the bursts.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Mechanism {
+    /// No signature.
+    None,
+    /// Overshoot or ringing on a single stable branch: no bifurcation, a steep curve.
+    SharpQuantitativeChange,
+    /// A measured jump across the folds.
+    FoldHysteresis,
+}
+
+impl Mode {
+    /// The kebab-case name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Mode::Normal => "normal",
+            Mode::Transitional => "transitional",
+            Mode::FastSlow => "fast-slow",
+            Mode::PronouncedBursting => "pronounced-bursting",
+            Mode::Relaxation => "relaxation",
+            Mode::NotFastSlow => "not-fast-slow",
+        }
+    }
+}
+
+impl Mechanism {
+    /// The kebab-case name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Mechanism::None => "none",
+            Mechanism::SharpQuantitativeChange => "sharp-quantitative-change",
+            Mechanism::FoldHysteresis => "fold-hysteresis",
+        }
+    }
+}
+
+impl Verdict {
+    /// The kebab-case name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Verdict::NoBursts => "no-bursts",
+            Verdict::Ringing => "ringing",
+            Verdict::Overshoot => "overshoot",
+            Verdict::FoldJump => "fold-jump",
+        }
+    }
+}
+
+/// Verdict, mode and mechanism.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+pub struct Classification {
+    /// Any signature present.
+    pub bursting: bool,
+    /// The strongest signature.
+    pub verdict: Verdict,
+    /// The oscillation mode.
+    pub mode: Mode,
+    /// The mechanism.
+    pub mechanism: Mechanism,
+    /// Whether the fast-slow picture applies (see [`fast_slow_domain`]).
+    pub fast_slow_domain: bool,
+}
+
+/// The x-extent X of the equilibrium curve over a ∈ [−1, 1].
+pub fn curve_extent(p: &Params) -> f64 {
+    let iv = fast::x_intervals(p, (-1.0, 1.0));
+    match (iv.first(), iv.last()) {
+        (Some(l), Some(r)) => (r.1 - l.0).max(f64::MIN_POSITIVE),
+        _ => f64::MIN_POSITIVE,
+    }
+}
+
+/// The smallest g' over the stable part of the curve traversed by a ∈ [−1, 1] (0 with a fold
+/// in range): its slowest, steepest point.
+pub fn min_traversed_gprime(p: &Params) -> f64 {
+    let xc = p.critical_gamma(); // g'' = 0 at x = 1/(3α)
+    fast::x_intervals(p, (-1.0, 1.0))
+        .iter()
+        .map(|&(lo, hi)| {
+            let m = p.g_prime(lo).min(p.g_prime(hi));
+            if xc > lo && xc < hi {
+                m.min(p.g_prime(xc))
+            } else {
+                m
+            }
+        })
+        .fold(f64::INFINITY, f64::min)
+        .max(0.0)
+}
+
+/// The window [t_w0, t_w1): whole slow periods from the first turning point of a after the
+/// discarded transient.
+pub fn window(p: &Params, opts: &BurstOptions) -> (f64, f64) {
+    let t_discard = opts.discard_periods * p.slow_period();
+    let k = ((p.omega * t_discard - FRAC_PI_2) / PI).ceil().max(0.0);
+    let t_w0 = (FRAC_PI_2 + k * PI) / p.omega;
+    (t_w0, t_w0 + f64::from(opts.periods) * p.slow_period())
+}
+
+/// Simulates from the default start (the lowest stable equilibrium at a = 0, at rest) and
+/// measures the response.
+///
+/// ```
+/// use hdgear::{Params, burst::{response, BurstOptions}};
+/// let r = response(&Params::default(), &BurstOptions::default()).unwrap(); // γ = 0.1
+/// assert_eq!(r.bursts_per_period, Some(2.0));
+/// assert!(r.signatures.overshoot);
+/// ```
+pub fn response(p: &Params, opts: &BurstOptions) -> Result<Response> {
+    p.validate()?;
+    opts.validate()?;
+    let period = p.slow_period();
+    let gap = opts.group_gap(period);
+    let (t_w0, t_w1) = window(p, opts);
+    let margin = (period / 4.0).min(5.0 * gap);
+    let (t_s0, t_s1) = ((t_w0 - margin).max(0.0), t_w1 + margin);
+    let x_extent = curve_extent(p);
+
+    let sys = Dimensionless::new(*p);
+    let x0 = stable_equilibrium(p, 0.0);
+    let mut solver = Dop853::new(&sys, 0.0, [x0, 0.0], opts.tol)?;
+    let mut scanner = Scanner::new(
+        p,
+        x0,
+        swing_floor(p, opts, x_extent),
+        0.01 * overshoot_floor(opts, x_extent),
+        4.0 * gap,
+        (t_w0, t_w1),
+    );
+    while solver.t() < t_s1 {
+        solver.step(t_s1)?;
+        if solver.t() > t_s0 {
+            scanner.push(&solver.dense());
+        }
+    }
+    Ok(assemble(p, opts, scanner.finish(), (t_w0, t_w1), t_s1, gap))
+}
+
+/// Integration noise in the state is this many times the tolerance scale atol + rtol·X:
+/// smaller swings of x' and lobes of x − x* are truncation error, not motion (see
+/// [`swing_floor`]). Measured: at ω = 1e-4 the truncation error of a 3-period run creates false
+/// ringing with a factor 10 at rtol = 1e-6 … 1e-8 and none with 100, over the reference cases and
+/// a 200-point γ sweep.
+pub const NOISE_FACTOR: f64 = 100.0;
+
+fn noise_floor(opts: &BurstOptions, x_extent: f64) -> f64 {
+    NOISE_FACTOR * (opts.tol.atol + opts.tol.rtol * x_extent)
+}
+
+/// The swing floor of x' actually used: [`BurstOptions::swing_floor`]·ω·X, but never below
+/// [`NOISE_FACTOR`]·(atol + rtol·X), the level the integration itself resolves. Without the
+/// second term a loose tolerance at small ω turns truncation error into "ringing".
+pub fn swing_floor(p: &Params, opts: &BurstOptions, x_extent: f64) -> f64 {
+    (opts.swing_floor * p.omega * x_extent).max(noise_floor(opts, x_extent))
+}
+
+/// The overshoot floor actually used: [`BurstOptions::overshoot_floor`]·X, never below the
+/// noise level of [`swing_floor`].
+pub fn overshoot_floor(opts: &BurstOptions, x_extent: f64) -> f64 {
+    (opts.overshoot_floor * x_extent).max(noise_floor(opts, x_extent))
+}
+
+/// One group of events while it is being built.
+#[derive(Default)]
+struct Group {
+    start: f64,
+    end: f64,
+    pivots: Vec<Pivot>,
+    lobes: Vec<f64>,
+    jumps: u32,
+}
+
+/// Groups the scanned events into bursts and computes the response's statistics.
+fn assemble(
+    p: &Params,
+    opts: &BurstOptions,
+    scan: Scan,
+    (t_w0, t_w1): (f64, f64),
+    t_scan_end: f64,
+    gap: f64,
+) -> Response {
+    let period = p.slow_period();
+    let x_extent = curve_extent(p);
+    let floor = overshoot_floor(opts, x_extent);
+    let omega_x = p.omega * x_extent;
+
+    // events as (start, end, kind)
+    enum Ev {
+        Pivot(Pivot),
+        Lobe(f64),
+        Jump,
+    }
+    let mut events: Vec<(f64, f64, Ev)> = Vec::new();
+    events.extend(scan.pivots.iter().map(|&q| (q.t, q.t, Ev::Pivot(q))));
+    events.extend(
+        scan.lobes
+            .iter()
+            .filter(|l| l.amp >= floor)
+            .map(|l| (l.start, l.end, Ev::Lobe(l.amp))),
+    );
+    events.extend(scan.jumps.iter().map(|&t| (t, t, Ev::Jump)));
+    events.sort_by(|a, b| a.0.total_cmp(&b.0));
+
+    let mut groups: Vec<Group> = Vec::new();
+    for (s, e, ev) in events {
+        let join = groups.last().is_some_and(|g| s - g.end < gap);
+        if !join {
+            groups.push(Group {
+                start: s,
+                end: e,
+                ..Group::default()
+            });
+        }
+        let g = groups.last_mut().expect("a group was just pushed");
+        g.end = g.end.max(e);
+        match ev {
+            Ev::Pivot(q) => g.pivots.push(q),
+            Ev::Lobe(a) => g.lobes.push(a),
+            Ev::Jump => g.jumps += 1,
+        }
+    }
+
+    let mut bursts = Vec::new();
+    let mut continuous = false;
+    for g in &groups {
+        let ringing = g.pivots.len() >= 3;
+        if !(ringing || g.jumps > 0 || !g.lobes.is_empty()) {
+            continue;
+        }
+        let Some((ip, pulse)) = g
+            .pivots
+            .iter()
+            .enumerate()
+            .max_by(|a, b| a.1.v.abs().total_cmp(&b.1.v.abs()))
+        else {
+            continue; // a signature without any extremum of x' cannot be placed; never seen
+        };
+        if g.end - g.start > 0.5 * period && g.end > t_w0 && g.start < t_w1 {
+            continuous = true;
+        }
+        if !(pulse.t >= t_w0 && pulse.t < t_w1) {
+            continue;
+        }
+        let peak = pulse.v.abs();
+        let swing = g.pivots[ip..]
+            .windows(2)
+            .skip(1)
+            .map(|w| (w[1].v - w[0].v).abs())
+            .fold(0.0, f64::max);
+        let onset = pulse.onset.min(g.start);
+        let end = g.end.max(pulse.t);
+        bursts.push(Burst {
+            onset,
+            end,
+            a_onset: (p.omega * onset).sin(),
+            duration: end - onset,
+            t_peak: pulse.t,
+            a_peak: (p.omega * pulse.t).sin(),
+            peak_abs_xdot: peak,
+            spikes: spikes(&g.pivots, opts.spike_fraction),
+            extrema: g.pivots.len() as u32,
+            ringing_swing: swing / omega_x,
+            overshoot: g.lobes.iter().fold(0.0, |m: f64, &a| m.max(a)) / x_extent,
+            overshoot_lobes: g.lobes.len() as u32,
+            jumps: g.jumps,
+            complete: g.end + gap <= t_scan_end,
+        });
+    }
+
+    let n_periods = f64::from(opts.periods);
+    let window = t_w1 - t_w0;
+    let mean = |f: &dyn Fn(&Burst) -> f64| {
+        if bursts.is_empty() {
+            0.0
+        } else {
+            bursts.iter().map(f).sum::<f64>() / bursts.len() as f64
+        }
+    };
+    let busy: f64 = bursts
+        .iter()
+        .map(|b| (b.end.min(t_w1) - b.onset.max(t_w0)).max(0.0))
+        .sum();
+    let quiescent_duration = if bursts.is_empty() {
+        period
+    } else {
+        (window - busy) / bursts.len() as f64
+    };
+    let jumps_in_window = scan
+        .jumps
+        .iter()
+        .filter(|&&t| t >= t_w0 && t < t_w1)
+        .count();
+    let max_overshoot = scan
+        .lobes
+        .iter()
+        .filter(|l| l.end >= t_w0 && l.start < t_w1)
+        .fold(0.0, |m: f64, l| m.max(l.amp))
+        / x_extent;
+    let signatures = Signatures {
+        jump: bursts.iter().any(|b| b.jumps > 0),
+        overshoot: bursts.iter().any(|b| b.overshoot_lobes > 0),
+        ringing: bursts.iter().any(|b| b.extrema >= 3),
+        jumps_per_period: jumps_in_window as f64 / n_periods,
+        ringing_bursts_per_period: bursts.iter().filter(|b| b.extrema >= 3).count() as f64
+            / n_periods,
+        max_overshoot,
+        max_ringing_swing: bursts.iter().fold(0.0, |m: f64, b| m.max(b.ringing_swing)),
+    };
+    let measures = Measures {
+        speed_ratio: scan.peak_abs_xdot / fast::max_equilibrium_speed(p),
+        lag_ratio: scan.max_lag / scan.max_first_order_lag,
+        relative_lag: scan.max_lag / x_extent,
+    };
+    Response {
+        window_start: t_w0,
+        window_end: t_w1,
+        bursts_per_period: (!continuous).then(|| bursts.len() as f64 / n_periods),
+        spikes_per_burst: mean(&|b| f64::from(b.spikes)),
+        burst_amplitude: mean(&|b| b.peak_abs_xdot),
+        peak_abs_xdot: scan.peak_abs_xdot,
+        quiescent_duration,
+        quiescent_fraction: 1.0 - busy / window,
+        max_tracking_error: scan.max_lag,
+        continuous_fast_motion: continuous,
+        signatures,
+        measures,
+        x_extent,
+        group_gap: gap,
+        bursts,
+    }
+}
+
+/// The spikes of a burst: its swings of x' (between consecutive extrema of the burst) of at least
+/// `fraction` of its largest swing; at least 1 (the pulse) for any burst.
+fn spikes(pivots: &[Pivot], fraction: f64) -> u32 {
+    let swings = || pivots.windows(2).map(|w| (w[1].v - w[0].v).abs());
+    let top = swings().fold(0.0, f64::max);
+    (swings().filter(|&s| s >= fraction * top).count() as u32).max(1)
+}
+
+/// Whether the forcing is slow against the fast subsystem, so that the fast-slow picture (a
+/// frozen, the state settling between passages) applies. Criterion: ω ≤ r_q/10, a decade of
+/// time-scale separation (the usual meaning of "ω ≪ r"), with r_q the slowest relaxation rate at
+/// the turning points a = ±1, where the equilibrium stands still and the state must settle
+/// (r_q = 1/2 on a focus, so ω ≤ 0.05 for the study's stiff branches); and, measured, the fast
+/// motion stops between passages (no continuous fast motion).
+pub fn fast_slow_domain(p: &Params, r: &Response) -> bool {
+    !r.continuous_fast_motion && p.omega <= turning_point_rate(p) / 10.0
+}
+
+/// The slowest relaxation rate of the fast subsystem at the equilibria the state rests on at the
+/// turning points a = ±1 (the smaller of the two).
+pub fn turning_point_rate(p: &Params) -> f64 {
+    [-1.0, 1.0]
+        .iter()
+        .flat_map(|&a| fast::equilibria(p, a).roots)
+        .filter(|r| r.kind.is_stable())
+        .map(|r| fast::relaxation_rate(p.g_prime(r.x)))
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// Verdict, mode and mechanism of a measured response.
+///
+/// * verdict: the strongest signature (fold-jump > overshoot > ringing > no-bursts); bursting when
+///   any is present;
+/// * mechanism: `fold-hysteresis` when a jump is measured, `sharp-quantitative-change` for
+///   overshoot or ringing on a single branch, `none` otherwise;
+/// * mode: `not-fast-slow` outside [`fast_slow_domain`]; else `relaxation` (jump),
+///   `pronounced-bursting` (overshoot, slowest traversed point a node: g' ≤ 1/4), `fast-slow`
+///   (overshoot, a focus there), `transitional` (ringing only), `normal` (nothing).
+pub fn classify(p: &Params, r: &Response) -> Classification {
+    let s = &r.signatures;
+    let verdict = if s.jump {
+        Verdict::FoldJump
+    } else if s.overshoot {
+        Verdict::Overshoot
+    } else if s.ringing {
+        Verdict::Ringing
+    } else {
+        Verdict::NoBursts
+    };
+    let domain = fast_slow_domain(p, r);
+    let mode = if !domain {
+        Mode::NotFastSlow
+    } else {
+        match verdict {
+            Verdict::FoldJump => Mode::Relaxation,
+            Verdict::Overshoot if min_traversed_gprime(p) <= 0.25 => Mode::PronouncedBursting,
+            Verdict::Overshoot => Mode::FastSlow,
+            Verdict::Ringing => Mode::Transitional,
+            Verdict::NoBursts => Mode::Normal,
+        }
+    };
+    Classification {
+        bursting: verdict != Verdict::NoBursts,
+        verdict,
+        mode,
+        mechanism: match verdict {
+            Verdict::FoldJump => Mechanism::FoldHysteresis,
+            Verdict::Overshoot | Verdict::Ringing => Mechanism::SharpQuantitativeChange,
+            Verdict::NoBursts => Mechanism::None,
+        },
+        fast_slow_domain: domain,
+    }
+}

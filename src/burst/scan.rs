@@ -1,0 +1,424 @@
+//! One streaming pass over the dense output that extracts the raw material of the three
+//! signatures: the extrema of x' (pruned to swings above a floor), the lobes of the tracking error
+//! e = x − x*(a) on the leading side, and the jumps across the unstable band. Every event is a
+//! root located on the step's interpolant, so nothing depends on where the steps land.
+
+use crate::fast::{self, fold_abscissae};
+use crate::integrate::Dense;
+use crate::integrate::events::refine_root;
+use crate::params::Params;
+use std::collections::VecDeque;
+use std::f64::consts::{FRAC_PI_2, PI};
+
+/// Equal parts each step is split into before sign changes are looked for (as in
+/// [`crate::integrate::events::Detector`]): two roots closer than a quarter step can be missed,
+/// which only happens for wiggles far below every floor (a step resolves the motion it carries).
+const SUBDIVISIONS: usize = 2;
+
+/// The equilibrium a state follows: the nearest stable one at the current a (the only one without
+/// folds), by Newton warm-started from the last one, with the exact cubic solve as fallback.
+#[derive(Clone, Debug)]
+pub(crate) struct Follower {
+    p: Params,
+    /// The a-interval with three equilibria (between the fold values), if any.
+    multi: Option<(f64, f64)>,
+    hint: f64,
+}
+
+impl Follower {
+    pub(crate) fn new(p: &Params, x0: f64) -> Follower {
+        let multi = match fast::folds(p, (f64::NEG_INFINITY, f64::INFINITY)).as_slice() {
+            [f1, f2] => Some((f1.a.min(f2.a), f1.a.max(f2.a))),
+            _ => None,
+        };
+        Follower {
+            p: *p,
+            multi,
+            hint: x0,
+        }
+    }
+
+    /// x*(a) for a state at x.
+    pub(crate) fn at(&mut self, a: f64, x: f64) -> f64 {
+        let p = &self.p;
+        let unique = self.multi.is_none_or(|(lo, hi)| a < lo || a > hi);
+        if unique {
+            let rhs = p.forcing(a);
+            let mut y = self.hint;
+            for _ in 0..8 {
+                let f = p.g(y) - rhs;
+                // converged when F is at its rounding level (the sum of its terms' sizes)
+                let scale = ((p.alpha * y * y).abs() + y.abs() + p.gamma.abs()) * y.abs()
+                    + (p.gamma * p.eps).abs()
+                    + rhs.abs();
+                let gp = p.g_prime(y);
+                if f.abs() <= 8.0 * f64::EPSILON * scale && gp > 0.0 {
+                    self.hint = y;
+                    return y;
+                }
+                y -= f / gp;
+            }
+        }
+        let y = fast::nearest_stable_equilibrium(p, a, x).unwrap_or(x);
+        self.hint = y;
+        y
+    }
+}
+
+/// What the scan measures at one time.
+#[derive(Clone, Copy, Debug)]
+struct Sample {
+    t: f64,
+    x: f64,
+    v: f64,
+    /// x''.
+    acc: f64,
+    /// cos(ωt): the sign of da/dt.
+    c: f64,
+    /// e = x − x*(a).
+    e: f64,
+    /// e' = x' − dx*/dt.
+    ed: f64,
+    /// The first-order adiabatic lag e₁ = −(dx*/dt)/g'(x*).
+    e1: f64,
+}
+
+/// An extremum of x' that survived pruning.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Pivot {
+    pub t: f64,
+    pub v: f64,
+    /// Last time before `t` at which |x'| < |v|/2 (the half-height onset of a pulse).
+    pub onset: f64,
+}
+
+/// A lobe of e on the leading side (e·cos ωt > 0) bounded by zeros of e on both sides.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Lobe {
+    pub start: f64,
+    pub end: f64,
+    /// max |e| over the lobe.
+    pub amp: f64,
+}
+
+/// Prunes the extrema of x' to the swings of at least `floor` (a ZigZag with hysteresis): an
+/// extremum is confirmed when x' has since moved the other way by `floor` or more; smaller
+/// retracements are dropped together with the extremum they would have created.
+#[derive(Clone, Debug)]
+struct ZigZag {
+    floor: f64,
+    /// The running candidate (t, v, is_max).
+    cand: Option<(f64, f64, bool)>,
+}
+
+impl ZigZag {
+    /// Feeds a raw extremum; returns the candidate it confirms, if any.
+    fn push(&mut self, t: f64, v: f64, is_max: bool) -> Option<(f64, f64)> {
+        match self.cand {
+            None => {
+                self.cand = Some((t, v, is_max));
+                None
+            }
+            Some((ct, cv, cmax)) if cmax == is_max => {
+                if (is_max && v > cv) || (!is_max && v < cv) {
+                    self.cand = Some((t, v, is_max));
+                }
+                let _ = ct;
+                None
+            }
+            Some((ct, cv, _)) => {
+                if (v - cv).abs() >= self.floor {
+                    self.cand = Some((t, v, is_max));
+                    Some((ct, cv))
+                } else {
+                    None
+                }
+            }
+        }
+    }
+}
+
+/// Everything the scan found.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Scan {
+    pub pivots: Vec<Pivot>,
+    pub lobes: Vec<Lobe>,
+    pub jumps: Vec<f64>,
+    /// Largest |x'| inside the window.
+    pub peak_abs_xdot: f64,
+    /// Largest |e| inside the window.
+    pub max_lag: f64,
+    /// Largest |e₁| inside the window.
+    pub max_first_order_lag: f64,
+}
+
+/// The streaming scanner. Feed it every step's dense output in order with [`Scanner::push`].
+pub(crate) struct Scanner {
+    p: Params,
+    follower: Follower,
+    zigzag: ZigZag,
+    /// Lobes smaller than this are not kept (they can never matter; avoids storing rounding).
+    lobe_keep: f64,
+    band: Option<(f64, f64)>,
+    window: (f64, f64),
+    history: VecDeque<Dense<2>>,
+    history_span: f64,
+    last: Option<Sample>,
+    side: i8,
+    lobe: Option<(f64, bool, f64)>,
+    out: Scan,
+}
+
+impl Scanner {
+    /// `swing_floor`: the smallest swing of x' that counts; `lobe_keep`: the smallest lobe kept;
+    /// `history_span`: how far back a pulse's onset is looked for; `window`: where the window
+    /// statistics are taken.
+    pub(crate) fn new(
+        p: &Params,
+        x0: f64,
+        swing_floor: f64,
+        lobe_keep: f64,
+        history_span: f64,
+        window: (f64, f64),
+    ) -> Scanner {
+        Scanner {
+            p: *p,
+            follower: Follower::new(p, x0),
+            zigzag: ZigZag {
+                floor: swing_floor,
+                cand: None,
+            },
+            lobe_keep,
+            band: fold_abscissae(p),
+            window,
+            history: VecDeque::new(),
+            history_span,
+            last: None,
+            side: 0,
+            lobe: None,
+            out: Scan::default(),
+        }
+    }
+
+    fn sample(&mut self, t: f64, y: [f64; 2]) -> Sample {
+        let p = &self.p;
+        let (s, c) = (p.omega * t).sin_cos();
+        let acc = p.forcing(s) - y[1] - p.g(y[0]);
+        let xs = self.follower.at(s, y[0]);
+        let gp = self.p.g_prime(xs);
+        let xs_dot = self.p.omega * c * self.p.delta / gp;
+        Sample {
+            t,
+            x: y[0],
+            v: y[1],
+            acc,
+            c,
+            e: y[0] - xs,
+            ed: y[1] - xs_dot,
+            e1: -xs_dot / gp,
+        }
+    }
+
+    fn in_window(&self, t: f64) -> bool {
+        t >= self.window.0 && t <= self.window.1
+    }
+
+    /// Scans one step.
+    pub(crate) fn push(&mut self, d: &Dense<2>) {
+        self.history.push_back(*d);
+        while let Some(f) = self.history.front() {
+            if f.t_end() < d.t_end() - self.history_span {
+                self.history.pop_front();
+            } else {
+                break;
+            }
+        }
+        let (t0, t1) = (d.t_start(), d.t_end());
+        let mut prev = match self.last {
+            Some(s) if s.t == t0 => s,
+            _ => {
+                let s = self.sample(t0, d.eval(t0));
+                if s.e * s.c > 0.0 {
+                    // a leading lobe already under way: its start is unknown, so it cannot count
+                    self.lobe = Some((t0, true, s.e.abs()));
+                }
+                self.side = self.band_side(s.x, 0);
+                s
+            }
+        };
+        for j in 1..=SUBDIVISIONS {
+            let tb = if j == SUBDIVISIONS {
+                t1
+            } else {
+                t0 + (t1 - t0) * j as f64 / SUBDIVISIONS as f64
+            };
+            let cur = self.sample(tb, d.eval(tb));
+            self.interval(d, &prev, &cur);
+            prev = cur;
+        }
+        self.last = Some(prev);
+    }
+
+    fn band_side(&self, x: f64, old: i8) -> i8 {
+        match self.band {
+            Some((xm, _)) if x < xm => -1,
+            Some((_, xp)) if x > xp => 1,
+            _ => old,
+        }
+    }
+
+    /// Processes the sub-interval between two samples.
+    fn interval(&mut self, d: &Dense<2>, a: &Sample, b: &Sample) {
+        let p = self.p;
+        // --- extrema of x': sign changes of x''
+        if (a.acc > 0.0) != (b.acc > 0.0) && a.acc != 0.0 {
+            let acc = |t: f64| {
+                let y = d.eval(t);
+                p.forcing((p.omega * t).sin()) - y[1] - p.g(y[0])
+            };
+            let te = refine_root(acc, a.t, a.acc, b.t, b.acc);
+            let ve = d.eval(te)[1];
+            if self.in_window(te) {
+                self.out.peak_abs_xdot = self.out.peak_abs_xdot.max(ve.abs());
+            }
+            let is_max = a.acc > 0.0;
+            if let Some((tp, vp)) = self.zigzag.push(te, ve, is_max) {
+                self.emit_pivot(tp, vp);
+            }
+        }
+        for s in [a, b] {
+            if self.in_window(s.t) {
+                self.out.peak_abs_xdot = self.out.peak_abs_xdot.max(s.v.abs());
+                self.out.max_lag = self.out.max_lag.max(s.e.abs());
+                self.out.max_first_order_lag = self.out.max_first_order_lag.max(s.e1.abs());
+            }
+        }
+        // --- jumps across the band between the fold abscissae
+        if let Some((xm, xp)) = self.band {
+            let side = self.band_side(b.x, self.side);
+            if self.side != 0 && side != self.side {
+                let far = if side > 0 { xp } else { xm };
+                let t = refine_root(|t| d.eval(t)[0] - far, a.t, a.x - far, b.t, b.x - far);
+                self.out.jumps.push(t);
+            }
+            self.side = side;
+        }
+        // --- lobes of e on the leading side: breakpoints are zeros of e and of cos ωt, and the
+        // extrema of e (zeros of e') measure the lobe
+        let mut marks: Vec<(f64, Mark)> = Vec::new();
+        if (a.e > 0.0) != (b.e > 0.0) && a.e != 0.0 {
+            let mut f = self.follower.clone();
+            let e = |t: f64| {
+                let y = d.eval(t);
+                y[0] - f.at((p.omega * t).sin(), y[0])
+            };
+            marks.push((refine_root(e, a.t, a.e, b.t, b.e), Mark::ZeroOfE));
+        }
+        // turning points of a in (a.t, b.t]
+        let k0 = ((p.omega * a.t - FRAC_PI_2) / PI).floor() + 1.0;
+        let mut k = k0;
+        loop {
+            let tk = (FRAC_PI_2 + k * PI) / p.omega;
+            if tk > b.t || !tk.is_finite() {
+                break;
+            }
+            if tk > a.t {
+                marks.push((tk, Mark::Turn));
+            }
+            k += 1.0;
+        }
+        if (a.ed > 0.0) != (b.ed > 0.0) && a.ed.is_finite() && b.ed.is_finite() {
+            let mut f = self.follower.clone();
+            let ed = |t: f64| {
+                let y = d.eval(t);
+                let (s, c) = (p.omega * t).sin_cos();
+                let xs = f.at(s, y[0]);
+                y[1] - p.omega * c * p.delta / p.g_prime(xs)
+            };
+            let t = refine_root(ed, a.t, a.ed, b.t, b.ed);
+            let y = d.eval(t);
+            let mut f = self.follower.clone();
+            let e = y[0] - f.at((p.omega * t).sin(), y[0]);
+            marks.push((t, Mark::ExtremumOfE(e.abs())));
+        }
+        marks.sort_by(|x, y| x.0.total_cmp(&y.0));
+        for (t, m) in marks {
+            match m {
+                Mark::ExtremumOfE(amp) => {
+                    if let Some(l) = self.lobe.as_mut() {
+                        l.2 = l.2.max(amp);
+                    }
+                    if self.in_window(t) {
+                        self.out.max_lag = self.out.max_lag.max(amp);
+                    }
+                }
+                Mark::ZeroOfE | Mark::Turn => {
+                    let turn = matches!(m, Mark::Turn);
+                    match self.lobe.take() {
+                        Some((start, start_turn, amp)) => {
+                            if !start_turn && !turn && amp >= self.lobe_keep {
+                                self.out.lobes.push(Lobe { start, end: t, amp });
+                            }
+                        }
+                        None => self.lobe = Some((t, turn, 0.0)),
+                    }
+                }
+            }
+        }
+        if let Some(l) = self.lobe.as_mut() {
+            l.2 = l.2.max(b.e.abs());
+        }
+    }
+
+    fn emit_pivot(&mut self, t: f64, v: f64) {
+        let onset = self.onset(t, v.abs());
+        self.out.pivots.push(Pivot { t, v, onset });
+    }
+
+    /// The last time before `t` at which |x'| < half of `peak`, searched back through the kept
+    /// history (its start when |x'| stayed above half the peak throughout).
+    fn onset(&self, t: f64, peak: f64) -> f64 {
+        let half = 0.5 * peak;
+        let mut earliest = t;
+        for d in self.history.iter().rev() {
+            if d.t_start() >= t {
+                continue;
+            }
+            let hi = d.t_end().min(t);
+            let lo = d.t_start();
+            earliest = lo;
+            let f = |s: f64| d.eval(s)[1].abs() - half;
+            let mut tb = hi;
+            let mut fb = f(tb);
+            for j in (0..SUBDIVISIONS).rev() {
+                let ta = lo + (hi - lo) * j as f64 / SUBDIVISIONS as f64;
+                let fa = f(ta);
+                if fa < 0.0 && fb >= 0.0 {
+                    return refine_root(f, ta, fa, tb, fb);
+                }
+                if fa < 0.0 {
+                    // already below half at the right end: the pulse rises after tb
+                    return tb;
+                }
+                tb = ta;
+                fb = fa;
+            }
+        }
+        earliest
+    }
+
+    /// Ends the scan: the last candidate extremum is confirmed.
+    pub(crate) fn finish(mut self) -> Scan {
+        if let Some((t, v, _)) = self.zigzag.cand.take() {
+            self.emit_pivot(t, v);
+        }
+        self.out
+    }
+}
+
+#[derive(Clone, Copy, Debug)]
+enum Mark {
+    ZeroOfE,
+    Turn,
+    ExtremumOfE(f64),
+}
