@@ -11,6 +11,9 @@ use std::path::PathBuf;
 #[derive(Parser, Debug)]
 #[command(name = "hdgear", version, about, long_about = None)]
 pub struct Cli {
+    /// No warnings on stderr.
+    #[arg(long, global = true)]
+    pub quiet: bool,
     /// What to do.
     #[command(subcommand)]
     pub command: Command,
@@ -44,12 +47,16 @@ pub enum Command {
 /// Arguments of `hdgear report`.
 #[derive(Args, Debug)]
 pub struct ReportArgs {
-    /// Output directory (index.html, figures/, data/).
+    /// Output directory (index.html, figures/, data/). Files hdgear did not write there are
+    /// never overwritten without --force.
     #[arg(long, default_value = "report", value_name = "DIR")]
     pub out: PathBuf,
     /// Worker threads (default: one per core).
     #[arg(long)]
     pub threads: Option<usize>,
+    /// Overwrite files in DIR that hdgear did not write.
+    #[arg(long)]
+    pub force: bool,
 }
 
 /// Arguments of `hdgear plot`.
@@ -113,8 +120,8 @@ pub struct PhysicalArgs {
     /// Omega, disturbance frequency [rad/s].
     #[arg(long, allow_negative_numbers = true)]
     pub omega: Option<f64>,
-    /// Print one JSON document.
-    #[arg(long)]
+    /// Print one JSON document (the reduction, or with --design the design check).
+    #[arg(long, conflicts_with = "simulate")]
     pub json: bool,
     /// Simulate the two-inertia model from rest instead (SI time).
     #[arg(long)]
@@ -148,7 +155,19 @@ impl PhysicalArgs {
     )> {
         let (mut d, fit) = hdgear::params::catalogue::preset(&self.drive, self.fit_torque)?;
         if let Some(path) = &self.config {
-            Scenario::load(path)?.physical.apply(&mut d);
+            let s = Scenario::load(path)?;
+            match s.physical {
+                Some(ph) => ph.apply(&mut d),
+                None => anyhow::bail!(
+                    "scenario file {} has no [physical] table{}",
+                    path.display(),
+                    if s.params.is_some() {
+                        " (its [params] table is for the dimensionless commands)"
+                    } else {
+                        ""
+                    }
+                ),
+            }
         }
         hdgear::params::physical::PhysicalOverrides {
             j_in: self.j_in,
@@ -321,6 +340,7 @@ pub struct BifurcationArgs {
 pub fn check_out(out: &Option<PathBuf>) -> Result<()> {
     if let Some(out) = out {
         hdgear::output::Format::from_path(out).context("--out")?;
+        hdgear::output::check_output_path(out).context("--out")?;
     }
     Ok(())
 }
@@ -355,10 +375,37 @@ pub struct ParamArgs {
 }
 
 impl ParamArgs {
+    /// Whether the flag of parameter `name` was given.
+    pub fn given(&self, name: &str) -> bool {
+        match name {
+            "alpha" => self.alpha.is_some(),
+            "gamma" => self.gamma.is_some(),
+            "eps" => self.eps.is_some(),
+            "mu" => self.mu.is_some(),
+            "delta" => self.delta.is_some(),
+            "omega" => self.omega.is_some(),
+            _ => false,
+        }
+    }
+
     /// The parameter set these sources give, validated, with its warnings.
     pub fn resolve(&self) -> Result<(Params, Vec<Warning>)> {
         let file = match &self.config {
-            Some(path) => Some(Scenario::load(path)?),
+            Some(path) => {
+                let s = Scenario::load(path)?;
+                if s.params.is_none() {
+                    anyhow::bail!(
+                        "scenario file {} has no [params] table{}",
+                        path.display(),
+                        if s.physical.is_some() {
+                            " (its [physical] table is for hdgear physical)"
+                        } else {
+                            ""
+                        }
+                    );
+                }
+                Some(s)
+            }
             None => None,
         };
         let flags = ParamOverrides {
@@ -376,11 +423,11 @@ impl ParamArgs {
 /// Integrator tolerances.
 #[derive(Args, Debug, Clone)]
 pub struct TolArgs {
-    /// Relative tolerance (> 0).
-    #[arg(long, default_value_t = 1e-10, allow_negative_numbers = true)]
+    /// Relative tolerance (1e-15 … 1).
+    #[arg(long, default_value = "1e-10", allow_negative_numbers = true)]
     pub rtol: f64,
-    /// Absolute tolerance (≥ 0).
-    #[arg(long, default_value_t = 1e-10, allow_negative_numbers = true)]
+    /// Absolute tolerance (> 0).
+    #[arg(long, default_value = "1e-10", allow_negative_numbers = true)]
     pub atol: f64,
 }
 
@@ -448,7 +495,7 @@ fn check_positive(name: &str, v: f64) -> Result<f64> {
     if v.is_finite() && v > 0.0 {
         Ok(v)
     } else {
-        anyhow::bail!("invalid option --{name} = {v}: must be finite and > 0")
+        anyhow::bail!("invalid option --{name} = {v:?}: must be finite and > 0")
     }
 }
 
@@ -474,7 +521,7 @@ fn check_finite(name: &str, v: f64) -> Result<f64> {
     if v.is_finite() {
         Ok(v)
     } else {
-        anyhow::bail!("invalid option --{name} = {v}: must be finite")
+        anyhow::bail!("invalid option --{name} = {v:?}: must be finite")
     }
 }
 
@@ -487,8 +534,13 @@ impl SimulateArgs {
             Some(t) => check_positive("t-end", t)?,
             None => check_positive("periods", self.periods)? * params.slow_period(),
         };
-        let dt = check_positive("dt", self.dt)?;
-        check_rows(t_end / dt)?;
+        let mut dt = check_positive("dt", self.dt)?;
+        if self.summary {
+            // no rows are written: no output grid to fill
+            dt = t_end;
+        } else {
+            check_rows(t_end / dt)?;
+        }
         let start = if self.from_rest {
             Start::Rest
         } else {

@@ -14,6 +14,9 @@ use std::path::Path;
 /// Exit code for an error: 1 when a computation failed on valid input (step-size underflow,
 /// blow-up, step budget), 2 for everything the user can fix in the input.
 pub fn exit_code(e: &anyhow::Error) -> u8 {
+    if e.downcast_ref::<ComputationFailed>().is_some() {
+        return 1;
+    }
     match e.downcast_ref::<hdgear::Error>() {
         Some(
             hdgear::Error::StepSizeTooSmall { .. }
@@ -23,6 +26,18 @@ pub fn exit_code(e: &anyhow::Error) -> u8 {
         _ => 2,
     }
 }
+
+/// A computation that failed on valid input, reported by the binary itself (exit code 1).
+#[derive(Debug)]
+pub struct ComputationFailed(pub String);
+
+impl std::fmt::Display for ComputationFailed {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for ComputationFailed {}
 
 /// True when the error is a write to a closed pipe.
 pub fn is_broken_pipe(e: &anyhow::Error) -> bool {
@@ -48,9 +63,91 @@ pub fn run(cli: Cli) -> Result<()> {
     }
 }
 
+/// Set by `--quiet`: no warnings on stderr.
+pub static QUIET: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// A progress bar on stderr for a long single run (from 0 to `t_end`), shown only on a
+/// terminal and only when the run is long enough to wait for: more than
+/// `2e6 × OPTIMISTIC_STEP` time units (about a second of integration).
+pub struct RunProgress {
+    bar: Option<indicatif::ProgressBar>,
+    t_end: f64,
+    shown: u64,
+}
+
+impl RunProgress {
+    /// A bar for a run over `span` dimensionless time units ending at `t_end` (in the caller's
+    /// time unit).
+    pub fn new(span: f64, t_end: f64) -> RunProgress {
+        use std::io::IsTerminal;
+        let long = span > 2e6 * hdgear::integrate::OPTIMISTIC_STEP;
+        let bar = (long && std::io::stderr().is_terminal()).then(|| {
+            let b = indicatif::ProgressBar::new(1000);
+            if let Ok(style) = indicatif::ProgressStyle::with_template(
+                "{bar:40} {percent:>3} %  {elapsed} elapsed, eta {eta}",
+            ) {
+                b.set_style(style);
+            }
+            b
+        });
+        RunProgress {
+            bar,
+            t_end,
+            shown: 0,
+        }
+    }
+
+    /// Reports that the run reached `t`.
+    pub fn at(&mut self, t: f64) {
+        if let Some(b) = &self.bar {
+            let k = ((t / self.t_end).clamp(0.0, 1.0) * 1000.0) as u64;
+            if k > self.shown {
+                self.shown = k;
+                b.set_position(k);
+            }
+        }
+    }
+}
+
+impl Drop for RunProgress {
+    fn drop(&mut self) {
+        if let Some(b) = &self.bar {
+            b.finish_and_clear();
+        }
+    }
+}
+
+/// Prints one warning line unless `--quiet`.
+pub fn note(text: &str) {
+    if !QUIET.load(std::sync::atomic::Ordering::Relaxed) {
+        eprintln!("warning: {text}");
+    }
+}
+
+/// Warns when an a-range reaches beyond [−1, 1], which a = sin ωτ never leaves.
+fn warn_range(range: (f64, f64)) {
+    if range.0 < -1.0 || range.1 > 1.0 {
+        note(&format!(
+            "--a-range {:?}:{:?} reaches beyond [-1, 1]: a = sin(omega t) never goes there",
+            range.0, range.1
+        ));
+    }
+}
+
+/// Prints each warning once per process (a command that resolves its parameters twice does not
+/// repeat them), unless `--quiet`.
 pub fn warn(warnings: &[Warning]) {
+    static SEEN: std::sync::Mutex<Vec<String>> = std::sync::Mutex::new(Vec::new());
+    if QUIET.load(std::sync::atomic::Ordering::Relaxed) {
+        return;
+    }
+    let mut seen = SEEN.lock().unwrap_or_else(|e| e.into_inner());
     for w in warnings {
-        eprintln!("warning: {w}");
+        let text = w.to_string();
+        if !seen.contains(&text) {
+            eprintln!("warning: {text}");
+            seen.push(text);
+        }
     }
 }
 
@@ -74,7 +171,9 @@ fn simulate_into<W: Write>(
     let meta = serde_json::json!({ "params": p, "options": run.opts });
     let mut table = RecordWriter::<_, Sample>::new(sink, format, &meta)?;
     let mut io_err: Option<std::io::Error> = None;
+    let mut progress = RunProgress::new(run.opts.t_end, run.opts.t_end);
     let summary = hdgear::simulate::simulate(&p, &run.opts, |t, y| {
+        progress.at(t);
         if io_err.is_none()
             && let Err(e) = table.row(&Sample {
                 t,
@@ -96,7 +195,9 @@ fn simulate_into<W: Write>(
 fn simulate(run: SimulateRun) -> Result<()> {
     warn(&run.warnings);
     if run.summary {
-        let s = hdgear::simulate::simulate(&run.params, &run.opts, |_, _| {})?;
+        let mut progress = RunProgress::new(run.opts.t_end, run.opts.t_end);
+        let s = hdgear::simulate::simulate(&run.params, &run.opts, |t, _| progress.at(t))?;
+        drop(progress);
         let doc = serde_json::json!({
             "params": run.params,
             "t_end": s.t_end,
@@ -178,12 +279,18 @@ fn equilibria(a: EquilibriaArgs) -> Result<()> {
     check_out(&a.out)?;
     crate::cli::check_points(a.points)?;
     warn(&warnings);
+    warn_range(range);
     let curve = hdgear::fast::curve(&p, range, a.points)?;
     let meta = serde_json::json!({ "params": p, "a_range": [range.0, range.1] });
     write_records(a.out.as_deref(), &meta, curve)
 }
 
 fn bifurcation(a: BifurcationArgs) -> Result<()> {
+    if a.params.given("gamma") {
+        anyhow::bail!(
+            "--gamma does not apply to bifurcation: it varies gamma from --gamma-min to the cusp"
+        );
+    }
     let (p, warnings) = a.params.resolve()?;
     check_out(&a.out)?;
     crate::cli::check_points(a.points)?;
@@ -199,6 +306,7 @@ fn analyze(a: AnalyzeArgs) -> Result<()> {
     let range = parse_range(&a.a_range)?;
     let opts = a.burst.options()?;
     let an = hdgear::fast::analyze(&p, range)?;
+    warn_range(range);
     let measured = if a.no_response {
         None
     } else {
@@ -287,12 +395,33 @@ fn plot(a: crate::cli::PlotArgs) -> Result<()> {
             hdgear::figures::KINDS.join(", ")
         );
     }
-    match a.out.extension().and_then(|e| e.to_str()) {
+    match a
+        .out
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase)
+        .as_deref()
+    {
         Some("svg" | "png") => {}
         _ => anyhow::bail!(
             "--out {}: the extension must be .svg or .png",
             a.out.display()
         ),
+    }
+    hdgear::output::check_output_path(&a.out)?;
+    // figures that vary a parameter themselves would silently ignore its flag
+    let varied: &[&str] = match a.kind.as_str() {
+        "xdot-gamma" | "slope" | "sweep" => &["gamma"],
+        "map" => &["gamma", "delta"],
+        _ => &[],
+    };
+    for name in varied {
+        if a.params.given(name) {
+            anyhow::bail!(
+                "--{name} does not apply to plot {}: the figure varies {name} itself",
+                a.kind
+            );
+        }
     }
     if a.threads == Some(0) {
         anyhow::bail!("invalid option --threads = 0: must be ≥ 1");
@@ -309,6 +438,7 @@ fn report(a: crate::cli::ReportArgs) -> Result<()> {
     }
     let opts = hdgear::report::ReportOptions {
         threads: a.threads.unwrap_or(0),
+        force: a.force,
         ..Default::default()
     };
     let start = std::time::Instant::now();

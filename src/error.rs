@@ -7,7 +7,7 @@ use std::path::PathBuf;
 #[derive(Debug, thiserror::Error)]
 pub enum Error {
     /// A model parameter is out of its domain.
-    #[error("invalid parameter {name} = {value}: {reason}")]
+    #[error("invalid parameter {name} = {value:?}: {reason}")]
     InvalidParameter {
         /// Parameter name as the user writes it (e.g. `alpha`, `j_in`).
         name: String,
@@ -17,7 +17,7 @@ pub enum Error {
         reason: &'static str,
     },
     /// A numerical or run option is out of its domain.
-    #[error("invalid option {name} = {value}: {reason}")]
+    #[error("invalid option {name} = {value:?}: {reason}")]
     InvalidOption {
         /// Option name.
         name: &'static str,
@@ -54,7 +54,7 @@ pub enum Error {
     },
     /// The adaptive step size fell below the rounding level of t.
     #[error(
-        "step size underflow at t = {t} (h = {h:e}): the solution is too stiff or singular there"
+        "step size underflow at t = {t:?} (h = {h:e}): the solution is too stiff or singular there"
     )]
     StepSizeTooSmall {
         /// Time reached.
@@ -63,7 +63,7 @@ pub enum Error {
         h: f64,
     },
     /// A state component grew beyond the blow-up threshold.
-    #[error("the solution blew up at t = {t} (a state component reached {value:e})")]
+    #[error("the solution blew up at t = {t:?} (a state component reached {value:e})")]
     BlowUp {
         /// Time of the step that exceeded the threshold.
         t: f64,
@@ -71,12 +71,25 @@ pub enum Error {
         value: f64,
     },
     /// The step budget ran out.
-    #[error("more than {max_steps} steps were needed before t = {t}")]
+    #[error("more than {max_steps} steps were needed before t = {t:?}")]
     TooManySteps {
         /// Time reached.
         t: f64,
         /// The budget.
         max_steps: u64,
+    },
+    /// A run that would certainly exceed the step budget, refused before any work.
+    #[error(
+        "the run spans {span:.3e} time units: about {estimated_steps:.1e} integration steps, beyond \
+         the budget of {budget:e} steps; shorten it (fewer periods, a shorter --t-end, a smaller --discard)"
+    )]
+    RunTooLong {
+        /// Dimensionless time to integrate.
+        span: f64,
+        /// Steps it would take at the most optimistic step size.
+        estimated_steps: f64,
+        /// The budget (`Options::max_steps`).
+        budget: f64,
     },
     /// The reduction to dimensionless form does not exist for this drive.
     #[error("no dimensionless reduction: {reason}")]

@@ -3,6 +3,7 @@
 mod cli;
 mod commands;
 mod physical_cmd;
+mod signals;
 mod summary;
 mod sweep_cmd;
 
@@ -11,6 +12,8 @@ use std::process::ExitCode;
 
 fn main() -> ExitCode {
     let args = cli::Cli::parse();
+    signals::install();
+    commands::QUIET.store(args.quiet, std::sync::atomic::Ordering::Relaxed);
     match commands::run(args) {
         Ok(()) => ExitCode::SUCCESS,
         // A closed pipe (`hdgear simulate | head`) is the reader's choice, not a failure.

@@ -63,25 +63,31 @@ fn simulate(
         bail!("--simulate needs --t-end T (seconds)");
     };
     if !(t_end.is_finite() && t_end > 0.0) {
-        bail!("invalid option --t-end = {t_end}: must be finite and > 0");
+        bail!("invalid option --t-end = {t_end:?}: must be finite and > 0");
     }
     let dt = a.dt.unwrap_or(d.j_eq() / d.c_eq / 20.0);
     if !(dt.is_finite() && dt > 0.0) {
-        bail!("invalid option --dt = {dt}: must be finite and > 0");
+        bail!("invalid option --dt = {dt:?}: must be finite and > 0");
     }
     check_out(&a.out)?;
     let samples = t_end / dt;
     if samples > 5e7 && (a.out.is_some() || !a.summary) {
-        bail!("--t-end {t_end} with --dt {dt} would write {samples:.0} rows: choose a larger --dt");
+        bail!(
+            "--t-end {t_end:?} with --dt {dt:?} would write {samples:.3e} rows: choose a larger --dt"
+        );
     }
+    let span = t_end / (d.j_eq() / d.c_eq);
+    let mut progress = crate::commands::RunProgress::new(span, t_end);
     let summary = if a.summary && a.out.is_none() {
-        simulate_physical(d, t_end, dt, tol, |_| {})?
+        // no rows are written: sample only the end (progress still advances per step)
+        simulate_physical(d, t_end, t_end, tol, |s| progress.at(s.t))?
     } else {
         let (sink, format) = Sink::open(a.out.as_deref())?;
         let meta = serde_json::json!({ "drive": d, "t_end": t_end, "dt": dt });
         let mut w = RecordWriter::<_, PhysicalSample>::new(sink, format, &meta)?;
         let mut err = None;
         let s = simulate_physical(d, t_end, dt, tol, |row| {
+            progress.at(row.t);
             if err.is_none()
                 && let Err(e) = w.row(row)
             {
@@ -94,6 +100,7 @@ fn simulate(
         w.finish().context("writing the trajectory")?.commit()?;
         s
     };
+    drop(progress);
     if a.summary {
         let f = summary.final_state;
         let doc = serde_json::json!({

@@ -33,6 +33,58 @@ pub struct ReportOptions {
     pub grid_tol: f64,
     /// Worker threads (0: one per core).
     pub threads: usize,
+    /// Overwrite files in the output directory that hdgear did not write (see [`MANIFEST`]).
+    pub force: bool,
+}
+
+/// The file in the output directory that lists what hdgear wrote there; only those files are
+/// overwritten without [`ReportOptions::force`].
+pub const MANIFEST: &str = ".hdgear-report";
+
+/// The files hdgear's manifest in `dir` lists.
+fn manifest(dir: &Path) -> Vec<String> {
+    std::fs::read_to_string(dir.join(MANIFEST))
+        .map(|t| t.lines().map(str::to_string).collect())
+        .unwrap_or_default()
+}
+
+/// Rewrites the manifest: what it listed before and what this run has written so far (saved
+/// after every stage, so an interrupted report can be rerun without `--force`).
+fn save_manifest(dir: &Path, before: &[String], files: &[String]) -> Result<()> {
+    let mut all: Vec<String> = before.iter().chain(files).cloned().collect();
+    all.sort();
+    all.dedup();
+    write_atomic(&dir.join(MANIFEST), (all.join("\n") + "\n").as_bytes())
+}
+
+/// Files in `dir`, `dir/figures` and `dir/data` that hdgear's manifest does not list.
+fn foreign_files(dir: &Path) -> Vec<String> {
+    let listed = manifest(dir);
+    let mut out = Vec::new();
+    for sub in ["", "figures", "data"] {
+        let Ok(entries) = std::fs::read_dir(dir.join(sub)) else {
+            continue;
+        };
+        for e in entries.flatten() {
+            let name = e.file_name().to_string_lossy().into_owned();
+            let rel = if sub.is_empty() {
+                name.clone()
+            } else {
+                format!("{sub}/{name}")
+            };
+            let is_dir = e.file_type().is_ok_and(|t| t.is_dir());
+            if name == MANIFEST
+                || (is_dir && sub.is_empty() && (name == "figures" || name == "data"))
+            {
+                continue;
+            }
+            if !listed.contains(&rel) {
+                out.push(rel);
+            }
+        }
+    }
+    out.sort();
+    out
 }
 
 impl Default for ReportOptions {
@@ -44,6 +96,7 @@ impl Default for ReportOptions {
             map_size: (60, 36),
             grid_tol: crate::burst::CLASSIFICATION_TOL,
             threads: 0,
+            force: false,
         }
     }
 }
@@ -152,10 +205,31 @@ pub fn build(
     opts: &ReportOptions,
     progress: &mut dyn FnMut(&str),
 ) -> Result<ReportSummary> {
+    if dir.exists() && !dir.is_dir() {
+        return Err(Error::InvalidInput {
+            what: "report directory",
+            text: dir.display().to_string(),
+            reason: "exists and is not a directory".into(),
+        });
+    }
+    let foreign = foreign_files(dir);
+    if !opts.force && !foreign.is_empty() {
+        return Err(Error::InvalidInput {
+            what: "report directory",
+            text: dir.display().to_string(),
+            reason: format!(
+                "holds files hdgear did not write ({}{}): choose another --out, or pass --force \
+                 to overwrite",
+                foreign[..foreign.len().min(3)].join(", "),
+                if foreign.len() > 3 { ", …" } else { "" }
+            ),
+        });
+    }
     std::fs::create_dir_all(dir.join("figures")).map_err(io(dir))?;
     std::fs::create_dir_all(dir.join("data")).map_err(io(dir))?;
     let base = opts.base;
     base.validate()?;
+    let before = manifest(dir);
     let mut files: Vec<String> = Vec::new();
     let mut figs: Vec<Figure> = Vec::new();
 
@@ -167,6 +241,7 @@ pub fn build(
         crate::output::tables::csv(&t).map_err(io(dir))?.as_bytes(),
     )?;
     files.extend(["data/tables.json".into(), "data/tables.csv".into()]);
+    save_manifest(dir, &before, &files)?;
 
     progress("fast-subsystem analysis and responses of the four γ");
     let mut evidence = Vec::new();
@@ -187,6 +262,7 @@ pub fn build(
         )?;
         files.push(format!("data/analysis-{tag}.json"));
         files.push(format!("data/curve-{tag}.csv"));
+        save_manifest(dir, &before, &files)?;
         evidence.push((p, an, r, c));
     }
 
@@ -216,6 +292,7 @@ pub fn build(
     let sweep_rows = figures::gamma_sweep(&base, &grid_opts, opts.sweep_points, opts.threads)?;
     write_csv(&dir.join("data/sweep-gamma.csv"), &sweep_rows)?;
     files.push("data/sweep-gamma.csv".into());
+    save_manifest(dir, &before, &files)?;
     figs.push(figures::sweep_figure(&base, &sweep_rows));
 
     let (ng, nd) = opts.map_size;
@@ -223,6 +300,7 @@ pub fn build(
     let (grid, map_rows) = figures::map_grid(&base, &grid_opts, ng, nd, opts.threads)?;
     write_csv(&dir.join("data/map-gamma-delta.csv"), &map_rows)?;
     files.push("data/map-gamma-delta.csv".into());
+    save_manifest(dir, &before, &files)?;
     figs.push(figures::map_figure(&base, &grid, &map_rows));
 
     progress(
@@ -248,6 +326,7 @@ pub fn build(
         plot::png(f, &dir.join(format!("figures/{}.png", f.name)))?;
         files.push(format!("figures/{}.svg", f.name));
         files.push(format!("figures/{}.png", f.name));
+        save_manifest(dir, &before, &files)?;
         svgs.push(svg);
     }
 
@@ -265,6 +344,7 @@ pub fn build(
     );
     write_atomic(&dir.join("index.html"), html.as_bytes())?;
     files.push("index.html".into());
+    save_manifest(dir, &before, &files)?;
     Ok(ReportSummary { files, tables: t })
 }
 

@@ -85,6 +85,7 @@ pub fn simulate(
     mut out: impl FnMut(f64, &[f64; 2]),
 ) -> Result<SimSummary> {
     p.validate()?;
+    crate::integrate::check_budget(opts.t_end, &opts.tol)?;
     let y0 = initial_state(p, opts.start);
     let sys = Dimensionless::new(*p);
     let mut grid = Grid::new(0.0, opts.t_end, opts.dt)?;
@@ -168,6 +169,9 @@ pub fn simulate_physical(
     mut out: impl FnMut(&PhysicalSample),
 ) -> Result<PhysicalSummary> {
     d.validate()?;
+    if let Ok(r) = d.reduce() {
+        crate::integrate::check_budget(t_end / r.time_scale, &tol)?;
+    }
     let sys = crate::model::Physical::new(*d);
     let scale = angle_scale(d);
     let tol = Options {

@@ -25,7 +25,7 @@ impl System<2> for Osc {
 /// Fixed steps h: tolerances so loose that no step is rejected, h_init = h_max = h.
 fn fixed(h: f64) -> Options {
     Options {
-        rtol: 1e3,
+        rtol: 1.0,
         atol: 1e3,
         h_init: Some(h),
         h_max: Some(h),

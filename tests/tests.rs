@@ -5,6 +5,7 @@ mod common;
 mod burst;
 mod cli;
 mod fast;
+mod hardening;
 mod integrate;
 mod output;
 mod physical;

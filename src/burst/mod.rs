@@ -416,6 +416,7 @@ pub fn response(p: &Params, opts: &BurstOptions) -> Result<Response> {
     let (t_w0, t_w1) = window(p, opts);
     let margin = (period / 4.0).min(5.0 * gap);
     let (t_s0, t_s1) = ((t_w0 - margin).max(0.0), t_w1 + margin);
+    crate::integrate::check_budget(t_s1, &opts.tol)?;
     let x_extent = curve_extent(p);
 
     let sys = Dimensionless::new(*p);

@@ -431,6 +431,7 @@ pub fn fold_curves(p: &Params, gamma_min: f64, points: usize) -> Result<Vec<Fold
             reason: "must be finite and below the critical gamma 1/(3*alpha), where folds exist",
         });
     }
+    crate::params::check_magnitude("gamma-min", gamma_min)?;
     if p.delta == 0.0 {
         return Err(Error::InvalidParameter {
             name: "delta".into(),
@@ -445,7 +446,7 @@ pub fn fold_curves(p: &Params, gamma_min: f64, points: usize) -> Result<Vec<Fold
             reason: "must be ≥ 2",
         });
     }
-    Ok((0..points)
+    (0..points)
         .map(|k| {
             let gamma = if k == points - 1 {
                 gc
@@ -462,5 +463,19 @@ pub fn fold_curves(p: &Params, gamma_min: f64, points: usize) -> Result<Vec<Fold
                 x_upper: xp,
             }
         })
-        .collect())
+        .map(|r| {
+            if [r.a_lower, r.x_lower, r.a_upper, r.x_upper]
+                .iter()
+                .all(|v| v.is_finite())
+            {
+                Ok(r)
+            } else {
+                Err(Error::InvalidOption {
+                    name: "gamma-min",
+                    value: gamma_min,
+                    reason: "too far below the cusp: the fold points overflow there",
+                })
+            }
+        })
+        .collect()
 }

@@ -93,15 +93,29 @@ impl CurvePoint {
     }
 }
 
-/// Checks an a-range: finite, a_min < a_max.
+/// The widest a-range analysed: a = sin ωτ only covers [−1, 1], and a range up to ±1e6 shows
+/// the curve beyond it; further out the cubic's roots overflow.
+pub const A_RANGE_LIMIT: f64 = 1e6;
+
+/// Checks an a-range: finite, a_min < a_max, within ±[`A_RANGE_LIMIT`], and wider than
+/// rounding (1e-12 relative).
 pub fn check_a_range(a_range: (f64, f64)) -> Result<()> {
     let (a0, a1) = a_range;
-    if !(a0.is_finite() && a1.is_finite() && a0 < a1) {
-        return Err(Error::InvalidInput {
+    let bad = |reason: &str| {
+        Err(Error::InvalidInput {
             what: "a-range",
-            text: format!("{a0}:{a1}"),
-            reason: "needs finite A0 < A1".into(),
-        });
+            text: format!("{a0:?}:{a1:?}"),
+            reason: reason.into(),
+        })
+    };
+    if !(a0.is_finite() && a1.is_finite() && a0 < a1) {
+        return bad("needs finite A0 < A1");
+    }
+    if a0 < -A_RANGE_LIMIT || a1 > A_RANGE_LIMIT {
+        return bad("must lie within [-1e6, 1e6] (a = sin(omega t) covers [-1, 1])");
+    }
+    if a1 - a0 < 1e-12 * a0.abs().max(a1.abs()).max(1.0) {
+        return bad("narrower than 1e-12 (relative): below the rounding level of a");
     }
     Ok(())
 }
@@ -162,6 +176,13 @@ pub fn curve(p: &Params, a_range: (f64, f64), points: usize) -> Result<Vec<Curve
         return Ok(out);
     }
     let intervals = x_intervals(p, a_range);
+    if intervals.is_empty() {
+        return Err(Error::InvalidInput {
+            what: "a-range",
+            text: format!("{a0:?}:{a1:?}"),
+            reason: "too narrow: the equilibria at its two ends coincide to rounding".into(),
+        });
+    }
     let x_lo = intervals.first().map_or(0.0, |i| i.0);
     let x_hi = intervals.last().map_or(0.0, |i| i.1);
     let (sa, sx) = (a1 - a0, (x_hi - x_lo).max(f64::MIN_POSITIVE));

@@ -46,7 +46,7 @@ pub trait System<const N: usize> {
 pub struct Options {
     /// Relative tolerance (per component). Must be > 0 and finite. Default 1e-10.
     pub rtol: f64,
-    /// Absolute tolerance (per component). Must be ≥ 0 and finite. Default 1e-10.
+    /// Absolute tolerance (per component). Must be > 0 and finite. Default 1e-10.
     pub atol: f64,
     /// First step; `None` uses Hairer's initial-step heuristic.
     pub h_init: Option<f64>,
@@ -85,6 +85,13 @@ impl Options {
         if !(self.rtol.is_finite() && self.rtol > 0.0) {
             return bad("rtol", self.rtol, "must be finite and > 0");
         }
+        if self.rtol > 1.0 {
+            return bad(
+                "rtol",
+                self.rtol,
+                "must be ≤ 1 (a relative error above 1 controls nothing)",
+            );
+        }
         if self.rtol < 1e-15 {
             return bad(
                 "rtol",
@@ -92,8 +99,13 @@ impl Options {
                 "must be ≥ 1e-15 (below that, rounding dominates)",
             );
         }
-        if !(self.atol.is_finite() && self.atol >= 0.0) {
-            return bad("atol", self.atol, "must be finite and ≥ 0");
+        if !(self.atol.is_finite() && self.atol > 0.0) {
+            return bad(
+                "atol",
+                self.atol,
+                "must be finite and > 0 (a purely relative tolerance cannot control a component \
+                 that passes through 0, such as x' at rest)",
+            );
         }
         if let Some(h) = self.h_init
             && !(h.is_finite() && h > 0.0)
@@ -110,6 +122,25 @@ impl Options {
         }
         Ok(())
     }
+}
+
+/// An optimistic step size (dimensionless time) for budget estimates: at rtol = 1e-10 the model
+/// takes steps of 0.1–0.25 time units, and explicit stability caps them near 1 on the stiff
+/// branches; with 0.5 only runs that certainly exceed the budget are refused.
+pub const OPTIMISTIC_STEP: f64 = 0.5;
+
+/// Refuses, before any work, a run over `span` dimensionless time units that would need more
+/// steps than `opts.max_steps` even at [`OPTIMISTIC_STEP`].
+pub fn check_budget(span: f64, opts: &Options) -> Result<()> {
+    let estimated_steps = span / OPTIMISTIC_STEP;
+    if estimated_steps.is_nan() || estimated_steps > opts.max_steps as f64 {
+        return Err(Error::RunTooLong {
+            span,
+            estimated_steps,
+            budget: opts.max_steps as f64,
+        });
+    }
+    Ok(())
 }
 
 /// Work counters of an integration.
@@ -426,6 +457,9 @@ impl<'s, S: System<N> + ?Sized, const N: usize> Dop853<'s, S, N> {
     }
 }
 
+/// The most samples an output grid may have (10¹⁰: beyond any file, and hours of callbacks).
+pub const MAX_SAMPLES: f64 = 1e10;
+
 /// An output grid t0 + k·dt (k = 0, 1, …) up to `t_end`, filled from dense output.
 ///
 /// Samples are at t0 + k·dt for every k with t0 + k·dt ≤ t_end (a relative slack of 1e-9 of dt),
@@ -457,7 +491,15 @@ impl Grid {
                 reason: "must be finite and > 0",
             });
         }
-        let n_grid = ((t_end - t0) / dt + 1e-9).floor() as u64;
+        let n = (t_end - t0) / dt;
+        if n > MAX_SAMPLES {
+            return Err(Error::InvalidOption {
+                name: "dt",
+                value: dt,
+                reason: "too small for the span: more than 1e10 samples",
+            });
+        }
+        let n_grid = (n + 1e-9).floor() as u64;
         Ok(Grid {
             t0,
             t_end,

@@ -1,7 +1,9 @@
 //! Output: atomic files and the CSV/JSON encodings of results.
 //!
 //! Every file is written to a temporary sibling (`.NAME.tmp-PID`) and renamed over the target
-//! only when complete, so a failure never leaves a half-written file behind.
+//! only when complete, so a failure never leaves a half-written file behind. Every temporary is
+//! also listed in a process-wide registry, so that a program interrupted by a signal can remove
+//! them all ([`remove_temporaries`]) before it exits.
 
 pub mod plot;
 pub mod tables;
@@ -10,6 +12,75 @@ use crate::error::{Error, Result};
 use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+
+/// The temporaries of this process that are not yet committed or removed, and whether the
+/// process is shutting down (then no new temporary may be created).
+static TEMPORARIES: Mutex<(Vec<PathBuf>, bool)> = Mutex::new((Vec::new(), false));
+
+fn registry() -> std::sync::MutexGuard<'static, (Vec<PathBuf>, bool)> {
+    // a panic while the lock was held cannot leave the list inconsistent: use it anyway
+    TEMPORARIES.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+fn unregister(tmp: &Path) {
+    registry().0.retain(|t| t != tmp);
+}
+
+/// Lists a file this process created and must not leave behind if it is interrupted (a lock
+/// file, say); [`untrack_temporary`] takes it off again.
+pub fn track_temporary(path: &Path) {
+    registry().0.push(path.to_path_buf());
+}
+
+/// Takes a file off the list of [`track_temporary`].
+pub fn untrack_temporary(path: &Path) {
+    unregister(path);
+}
+
+/// Removes every uncommitted temporary of this process and refuses new ones from then on:
+/// for a signal handler that is about to end the process. Returns how many were removed.
+pub fn remove_temporaries() -> usize {
+    let mut reg = registry();
+    reg.1 = true;
+    let n = reg.0.len();
+    for t in reg.0.drain(..) {
+        let _ = std::fs::remove_file(t);
+    }
+    n
+}
+
+/// Checks that `path` can be an output file before any work is done: not an existing
+/// directory, not ending in a separator, and its directory exists.
+pub fn check_output_path(path: &Path) -> Result<()> {
+    let bad = |reason: &str| {
+        Err(Error::InvalidInput {
+            what: "output file",
+            text: path.display().to_string(),
+            reason: reason.into(),
+        })
+    };
+    let text = path.as_os_str().to_string_lossy();
+    if text.is_empty() {
+        return bad("the path is empty");
+    }
+    if text.ends_with('/')
+        || text.ends_with(std::path::MAIN_SEPARATOR)
+        || path.file_name().is_none()
+    {
+        return bad("names a directory, not a file");
+    }
+    if path.is_dir() {
+        return bad("is an existing directory");
+    }
+    let dir = path.parent().filter(|d| !d.as_os_str().is_empty());
+    if let Some(d) = dir
+        && !d.is_dir()
+    {
+        return bad("its directory does not exist");
+    }
+    Ok(())
+}
 
 /// A file that appears at its path only when [`AtomicFile::commit`] is called; dropped
 /// uncommitted, it removes its temporary.
@@ -36,10 +107,23 @@ impl AtomicFile {
             Some(d) => d.join(tmp_name),
             None => PathBuf::from(tmp_name),
         };
+        check_output_path(path)?;
+        let mut reg = registry();
+        if reg.1 {
+            return Err(Error::Io {
+                path: path.to_path_buf(),
+                source: std::io::Error::new(
+                    std::io::ErrorKind::Interrupted,
+                    "the program is being interrupted",
+                ),
+            });
+        }
         let f = File::create(&tmp).map_err(|source| Error::Io {
             path: path.to_path_buf(),
             source,
         })?;
+        reg.0.push(tmp.clone());
+        drop(reg);
         Ok(AtomicFile {
             path: path.to_path_buf(),
             tmp,
@@ -52,27 +136,41 @@ impl AtomicFile {
         &self.path
     }
 
-    /// Flushes, syncs and renames the temporary onto the target.
+    /// Flushes, syncs and renames the temporary onto the target. On any failure the temporary
+    /// is removed.
     pub fn commit(mut self) -> Result<()> {
-        let w = self.w.take().expect("not yet committed");
+        let Some(w) = self.w.take() else {
+            return Ok(());
+        };
         let io = |source| Error::Io {
             path: self.path.clone(),
             source,
         };
-        let f = w.into_inner().map_err(|e| io(e.into_error()))?;
-        f.sync_all().map_err(io)?;
-        drop(f);
-        std::fs::rename(&self.tmp, &self.path).map_err(io)?;
-        Ok(())
+        let done = w
+            .into_inner()
+            .map_err(|e| io(e.into_error()))
+            .and_then(|f| f.sync_all().map_err(io))
+            .and_then(|()| std::fs::rename(&self.tmp, &self.path).map_err(io));
+        if done.is_err() {
+            let _ = std::fs::remove_file(&self.tmp);
+        }
+        unregister(&self.tmp);
+        done
     }
 }
 
 impl Write for AtomicFile {
     fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
-        self.w.as_mut().expect("not yet committed").write(buf)
+        match self.w.as_mut() {
+            Some(w) => w.write(buf),
+            None => Err(std::io::Error::other("write after commit")),
+        }
     }
     fn flush(&mut self) -> std::io::Result<()> {
-        self.w.as_mut().expect("not yet committed").flush()
+        match self.w.as_mut() {
+            Some(w) => w.flush(),
+            None => Ok(()),
+        }
     }
 }
 
@@ -80,6 +178,7 @@ impl Drop for AtomicFile {
     fn drop(&mut self) {
         if self.w.take().is_some() {
             let _ = std::fs::remove_file(&self.tmp);
+            unregister(&self.tmp);
         }
     }
 }

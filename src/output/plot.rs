@@ -388,28 +388,36 @@ pub fn svg(f: &Figure) -> Result<String> {
     Ok(s)
 }
 
-/// Renders a figure as a PNG file at `path` (written to a temporary sibling, then renamed).
+/// Renders a figure as a PNG file at `path` (written to a temporary sibling, then renamed; the
+/// temporary is removed on any failure and listed for removal on a signal).
 pub fn png(f: &Figure, path: &Path) -> Result<()> {
     ensure_font();
+    super::check_output_path(path)?;
     let name = path
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default();
     let tmp = path.with_file_name(format!(".{name}.tmp-{}.png", std::process::id()));
+    super::track_temporary(&tmp);
     let res = {
         let root = BitMapBackend::new(&tmp, f.size).into_drawing_area();
         draw(root, f)
     };
-    match res {
+    let done = match res {
         Ok(()) => std::fs::rename(&tmp, path).map_err(|source| Error::Io {
             path: path.to_path_buf(),
             source,
         }),
-        Err(e) => {
-            let _ = std::fs::remove_file(&tmp);
-            Err(plot_err(&f.name, e))
-        }
+        Err(e) => Err(plot_err(
+            &f.name,
+            format!("cannot write {}: {e}", path.display()),
+        )),
+    };
+    if done.is_err() {
+        let _ = std::fs::remove_file(&tmp);
     }
+    super::untrack_temporary(&tmp);
+    done
 }
 
 /// Writes a figure to `path`, SVG or PNG by extension.

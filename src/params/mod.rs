@@ -74,9 +74,8 @@ impl fmt::Display for Warning {
         match self {
             Warning::AlphaEpsNotOne { alpha_eps } => write!(
                 f,
-                "alpha*eps = {alpha_eps} differs from 1: no physical drive reduces to this \
-                 dimensionless set (the reduction gives alpha*eps = 1 exactly); it is studied \
-                 as a dimensionless model only"
+                "alpha*eps = {alpha_eps:.4} is not 1: no physical drive gives this set; studied \
+                 as a dimensionless model (README, \"The physical drive\")"
             ),
         }
     }
@@ -93,7 +92,7 @@ impl Params {
     pub fn preset(name: &str) -> Result<Params> {
         PRESETS
             .iter()
-            .find(|(n, _)| *n == name)
+            .find(|(n, _)| n.eq_ignore_ascii_case(name))
             .map(|&(_, gamma)| Params {
                 gamma,
                 ..Params::default()
@@ -138,13 +137,15 @@ impl Params {
         Ok(())
     }
 
-    /// Checks the domain (all finite, α > 0, ω > 0, δ ≥ 0) and returns the warnings of a valid set.
+    /// Checks the domain (all finite, α > 0, ω > 0, δ ≥ 0, every magnitude within
+    /// [`MAGNITUDE_LIMIT`]) and returns the warnings of a valid set.
     pub fn validate(&self) -> Result<Vec<Warning>> {
         for name in PARAM_NAMES {
             let v = self.get(name).expect("known name");
             if !v.is_finite() {
                 return Err(invalid(name, v, "must be finite"));
             }
+            check_magnitude(name, v)?;
         }
         if self.alpha <= 0.0 {
             return Err(invalid(
@@ -200,6 +201,30 @@ impl Params {
     }
 }
 
+/// Every parameter, dimensionless or physical, has |value| ≤ 1e100 and, unless it is 0, ≥ 1e-100:
+/// beyond that the cubic terms (x³, k2·θ³, φ²) and the reduction's products overflow or
+/// underflow, and the error would name a derived value instead of the user's.
+pub const MAGNITUDE_LIMIT: f64 = 1e100;
+
+/// Checks one value against [`MAGNITUDE_LIMIT`].
+pub(crate) fn check_magnitude(name: &str, v: f64) -> Result<()> {
+    if v.abs() > MAGNITUDE_LIMIT {
+        return Err(invalid(
+            name,
+            v,
+            "magnitude above 1e100: the model's cubic terms would overflow",
+        ));
+    }
+    if v != 0.0 && v.abs() < 1.0 / MAGNITUDE_LIMIT {
+        return Err(invalid(
+            name,
+            v,
+            "nonzero magnitude below 1e-100: the model's scales would overflow (use 0 or a larger value)",
+        ));
+    }
+    Ok(())
+}
+
 pub(crate) fn invalid(name: &str, value: f64, reason: &'static str) -> Error {
     Error::InvalidParameter {
         name: name.to_string(),
@@ -250,12 +275,12 @@ impl ParamOverrides {
 #[derive(Clone, Debug, Default, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Scenario {
-    /// Dimensionless parameters.
+    /// Dimensionless parameters (the `[params]` table), if the file has one.
     #[serde(default)]
-    pub params: ParamOverrides,
-    /// Physical drive parameters (SI units), checked by the physical-model commands.
+    pub params: Option<ParamOverrides>,
+    /// Physical drive parameters in SI units (the `[physical]` table), if the file has one.
     #[serde(default)]
-    pub physical: PhysicalOverrides,
+    pub physical: Option<PhysicalOverrides>,
 }
 
 impl Scenario {
@@ -273,15 +298,30 @@ impl Scenario {
         })
     }
 
-    /// Reads and parses a scenario file.
+    /// Reads and parses a scenario file (at most [`SCENARIO_MAX_BYTES`]).
     pub fn load(path: &Path) -> Result<Scenario> {
-        let text = std::fs::read_to_string(path).map_err(|e| Error::Config {
+        use std::io::Read;
+        let err = |message: String| Error::Config {
             path: path.to_path_buf(),
-            message: e.to_string(),
-        })?;
+            message,
+        };
+        let file = std::fs::File::open(path).map_err(|e| err(e.to_string()))?;
+        let mut bytes = Vec::new();
+        file.take(SCENARIO_MAX_BYTES + 1)
+            .read_to_end(&mut bytes)
+            .map_err(|e| err(e.to_string()))?;
+        if bytes.len() as u64 > SCENARIO_MAX_BYTES {
+            return Err(err(format!(
+                "larger than {SCENARIO_MAX_BYTES} bytes: not a scenario file"
+            )));
+        }
+        let text = String::from_utf8(bytes).map_err(|_| err("not UTF-8 text".into()))?;
         Scenario::parse(&text, path)
     }
 }
+
+/// The largest scenario file read (a scenario is a few lines; this only stops `/dev/zero`).
+pub const SCENARIO_MAX_BYTES: u64 = 1 << 20;
 
 /// Resolves the parameter set from its sources: preset, then file overrides, then flag overrides,
 /// and validates it. Returns the set and its warnings.
@@ -299,8 +339,8 @@ pub fn resolve(
     flags: &ParamOverrides,
 ) -> Result<(Params, Vec<Warning>)> {
     let mut p = Params::preset(preset)?;
-    if let Some(s) = file {
-        s.params.apply(&mut p);
+    if let Some(o) = file.and_then(|s| s.params.as_ref()) {
+        o.apply(&mut p);
     }
     flags.apply(&mut p);
     let w = p.validate()?;

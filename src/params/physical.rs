@@ -17,7 +17,7 @@
 //!
 //! (δ with C⁴, not the C² the study prints; α·ε = 1 identically.)
 
-use super::{Params, invalid};
+use super::{Params, check_magnitude, invalid};
 use crate::error::{Error, Result};
 use serde::{Deserialize, Serialize};
 
@@ -103,6 +103,7 @@ impl PhysicalParams {
             if !v.is_finite() {
                 return Err(invalid(name, v, "must be finite"));
             }
+            check_magnitude(name, v)?;
         }
         for (name, v) in [
             ("j_in", self.j_in),
@@ -174,6 +175,15 @@ impl PhysicalParams {
             delta: k2 * phi * j * j * j * self.t_am / (self.j_out * c4),
             omega: self.omega * j / c,
         };
+        if let Err(Error::InvalidParameter { name, value, .. }) = params.validate() {
+            return Err(Error::NoReduction {
+                reason: format!(
+                    "this drive reduces to {name} = {value:?}, outside the dimensionless model's \
+                     range (finite, |value| within 1e-100 … 1e100): its SI values are too far \
+                     apart; simulate the physical model instead (hdgear physical --simulate)"
+                ),
+            });
+        }
         Ok(Reduction {
             params,
             j_eq: j,

@@ -1,0 +1,615 @@
+//! A hostile user: generated bad inputs over every subcommand, signals at several moments,
+//! sweeps resumed against changed settings, duplicated rows and a running sweep, and one
+//! regression test per defect of the hardening issue.
+
+use crate::common::{files_in, hdgear};
+use std::path::Path;
+use std::process::{Command, Stdio};
+use std::time::Duration;
+
+/// Hostile values for a numeric flag.
+const VALUES: [&str; 13] = [
+    "nan", "inf", "-inf", "0", "-1", "1e300", "-1e300", "1e-320", "5e-324", "", "abc", "1e400",
+    "-0",
+];
+
+/// Runs one argument vector in a fresh directory and checks the invariants: no panic, an exit
+/// code of 0, 1 or 2 (2 for refused input), and no file left behind but a complete requested
+/// output. Returns the exit code.
+fn check_run(args: &[String]) -> i32 {
+    let dir = tempfile::tempdir().unwrap();
+    let out = hdgear()
+        .current_dir(dir.path())
+        .args(args)
+        .arg("--quiet")
+        .timeout(Duration::from_secs(30))
+        .output()
+        .unwrap();
+    let code = out.status.code().unwrap_or(-1);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !stderr.contains("panicked") && code != 101,
+        "{args:?} panicked: {stderr}"
+    );
+    assert!(
+        [0, 1, 2].contains(&code),
+        "{args:?} exited {code} (timeout or signal?): {stderr}"
+    );
+    if code != 0 {
+        // one line naming the problem
+        let lines: Vec<&str> = stderr.lines().filter(|l| l.starts_with("error")).collect();
+        assert_eq!(lines.len(), 1, "{args:?}: {stderr}");
+    }
+    let left: Vec<String> = walk(dir.path());
+    for f in &left {
+        assert!(
+            !f.contains(".tmp-") && !f.ends_with(".lock"),
+            "{args:?} left {f} behind"
+        );
+        if code != 0 {
+            assert!(
+                f.starts_with("pre-"),
+                "{args:?} failed but left {f} (files: {left:?})"
+            );
+        }
+    }
+    code
+}
+
+/// Every file below `dir`, relative, sorted.
+fn walk(dir: &Path) -> Vec<String> {
+    let mut out = Vec::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for e in std::fs::read_dir(&d).unwrap().flatten() {
+            let p = e.path();
+            if p.is_dir() {
+                stack.push(p);
+            } else {
+                out.push(p.strip_prefix(dir).unwrap().display().to_string());
+            }
+        }
+    }
+    out.sort();
+    out
+}
+
+/// The argument vectors: each subcommand with each flag set to each hostile value, plus bad
+/// paths and specs.
+fn hostile_vectors() -> Vec<Vec<String>> {
+    let mut v: Vec<Vec<String>> = Vec::new();
+    let flags: [(&str, &[&str], &str); 19] = [
+        ("simulate", &["--summary"], "--gamma"),
+        ("simulate", &["--summary"], "--alpha"),
+        ("simulate", &["--summary"], "--omega"),
+        ("simulate", &["--summary"], "--delta"),
+        ("simulate", &["--summary"], "--dt"),
+        ("simulate", &["--summary"], "--t-end"),
+        ("simulate", &["--summary"], "--rtol"),
+        ("simulate", &["--summary"], "--atol"),
+        ("simulate", &["--summary"], "--x0"),
+        ("equilibria", &["--points", "50"], "--mu"),
+        ("analyze", &["--no-response"], "--eps"),
+        ("bifurcation", &["--points", "20"], "--gamma-min"),
+        ("bursts", &[], "--discard"),
+        ("physical", &[], "--k2"),
+        ("physical", &[], "--backlash"),
+        ("physical", &[], "--j-in"),
+        ("physical", &["--simulate", "--summary"], "--t-end"),
+        (
+            "physical",
+            &["--simulate", "--summary", "--t-end", "0.5"],
+            "--dt",
+        ),
+        ("table", &["--json"], "--gamma"),
+    ];
+    for (cmd, extra, flag) in flags {
+        for val in VALUES {
+            let mut a: Vec<String> = vec![cmd.into()];
+            a.extend(extra.iter().map(|s| s.to_string()));
+            a.push(format!("{flag}={val}"));
+            v.push(a);
+        }
+    }
+    for range in [
+        "-1e-200:1e-200",
+        "0:5e-324",
+        "-1e300:1e300",
+        "1:-1",
+        "nan:1",
+        "1",
+        "",
+        "a:b",
+        "-1:inf",
+        "0:0",
+        "-2:2",
+    ] {
+        v.push(vec![
+            "equilibria".into(),
+            "--points".into(),
+            "5".into(),
+            format!("--a-range={range}"),
+        ]);
+        v.push(vec![
+            "analyze".into(),
+            "--no-response".into(),
+            format!("--a-range={range}"),
+        ]);
+    }
+    for spec in [
+        "gamma=1:2:0",
+        "gamma=1:2:3",
+        "mu=-1e308:1e308:3",
+        "gamma=0:1:3:log",
+        "beta=1:2:3",
+        "gamma=nan:1:3",
+        "gamma=1:2:99999999999",
+        "alpha=-1:1:3",
+        "gamma=1:2",
+        "",
+    ] {
+        v.push(vec![
+            "sweep".into(),
+            format!("--param={spec}"),
+            "--out".into(),
+            "s.csv".into(),
+        ]);
+    }
+    for out in [
+        "dir.csv/",
+        "x.CSV",
+        "x.JSON",
+        "x.txt",
+        "",
+        "pre-dir",
+        "missing/x.csv",
+        ".",
+        "..",
+        "/",
+    ] {
+        for cmd in [
+            &["simulate", "--t-end", "5"][..],
+            &["equilibria", "--points", "5"][..],
+            &["bursts"][..],
+        ] {
+            let mut a: Vec<String> = cmd.iter().map(|s| s.to_string()).collect();
+            a.push(format!("--out={out}"));
+            v.push(a);
+        }
+        v.push(vec![
+            "plot".into(),
+            "slope".into(),
+            format!("--out={}", out.replace("csv", "png").replace("json", "svg")),
+        ]);
+    }
+    for kind in ["", "nope", "MAP", "slope --gamma 5", "map --delta=3"] {
+        let mut a = vec!["plot".to_string()];
+        a.extend(kind.split(' ').filter(|s| !s.is_empty()).map(String::from));
+        a.push("--out=f.svg".into());
+        v.push(a);
+    }
+    for p in ["nope", "PAPER", "paper-g30", ""] {
+        v.push(vec![
+            "simulate".into(),
+            "--summary".into(),
+            format!("--preset={p}"),
+        ]);
+    }
+    for d in ["csf-20-50", "CSF-99-50", ""] {
+        v.push(vec!["physical".into(), format!("--drive={d}")]);
+    }
+    v
+}
+
+#[test]
+fn hostile_inputs_never_panic_nor_leave_files() {
+    let vectors = hostile_vectors();
+    assert!(vectors.len() >= 300, "only {} vectors", vectors.len());
+    let mut refused = 0;
+    for args in &vectors {
+        let code = check_run(args);
+        if code == 2 {
+            refused += 1;
+        }
+    }
+    // most of them are bad input
+    assert!(
+        refused * 2 > vectors.len(),
+        "{refused} of {}",
+        vectors.len()
+    );
+}
+
+/// 10,000 random combinations of the same pieces (run with `cargo test --release -- --ignored
+/// many_hostile`).
+#[test]
+#[ignore]
+fn many_hostile_inputs() {
+    let pieces = hostile_vectors();
+    let mut state: u64 = 0x9E37_79B9_7F4A_7C15;
+    let mut next = |n: usize| {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state % n as u64) as usize
+    };
+    let mut count = 0;
+    for _ in 0..10_000 {
+        // a base vector with one or two more flags taken from other vectors of the same command
+        let base = &pieces[next(pieces.len())];
+        let mut args = base.clone();
+        for _ in 0..next(3) {
+            let other = &pieces[next(pieces.len())];
+            if other[0] == args[0]
+                && let Some(last) = other.last()
+            {
+                args.push(last.clone());
+            }
+        }
+        check_run(&args);
+        count += 1;
+    }
+    eprintln!("ran {count} generated hostile argument vectors");
+}
+
+fn kill(pid: u32, sig: &str) {
+    let ok = Command::new("kill")
+        .args([sig, &pid.to_string()])
+        .status()
+        .unwrap()
+        .success();
+    assert!(ok);
+}
+
+/// Starts `hdgear ARGS` in `dir`, sends `sig` after `after`, and returns (exit code, stderr).
+fn interrupt(dir: &Path, args: &[&str], sig: &str, after: Duration) -> (i32, String) {
+    let child = Command::new(assert_cmd::cargo::cargo_bin("hdgear"))
+        .current_dir(dir)
+        .args(args)
+        .arg("--quiet")
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(after);
+    kill(child.id(), sig);
+    let out = child.wait_with_output().unwrap();
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn signals_remove_every_temporary() {
+    let long_sim: &[&str] = &[
+        "simulate", "--dt", "0.01", "--t-end", "1e5", "--out", "big.csv",
+    ];
+    let long_phys: &[&str] = &[
+        "physical",
+        "--simulate",
+        "--t-end",
+        "2000",
+        "--dt",
+        "1e-4",
+        "--out",
+        "p.csv",
+    ];
+    for (args, target) in [(long_sim, "big.csv"), (long_phys, "p.csv")] {
+        for (sig, code) in [("-INT", 130), ("-TERM", 143)] {
+            for ms in [150, 600] {
+                let dir = tempfile::tempdir().unwrap();
+                let (c, err) = interrupt(dir.path(), args, sig, Duration::from_millis(ms));
+                if c == 0 {
+                    // finished before the signal: then the file must be complete
+                    assert!(dir.path().join(target).exists());
+                    continue;
+                }
+                assert_eq!(c, code, "{args:?} {sig}: {err}");
+                assert!(err.contains("interrupted by SIG"), "{err}");
+                assert_eq!(err.lines().count(), 1, "{err}");
+                assert!(
+                    files_in(dir.path()).is_empty(),
+                    "{:?}",
+                    files_in(dir.path())
+                );
+            }
+        }
+    }
+}
+
+const SWEEP: [&str; 7] = [
+    "sweep",
+    "--param",
+    "gamma=0.1:30:160:log",
+    "--threads",
+    "1",
+    "--out",
+    "s.csv",
+];
+
+#[test]
+fn an_interrupted_sweep_resumes_to_the_same_file() {
+    let full = tempfile::tempdir().unwrap();
+    hdgear()
+        .current_dir(full.path())
+        .args(SWEEP)
+        .arg("--quiet")
+        .assert()
+        .success();
+    let whole = std::fs::read(full.path().join("s.csv")).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    let (c, err) = interrupt(dir.path(), &SWEEP, "-TERM", Duration::from_millis(400));
+    assert_eq!(c, 143, "{err}");
+    assert!(
+        err.contains("--resume"),
+        "the message says how to resume: {err}"
+    );
+    assert_eq!(
+        files_in(dir.path()),
+        ["s.csv.partial"],
+        "the lock is gone, the rows kept"
+    );
+    // duplicate every row kept: identical duplicates are dropped on resume
+    let part = dir.path().join("s.csv.partial");
+    let text = std::fs::read_to_string(&part).unwrap();
+    let body: Vec<&str> = text.lines().skip(2).collect();
+    std::fs::write(&part, format!("{text}{}\n", body.join("\n"))).unwrap();
+    hdgear()
+        .current_dir(dir.path())
+        .args(SWEEP)
+        .args(["--resume", "--quiet"])
+        .assert()
+        .success()
+        .stderr(predicates::str::contains("wrote s.csv: 160 rows, 0 failed"));
+    assert_eq!(std::fs::read(dir.path().join("s.csv")).unwrap(), whole);
+}
+
+#[test]
+fn resume_refuses_other_settings_and_conflicting_rows() {
+    let dir = tempfile::tempdir().unwrap();
+    let (c, _) = interrupt(dir.path(), &SWEEP, "-INT", Duration::from_millis(400));
+    assert_eq!(c, 130);
+    for (flag, needle) in [
+        (["--rtol", "1e-8"], "options.tol.rtol"),
+        (["--discard", "2"], "options.discard_periods"),
+        (["--window-periods", "3"], "options.periods"),
+        (["--atol", "1e-9"], "options.tol.atol"),
+    ] {
+        hdgear()
+            .current_dir(dir.path())
+            .args(SWEEP)
+            .args(flag)
+            .args(["--resume", "--quiet"])
+            .assert()
+            .code(2)
+            .stderr(predicates::str::contains(needle));
+    }
+    // a conflicting duplicate: the same index with another value
+    let part = dir.path().join("s.csv.partial");
+    let text = std::fs::read_to_string(&part).unwrap();
+    let row = text.lines().nth(2).unwrap();
+    let fields: Vec<&str> = row.split(',').collect();
+    let mut changed: Vec<String> = fields.iter().map(|s| s.to_string()).collect();
+    changed[12] = "123.0".into(); // peak_abs_xdot
+    std::fs::write(&part, format!("{text}{}\n", changed.join(","))).unwrap();
+    hdgear()
+        .current_dir(dir.path())
+        .args(SWEEP)
+        .args(["--resume", "--quiet"])
+        .assert()
+        .code(2)
+        .stderr(predicates::str::contains(format!(
+            "two different rows for grid point {}",
+            fields[0]
+        )));
+}
+
+#[test]
+fn a_running_sweep_is_locked() {
+    let dir = tempfile::tempdir().unwrap();
+    let child = Command::new(assert_cmd::cargo::cargo_bin("hdgear"))
+        .current_dir(dir.path())
+        .args(SWEEP)
+        .arg("--quiet")
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(Duration::from_millis(300));
+    for extra in [&[][..], &["--resume"][..]] {
+        hdgear()
+            .current_dir(dir.path())
+            .args(SWEEP)
+            .args(extra)
+            .arg("--quiet")
+            .assert()
+            .code(2)
+            .stderr(predicates::str::contains(format!(
+                "another hdgear sweep is writing s.csv (pid {})",
+                child.id()
+            )));
+    }
+    let status = child.wait_with_output().unwrap().status;
+    assert!(status.success(), "the first sweep was not disturbed");
+    assert_eq!(files_in(dir.path()), ["s.csv"]);
+}
+
+#[test]
+fn a_sweep_whose_points_all_fail_exits_1() {
+    let dir = tempfile::tempdir().unwrap();
+    hdgear()
+        .current_dir(dir.path())
+        .args([
+            "sweep",
+            "--param",
+            "gamma=1:2:3",
+            "--discard",
+            "1e9",
+            "--out",
+            "s.csv",
+        ])
+        .arg("--quiet")
+        .assert()
+        .code(1)
+        .stderr(predicates::str::contains("wrote s.csv: 3 rows, 3 failed"));
+}
+
+#[test]
+fn an_interrupted_report_leaves_only_complete_files() {
+    for (sig, code, ms) in [("-INT", 130, 700), ("-TERM", 143, 2500)] {
+        let dir = tempfile::tempdir().unwrap();
+        let (c, err) = interrupt(
+            dir.path(),
+            &["report", "--out", "r"],
+            sig,
+            Duration::from_millis(ms),
+        );
+        assert_eq!(c, code, "{err}");
+        let left = walk(dir.path());
+        assert!(left.iter().all(|f| !f.contains(".tmp-")), "{left:?}");
+        // index.html comes last: an interrupted report has none
+        assert!(!left.iter().any(|f| f.ends_with("index.html")), "{left:?}");
+        // what is there is complete: every CSV ends with a newline, every PNG with its IEND chunk
+        for f in &left {
+            let bytes = std::fs::read(dir.path().join(f)).unwrap();
+            if f.ends_with(".png") {
+                assert!(bytes.ends_with(&[0xAE, 0x42, 0x60, 0x82]), "{f}");
+            } else {
+                assert!(bytes.ends_with(b"\n") || bytes.ends_with(b"}"), "{f}");
+            }
+        }
+        // and the report can then be written there: the manifest lists what it wrote so far
+        hdgear()
+            .current_dir(dir.path())
+            .args(["report", "--out", "r", "--quiet"])
+            .assert()
+            .success();
+    }
+}
+
+#[test]
+fn report_never_overwrites_foreign_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("r");
+    std::fs::create_dir_all(out.join("figures")).unwrap();
+    std::fs::write(out.join("figures/slope.png"), b"mine").unwrap();
+    hdgear()
+        .args(["report", "--quiet", "--out"])
+        .arg(&out)
+        .assert()
+        .code(2)
+        .stderr(predicates::str::contains("figures/slope.png"));
+    assert_eq!(
+        std::fs::read(out.join("figures/slope.png")).unwrap(),
+        b"mine"
+    );
+}
+
+#[test]
+fn messages_name_the_users_value_readably() {
+    for (args, needle) in [
+        (&["simulate", "--rtol=1e-300"][..], "rtol = 1e-300"),
+        (&["analyze", "--alpha=1e-320"][..], "alpha = 1e-320"),
+        (&["physical", "--backlash=1e308"][..], "backlash = 1e308"),
+        (
+            &["sweep", "--param", "mu=-1e308:1e308:3", "--out", "s.csv"][..],
+            "mu = -1e308",
+        ),
+        (&["simulate", "--atol=0"][..], "atol = 0.0"),
+        (
+            &["plot", "slope", "--gamma", "5", "--out", "f.svg"][..],
+            "--gamma does not apply",
+        ),
+        (
+            &["bifurcation", "--gamma", "5", "--gamma-min", "0.001"][..],
+            "--gamma does not apply",
+        ),
+        (&["simulate", "--config", "/dev/zero"][..], "larger than"),
+        (
+            &["bursts", "--window-periods", "1000000"][..],
+            "integration steps",
+        ),
+        (
+            &["physical", "--simulate", "--t-end", "1e9", "--summary"][..],
+            "integration steps",
+        ),
+    ] {
+        let dir = tempfile::tempdir().unwrap();
+        let out = hdgear()
+            .current_dir(dir.path())
+            .args(args)
+            .assert()
+            .code(2)
+            .get_output()
+            .clone();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains(needle), "{args:?}: {err}");
+        assert!(err.len() < 400, "{args:?}: a long message: {err}");
+    }
+    // defaults are shown as written, not expanded
+    let help = hdgear().args(["simulate", "--help"]).output().unwrap();
+    assert!(String::from_utf8_lossy(&help.stdout).contains("[default: 1e-10]"));
+}
+
+#[test]
+fn small_fixes_from_the_hardening_issue() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = |args: &[&str]| {
+        hdgear()
+            .current_dir(dir.path())
+            .args(args)
+            .output()
+            .unwrap()
+    };
+    // --summary writes no rows, so the row cap does not apply
+    let o = run(&[
+        "simulate",
+        "--t-end",
+        "1e7",
+        "--dt",
+        "0.01",
+        "--summary",
+        "--quiet",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    // upper-case extensions
+    assert!(
+        run(&["plot", "slope", "--out", "x.PNG", "--quiet"])
+            .status
+            .success()
+    );
+    assert!(
+        run(&["equilibria", "--points", "5", "--out", "x.CSV", "--quiet"])
+            .status
+            .success()
+    );
+    // a scenario with the wrong table
+    std::fs::write(dir.path().join("ph.toml"), "[physical]\nk1 = 5.0\n").unwrap();
+    let o = run(&["simulate", "--config", "ph.toml"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("no [params] table"));
+    // presets by any case
+    assert!(
+        run(&["simulate", "--preset", "PAPER-G1", "--summary", "--quiet"])
+            .status
+            .success()
+    );
+    // the α·ε warning: once, short, silenced by --quiet
+    let o = run(&["analyze", "--no-response"]);
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(err.matches("alpha*eps").count(), 1, "{err}");
+    assert!(err.lines().next().unwrap().len() < 160, "{err}");
+    let o = run(&["analyze", "--no-response", "--quiet"]);
+    assert!(o.stderr.is_empty());
+    // plain `physical` prints the catalogue fit and the assumptions, no JSON fragments
+    let o = run(&["physical", "--quiet"]);
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        text.contains("twist error") && text.contains("assumed:"),
+        "{text}"
+    );
+    assert!(!text.contains('{'), "{text}");
+    // a-range beyond [-1, 1] is warned about
+    let o = run(&["equilibria", "--points", "5", "--a-range=-2:2"]);
+    assert!(String::from_utf8_lossy(&o.stderr).contains("beyond [-1, 1]"));
+}
