@@ -526,6 +526,11 @@ fn messages_name_the_users_value_readably() {
         ),
         (&["simulate", "--config", "/dev/zero"][..], "larger than"),
         (
+            &["plot", "slope", "--out", "missing/x.png"][..],
+            "missing/x.png",
+        ),
+        (&["simulate", "--out", "."][..], "'.'"),
+        (
             &["bursts", "--window-periods", "1000000"][..],
             "integration steps",
         ),

@@ -57,3 +57,21 @@ fn atomic_files_appear_only_when_committed() {
     assert_eq!(std::fs::read_to_string(&path).unwrap(), "done");
     assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
 }
+
+#[test]
+fn a_failed_commit_leaves_no_temporary() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("x.csv");
+    let mut f = AtomicFile::create(&path).unwrap();
+    f.write_all(b"a,b\n1,2\n").unwrap();
+    // the target turns into a directory before the rename
+    std::fs::create_dir(&path).unwrap();
+    assert!(f.commit().is_err());
+    assert_eq!(crate::common::files_in(dir.path()), ["x.csv"]);
+    assert!(path.is_dir());
+    // and a path that is a directory, or in a missing one, is refused before anything is written
+    for bad in [path.clone(), dir.path().join("missing/y.csv")] {
+        assert!(AtomicFile::create(&bad).is_err());
+    }
+    assert_eq!(crate::common::files_in(dir.path()), ["x.csv"]);
+}
