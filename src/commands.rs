@@ -312,6 +312,19 @@ fn analyze(a: AnalyzeArgs) -> Result<()> {
     } else {
         let r = hdgear::burst::response(&p, &opts)?;
         let c = hdgear::burst::classify(&p, &r);
+        if !c.fast_slow_domain {
+            note(&format!(
+                "omega = {:?} is not slow against the fast subsystem (omega > r/10, r = {:.3} the \
+                 relaxation rate at a = ±1{}): the fast-slow picture does not apply, mode not-fast-slow",
+                p.omega,
+                hdgear::burst::turning_point_rate(&p),
+                if r.continuous_fast_motion {
+                    ", and the fast motion never stops"
+                } else {
+                    ""
+                }
+            ));
+        }
         Some((r, c))
     };
     let bounds = if a.simulated_boundaries {

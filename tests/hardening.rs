@@ -614,6 +614,13 @@ fn small_fixes_from_the_hardening_issue() {
         "{text}"
     );
     assert!(!text.contains('{'), "{text}");
+    // ω not slow: analyze says so, and forces no study word
+    let o = run(&["analyze", "--omega", "0.2", "--gamma", "0.01", "--json"]);
+    assert!(String::from_utf8_lossy(&o.stderr).contains("not slow against the fast subsystem"));
+    let doc: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(doc["classification"]["mode"], "not-fast-slow");
+    assert_eq!(doc["classification"]["fast_slow_domain"], false);
+    assert_eq!(doc["classification"]["bursting"], true);
     // a-range beyond [-1, 1] is warned about
     let o = run(&["equilibria", "--points", "5", "--a-range=-2:2"]);
     assert!(String::from_utf8_lossy(&o.stderr).contains("beyond [-1, 1]"));

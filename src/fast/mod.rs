@@ -14,7 +14,7 @@ pub use analysis::{
     Analysis, Cusp, EquilibriaSummary, Fold, FoldRow, Interval, NO_HOPF_REASON, Point, Slope,
     analyze, cusp, fold_curves, folds, relaxation_rate,
 };
-pub use curve::{Branch, CurvePoint, check_a_range, curve, x_intervals};
+pub use curve::{A_RANGE_LIMIT, Branch, CurvePoint, check_a_range, curve, x_intervals};
 pub use equilibria::{
     EqType, Equilibria, Equilibrium, eigenvalues, equilibria, fold_abscissae,
     nearest_stable_equilibrium, stable_equilibrium,
