@@ -2,9 +2,14 @@
 
 use std::path::PathBuf;
 
-/// `../shared/` beside the checkout (read-only reference material).
+/// `../shared/` beside the checkout (read-only reference material): the first `shared/`
+/// directory found walking up from this crate.
 pub fn shared_dir() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../shared")
+    let here = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    here.ancestors()
+        .map(|d| d.join("shared"))
+        .find(|d| d.join("reference").is_dir())
+        .unwrap_or_else(|| here.join("../../../shared"))
 }
 
 /// The reference trajectories of SPEC §4: rows (gamma, x0, v0, t, x, xdot).
