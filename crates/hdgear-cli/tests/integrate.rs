@@ -2,7 +2,7 @@
 
 use hdgear::Params;
 use hdgear::integrate::events::{Detector, Direction};
-use hdgear::integrate::{Dop853, Options, System, sample};
+use hdgear::integrate::{DenseOutput, Dop853, Options, System, sample};
 use hdgear::model::Dimensionless;
 
 /// y' = cos(t)·y, y(0) = 1  ⇒  y = exp(sin t). Non-autonomous, so a stage evaluated at the wrong
@@ -256,5 +256,29 @@ fn blow_up_is_a_typed_error_with_its_time() {
             assert!((t - 1.0).abs() < 1e-3, "reported at t = {t}");
         }
         other => panic!("expected a blow-up, got {other:?}"),
+    }
+}
+
+#[test]
+fn the_models_jacobian_matches_finite_differences() {
+    let sys = hdgear::model::Dimensionless::new(hdgear::Params::default());
+    let (t, y) = (3.7, [0.31, -0.02]);
+    let j = sys
+        .jacobian(t, &y)
+        .expect("the model provides its Jacobian");
+    for k in 0..2 {
+        let h = 1e-6;
+        let (mut yp, mut ym) = (y, y);
+        yp[k] += h;
+        ym[k] -= h;
+        let (fp, fm) = (sys.rhs(t, &yp), sys.rhs(t, &ym));
+        for i in 0..2 {
+            let fd = (fp[i] - fm[i]) / (2.0 * h);
+            assert!(
+                (j[i][k] - fd).abs() < 1e-7,
+                "J[{i}][{k}] = {} vs {fd}",
+                j[i][k]
+            );
+        }
     }
 }

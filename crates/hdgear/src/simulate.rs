@@ -3,7 +3,7 @@
 use crate::error::Result;
 use crate::fast::stable_equilibrium;
 use crate::integrate::events::{Detector, Direction};
-use crate::integrate::{Dop853, Grid, Options, Stats, System};
+use crate::integrate::{Grid, Method, Options, Stats, Stepper, System, stepper};
 use crate::model::Dimensionless;
 use crate::params::Params;
 use serde::Serialize;
@@ -89,7 +89,7 @@ pub fn simulate(
     let y0 = initial_state(p, opts.start);
     let sys = Dimensionless::new(*p);
     let mut grid = Grid::new(0.0, opts.t_end, opts.dt)?;
-    let mut solver = Dop853::new(&sys, 0.0, y0, opts.tol)?;
+    let mut solver = stepper(Method::default(), &sys, 0.0, y0, opts.tol)?;
     let mut extrema = Detector::new(|t, y: &[f64; 2]| sys.rhs(t, y)[1], Direction::Either);
     let mut max_v = y0[1].abs();
     grid.start(&y0, &mut out);

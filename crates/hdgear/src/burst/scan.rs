@@ -4,7 +4,7 @@
 //! root located on the step's interpolant, so nothing depends on where the steps land.
 
 use crate::fast::{self, fold_abscissae};
-use crate::integrate::Dense;
+use crate::integrate::DenseOutput;
 use crate::integrate::events::refine_root;
 use crate::params::Params;
 use std::collections::VecDeque;
@@ -153,7 +153,7 @@ pub(crate) struct Scan {
 }
 
 /// The streaming scanner. Feed it every step's dense output in order with [`Scanner::push`].
-pub(crate) struct Scanner {
+pub(crate) struct Scanner<D: DenseOutput<2> + Copy> {
     p: Params,
     follower: Follower,
     zigzag: ZigZag,
@@ -161,7 +161,7 @@ pub(crate) struct Scanner {
     lobe_keep: f64,
     band: Option<(f64, f64)>,
     window: (f64, f64),
-    history: VecDeque<Dense<2>>,
+    history: VecDeque<D>,
     history_span: f64,
     last: Option<Sample>,
     side: i8,
@@ -169,7 +169,7 @@ pub(crate) struct Scanner {
     out: Scan,
 }
 
-impl Scanner {
+impl<D: DenseOutput<2> + Copy> Scanner<D> {
     /// `swing_floor`: the smallest swing of x' that counts; `lobe_keep`: the smallest lobe kept;
     /// `history_span`: how far back a pulse's onset is looked for; `window`: where the window
     /// statistics are taken.
@@ -180,7 +180,7 @@ impl Scanner {
         lobe_keep: f64,
         history_span: f64,
         window: (f64, f64),
-    ) -> Scanner {
+    ) -> Scanner<D> {
         Scanner {
             p: *p,
             follower: Follower::new(p, x0),
@@ -224,7 +224,7 @@ impl Scanner {
     }
 
     /// Scans one step.
-    pub(crate) fn push(&mut self, d: &Dense<2>) {
+    pub(crate) fn push(&mut self, d: &D) {
         self.history.push_back(*d);
         while let Some(f) = self.history.front() {
             if f.t_end() < d.t_end() - self.history_span {
@@ -268,7 +268,7 @@ impl Scanner {
     }
 
     /// Processes the sub-interval between two samples.
-    fn interval(&mut self, d: &Dense<2>, a: &Sample, b: &Sample) {
+    fn interval(&mut self, d: &D, a: &Sample, b: &Sample) {
         let p = self.p;
         // --- extrema of x': sign changes of x''
         if (a.acc > 0.0) != (b.acc > 0.0) && a.acc != 0.0 {

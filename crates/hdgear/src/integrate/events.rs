@@ -7,7 +7,7 @@
 //! shorter than 1e-13·max(1, |t|) (the interpolant itself is accurate to the integration tolerance,
 //! so refining further would be pointless).
 
-use super::Dense;
+use super::DenseOutput;
 
 /// Which sign changes count.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -52,7 +52,7 @@ impl<G: FnMut(f64, &[f64; N]) -> f64, const N: usize> Detector<G, N> {
     }
 
     /// Scans one step's dense output and calls `found` for each crossing, in time order.
-    pub fn scan(&mut self, dense: &Dense<N>, mut found: impl FnMut(Crossing<N>)) {
+    pub fn scan(&mut self, dense: &impl DenseOutput<N>, mut found: impl FnMut(Crossing<N>)) {
         let (t0, t1) = (dense.t_start(), dense.t_end());
         let (mut ta, mut ga) = match self.last {
             Some((t, g)) if t == t0 => (t, g),

@@ -39,6 +39,49 @@ use serde::{Deserialize, Serialize};
 pub trait System<const N: usize> {
     /// The right-hand side f(t, y).
     fn rhs(&self, t: f64, y: &[f64; N]) -> [f64; N];
+    /// The Jacobian ∂f/∂y at (t, y), for methods and analyses that need it (variational
+    /// equations, implicit steps); `None` when the system does not provide it.
+    fn jacobian(&self, _t: f64, _y: &[f64; N]) -> Option<[[f64; N]; N]> {
+        None
+    }
+}
+
+/// The solution over one accepted step, as a continuous function of t: what events, output
+/// grids and burst detection read, whatever the method.
+pub trait DenseOutput<const N: usize> {
+    /// Start of the step.
+    fn t_start(&self) -> f64;
+    /// End of the step.
+    fn t_end(&self) -> f64;
+    /// The interpolated state at `t` (meant for t in the step).
+    fn eval(&self, t: f64) -> [f64; N];
+}
+
+/// A one-step integrator positioned at (t, y): the seam every driver (simulation, burst
+/// detection, the physical model, figures) uses, so a second method plugs in behind
+/// [`Method`].
+pub trait Stepper<const N: usize> {
+    /// The dense output of one step.
+    type Dense: DenseOutput<N> + Copy;
+    /// Current time.
+    fn t(&self) -> f64;
+    /// Current state.
+    fn y(&self) -> &[f64; N];
+    /// Advances by one accepted step, never past `t_bound`.
+    fn step(&mut self, t_bound: f64) -> Result<()>;
+    /// The dense output of the last accepted step.
+    fn dense(&mut self) -> Self::Dense;
+    /// Work counters so far.
+    fn stats(&self) -> Stats;
+}
+
+/// The integration method. One today; the enum is the place a second one is chosen.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Method {
+    /// Dormand–Prince 8(5,3) with 7th-order dense output ([`Dop853`]).
+    #[default]
+    Dop853,
 }
 
 /// Tolerances and limits of the integrator.
@@ -163,17 +206,15 @@ pub struct Dense<const N: usize> {
     coef: [[f64; N]; 7],
 }
 
-impl<const N: usize> Dense<N> {
-    /// Start of the step.
-    pub fn t_start(&self) -> f64 {
+impl<const N: usize> DenseOutput<N> for Dense<N> {
+    fn t_start(&self) -> f64 {
         self.t_old
     }
-    /// End of the step.
-    pub fn t_end(&self) -> f64 {
+    fn t_end(&self) -> f64 {
         self.t_old + self.h
     }
     /// The interpolated state at `t` (meant for t in the step; it extrapolates outside).
-    pub fn eval(&self, t: f64) -> [f64; N] {
+    fn eval(&self, t: f64) -> [f64; N] {
         let s = (t - self.t_old) / self.h;
         let s1 = 1.0 - s;
         let mut y = [0.0; N];
@@ -191,6 +232,25 @@ impl<const N: usize> Dense<N> {
             *yi = self.y_old[i] + v;
         }
         y
+    }
+}
+
+impl<'s, S: System<N> + ?Sized, const N: usize> Stepper<N> for Dop853<'s, S, N> {
+    type Dense = Dense<N>;
+    fn t(&self) -> f64 {
+        self.t
+    }
+    fn y(&self) -> &[f64; N] {
+        &self.y
+    }
+    fn step(&mut self, t_bound: f64) -> Result<()> {
+        Dop853::step(self, t_bound)
+    }
+    fn dense(&mut self) -> Dense<N> {
+        Dop853::dense(self)
+    }
+    fn stats(&self) -> Stats {
+        self.stats
     }
 }
 
@@ -538,7 +598,7 @@ impl Grid {
     /// Emits the samples inside the step described by `d` (whose end state is `y_end`).
     pub fn fill<const N: usize>(
         &mut self,
-        d: &Dense<N>,
+        d: &impl DenseOutput<N>,
         y_end: &[f64; N],
         out: &mut impl FnMut(f64, &[f64; N]),
     ) {
@@ -568,6 +628,19 @@ impl Grid {
     }
 }
 
+/// The stepper of `method` for `sys` at (t0, y0).
+pub fn stepper<'s, S: System<N> + ?Sized, const N: usize>(
+    method: Method,
+    sys: &'s S,
+    t0: f64,
+    y0: [f64; N],
+    opts: Options,
+) -> Result<impl Stepper<N> + 's> {
+    match method {
+        Method::Dop853 => Dop853::new(sys, t0, y0, opts),
+    }
+}
+
 /// Integrates from (t0, y0) to `t_end` and calls `out(t, y)` on the [`Grid`] t0 + k·dt.
 /// Returns the final state and the work counters.
 pub fn sample<S: System<N> + ?Sized, const N: usize>(
@@ -580,7 +653,7 @@ pub fn sample<S: System<N> + ?Sized, const N: usize>(
     mut out: impl FnMut(f64, &[f64; N]),
 ) -> Result<([f64; N], Stats)> {
     let mut grid = Grid::new(t0, t_end, dt)?;
-    let mut solver = Dop853::new(sys, t0, y0, opts)?;
+    let mut solver = stepper(Method::default(), sys, t0, y0, opts)?;
     grid.start(&y0, &mut out);
     while solver.t() < t_end {
         solver.step(t_end)?;
