@@ -306,3 +306,30 @@ fn no_pulses_without_spiking_areas() {
         assert!(vmax < bound, "gamma {g}: max |x'| {vmax}");
     }
 }
+
+#[test]
+fn the_tracker_agrees_with_the_exact_solve() {
+    // warm-started Newton and the exact cubic solve give the same followed equilibrium, with and
+    // without folds, along a slow sweep of a up and down
+    for g in [0.1, 0.01, 30.0] {
+        let p = paper(g);
+        let x0 = hdgear::fast::stable_equilibrium(&p, -1.0);
+        let mut tr = hdgear::fast::EquilibriumTracker::new(&p, x0);
+        let mut x = x0;
+        for k in 0..=4000 {
+            let s = f64::from(k) / 2000.0; // 0 … 2
+            let a = if s <= 1.0 {
+                -1.0 + 2.0 * s
+            } else {
+                3.0 - 2.0 * s
+            };
+            let t = tr.at(a, x);
+            let exact = hdgear::fast::nearest_stable_equilibrium(&p, a, x).unwrap();
+            assert!(
+                (t - exact).abs() <= 1e-12 * (1.0 + exact.abs()),
+                "gamma {g}, a {a}: {t} vs {exact}"
+            );
+            x = t;
+        }
+    }
+}

@@ -268,7 +268,7 @@ pub fn design_check(d: &PhysicalParams, opts: &BurstOptions) -> Result<DesignChe
         .map(|&name| margin(d, name, judgement, opts))
         .collect::<Result<Vec<_>>>()?;
     let x0 = 1.0 / (3.0 * p.alpha);
-    let steepest_point_a = (p.g(x0) - p.mu) / p.delta;
+    let steepest_point_a = p.a_at(x0);
     Ok(DesignCheck {
         reduced: r,
         steepest_point_a,

@@ -265,8 +265,8 @@ pub fn x_equilibrium(p: &Params, opts: &BurstOptions) -> Result<Figure> {
 /// marked.
 pub fn transformed_phase(p: &Params, opts: &BurstOptions) -> Result<Figure> {
     let w = window(p, opts)?;
-    let an = analyze(p, (-1.0, 1.0))?;
-    let c = curve(p, (-1.0, 1.0), 2000)?;
+    let an = analyze(p, crate::fast::A_RANGE)?;
+    let c = curve(p, crate::fast::A_RANGE, 2000)?;
     let traj: Vec<(f64, f64)> = w
         .samples
         .iter()
@@ -424,7 +424,7 @@ pub fn slope(base: &Params) -> Result<Figure> {
             gamma: *gamma,
             ..*base
         };
-        let c = curve(&p, (-1.0, 1.0), 2000)?;
+        let c = curve(&p, crate::fast::A_RANGE, 2000)?;
         series.push(Series {
             label: format!("γ = {gamma}"),
             points: c.iter().map(|q| (q.a, q.slope.abs())).collect(),
@@ -445,7 +445,7 @@ pub fn slope(base: &Params) -> Result<Figure> {
             x_label: "a".into(),
             y_label: "|dx/da|".into(),
             y_log: true,
-            x_range: Some((-1.0, 1.0)),
+            x_range: Some(crate::fast::A_RANGE),
             series,
             ..Panel::default()
         }],

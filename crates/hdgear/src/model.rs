@@ -19,7 +19,6 @@ impl Dimensionless {
     pub fn new(p: Params) -> Self {
         Dimensionless { p }
     }
-
 }
 
 // `libm::sin` (the Rust port of musl's, correctly rounded to within 1 ulp) instead of `f64::sin`:

@@ -247,7 +247,7 @@ pub fn build(
     let mut evidence = Vec::new();
     for (gamma, _) in STUDY_GAMMAS {
         let p = Params { gamma, ..base };
-        let an = analyze(&p, (-1.0, 1.0))?;
+        let an = analyze(&p, crate::fast::A_RANGE)?;
         let r = response(&p, &opts.burst)?;
         let c = classify(&p, &r);
         let tag = format!("g{gamma}");
@@ -258,7 +258,7 @@ pub fn build(
         )?;
         write_csv(
             &dir.join(format!("data/curve-{tag}.csv")),
-            &crate::fast::curve(&p, (-1.0, 1.0), 1001)?,
+            &crate::fast::curve(&p, crate::fast::A_RANGE, 1001)?,
         )?;
         files.push(format!("data/analysis-{tag}.json"));
         files.push(format!("data/curve-{tag}.csv"));

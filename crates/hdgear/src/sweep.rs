@@ -220,7 +220,7 @@ pub struct SweepRow {
 /// Runs one point.
 pub fn run_point(index: usize, p: &Params, opts: &BurstOptions) -> SweepRow {
     let result = response(p, opts).and_then(|r| {
-        let an = fast::analyze(p, (-1.0, 1.0))?;
+        let an = fast::analyze(p, crate::fast::A_RANGE)?;
         Ok((classify(p, &r), r, an.equilibria.max_slope.value))
     });
     let mut row = SweepRow {

@@ -110,7 +110,7 @@ struct Measured {
 
 fn measure(p: &Params, opts: &BurstOptions) -> Result<Measured> {
     let r = response(p, opts)?;
-    let an = analyze(p, (-1.0, 1.0))?;
+    let an = analyze(p, crate::fast::A_RANGE)?;
     let center = an
         .equilibria
         .spiking_areas
@@ -147,7 +147,7 @@ pub fn tables(base: &Params, opts: &BurstOptions) -> Result<Tables> {
             let p = Params { gamma, ..*base };
             let r = response(&p, opts)?;
             let c = classify(&p, &r);
-            let an = analyze(&p, (-1.0, 1.0))?;
+            let an = analyze(&p, crate::fast::A_RANGE)?;
             Ok(GammaRow {
                 gamma,
                 shape: shape_words(an.equilibria.max_slope.value),

@@ -365,18 +365,14 @@ pub struct Classification {
 
 /// The x-extent X of the equilibrium curve over a ∈ [−1, 1].
 pub fn curve_extent(p: &Params) -> f64 {
-    let iv = fast::x_intervals(p, (-1.0, 1.0));
-    match (iv.first(), iv.last()) {
-        (Some(l), Some(r)) => (r.1 - l.0).max(f64::MIN_POSITIVE),
-        _ => f64::MIN_POSITIVE,
-    }
+    fast::x_extent(p, fast::A_RANGE)
 }
 
 /// The smallest g' over the stable part of the curve traversed by a ∈ [−1, 1] (0 with a fold
 /// in range): its slowest, steepest point.
 pub fn min_traversed_gprime(p: &Params) -> f64 {
     let xc = p.critical_gamma(); // g'' = 0 at x = 1/(3α)
-    fast::x_intervals(p, (-1.0, 1.0))
+    fast::x_intervals(p, crate::fast::A_RANGE)
         .iter()
         .map(|&(lo, hi)| {
             let m = p.g_prime(lo).min(p.g_prime(hi));

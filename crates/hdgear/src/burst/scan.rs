@@ -3,7 +3,7 @@
 //! e = x − x*(a) on the leading side, and the jumps across the unstable band. Every event is a
 //! root located on the step's interpolant, so nothing depends on where the steps land.
 
-use crate::fast::{self, fold_abscissae};
+use crate::fast::{EquilibriumTracker, fold_abscissae};
 use crate::integrate::DenseOutput;
 use crate::integrate::events::refine_root;
 use crate::params::Params;
@@ -14,56 +14,6 @@ use std::f64::consts::{FRAC_PI_2, PI};
 /// [`crate::integrate::events::Detector`]): two roots closer than a quarter step can be missed,
 /// which only happens for wiggles far below every floor (a step resolves the motion it carries).
 const SUBDIVISIONS: usize = 2;
-
-/// The equilibrium a state follows: the nearest stable one at the current a (the only one without
-/// folds), by Newton warm-started from the last one, with the exact cubic solve as fallback.
-#[derive(Clone, Debug)]
-pub(crate) struct Follower {
-    p: Params,
-    /// The a-interval with three equilibria (between the fold values), if any.
-    multi: Option<(f64, f64)>,
-    hint: f64,
-}
-
-impl Follower {
-    pub(crate) fn new(p: &Params, x0: f64) -> Follower {
-        let multi = match fast::folds(p, (f64::NEG_INFINITY, f64::INFINITY)).as_slice() {
-            [f1, f2] => Some((f1.a.min(f2.a), f1.a.max(f2.a))),
-            _ => None,
-        };
-        Follower {
-            p: *p,
-            multi,
-            hint: x0,
-        }
-    }
-
-    /// x*(a) for a state at x.
-    pub(crate) fn at(&mut self, a: f64, x: f64) -> f64 {
-        let p = &self.p;
-        let unique = self.multi.is_none_or(|(lo, hi)| a < lo || a > hi);
-        if unique {
-            let rhs = p.forcing(a);
-            let mut y = self.hint;
-            for _ in 0..8 {
-                let f = p.g(y) - rhs;
-                // converged when F is at its rounding level (the sum of its terms' sizes)
-                let scale = ((p.alpha * y * y).abs() + y.abs() + p.gamma.abs()) * y.abs()
-                    + (p.gamma * p.eps).abs()
-                    + rhs.abs();
-                let gp = p.g_prime(y);
-                if f.abs() <= 8.0 * f64::EPSILON * scale && gp > 0.0 {
-                    self.hint = y;
-                    return y;
-                }
-                y -= f / gp;
-            }
-        }
-        let y = fast::nearest_stable_equilibrium(p, a, x).unwrap_or(x);
-        self.hint = y;
-        y
-    }
-}
 
 /// What the scan measures at one time.
 #[derive(Clone, Copy, Debug)]
@@ -155,7 +105,7 @@ pub(crate) struct Scan {
 /// The streaming scanner. Feed it every step's dense output in order with [`Scanner::push`].
 pub(crate) struct Scanner<D: DenseOutput<2> + Copy> {
     p: Params,
-    follower: Follower,
+    follower: EquilibriumTracker,
     zigzag: ZigZag,
     /// Lobes smaller than this are not kept (they can never matter; avoids storing rounding).
     lobe_keep: f64,
@@ -183,7 +133,7 @@ impl<D: DenseOutput<2> + Copy> Scanner<D> {
     ) -> Scanner<D> {
         Scanner {
             p: *p,
-            follower: Follower::new(p, x0),
+            follower: EquilibriumTracker::new(p, x0),
             zigzag: ZigZag {
                 floor: swing_floor,
                 cand: None,

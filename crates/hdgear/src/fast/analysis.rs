@@ -136,7 +136,7 @@ pub fn relaxation_rate(gp: f64) -> f64 {
 }
 
 fn a_of(p: &Params, x: f64) -> f64 {
-    (p.g(x) - p.mu) / p.delta
+    p.a_at(x)
 }
 
 /// The fold points of the fast subsystem (closed form), each flagged in or out of `a_range`.
@@ -205,7 +205,7 @@ fn merge(mut v: Vec<Interval>) -> Vec<Interval> {
 ///
 /// ```
 /// let p = hdgear::Params { gamma: 1.0, ..Default::default() };
-/// let an = hdgear::fast::analyze(&p, (-1.0, 1.0)).unwrap();
+/// let an = hdgear::fast::analyze(&p, crate::fast::A_RANGE).unwrap();
 /// assert!(!an.equilibria.hopf_possible);
 /// assert!(an.equilibria.folds.is_empty());
 /// assert_eq!(an.equilibria.spiking_areas.len(), 1);

@@ -71,7 +71,7 @@ pub struct CurvePoint {
 impl CurvePoint {
     /// The curve point with abscissa x (a computed from x; requires δ > 0).
     pub fn at_x(p: &Params, x: f64) -> CurvePoint {
-        let a = (p.g(x) - p.mu) / p.delta;
+        let a = p.a_at(x);
         Self::at(p, a, x)
     }
 
@@ -131,7 +131,7 @@ pub fn x_intervals(p: &Params, a_range: (f64, f64)) -> Vec<(f64, f64)> {
         .collect();
     ends.sort_by(f64::total_cmp);
     ends.dedup();
-    let a_of = |x: f64| (p.g(x) - p.mu) / p.delta;
+    let a_of = |x: f64| p.a_at(x);
     ends.windows(2)
         .filter(|w| {
             let am = a_of(0.5 * (w[0] + w[1]));
@@ -147,7 +147,7 @@ pub fn x_intervals(p: &Params, a_range: (f64, f64)) -> Vec<(f64, f64)> {
 ///
 /// ```
 /// let p = hdgear::Params { gamma: 1.0, ..Default::default() };
-/// let c = hdgear::fast::curve(&p, (-1.0, 1.0), 1000).unwrap();
+/// let c = hdgear::fast::curve(&p, crate::fast::A_RANGE, 1000).unwrap();
 /// assert_eq!(c.len(), 1000);
 /// assert!(c.iter().all(|q| q.kind.is_stable()));
 /// ```
@@ -183,10 +183,8 @@ pub fn curve(p: &Params, a_range: (f64, f64), points: usize) -> Result<Vec<Curve
             reason: "too narrow: the equilibria at its two ends coincide to rounding".into(),
         });
     }
-    let x_lo = intervals.first().map_or(0.0, |i| i.0);
-    let x_hi = intervals.last().map_or(0.0, |i| i.1);
-    let (sa, sx) = (a1 - a0, (x_hi - x_lo).max(f64::MIN_POSITIVE));
-    let a_of = |x: f64| (p.g(x) - p.mu) / p.delta;
+    let (sa, sx) = (a1 - a0, super::x_extent(p, a_range));
+    let a_of = |x: f64| p.a_at(x);
     // Fine polyline per interval for the arc length (4 sub-samples per output point).
     let fine = (4 * points).max(64);
     let total_x: f64 = intervals.iter().map(|i| i.1 - i.0).sum();

@@ -263,3 +263,54 @@ pub fn nearest_stable_equilibrium(p: &Params, a: f64, x: f64) -> Option<f64> {
         .map(|r| r.x)
         .min_by(|u, v| (u - x).abs().total_cmp(&(v - x).abs()))
 }
+
+/// The equilibrium a state follows: the nearest stable one at the current a (the only one without
+/// folds), by Newton warm-started from the last one, with the exact cubic solve as fallback.
+#[derive(Clone, Debug)]
+pub struct EquilibriumTracker {
+    p: Params,
+    /// The a-interval with three equilibria (between the fold values), if any.
+    multi: Option<(f64, f64)>,
+    hint: f64,
+}
+
+impl EquilibriumTracker {
+    /// A tracker for `p` starting from the equilibrium guess `x0`.
+    pub fn new(p: &Params, x0: f64) -> EquilibriumTracker {
+        let multi = match super::folds(p, (f64::NEG_INFINITY, f64::INFINITY)).as_slice() {
+            [f1, f2] => Some((f1.a.min(f2.a), f1.a.max(f2.a))),
+            _ => None,
+        };
+        EquilibriumTracker {
+            p: *p,
+            multi,
+            hint: x0,
+        }
+    }
+
+    /// x*(a) for a state at x.
+    pub fn at(&mut self, a: f64, x: f64) -> f64 {
+        let p = &self.p;
+        let unique = self.multi.is_none_or(|(lo, hi)| a < lo || a > hi);
+        if unique {
+            let rhs = p.forcing(a);
+            let mut y = self.hint;
+            for _ in 0..8 {
+                let f = p.g(y) - rhs;
+                // converged when F is at its rounding level (the sum of its terms' sizes)
+                let scale = ((p.alpha * y * y).abs() + y.abs() + p.gamma.abs()) * y.abs()
+                    + (p.gamma * p.eps).abs()
+                    + rhs.abs();
+                let gp = p.g_prime(y);
+                if f.abs() <= 8.0 * f64::EPSILON * scale && gp > 0.0 {
+                    self.hint = y;
+                    return y;
+                }
+                y -= f / gp;
+            }
+        }
+        let y = super::nearest_stable_equilibrium(p, a, x).unwrap_or(x);
+        self.hint = y;
+        y
+    }
+}

@@ -5,6 +5,19 @@
 //! subsystem can never undergo a Hopf bifurcation. Equilibria are stable iff g'(x) > 0; the only
 //! bifurcations are folds where g'(x) = 0, which exist iff γ < 1/(3α); γ = 1/(3α) is a cusp.
 
+/// The range of the slow variable a = sin ωτ: what every response traverses.
+pub const A_RANGE: (f64, f64) = (-1.0, 1.0);
+
+/// The x-extent X of the equilibrium curve over `a_range` (the unit of x-distances in burst
+/// detection and classification); the smallest positive number when the curve is a point.
+pub fn x_extent(p: &crate::params::Params, a_range: (f64, f64)) -> f64 {
+    let iv = x_intervals(p, a_range);
+    match (iv.first(), iv.last()) {
+        (Some(l), Some(r)) => (r.1 - l.0).max(f64::MIN_POSITIVE),
+        _ => f64::MIN_POSITIVE,
+    }
+}
+
 mod analysis;
 mod curve;
 mod equilibria;
@@ -16,7 +29,7 @@ pub use analysis::{
 };
 pub use curve::{A_RANGE_LIMIT, Branch, CurvePoint, check_a_range, curve, x_intervals};
 pub use equilibria::{
-    EqType, Equilibria, Equilibrium, eigenvalues, equilibria, fold_abscissae,
+    EqType, Equilibria, Equilibrium, EquilibriumTracker, eigenvalues, equilibria, fold_abscissae,
     nearest_stable_equilibrium, stable_equilibrium,
 };
 pub use predict::{

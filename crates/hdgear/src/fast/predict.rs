@@ -63,7 +63,7 @@ pub struct Prediction {
 /// κ(x) at abscissa x (see the module docs).
 pub fn forcing_rate(p: &Params, x: f64) -> f64 {
     let gp = p.g_prime(x);
-    let a = (p.g(x) - p.mu) / p.delta;
+    let a = p.a_at(x);
     let gpp = 6.0 * p.alpha * x - 2.0;
     gpp.abs() * p.omega * p.delta * (1.0 - a * a).max(0.0).sqrt() / (gp * gp)
 }
@@ -80,7 +80,7 @@ pub fn focus_pieces(p: &Params) -> Vec<(f64, f64)> {
         Vec::new()
     };
     let mut out = Vec::new();
-    for (l, r) in x_intervals(p, (-1.0, 1.0)) {
+    for (l, r) in x_intervals(p, crate::fast::A_RANGE) {
         let mut pts = vec![l, r];
         pts.extend(cuts.iter().copied().filter(|&c| c > l && c < r));
         pts.sort_by(f64::total_cmp);
@@ -125,12 +125,12 @@ fn max_on(f: impl Fn(f64) -> f64, l: f64, r: f64) -> (f64, f64) {
 /// traversed curve (a ∈ [−1, 1]): the quasi-static bound on |x'| (infinite with a fold in range).
 pub fn max_equilibrium_speed(p: &Params) -> f64 {
     let speed = |x: f64| {
-        let a = (p.g(x) - p.mu) / p.delta;
+        let a = p.a_at(x);
         p.omega * p.delta * (1.0 - a * a).max(0.0).sqrt() / p.g_prime(x)
     };
     let folds = fold_abscissae(p);
     let mut best = 0.0f64;
-    for (l, r) in x_intervals(p, (-1.0, 1.0)) {
+    for (l, r) in x_intervals(p, crate::fast::A_RANGE) {
         if folds.is_some_and(|(xm, xp)| (l..=r).contains(&xm) || (l..=r).contains(&xp)) {
             return f64::INFINITY;
         }
@@ -149,11 +149,8 @@ pub fn max_equilibrium_speed(p: &Params) -> f64 {
 /// assert!(!predict(&Params { gamma: 0.1, omega: 1e-5, ..Params::default() }).bursting);
 /// ```
 pub fn predict(p: &Params) -> Prediction {
-    let fold_in_range = fold_abscissae(p).is_some_and(|(xm, xp)| {
-        [xm, xp]
-            .iter()
-            .any(|&x| ((p.g(x) - p.mu) / p.delta).abs() <= 1.0)
-    });
+    let fold_in_range = fold_abscissae(p)
+        .is_some_and(|(xm, xp)| [xm, xp].iter().any(|&x| (p.a_at(x)).abs() <= 1.0));
     if fold_in_range {
         return Prediction {
             bursting: true,
@@ -177,11 +174,7 @@ pub fn predict(p: &Params) -> Prediction {
         fold_in_range,
         forcing_rate: bv,
         threshold: FORCING_RATE_THRESHOLD,
-        at_a: if bx.is_nan() {
-            f64::NAN
-        } else {
-            (p.g(bx) - p.mu) / p.delta
-        },
+        at_a: if bx.is_nan() { f64::NAN } else { p.a_at(bx) },
         at_x: bx,
         omega_boundary: if bv > 0.0 {
             p.omega * FORCING_RATE_THRESHOLD / bv

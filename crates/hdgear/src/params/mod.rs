@@ -184,6 +184,13 @@ impl Params {
         (3.0 * self.alpha * x - 2.0) * x + self.gamma
     }
 
+    /// The slow variable at which x is an equilibrium: a(x) = (g(x) − μ)/δ (the equilibrium curve
+    /// is a graph over x, SPEC §3; δ > 0).
+    #[inline(always)]
+    pub fn a_at(&self, x: f64) -> f64 {
+        (self.g(x) - self.mu) / self.delta
+    }
+
     /// The forcing μ + δ a for slow variable a.
     #[inline(always)]
     pub fn forcing(&self, a: f64) -> f64 {
