@@ -205,7 +205,7 @@ fn merge(mut v: Vec<Interval>) -> Vec<Interval> {
 ///
 /// ```
 /// let p = hdgear::Params { gamma: 1.0, ..Default::default() };
-/// let an = hdgear::fast::analyze(&p, crate::fast::A_RANGE).unwrap();
+/// let an = hdgear::fast::analyze(&p, hdgear::fast::A_RANGE).unwrap();
 /// assert!(!an.equilibria.hopf_possible);
 /// assert!(an.equilibria.folds.is_empty());
 /// assert_eq!(an.equilibria.spiking_areas.len(), 1);

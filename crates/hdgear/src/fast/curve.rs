@@ -147,7 +147,7 @@ pub fn x_intervals(p: &Params, a_range: (f64, f64)) -> Vec<(f64, f64)> {
 ///
 /// ```
 /// let p = hdgear::Params { gamma: 1.0, ..Default::default() };
-/// let c = hdgear::fast::curve(&p, crate::fast::A_RANGE, 1000).unwrap();
+/// let c = hdgear::fast::curve(&p, hdgear::fast::A_RANGE, 1000).unwrap();
 /// assert_eq!(c.len(), 1000);
 /// assert!(c.iter().all(|q| q.kind.is_stable()));
 /// ```
