@@ -1,11 +1,10 @@
 //! The `hdgear` command: arguments → checked settings → run → export.
 
 mod cli;
-mod commands;
-mod physical_cmd;
+mod cmd;
 mod signals;
+mod sink;
 mod summary;
-mod sweep_cmd;
 
 use clap::Parser;
 use std::process::ExitCode;
@@ -13,14 +12,14 @@ use std::process::ExitCode;
 fn main() -> ExitCode {
     let args = cli::Cli::parse();
     signals::install();
-    commands::QUIET.store(args.quiet, std::sync::atomic::Ordering::Relaxed);
-    match commands::run(args) {
+    sink::QUIET.store(args.quiet, std::sync::atomic::Ordering::Relaxed);
+    match cmd::run(args) {
         Ok(()) => ExitCode::SUCCESS,
         // A closed pipe (`hdgear simulate | head`) is the reader's choice, not a failure.
-        Err(e) if commands::is_broken_pipe(&e) => ExitCode::SUCCESS,
+        Err(e) if sink::is_broken_pipe(&e) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {e:#}");
-            ExitCode::from(commands::exit_code(&e))
+            ExitCode::from(sink::exit_code(&e))
         }
     }
 }

@@ -1,14 +1,14 @@
 //! `hdgear physical`: reduction summary, two-inertia simulation, design check.
 
 use crate::cli::{PhysicalArgs, check_out};
-use crate::commands::Sink;
+use crate::sink::Sink;
 use anyhow::{Context, Result, bail};
 use hdgear::output::RecordWriter;
 use hdgear::params::catalogue::ASSUMPTIONS;
 use hdgear::simulate::{PhysicalSample, simulate_physical};
 
 /// Runs the physical command.
-pub fn physical(a: PhysicalArgs) -> Result<()> {
+pub fn run(a: PhysicalArgs) -> Result<()> {
     let (d, fit) = a.drive()?;
     let opts = a.burst.options()?;
     if a.simulate {
@@ -77,7 +77,7 @@ fn simulate(
         );
     }
     let span = t_end / (d.j_eq() / d.c_eq);
-    let mut progress = crate::commands::RunProgress::new(span, t_end);
+    let mut progress = crate::sink::RunProgress::new(span, t_end);
     let summary = if a.summary && a.out.is_none() {
         // no rows are written: sample only the end (progress still advances per step)
         simulate_physical(d, t_end, t_end, tol, |s| progress.at(s.t))?

@@ -7,7 +7,7 @@
 //! (holding the owner's pid) keeps a second sweep off the same FILE while one runs.
 
 use crate::cli::SweepArgs;
-use crate::commands::{warn, write_records};
+use crate::sink::{warn, write_records};
 use anyhow::{Context, Result, anyhow, bail};
 use hdgear::output::Format;
 use hdgear::sweep::{Axis, Grid, SweepRow};
@@ -214,7 +214,7 @@ fn start_partial(
 }
 
 /// Runs the sweep command.
-pub fn sweep(a: SweepArgs) -> Result<()> {
+pub fn run(a: SweepArgs) -> Result<()> {
     let (base, warnings) = a.params.resolve()?;
     let opts = a.burst.options()?;
     let format = Format::from_path(&a.out).context("--out")?;
@@ -290,7 +290,7 @@ pub fn sweep(a: SweepArgs) -> Result<()> {
     std::fs::remove_file(&partial).ok();
     eprintln!("wrote {}: {n} rows, {failed} failed", a.out.display());
     if n > 0 && failed == n {
-        return Err(crate::commands::ComputationFailed(
+        return Err(crate::sink::ComputationFailed(
             "every grid point failed (their rows carry the error)".into(),
         )
         .into());

@@ -1,0 +1,69 @@
+//! `hdgear analyze`: the fast subsystem, the prediction, the measured response.
+
+use crate::cli::{AnalyzeArgs, parse_range};
+use crate::sink::{note, warn, warn_range};
+use anyhow::Result;
+
+pub fn run(a: AnalyzeArgs) -> Result<()> {
+    let (p, warnings) = a.params.resolve()?;
+    let range = parse_range(&a.a_range)?;
+    let opts = a.burst.options()?;
+    let an = hdgear::fast::analyze(&p, range)?;
+    warn_range(range);
+    let measured = if a.no_response {
+        None
+    } else {
+        let r = hdgear::burst::response(&p, &opts)?;
+        let c = hdgear::burst::classify(&p, &r);
+        if !c.fast_slow_domain {
+            note(&format!(
+                "omega = {:?} is not slow against the fast subsystem (omega > r/10, r = {:.3} the \
+                 relaxation rate at a = ±1{}): the fast-slow picture does not apply, mode not-fast-slow",
+                p.omega,
+                hdgear::burst::turning_point_rate(&p),
+                if r.continuous_fast_motion {
+                    ", and the fast motion never stops"
+                } else {
+                    ""
+                }
+            ));
+        }
+        Some((r, c))
+    };
+    let bounds = if a.simulated_boundaries {
+        Some(hdgear::burst::boundaries(&p, &opts)?)
+    } else {
+        None
+    };
+    if a.json {
+        let mut doc = serde_json::to_value(&an)?;
+        if let Some((r, c)) = &measured {
+            doc["response"] = serde_json::to_value(r)?;
+            doc["classification"] = serde_json::to_value(c)?;
+        }
+        if let Some(b) = &bounds {
+            doc["boundaries"] = serde_json::to_value(b)?;
+        }
+        doc["warnings"] =
+            serde_json::json!(warnings.iter().map(|w| w.to_string()).collect::<Vec<_>>());
+        println!("{}", serde_json::to_string_pretty(&doc)?);
+    } else {
+        warn(&warnings);
+        print!("{}", crate::summary::analysis_text(&an));
+        if let Some((r, c)) = &measured {
+            print!("{}", crate::summary::response_text(r, c));
+        }
+        if let Some(b) = &bounds {
+            let g = |v: Option<f64>| v.map_or("none".to_string(), |v| format!("{v:.4}"));
+            let w = |v: Option<f64>| v.map_or("none".to_string(), |v| format!("{v:.4e}"));
+            println!(
+                "bursting boundary in gamma: predicted {}, simulated {}; in omega: predicted {}, simulated {}",
+                g(b.predicted_gamma),
+                g(b.simulated_gamma),
+                w(Some(b.predicted_omega)),
+                w(b.simulated_omega)
+            );
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,21 @@
+//! `hdgear bifurcation`: the fold curves up to the cusp.
+
+use crate::cli::{BifurcationArgs, check_out};
+use crate::sink::{warn, write_records};
+use anyhow::Result;
+
+pub fn run(a: BifurcationArgs) -> Result<()> {
+    if a.params.given("gamma") {
+        anyhow::bail!(
+            "--gamma does not apply to bifurcation: it varies gamma from --gamma-min to the cusp"
+        );
+    }
+    let (p, warnings) = a.params.resolve()?;
+    check_out(&a.out)?;
+    crate::cli::check_points(a.points)?;
+    warn(&warnings);
+    let rows = hdgear::fast::fold_curves(&p, a.gamma_min, a.points)?;
+    let cusp = hdgear::fast::cusp(&p);
+    let meta = serde_json::json!({ "params": p, "cusp": cusp });
+    write_records(a.out.as_deref(), &meta, rows)
+}

@@ -1,0 +1,32 @@
+//! One module per command, each turning its checked settings into a run and its export
+//! (ripgrep/hyperfine style: arguments → checked settings → run → export).
+
+mod analyze;
+mod bifurcation;
+mod bursts;
+mod equilibria;
+mod physical;
+mod plot;
+mod report;
+mod simulate;
+mod sweep;
+mod table;
+
+use crate::cli::{Cli, Command};
+use anyhow::Result;
+
+/// Dispatches a parsed command line.
+pub fn run(cli: Cli) -> Result<()> {
+    match cli.command {
+        Command::Simulate(a) => simulate::run(a.check()?),
+        Command::Equilibria(a) => equilibria::run(a),
+        Command::Analyze(a) => analyze::run(a),
+        Command::Bifurcation(a) => bifurcation::run(a),
+        Command::Bursts(a) => bursts::run(a),
+        Command::Table(a) => table::run(a),
+        Command::Sweep(a) => sweep::run(a),
+        Command::Physical(a) => physical::run(a),
+        Command::Plot(a) => plot::run(a),
+        Command::Report(a) => report::run(a),
+    }
+}

@@ -1,0 +1,51 @@
+//! `hdgear plot`: one figure.
+
+use crate::sink::warn;
+use anyhow::Result;
+
+pub fn run(a: crate::cli::PlotArgs) -> Result<()> {
+    let (p, warnings) = a.params.resolve()?;
+    let opts = a.burst.options()?;
+    if !hdgear::figures::KINDS.contains(&a.kind.as_str()) {
+        anyhow::bail!(
+            "invalid figure kind '{}': expected one of {}",
+            a.kind,
+            hdgear::figures::KINDS.join(", ")
+        );
+    }
+    match a
+        .out
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase)
+        .as_deref()
+    {
+        Some("svg" | "png") => {}
+        _ => anyhow::bail!(
+            "--out {}: the extension must be .svg or .png",
+            a.out.display()
+        ),
+    }
+    hdgear::output::check_output_path(&a.out)?;
+    // figures that vary a parameter themselves would silently ignore its flag
+    let varied: &[&str] = match a.kind.as_str() {
+        "xdot-gamma" | "slope" | "sweep" => &["gamma"],
+        "map" => &["gamma", "delta"],
+        _ => &[],
+    };
+    for name in varied {
+        if a.params.given(name) {
+            anyhow::bail!(
+                "--{name} does not apply to plot {}: the figure varies {name} itself",
+                a.kind
+            );
+        }
+    }
+    if a.threads == Some(0) {
+        anyhow::bail!("invalid option --threads = 0: must be ≥ 1");
+    }
+    warn(&warnings);
+    let f = hdgear::figures::by_kind(&a.kind, &p, &opts, a.threads.unwrap_or(0))?;
+    hdgear::output::plot::write(&f, &a.out)?;
+    Ok(())
+}

@@ -1,0 +1,71 @@
+//! `hdgear simulate`: one trajectory of the dimensionless model.
+
+use crate::cli::SimulateRun;
+use crate::sink::{RunProgress, Sink, warn};
+use anyhow::{Context, Result};
+use hdgear::output::{Format, RecordWriter};
+use serde::Serialize;
+use std::io::Write;
+
+/// One trajectory sample: the CSV columns `t,a,x,xdot`.
+#[derive(Serialize)]
+struct Sample {
+    t: f64,
+    a: f64,
+    x: f64,
+    xdot: f64,
+}
+hdgear::record!(Sample: "t", "a", "x", "xdot");
+
+/// Streams a simulation into a table on `sink`; returns the sink (for committing) and the summary.
+fn simulate_into<W: Write>(
+    run: &SimulateRun,
+    sink: W,
+    format: Format,
+) -> Result<(W, hdgear::simulate::SimSummary)> {
+    let p = run.params;
+    let meta = serde_json::json!({ "params": p, "options": run.opts });
+    let mut table = RecordWriter::<_, Sample>::new(sink, format, &meta)?;
+    let mut io_err: Option<std::io::Error> = None;
+    let mut progress = RunProgress::new(run.opts.t_end, run.opts.t_end);
+    let summary = hdgear::simulate::simulate(&p, &run.opts, |t, y| {
+        progress.at(t);
+        if io_err.is_none()
+            && let Err(e) = table.row(&Sample {
+                t,
+                a: (p.omega * t).sin(),
+                x: y[0],
+                xdot: y[1],
+            })
+        {
+            io_err = Some(e);
+        }
+    })?;
+    if let Some(e) = io_err {
+        return Err(e).context("writing the trajectory");
+    }
+    let sink = table.finish().context("writing the trajectory")?;
+    Ok((sink, summary))
+}
+
+pub fn run(run: SimulateRun) -> Result<()> {
+    warn(&run.warnings);
+    if run.summary {
+        let mut progress = RunProgress::new(run.opts.t_end, run.opts.t_end);
+        let s = hdgear::simulate::simulate(&run.params, &run.opts, |t, _| progress.at(t))?;
+        drop(progress);
+        let doc = serde_json::json!({
+            "params": run.params,
+            "t_end": s.t_end,
+            "final": { "x": s.final_state[0], "xdot": s.final_state[1] },
+            "stats": s.stats,
+            "max_abs_xdot": s.max_abs_xdot,
+            "warnings": run.warnings.iter().map(|w| w.to_string()).collect::<Vec<_>>(),
+        });
+        println!("{}", serde_json::to_string_pretty(&doc)?);
+        return Ok(());
+    }
+    let (sink, format) = Sink::open(run.out.as_deref())?;
+    let (sink, _) = simulate_into(&run, sink, format)?;
+    sink.commit()
+}

@@ -1,0 +1,192 @@
+//! The bottom layer of the binary: where results go (an atomic file or stdout), what the user is
+//! told besides them (warnings, progress), and how errors map to exit codes. Every command uses
+//! it; it uses none of them.
+
+use anyhow::{Context, Result};
+use hdgear::output::{AtomicFile, Format, RecordWriter};
+use hdgear::params::Warning;
+use std::io::Write;
+use std::path::Path;
+
+/// Exit code for an error: 1 when a computation failed on valid input (step-size underflow,
+/// blow-up, step budget), 2 for everything the user can fix in the input.
+pub fn exit_code(e: &anyhow::Error) -> u8 {
+    if e.downcast_ref::<ComputationFailed>().is_some() {
+        return 1;
+    }
+    match e.downcast_ref::<hdgear::Error>() {
+        Some(
+            hdgear::Error::StepSizeTooSmall { .. }
+            | hdgear::Error::BlowUp { .. }
+            | hdgear::Error::TooManySteps { .. },
+        ) => 1,
+        _ => 2,
+    }
+}
+
+/// A computation that failed on valid input, reported by the binary itself (exit code 1).
+#[derive(Debug)]
+pub struct ComputationFailed(pub String);
+
+impl std::fmt::Display for ComputationFailed {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for ComputationFailed {}
+
+/// True when the error is a write to a closed pipe.
+pub fn is_broken_pipe(e: &anyhow::Error) -> bool {
+    e.chain().any(|c| {
+        c.downcast_ref::<std::io::Error>()
+            .is_some_and(|io| io.kind() == std::io::ErrorKind::BrokenPipe)
+    })
+}
+
+/// Set by `--quiet`: no warnings on stderr.
+pub static QUIET: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// A progress bar on stderr for a long single run (from 0 to `t_end`), shown only on a
+/// terminal and only when the run is long enough to wait for: more than
+/// `2e6 × OPTIMISTIC_STEP` time units (about a second of integration).
+pub struct RunProgress {
+    bar: Option<indicatif::ProgressBar>,
+    t_end: f64,
+    shown: u64,
+}
+
+impl RunProgress {
+    /// A bar for a run over `span` dimensionless time units ending at `t_end` (in the caller's
+    /// time unit).
+    pub fn new(span: f64, t_end: f64) -> RunProgress {
+        use std::io::IsTerminal;
+        let long = span > 2e6 * hdgear::integrate::OPTIMISTIC_STEP;
+        let bar = (long && std::io::stderr().is_terminal()).then(|| {
+            let b = indicatif::ProgressBar::new(1000);
+            if let Ok(style) = indicatif::ProgressStyle::with_template(
+                "{bar:40} {percent:>3} %  {elapsed} elapsed, eta {eta}",
+            ) {
+                b.set_style(style);
+            }
+            b
+        });
+        RunProgress {
+            bar,
+            t_end,
+            shown: 0,
+        }
+    }
+
+    /// Reports that the run reached `t`.
+    pub fn at(&mut self, t: f64) {
+        if let Some(b) = &self.bar {
+            let k = ((t / self.t_end).clamp(0.0, 1.0) * 1000.0) as u64;
+            if k > self.shown {
+                self.shown = k;
+                b.set_position(k);
+            }
+        }
+    }
+}
+
+impl Drop for RunProgress {
+    fn drop(&mut self) {
+        if let Some(b) = &self.bar {
+            b.finish_and_clear();
+        }
+    }
+}
+
+/// Prints one warning line unless `--quiet`.
+pub fn note(text: &str) {
+    if !QUIET.load(std::sync::atomic::Ordering::Relaxed) {
+        eprintln!("warning: {text}");
+    }
+}
+
+/// Prints each warning once per process (a command that resolves its parameters twice does not
+/// repeat them), unless `--quiet`.
+pub fn warn(warnings: &[Warning]) {
+    static SEEN: std::sync::Mutex<Vec<String>> = std::sync::Mutex::new(Vec::new());
+    if QUIET.load(std::sync::atomic::Ordering::Relaxed) {
+        return;
+    }
+    let mut seen = SEEN.lock().unwrap_or_else(|e| e.into_inner());
+    for w in warnings {
+        let text = w.to_string();
+        if !seen.contains(&text) {
+            eprintln!("warning: {text}");
+            seen.push(text);
+        }
+    }
+}
+
+/// Where records go: an atomic file, or stdout.
+pub enum Sink {
+    File(AtomicFile),
+    Stdout(std::io::BufWriter<std::io::StdoutLock<'static>>),
+}
+
+impl Sink {
+    /// The file (format from its extension) or stdout (CSV).
+    pub fn open(out: Option<&Path>) -> Result<(Sink, Format)> {
+        Ok(match out {
+            Some(path) => (
+                Sink::File(AtomicFile::create(path)?),
+                Format::from_path(path)?,
+            ),
+            None => (
+                Sink::Stdout(std::io::BufWriter::new(std::io::stdout().lock())),
+                Format::Csv,
+            ),
+        })
+    }
+
+    /// Makes the output final (renames the file into place; flushes stdout).
+    pub fn commit(self) -> Result<()> {
+        match self {
+            Sink::File(f) => Ok(f.commit()?),
+            Sink::Stdout(mut s) => Ok(s.flush()?),
+        }
+    }
+}
+
+impl Write for Sink {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        match self {
+            Sink::File(f) => f.write(buf),
+            Sink::Stdout(s) => s.write(buf),
+        }
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        match self {
+            Sink::File(f) => f.flush(),
+            Sink::Stdout(s) => s.flush(),
+        }
+    }
+}
+
+/// Writes `rows` as records to `--out` (or stdout), atomically.
+pub fn write_records<T: hdgear::output::Record>(
+    out: Option<&Path>,
+    meta: &serde_json::Value,
+    rows: impl IntoIterator<Item = T>,
+) -> Result<()> {
+    let (sink, format) = Sink::open(out)?;
+    let mut w = RecordWriter::new(sink, format, meta)?;
+    for r in rows {
+        w.row(&r).context("writing the output")?;
+    }
+    w.finish().context("writing the output")?.commit()
+}
+
+/// Warns when an a-range reaches beyond [−1, 1], which a = sin ωτ never leaves.
+pub fn warn_range(range: (f64, f64)) {
+    if range.0 < -1.0 || range.1 > 1.0 {
+        note(&format!(
+            "--a-range {:?}:{:?} reaches beyond [-1, 1]: a = sin(omega t) never goes there",
+            range.0, range.1
+        ));
+    }
+}
