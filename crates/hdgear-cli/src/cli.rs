@@ -153,7 +153,8 @@ impl PhysicalArgs {
         hdgear::params::physical::PhysicalParams,
         hdgear::params::catalogue::Fit,
     )> {
-        let (mut d, fit) = hdgear::params::catalogue::preset(&self.drive, self.fit_torque)?;
+        let (mut d, fit) = hdgear::params::catalogue::preset(&self.drive, self.fit_torque)
+            .context("--drive / --fit-torque")?;
         if let Some(path) = &self.config {
             let s = Scenario::load(path)?;
             match s.physical {

@@ -38,7 +38,7 @@ impl Axis {
     /// ```
     pub fn parse(text: &str) -> Result<Axis> {
         let bad = |reason: &str| Error::InvalidInput {
-            what: "--param",
+            what: "sweep axis",
             text: text.to_string(),
             reason: reason.to_string(),
         };
@@ -125,14 +125,14 @@ impl Grid {
     pub fn new(base: Params, axes: Vec<Axis>) -> Result<Grid> {
         if axes.is_empty() || axes.len() > 2 {
             return Err(Error::InvalidInput {
-                what: "--param",
+                what: "sweep axis",
                 text: format!("{} axes", axes.len()),
-                reason: "give one or two --param axes".into(),
+                reason: "give one or two axes".into(),
             });
         }
         if axes.len() == 2 && axes[0].name == axes[1].name {
             return Err(Error::InvalidInput {
-                what: "--param",
+                what: "sweep axis",
                 text: axes[1].name.clone(),
                 reason: "the two axes must sweep different parameters".into(),
             });
@@ -141,7 +141,7 @@ impl Grid {
         let total = g.axes.iter().map(|a| a.count as f64).product::<f64>();
         if total > 1e7 {
             return Err(Error::InvalidInput {
-                what: "--param",
+                what: "sweep axis",
                 text: format!("{total} grid points"),
                 reason: "at most 10000000 points per sweep".into(),
             });
@@ -275,7 +275,7 @@ pub fn run(
         .num_threads(threads)
         .build()
         .map_err(|e| Error::InvalidInput {
-            what: "--threads",
+            what: "thread count",
             text: threads.to_string(),
             reason: e.to_string(),
         })?;

@@ -14,7 +14,9 @@ pub fn run(a: PhysicalArgs) -> Result<()> {
     if a.simulate {
         return simulate(&a, &d, opts.tol);
     }
-    let r = d.reduce()?;
+    let r = d
+        .reduce()
+        .context("cannot reduce the drive (run it with hdgear physical --simulate)")?;
     if a.design {
         let check = hdgear::design::design_check(&d, &opts)?;
         if a.json {

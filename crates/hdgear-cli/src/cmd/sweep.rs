@@ -223,7 +223,8 @@ pub fn run(a: SweepArgs) -> Result<()> {
         .axes
         .iter()
         .map(|s| Axis::parse(s))
-        .collect::<hdgear::Result<Vec<_>>>()?;
+        .collect::<hdgear::Result<Vec<_>>>()
+        .context("--param")?;
     let grid = Grid::new(base, axes)?;
     if a.threads == Some(0) {
         bail!("invalid option --threads = 0: must be ≥ 1");

@@ -154,7 +154,7 @@ pub fn cubic_twist(k1: f64, k2: f64, t: f64) -> f64 {
 pub fn fit(d: &CatalogueDrive, t_fit: f64) -> Result<Fit> {
     if !(t_fit.is_finite() && t_fit > 0.0 && t_fit <= d.max_torque()) {
         return Err(Error::InvalidOption {
-            name: "fit-torque",
+            name: "fit_torque",
             value: t_fit,
             reason: "must be > 0 and within the catalogue curve (T2, or 2·T2 where K3 is given)",
         });

@@ -150,7 +150,7 @@ impl PhysicalParams {
             return Err(Error::NoReduction {
                 reason: "backlash = 0: the length scale L = C²/(J k2 φ) is undefined, so no \
                          dimensionless model corresponds to a zero-backlash drive; simulate the \
-                         physical model instead (hdgear physical --simulate)"
+                         physical model instead (the two-inertia simulation)"
                     .into(),
             });
         }
@@ -158,7 +158,7 @@ impl PhysicalParams {
             return Err(Error::NoReduction {
                 reason: "k2 = 0: the length scale L = C²/(J k2 φ) is undefined (a linear \
                          stiffness has no cubic term to scale by); simulate the physical model \
-                         instead (hdgear physical --simulate)"
+                         instead (the two-inertia simulation)"
                     .into(),
             });
         }
@@ -180,7 +180,7 @@ impl PhysicalParams {
                 reason: format!(
                     "this drive reduces to {name} = {value:?}, outside the dimensionless model's \
                      range (finite, |value| within 1e-100 … 1e100): its SI values are too far \
-                     apart; simulate the physical model instead (hdgear physical --simulate)"
+                     apart; simulate the physical model instead (the two-inertia simulation)"
                 ),
             });
         }
