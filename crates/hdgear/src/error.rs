@@ -98,12 +98,13 @@ pub enum Error {
         reason: String,
     },
     /// A figure could not be drawn.
-    #[error("cannot draw figure {figure}: {message}")]
+    #[error("cannot draw figure {figure}")]
     Plot {
         /// The figure's name.
         figure: String,
-        /// What went wrong.
-        message: String,
+        /// The drawing library's error.
+        #[source]
+        source: Box<dyn std::error::Error + Send + Sync>,
     },
     /// An output file could not be written.
     #[error("cannot write {}", path.display())]

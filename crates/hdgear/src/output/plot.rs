@@ -164,10 +164,13 @@ fn tick(v: f64) -> String {
     if s == "-0" { "0".into() } else { s }
 }
 
-fn plot_err(figure: &str, e: impl std::fmt::Display) -> Error {
+/// What drawing can fail with: plotters' error, kept as the source.
+type DrawError = Box<dyn std::error::Error + Send + Sync>;
+
+fn plot_err(figure: &str, source: DrawError) -> Error {
     Error::Plot {
         figure: figure.to_string(),
-        message: e.to_string(),
+        source,
     }
 }
 
@@ -180,20 +183,20 @@ fn draw_chart<DB: DrawingBackend, X, Y>(
     yr: Y,
     y_min: f64,
     y_max: f64,
-) -> std::result::Result<(), String>
+) -> std::result::Result<(), DrawError>
 where
     X: AsRangedCoord<Value = f64>,
     Y: AsRangedCoord<Value = f64>,
     X::CoordDescType: ValueFormatter<f64>,
     Y::CoordDescType: ValueFormatter<f64>,
+    DB::ErrorType: 'static,
 {
     let mut chart = ChartBuilder::on(area)
         .caption(&p.title, ("sans-serif", 20))
         .margin(10)
         .x_label_area_size(46)
         .y_label_area_size(72)
-        .build_cartesian_2d(xr, yr)
-        .map_err(|e| e.to_string())?;
+        .build_cartesian_2d(xr, yr)?;
     chart
         .configure_mesh()
         .x_desc(p.x_label.as_str())
@@ -203,8 +206,7 @@ where
         .light_line_style(RGBColor(246, 246, 246))
         .x_label_formatter(&|v| tick(*v))
         .y_label_formatter(&|v| tick(*v))
-        .draw()
-        .map_err(|e| e.to_string())?;
+        .draw()?;
     let mut legend = false;
     if let Some(m) = map {
         for (i, name) in m.categories.iter().enumerate() {
@@ -213,8 +215,7 @@ where
             chart
                 .draw_series(cells.map(move |&(x0, x1, y0, y1, _)| {
                     Rectangle::new([(x0, y0), (x1, y1)], c.mix(0.75).filled())
-                }))
-                .map_err(|e| e.to_string())?
+                }))?
                 .label(name.as_str())
                 .legend(move |(x, y)| Rectangle::new([(x, y - 6), (x + 14, y + 6)], c.filled()));
             legend = true;
@@ -222,12 +223,10 @@ where
     }
     for (k, &(x0, x1, ci)) in p.shaded.iter().enumerate() {
         let c = color(ci);
-        let anno = chart
-            .draw_series(std::iter::once(Rectangle::new(
-                [(x0, y_min), (x1, y_max)],
-                c.mix(0.18).filled(),
-            )))
-            .map_err(|e| e.to_string())?;
+        let anno = chart.draw_series(std::iter::once(Rectangle::new(
+            [(x0, y_min), (x1, y_max)],
+            c.mix(0.18).filled(),
+        )))?;
         if k == 0 && !p.shaded_label.is_empty() {
             anno.label(p.shaded_label.as_str()).legend(move |(x, y)| {
                 Rectangle::new([(x, y - 6), (x + 14, y + 6)], c.mix(0.3).filled())
@@ -277,17 +276,13 @@ where
             let anno = match s.style {
                 Style::Line | Style::Thin => {
                     let w = if s.style == Style::Line { 2 } else { 1 };
-                    chart
-                        .draw_series(LineSeries::new(piece, c.stroke_width(w)))
-                        .map_err(|e| e.to_string())?
+                    chart.draw_series(LineSeries::new(piece, c.stroke_width(w)))?
                 }
-                Style::Points => chart
-                    .draw_series(
-                        piece
-                            .into_iter()
-                            .map(move |q| Circle::new(q, 2, c.filled())),
-                    )
-                    .map_err(|e| e.to_string())?,
+                Style::Points => chart.draw_series(
+                    piece
+                        .into_iter()
+                        .map(move |q| Circle::new(q, 2, c.filled())),
+                )?,
             };
             if !labelled && !s.label.is_empty() {
                 anno.label(s.label.as_str()).legend(move |(x, y)| {
@@ -304,17 +299,15 @@ where
             .draw_series(LineSeries::new(
                 vec![(*x, y_min), (*x, y_max)],
                 c.stroke_width(1),
-            ))
-            .map_err(|e| e.to_string())?
+            ))?
             .label(label.as_str())
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], c.stroke_width(1)));
         legend = true;
     }
     for (i, (x, y, label)) in p.markers.iter().enumerate() {
         let c = RGBColor(200, 0, 0);
-        let anno = chart
-            .draw_series(std::iter::once(Cross::new((*x, *y), 7, c.stroke_width(2))))
-            .map_err(|e| e.to_string())?;
+        let anno =
+            chart.draw_series(std::iter::once(Cross::new((*x, *y), 7, c.stroke_width(2))))?;
         if i == 0 {
             anno.label(label.as_str())
                 .legend(move |(x, y)| Cross::new((x + 8, y), 6, c.stroke_width(2)));
@@ -332,8 +325,7 @@ where
             } else {
                 SeriesLabelPosition::UpperRight
             })
-            .draw()
-            .map_err(|e| e.to_string())?;
+            .draw()?;
     }
     Ok(())
 }
@@ -342,7 +334,10 @@ fn draw_panel<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     p: &Panel,
     map: Option<&Map>,
-) -> std::result::Result<(), String> {
+) -> std::result::Result<(), DrawError>
+where
+    DB::ErrorType: 'static,
+{
     let (x0, x1) = p.x_range.unwrap_or_else(|| data_range(p, |q| q.0, p.x_log));
     let (y0, y1) = p.y_range.unwrap_or_else(|| data_range(p, |q| q.1, p.y_log));
     match (p.x_log, p.y_log) {
@@ -364,8 +359,11 @@ fn draw_panel<DB: DrawingBackend>(
 fn draw<DB: DrawingBackend>(
     root: DrawingArea<DB, Shift>,
     f: &Figure,
-) -> std::result::Result<(), String> {
-    root.fill(&WHITE).map_err(|e| e.to_string())?;
+) -> std::result::Result<(), DrawError>
+where
+    DB::ErrorType: 'static,
+{
+    root.fill(&WHITE)?;
     if let Some(m) = &f.map {
         draw_panel(&root, &m.frame, Some(m))?;
     } else {
@@ -374,7 +372,7 @@ fn draw<DB: DrawingBackend>(
             draw_panel(a, p, None)?;
         }
     }
-    root.present().map_err(|e| e.to_string())
+    Ok(root.present()?)
 }
 
 /// Renders a figure as an SVG document.
@@ -408,10 +406,10 @@ pub fn png(f: &Figure, path: &Path) -> Result<()> {
             path: path.to_path_buf(),
             source,
         }),
-        Err(e) => Err(plot_err(
-            &f.name,
-            format!("cannot write {}: {e}", path.display()),
-        )),
+        Err(e) => Err(Error::Io {
+            path: path.to_path_buf(),
+            source: std::io::Error::other(e),
+        }),
     };
     if done.is_err() {
         let _ = std::fs::remove_file(&tmp);
