@@ -252,7 +252,10 @@ fn blow_up_is_a_typed_error_with_its_time() {
     }
     let mut s = Dop853::new(&Riccati, 0.0, [1.0], Options::default()).unwrap();
     match s.integrate_to(2.0) {
-        Err(hdgear::Error::BlowUp { t, .. }) | Err(hdgear::Error::StepSizeTooSmall { t, .. }) => {
+        Err(hdgear::Error::Solver(
+            hdgear::error::SolverError::BlowUp { t, .. }
+            | hdgear::error::SolverError::StepSizeTooSmall { t, .. },
+        )) => {
             assert!((t - 1.0).abs() < 1e-3, "reported at t = {t}");
         }
         other => panic!("expected a blow-up, got {other:?}"),

@@ -147,7 +147,7 @@ pub fn judge(d: &PhysicalParams, opts: &BurstOptions) -> Result<Judgement> {
                     basis: Basis::Simulation,
                 });
             }
-            Err(crate::Error::TooManySteps { .. }) => {}
+            Err(crate::Error::Solver(crate::error::SolverError::TooManySteps { .. })) => {}
             Err(e) => return Err(e),
         }
     }

@@ -52,32 +52,9 @@ pub enum Error {
         /// What is wrong, naming the key or line.
         message: String,
     },
-    /// The adaptive step size fell below the rounding level of t.
-    #[error(
-        "step size underflow at t = {t:?} (h = {h:e}): the solution is too stiff or singular there"
-    )]
-    StepSizeTooSmall {
-        /// Time reached.
-        t: f64,
-        /// The step that was too small.
-        h: f64,
-    },
-    /// A state component grew beyond the blow-up threshold.
-    #[error("the solution blew up at t = {t:?} (a state component reached {value:e})")]
-    BlowUp {
-        /// Time of the step that exceeded the threshold.
-        t: f64,
-        /// The offending value.
-        value: f64,
-    },
-    /// The step budget ran out.
-    #[error("more than {max_steps} steps were needed before t = {t:?}")]
-    TooManySteps {
-        /// Time reached.
-        t: f64,
-        /// The budget.
-        max_steps: u64,
-    },
+    /// The integration failed on valid input (the exit code 1 of the command-line tool).
+    #[error(transparent)]
+    Solver(#[from] SolverError),
     /// A run that would certainly exceed the step budget, refused before any work.
     #[error(
         "the run spans {span:.3e} time units: about {estimated_steps:.1e} integration steps, beyond \
@@ -113,6 +90,37 @@ pub enum Error {
         path: PathBuf,
         /// The underlying error.
         source: std::io::Error,
+    },
+}
+
+/// Failures of an integration on valid input, with the time they happened at.
+#[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
+pub enum SolverError {
+    /// The adaptive step size fell below the rounding level of t.
+    #[error(
+        "step size underflow at t = {t:?} (h = {h:e}): the solution is too stiff or singular there"
+    )]
+    StepSizeTooSmall {
+        /// Time reached.
+        t: f64,
+        /// The step that was too small.
+        h: f64,
+    },
+    /// A state component grew beyond the blow-up threshold.
+    #[error("the solution blew up at t = {t:?} (a state component reached {value:e})")]
+    BlowUp {
+        /// Time of the step that exceeded the threshold.
+        t: f64,
+        /// The offending value.
+        value: f64,
+    },
+    /// The step budget ran out.
+    #[error("more than {max_steps} steps were needed before t = {t:?}")]
+    TooManySteps {
+        /// Time reached.
+        t: f64,
+        /// The budget.
+        max_steps: u64,
     },
 }
 

@@ -32,7 +32,7 @@
 pub mod events;
 mod stages;
 
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, SolverError};
 use serde::{Deserialize, Serialize};
 
 /// A first-order system y' = f(t, y) with a fixed-size state.
@@ -95,9 +95,9 @@ pub struct Options {
     pub h_init: Option<f64>,
     /// Largest step; `None` means unlimited.
     pub h_max: Option<f64>,
-    /// Most accepted + rejected steps before giving up with [`Error::TooManySteps`]. Default 10⁸.
+    /// Most accepted + rejected steps before giving up with [`SolverError::TooManySteps`]. Default 10⁸.
     pub max_steps: u64,
-    /// A state component whose magnitude exceeds this is a blow-up ([`Error::BlowUp`]).
+    /// A state component whose magnitude exceeds this is a blow-up ([`SolverError::BlowUp`]).
     /// Default 1e100: far beyond any physical motion, yet below overflow in a cubic right-hand side.
     pub blowup: f64,
 }
@@ -402,10 +402,11 @@ impl<'s, S: System<N> + ?Sized, const N: usize> Dop853<'s, S, N> {
         }
         loop {
             if self.stats.steps + self.stats.rejected >= self.opts.max_steps {
-                return Err(Error::TooManySteps {
+                return Err(SolverError::TooManySteps {
                     t: self.t,
                     max_steps: self.opts.max_steps,
-                });
+                }
+                .into());
             }
             let mut h = self.h;
             if let Some(hm) = self.opts.h_max {
@@ -413,7 +414,7 @@ impl<'s, S: System<N> + ?Sized, const N: usize> Dop853<'s, S, N> {
             }
             let min_step = 10.0 * f64::EPSILON * self.t.abs().max(remaining.abs()).max(1e-300);
             if h < min_step && h < remaining {
-                return Err(Error::StepSizeTooSmall { t: self.t, h });
+                return Err(SolverError::StepSizeTooSmall { t: self.t, h }.into());
             }
             // land exactly on t_bound when close (avoid a sliver step)
             let last = h >= remaining * (1.0 - 1e-12) || self.t + h >= t_bound;
@@ -450,10 +451,11 @@ impl<'s, S: System<N> + ?Sized, const N: usize> Dop853<'s, S, N> {
                 self.stats.rhs_evals += 1;
                 self.stats.steps += 1;
                 if let Some(v) = y_new.iter().find(|v| v.abs() > self.opts.blowup) {
-                    return Err(Error::BlowUp {
+                    return Err(SolverError::BlowUp {
                         t: t_new,
                         value: *v,
-                    });
+                    }
+                    .into());
                 }
                 self.t_old = self.t;
                 self.y_old = self.y;
