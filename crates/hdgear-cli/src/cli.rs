@@ -3,7 +3,8 @@
 use anyhow::{Context, Result};
 use clap::{Args, Parser, Subcommand};
 use hdgear::integrate::Options;
-use hdgear::params::{self, ParamOverrides, Params, Scenario, Warning};
+use hdgear::params::{self, ParamOverrides, Params, Warning};
+use hdgear::scenario::Scenario;
 use hdgear::simulate::{SimOptions, Start};
 use std::path::PathBuf;
 
@@ -150,10 +151,10 @@ impl PhysicalArgs {
     pub fn drive(
         &self,
     ) -> Result<(
-        hdgear::params::physical::PhysicalParams,
-        hdgear::params::catalogue::Fit,
+        hdgear::physical::PhysicalParams,
+        hdgear::physical::catalogue::Fit,
     )> {
-        let (mut d, fit) = hdgear::params::catalogue::preset(&self.drive, self.fit_torque)
+        let (mut d, fit) = hdgear::physical::catalogue::preset(&self.drive, self.fit_torque)
             .context("--drive / --fit-torque")?;
         if let Some(path) = &self.config {
             let s = Scenario::load(path)?;
@@ -170,7 +171,7 @@ impl PhysicalArgs {
                 ),
             }
         }
-        hdgear::params::physical::PhysicalOverrides {
+        hdgear::physical::PhysicalOverrides {
             j_in: self.j_in,
             j_out: self.j_out,
             ratio: self.ratio,
@@ -417,7 +418,11 @@ impl ParamArgs {
             delta: self.delta,
             omega: self.omega,
         };
-        Ok(params::resolve(&self.preset, file.as_ref(), &flags)?)
+        Ok(params::resolve(
+            &self.preset,
+            file.as_ref().and_then(|s| s.params.as_ref()),
+            &flags,
+        )?)
     }
 }
 

@@ -253,7 +253,7 @@ pub fn physical_text(doc: &serde_json::Value) -> String {
 }
 
 /// The readable form of the design check.
-pub fn design_text(c: &hdgear::design::DesignCheck) -> String {
+pub fn design_text(c: &hdgear::physical::design::DesignCheck) -> String {
     let mut s = String::new();
     let _ = writeln!(
         s,
@@ -264,8 +264,8 @@ pub fn design_text(c: &hdgear::design::DesignCheck) -> String {
             "does not burst"
         },
         match c.judgement.basis {
-            hdgear::design::Basis::Simulation => "simulation",
-            hdgear::design::Basis::Prediction => "prediction from the equilibrium curve",
+            hdgear::physical::design::Basis::Simulation => "simulation",
+            hdgear::physical::design::Basis::Prediction => "prediction from the equilibrium curve",
         },
         c.judgement.verdict.map_or("-", |v| v.name()),
         c.mode.map_or("-", |m| m.name()),
@@ -297,8 +297,9 @@ pub fn design_text(c: &hdgear::design::DesignCheck) -> String {
     for m in &c.margins {
         match (m.factor, m.boundary_value) {
             (Some(f), Some(v)) => {
-                let side =
-                    |x: &Option<hdgear::design::Side>| x.map_or("-".into(), |x| x.to_string());
+                let side = |x: &Option<hdgear::physical::design::Side>| {
+                    x.map_or("-".into(), |x| x.to_string())
+                };
                 let _ = writeln!(
                     s,
                     "  {:<9} {:.6e} -> {:.6e} ({:+.1} %, x{:.4}) {}; inside {}, outside {}",

@@ -3,9 +3,10 @@
 
 use hdgear::Params;
 use hdgear::integrate::Options;
-use hdgear::params::catalogue::{CatalogueDrive, DRIVES, cubic_twist, fit};
-use hdgear::params::physical::PhysicalParams;
-use hdgear::simulate::{SimOptions, Start, simulate, simulate_physical};
+use hdgear::physical::PhysicalParams;
+use hdgear::physical::catalogue::{CatalogueDrive, DRIVES, cubic_twist, fit};
+use hdgear::physical::simulate::simulate_physical;
+use hdgear::simulate::{SimOptions, Start, simulate};
 use proptest::prelude::*;
 
 /// A drive near the bursting regime: the dimensionless set (α 16, ε 1/16, γ 1, μ 0.07,
@@ -188,8 +189,8 @@ fn every_design_margin_of_the_bursting_variant_is_real() {
     // the report's bursting variant of CSF-20-50: each reported factor f is checked by simulating
     // the drive at 0.97 f and 1.03 f: the verdicts must differ (bursting inside, not outside)
     use hdgear::burst::BurstOptions;
-    use hdgear::design::{design_check, judge};
-    let (d, _) = hdgear::params::catalogue::preset("CSF-20-50", None).unwrap();
+    use hdgear::physical::design::{design_check, judge};
+    let (d, _) = hdgear::physical::catalogue::preset("CSF-20-50", None).unwrap();
     let d = PhysicalParams {
         k1: 2000.0,
         t_am: 112.0,

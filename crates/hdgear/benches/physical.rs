@@ -9,8 +9,9 @@
 use criterion::{Criterion, criterion_group, criterion_main};
 use hdgear::Params;
 use hdgear::integrate::Options;
-use hdgear::params::physical::PhysicalParams;
-use hdgear::simulate::{SimOptions, Start, simulate, simulate_physical};
+use hdgear::physical::PhysicalParams;
+use hdgear::physical::simulate::simulate_physical;
+use hdgear::simulate::{SimOptions, Start, simulate};
 use std::hint::black_box;
 
 fn bench(c: &mut Criterion) {

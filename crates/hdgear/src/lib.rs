@@ -28,7 +28,6 @@
 #![warn(missing_docs)]
 
 pub mod burst;
-pub mod design;
 pub mod error;
 pub mod fast;
 pub mod figures;
@@ -36,7 +35,9 @@ pub mod integrate;
 pub mod model;
 pub mod output;
 pub mod params;
+pub mod physical;
 pub mod report;
+pub mod scenario;
 pub mod simulate;
 pub mod sweep;
 pub mod table;

@@ -12,7 +12,7 @@ use crate::figures;
 use crate::output::plot::{self, Figure};
 use crate::output::{Format, Record, RecordWriter, write_atomic};
 use crate::params::Params;
-use crate::params::physical::PhysicalParams;
+use crate::physical::PhysicalParams;
 use crate::table::{STUDY_GAMMAS, Tables, tables};
 use serde::Serialize;
 use std::fmt::Write as _;
@@ -143,11 +143,13 @@ fn param_cells(p: &Params) -> String {
 }
 
 /// The rows of a design check's margin table.
-fn margin_rows(c: &crate::design::DesignCheck) -> String {
+fn margin_rows(c: &crate::physical::design::DesignCheck) -> String {
     c.margins
         .iter()
         .map(|m| {
-            let side = |s: &Option<crate::design::Side>| s.map_or("–".into(), |s| s.to_string());
+            let side = |s: &Option<crate::physical::design::Side>| {
+                s.map_or("–".into(), |s| s.to_string())
+            };
             format!(
                 "<tr><td>{}</td>{}<td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>\n",
                 m.parameter,
@@ -351,18 +353,18 @@ pub fn build(
 /// The physical section's numbers.
 struct PhysicalEvidence {
     drive: PhysicalParams,
-    fit: crate::params::catalogue::Fit,
-    reduction: crate::params::physical::Reduction,
-    check: crate::design::DesignCheck,
+    fit: crate::physical::catalogue::Fit,
+    reduction: crate::physical::Reduction,
+    check: crate::physical::design::DesignCheck,
     /// The same drive made to burst (softer k1, larger disturbance), and its design check.
-    variant: (PhysicalParams, crate::design::DesignCheck),
+    variant: (PhysicalParams, crate::physical::design::DesignCheck),
     agreement: f64,
 }
 
 fn physical_section(opts: &BurstOptions) -> Result<PhysicalEvidence> {
-    let (drive, fit) = crate::params::catalogue::preset("CSF-20-50", None)?;
+    let (drive, fit) = crate::physical::catalogue::preset("CSF-20-50", None)?;
     let reduction = drive.reduce()?;
-    let check = crate::design::design_check(&drive, opts)?;
+    let check = crate::physical::design::design_check(&drive, opts)?;
     let variant_drive = PhysicalParams {
         k1: 2000.0,
         t_am: 112.0,
@@ -370,7 +372,7 @@ fn physical_section(opts: &BurstOptions) -> Result<PhysicalEvidence> {
     };
     let variant = (
         variant_drive,
-        crate::design::design_check(&variant_drive, opts)?,
+        crate::physical::design::design_check(&variant_drive, opts)?,
     );
     // the two-inertia model against the reduced model over 300 dimensionless time units
     let tau_end = 300.0;
@@ -380,7 +382,7 @@ fn physical_section(opts: &BurstOptions) -> Result<PhysicalEvidence> {
         ..Default::default()
     };
     let mut phys = Vec::new();
-    crate::simulate::simulate_physical(
+    crate::physical::simulate::simulate_physical(
         &drive,
         reduction.time(tau_end),
         reduction.time(1.0),
@@ -714,7 +716,7 @@ fn page(
         num(d.k2),
         100.0 * ph.fit.twist_error_t1,
         100.0 * ph.fit.twist_error_t2,
-        esc(&crate::params::catalogue::ASSUMPTIONS.join("; ")),
+        esc(&crate::physical::catalogue::ASSUMPTIONS.join("; ")),
         cell("j_eq", ph.reduction.j_eq),
         cell("time_scale", ph.reduction.time_scale),
         cell("length_scale", ph.reduction.length_scale),

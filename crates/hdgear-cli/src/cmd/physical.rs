@@ -4,8 +4,8 @@ use crate::cli::{PhysicalArgs, check_out};
 use crate::sink::Sink;
 use anyhow::{Context, Result, bail};
 use hdgear::output::RecordWriter;
-use hdgear::params::catalogue::ASSUMPTIONS;
-use hdgear::simulate::{PhysicalSample, simulate_physical};
+use hdgear::physical::catalogue::ASSUMPTIONS;
+use hdgear::physical::simulate::{PhysicalSample, simulate_physical};
 
 /// Runs the physical command.
 pub fn run(a: PhysicalArgs) -> Result<()> {
@@ -18,7 +18,7 @@ pub fn run(a: PhysicalArgs) -> Result<()> {
         .reduce()
         .context("cannot reduce the drive (run it with hdgear physical --simulate)")?;
     if a.design {
-        let check = hdgear::design::design_check(&d, &opts)?;
+        let check = hdgear::physical::design::design_check(&d, &opts)?;
         if a.json {
             println!("{}", serde_json::to_string_pretty(&check)?);
         } else {
@@ -27,7 +27,7 @@ pub fn run(a: PhysicalArgs) -> Result<()> {
         return Ok(());
     }
     let p = r.params;
-    let predicted = if p.omega >= hdgear::design::MIN_SIMULATED_OMEGA {
+    let predicted = if p.omega >= hdgear::physical::design::MIN_SIMULATED_OMEGA {
         let resp = hdgear::burst::response(&p, &opts)?;
         let c = hdgear::burst::classify(&p, &resp);
         serde_json::json!({ "bursting": c.bursting, "verdict": c.verdict, "mode": c.mode, "mechanism": c.mechanism,
@@ -58,7 +58,7 @@ pub fn run(a: PhysicalArgs) -> Result<()> {
 
 fn simulate(
     a: &PhysicalArgs,
-    d: &hdgear::params::physical::PhysicalParams,
+    d: &hdgear::physical::PhysicalParams,
     tol: hdgear::integrate::Options,
 ) -> Result<()> {
     let Some(t_end) = a.t_end else {

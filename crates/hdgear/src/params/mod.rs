@@ -4,14 +4,9 @@
 //! `[params]` table, then single values (the command line's flags). [`ParamOverrides`] is the
 //! partial set both the file and the flags produce.
 
-pub mod catalogue;
-pub mod physical;
-
 use crate::error::{Error, Result};
-use physical::PhysicalOverrides;
 use serde::{Deserialize, Serialize};
 use std::fmt;
-use std::path::Path;
 
 /// The dimensionless parameters of
 /// x'' + x' + α x³ − x² + γ (x − ε) = μ + δ sin(ω τ).
@@ -277,60 +272,8 @@ impl ParamOverrides {
     }
 }
 
-/// A scenario file. Tables: `[params]` (dimensionless) and `[physical]` (a drive in SI units; read
-/// by the physical-model commands). Unknown tables or keys are errors that name them.
-#[derive(Clone, Debug, Default, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Scenario {
-    /// Dimensionless parameters (the `[params]` table), if the file has one.
-    #[serde(default)]
-    pub params: Option<ParamOverrides>,
-    /// Physical drive parameters in SI units (the `[physical]` table), if the file has one.
-    #[serde(default)]
-    pub physical: Option<PhysicalOverrides>,
-}
-
-impl Scenario {
-    /// Parses a scenario from TOML text; `path` is used in error messages.
-    pub fn parse(text: &str, path: &Path) -> Result<Scenario> {
-        toml::from_str(text).map_err(|e| Error::Config {
-            path: path.to_path_buf(),
-            message: e.message().to_string()
-                + &e.span()
-                    .map(|s| {
-                        let line = text[..s.start].matches('\n').count() + 1;
-                        format!(" (line {line})")
-                    })
-                    .unwrap_or_default(),
-        })
-    }
-
-    /// Reads and parses a scenario file (at most [`SCENARIO_MAX_BYTES`]).
-    pub fn load(path: &Path) -> Result<Scenario> {
-        use std::io::Read;
-        let err = |message: String| Error::Config {
-            path: path.to_path_buf(),
-            message,
-        };
-        let file = std::fs::File::open(path).map_err(|e| err(e.to_string()))?;
-        let mut bytes = Vec::new();
-        file.take(SCENARIO_MAX_BYTES + 1)
-            .read_to_end(&mut bytes)
-            .map_err(|e| err(e.to_string()))?;
-        if bytes.len() as u64 > SCENARIO_MAX_BYTES {
-            return Err(err(format!(
-                "larger than {SCENARIO_MAX_BYTES} bytes: not a scenario file"
-            )));
-        }
-        let text = String::from_utf8(bytes).map_err(|_| err("not UTF-8 text".into()))?;
-        Scenario::parse(&text, path)
-    }
-}
-
-/// The largest scenario file read (a scenario is a few lines; this only stops `/dev/zero`).
-pub const SCENARIO_MAX_BYTES: u64 = 1 << 20;
-
-/// Resolves the parameter set from its sources: preset, then file overrides, then flag overrides,
+/// Resolves the parameter set from its sources: preset, then the overrides of a scenario file
+/// (its `[params]` table, see [`crate::scenario`]), then flag overrides,
 /// and validates it. Returns the set and its warnings.
 ///
 /// ```
@@ -342,11 +285,11 @@ pub const SCENARIO_MAX_BYTES: u64 = 1 << 20;
 /// ```
 pub fn resolve(
     preset: &str,
-    file: Option<&Scenario>,
+    file: Option<&ParamOverrides>,
     flags: &ParamOverrides,
 ) -> Result<(Params, Vec<Warning>)> {
     let mut p = Params::preset(preset)?;
-    if let Some(o) = file.and_then(|s| s.params.as_ref()) {
+    if let Some(o) = file {
         o.apply(&mut p);
     }
     flags.apply(&mut p);

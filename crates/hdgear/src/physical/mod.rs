@@ -17,8 +17,13 @@
 //!
 //! (δ with C⁴, not the C² the study prints; α·ε = 1 identically.)
 
-use super::{Params, check_magnitude, invalid};
+pub mod catalogue;
+pub mod design;
+pub mod model;
+pub mod simulate;
+
 use crate::error::{Error, Result};
+use crate::params::{Params, check_magnitude, invalid};
 use serde::{Deserialize, Serialize};
 
 /// A harmonic drive in SI units.
@@ -138,7 +143,7 @@ impl PhysicalParams {
     /// The reduction to dimensionless form; an error when φ = 0 or k2 = 0 (L undefined).
     ///
     /// ```
-    /// use hdgear::params::physical::PhysicalParams;
+    /// use hdgear::physical::PhysicalParams;
     /// let d = PhysicalParams { j_in: 1e-4, j_out: 1.0, ratio: 50.0, k1: 2e3, k2: 1e9,
     ///     backlash: 1e-3, c_eq: 5.0, t_m: 1.0, t_am: 0.5, omega: 1.0 };
     /// let r = d.reduce().unwrap();

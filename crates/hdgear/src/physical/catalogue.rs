@@ -7,7 +7,7 @@
 //! damping, load, disturbance and backlash are the user's, and the defaults below are stated
 //! assumptions.
 
-use super::physical::PhysicalParams;
+use super::PhysicalParams;
 use crate::error::{Error, Result};
 use serde::Serialize;
 
@@ -146,7 +146,7 @@ pub fn cubic_twist(k1: f64, k2: f64, t: f64) -> f64 {
 /// error).
 ///
 /// ```
-/// use hdgear::params::catalogue::{CatalogueDrive, fit};
+/// use hdgear::physical::catalogue::{CatalogueDrive, fit};
 /// let d = CatalogueDrive::by_name("CSF-20-50").unwrap();
 /// let f = fit(&d, d.t2).unwrap();
 /// assert!(f.k1 > 0.0 && f.k2 > 0.0);

@@ -15,10 +15,10 @@
 //! rate, or fast motion that never stops) is refused: past it the verdict has no fast-slow
 //! meaning, and the margin says so instead of giving a factor.
 
+use super::{PhysicalParams, Reduction};
 use crate::burst::{BurstOptions, Verdict, classify, response, turning_point_rate};
 use crate::error::Result;
 use crate::fast::predict;
-use crate::params::physical::{PhysicalParams, Reduction};
 use serde::Serialize;
 
 /// Parameters a designer can change, in the order reported (the mean load t_m too: it sets
