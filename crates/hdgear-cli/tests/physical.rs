@@ -202,11 +202,7 @@ fn every_design_margin_of_the_bursting_variant_is_real() {
     let mut checked = 0;
     for m in &c.margins {
         let Some(f) = m.factor else { continue };
-        let at = |g: f64| {
-            let mut e = d;
-            e.set(m.parameter, m.current * g).unwrap();
-            judge(&e, &o).unwrap()
-        };
+        let at = |g: f64| judge(&d.with(m.parameter, m.current * g), &o).unwrap();
         // inside is the side nearer to the current value
         let (near, far) = if f > 1.0 {
             (0.97 * f, 1.03 * f)

@@ -136,9 +136,9 @@ fn cell(key: &str, v: f64) -> String {
 
 /// The six dimensionless parameters as table cells, in the order α, γ, ε, μ, δ, ω.
 fn param_cells(p: &Params) -> String {
-    crate::params::PARAM_NAMES
+    crate::params::Param::ALL
         .iter()
-        .map(|n| cell(n, p.get(n).expect("known name")))
+        .map(|&n| cell(n.name(), p.value(n)))
         .collect()
 }
 

@@ -8,7 +8,7 @@
 use crate::burst::{BurstOptions, classify, response};
 use crate::error::{Error, Result};
 use crate::fast;
-use crate::params::{PARAM_NAMES, Params};
+use crate::params::{Param, Params};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::collections::HashSet;
@@ -16,8 +16,9 @@ use std::collections::HashSet;
 /// One axis of a grid: `NAME=START:END:COUNT[:log]`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Axis {
-    /// Parameter name (alpha, gamma, eps, mu, delta, omega).
-    pub name: String,
+    /// The swept parameter (serialised as `name`: alpha, gamma, eps, mu, delta, omega).
+    #[serde(rename = "name")]
+    pub param: Param,
     /// First value.
     pub start: f64,
     /// Last value.
@@ -46,12 +47,12 @@ impl Axis {
             .split_once('=')
             .ok_or_else(|| bad("expected NAME=START:END:COUNT[:log]"))?;
         let name = name.trim();
-        if !PARAM_NAMES.contains(&name) {
-            return Err(bad(&format!(
+        let param: Param = name.parse().map_err(|_| {
+            bad(&format!(
                 "unknown parameter '{name}' (expected one of {})",
-                PARAM_NAMES.join(", ")
-            )));
-        }
+                Param::ALL.map(Param::name).join(", ")
+            ))
+        })?;
         let parts: Vec<&str> = spec.split(':').map(str::trim).collect();
         if !(parts.len() == 3 || parts.len() == 4) {
             return Err(bad("expected NAME=START:END:COUNT[:log]"));
@@ -85,7 +86,7 @@ impl Axis {
             return Err(bad("COUNT 1 needs START = END"));
         }
         Ok(Axis {
-            name: name.to_string(),
+            param,
             start,
             end,
             count,
@@ -130,10 +131,10 @@ impl Grid {
                 reason: "give one or two axes".into(),
             });
         }
-        if axes.len() == 2 && axes[0].name == axes[1].name {
+        if axes.len() == 2 && axes[0].param == axes[1].param {
             return Err(Error::InvalidInput {
                 what: "sweep axis",
-                text: axes[1].name.clone(),
+                text: axes[1].param.to_string(),
                 reason: "the two axes must sweep different parameters".into(),
             });
         }
@@ -169,8 +170,7 @@ impl Grid {
         for ax in &self.axes {
             let j = rest % ax.count;
             rest /= ax.count;
-            p.set(&ax.name, ax.value(j))
-                .expect("axis names are checked");
+            p = p.with(ax.param, ax.value(j));
         }
         p
     }

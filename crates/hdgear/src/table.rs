@@ -4,7 +4,7 @@
 use crate::burst::{BurstOptions, Mode, classify, response};
 use crate::error::Result;
 use crate::fast::analyze;
-use crate::params::Params;
+use crate::params::{Param, Params};
 use rayon::prelude::*;
 use serde::Serialize;
 
@@ -164,31 +164,32 @@ pub fn tables(base: &Params, opts: &BurstOptions) -> Result<Tables> {
             })
         })
         .collect::<Result<Vec<_>>>()?;
-    let specs: [(&'static str, &'static str); 5] = [
+    let specs: [(Param, &'static str); 5] = [
         (
-            "gamma",
+            Param::Gamma,
             "decreasing gamma gives steeper curves and stronger bursts",
         ),
         (
-            "alpha",
+            Param::Alpha,
             "higher alpha strengthens the cubic term, possibly larger bursts",
         ),
-        ("delta", "larger delta makes the bursts more pronounced"),
-        ("omega", "smaller omega lengthens the quiescent phases"),
         (
-            "eps",
+            Param::Delta,
+            "larger delta makes the bursts more pronounced",
+        ),
+        (Param::Omega, "smaller omega lengthens the quiescent phases"),
+        (
+            Param::Eps,
             "increasing eps shifts the location of the spiking area",
         ),
     ];
     let effects_table = specs
         .par_iter()
-        .map(|&(name, claim)| {
-            let v = base.get(name).expect("known name");
+        .map(|&(param, claim)| {
+            let name = param.name();
+            let v = base.value(param);
             let (low, high) = (0.5 * v, 2.0 * v);
-            let mut pl = *base;
-            pl.set(name, low)?;
-            let mut ph = *base;
-            ph.set(name, high)?;
+            let (pl, ph) = (base.with(param, low), base.with(param, high));
             let (ml, mh) = (measure(&pl, opts)?, measure(&ph, opts)?);
             let (amp_dir, amp_rel) = change(ml.amplitude, mh.amplitude);
             let (spk_dir, _) = change(ml.spikes, mh.spikes);
@@ -217,11 +218,11 @@ pub fn tables(base: &Params, opts: &BurstOptions) -> Result<Tables> {
                 )
             };
             // the claimed metric, in the claimed direction; None where it does not exist
-            let holds = match name {
-                "gamma" => any_bursts.then_some(amp_dir == "decreases"),
-                "alpha" | "delta" => any_bursts.then_some(amp_dir == "increases"),
-                "omega" => any_bursts.then_some(q_dir == "decreases"),
-                _ => shift.is_finite().then_some(shift.abs() > 1e-3),
+            let holds = match param {
+                Param::Gamma => any_bursts.then_some(amp_dir == "decreases"),
+                Param::Alpha | Param::Delta => any_bursts.then_some(amp_dir == "increases"),
+                Param::Omega => any_bursts.then_some(q_dir == "decreases"),
+                Param::Eps | Param::Mu => shift.is_finite().then_some(shift.abs() > 1e-3),
             };
             Ok(EffectRow {
                 parameter: name,
@@ -236,7 +237,7 @@ pub fn tables(base: &Params, opts: &BurstOptions) -> Result<Tables> {
                 verdict: match holds {
                     Some(true) => "agrees",
                     Some(false) => "contradicts",
-                    None if name == "eps" => "n/a (no spiking area at one end)",
+                    None if param == Param::Eps => "n/a (no spiking area at one end)",
                     None => "n/a (no bursts at either end)",
                 },
             })

@@ -41,8 +41,68 @@ impl Default for Params {
     }
 }
 
-/// Names of the six dimensionless parameters, in the order used by tables and sweeps.
-pub const PARAM_NAMES: [&str; 6] = ["alpha", "gamma", "eps", "mu", "delta", "omega"];
+/// One of the six dimensionless parameters: the one source of their names (serde, Display and
+/// FromStr all use [`Param::name`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Param {
+    /// α, cubic stiffness.
+    Alpha,
+    /// γ, linear stiffness.
+    Gamma,
+    /// ε, backlash offset.
+    Eps,
+    /// μ, mean load.
+    Mu,
+    /// δ, amplitude of the slow disturbance.
+    Delta,
+    /// ω, frequency of the slow disturbance.
+    Omega,
+}
+
+impl Param {
+    /// All six, in the order used by tables and sweeps.
+    pub const ALL: [Param; 6] = [
+        Param::Alpha,
+        Param::Gamma,
+        Param::Eps,
+        Param::Mu,
+        Param::Delta,
+        Param::Omega,
+    ];
+
+    /// The name users write (`alpha`, `gamma`, `eps`, `mu`, `delta`, `omega`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Param::Alpha => "alpha",
+            Param::Gamma => "gamma",
+            Param::Eps => "eps",
+            Param::Mu => "mu",
+            Param::Delta => "delta",
+            Param::Omega => "omega",
+        }
+    }
+}
+
+impl fmt::Display for Param {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.pad(self.name())
+    }
+}
+
+impl std::str::FromStr for Param {
+    type Err = Error;
+    fn from_str(name: &str) -> Result<Param> {
+        Param::ALL
+            .into_iter()
+            .find(|p| p.name() == name)
+            .ok_or_else(|| Error::InvalidInput {
+                what: "parameter name",
+                text: name.to_string(),
+                reason: format!("expected one of {}", Param::ALL.map(Param::name).join(", ")),
+            })
+    }
+}
 
 /// Named parameter sets: the study's point and its four γ cases.
 pub const PRESETS: [(&str, f64); 5] = [
@@ -98,45 +158,36 @@ impl Params {
             })
     }
 
-    /// The value of a parameter by name.
-    pub fn get(&self, name: &str) -> Option<f64> {
-        Some(match name {
-            "alpha" => self.alpha,
-            "gamma" => self.gamma,
-            "eps" => self.eps,
-            "mu" => self.mu,
-            "delta" => self.delta,
-            "omega" => self.omega,
-            _ => return None,
-        })
+    /// The value of a parameter.
+    pub fn value(&self, param: Param) -> f64 {
+        match param {
+            Param::Alpha => self.alpha,
+            Param::Gamma => self.gamma,
+            Param::Eps => self.eps,
+            Param::Mu => self.mu,
+            Param::Delta => self.delta,
+            Param::Omega => self.omega,
+        }
     }
 
-    /// Sets a parameter by name; an unknown name is an error naming it.
-    pub fn set(&mut self, name: &str, value: f64) -> Result<()> {
-        let slot = match name {
-            "alpha" => &mut self.alpha,
-            "gamma" => &mut self.gamma,
-            "eps" => &mut self.eps,
-            "mu" => &mut self.mu,
-            "delta" => &mut self.delta,
-            "omega" => &mut self.omega,
-            _ => {
-                return Err(Error::InvalidInput {
-                    what: "parameter name",
-                    text: name.to_string(),
-                    reason: format!("expected one of {}", PARAM_NAMES.join(", ")),
-                });
-            }
-        };
-        *slot = value;
-        Ok(())
+    /// The same set with one parameter changed.
+    pub fn with(mut self, param: Param, value: f64) -> Params {
+        *match param {
+            Param::Alpha => &mut self.alpha,
+            Param::Gamma => &mut self.gamma,
+            Param::Eps => &mut self.eps,
+            Param::Mu => &mut self.mu,
+            Param::Delta => &mut self.delta,
+            Param::Omega => &mut self.omega,
+        } = value;
+        self
     }
 
     /// Checks the domain (all finite, α > 0, ω > 0, δ ≥ 0, every magnitude within
     /// [`MAGNITUDE_LIMIT`]) and returns the warnings of a valid set.
     pub fn validate(&self) -> Result<Vec<Warning>> {
-        for name in PARAM_NAMES {
-            let v = self.get(name).expect("known name");
+        for param in Param::ALL {
+            let (name, v) = (param.name(), self.value(param));
             if !v.is_finite() {
                 return Err(invalid(name, v, "must be finite"));
             }

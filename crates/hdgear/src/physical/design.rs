@@ -15,7 +15,7 @@
 //! rate, or fast motion that never stops) is refused: past it the verdict has no fast-slow
 //! meaning, and the margin says so instead of giving a factor.
 
-use super::{PhysicalParams, Reduction};
+use super::{DriveParam, PhysicalParams, Reduction};
 use crate::burst::{BurstOptions, Verdict, classify, response, turning_point_rate};
 use crate::error::Result;
 use crate::fast::predict;
@@ -23,7 +23,14 @@ use serde::Serialize;
 
 /// Parameters a designer can change, in the order reported (the mean load t_m too: it sets
 /// where on the equilibrium curve the drive operates).
-pub const DESIGN_PARAMETERS: [&str; 6] = ["k1", "k2", "c_eq", "t_am", "backlash", "t_m"];
+pub const DESIGN_PARAMETERS: [DriveParam; 6] = [
+    DriveParam::K1,
+    DriveParam::K2,
+    DriveParam::CEq,
+    DriveParam::TAm,
+    DriveParam::Backlash,
+    DriveParam::TM,
+];
 
 /// How a verdict was reached.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -79,7 +86,7 @@ impl std::fmt::Display for Side {
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Margin {
     /// Parameter name.
-    pub parameter: &'static str,
+    pub parameter: DriveParam,
     /// Its current value (SI).
     pub current: f64,
     /// Multiplicative factor that crosses the boundary (null if none within 1/64…64, or refused).
@@ -159,27 +166,19 @@ pub fn judge(d: &PhysicalParams, opts: &BurstOptions) -> Result<Judgement> {
     })
 }
 
-fn scaled(d: &PhysicalParams, name: &str, f: f64) -> PhysicalParams {
-    let mut e = *d;
-    let v = d
-        .get(name)
-        .expect("a design parameter is a drive parameter");
-    e.set(name, v * f)
-        .expect("a design parameter is a drive parameter");
-    e
+fn scaled(d: &PhysicalParams, param: DriveParam, f: f64) -> PhysicalParams {
+    d.with(param, d.value(param) * f)
 }
 
 /// The margin of one parameter.
 fn margin(
     d: &PhysicalParams,
-    name: &'static str,
+    param: DriveParam,
     now: Judgement,
     opts: &BurstOptions,
 ) -> Result<Margin> {
-    let current = d
-        .get(name)
-        .expect("a design parameter is a drive parameter");
-    let at = |lf: f64| judge(&scaled(d, name, lf.exp2()), opts);
+    let current = d.value(param);
+    let at = |lf: f64| judge(&scaled(d, param, lf.exp2()), opts);
     let mut found: Option<(f64, f64)> = None; // (inside, outside) in log2 f
     let mut refused: Option<String> = None;
     if current != 0.0 {
@@ -209,7 +208,7 @@ fn margin(
         }
     }
     let mut margin = Margin {
-        parameter: name,
+        parameter: param,
         current,
         factor: None,
         boundary_value: None,

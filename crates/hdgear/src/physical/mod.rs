@@ -52,59 +52,127 @@ pub struct PhysicalParams {
     pub omega: f64,
 }
 
-/// Names of the physical parameters (TOML keys; CLI flags with `-` for `_`).
-pub const PHYSICAL_NAMES: [&str; 10] = [
-    "j_in", "j_out", "ratio", "k1", "k2", "backlash", "c_eq", "t_m", "t_am", "omega",
-];
+/// One of the ten parameters of a drive: the one source of their names (TOML keys; CLI flags
+/// with `-` for `_`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum DriveParam {
+    /// J_i \[kg m²\].
+    JIn,
+    /// J_o \[kg m²\].
+    JOut,
+    /// N.
+    Ratio,
+    /// k1 \[N m/rad\].
+    K1,
+    /// k2 \[N m/rad³\].
+    K2,
+    /// φ \[rad\].
+    Backlash,
+    /// C \[N m s/rad\].
+    CEq,
+    /// T_m \[N m\].
+    TM,
+    /// T_am \[N m\].
+    TAm,
+    /// Ω \[rad/s\].
+    Omega,
+}
+
+impl DriveParam {
+    /// All ten, in the order of the TOML table.
+    pub const ALL: [DriveParam; 10] = [
+        DriveParam::JIn,
+        DriveParam::JOut,
+        DriveParam::Ratio,
+        DriveParam::K1,
+        DriveParam::K2,
+        DriveParam::Backlash,
+        DriveParam::CEq,
+        DriveParam::TM,
+        DriveParam::TAm,
+        DriveParam::Omega,
+    ];
+
+    /// The name users write (`j_in`, …, `omega`).
+    pub fn name(self) -> &'static str {
+        match self {
+            DriveParam::JIn => "j_in",
+            DriveParam::JOut => "j_out",
+            DriveParam::Ratio => "ratio",
+            DriveParam::K1 => "k1",
+            DriveParam::K2 => "k2",
+            DriveParam::Backlash => "backlash",
+            DriveParam::CEq => "c_eq",
+            DriveParam::TM => "t_m",
+            DriveParam::TAm => "t_am",
+            DriveParam::Omega => "omega",
+        }
+    }
+}
+
+impl std::fmt::Display for DriveParam {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.pad(self.name())
+    }
+}
+
+impl std::str::FromStr for DriveParam {
+    type Err = Error;
+    fn from_str(name: &str) -> Result<DriveParam> {
+        DriveParam::ALL
+            .into_iter()
+            .find(|p| p.name() == name)
+            .ok_or_else(|| Error::InvalidInput {
+                what: "drive parameter name",
+                text: name.into(),
+                reason: format!(
+                    "expected one of {}",
+                    DriveParam::ALL.map(DriveParam::name).join(", ")
+                ),
+            })
+    }
+}
 
 impl PhysicalParams {
-    /// The value of a parameter by name.
-    pub fn get(&self, name: &str) -> Option<f64> {
-        Some(match name {
-            "j_in" => self.j_in,
-            "j_out" => self.j_out,
-            "ratio" => self.ratio,
-            "k1" => self.k1,
-            "k2" => self.k2,
-            "backlash" => self.backlash,
-            "c_eq" => self.c_eq,
-            "t_m" => self.t_m,
-            "t_am" => self.t_am,
-            "omega" => self.omega,
-            _ => return None,
-        })
+    /// The value of a parameter.
+    pub fn value(&self, param: DriveParam) -> f64 {
+        match param {
+            DriveParam::JIn => self.j_in,
+            DriveParam::JOut => self.j_out,
+            DriveParam::Ratio => self.ratio,
+            DriveParam::K1 => self.k1,
+            DriveParam::K2 => self.k2,
+            DriveParam::Backlash => self.backlash,
+            DriveParam::CEq => self.c_eq,
+            DriveParam::TM => self.t_m,
+            DriveParam::TAm => self.t_am,
+            DriveParam::Omega => self.omega,
+        }
     }
 
-    /// Sets a parameter by name.
-    pub fn set(&mut self, name: &str, v: f64) -> Result<()> {
-        let slot = match name {
-            "j_in" => &mut self.j_in,
-            "j_out" => &mut self.j_out,
-            "ratio" => &mut self.ratio,
-            "k1" => &mut self.k1,
-            "k2" => &mut self.k2,
-            "backlash" => &mut self.backlash,
-            "c_eq" => &mut self.c_eq,
-            "t_m" => &mut self.t_m,
-            "t_am" => &mut self.t_am,
-            "omega" => &mut self.omega,
-            _ => {
-                return Err(Error::InvalidInput {
-                    what: "physical parameter name",
-                    text: name.into(),
-                    reason: format!("expected one of {}", PHYSICAL_NAMES.join(", ")),
-                });
-            }
-        };
-        *slot = v;
-        Ok(())
+    /// The same drive with one parameter changed.
+    pub fn with(mut self, param: DriveParam, v: f64) -> PhysicalParams {
+        *match param {
+            DriveParam::JIn => &mut self.j_in,
+            DriveParam::JOut => &mut self.j_out,
+            DriveParam::Ratio => &mut self.ratio,
+            DriveParam::K1 => &mut self.k1,
+            DriveParam::K2 => &mut self.k2,
+            DriveParam::Backlash => &mut self.backlash,
+            DriveParam::CEq => &mut self.c_eq,
+            DriveParam::TM => &mut self.t_m,
+            DriveParam::TAm => &mut self.t_am,
+            DriveParam::Omega => &mut self.omega,
+        } = v;
+        self
     }
 
     /// Checks the domain: all finite; inertias, ratio, damping and Ω > 0; k1, k2, backlash and
     /// T_am ≥ 0.
     pub fn validate(&self) -> Result<()> {
-        for name in PHYSICAL_NAMES {
-            let v = self.get(name).expect("known");
+        for param in DriveParam::ALL {
+            let (name, v) = (param.name(), self.value(param));
             if !v.is_finite() {
                 return Err(invalid(name, v, "must be finite"));
             }
@@ -307,20 +375,20 @@ impl PhysicalOverrides {
     /// Applies the values present.
     pub fn apply(&self, d: &mut PhysicalParams) {
         let pairs = [
-            ("j_in", self.j_in),
-            ("j_out", self.j_out),
-            ("ratio", self.ratio),
-            ("k1", self.k1),
-            ("k2", self.k2),
-            ("backlash", self.backlash),
-            ("c_eq", self.c_eq),
-            ("t_m", self.t_m),
-            ("t_am", self.t_am),
-            ("omega", self.omega),
+            (DriveParam::JIn, self.j_in),
+            (DriveParam::JOut, self.j_out),
+            (DriveParam::Ratio, self.ratio),
+            (DriveParam::K1, self.k1),
+            (DriveParam::K2, self.k2),
+            (DriveParam::Backlash, self.backlash),
+            (DriveParam::CEq, self.c_eq),
+            (DriveParam::TM, self.t_m),
+            (DriveParam::TAm, self.t_am),
+            (DriveParam::Omega, self.omega),
         ];
-        for (name, v) in pairs {
+        for (param, v) in pairs {
             if let Some(v) = v {
-                d.set(name, v).expect("known name");
+                *d = d.with(param, v);
             }
         }
     }
