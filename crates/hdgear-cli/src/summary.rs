@@ -30,7 +30,9 @@ pub fn analysis_text(an: &Analysis) -> String {
     let _ = writeln!(
         s,
         "critical gamma 1/(3 alpha) = {:.6}; gamma - critical = {:.6} ({})",
-        an.critical_gamma, an.gamma_margin, an.regime
+        an.critical_gamma,
+        an.gamma_margin,
+        an.regime.name()
     );
     let _ = writeln!(
         s,

@@ -192,7 +192,7 @@ fn largest_slopes_of_the_study() {
 #[test]
 fn fold_regime_counts() {
     let an = analyze(&paper(0.01), (-1.0, 1.0)).unwrap();
-    assert_eq!(an.regime, "fold-hysteresis");
+    assert_eq!(an.regime, hdgear::fast::Regime::FoldHysteresis);
     assert_eq!((an.equilibria.min_count, an.equilibria.max_count), (1, 3));
     assert!(!an.equilibria.stable_everywhere);
     assert!(an.equilibria.max_slope.value.is_infinite());

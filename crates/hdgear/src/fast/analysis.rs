@@ -67,6 +67,29 @@ pub struct Interval {
     pub a_max: f64,
 }
 
+/// The fast subsystem's regime, from γ against 1/(3α).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Regime {
+    /// γ > 1/(3α): one equilibrium for every a, a monotone curve.
+    Monotone,
+    /// γ = 1/(3α): the cusp.
+    Cusp,
+    /// γ < 1/(3α): two folds, three equilibria between them.
+    FoldHysteresis,
+}
+
+impl Regime {
+    /// The kebab-case name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Regime::Monotone => "monotone",
+            Regime::Cusp => "cusp",
+            Regime::FoldHysteresis => "fold-hysteresis",
+        }
+    }
+}
+
 /// Why no Hopf bifurcation can occur, as derived.
 pub const NO_HOPF_REASON: &str = "the Jacobian [[0, 1], [-g'(x), -1]] has trace -1 at every \
 equilibrium for every parameter value; a Hopf bifurcation needs a pair of purely imaginary \
@@ -116,7 +139,7 @@ pub struct Analysis {
     /// γ − 1/(3α).
     pub gamma_margin: f64,
     /// `monotone` (γ > 1/(3α)), `cusp` (equal) or `fold-hysteresis` (below).
-    pub regime: &'static str,
+    pub regime: Regime,
     /// The cusp point.
     pub cusp: Cusp,
     /// The steepest point of the whole curve when it is monotone: x = 1/(3α), slope
@@ -225,11 +248,11 @@ pub fn analyze(p: &Params, a_range: (f64, f64)) -> Result<Analysis> {
     let gc = p.critical_gamma();
     let fold_list = folds(p, a_range);
     let regime = if p.gamma > gc {
-        "monotone"
+        Regime::Monotone
     } else if p.gamma == gc {
-        "cusp"
+        Regime::Cusp
     } else {
-        "fold-hysteresis"
+        Regime::FoldHysteresis
     };
     // --- counts over the range: 3 strictly between the fold values of a, 2 at them, else 1
     let (min_count, max_count) = match fold_list.as_slice() {
@@ -254,7 +277,7 @@ pub fn analyze(p: &Params, a_range: (f64, f64)) -> Result<Analysis> {
         _ => (1, 1),
     };
     let cusp_pt = cusp(p);
-    let cusp_in_range = regime == "cusp" && cusp_pt.a >= a0 && cusp_pt.a <= a1;
+    let cusp_in_range = regime == Regime::Cusp && cusp_pt.a >= a0 && cusp_pt.a <= a1;
     let stable_everywhere = max_count == 1 && !cusp_in_range;
 
     // --- largest |slope|: at x = 1/(3α) if on the traversed curve, at the folds, or at the ends

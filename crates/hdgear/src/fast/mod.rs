@@ -24,8 +24,8 @@ mod equilibria;
 mod predict;
 
 pub use analysis::{
-    Analysis, Cusp, EquilibriaSummary, Fold, FoldRow, Interval, NO_HOPF_REASON, Point, Slope,
-    analyze, cusp, fold_curves, folds, relaxation_rate,
+    Analysis, Cusp, EquilibriaSummary, Fold, FoldRow, Interval, NO_HOPF_REASON, Point, Regime,
+    Slope, analyze, cusp, fold_curves, folds, relaxation_rate,
 };
 pub use curve::{A_RANGE_LIMIT, Branch, CurvePoint, check_a_range, curve, x_intervals};
 pub use equilibria::{
