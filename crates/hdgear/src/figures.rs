@@ -5,22 +5,90 @@ use crate::burst::{BurstOptions, classify, response};
 use crate::error::Result;
 use crate::fast::{self, analyze, curve};
 use crate::output::plot::{Figure, Map, Panel, Series, Style};
-use crate::params::Params;
+use crate::params::{Param, Params};
 use crate::simulate::{SimOptions, Start, simulate};
 use crate::sweep::{Axis, Grid, SweepRow};
 use crate::table::STUDY_GAMMAS;
 use std::collections::HashSet;
 
-/// The figure kinds (`hdgear plot KIND`).
-pub const KINDS: [&str; 7] = [
-    "xdot-gamma",
-    "x-equilibrium",
-    "transformed-phase",
-    "phase-plane",
-    "slope",
-    "sweep",
-    "map",
-];
+/// The figure kinds (`hdgear plot KIND`): the one list of them. Adding a figure is a variant
+/// here, its name, and its function in [`by_kind`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum FigureKind {
+    /// x'(τ) over one slow period for the study's four γ.
+    XdotGamma,
+    /// x(τ) with the equilibrium over it.
+    XEquilibrium,
+    /// The trajectory over the equilibrium curve in the (a, x) plane.
+    TransformedPhase,
+    /// (x, x').
+    PhasePlane,
+    /// |dx/da| against a.
+    Slope,
+    /// Peak |x'| and spikes against γ.
+    Sweep,
+    /// The (γ, δ) plane coloured by mode.
+    Map,
+}
+
+impl FigureKind {
+    /// Every kind, in the order listed to users.
+    pub const ALL: [FigureKind; 7] = [
+        FigureKind::XdotGamma,
+        FigureKind::XEquilibrium,
+        FigureKind::TransformedPhase,
+        FigureKind::PhasePlane,
+        FigureKind::Slope,
+        FigureKind::Sweep,
+        FigureKind::Map,
+    ];
+
+    /// The name users write.
+    pub fn name(self) -> &'static str {
+        match self {
+            FigureKind::XdotGamma => "xdot-gamma",
+            FigureKind::XEquilibrium => "x-equilibrium",
+            FigureKind::TransformedPhase => "transformed-phase",
+            FigureKind::PhasePlane => "phase-plane",
+            FigureKind::Slope => "slope",
+            FigureKind::Sweep => "sweep",
+            FigureKind::Map => "map",
+        }
+    }
+
+    /// The parameters the figure varies itself (so a value given for them would be ignored).
+    pub fn varies(self) -> &'static [Param] {
+        match self {
+            FigureKind::XdotGamma | FigureKind::Slope | FigureKind::Sweep => &[Param::Gamma],
+            FigureKind::Map => &[Param::Gamma, Param::Delta],
+            FigureKind::XEquilibrium | FigureKind::TransformedPhase | FigureKind::PhasePlane => &[],
+        }
+    }
+}
+
+impl std::fmt::Display for FigureKind {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.pad(self.name())
+    }
+}
+
+impl std::str::FromStr for FigureKind {
+    type Err = crate::Error;
+    fn from_str(name: &str) -> Result<FigureKind> {
+        FigureKind::ALL
+            .into_iter()
+            .find(|k| k.name() == name)
+            .ok_or_else(|| crate::Error::InvalidInput {
+                what: "figure kind",
+                text: name.into(),
+                reason: format!(
+                    "expected one of {}",
+                    FigureKind::ALL.map(FigureKind::name).join(", ")
+                ),
+            })
+    }
+}
 
 /// Drops points a straight line through their neighbours already represents to within `tol`
 /// (in y), keeping every turn of the signal: plots stay exact to a fraction of a pixel with far
@@ -692,22 +760,22 @@ pub fn map_figure(base: &Params, grid: &Grid, rows: &[SweepRow]) -> Figure {
 }
 
 /// Builds one figure by kind for `hdgear plot` (sweep sizes: 120 γ values; map 40 × 24).
-pub fn by_kind(kind: &str, p: &Params, opts: &BurstOptions, threads: usize) -> Result<Figure> {
+pub fn by_kind(
+    kind: FigureKind,
+    p: &Params,
+    opts: &BurstOptions,
+    threads: usize,
+) -> Result<Figure> {
     match kind {
-        "xdot-gamma" => xdot_gamma(p, opts),
-        "x-equilibrium" => x_equilibrium(p, opts),
-        "transformed-phase" => transformed_phase(p, opts),
-        "phase-plane" => phase_plane(p, opts),
-        "slope" => slope(p),
-        "sweep" => Ok(sweep_figure(p, &gamma_sweep(p, opts, 120, threads)?)),
-        "map" => {
+        FigureKind::XdotGamma => xdot_gamma(p, opts),
+        FigureKind::XEquilibrium => x_equilibrium(p, opts),
+        FigureKind::TransformedPhase => transformed_phase(p, opts),
+        FigureKind::PhasePlane => phase_plane(p, opts),
+        FigureKind::Slope => slope(p),
+        FigureKind::Sweep => Ok(sweep_figure(p, &gamma_sweep(p, opts, 120, threads)?)),
+        FigureKind::Map => {
             let (grid, rows) = map_grid(p, opts, 40, 24, threads)?;
             Ok(map_figure(p, &grid, &rows))
         }
-        other => Err(crate::Error::InvalidInput {
-            what: "figure kind",
-            text: other.into(),
-            reason: format!("expected one of {}", KINDS.join(", ")),
-        }),
     }
 }

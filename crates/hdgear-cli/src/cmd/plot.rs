@@ -6,13 +6,7 @@ use anyhow::Result;
 pub fn run(a: crate::cli::PlotArgs) -> Result<()> {
     let (p, warnings) = a.params.resolve()?;
     let opts = a.burst.options()?;
-    if !hdgear::figures::KINDS.contains(&a.kind.as_str()) {
-        anyhow::bail!(
-            "invalid figure kind '{}': expected one of {}",
-            a.kind,
-            hdgear::figures::KINDS.join(", ")
-        );
-    }
+    let kind: hdgear::figures::FigureKind = a.kind.parse()?;
     match a
         .out
         .extension()
@@ -28,16 +22,10 @@ pub fn run(a: crate::cli::PlotArgs) -> Result<()> {
     }
     hdgear::output::check_output_path(&a.out)?;
     // figures that vary a parameter themselves would silently ignore its flag
-    let varied: &[&str] = match a.kind.as_str() {
-        "xdot-gamma" | "slope" | "sweep" => &["gamma"],
-        "map" => &["gamma", "delta"],
-        _ => &[],
-    };
-    for name in varied {
-        if a.params.given(name) {
+    for param in kind.varies() {
+        if a.params.given(param.name()) {
             anyhow::bail!(
-                "--{name} does not apply to plot {}: the figure varies {name} itself",
-                a.kind
+                "--{param} does not apply to plot {kind}: the figure varies {param} itself"
             );
         }
     }
@@ -45,7 +33,7 @@ pub fn run(a: crate::cli::PlotArgs) -> Result<()> {
         anyhow::bail!("invalid option --threads = 0: must be ≥ 1");
     }
     warn(&warnings);
-    let f = hdgear::figures::by_kind(&a.kind, &p, &opts, a.threads.unwrap_or(0))?;
+    let f = hdgear::figures::by_kind(kind, &p, &opts, a.threads.unwrap_or(0))?;
     hdgear::output::plot::write(&f, &a.out)?;
     Ok(())
 }
