@@ -418,12 +418,12 @@ fn tables_reproduce_the_study() {
             .unwrap()
             .verdict
     };
-    assert_eq!(verdict("gamma"), "agrees");
-    assert_eq!(verdict("delta"), "agrees");
-    assert_eq!(verdict("omega"), "agrees");
-    assert_eq!(verdict("eps"), "agrees");
+    assert_eq!(verdict("gamma"), hdgear::table::ClaimVerdict::Agrees);
+    assert_eq!(verdict("delta"), hdgear::table::ClaimVerdict::Agrees);
+    assert_eq!(verdict("omega"), hdgear::table::ClaimVerdict::Agrees);
+    assert_eq!(verdict("eps"), hdgear::table::ClaimVerdict::Agrees);
     // measured: doubling alpha lowers the burst amplitude, against the study's claim
-    assert_eq!(verdict("alpha"), "contradicts");
+    assert_eq!(verdict("alpha"), hdgear::table::ClaimVerdict::Contradicts);
 }
 
 fn grid() -> Grid {

@@ -456,7 +456,7 @@ fn page(
     let contradicted: Vec<&str> = t
         .effects_table
         .iter()
-        .filter(|r| r.verdict != "agrees")
+        .filter(|r| r.verdict != crate::table::ClaimVerdict::Agrees)
         .map(|r| r.parameter)
         .collect();
     let _ = write!(
@@ -586,7 +586,7 @@ fn page(
             cell("center_low", r.spiking_center[0]),
             cell("center_high", r.spiking_center[1]),
             esc(r.claim),
-            if r.verdict == "agrees" {
+            if r.verdict == crate::table::ClaimVerdict::Agrees {
                 "<span class=\"good\">agrees</span>"
             } else {
                 "<span class=\"bad\">contradicts</span> (see below)"

@@ -1,7 +1,7 @@
 //! The study's two tables, with measured numbers: the γ table (curve shape, slopes, bursts, mode)
 //! and the parameter-effects table (each parameter halved and doubled around the study's point).
 
-use crate::burst::{BurstOptions, Mode, classify, response};
+use crate::burst::{BurstOptions, Mechanism, Mode, Verdict, classify, response};
 use crate::error::Result;
 use crate::fast::analyze;
 use crate::params::{Param, Params};
@@ -52,13 +52,13 @@ pub struct GammaRow {
     /// Largest |x'|.
     pub peak_abs_xdot: f64,
     /// The strongest signature measured.
-    pub verdict: &'static str,
+    pub verdict: Verdict,
     /// Measured mode.
-    pub mode: &'static str,
+    pub mode: Mode,
     /// Mechanism.
-    pub mechanism: &'static str,
+    pub mechanism: Mechanism,
     /// The study's mode.
-    pub study_mode: &'static str,
+    pub study_mode: Mode,
     /// Measured mode equals the study's.
     pub agrees: bool,
 }
@@ -84,9 +84,43 @@ pub struct EffectRow {
     pub measured: String,
     /// The study's claim.
     pub claim: &'static str,
-    /// `agrees` or `contradicts` (the claim's own metric, changes under 2 % count as none), or
-    /// `n/a (no bursts at either end)` when the claim's metric does not exist at either end.
-    pub verdict: &'static str,
+    /// Whether the measurement supports the claim.
+    pub verdict: ClaimVerdict,
+}
+
+/// What the measurement says of one of the study's claims.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+pub enum ClaimVerdict {
+    /// The claim's own metric moves the claimed way (a change under 2 % counts as none).
+    #[serde(rename = "agrees")]
+    Agrees,
+    /// It does not.
+    #[serde(rename = "contradicts")]
+    Contradicts,
+    /// Neither end bursts, so a burst metric does not exist.
+    #[serde(rename = "n/a (no bursts at either end)")]
+    NoBursts,
+    /// One end has no spiking area, so its location does not exist.
+    #[serde(rename = "n/a (no spiking area at one end)")]
+    NoSpikingArea,
+}
+
+impl ClaimVerdict {
+    /// The words shown in tables (the serde name).
+    pub fn name(self) -> &'static str {
+        match self {
+            ClaimVerdict::Agrees => "agrees",
+            ClaimVerdict::Contradicts => "contradicts",
+            ClaimVerdict::NoBursts => "n/a (no bursts at either end)",
+            ClaimVerdict::NoSpikingArea => "n/a (no spiking area at one end)",
+        }
+    }
+}
+
+impl std::fmt::Display for ClaimVerdict {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.pad(self.name())
+    }
 }
 
 /// Both tables.
@@ -156,10 +190,10 @@ pub fn tables(base: &Params, opts: &BurstOptions) -> Result<Tables> {
                 bursts_per_period: r.bursts_per_period.unwrap_or(f64::NAN),
                 spikes_per_burst: r.spikes_per_burst,
                 peak_abs_xdot: r.peak_abs_xdot,
-                mode: c.mode.name(),
-                verdict: c.verdict.name(),
-                mechanism: c.mechanism.name(),
-                study_mode: study.name(),
+                mode: c.mode,
+                verdict: c.verdict,
+                mechanism: c.mechanism,
+                study_mode: study,
                 agrees: c.mode == study,
             })
         })
@@ -235,10 +269,10 @@ pub fn tables(base: &Params, opts: &BurstOptions) -> Result<Tables> {
                 measured,
                 claim,
                 verdict: match holds {
-                    Some(true) => "agrees",
-                    Some(false) => "contradicts",
-                    None if param == Param::Eps => "n/a (no spiking area at one end)",
-                    None => "n/a (no bursts at either end)",
+                    Some(true) => ClaimVerdict::Agrees,
+                    Some(false) => ClaimVerdict::Contradicts,
+                    None if param == Param::Eps => ClaimVerdict::NoSpikingArea,
+                    None => ClaimVerdict::NoBursts,
                 },
             })
         })

@@ -265,7 +265,7 @@ pub struct Response {
 }
 
 /// The strongest signature of a response (order: fold-jump > overshoot > ringing > no-bursts).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Verdict {
     /// The state follows the equilibrium adiabatically.
@@ -280,7 +280,7 @@ pub enum Verdict {
 
 /// The oscillation mode: the study's four words, defined from the signatures (each keeps its
 /// meaning as ω changes), plus the two cases the study's words do not cover.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Mode {
     /// No signature: the state follows the equilibrium (x' is the smooth slow wave).
@@ -300,7 +300,7 @@ pub enum Mode {
 }
 
 /// The mechanism behind the bursts.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Mechanism {
     /// No signature.
@@ -347,6 +347,17 @@ impl Verdict {
         }
     }
 }
+
+macro_rules! display_by_name {
+    ($($t:ty),*) => {$(
+        impl std::fmt::Display for $t {
+            fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.pad(self.name())
+            }
+        }
+    )*};
+}
+display_by_name!(Verdict, Mode, Mechanism);
 
 /// Verdict, mode and mechanism.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]

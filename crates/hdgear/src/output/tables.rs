@@ -64,7 +64,7 @@ pub fn markdown(t: &Tables) -> String {
             g(r.spiking_center[0]),
             g(r.spiking_center[1]),
             r.claim,
-            if r.verdict == "contradicts" {
+            if r.verdict == crate::table::ClaimVerdict::Contradicts {
                 format!("**contradicts**: {}", r.measured)
             } else {
                 r.verdict.to_string()
@@ -104,10 +104,10 @@ pub fn csv(t: &Tables) -> std::io::Result<String> {
             r.bursts_per_period.to_string(),
             r.spikes_per_burst.to_string(),
             r.peak_abs_xdot.to_string(),
-            r.verdict.into(),
-            r.mode.into(),
-            r.mechanism.into(),
-            r.study_mode.into(),
+            r.verdict.to_string(),
+            r.mode.to_string(),
+            r.mechanism.to_string(),
+            r.study_mode.to_string(),
             r.agrees.to_string(),
         ])?;
     }
@@ -145,7 +145,7 @@ pub fn csv(t: &Tables) -> std::io::Result<String> {
             r.spiking_center[0].to_string(),
             r.spiking_center[1].to_string(),
             r.claim.into(),
-            r.verdict.into(),
+            r.verdict.to_string(),
             r.measured.clone(),
         ])?;
     }
