@@ -7,16 +7,21 @@
 //! x'' + x' + α x³ − x² + γ (x − ε) = μ + δ sin(ω τ)
 //! ```
 //!
-//! and (see the `physical` issue) its two-inertia physical form. The slow variable
+//! and its two-inertia physical form ([`physical`]). The slow variable
 //! a = sin(ω τ) (ω ≪ 1) sweeps the fast subsystem x'' + x' + g(x) = μ + δ a, g(x) = αx³ − x² + γ(x − ε),
 //! through its equilibrium curve; where that curve is steep the state cannot follow and bursts.
 //!
 //! Principal types:
 //! * [`Params`]: the dimensionless parameters, presets and validation ([`params`]).
 //! * [`model::Dimensionless`]: the right-hand side.
-//! * [`integrate::Dop853`]: the adaptive 8th-order integrator with dense output and events.
+//! * [`integrate::Dop853`] behind the [`integrate::Stepper`] seam: the adaptive 8th-order
+//!   integrator with dense output and events.
 //! * [`simulate::simulate`]: a sampled trajectory with a summary.
-//! * [`fast`]: equilibria and stability of the fast subsystem.
+//! * [`fast`]: equilibria and stability of the fast subsystem, and [`fast::predict`], bursting
+//!   predicted from the equilibrium curve alone.
+//! * [`burst::response`] and [`burst::classify`]: bursts judged by their signatures (jump,
+//!   overshoot, ringing), modes and mechanisms.
+//! * [`physical`]: the drive in SI units, its reduction, simulation and design check.
 //!
 //! ```
 //! use hdgear::{Params, simulate::{simulate, SimOptions}};

@@ -2,9 +2,9 @@
 //! folds, the cusp, the steepest point and largest slope, the impossibility of Hopf
 //! bifurcations, and the spiking and quiescent areas.
 //!
-//! Everything except the spiking areas is a closed form. The spiking areas use the criterion
-//! documented at [`SPIKING_THRESHOLD`]; their boundaries are located by bisection on the exact
-//! curve a(x), x(a) to 1e-12 in x.
+//! Everything except the spiking areas is a closed form. The spiking areas use the forcing-rate
+//! criterion of the prediction (`super::predict`, κ > `FORCING_RATE_THRESHOLD` on the focus part
+//! of the curve); their boundaries are located by bisection on the exact curve a(x) to 1e-12 in x.
 
 use super::curve::{check_a_range, x_intervals};
 use super::equilibria::{eigenvalues, fold_abscissae};
