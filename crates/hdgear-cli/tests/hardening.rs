@@ -452,6 +452,13 @@ fn a_sweep_whose_points_all_fail_exits_1() {
         .assert()
         .code(1)
         .stderr(predicates::str::contains("wrote s.csv: 3 rows, 3 failed"));
+    // a failed row has no mode (not a sentinel word) and says why in `error`
+    let text = std::fs::read_to_string(dir.path().join("s.csv")).unwrap();
+    for row in text.lines().skip(1) {
+        let cols: Vec<&str> = row.split(',').collect();
+        assert_eq!((cols[7], cols[8]), ("", ""), "{row}");
+        assert!(row.contains("integration steps"), "{row}");
+    }
 }
 
 #[test]

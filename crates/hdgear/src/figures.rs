@@ -1,7 +1,7 @@
 //! The figures of the study (and beyond), as data ([`Figure`]) built from computations.
 //! Rendering is [`crate::output::plot`]'s job.
 
-use crate::burst::{BurstOptions, classify, response};
+use crate::burst::{BurstOptions, Mode, classify, response};
 use crate::error::Result;
 use crate::fast::{self, analyze, curve};
 use crate::output::plot::{Figure, Map, Panel, Series, Style};
@@ -627,12 +627,12 @@ pub fn fold_delta(p: &Params) -> Option<f64> {
 /// The (γ, δ) plane coloured by mode, with the fold curve and the cusp over it.
 pub fn map_figure(base: &Params, grid: &Grid, rows: &[SweepRow]) -> Figure {
     let modes = [
-        "normal",
-        "transitional",
-        "fast-slow",
-        "pronounced-bursting",
-        "relaxation",
-        "not-fast-slow",
+        Mode::Normal,
+        Mode::Transitional,
+        Mode::FastSlow,
+        Mode::PronouncedBursting,
+        Mode::Relaxation,
+        Mode::NotFastSlow,
     ];
     let (ga, da) = (&grid.axes[0], &grid.axes[1]);
     let edges = |ax: &Axis, i: usize| {
@@ -671,7 +671,7 @@ pub fn map_figure(base: &Params, grid: &Grid, rows: &[SweepRow]) -> Figure {
         let (i, j) = (r.index % ga.count, r.index / ga.count);
         let (x0, x1) = edges(ga, i);
         let (y0, y1) = edges(da, j);
-        if let Some(k) = modes.iter().position(|m| *m == r.mode) {
+        if let Some(k) = modes.iter().position(|&m| Some(m) == r.mode) {
             cells.push((x0, x1, y0, y1, k));
         }
     }
@@ -754,7 +754,7 @@ pub fn map_figure(base: &Params, grid: &Grid, rows: &[SweepRow]) -> Figure {
                 ..Panel::default()
             },
             cells,
-            categories: modes.iter().map(|m| m.to_string()).collect(),
+            categories: modes.iter().map(|m| m.name().to_string()).collect(),
         }),
     }
 }

@@ -5,7 +5,7 @@
 //! Rows are handed to the caller as they finish (for streaming and resuming); the caller puts
 //! them in grid order at the end.
 
-use crate::burst::{BurstOptions, classify, response};
+use crate::burst::{BurstOptions, Mechanism, Mode, classify, response};
 use crate::error::{Error, Result};
 use crate::fast;
 use crate::params::{Param, Params};
@@ -193,10 +193,10 @@ pub struct SweepRow {
     pub delta: f64,
     /// ω
     pub omega: f64,
-    /// Oscillation mode (`error` when the point failed).
-    pub mode: String,
-    /// Mechanism (`error` when the point failed).
-    pub mechanism: String,
+    /// Oscillation mode (empty when the point failed: see `error`).
+    pub mode: Option<Mode>,
+    /// Mechanism (empty when the point failed).
+    pub mechanism: Option<Mechanism>,
     /// Bursts per slow period.
     pub bursts_per_period: f64,
     /// Mean spikes per burst.
@@ -231,8 +231,8 @@ pub fn run_point(index: usize, p: &Params, opts: &BurstOptions) -> SweepRow {
         mu: p.mu,
         delta: p.delta,
         omega: p.omega,
-        mode: "error".into(),
-        mechanism: "error".into(),
+        mode: None,
+        mechanism: None,
         bursts_per_period: f64::NAN,
         spikes_per_burst: f64::NAN,
         burst_amplitude: f64::NAN,
@@ -245,8 +245,8 @@ pub fn run_point(index: usize, p: &Params, opts: &BurstOptions) -> SweepRow {
     };
     match result {
         Ok((c, r, slope)) => {
-            row.mode = c.mode.name().into();
-            row.mechanism = c.mechanism.name().into();
+            row.mode = Some(c.mode);
+            row.mechanism = Some(c.mechanism);
             row.bursts_per_period = r.bursts_per_period.unwrap_or(f64::NAN);
             row.spikes_per_burst = r.spikes_per_burst;
             row.burst_amplitude = r.burst_amplitude;
