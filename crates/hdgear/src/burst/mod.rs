@@ -443,7 +443,8 @@ pub fn response(p: &Params, opts: &BurstOptions) -> Result<Response> {
             scanner.push(&solver.dense());
         }
     }
-    Ok(assemble(p, opts, scanner.finish(), (t_w0, t_w1), t_s1, gap))
+    let scan = scanner.finish();
+    Ok(assemble(p, opts, scan, (t_w0, t_w1), t_s1, gap, x_extent))
 }
 
 /// Integration noise in the state is this many times the tolerance scale atol + rtol·X:
@@ -488,9 +489,9 @@ fn assemble(
     (t_w0, t_w1): (f64, f64),
     t_scan_end: f64,
     gap: f64,
+    x_extent: f64,
 ) -> Response {
     let period = p.slow_period();
-    let x_extent = curve_extent(p);
     let floor = overshoot_floor(opts, x_extent);
     let omega_x = p.omega * x_extent;
 

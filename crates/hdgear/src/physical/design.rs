@@ -139,6 +139,14 @@ pub const SEARCH_MAX_STEPS: u64 = 2_000_000;
 
 /// Judges one drive (see the module docs).
 pub fn judge(d: &PhysicalParams, opts: &BurstOptions) -> Result<Judgement> {
+    Ok(judge_classified(d, opts)?.0)
+}
+
+/// [`judge`], with the classification of the simulated response when there was one.
+fn judge_classified(
+    d: &PhysicalParams,
+    opts: &BurstOptions,
+) -> Result<(Judgement, Option<crate::burst::Classification>)> {
     let p = d.reduce()?.params;
     let domain_predicted = p.omega <= turning_point_rate(&p) / 10.0;
     if p.omega >= MIN_SIMULATED_OMEGA {
@@ -147,23 +155,25 @@ pub fn judge(d: &PhysicalParams, opts: &BurstOptions) -> Result<Judgement> {
         match response(&p, &o) {
             Ok(resp) => {
                 let c = classify(&p, &resp);
-                return Ok(Judgement {
+                let j = Judgement {
                     bursting: c.bursting,
                     verdict: Some(c.verdict),
                     fast_slow_domain: c.fast_slow_domain,
                     basis: Basis::Simulation,
-                });
+                };
+                return Ok((j, Some(c)));
             }
             Err(crate::Error::Solver(crate::error::SolverError::TooManySteps { .. })) => {}
             Err(e) => return Err(e),
         }
     }
-    Ok(Judgement {
+    let j = Judgement {
         bursting: predict(&p).bursting,
         verdict: None,
         fast_slow_domain: domain_predicted,
         basis: Basis::Prediction,
-    })
+    };
+    Ok((j, None))
 }
 
 fn scaled(d: &PhysicalParams, param: DriveParam, f: f64) -> PhysicalParams {
@@ -255,13 +265,12 @@ fn margin(
 pub fn design_check(d: &PhysicalParams, opts: &BurstOptions) -> Result<DesignCheck> {
     let r = d.reduce()?;
     let p = r.params;
-    let judgement = judge(d, opts)?;
-    let (mode, mechanism) = if judgement.basis == Basis::Simulation {
-        let c = classify(&p, &response(&p, opts)?);
-        (Some(c.mode), Some(c.mechanism))
-    } else {
-        (None, None)
-    };
+    // the drive as it is is simulated once: its judgement and its classification together
+    let (judgement, classification) = judge_classified(d, opts)?;
+    let (mode, mechanism) = (
+        classification.map(|c| c.mode),
+        classification.map(|c| c.mechanism),
+    );
     let margins = DESIGN_PARAMETERS
         .iter()
         .map(|&name| margin(d, name, judgement, opts))
