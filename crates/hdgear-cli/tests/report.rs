@@ -5,16 +5,29 @@ use crate::common::hdgear;
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
-const FIGURES: [&str; 8] = [
-    "xdot-gamma",
-    "x-equilibrium",
-    "transformed-phase-g0.1",
-    "transformed-phase-g0.01",
-    "phase-plane",
-    "slope",
-    "sweep",
-    "map",
-];
+/// The report's figure files, from the library's one list.
+fn figures() -> Vec<&'static str> {
+    hdgear::report::FIGURES.iter().map(|f| f.2).collect()
+}
+
+#[test]
+fn every_figure_kind_is_in_its_table_line_and_in_the_report() {
+    use hdgear::figures::{FigureKind, KINDS};
+    for (i, e) in KINDS.iter().enumerate() {
+        // `FigureKind::name` looks its line up by discriminant
+        assert_eq!(e.kind as usize, i, "{} out of order", e.name);
+        assert_eq!(e.name.parse::<FigureKind>().unwrap(), e.kind);
+        assert_eq!(
+            serde_json::to_value(e.kind).unwrap(),
+            serde_json::json!(e.name)
+        );
+        assert!(
+            hdgear::report::FIGURES.iter().any(|f| f.0 == e.kind),
+            "{} not in the report",
+            e.name
+        );
+    }
+}
 
 /// Builds the report once per test run.
 fn report_dir() -> &'static Path {
@@ -56,7 +69,7 @@ fn report_has_every_section_and_figure_inline() {
             "section {id}"
         );
     }
-    for f in FIGURES {
+    for f in figures() {
         let start = h
             .find(&format!("<figure id=\"fig-{f}\""))
             .unwrap_or_else(|| panic!("figure {f}"));
@@ -149,7 +162,7 @@ fn png_stats(path: &Path) -> (u32, u32, f64) {
 #[test]
 fn every_figure_file_is_valid_and_not_empty() {
     let dir = report_dir();
-    for f in FIGURES {
+    for f in figures() {
         let svg = std::fs::read_to_string(dir.join(format!("figures/{f}.svg"))).unwrap();
         assert!(
             svg.contains("<svg") && svg.trim_end().ends_with("</svg>"),

@@ -44,6 +44,7 @@ pub mod physical;
 pub mod report;
 pub mod scenario;
 pub mod simulate;
+pub mod study;
 pub mod sweep;
 pub mod table;
 

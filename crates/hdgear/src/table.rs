@@ -5,6 +5,7 @@ use crate::burst::{BurstOptions, Mechanism, Mode, Verdict, classify, response};
 use crate::error::Result;
 use crate::fast::analyze;
 use crate::params::{Param, Params};
+use crate::study::{Case, Study};
 use rayon::prelude::*;
 use serde::Serialize;
 
@@ -174,30 +175,55 @@ fn change(lo: f64, hi: f64) -> (&'static str, f64) {
 
 /// Computes both tables at `base` (the study's point: `Params::default()`).
 pub fn tables(base: &Params, opts: &BurstOptions) -> Result<Tables> {
+    let mut study = Study::new(*opts, *opts, 0, 0, (0, 0));
+    tables_in(&mut study, base)
+}
+
+/// Both tables at `base`, the γ table from (and into) `study`'s cases.
+pub fn tables_in(study: &mut Study, base: &Params) -> Result<Tables> {
     base.validate()?;
-    let gamma_table = STUDY_GAMMAS
-        .par_iter()
-        .map(|&(gamma, study)| {
-            let p = Params { gamma, ..*base };
-            let r = response(&p, opts)?;
-            let c = classify(&p, &r);
-            let an = analyze(&p, crate::fast::A_RANGE)?;
-            Ok(GammaRow {
-                gamma,
-                shape: shape_words(an.equilibria.max_slope.value),
-                max_slope: an.equilibria.max_slope.value,
-                slope_at_a0: an.equilibria.slope_at_a0.unwrap_or(f64::NAN),
-                bursts_per_period: r.bursts_per_period.unwrap_or(f64::NAN),
-                spikes_per_burst: r.spikes_per_burst,
-                peak_abs_xdot: r.peak_abs_xdot,
-                mode: c.mode,
-                verdict: c.verdict,
-                mechanism: c.mechanism,
-                study_mode: study,
-                agrees: c.mode == study,
-            })
-        })
-        .collect::<Result<Vec<_>>>()?;
+    let points = STUDY_GAMMAS.map(|(gamma, _)| Params { gamma, ..*base });
+    let opts = study.opts;
+    let (cases, effects_table) =
+        rayon::join(|| study.cases(&points), || effects_table(base, &opts));
+    let gamma_table = cases?
+        .into_iter()
+        .zip(STUDY_GAMMAS)
+        .map(|(c, (_, study_mode))| gamma_row(c, study_mode))
+        .collect();
+    Ok(Tables {
+        base: *base,
+        gamma_table,
+        effects_table: effects_table?,
+    })
+}
+
+/// The γ table's row of one case, against the mode the study reports.
+pub fn gamma_row(case: &Case, study_mode: Mode) -> GammaRow {
+    let (e, r, c) = (
+        &case.analysis.equilibria,
+        &case.response,
+        &case.classification,
+    );
+    GammaRow {
+        gamma: case.params.gamma,
+        shape: shape_words(e.max_slope.value),
+        max_slope: e.max_slope.value,
+        slope_at_a0: e.slope_at_a0.unwrap_or(f64::NAN),
+        bursts_per_period: r.bursts_per_period.unwrap_or(f64::NAN),
+        spikes_per_burst: r.spikes_per_burst,
+        peak_abs_xdot: r.peak_abs_xdot,
+        mode: c.mode,
+        verdict: c.verdict,
+        mechanism: c.mechanism,
+        study_mode,
+        agrees: c.mode == study_mode,
+    }
+}
+
+/// The parameter-effects table: each parameter the study makes a claim about, halved and
+/// doubled around `base`.
+pub fn effects_table(base: &Params, opts: &BurstOptions) -> Result<Vec<EffectRow>> {
     let specs: [(Param, &'static str); 5] = [
         (
             Param::Gamma,
@@ -217,7 +243,7 @@ pub fn tables(base: &Params, opts: &BurstOptions) -> Result<Tables> {
             "increasing eps shifts the location of the spiking area",
         ),
     ];
-    let effects_table = specs
+    specs
         .par_iter()
         .map(|&(param, claim)| {
             let name = param.name();
@@ -276,10 +302,5 @@ pub fn tables(base: &Params, opts: &BurstOptions) -> Result<Tables> {
                 },
             })
         })
-        .collect::<Result<Vec<_>>>()?;
-    Ok(Tables {
-        base: *base,
-        gamma_table,
-        effects_table,
-    })
+        .collect()
 }

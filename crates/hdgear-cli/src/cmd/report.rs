@@ -1,6 +1,7 @@
 //! `hdgear report`: the HTML report.
 
 use anyhow::{Context, Result};
+use hdgear::report::Stage;
 
 pub fn run(a: crate::cli::ReportArgs) -> Result<()> {
     if a.threads == Some(0) {
@@ -12,10 +13,14 @@ pub fn run(a: crate::cli::ReportArgs) -> Result<()> {
         ..Default::default()
     };
     let start = std::time::Instant::now();
-    let mut step = 0;
-    let summary = hdgear::report::build(&a.out, &opts, &mut |stage| {
-        step += 1;
-        eprintln!("[{step}/8 {:5.1} s] {stage}", start.elapsed().as_secs_f64());
+    let stages = Stage::ALL.len();
+    let summary = hdgear::report::build(&a.out, &opts, &mut |stage: Stage| {
+        let step = stage as usize + 1;
+        eprintln!(
+            "[{step}/{stages} {:5.1} s] {}",
+            start.elapsed().as_secs_f64(),
+            stage.describe(&opts)
+        );
     })
     .with_context(|| format!("writing the report to {}", a.out.display()))?;
     eprintln!(

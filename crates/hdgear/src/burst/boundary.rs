@@ -85,7 +85,7 @@ pub fn boundaries(p: &Params, opts: &BurstOptions) -> Result<Boundaries> {
         true,
         |g| bursting(&Params { gamma: g, ..*p }, opts),
     )?;
-    let omega_max = super::turning_point_rate(p) / 10.0;
+    let omega_max = super::turning_point_rate(p) / super::TIME_SCALE_SEPARATION;
     let simulated_omega = if pr.fold_in_range {
         None
     } else {

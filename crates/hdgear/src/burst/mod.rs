@@ -53,7 +53,7 @@ use scan::{Pivot, Scan, Scanner};
 
 use crate::error::{Error, Result};
 use crate::fast::{self, stable_equilibrium};
-use crate::integrate::{Method, Options, Stepper, stepper};
+use crate::integrate::{DenseOutput, Method, Options, Stepper, stepper};
 use crate::model::Dimensionless;
 use crate::params::Params;
 use serde::{Deserialize, Serialize};
@@ -64,6 +64,11 @@ use std::f64::consts::{FRAC_PI_2, PI};
 /// cases and a 200-point γ sweep; 1e-8 keeps two decades of margin and needs 1.8 times fewer
 /// steps than the default 1e-10.
 pub const CLASSIFICATION_TOL: f64 = 1e-8;
+
+/// The time-scale separation the fast-slow picture needs: ω at most the slowest relaxation rate
+/// at the turning points divided by this (a decade, the usual meaning of "ω ≪ r"; see
+/// [`fast_slow_domain`]).
+pub const TIME_SCALE_SEPARATION: f64 = 10.0;
 
 /// Decay time of every oscillatory fast motion: the eigenvalues of a focus have real part −1/2.
 pub const RINGING_DECAY_TIME: f64 = 2.0;
@@ -416,6 +421,20 @@ pub fn window(p: &Params, opts: &BurstOptions) -> (f64, f64) {
 /// assert!(r.signatures.overshoot);
 /// ```
 pub fn response(p: &Params, opts: &BurstOptions) -> Result<Response> {
+    response_observed(p, opts, None)
+}
+
+/// Shown each step's dense output by [`response_observed`].
+pub type StepObserver<'a> = &'a mut dyn FnMut(&dyn DenseOutput<2>);
+
+/// [`response`], showing every step's dense output to `on_step` as it is taken (from τ = 0 to
+/// past the window's end), so that samples of the same pass can be kept without integrating
+/// again. Without an observer the dense output is formed only for the steps the scan needs.
+pub fn response_observed(
+    p: &Params,
+    opts: &BurstOptions,
+    mut on_step: Option<StepObserver<'_>>,
+) -> Result<Response> {
     p.validate()?;
     opts.validate()?;
     let period = p.slow_period();
@@ -439,8 +458,15 @@ pub fn response(p: &Params, opts: &BurstOptions) -> Result<Response> {
     );
     while solver.t() < t_s1 {
         solver.step(t_s1)?;
-        if solver.t() > t_s0 {
-            scanner.push(&solver.dense());
+        let scanned = solver.t() > t_s0;
+        if scanned || on_step.is_some() {
+            let dense = solver.dense();
+            if let Some(f) = on_step.as_mut() {
+                f(&dense);
+            }
+            if scanned {
+                scanner.push(&dense);
+            }
         }
     }
     let scan = scanner.finish();
@@ -656,7 +682,7 @@ fn spikes(pivots: &[Pivot], fraction: f64) -> u32 {
 /// (r_q = 1/2 on a focus, so ω ≤ 0.05 for the study's stiff branches); and, measured, the fast
 /// motion stops between passages (no continuous fast motion).
 pub fn fast_slow_domain(p: &Params, r: &Response) -> bool {
-    !r.continuous_fast_motion && p.omega <= turning_point_rate(p) / 10.0
+    !r.continuous_fast_motion && p.omega <= turning_point_rate(p) / TIME_SCALE_SEPARATION
 }
 
 /// The slowest relaxation rate of the fast subsystem at the equilibria the state rests on at the
@@ -696,7 +722,9 @@ pub fn classify(p: &Params, r: &Response) -> Classification {
     } else {
         match verdict {
             Verdict::FoldJump => Mode::Relaxation,
-            Verdict::Overshoot if min_traversed_gprime(p) <= 0.25 => Mode::PronouncedBursting,
+            Verdict::Overshoot if min_traversed_gprime(p) <= fast::FOCUS_GPRIME => {
+                Mode::PronouncedBursting
+            }
             Verdict::Overshoot => Mode::FastSlow,
             Verdict::Ringing => Mode::Transitional,
             Verdict::NoBursts => Mode::Normal,

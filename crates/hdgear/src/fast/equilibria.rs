@@ -33,7 +33,7 @@ pub enum EqType {
 impl EqType {
     /// The type for a given g'(x).
     pub fn from_g_prime(gp: f64) -> EqType {
-        if gp > 0.25 {
+        if gp > super::FOCUS_GPRIME {
             EqType::StableFocus
         } else if gp > 0.0 {
             EqType::StableNode

@@ -85,7 +85,7 @@ pub fn focus_pieces(p: &Params) -> Vec<(f64, f64)> {
         pts.extend(cuts.iter().copied().filter(|&c| c > l && c < r));
         pts.sort_by(f64::total_cmp);
         for w in pts.windows(2) {
-            if p.g_prime(0.5 * (w[0] + w[1])) > 0.25 {
+            if p.g_prime(0.5 * (w[0] + w[1])) > super::FOCUS_GPRIME {
                 out.push((w[0], w[1]));
             }
         }

@@ -84,6 +84,17 @@ pub enum Method {
     Dop853,
 }
 
+impl Method {
+    /// The method in words, for reports.
+    pub fn describe(self) -> &'static str {
+        match self {
+            Method::Dop853 => {
+                "adaptive Dormand–Prince 8(5,3) (Hairer's DOP853) with 7th-order dense output"
+            }
+        }
+    }
+}
+
 /// Tolerances and limits of the integrator.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Options {

@@ -148,7 +148,7 @@ fn judge_classified(
     opts: &BurstOptions,
 ) -> Result<(Judgement, Option<crate::burst::Classification>)> {
     let p = d.reduce()?.params;
-    let domain_predicted = p.omega <= turning_point_rate(&p) / 10.0;
+    let domain_predicted = p.omega <= turning_point_rate(&p) / crate::burst::TIME_SCALE_SEPARATION;
     if p.omega >= MIN_SIMULATED_OMEGA {
         let mut o = *opts;
         o.tol.max_steps = o.tol.max_steps.min(SEARCH_MAX_STEPS);

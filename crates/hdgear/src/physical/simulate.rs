@@ -94,3 +94,69 @@ pub fn simulate_physical(
         angle_scale: scale,
     })
 }
+
+/// How closely the two-inertia model and its reduction agree: both simulated from rest over
+/// `tau_end` dimensionless time units, sampled every `dt` of them, compared as θ(t) = L·x(t/T).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct ReductionCheck {
+    /// Dimensionless span simulated.
+    pub tau_end: f64,
+    /// Tolerance (rtol = atol) of both simulations.
+    pub tol: f64,
+    /// Largest |θ − L·x| over the largest |L·x|.
+    pub theta: f64,
+    /// Largest |θ' − (L/T)·x'| over the largest |(L/T)·x'|.
+    pub theta_dot: f64,
+    /// Largest mismatch of the sample times, t/T − τ.
+    pub time: f64,
+}
+
+/// Simulates `d` and its reduced model side by side (see [`ReductionCheck`]); fails when the
+/// drive has no reduction.
+pub fn check_reduction(
+    d: &super::PhysicalParams,
+    tau_end: f64,
+    dt: f64,
+    tol: f64,
+) -> Result<ReductionCheck> {
+    let r = d.reduce()?;
+    let opts = Options {
+        rtol: tol,
+        atol: tol,
+        ..Options::default()
+    };
+    let mut phys = Vec::new();
+    simulate_physical(d, r.time(tau_end), r.time(dt), opts, |s| {
+        phys.push((s.t, s.theta, s.theta_dot));
+    })?;
+    let mut red = Vec::new();
+    crate::simulate::simulate(
+        &r.params,
+        &crate::simulate::SimOptions {
+            t_end: tau_end,
+            dt,
+            start: crate::simulate::Start::Rest,
+            tol: opts,
+        },
+        |t, y| red.push((t, r.theta(y[0]), r.theta_dot(y[1]))),
+    )?;
+    let peak = |f: fn(&(f64, f64, f64)) -> f64| red.iter().map(f).fold(0.0, f64::max);
+    let (scale, rate_scale) = (peak(|q| q.1.abs()), peak(|q| q.2.abs()));
+    let mut out = ReductionCheck {
+        tau_end,
+        tol,
+        theta: 0.0,
+        theta_dot: 0.0,
+        time: if phys.len() == red.len() {
+            0.0
+        } else {
+            f64::INFINITY
+        },
+    };
+    for (p, q) in phys.iter().zip(&red) {
+        out.time = out.time.max((r.tau(p.0) - q.0).abs());
+        out.theta = out.theta.max((p.1 - q.1).abs() / scale);
+        out.theta_dot = out.theta_dot.max((p.2 - q.2).abs() / rate_scale);
+    }
+    Ok(out)
+}

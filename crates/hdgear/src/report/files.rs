@@ -1,0 +1,139 @@
+//! Writing the report's files: the manifest of what hdgear wrote (so that only those are
+//! overwritten without `--force`), atomic writes, and the record to the manifest after each.
+
+use super::MANIFEST;
+use crate::error::{Error, Result};
+use crate::output::{Format, Record, RecordWriter, write_atomic};
+use serde::Serialize;
+use std::path::{Path, PathBuf};
+
+/// The files hdgear's manifest in `dir` lists.
+fn manifest(dir: &Path) -> Vec<String> {
+    std::fs::read_to_string(dir.join(MANIFEST))
+        .map(|t| t.lines().map(str::to_string).collect())
+        .unwrap_or_default()
+}
+
+/// Rewrites the manifest: what it listed before and what this run has written so far (saved
+/// after every stage, so an interrupted report can be rerun without `--force`).
+fn save_manifest(dir: &Path, before: &[String], files: &[String]) -> Result<()> {
+    let mut all: Vec<String> = before.iter().chain(files).cloned().collect();
+    all.sort();
+    all.dedup();
+    write_atomic(&dir.join(MANIFEST), (all.join("\n") + "\n").as_bytes())
+}
+
+/// Files in `dir`, `dir/figures` and `dir/data` that hdgear's manifest does not list.
+fn foreign_files(dir: &Path) -> Vec<String> {
+    let listed = manifest(dir);
+    let mut out = Vec::new();
+    for sub in ["", "figures", "data"] {
+        let Ok(entries) = std::fs::read_dir(dir.join(sub)) else {
+            continue;
+        };
+        for e in entries.flatten() {
+            let name = e.file_name().to_string_lossy().into_owned();
+            let rel = if sub.is_empty() {
+                name.clone()
+            } else {
+                format!("{sub}/{name}")
+            };
+            let is_dir = e.file_type().is_ok_and(|t| t.is_dir());
+            if name == MANIFEST
+                || (is_dir && sub.is_empty() && (name == "figures" || name == "data"))
+            {
+                continue;
+            }
+            if !listed.contains(&rel) {
+                out.push(rel);
+            }
+        }
+    }
+    out.sort();
+    out
+}
+
+/// Writes files into the report directory, recording each in the manifest as soon as it is
+/// written (so an interrupted report can be rerun without `--force`).
+pub(super) struct Files {
+    dir: PathBuf,
+    before: Vec<String>,
+    /// Written so far, relative to the directory.
+    pub written: Vec<String>,
+}
+
+impl Files {
+    /// Checks `dir` (created if missing) holds nothing hdgear did not write, unless `force`.
+    pub fn open(dir: &Path, force: bool) -> Result<Files> {
+        if dir.exists() && !dir.is_dir() {
+            return Err(Error::InvalidInput {
+                what: "report directory",
+                text: dir.display().to_string(),
+                reason: "exists and is not a directory".into(),
+            });
+        }
+        let foreign = foreign_files(dir);
+        if !force && !foreign.is_empty() {
+            return Err(Error::InvalidInput {
+                what: "report directory",
+                text: dir.display().to_string(),
+                reason: format!(
+                    "holds files hdgear did not write ({}{}): choose another --out, or pass \
+                     --force to overwrite",
+                    foreign[..foreign.len().min(3)].join(", "),
+                    if foreign.len() > 3 { ", …" } else { "" }
+                ),
+            });
+        }
+        std::fs::create_dir_all(dir.join("figures")).map_err(io(dir))?;
+        std::fs::create_dir_all(dir.join("data")).map_err(io(dir))?;
+        Ok(Files {
+            dir: dir.to_path_buf(),
+            before: manifest(dir),
+            written: Vec::new(),
+        })
+    }
+
+    /// Writes `bytes` to `name` (relative) atomically and records it.
+    pub fn bytes(&mut self, name: &str, bytes: &[u8]) -> Result<()> {
+        write_atomic(&self.dir.join(name), bytes)?;
+        self.record(name)
+    }
+
+    /// Records a file written by someone else (a PNG renderer).
+    pub fn record(&mut self, name: &str) -> Result<()> {
+        self.written.push(name.to_string());
+        save_manifest(&self.dir, &self.before, &self.written)
+    }
+
+    /// The path of `name` in the directory.
+    pub fn path(&self, name: &str) -> PathBuf {
+        self.dir.join(name)
+    }
+
+    /// `rows` as CSV.
+    pub fn csv<T: Record>(&mut self, name: &str, rows: &[T]) -> Result<()> {
+        let path = self.path(name);
+        let mut w = RecordWriter::<_, T>::new(Vec::new(), Format::Csv, &serde_json::Value::Null)
+            .map_err(io(&path))?;
+        for r in rows {
+            w.row(r).map_err(io(&path))?;
+        }
+        let bytes = w.finish().map_err(io(&path))?;
+        self.bytes(name, &bytes)
+    }
+
+    /// `v` as pretty JSON.
+    pub fn json<T: Serialize>(&mut self, name: &str, v: &T) -> Result<()> {
+        let path = self.path(name);
+        let text = serde_json::to_string_pretty(v).map_err(|e| io(&path)(e.into()))?;
+        self.bytes(name, text.as_bytes())
+    }
+}
+
+fn io(path: &Path) -> impl Fn(std::io::Error) -> Error + '_ {
+    move |source| Error::Io {
+        path: path.to_path_buf(),
+        source,
+    }
+}

@@ -1,0 +1,349 @@
+//! The self-contained HTML report that reproduces the study (`hdgear report`).
+//!
+//! Computed once, then rendered: [`Report::compute`] runs every computation (each study response
+//! integrated once, through a [`Study`]), [`html::render`] turns the [`Report`] into
+//! `index.html` (everything inline: SVG figures, CSS; no JavaScript, no network), and
+//! [`Report::write`] puts it, the figures as SVG and PNG and the data behind every table and
+//! figure as CSV/JSON into a directory. Table cells carry their exact values in `data-value`
+//! attributes so tests (and scripts) can check them against `hdgear table --json`.
+
+mod files;
+pub mod html;
+
+use crate::burst::{Boundaries, BurstOptions};
+use crate::error::Result;
+use crate::fast::{A_RANGE, CurvePoint, curve};
+use crate::figures::FigureKind;
+use crate::output::plot::{self, Figure};
+use crate::params::Params;
+use crate::physical::PhysicalParams;
+use crate::physical::catalogue::{CatalogueDrive, Fit};
+use crate::physical::design::{DesignCheck, design_check};
+use crate::physical::simulate::{ReductionCheck, check_reduction};
+use crate::study::{Case, GridRun, Study};
+use crate::table::{STUDY_GAMMAS, Tables, tables_in};
+use files::Files;
+use serde::Serialize;
+use std::path::Path;
+
+/// What the report runs.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct ReportOptions {
+    /// The study's point (γ varies where the study varies it).
+    pub base: Params,
+    /// Burst detection and tolerances.
+    pub burst: BurstOptions,
+    /// Points of the γ sweep.
+    pub sweep_points: usize,
+    /// Grid of the (γ, δ) map.
+    pub map_size: (usize, usize),
+    /// Tolerance (rtol = atol) of the γ sweep and the map, which only need verdicts and counts.
+    pub grid_tol: f64,
+    /// Worker threads (0: one per core).
+    pub threads: usize,
+    /// Overwrite files in the output directory that hdgear did not write (see [`MANIFEST`]).
+    pub force: bool,
+}
+
+/// The file in the output directory that lists what hdgear wrote there; only those files are
+/// overwritten without [`ReportOptions::force`].
+pub const MANIFEST: &str = ".hdgear-report";
+
+impl Default for ReportOptions {
+    fn default() -> Self {
+        ReportOptions {
+            base: Params::default(),
+            burst: BurstOptions::default(),
+            sweep_points: 160,
+            map_size: (60, 36),
+            grid_tol: crate::burst::CLASSIFICATION_TOL,
+            threads: 0,
+            force: false,
+        }
+    }
+}
+
+/// What was written.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ReportSummary {
+    /// Files written, relative to the output directory.
+    pub files: Vec<String>,
+    /// The tables shown.
+    pub tables: Tables,
+}
+
+/// The report's figures, in order: the kind, the γ it is drawn at (`None`: the study's point),
+/// and its file stem.
+pub const FIGURES: [(FigureKind, Option<f64>, &str); 9] = [
+    (FigureKind::XdotGamma, None, "xdot-gamma"),
+    (FigureKind::XEquilibrium, Some(1.0), "x-equilibrium"),
+    (
+        FigureKind::TransformedPhase,
+        Some(0.1),
+        "transformed-phase-g0.1",
+    ),
+    (
+        FigureKind::TransformedPhase,
+        Some(0.01),
+        "transformed-phase-g0.01",
+    ),
+    (FigureKind::PhasePlane, Some(1.0), "phase-plane"),
+    (FigureKind::Slope, None, "slope"),
+    (FigureKind::Sweep, None, "sweep"),
+    (FigureKind::Map, None, "map"),
+    (FigureKind::Boundary, None, "boundary"),
+];
+
+/// The drive of the physical section.
+pub const PHYSICAL_DRIVE: &str = "CSF-20-50";
+
+/// The dimensionless span [`check_reduction`] compares the two-inertia model and its reduction
+/// over, and the tolerance of both simulations.
+pub const REDUCTION_CHECK: (f64, f64) = (300.0, 1e-12);
+
+/// The stages of [`Report::compute`] and [`Report::write`], in order.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Stage {
+    /// The study's responses (once each) and both tables.
+    Tables,
+    /// The γ sweep.
+    Sweep,
+    /// The (γ, δ) map.
+    Map,
+    /// The physical drive and the bursting boundaries.
+    Physical,
+    /// Building the figures from what was computed.
+    Figures,
+    /// Rendering and writing the files.
+    Writing,
+}
+
+impl Stage {
+    /// Every stage, in order.
+    pub const ALL: [Stage; 6] = [
+        Stage::Tables,
+        Stage::Sweep,
+        Stage::Map,
+        Stage::Physical,
+        Stage::Figures,
+        Stage::Writing,
+    ];
+
+    /// What the stage does with `opts`, in words.
+    pub fn describe(self, opts: &ReportOptions) -> String {
+        match self {
+            Stage::Tables => "the study's responses (each integrated once) and both tables".into(),
+            Stage::Sweep => format!("γ sweep ({} simulations)", opts.sweep_points),
+            Stage::Map => format!(
+                "(γ, δ) map ({} simulations)",
+                opts.map_size.0 * opts.map_size.1
+            ),
+            Stage::Physical => format!(
+                "physical drive ({PHYSICAL_DRIVE}): reduction, two-inertia check, design check; \
+                 bursting boundaries"
+            ),
+            Stage::Figures => format!("{} figures", FIGURES.len()),
+            Stage::Writing => "writing SVG, PNG, data and index.html".into(),
+        }
+    }
+}
+
+/// Told when each [`Stage`] starts (progress lines in the binary).
+pub trait Observer {
+    /// `stage` starts.
+    fn stage(&mut self, stage: Stage);
+}
+
+impl<F: FnMut(Stage)> Observer for F {
+    fn stage(&mut self, stage: Stage) {
+        self(stage);
+    }
+}
+
+/// The physical section's numbers.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct PhysicalEvidence {
+    /// The catalogue data of [`PHYSICAL_DRIVE`].
+    pub catalogue: CatalogueDrive,
+    /// The drive built from them.
+    pub drive: PhysicalParams,
+    /// Its stiffness fit.
+    pub fit: Fit,
+    /// Its design check (which includes the reduction).
+    pub check: DesignCheck,
+    /// The same drive made to burst (softer k1, larger disturbance).
+    pub variant: PhysicalParams,
+    /// The variant's design check.
+    pub variant_check: DesignCheck,
+    /// The two-inertia model against the reduced model.
+    pub reduction_check: ReductionCheck,
+}
+
+impl PhysicalEvidence {
+    /// The physical section for [`PHYSICAL_DRIVE`].
+    pub fn compute(opts: &BurstOptions) -> Result<PhysicalEvidence> {
+        let (drive, fit) = crate::physical::catalogue::preset(PHYSICAL_DRIVE, None)?;
+        let variant = PhysicalParams {
+            k1: 2000.0,
+            t_am: 112.0,
+            ..drive
+        };
+        let (span, tol) = REDUCTION_CHECK;
+        Ok(PhysicalEvidence {
+            catalogue: CatalogueDrive::by_name(PHYSICAL_DRIVE)?,
+            drive,
+            fit,
+            check: design_check(&drive, opts)?,
+            variant,
+            variant_check: design_check(&variant, opts)?,
+            reduction_check: check_reduction(&drive, span, 1.0, tol)?,
+        })
+    }
+}
+
+/// Everything the report shows, computed.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Report {
+    /// hdgear's version.
+    pub version: &'static str,
+    /// What was run.
+    pub options: ReportOptions,
+    /// Both tables.
+    pub tables: Tables,
+    /// The study's four γ, in [`STUDY_GAMMAS`] order.
+    pub cases: Vec<Case>,
+    /// The equilibrium curve of each case (1001 points).
+    #[serde(skip)]
+    pub curves: Vec<Vec<CurvePoint>>,
+    /// The γ sweep.
+    pub sweep: GridRun,
+    /// The (γ, δ) map.
+    pub map: GridRun,
+    /// The physical section.
+    pub physical: PhysicalEvidence,
+    /// Bursting boundaries through the study's point and through γ = 1.
+    pub boundaries: [Boundaries; 2],
+    /// The figures, in [`FIGURES`] order.
+    #[serde(skip)]
+    pub figures: Vec<Figure>,
+}
+
+impl Report {
+    /// Runs every computation of the report, telling `observer` as each stage starts.
+    pub fn compute(opts: &ReportOptions, observer: &mut impl Observer) -> Result<Report> {
+        let base = opts.base;
+        base.validate()?;
+        let mut grid_opts = opts.burst;
+        grid_opts.tol.rtol = opts.grid_tol;
+        grid_opts.tol.atol = opts.grid_tol;
+        let mut study = Study::new(
+            opts.burst,
+            grid_opts,
+            opts.threads,
+            opts.sweep_points,
+            opts.map_size,
+        );
+        let at = |gamma: f64| Params { gamma, ..base };
+
+        observer.stage(Stage::Tables);
+        let mut points: Vec<Params> = STUDY_GAMMAS.iter().map(|g| at(g.0)).collect();
+        points.extend(FIGURES.iter().filter_map(|f| f.1.map(at)));
+        study.cases(&points)?;
+        let tables = tables_in(&mut study, &base)?;
+        let cases: Vec<Case> = study
+            .cases(&points[..STUDY_GAMMAS.len()])?
+            .into_iter()
+            .cloned()
+            .collect();
+        let curves = cases
+            .iter()
+            .map(|c| curve(&c.params, A_RANGE, 1001))
+            .collect::<Result<Vec<_>>>()?;
+
+        observer.stage(Stage::Sweep);
+        let sweep = study.sweep(&base)?.clone();
+        observer.stage(Stage::Map);
+        let map = study.map(&base)?.clone();
+
+        observer.stage(Stage::Physical);
+        let (physical, bounds) = rayon::join(
+            || PhysicalEvidence::compute(&opts.burst),
+            || study.boundaries(&[base, at(1.0)]),
+        );
+        let (physical, bounds) = (physical?, bounds?);
+
+        observer.stage(Stage::Figures);
+        let figures = FIGURES
+            .iter()
+            .map(|&(kind, gamma, name)| {
+                let mut f = kind.build(&gamma.map_or(base, at), &mut study)?;
+                f.name = name.to_string();
+                Ok(f)
+            })
+            .collect::<Result<Vec<_>>>()?;
+        Ok(Report {
+            version: env!("CARGO_PKG_VERSION"),
+            options: *opts,
+            tables,
+            cases,
+            curves,
+            sweep,
+            map,
+            physical,
+            boundaries: [bounds[0], bounds[1]],
+            figures,
+        })
+    }
+
+    /// Writes the report into `dir` (created if missing; files hdgear did not write there are
+    /// refused unless `force`): data, figures as SVG and PNG, and `index.html`.
+    pub fn write(&self, dir: &Path, force: bool) -> Result<ReportSummary> {
+        let mut out = Files::open(dir, force)?;
+        out.json("data/tables.json", &self.tables)?;
+        out.bytes(
+            "data/tables.csv",
+            crate::output::tables::csv(&self.tables)
+                .map_err(|source| crate::Error::Io {
+                    path: out.path("data/tables.csv"),
+                    source,
+                })?
+                .as_bytes(),
+        )?;
+        for (case, curve) in self.cases.iter().zip(&self.curves) {
+            let tag = format!("g{}", case.params.gamma);
+            out.json(&format!("data/analysis-{tag}.json"), case)?;
+            out.csv(&format!("data/curve-{tag}.csv"), curve)?;
+        }
+        out.csv("data/sweep-gamma.csv", &self.sweep.rows)?;
+        out.csv("data/map-gamma-delta.csv", &self.map.rows)?;
+        let mut svgs = Vec::new();
+        for f in &self.figures {
+            let svg = plot::svg(f)?;
+            out.bytes(&format!("figures/{}.svg", f.name), svg.as_bytes())?;
+            let png = format!("figures/{}.png", f.name);
+            plot::png(f, &out.path(&png))?;
+            out.record(&png)?;
+            svgs.push(svg);
+        }
+        out.bytes("index.html", html::render(self, &svgs).as_bytes())?;
+        Ok(ReportSummary {
+            files: out.written,
+            tables: self.tables.clone(),
+        })
+    }
+}
+
+/// Builds the report into `dir`: checks the directory, computes ([`Report::compute`]) and writes
+/// ([`Report::write`]).
+pub fn build(
+    dir: &Path,
+    opts: &ReportOptions,
+    observer: &mut impl Observer,
+) -> Result<ReportSummary> {
+    // refuse a directory with foreign files before computing anything
+    drop(Files::open(dir, opts.force)?);
+    let report = Report::compute(opts, observer)?;
+    observer.stage(Stage::Writing);
+    report.write(dir, opts.force)
+}

@@ -1,0 +1,247 @@
+//! Computations shared by the tables, the figures and the report, each done once.
+//!
+//! A [`Case`] is one parameter point: the fast-subsystem analysis, the measured response, its
+//! classification and samples of its first analysed slow period, all from a single integration.
+//! A [`Study`] keeps the cases, sweeps, maps and boundaries computed so far, so that a report that
+//! shows the same response in a table and in three figures integrates it once.
+
+use crate::burst::{
+    Boundaries, BurstOptions, Classification, Response, boundaries, classify, response_observed,
+};
+use crate::error::Result;
+use crate::fast::{A_RANGE, Analysis, analyze};
+use crate::integrate::DenseOutput;
+use crate::params::{Param, Params};
+use crate::sweep::{Axis, Grid, SweepRow};
+use rayon::prelude::*;
+use serde::Serialize;
+
+/// Spacing of the samples kept for figures (dimensionless time).
+pub const SAMPLE_DT: f64 = 0.05;
+
+/// One parameter point, analysed and simulated once.
+///
+/// ```
+/// use hdgear::{Params, burst::BurstOptions, study::Case};
+/// let case = Case::compute(&Params::default(), &BurstOptions::default()).unwrap();
+/// assert!(case.classification.bursting);
+/// assert!(case.samples.len() > 1000); // one slow period, every 0.05
+/// ```
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Case {
+    /// The parameters.
+    #[serde(skip)]
+    pub params: Params,
+    /// The fast subsystem over a ∈ [−1, 1].
+    pub analysis: Analysis,
+    /// Its classification.
+    pub classification: Classification,
+    /// The measured response.
+    pub response: Response,
+    /// (τ, x, x') every [`SAMPLE_DT`] over the first analysed slow period (from the window's
+    /// start to one period later, that end included), from the same pass as `response`.
+    #[serde(skip)]
+    pub samples: Vec<(f64, f64, f64)>,
+}
+
+impl Case {
+    /// Analyses the fast subsystem and simulates the default start once.
+    pub fn compute(p: &Params, opts: &BurstOptions) -> Result<Case> {
+        let analysis = analyze(p, A_RANGE)?;
+        let (t0, _) = crate::burst::window(p, opts);
+        let t1 = t0 + p.slow_period();
+        let mut samples = Vec::new();
+        // the grid k·dt (as `simulate` samples it), from the window's start
+        let mut k = (t0 / SAMPLE_DT).ceil();
+        let mut keep = |d: &dyn DenseOutput<2>| {
+            while k * SAMPLE_DT <= d.t_end().min(t1) {
+                let t = k * SAMPLE_DT;
+                let y = d.eval(t);
+                samples.push((t, y[0], y[1]));
+                k += 1.0;
+            }
+            if d.t_start() < t1 && d.t_end() >= t1 && samples.last().is_some_and(|s| s.0 < t1) {
+                let y = d.eval(t1);
+                samples.push((t1, y[0], y[1]));
+            }
+        };
+        let response = response_observed(p, opts, Some(&mut keep))?;
+        let classification = classify(p, &response);
+        Ok(Case {
+            params: *p,
+            analysis,
+            classification,
+            response,
+            samples,
+        })
+    }
+
+    /// The end of the sampled slow period.
+    pub fn sample_end(&self) -> f64 {
+        self.response.window_start + self.params.slow_period()
+    }
+}
+
+/// A γ sweep or a (γ, δ) map: the grid and its rows in grid order.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct GridRun {
+    /// The grid.
+    pub grid: Grid,
+    /// One row per grid point, in grid order.
+    pub rows: Vec<SweepRow>,
+}
+
+/// What the figures and the report compute, each once: cases by parameter point, sweeps and maps
+/// by base point, bursting boundaries by parameter point.
+#[derive(Clone, Debug)]
+pub struct Study {
+    /// Options of single responses.
+    pub opts: BurstOptions,
+    /// Options of the grid runs (sweeps, maps, boundary searches), which only need verdicts and
+    /// counts.
+    pub grid_opts: BurstOptions,
+    /// Worker threads (0: one per core).
+    pub threads: usize,
+    /// Points of a γ sweep.
+    pub sweep_points: usize,
+    /// Size of a (γ, δ) map.
+    pub map_size: (usize, usize),
+    cases: Vec<Case>,
+    sweeps: Vec<(Params, GridRun)>,
+    maps: Vec<(Params, GridRun)>,
+    boundaries: Vec<(Params, Boundaries)>,
+}
+
+/// Runs a grid on `threads` threads (0: all) and returns its rows in grid order.
+pub fn run_grid(grid: &Grid, opts: &BurstOptions, threads: usize) -> Result<Vec<SweepRow>> {
+    let mut rows = Vec::with_capacity(grid.len());
+    crate::sweep::run(
+        grid,
+        opts,
+        &std::collections::HashSet::new(),
+        threads,
+        |r| rows.push(r),
+    )?;
+    rows.sort_by_key(|r| r.index);
+    Ok(rows)
+}
+
+impl Study {
+    /// An empty study: `opts` for single responses, `grid_opts` for grids, sweeps of
+    /// `sweep_points` and maps of `map_size`.
+    pub fn new(
+        opts: BurstOptions,
+        grid_opts: BurstOptions,
+        threads: usize,
+        sweep_points: usize,
+        map_size: (usize, usize),
+    ) -> Study {
+        Study {
+            opts,
+            grid_opts,
+            threads,
+            sweep_points,
+            map_size,
+            cases: Vec::new(),
+            sweeps: Vec::new(),
+            maps: Vec::new(),
+            boundaries: Vec::new(),
+        }
+    }
+
+    /// The cases of `points`, computing the missing ones in parallel.
+    pub fn cases(&mut self, points: &[Params]) -> Result<Vec<&Case>> {
+        let mut missing: Vec<Params> = Vec::new();
+        for p in points {
+            if !self.cases.iter().any(|c| c.params == *p) && !missing.contains(p) {
+                missing.push(*p);
+            }
+        }
+        let opts = self.opts;
+        let new = missing
+            .par_iter()
+            .map(|p| Case::compute(p, &opts))
+            .collect::<Result<Vec<_>>>()?;
+        self.cases.extend(new);
+        Ok(points
+            .iter()
+            .filter_map(|p| self.cases.iter().find(|c| c.params == *p))
+            .collect())
+    }
+
+    /// The case of `p`.
+    pub fn case(&mut self, p: &Params) -> Result<&Case> {
+        let mut v = self.cases(std::slice::from_ref(p))?;
+        Ok(v.remove(0))
+    }
+
+    /// The γ sweep around `base`: [`Study::sweep_points`] values log-spaced from 0.01 to 30.
+    pub fn sweep(&mut self, base: &Params) -> Result<&GridRun> {
+        let axes = vec![log_axis(Param::Gamma, 0.01, 30.0, self.sweep_points)];
+        let i = match self.sweeps.iter().position(|s| s.0 == *base) {
+            Some(i) => i,
+            None => {
+                let run = self.run(base, axes)?;
+                self.sweeps.push((*base, run));
+                self.sweeps.len() - 1
+            }
+        };
+        Ok(&self.sweeps[i].1)
+    }
+
+    /// The (γ, δ) map around `base`: γ log-spaced 0.01–30, δ log-spaced 0.05–30, of
+    /// [`Study::map_size`].
+    pub fn map(&mut self, base: &Params) -> Result<&GridRun> {
+        let (ng, nd) = self.map_size;
+        let axes = vec![
+            log_axis(Param::Gamma, 0.01, 30.0, ng),
+            log_axis(Param::Delta, 0.05, 30.0, nd),
+        ];
+        let i = match self.maps.iter().position(|s| s.0 == *base) {
+            Some(i) => i,
+            None => {
+                let run = self.run(base, axes)?;
+                self.maps.push((*base, run));
+                self.maps.len() - 1
+            }
+        };
+        Ok(&self.maps[i].1)
+    }
+
+    fn run(&self, base: &Params, axes: Vec<Axis>) -> Result<GridRun> {
+        let grid = Grid::new(*base, axes)?;
+        let rows = run_grid(&grid, &self.grid_opts, self.threads)?;
+        Ok(GridRun { grid, rows })
+    }
+
+    /// The bursting boundaries through each of `points` (predicted, and simulated by bisection),
+    /// the missing ones computed in parallel.
+    pub fn boundaries(&mut self, points: &[Params]) -> Result<Vec<Boundaries>> {
+        let missing: Vec<Params> = points
+            .iter()
+            .filter(|p| !self.boundaries.iter().any(|b| b.0 == **p))
+            .copied()
+            .collect();
+        let opts = self.grid_opts;
+        let new = missing
+            .par_iter()
+            .map(|p| Ok((*p, boundaries(p, &opts)?)))
+            .collect::<Result<Vec<_>>>()?;
+        self.boundaries.extend(new);
+        Ok(points
+            .iter()
+            .filter_map(|p| self.boundaries.iter().find(|b| b.0 == *p).map(|b| b.1))
+            .collect())
+    }
+}
+
+/// A log-spaced axis of `count` values of `param` from `start` to `end`.
+fn log_axis(param: Param, start: f64, end: f64, count: usize) -> Axis {
+    Axis {
+        param,
+        start,
+        end,
+        count,
+        log: true,
+    }
+}
