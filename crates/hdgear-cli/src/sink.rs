@@ -166,7 +166,7 @@ impl Write for Sink {
 /// Writes `rows` as records to `--out` (or stdout), atomically.
 pub fn write_records<T: hdgear::output::Record>(
     out: Option<&Path>,
-    meta: &serde_json::Value,
+    meta: &impl serde::Serialize,
     rows: impl IntoIterator<Item = T>,
 ) -> Result<()> {
     let (sink, format) = Sink::open(out)?;

@@ -175,81 +175,60 @@ pub fn response_text(r: &hdgear::burst::Response, c: &hdgear::burst::Classificat
 }
 
 /// The readable form of `hdgear physical` (from its JSON document).
-pub fn physical_text(doc: &serde_json::Value) -> String {
+pub fn physical_text(doc: &hdgear::physical::design::DriveSummary) -> String {
     let mut s = String::new();
-    let f = |v: &serde_json::Value| v.as_f64().unwrap_or(f64::NAN);
-    let d = &doc["drive"];
+    let d = &doc.drive;
     let _ = writeln!(
         s,
         "drive: J_in = {:e} kg m^2, J_out = {:e} kg m^2, N = {}, k1 = {:e} N m/rad, k2 = {:e} N m/rad^3, \
          backlash = {:e} rad, C = {:e} N m s/rad, T_m = {} N m, T_am = {} N m, Omega = {} rad/s",
-        f(&d["j_in"]),
-        f(&d["j_out"]),
-        f(&d["ratio"]),
-        f(&d["k1"]),
-        f(&d["k2"]),
-        f(&d["backlash"]),
-        f(&d["c_eq"]),
-        f(&d["t_m"]),
-        f(&d["t_am"]),
-        f(&d["omega"])
+        d.j_in, d.j_out, d.ratio, d.k1, d.k2, d.backlash, d.c_eq, d.t_m, d.t_am, d.omega
     );
-    let c = &doc["catalogue"];
-    let fit = &c["fit"];
+    let c = &doc.catalogue;
     let _ = writeln!(
         s,
         "catalogue {}: k1, k2 fitted up to T = {} N m (twist error {:.1} % at T1, {:.1} % at T2)",
-        c["name"].as_str().unwrap_or("-"),
-        f(&fit["t_fit"]),
-        100.0 * f(&fit["twist_error_t1"]),
-        100.0 * f(&fit["twist_error_t2"])
+        c.name,
+        c.fit.t_fit,
+        100.0 * c.fit.twist_error_t1,
+        100.0 * c.fit.twist_error_t2
     );
-    if let Some(a) = c["assumptions"].as_array() {
-        for x in a {
-            let _ = writeln!(s, "  assumed: {}", x.as_str().unwrap_or_default());
-        }
+    for x in c.assumptions {
+        let _ = writeln!(s, "  assumed: {x}");
     }
-    let r = &doc["reduced"];
+    let r = &doc.reduced;
     let _ = writeln!(
         s,
         "J_eq = {:.6e} kg m^2, time scale T = {:.6e} s, length scale L = {:.6e} rad",
-        f(&doc["j_eq"]),
-        f(&doc["time_scale"]),
-        f(&doc["length_scale"])
+        doc.j_eq, doc.time_scale, doc.length_scale
     );
     let _ = writeln!(
         s,
         "reduced: alpha = {:.6}, gamma = {:.6}, eps = {:.6}, mu = {:.6}, delta = {:.6}, omega = {:.6} (alpha*eps = {:.6})",
-        f(&r["alpha"]),
-        f(&r["gamma"]),
-        f(&r["eps"]),
-        f(&r["mu"]),
-        f(&r["delta"]),
-        f(&r["omega"]),
-        f(&doc["alpha_eps"])
+        r.alpha, r.gamma, r.eps, r.mu, r.delta, r.omega, doc.alpha_eps
     );
     let _ = writeln!(
         s,
         "critical gamma 1/(3 alpha) = {:.6}, gamma margin = {:.6}",
-        f(&doc["critical_gamma"]),
-        f(&doc["gamma_margin"])
+        doc.critical_gamma, doc.gamma_margin
     );
-    let pr = &doc["predicted"];
-    let text = |v: &serde_json::Value| v.as_str().unwrap_or("-").to_string();
+    let pr = &doc.predicted;
     let _ = writeln!(
         s,
         "response: {} (signature {}, mode {}, mechanism {}){}",
-        if pr["bursting"].as_bool() == Some(true) {
+        if pr.judgement.bursting {
             "bursting"
         } else {
             "not bursting"
         },
-        text(&pr["verdict"]),
-        text(&pr["mode"]),
-        text(&pr["mechanism"]),
-        pr["note"]
-            .as_str()
-            .map_or(String::new(), |n| format!("; {n}"))
+        pr.judgement.label(),
+        pr.mode.map_or("-", |m| m.name()),
+        pr.mechanism.map_or("-", |m| m.name()),
+        match pr.judgement.basis {
+            hdgear::physical::design::Basis::Simulation => "",
+            hdgear::physical::design::Basis::Prediction =>
+                "; not simulated (reduced omega too small): predicted from the equilibrium curve",
+        }
     );
     s
 }

@@ -109,3 +109,56 @@ pub fn simulate(
         max_abs_xdot: max_v,
     })
 }
+
+/// A state [x, x'] by name.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct State {
+    /// x.
+    pub x: f64,
+    /// x'.
+    pub xdot: f64,
+}
+
+/// What `hdgear simulate --summary` prints: a run's outcome with its parameters and warnings.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct SummaryReport {
+    /// The parameters.
+    pub params: Params,
+    /// Final time.
+    pub t_end: f64,
+    /// Final state.
+    #[serde(rename = "final")]
+    pub final_state: State,
+    /// Integrator work.
+    pub stats: Stats,
+    /// max |x'| over the run (see [`SimSummary::max_abs_xdot`]).
+    pub max_abs_xdot: f64,
+    /// Remarks on the parameter set, as text.
+    pub warnings: Vec<String>,
+}
+
+impl SimSummary {
+    /// The summary of a run at `params` with the parameter set's `warnings`.
+    pub fn report(&self, params: &Params, warnings: &[crate::params::Warning]) -> SummaryReport {
+        SummaryReport {
+            params: *params,
+            t_end: self.t_end,
+            final_state: State {
+                x: self.final_state[0],
+                xdot: self.final_state[1],
+            },
+            stats: self.stats,
+            max_abs_xdot: self.max_abs_xdot,
+            warnings: warnings.iter().map(ToString::to_string).collect(),
+        }
+    }
+}
+
+/// What produced a trajectory: the `meta` of its JSON output.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Setup {
+    /// The parameters.
+    pub params: Params,
+    /// The run's options.
+    pub options: SimOptions,
+}

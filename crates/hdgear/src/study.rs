@@ -245,3 +245,23 @@ fn log_axis(param: Param, start: f64, end: f64, count: usize) -> Axis {
         log: true,
     }
 }
+
+/// What `hdgear analyze` reports for a parameter point: the fast subsystem, and, when asked for,
+/// the measured response with its classification and the bursting boundaries.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct PointAnalysis {
+    /// The fast subsystem (its fields at the top level).
+    #[serde(flatten)]
+    pub analysis: Analysis,
+    /// The measured response.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub response: Option<Response>,
+    /// Its classification.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub classification: Option<Classification>,
+    /// The bursting boundaries through the point.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub boundaries: Option<Boundaries>,
+    /// Remarks on the parameter set, as text.
+    pub warnings: Vec<String>,
+}

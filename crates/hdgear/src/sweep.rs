@@ -296,3 +296,26 @@ pub fn run(
     });
     Ok(())
 }
+
+/// Everything that changes a sweep's rows: hdgear's version, the grid and the options. The `meta`
+/// of a sweep's JSON output, and (flattened) the header that resuming checks.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Settings {
+    /// hdgear's version.
+    pub version: &'static str,
+    /// The grid.
+    pub grid: Grid,
+    /// Detection options and tolerances.
+    pub options: BurstOptions,
+}
+
+impl Settings {
+    /// The settings of `grid` run with `options` by this version.
+    pub fn new(grid: &Grid, options: &BurstOptions) -> Settings {
+        Settings {
+            version: env!("CARGO_PKG_VERSION"),
+            grid: grid.clone(),
+            options: *options,
+        }
+    }
+}

@@ -36,16 +36,14 @@ pub fn run(a: AnalyzeArgs) -> Result<()> {
         None
     };
     if a.json {
-        let mut doc = serde_json::to_value(&an)?;
-        if let Some((r, c)) = &measured {
-            doc["response"] = serde_json::to_value(r)?;
-            doc["classification"] = serde_json::to_value(c)?;
-        }
-        if let Some(b) = &bounds {
-            doc["boundaries"] = serde_json::to_value(b)?;
-        }
-        doc["warnings"] =
-            serde_json::json!(warnings.iter().map(|w| w.to_string()).collect::<Vec<_>>());
+        let (response, classification) = measured.unzip();
+        let doc = hdgear::study::PointAnalysis {
+            analysis: an,
+            response,
+            classification,
+            boundaries: bounds,
+            warnings: warnings.iter().map(ToString::to_string).collect(),
+        };
         println!("{}", serde_json::to_string_pretty(&doc)?);
     } else {
         warn(&warnings);

@@ -15,7 +15,9 @@ pub fn run(a: BifurcationArgs) -> Result<()> {
     crate::cli::check_points(a.points)?;
     warn(&warnings);
     let rows = hdgear::fast::fold_curves(&p, a.gamma_min, a.points)?;
-    let cusp = hdgear::fast::cusp(&p);
-    let meta = serde_json::json!({ "params": p, "cusp": cusp });
+    let meta = hdgear::fast::FoldCurvesSetup {
+        params: p,
+        cusp: hdgear::fast::cusp(&p),
+    };
     write_records(a.out.as_deref(), &meta, rows)
 }

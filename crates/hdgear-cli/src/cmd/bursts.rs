@@ -10,13 +10,6 @@ pub fn run(a: BurstsArgs) -> Result<()> {
     check_out(&a.out)?;
     warn(&warnings);
     let r = hdgear::burst::response(&p, &opts)?;
-    let c = hdgear::burst::classify(&p, &r);
-    let meta = serde_json::json!({
-        "params": p,
-        "options": opts,
-        "classification": c,
-        "bursts_per_period": r.bursts_per_period,
-        "window": [r.window_start, r.window_end],
-    });
+    let meta = hdgear::burst::BurstsSetup::new(&p, &opts, &r);
     write_records(a.out.as_deref(), &meta, r.bursts)
 }

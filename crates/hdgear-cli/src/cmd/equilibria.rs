@@ -12,6 +12,9 @@ pub fn run(a: EquilibriaArgs) -> Result<()> {
     warn(&warnings);
     warn_range(range);
     let curve = hdgear::fast::curve(&p, range, a.points)?;
-    let meta = serde_json::json!({ "params": p, "a_range": [range.0, range.1] });
+    let meta = hdgear::fast::CurveSetup {
+        params: p,
+        a_range: range,
+    };
     write_records(a.out.as_deref(), &meta, curve)
 }

@@ -14,8 +14,8 @@ pub fn run(a: PhysicalArgs) -> Result<()> {
     if a.simulate {
         return simulate(&a, &d, opts.tol);
     }
-    let r = d
-        .reduce()
+    // a drive without a reduction is refused here with the way out
+    d.reduce()
         .context("cannot reduce the drive (run it with hdgear physical --simulate)")?;
     if a.design {
         let check = hdgear::physical::design::design_check(&d, &opts)?;
@@ -26,28 +26,12 @@ pub fn run(a: PhysicalArgs) -> Result<()> {
         }
         return Ok(());
     }
-    let p = r.params;
-    let predicted = if p.omega >= hdgear::physical::design::MIN_SIMULATED_OMEGA {
-        let resp = hdgear::burst::response(&p, &opts)?;
-        let c = hdgear::burst::classify(&p, &resp);
-        serde_json::json!({ "bursting": c.bursting, "verdict": c.verdict, "mode": c.mode, "mechanism": c.mechanism,
-            "fast_slow_domain": c.fast_slow_domain, "bursts_per_period": resp.bursts_per_period })
-    } else {
-        serde_json::json!({ "bursting": hdgear::fast::predict(&p).bursting, "verdict": null, "mode": null,
-            "mechanism": null, "note": "reduced omega below 1e-4: not simulated; predicted from the equilibrium curve" })
+    let origin = hdgear::physical::design::CatalogueOrigin {
+        name: a.drive.clone(),
+        fit,
+        assumptions: &ASSUMPTIONS,
     };
-    let doc = serde_json::json!({
-        "drive": d,
-        "catalogue": { "name": a.drive, "fit": fit, "assumptions": ASSUMPTIONS },
-        "reduced": p,
-        "time_scale": r.time_scale,
-        "length_scale": r.length_scale,
-        "j_eq": r.j_eq,
-        "alpha_eps": p.alpha * p.eps,
-        "critical_gamma": p.critical_gamma(),
-        "gamma_margin": p.gamma - p.critical_gamma(),
-        "predicted": predicted,
-    });
+    let doc = hdgear::physical::design::summarize(&d, origin, &opts)?;
     if a.json {
         println!("{}", serde_json::to_string_pretty(&doc)?);
     } else {
@@ -85,7 +69,11 @@ fn simulate(
         simulate_physical(d, t_end, t_end, tol, |s| progress.at(s.t))?
     } else {
         let (sink, format) = Sink::open(a.out.as_deref())?;
-        let meta = serde_json::json!({ "drive": d, "t_end": t_end, "dt": dt });
+        let meta = hdgear::physical::simulate::Setup {
+            drive: *d,
+            t_end,
+            dt,
+        };
         let mut w = RecordWriter::<_, PhysicalSample>::new(sink, format, &meta)?;
         let mut err = None;
         let s = simulate_physical(d, t_end, dt, tol, |row| {
@@ -104,17 +92,7 @@ fn simulate(
     };
     drop(progress);
     if a.summary {
-        let f = summary.final_state;
-        let doc = serde_json::json!({
-            "t_end": summary.t_end,
-            "final": {
-                "theta": f.theta, "theta_dot": f.theta_dot,
-                "theta_in": f.theta_in, "theta_out": f.theta_out,
-                "theta_in_dot": summary.final_rates[0], "theta_out_dot": summary.final_rates[1],
-            },
-            "stats": summary.stats,
-            "angle_scale": summary.angle_scale,
-        });
+        let doc = summary.report();
         println!("{}", serde_json::to_string_pretty(&doc)?);
     }
     Ok(())

@@ -24,7 +24,10 @@ fn simulate_into<W: Write>(
     format: Format,
 ) -> Result<(W, hdgear::simulate::SimSummary)> {
     let p = run.params;
-    let meta = serde_json::json!({ "params": p, "options": run.opts });
+    let meta = hdgear::simulate::Setup {
+        params: p,
+        options: run.opts,
+    };
     let mut table = RecordWriter::<_, Sample>::new(sink, format, &meta)?;
     let mut io_err: Option<std::io::Error> = None;
     let mut progress = RunProgress::new(run.opts.t_end, run.opts.t_end);
@@ -54,14 +57,7 @@ pub fn run(run: SimulateRun) -> Result<()> {
         let mut progress = RunProgress::new(run.opts.t_end, run.opts.t_end);
         let s = hdgear::simulate::simulate(&run.params, &run.opts, |t, _| progress.at(t))?;
         drop(progress);
-        let doc = serde_json::json!({
-            "params": run.params,
-            "t_end": s.t_end,
-            "final": { "x": s.final_state[0], "xdot": s.final_state[1] },
-            "stats": s.stats,
-            "max_abs_xdot": s.max_abs_xdot,
-            "warnings": run.warnings.iter().map(|w| w.to_string()).collect::<Vec<_>>(),
-        });
+        let doc = s.report(&run.params, &run.warnings);
         println!("{}", serde_json::to_string_pretty(&doc)?);
         return Ok(());
     }

@@ -65,13 +65,11 @@ impl Drop for Lock {
     }
 }
 
-/// Everything that changes a row, as flat `key = value` pairs (dotted paths).
-fn settings(grid: &Grid, opts: &hdgear::burst::BurstOptions) -> serde_json::Value {
-    serde_json::json!({
-        "version": env!("CARGO_PKG_VERSION"),
-        "grid": grid,
-        "options": opts,
-    })
+/// Everything that changes a row ([`hdgear::sweep::Settings`]) as JSON.
+fn settings(grid: &Grid, opts: &hdgear::burst::BurstOptions) -> Result<serde_json::Value> {
+    Ok(serde_json::to_value(hdgear::sweep::Settings::new(
+        grid, opts,
+    ))?)
 }
 
 fn flatten(prefix: &str, v: &serde_json::Value, out: &mut BTreeMap<String, String>) {
@@ -232,7 +230,7 @@ pub fn run(a: SweepArgs) -> Result<()> {
     warn(&warnings);
     let _lock = Lock::acquire(&a.out)?;
     let partial = sibling(&a.out, ".partial");
-    let want = settings(&grid, &opts);
+    let want = settings(&grid, &opts)?;
     let mut rows: Vec<SweepRow> = Vec::new();
     if a.resume && partial.exists() {
         rows = read_partial(&partial, &grid, &want)?;
@@ -284,7 +282,7 @@ pub fn run(a: SweepArgs) -> Result<()> {
     rows.sort_by_key(|r| r.index);
     let failed = rows.iter().filter(|r| !r.error.is_empty()).count();
     let n = rows.len();
-    let meta = serde_json::json!({ "grid": grid, "options": opts });
+    let meta = hdgear::sweep::Settings::new(&grid, &opts);
     match format {
         Format::Csv | Format::Json => write_records(Some(&a.out), &meta, rows)?,
     }

@@ -742,3 +742,31 @@ pub fn classify(p: &Params, r: &Response) -> Classification {
         fast_slow_domain: domain,
     }
 }
+
+/// What produced a list of bursts: the `meta` of `hdgear bursts`' JSON output.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct BurstsSetup {
+    /// The parameters.
+    pub params: Params,
+    /// Detection options.
+    pub options: BurstOptions,
+    /// The response's classification.
+    pub classification: Classification,
+    /// Bursts per slow period (`None`: continuous fast motion).
+    pub bursts_per_period: Option<f64>,
+    /// The analysed window [start, end).
+    pub window: (f64, f64),
+}
+
+impl BurstsSetup {
+    /// The setup of response `r` at `params` measured with `options`.
+    pub fn new(params: &Params, options: &BurstOptions, r: &Response) -> BurstsSetup {
+        BurstsSetup {
+            params: *params,
+            options: *options,
+            classification: classify(params, r),
+            bursts_per_period: r.bursts_per_period,
+            window: (r.window_start, r.window_end),
+        }
+    }
+}

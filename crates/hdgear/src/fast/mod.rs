@@ -40,3 +40,21 @@ pub use predict::{
     FORCING_RATE_THRESHOLD, Prediction, bisect_log, focus_pieces, forcing_rate,
     max_equilibrium_speed, predict, predicted_gamma_boundary,
 };
+
+/// What produced an equilibrium curve: the `meta` of `hdgear equilibria`'s JSON output.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct CurveSetup {
+    /// The parameters.
+    pub params: crate::params::Params,
+    /// The range of a sampled.
+    pub a_range: (f64, f64),
+}
+
+/// What produced the fold curves: the `meta` of `hdgear bifurcation`'s JSON output.
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
+pub struct FoldCurvesSetup {
+    /// The parameters (γ is varied).
+    pub params: crate::params::Params,
+    /// Where the fold curves meet.
+    pub cusp: Cusp,
+}

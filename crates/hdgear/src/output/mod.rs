@@ -254,7 +254,11 @@ fn csv_io(e: csv::Error) -> std::io::Error {
 impl<W: Write, T: Record> RecordWriter<W, T> {
     /// Starts the output (the CSV header is written at once). `meta` (the parameters and options
     /// that produced the rows) goes into JSON output only.
-    pub fn new(mut w: W, format: Format, meta: &serde_json::Value) -> std::io::Result<Self> {
+    pub fn new(
+        mut w: W,
+        format: Format,
+        meta: &(impl serde::Serialize + ?Sized),
+    ) -> std::io::Result<Self> {
         let inner = match format {
             Format::Csv => {
                 let mut c = csv::WriterBuilder::new().has_headers(false).from_writer(w);

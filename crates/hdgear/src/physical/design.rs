@@ -289,3 +289,80 @@ pub fn design_check(d: &PhysicalParams, opts: &BurstOptions) -> Result<DesignChe
         margins,
     })
 }
+
+/// The catalogue entry a drive was built from.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct CatalogueOrigin {
+    /// Catalogue name.
+    pub name: String,
+    /// The stiffness fit.
+    pub fit: super::catalogue::Fit,
+    /// What the preset assumes beyond the catalogue.
+    pub assumptions: &'static [&'static str],
+}
+
+/// The verdict on a drive as it is, with the mode and mechanism when it was simulated.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Outcome {
+    /// The verdict (its fields at the top level).
+    #[serde(flatten)]
+    pub judgement: Judgement,
+    /// The mode (`None` when predicted).
+    pub mode: Option<crate::burst::Mode>,
+    /// The mechanism (`None` when predicted).
+    pub mechanism: Option<crate::burst::Mechanism>,
+}
+
+/// What `hdgear physical` reports for a drive: the drive, where it came from, its reduction and
+/// the verdict on it.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct DriveSummary {
+    /// The drive.
+    pub drive: PhysicalParams,
+    /// Its catalogue origin.
+    pub catalogue: CatalogueOrigin,
+    /// The reduced dimensionless parameters.
+    pub reduced: crate::params::Params,
+    /// T = J/C \[s\].
+    pub time_scale: f64,
+    /// L \[rad\].
+    pub length_scale: f64,
+    /// J_eq \[kg m²\].
+    pub j_eq: f64,
+    /// α·ε of the reduced set (1 up to rounding).
+    pub alpha_eps: f64,
+    /// 1/(3α).
+    pub critical_gamma: f64,
+    /// γ − 1/(3α).
+    pub gamma_margin: f64,
+    /// The verdict.
+    pub predicted: Outcome,
+}
+
+/// The summary of drive `d` from `catalogue` (simulated when its reduced ω allows, see
+/// [`judge`]).
+pub fn summarize(
+    d: &PhysicalParams,
+    catalogue: CatalogueOrigin,
+    opts: &BurstOptions,
+) -> Result<DriveSummary> {
+    let r = d.reduce()?;
+    let p = r.params;
+    let (judgement, c) = judge_classified(d, opts)?;
+    Ok(DriveSummary {
+        drive: *d,
+        catalogue,
+        reduced: p,
+        time_scale: r.time_scale,
+        length_scale: r.length_scale,
+        j_eq: r.j_eq,
+        alpha_eps: p.alpha * p.eps,
+        critical_gamma: p.critical_gamma(),
+        gamma_margin: p.gamma - p.critical_gamma(),
+        predicted: Outcome {
+            judgement,
+            mode: c.map(|c| c.mode),
+            mechanism: c.map(|c| c.mechanism),
+        },
+    })
+}

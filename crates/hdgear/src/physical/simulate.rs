@@ -160,3 +160,65 @@ pub fn check_reduction(
     }
     Ok(out)
 }
+
+/// What produced a physical trajectory: the `meta` of its JSON output.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Setup {
+    /// The drive.
+    pub drive: super::PhysicalParams,
+    /// Duration \[s\].
+    pub t_end: f64,
+    /// Sample spacing \[s\].
+    pub dt: f64,
+}
+
+/// The final state of a physical run by name.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct FinalState {
+    /// θ \[rad\].
+    pub theta: f64,
+    /// θ' \[rad/s\].
+    pub theta_dot: f64,
+    /// θi \[rad\].
+    pub theta_in: f64,
+    /// θo \[rad\].
+    pub theta_out: f64,
+    /// θi' \[rad/s\].
+    pub theta_in_dot: f64,
+    /// θo' \[rad/s\].
+    pub theta_out_dot: f64,
+}
+
+/// What `hdgear physical --simulate --summary` prints.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct SummaryReport {
+    /// Final time \[s\].
+    pub t_end: f64,
+    /// Final state.
+    #[serde(rename = "final")]
+    pub final_state: FinalState,
+    /// Integrator work.
+    pub stats: Stats,
+    /// The angle scale Θ \[rad\] of the absolute tolerance.
+    pub angle_scale: f64,
+}
+
+impl PhysicalSummary {
+    /// The printed summary.
+    pub fn report(&self) -> SummaryReport {
+        let f = self.final_state;
+        SummaryReport {
+            t_end: self.t_end,
+            final_state: FinalState {
+                theta: f.theta,
+                theta_dot: f.theta_dot,
+                theta_in: f.theta_in,
+                theta_out: f.theta_out,
+                theta_in_dot: self.final_rates[0],
+                theta_out_dot: self.final_rates[1],
+            },
+            stats: self.stats,
+            angle_scale: self.angle_scale,
+        }
+    }
+}
