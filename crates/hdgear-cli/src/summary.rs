@@ -78,15 +78,21 @@ pub fn analysis_text(an: &Analysis) -> String {
         let _ = writeln!(s, "dx/da at a = 0: {s0:.6}");
     }
     let _ = writeln!(s, "Hopf bifurcation possible: no ({})", e.hopf_reason);
+    prediction_text(&mut s, e);
+    s
+}
+
+/// The prediction and the spiking and quiescent areas, appended to `s`.
+fn prediction_text(s: &mut String, e: &hdgear::fast::EquilibriaSummary) {
     let c = &e.prediction;
     if c.fold_in_range {
         let _ = writeln!(
-            s,
+            *s,
             "prediction: bursting (a fold lies in a in [-1, 1]: jumps at every omega)"
         );
     } else {
         let _ = writeln!(
-            s,
+            *s,
             "prediction: {} (kappa = rate of change of the equilibrium's speed on the focus part = {:.4} at a = {:.6}; \
              threshold {}); predicted boundary omega = {:.4e}{}",
             if c.bursting { "bursting" } else { "no bursts" },
@@ -100,17 +106,16 @@ pub fn analysis_text(an: &Analysis) -> String {
     }
     if e.spiking_areas.is_empty() {
         let _ = writeln!(
-            s,
+            *s,
             "spiking areas: none (the state follows the equilibrium everywhere)"
         );
     }
     for i in &e.spiking_areas {
-        let _ = writeln!(s, "spiking area: a in [{:.6}, {:.6}]", i.a_min, i.a_max);
+        let _ = writeln!(*s, "spiking area: a in [{:.6}, {:.6}]", i.a_min, i.a_max);
     }
     for i in &e.quiescent_areas {
-        let _ = writeln!(s, "quiescent area: a in [{:.6}, {:.6}]", i.a_min, i.a_max);
+        let _ = writeln!(*s, "quiescent area: a in [{:.6}, {:.6}]", i.a_min, i.a_max);
     }
-    s
 }
 
 /// The readable form of a measured response and its classification.

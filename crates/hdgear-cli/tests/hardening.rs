@@ -74,43 +74,8 @@ fn walk(dir: &Path) -> Vec<String> {
     out
 }
 
-/// The argument vectors: each subcommand with each flag set to each hostile value, plus bad
-/// paths and specs.
-fn hostile_vectors() -> Vec<Vec<String>> {
-    let mut v: Vec<Vec<String>> = Vec::new();
-    let flags: [(&str, &[&str], &str); 19] = [
-        ("simulate", &["--summary"], "--gamma"),
-        ("simulate", &["--summary"], "--alpha"),
-        ("simulate", &["--summary"], "--omega"),
-        ("simulate", &["--summary"], "--delta"),
-        ("simulate", &["--summary"], "--dt"),
-        ("simulate", &["--summary"], "--t-end"),
-        ("simulate", &["--summary"], "--rtol"),
-        ("simulate", &["--summary"], "--atol"),
-        ("simulate", &["--summary"], "--x0"),
-        ("equilibria", &["--points", "50"], "--mu"),
-        ("analyze", &["--no-response"], "--eps"),
-        ("bifurcation", &["--points", "20"], "--gamma-min"),
-        ("bursts", &[], "--discard"),
-        ("physical", &[], "--k2"),
-        ("physical", &[], "--backlash"),
-        ("physical", &[], "--j-in"),
-        ("physical", &["--simulate", "--summary"], "--t-end"),
-        (
-            "physical",
-            &["--simulate", "--summary", "--t-end", "0.5"],
-            "--dt",
-        ),
-        ("table", &["--json"], "--gamma"),
-    ];
-    for (cmd, extra, flag) in flags {
-        for val in VALUES {
-            let mut a: Vec<String> = vec![cmd.into()];
-            a.extend(extra.iter().map(|s| s.to_string()));
-            a.push(format!("{flag}={val}"));
-            v.push(a);
-        }
-    }
+/// Bad a-ranges and sweep specs.
+fn range_and_spec_vectors(v: &mut Vec<Vec<String>>) {
     for range in [
         "-1e-200:1e-200",
         "0:5e-324",
@@ -155,6 +120,10 @@ fn hostile_vectors() -> Vec<Vec<String>> {
             "s.csv".into(),
         ]);
     }
+}
+
+/// Bad output paths for each command that writes a file.
+fn output_vectors(v: &mut Vec<Vec<String>>) {
     for out in [
         "dir.csv/",
         "x.CSV",
@@ -182,6 +151,47 @@ fn hostile_vectors() -> Vec<Vec<String>> {
             format!("--out={}", out.replace("csv", "png").replace("json", "svg")),
         ]);
     }
+}
+
+/// The argument vectors: each subcommand with each flag set to each hostile value, plus bad
+/// paths and specs.
+fn hostile_vectors() -> Vec<Vec<String>> {
+    let mut v: Vec<Vec<String>> = Vec::new();
+    let flags: [(&str, &[&str], &str); 19] = [
+        ("simulate", &["--summary"], "--gamma"),
+        ("simulate", &["--summary"], "--alpha"),
+        ("simulate", &["--summary"], "--omega"),
+        ("simulate", &["--summary"], "--delta"),
+        ("simulate", &["--summary"], "--dt"),
+        ("simulate", &["--summary"], "--t-end"),
+        ("simulate", &["--summary"], "--rtol"),
+        ("simulate", &["--summary"], "--atol"),
+        ("simulate", &["--summary"], "--x0"),
+        ("equilibria", &["--points", "50"], "--mu"),
+        ("analyze", &["--no-response"], "--eps"),
+        ("bifurcation", &["--points", "20"], "--gamma-min"),
+        ("bursts", &[], "--discard"),
+        ("physical", &[], "--k2"),
+        ("physical", &[], "--backlash"),
+        ("physical", &[], "--j-in"),
+        ("physical", &["--simulate", "--summary"], "--t-end"),
+        (
+            "physical",
+            &["--simulate", "--summary", "--t-end", "0.5"],
+            "--dt",
+        ),
+        ("table", &["--json"], "--gamma"),
+    ];
+    for (cmd, extra, flag) in flags {
+        for val in VALUES {
+            let mut a: Vec<String> = vec![cmd.into()];
+            a.extend(extra.iter().map(|s| s.to_string()));
+            a.push(format!("{flag}={val}"));
+            v.push(a);
+        }
+    }
+    range_and_spec_vectors(&mut v);
+    output_vectors(&mut v);
     for kind in ["", "nope", "MAP", "slope --gamma 5", "map --delta=3"] {
         let mut a = vec!["plot".to_string()];
         a.extend(kind.split(' ').filter(|s| !s.is_empty()).map(String::from));

@@ -252,15 +252,9 @@ pub fn xdot_gamma(base: &Params, study: &mut Study) -> Result<Figure> {
     })
 }
 
-/// x(τ) with the equilibrium x*(a(τ)) over it, one slow period.
-pub fn x_equilibrium(p: &Params, study: &mut Study) -> Result<Figure> {
-    let w = study.case(p)?;
-    let t1 = w.sample_end();
-    let x: Vec<(f64, f64)> = w.samples.iter().map(|s| (s.0, s.1)).collect();
-    let tol = 1e-3 * y_span(&x);
-    // x* along the stable branch nearest the state
-    let xs: Vec<(f64, f64)> = w
-        .samples
+/// x*(a(τ)) along the stable branch nearest the state, at the samples of `w`.
+fn tracked_equilibrium(p: &Params, w: &Case) -> Vec<(f64, f64)> {
+    w.samples
         .iter()
         .map(|s| {
             let a = (p.omega * s.0).sin();
@@ -269,7 +263,16 @@ pub fn x_equilibrium(p: &Params, study: &mut Study) -> Result<Figure> {
                 fast::nearest_stable_equilibrium(p, a, s.1).unwrap_or(f64::NAN),
             )
         })
-        .collect();
+        .collect()
+}
+
+/// x(τ) with the equilibrium x*(a(τ)) over it, one slow period.
+pub fn x_equilibrium(p: &Params, study: &mut Study) -> Result<Figure> {
+    let w = study.case(p)?;
+    let t1 = w.sample_end();
+    let x: Vec<(f64, f64)> = w.samples.iter().map(|s| (s.0, s.1)).collect();
+    let tol = 1e-3 * y_span(&x);
+    let xs = tracked_equilibrium(p, w);
     let mut panels = vec![Panel {
         title: format!("x and x*(a), γ = {}, one slow period", p.gamma),
         x_label: "τ".into(),
@@ -293,22 +296,7 @@ pub fn x_equilibrium(p: &Params, study: &mut Study) -> Result<Figure> {
         shaded_label: burst_label(w),
         ..Panel::default()
     }];
-    // a zoom on the first burst (or on the steepest passage when there is none)
-    let (z0, z1) = match w.response.bursts.first() {
-        Some(b) => (b.onset - 15.0, b.end + 15.0),
-        None => {
-            let i = xs
-                .windows(2)
-                .enumerate()
-                .max_by(|a, b| {
-                    (a.1[1].1 - a.1[0].1)
-                        .abs()
-                        .total_cmp(&(b.1[1].1 - b.1[0].1).abs())
-                })
-                .map_or(0, |(i, _)| i);
-            (xs[i].0 - 40.0, xs[i].0 + 40.0)
-        }
-    };
+    let (z0, z1) = zoom_range(w, &xs);
     let zoom = |v: &[(f64, f64)]| {
         v.iter()
             .copied()
@@ -357,11 +345,58 @@ pub fn x_equilibrium(p: &Params, study: &mut Study) -> Result<Figure> {
     })
 }
 
-/// The trajectory in the (a, x) plane over the equilibrium curve; spiking areas shaded, folds
-/// marked.
-pub fn transformed_phase(p: &Params, study: &mut Study) -> Result<Figure> {
-    let w = study.case(p)?;
-    let an = &w.analysis;
+/// Around the first burst (or the steepest passage of x* when there is none).
+fn zoom_range(w: &Case, xs: &[(f64, f64)]) -> (f64, f64) {
+    match w.response.bursts.first() {
+        Some(b) => (b.onset - 15.0, b.end + 15.0),
+        None => {
+            let i = xs
+                .windows(2)
+                .enumerate()
+                .max_by(|a, b| {
+                    (a.1[1].1 - a.1[0].1)
+                        .abs()
+                        .total_cmp(&(b.1[1].1 - b.1[0].1).abs())
+                })
+                .map_or(0, |(i, _)| i);
+            (xs[i].0 - 40.0, xs[i].0 + 40.0)
+        }
+    }
+}
+
+/// The caption of the transformed phase portrait.
+fn transformed_phase_caption(gamma: f64, areas: &[fast::Interval], has_folds: bool) -> String {
+    format!(
+        "The transformed phase portrait: the trajectory (a(τ), x(τ)) over one slow period on \
+         the equilibrium curve of the fast subsystem, γ = {} (top: the whole range; bottom: \
+         a zoom around a ≈ 0). Shaded: the spiking area{} predicted by the fast subsystem \
+         ({}). {}",
+        gamma,
+        if areas.len() == 1 { "" } else { "s" },
+        if areas.is_empty() {
+            "none".to_string()
+        } else {
+            areas
+                .iter()
+                .map(|s| format!("a ∈ [{:.4}, {:.4}]", s.a_min, s.a_max))
+                .collect::<Vec<_>>()
+                .join(", ")
+        },
+        if !has_folds {
+            "The curve has no fold: one stable equilibrium for every a. The trajectory \
+             follows it in the quiescent areas and leaves it only where the curve is steep, \
+             overshooting and ringing back onto it."
+        } else {
+            "Folds (crosses) lie in the traversed range: between them the curve has three \
+             branches (the middle one saddles), and the trajectory jumps between the stable \
+             branches (hysteresis)."
+        }
+    )
+}
+
+/// The trajectory of `w` in the (a, x) plane and the equilibrium curve (stable points, and
+/// saddles where there are any).
+fn phase_series(p: &Params, w: &Case) -> Result<Vec<Series>> {
     let c = curve(p, crate::fast::A_RANGE, 2000)?;
     let traj: Vec<(f64, f64)> = w
         .samples
@@ -398,6 +433,15 @@ pub fn transformed_phase(p: &Params, study: &mut Study) -> Result<Figure> {
             style: Style::Points,
         });
     }
+    Ok(series)
+}
+
+/// The trajectory in the (a, x) plane over the equilibrium curve; spiking areas shaded, folds
+/// marked.
+pub fn transformed_phase(p: &Params, study: &mut Study) -> Result<Figure> {
+    let w = study.case(p)?;
+    let an = &w.analysis;
+    let series = phase_series(p, w)?;
     let folds: Vec<(f64, f64, String)> = an
         .equilibria
         .folds
@@ -451,32 +495,7 @@ pub fn transformed_phase(p: &Params, study: &mut Study) -> Result<Figure> {
     };
     Ok(Figure {
         name: "transformed-phase".into(),
-        caption: format!(
-            "The transformed phase portrait: the trajectory (a(τ), x(τ)) over one slow period on \
-             the equilibrium curve of the fast subsystem, γ = {} (top: the whole range; bottom: \
-             a zoom around a ≈ 0). Shaded: the spiking area{} predicted by the fast subsystem \
-             ({}). {}",
-            p.gamma,
-            if areas.len() == 1 { "" } else { "s" },
-            if areas.is_empty() {
-                "none".to_string()
-            } else {
-                areas
-                    .iter()
-                    .map(|s| format!("a ∈ [{:.4}, {:.4}]", s.a_min, s.a_max))
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            },
-            if folds.is_empty() {
-                "The curve has no fold: one stable equilibrium for every a. The trajectory \
-                 follows it in the quiescent areas and leaves it only where the curve is steep, \
-                 overshooting and ringing back onto it."
-            } else {
-                "Folds (crosses) lie in the traversed range: between them the curve has three \
-                 branches (the middle one saddles), and the trajectory jumps between the stable \
-                 branches (hysteresis)."
-            }
-        ),
+        caption: transformed_phase_caption(p.gamma, areas, !folds.is_empty()),
         size: (1000, 1000),
         panels: vec![full, zoom],
         map: None,
@@ -614,6 +633,73 @@ pub fn fold_delta(p: &Params) -> Option<f64> {
     fast::fold_abscissae(p).map(|(xm, xp)| (p.g(xm) - p.mu).abs().max((p.g(xp) - p.mu).abs()))
 }
 
+/// The edges of grid cell `i` on `ax`: halfway between grid values (geometric for log axes).
+fn cell_edges(ax: &Axis, i: usize) -> (f64, f64) {
+    let v = ax.value(i);
+    let prev = if i > 0 { ax.value(i - 1) } else { v };
+    let next = if i + 1 < ax.count { ax.value(i + 1) } else { v };
+    if ax.log {
+        let lo = if i > 0 {
+            (prev * v).sqrt()
+        } else {
+            v * (v / next).sqrt()
+        };
+        let hi = if i + 1 < ax.count {
+            (v * next).sqrt()
+        } else {
+            v * (v / prev).sqrt()
+        };
+        (lo, hi)
+    } else {
+        let lo = if i > 0 {
+            0.5 * (prev + v)
+        } else {
+            v - 0.5 * (next - v)
+        };
+        let hi = if i + 1 < ax.count {
+            0.5 * (v + next)
+        } else {
+            v + 0.5 * (v - prev)
+        };
+        (lo, hi)
+    }
+}
+
+/// The boundary of the region where folds lie in a ∈ [−1, 1]: δ ≥ δ_fold(γ) for γ from `g_min`
+/// to 1/(3α), closed on the right by γ = 1/(3α) up to `d_max`.
+fn fold_boundary(base: &Params, g_min: f64, d_max: f64) -> Vec<(f64, f64)> {
+    let gc = base.critical_gamma();
+    let cusp = Params { gamma: gc, ..*base };
+    let mut fold: Vec<(f64, f64)> = (0..199)
+        .map(|k| g_min * (gc / g_min).powf(k as f64 / 199.0))
+        .filter_map(|g| fold_delta(&Params { gamma: g, ..*base }).map(|d| (g, d)))
+        .collect();
+    fold.push((gc, (cusp.g(gc) - cusp.mu).abs()));
+    fold.push((gc, d_max));
+    fold
+}
+
+/// The (γ, δ) boundary predicted from the equilibrium curve alone: for each γ in `xr` the δ in
+/// `yr` above which bursting is predicted.
+fn predicted_delta_boundary(base: &Params, xr: (f64, f64), yr: (f64, f64)) -> Vec<(f64, f64)> {
+    let gc = base.critical_gamma();
+    (0..160)
+        .map(|k| xr.0 * (xr.1 / xr.0).powf(f64::from(k) / 159.0))
+        .filter(|&g| g > gc)
+        .filter_map(|g| {
+            let quiet = |d: f64| {
+                !fast::predict(&Params {
+                    gamma: g,
+                    delta: d,
+                    ..*base
+                })
+                .bursting
+            };
+            fast::bisect_log(yr.0, yr.1, quiet).map(|d| (g, d))
+        })
+        .collect()
+}
+
 /// The (γ, δ) plane coloured by mode, with the fold curve and the cusp over it.
 pub fn map_figure(base: &Params, study: &mut Study) -> Result<Figure> {
     let GridRun { grid, rows } = study.map(base)?;
@@ -626,37 +712,7 @@ pub fn map_figure(base: &Params, study: &mut Study) -> Result<Figure> {
         Mode::NotFastSlow,
     ];
     let (ga, da) = (&grid.axes[0], &grid.axes[1]);
-    let edges = |ax: &Axis, i: usize| {
-        // cell edges halfway between grid values (geometric for log axes)
-        let v = ax.value(i);
-        let prev = if i > 0 { ax.value(i - 1) } else { v };
-        let next = if i + 1 < ax.count { ax.value(i + 1) } else { v };
-        if ax.log {
-            let lo = if i > 0 {
-                (prev * v).sqrt()
-            } else {
-                v * (v / next).sqrt()
-            };
-            let hi = if i + 1 < ax.count {
-                (v * next).sqrt()
-            } else {
-                v * (v / prev).sqrt()
-            };
-            (lo, hi)
-        } else {
-            let lo = if i > 0 {
-                0.5 * (prev + v)
-            } else {
-                v - 0.5 * (next - v)
-            };
-            let hi = if i + 1 < ax.count {
-                0.5 * (v + next)
-            } else {
-                v + 0.5 * (v - prev)
-            };
-            (lo, hi)
-        }
-    };
+    let edges = cell_edges;
     let mut cells = Vec::new();
     for r in rows {
         let (i, j) = (r.index % ga.count, r.index / ga.count);
@@ -673,31 +729,8 @@ pub fn map_figure(base: &Params, study: &mut Study) -> Result<Figure> {
         (edges(ga, 0).0, edges(ga, ga.count - 1).1),
         (edges(da, 0).0, edges(da, da.count - 1).1),
     );
-    // boundary of the region where folds lie in a ∈ [−1, 1]: δ ≥ δ_fold(γ) for γ < 1/(3α),
-    // closed on the right by γ = 1/(3α) above the cusp
-    let mut fold: Vec<(f64, f64)> = (0..199)
-        .map(|k| ga.start * (gc / ga.start).powf(k as f64 / 199.0))
-        .filter_map(|g| fold_delta(&Params { gamma: g, ..*base }).map(|d| (g, d)))
-        .collect();
-    fold.push((gc, cusp_delta));
-    fold.push((gc, yr.1));
-    // the boundary predicted from the equilibrium curve alone: for each γ the δ above which
-    // bursting is predicted
-    let predicted: Vec<(f64, f64)> = (0..160)
-        .map(|k| xr.0 * (xr.1 / xr.0).powf(f64::from(k) / 159.0))
-        .filter(|&g| g > gc)
-        .filter_map(|g| {
-            let quiet = |d: f64| {
-                !fast::predict(&Params {
-                    gamma: g,
-                    delta: d,
-                    ..*base
-                })
-                .bursting
-            };
-            fast::bisect_log(yr.0, yr.1, quiet).map(|d| (g, d))
-        })
-        .collect();
+    let fold = fold_boundary(base, ga.start, yr.1);
+    let predicted = predicted_delta_boundary(base, xr, yr);
     Ok(Figure {
         name: "map".into(),
         caption: format!(
@@ -761,11 +794,11 @@ pub fn by_kind(
     kind.build(p, &mut study)
 }
 
-/// The bursting boundary in the (ω, γ) plane: predicted from the equilibrium curve alone
-/// (κ = [`crate::fast::FORCING_RATE_THRESHOLD`]) for γ from just above the cusp to 30, the edge
-/// of the fast-slow domain (ω = r/10), and the boundaries located by simulation through `base` (in
-/// γ and in ω) and through γ = 1 (in ω).
-pub fn boundary_figure(base: &Params, study: &mut Study) -> Result<Figure> {
+/// The predicted bursting boundary (ω at which κ reaches the threshold) and the edge of the
+/// fast-slow domain, for 200 γ log-spaced from just above the cusp to 30, as (ω, γ).
+type Curve = Vec<(f64, f64)>;
+
+fn boundary_curves(base: &Params) -> (Curve, Curve) {
     let gc = base.critical_gamma();
     let (g0, g1) = (gc * 1.001, 30.0_f64);
     let gammas: Vec<f64> = (0..200)
@@ -784,6 +817,17 @@ pub fn boundary_figure(base: &Params, study: &mut Study) -> Result<Figure> {
             (r / crate::burst::TIME_SCALE_SEPARATION, g)
         })
         .collect();
+    (predicted, domain)
+}
+
+/// The bursting boundary in the (ω, γ) plane: predicted from the equilibrium curve alone
+/// (κ = [`crate::fast::FORCING_RATE_THRESHOLD`]) for γ from just above the cusp to 30, the edge
+/// of the fast-slow domain (ω = r/10), and the boundaries located by simulation through `base` (in
+/// γ and in ω) and through γ = 1 (in ω).
+pub fn boundary_figure(base: &Params, study: &mut Study) -> Result<Figure> {
+    let gc = base.critical_gamma();
+    let at = |g: f64| Params { gamma: g, ..*base };
+    let (predicted, domain) = boundary_curves(base);
     let b = study.boundaries(&[*base, at(1.0)])?;
     let simulated: Vec<(f64, f64)> = [
         b[0].simulated_gamma.map(|g| (base.omega, g)),

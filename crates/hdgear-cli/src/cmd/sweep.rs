@@ -65,6 +65,24 @@ impl Drop for Lock {
     }
 }
 
+/// A progress bar on a terminal (hidden otherwise) at `done` of `len` points.
+fn progress_bar(len: usize, done: usize) -> Result<ProgressBar> {
+    let bar = if std::io::stderr().is_terminal() {
+        let b = ProgressBar::new(len as u64);
+        b.set_style(
+            ProgressStyle::with_template(
+                "{bar:40} {pos}/{len} points  {elapsed} elapsed, eta {eta}",
+            )
+            .map_err(|e| anyhow!("progress template: {e}"))?,
+        );
+        b
+    } else {
+        ProgressBar::hidden()
+    };
+    bar.set_position(done as u64);
+    Ok(bar)
+}
+
 /// Everything that changes a row ([`hdgear::sweep::Settings`]) as JSON.
 fn settings(grid: &Grid, opts: &hdgear::burst::BurstOptions) -> Result<serde_json::Value> {
     Ok(serde_json::to_value(hdgear::sweep::Settings::new(
@@ -247,19 +265,7 @@ pub fn run(a: SweepArgs) -> Result<()> {
     ));
     let done: HashSet<usize> = rows.iter().map(|r| r.index).collect();
 
-    let bar = if std::io::stderr().is_terminal() {
-        let b = ProgressBar::new(grid.len() as u64);
-        b.set_style(
-            ProgressStyle::with_template(
-                "{bar:40} {pos}/{len} points  {elapsed} elapsed, eta {eta}",
-            )
-            .map_err(|e| anyhow!("progress template: {e}"))?,
-        );
-        b
-    } else {
-        ProgressBar::hidden()
-    };
-    bar.set_position(done.len() as u64);
+    let bar = progress_bar(grid.len(), done.len())?;
     let mut io_err: Option<anyhow::Error> = None;
     hdgear::sweep::run(&grid, &opts, &done, a.threads.unwrap_or(0), |row| {
         if io_err.is_none() {

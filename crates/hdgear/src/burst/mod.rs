@@ -507,20 +507,9 @@ struct Group {
     jumps: u32,
 }
 
-/// Groups the scanned events into bursts and computes the response's statistics.
-fn assemble(
-    p: &Params,
-    opts: &BurstOptions,
-    scan: Scan,
-    (t_w0, t_w1): (f64, f64),
-    t_scan_end: f64,
-    gap: f64,
-    x_extent: f64,
-) -> Response {
-    let period = p.slow_period();
-    let floor = overshoot_floor(opts, x_extent);
-    let omega_x = p.omega * x_extent;
-
+/// The scanned events (extrema of x', overshoot lobes of at least `floor`, jumps) in groups:
+/// events closer than `gap` belong together.
+fn group_events(scan: &Scan, floor: f64, gap: f64) -> Vec<Group> {
     // events as (start, end, kind)
     enum Ev {
         Pivot(Pivot),
@@ -557,9 +546,25 @@ fn assemble(
         }
     }
 
+    groups
+}
+
+/// The bursts of `groups` with their pulse in the window, and whether any group is continuous
+/// fast motion (longer than half a slow period).
+fn bursts_of(
+    p: &Params,
+    opts: &BurstOptions,
+    groups: &[Group],
+    (t_w0, t_w1): (f64, f64),
+    t_scan_end: f64,
+    gap: f64,
+    x_extent: f64,
+) -> (Vec<Burst>, bool) {
+    let period = p.slow_period();
+    let omega_x = p.omega * x_extent;
     let mut bursts = Vec::new();
     let mut continuous = false;
-    for g in &groups {
+    for g in groups {
         let ringing = g.pivots.len() >= 3;
         if !(ringing || g.jumps > 0 || !g.lobes.is_empty()) {
             continue;
@@ -603,7 +608,53 @@ fn assemble(
             complete: g.end + gap <= t_scan_end,
         });
     }
+    (bursts, continuous)
+}
 
+/// The signatures of the bursts found (and of the scan over the window).
+fn signatures(
+    bursts: &[Burst],
+    scan: &Scan,
+    (t_w0, t_w1): (f64, f64),
+    n_periods: f64,
+    x_extent: f64,
+) -> Signatures {
+    let jumps_in_window = scan
+        .jumps
+        .iter()
+        .filter(|&&t| t >= t_w0 && t < t_w1)
+        .count();
+    let max_overshoot = scan
+        .lobes
+        .iter()
+        .filter(|l| l.end >= t_w0 && l.start < t_w1)
+        .fold(0.0, |m: f64, l| m.max(l.amp))
+        / x_extent;
+    Signatures {
+        jump: bursts.iter().any(|b| b.jumps > 0),
+        overshoot: bursts.iter().any(|b| b.overshoot_lobes > 0),
+        ringing: bursts.iter().any(|b| b.extrema >= 3),
+        jumps_per_period: jumps_in_window as f64 / n_periods,
+        ringing_bursts_per_period: bursts.iter().filter(|b| b.extrema >= 3).count() as f64
+            / n_periods,
+        max_overshoot,
+        max_ringing_swing: bursts.iter().fold(0.0, |m: f64, b| m.max(b.ringing_swing)),
+    }
+}
+
+/// Groups the scanned events into bursts and computes the response's statistics.
+fn assemble(
+    p: &Params,
+    opts: &BurstOptions,
+    scan: Scan,
+    (t_w0, t_w1): (f64, f64),
+    t_scan_end: f64,
+    gap: f64,
+    x_extent: f64,
+) -> Response {
+    let period = p.slow_period();
+    let groups = group_events(&scan, overshoot_floor(opts, x_extent), gap);
+    let (bursts, continuous) = bursts_of(p, opts, &groups, (t_w0, t_w1), t_scan_end, gap, x_extent);
     let n_periods = f64::from(opts.periods);
     let window = t_w1 - t_w0;
     let mean = |f: &dyn Fn(&Burst) -> f64| {
@@ -622,27 +673,7 @@ fn assemble(
     } else {
         (window - busy) / bursts.len() as f64
     };
-    let jumps_in_window = scan
-        .jumps
-        .iter()
-        .filter(|&&t| t >= t_w0 && t < t_w1)
-        .count();
-    let max_overshoot = scan
-        .lobes
-        .iter()
-        .filter(|l| l.end >= t_w0 && l.start < t_w1)
-        .fold(0.0, |m: f64, l| m.max(l.amp))
-        / x_extent;
-    let signatures = Signatures {
-        jump: bursts.iter().any(|b| b.jumps > 0),
-        overshoot: bursts.iter().any(|b| b.overshoot_lobes > 0),
-        ringing: bursts.iter().any(|b| b.extrema >= 3),
-        jumps_per_period: jumps_in_window as f64 / n_periods,
-        ringing_bursts_per_period: bursts.iter().filter(|b| b.extrema >= 3).count() as f64
-            / n_periods,
-        max_overshoot,
-        max_ringing_swing: bursts.iter().fold(0.0, |m: f64, b| m.max(b.ringing_swing)),
-    };
+    let signatures = signatures(&bursts, &scan, (t_w0, t_w1), n_periods, x_extent);
     let measures = Measures {
         speed_ratio: scan.peak_abs_xdot / fast::max_equilibrium_speed(p),
         lag_ratio: scan.max_lag / scan.max_first_order_lag,

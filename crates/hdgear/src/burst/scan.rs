@@ -253,7 +253,13 @@ impl<D: DenseOutput<2> + Copy> Scanner<D> {
             }
             self.side = side;
         }
-        // --- lobes of e on the leading side: breakpoints are zeros of e and of cos ωt, and the
+        self.lobe_marks(d, a, b);
+    }
+
+    /// The breakpoints of the leading-side lobes of e in (a.t, b.t]: zeros of e and of cos ωt
+    /// (turning points of a), and the extrema of e (zeros of e'), which measure the lobe.
+    fn lobe_marks(&mut self, d: &D, a: &Sample, b: &Sample) {
+        let p = self.p;
         // extrema of e (zeros of e') measure the lobe
         let mut marks: Vec<(f64, Mark)> = Vec::new();
         if (a.e > 0.0) != (b.e > 0.0) && a.e != 0.0 {
@@ -291,6 +297,11 @@ impl<D: DenseOutput<2> + Copy> Scanner<D> {
             let e = y[0] - f.at((p.omega * t).sin(), y[0]);
             marks.push((t, Mark::ExtremumOfE(e.abs())));
         }
+        self.apply_marks(marks, b);
+    }
+
+    /// Opens, grows and closes lobes at the breakpoints `marks` of one sub-interval ending at `b`.
+    fn apply_marks(&mut self, mut marks: Vec<(f64, Mark)>, b: &Sample) {
         marks.sort_by(|x, y| x.0.total_cmp(&y.0));
         for (t, m) in marks {
             match m {

@@ -223,6 +223,161 @@ fn merge(mut v: Vec<Interval>) -> Vec<Interval> {
     out
 }
 
+/// The fewest and most equilibria for one a over the range: 3 strictly between the fold values
+/// of a, 2 at them, else 1.
+fn counts(fold_list: &[Fold], (a0, a1): (f64, f64)) -> (usize, usize) {
+    match fold_list {
+        [f1, f2] => {
+            let (lo, hi) = (f2.a.min(f1.a), f2.a.max(f1.a));
+            let max_c = if a0 < hi && a1 > lo {
+                3
+            } else if a0 <= hi && a1 >= lo {
+                2
+            } else {
+                1
+            };
+            let min_c = if a0 < lo || a1 > hi {
+                1
+            } else if a0 > lo && a1 < hi {
+                3
+            } else {
+                2
+            };
+            (min_c, max_c)
+        }
+        _ => (1, 1),
+    }
+}
+
+/// The largest |dx/da| on the traversed curve: at x = 1/(3α) if on it, at the folds, or at the
+/// ends.
+fn max_slope(p: &Params, a_range: (f64, f64), fold_list: &[Fold]) -> Slope {
+    let (a0, a1) = a_range;
+    let intervals = x_intervals(p, a_range);
+    let on_curve = |x: f64| intervals.iter().any(|&(l, r)| x >= l && x <= r);
+    let mut candidates: Vec<f64> = intervals.iter().flat_map(|&(l, r)| [l, r]).collect();
+    let x0 = 1.0 / (3.0 * p.alpha);
+    if on_curve(x0) {
+        candidates.push(x0);
+    }
+    for f in fold_list.iter().filter(|f| f.in_range) {
+        candidates.push(f.x);
+    }
+    let slope_at = |x: f64| {
+        let gp = p.g_prime(x);
+        if gp == 0.0 || fold_list.iter().any(|f| f.x == x) {
+            f64::INFINITY
+        } else {
+            (p.delta / gp).abs()
+        }
+    };
+    let best = candidates
+        .iter()
+        .copied()
+        .max_by(|a, b| slope_at(*a).total_cmp(&slope_at(*b)))
+        .unwrap_or(x0);
+    Slope {
+        value: slope_at(best),
+        a: a_of(p, best).clamp(a0, a1),
+        x: best,
+    }
+}
+
+/// The pieces of the focus parts of the curve (as x-intervals) where κ > κ_c.
+fn rate_pieces(p: &Params) -> Vec<(f64, f64)> {
+    let inside = |x: f64| forcing_rate(p, x) > FORCING_RATE_THRESHOLD;
+    let mut areas = Vec::new();
+    const SAMPLES: usize = 4000;
+    for (pl, pr) in focus_pieces(p) {
+        let mut start: Option<f64> = None;
+        let mut prev_x = pl;
+        for j in 0..=SAMPLES {
+            let x = pl + (pr - pl) * j as f64 / SAMPLES as f64;
+            let now = inside(x);
+            match (start, now) {
+                (None, true) => {
+                    start = Some(if j == 0 {
+                        x
+                    } else {
+                        boundary(prev_x, x, inside)
+                    })
+                }
+                (Some(s), false) => {
+                    areas.push((s, boundary(prev_x, x, inside)));
+                    start = None;
+                }
+                _ => {}
+            }
+            prev_x = x;
+        }
+        if let Some(s) = start {
+            areas.push((s, pr));
+        }
+    }
+    areas
+}
+
+/// Spiking areas: the focus parts of the traversed curve where κ > κ_c, and the folds.
+fn spiking_areas(p: &Params, a_range: (f64, f64), fold_list: &[Fold]) -> Vec<Interval> {
+    let (a0, a1) = a_range;
+    let mut areas = rate_pieces(p);
+    // κ vanishes at the inflection x = 1/(3α) (g'' = 0), and the node part around it cannot ring:
+    // areas on either side of the inflection on one stable branch are one steep region
+    areas.sort_by(|l, r| l.0.total_cmp(&r.0));
+    let xc = p.critical_gamma();
+    let mut joined: Vec<(f64, f64)> = Vec::new();
+    for (l, r) in areas {
+        match joined.last_mut() {
+            Some(last)
+                if last.1 <= xc
+                    && l >= xc
+                    && fold_abscissae(p).is_none_or(|(xm, xp)| xp < last.1 || xm > l) =>
+            {
+                last.1 = r;
+            }
+            _ => joined.push((l, r)),
+        }
+    }
+    let mut areas = joined;
+    for f in fold_list.iter().filter(|f| f.in_range) {
+        areas.push((f.x, f.x));
+    }
+    merge(
+        areas
+            .into_iter()
+            .map(|(xl, xr)| {
+                let (al, ar) = (a_of(p, xl), a_of(p, xr));
+                Interval {
+                    a_min: al.min(ar).clamp(a0, a1),
+                    a_max: al.max(ar).clamp(a0, a1),
+                }
+            })
+            .collect(),
+    )
+}
+
+/// The parts of `a_range` outside `spiking` (sorted, disjoint).
+fn complement(spiking: &[Interval], (a0, a1): (f64, f64)) -> Vec<Interval> {
+    let mut quiescent_areas = Vec::new();
+    let mut cursor = a0;
+    for s in spiking {
+        if s.a_min > cursor {
+            quiescent_areas.push(Interval {
+                a_min: cursor,
+                a_max: s.a_min,
+            });
+        }
+        cursor = cursor.max(s.a_max);
+    }
+    if cursor < a1 {
+        quiescent_areas.push(Interval {
+            a_min: cursor,
+            a_max: a1,
+        });
+    }
+    quiescent_areas
+}
+
 /// Analyses the fast subsystem over `a_range` (δ must be > 0: with δ = 0 the slow variable does
 /// not move the equilibria at all).
 ///
@@ -254,61 +409,13 @@ pub fn analyze(p: &Params, a_range: (f64, f64)) -> Result<Analysis> {
     } else {
         Regime::FoldHysteresis
     };
-    // --- counts over the range: 3 strictly between the fold values of a, 2 at them, else 1
-    let (min_count, max_count) = match fold_list.as_slice() {
-        [f1, f2] => {
-            let (lo, hi) = (f2.a.min(f1.a), f2.a.max(f1.a));
-            let max_c = if a0 < hi && a1 > lo {
-                3
-            } else if a0 <= hi && a1 >= lo {
-                2
-            } else {
-                1
-            };
-            let min_c = if a0 < lo || a1 > hi {
-                1
-            } else if a0 > lo && a1 < hi {
-                3
-            } else {
-                2
-            };
-            (min_c, max_c)
-        }
-        _ => (1, 1),
-    };
+    let (min_count, max_count) = counts(&fold_list, a_range);
     let cusp_pt = cusp(p);
     let cusp_in_range = regime == Regime::Cusp && cusp_pt.a >= a0 && cusp_pt.a <= a1;
     let stable_everywhere = max_count == 1 && !cusp_in_range;
 
-    // --- largest |slope|: at x = 1/(3α) if on the traversed curve, at the folds, or at the ends
-    let intervals = x_intervals(p, a_range);
-    let on_curve = |x: f64| intervals.iter().any(|&(l, r)| x >= l && x <= r);
-    let mut candidates: Vec<f64> = intervals.iter().flat_map(|&(l, r)| [l, r]).collect();
+    let max_slope = max_slope(p, a_range, &fold_list);
     let x0 = 1.0 / (3.0 * p.alpha);
-    if on_curve(x0) {
-        candidates.push(x0);
-    }
-    for f in fold_list.iter().filter(|f| f.in_range) {
-        candidates.push(f.x);
-    }
-    let slope_at = |x: f64| {
-        let gp = p.g_prime(x);
-        if gp == 0.0 || fold_list.iter().any(|f| f.x == x) {
-            f64::INFINITY
-        } else {
-            (p.delta / gp).abs()
-        }
-    };
-    let best = candidates
-        .iter()
-        .copied()
-        .max_by(|a, b| slope_at(*a).total_cmp(&slope_at(*b)))
-        .unwrap_or(x0);
-    let max_slope = Slope {
-        value: slope_at(best),
-        a: a_of(p, best).clamp(a0, a1),
-        x: best,
-    };
     let steepest_point = (p.gamma > gc).then(|| Slope {
         value: p.delta / (p.gamma - gc),
         a: a_of(p, x0),
@@ -319,87 +426,9 @@ pub fn analyze(p: &Params, a_range: (f64, f64)) -> Result<Analysis> {
         p.delta / p.g_prime(x)
     });
 
-    // --- spiking areas: the focus parts of the traversed curve where κ > κ_c, and the folds
     let prediction = predict(p);
-    let inside = |x: f64| forcing_rate(p, x) > FORCING_RATE_THRESHOLD;
-    let mut areas = Vec::new();
-    const SAMPLES: usize = 4000;
-    for (pl, pr) in focus_pieces(p) {
-        let mut start: Option<f64> = None;
-        let mut prev_x = pl;
-        for j in 0..=SAMPLES {
-            let x = pl + (pr - pl) * j as f64 / SAMPLES as f64;
-            let now = inside(x);
-            match (start, now) {
-                (None, true) => {
-                    start = Some(if j == 0 {
-                        x
-                    } else {
-                        boundary(prev_x, x, inside)
-                    })
-                }
-                (Some(s), false) => {
-                    areas.push((s, boundary(prev_x, x, inside)));
-                    start = None;
-                }
-                _ => {}
-            }
-            prev_x = x;
-        }
-        if let Some(s) = start {
-            areas.push((s, pr));
-        }
-    }
-    // κ vanishes at the inflection x = 1/(3α) (g'' = 0), and the node part around it cannot ring:
-    // areas on either side of the inflection on one stable branch are one steep region
-    areas.sort_by(|l, r| l.0.total_cmp(&r.0));
-    let xc = p.critical_gamma();
-    let mut joined: Vec<(f64, f64)> = Vec::new();
-    for (l, r) in areas {
-        match joined.last_mut() {
-            Some(last)
-                if last.1 <= xc
-                    && l >= xc
-                    && fold_abscissae(p).is_none_or(|(xm, xp)| xp < last.1 || xm > l) =>
-            {
-                last.1 = r;
-            }
-            _ => joined.push((l, r)),
-        }
-    }
-    let mut areas = joined;
-    for f in fold_list.iter().filter(|f| f.in_range) {
-        areas.push((f.x, f.x));
-    }
-    let spiking_areas = merge(
-        areas
-            .into_iter()
-            .map(|(xl, xr)| {
-                let (al, ar) = (a_of(p, xl), a_of(p, xr));
-                Interval {
-                    a_min: al.min(ar).clamp(a0, a1),
-                    a_max: al.max(ar).clamp(a0, a1),
-                }
-            })
-            .collect(),
-    );
-    let mut quiescent_areas = Vec::new();
-    let mut cursor = a0;
-    for s in &spiking_areas {
-        if s.a_min > cursor {
-            quiescent_areas.push(Interval {
-                a_min: cursor,
-                a_max: s.a_min,
-            });
-        }
-        cursor = cursor.max(s.a_max);
-    }
-    if cursor < a1 {
-        quiescent_areas.push(Interval {
-            a_min: cursor,
-            a_max: a1,
-        });
-    }
+    let spiking_areas = spiking_areas(p, a_range, &fold_list);
+    let quiescent_areas = complement(&spiking_areas, a_range);
 
     Ok(Analysis {
         params: *p,

@@ -163,17 +163,7 @@ pub fn curve(p: &Params, a_range: (f64, f64), points: usize) -> Result<Vec<Curve
     }
     let (a0, a1) = a_range;
     if p.delta == 0.0 {
-        let roots = equilibria(p, a0).roots;
-        let per = points.div_ceil(roots.len());
-        let mut out = Vec::with_capacity(points);
-        for r in &roots {
-            for k in 0..per {
-                let a = a0 + (a1 - a0) * k as f64 / (per - 1).max(1) as f64;
-                out.push(CurvePoint::at(p, a, r.x));
-            }
-        }
-        out.truncate(points);
-        return Ok(out);
+        return Ok(flat_curve(p, a_range, points));
     }
     let intervals = x_intervals(p, a_range);
     if intervals.is_empty() {
@@ -183,13 +173,46 @@ pub fn curve(p: &Params, a_range: (f64, f64), points: usize) -> Result<Vec<Curve
             reason: "too narrow: the equilibria at its two ends coincide to rounding".into(),
         });
     }
-    let (sa, sx) = (a1 - a0, super::x_extent(p, a_range));
+    let polylines = arc_polylines(p, a_range, &intervals, points);
+    let counts = split_points(&polylines, points);
+    let mut out = Vec::with_capacity(points);
+    for (line, n) in polylines.iter().zip(counts) {
+        sample_polyline(p, a_range, line, n, &mut out);
+    }
+    Ok(out)
+}
+
+/// With δ = 0 the equilibria do not depend on a: horizontal lines, sampled uniformly in a.
+fn flat_curve(p: &Params, (a0, a1): (f64, f64), points: usize) -> Vec<CurvePoint> {
+    let roots = equilibria(p, a0).roots;
+    let per = points.div_ceil(roots.len());
+    let mut out = Vec::with_capacity(points);
+    for r in &roots {
+        for k in 0..per {
+            let a = a0 + (a1 - a0) * k as f64 / (per - 1).max(1) as f64;
+            out.push(CurvePoint::at(p, a, r.x));
+        }
+    }
+    out.truncate(points);
+    out
+}
+
+/// A polyline along the curve: (x, cumulative normalised arc length).
+type Polyline = (Vec<f64>, Vec<f64>);
+
+/// A fine polyline per x-interval, 4 sub-samples per output point.
+fn arc_polylines(
+    p: &Params,
+    a_range: (f64, f64),
+    intervals: &[(f64, f64)],
+    points: usize,
+) -> Vec<Polyline> {
+    let (sa, sx) = (a_range.1 - a_range.0, super::x_extent(p, a_range));
     let a_of = |x: f64| p.a_at(x);
-    // Fine polyline per interval for the arc length (4 sub-samples per output point).
     let fine = (4 * points).max(64);
     let total_x: f64 = intervals.iter().map(|i| i.1 - i.0).sum();
-    let mut polylines: Vec<(Vec<f64>, Vec<f64>)> = Vec::new(); // (x, cumulative length)
-    for &(xl, xr) in &intervals {
+    let mut polylines = Vec::new();
+    for &(xl, xr) in intervals {
         let m = ((fine as f64 * (xr - xl) / total_x).ceil() as usize).max(8);
         let mut xs = Vec::with_capacity(m + 1);
         let mut ss = Vec::with_capacity(m + 1);
@@ -208,61 +231,73 @@ pub fn curve(p: &Params, a_range: (f64, f64), points: usize) -> Result<Vec<Curve
         }
         polylines.push((xs, ss));
     }
-    let total: f64 = polylines
-        .iter()
-        .map(|(_, s)| s.last().copied().unwrap_or(0.0))
-        .sum();
-    // points per interval ∝ arc length, at least 2 each
-    let n_int = polylines.len();
+    polylines
+}
+
+fn arc_length(line: &Polyline) -> f64 {
+    line.1.last().copied().unwrap_or(0.0)
+}
+
+/// Output points per polyline ∝ its arc length, at least 2 each, `points` in all.
+fn split_points(polylines: &[Polyline], points: usize) -> Vec<usize> {
+    let total: f64 = polylines.iter().map(arc_length).sum();
     let mut counts: Vec<usize> = polylines
         .iter()
-        .map(|(_, s)| ((points as f64 * s.last().unwrap() / total).round() as usize).max(2))
+        .map(|l| ((points as f64 * arc_length(l) / total).round() as usize).max(2))
         .collect();
-    // fix the total to exactly `points`
+    let largest = |c: &[usize]| (0..c.len()).max_by_key(|&i| c[i]).unwrap_or(0);
     while counts.iter().sum::<usize>() > points {
-        let i = (0..n_int).max_by_key(|&i| counts[i]).unwrap();
+        let i = largest(&counts);
         counts[i] -= 1;
     }
     while counts.iter().sum::<usize>() < points {
-        let i = (0..n_int).max_by_key(|&i| counts[i]).unwrap();
+        let i = largest(&counts);
         counts[i] += 1;
     }
-    let mut out = Vec::with_capacity(points);
-    for ((xs, ss), n) in polylines.iter().zip(counts) {
-        let len = *ss.last().unwrap();
-        let mut j = 0;
-        for k in 0..n {
-            let target = len * k as f64 / (n - 1) as f64;
-            while j + 1 < ss.len() - 1 && ss[j + 1] < target {
-                j += 1;
-            }
-            let x = if k == 0 {
-                xs[0]
-            } else if k == n - 1 {
-                *xs.last().unwrap()
-            } else {
-                let (s0, s1) = (ss[j], ss[j + 1]);
-                let w = if s1 > s0 {
-                    (target - s0) / (s1 - s0)
-                } else {
-                    0.0
-                };
-                xs[j] + w.clamp(0.0, 1.0) * (xs[j + 1] - xs[j])
-            };
-            let mut pt = CurvePoint::at_x(p, x);
-            // Interval ends are the exact roots at a0 or a1, and a(x) stays within [a0, a1]
-            // inside an interval: remove the rounding noise of evaluating a(x).
-            if k == 0 || k == n - 1 {
-                pt.a = if (pt.a - a0).abs() < (pt.a - a1).abs() {
-                    a0
-                } else {
-                    a1
-                };
-            } else {
-                pt.a = pt.a.clamp(a0, a1);
-            }
-            out.push(pt);
+    counts
+}
+
+/// `n` points spread uniformly in arc length along one polyline.
+fn sample_polyline(
+    p: &Params,
+    (a0, a1): (f64, f64),
+    (xs, ss): &Polyline,
+    n: usize,
+    out: &mut Vec<CurvePoint>,
+) {
+    let len = ss.last().copied().unwrap_or(0.0);
+    let (first, last) = (xs[0], xs[xs.len() - 1]);
+    let mut j = 0;
+    for k in 0..n {
+        let target = len * k as f64 / (n - 1) as f64;
+        while j + 1 < ss.len() - 1 && ss[j + 1] < target {
+            j += 1;
         }
+        let x = if k == 0 {
+            first
+        } else if k == n - 1 {
+            last
+        } else {
+            let (s0, s1) = (ss[j], ss[j + 1]);
+            let w = if s1 > s0 {
+                (target - s0) / (s1 - s0)
+            } else {
+                0.0
+            };
+            xs[j] + w.clamp(0.0, 1.0) * (xs[j + 1] - xs[j])
+        };
+        let mut pt = CurvePoint::at_x(p, x);
+        // Interval ends are the exact roots at a0 or a1, and a(x) stays within [a0, a1]
+        // inside an interval: remove the rounding noise of evaluating a(x).
+        if k == 0 || k == n - 1 {
+            pt.a = if (pt.a - a0).abs() < (pt.a - a1).abs() {
+                a0
+            } else {
+                a1
+            };
+        } else {
+            pt.a = pt.a.clamp(a0, a1);
+        }
+        out.push(pt);
     }
-    Ok(out)
 }

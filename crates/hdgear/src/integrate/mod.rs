@@ -435,18 +435,7 @@ impl<'s, S: System<N> + ?Sized, const N: usize> Dop853<'s, S, N> {
             let mut k = [[0.0; N]; 12];
             let y_new = stages::main_stages(self.sys, self.t, &self.y, &self.f, h, &mut k);
             self.stats.rhs_evals += 11;
-            let (e5, e3) = stages::error_estimates(&k);
-            let (mut err5, mut err3) = (0.0, 0.0);
-            for i in 0..N {
-                let sk = self.scale(self.y[i], y_new[i]);
-                err5 += (e5[i] / sk).powi(2);
-                err3 += (e3[i] / sk).powi(2);
-            }
-            let mut deno = err5 + 0.01 * err3;
-            if deno <= 0.0 {
-                deno = 1.0;
-            }
-            let err = h.abs() * err5 / (deno * N as f64).sqrt();
+            let err = self.error_norm(h, &y_new, &k);
             if !err.is_finite() || y_new.iter().any(|v| !v.is_finite()) {
                 // An overflowing attempt: reject and shrink hard. If the solution really escapes,
                 // the step size underflows and the error above says at which t.
@@ -458,41 +447,68 @@ impl<'s, S: System<N> + ?Sized, const N: usize> Dop853<'s, S, N> {
             let fac = (SAFE * err.powf(-1.0 / 8.0)).clamp(FAC_MIN, FAC_MAX);
             if err <= 1.0 {
                 let t_new = if last { t_bound } else { self.t + h };
-                let f_new = self.sys.rhs(t_new, &y_new);
-                self.stats.rhs_evals += 1;
-                self.stats.steps += 1;
-                if let Some(v) = y_new.iter().find(|v| v.abs() > self.opts.blowup) {
-                    return Err(SolverError::BlowUp {
-                        t: t_new,
-                        value: *v,
-                    }
-                    .into());
-                }
-                self.t_old = self.t;
-                self.y_old = self.y;
-                self.h_last = t_new - self.t;
-                self.k = k;
-                self.dense = None;
-                self.t = t_new;
-                self.y = y_new;
-                self.f = f_new;
+                // no growth right after a rejection; the shortened last step does not shrink the
+                // next proposal
                 let grow = if self.last_rejected {
                     fac.min(1.0)
                 } else {
                     fac
                 };
-                self.h = h * grow;
-                if last {
-                    // do not let the shortened last step shrink the next proposal
-                    self.h = self.h.max(h);
-                }
-                self.last_rejected = false;
-                return Ok(());
+                let h_next = if last { (h * grow).max(h) } else { h * grow };
+                return self.accept(t_new, y_new, k, h_next);
             }
             self.stats.rejected += 1;
             self.last_rejected = true;
             self.h = h * fac;
         }
+    }
+
+    /// The error norm of an attempted step of size `h` (Hairer's combination of the 5th- and
+    /// 3rd-order estimates).
+    fn error_norm(&self, h: f64, y_new: &[f64; N], k: &[[f64; N]; 12]) -> f64 {
+        let (e5, e3) = stages::error_estimates(k);
+        let (mut err5, mut err3) = (0.0, 0.0);
+        for i in 0..N {
+            let sk = self.scale(self.y[i], y_new[i]);
+            err5 += (e5[i] / sk).powi(2);
+            err3 += (e3[i] / sk).powi(2);
+        }
+        let mut deno = err5 + 0.01 * err3;
+        if deno <= 0.0 {
+            deno = 1.0;
+        }
+        h.abs() * err5 / (deno * N as f64).sqrt()
+    }
+
+    /// Takes an accepted step to (`t_new`, `y_new`) with stages `k`, proposing `h_next`.
+    fn accept(
+        &mut self,
+        t_new: f64,
+        y_new: [f64; N],
+        k: [[f64; N]; 12],
+        h_next: f64,
+    ) -> Result<()> {
+        let f_new = self.sys.rhs(t_new, &y_new);
+        self.stats.rhs_evals += 1;
+        self.stats.steps += 1;
+        if let Some(v) = y_new.iter().find(|v| v.abs() > self.opts.blowup) {
+            return Err(SolverError::BlowUp {
+                t: t_new,
+                value: *v,
+            }
+            .into());
+        }
+        self.t_old = self.t;
+        self.y_old = self.y;
+        self.h_last = t_new - self.t;
+        self.k = k;
+        self.dense = None;
+        self.t = t_new;
+        self.y = y_new;
+        self.f = f_new;
+        self.h = h_next;
+        self.last_rejected = false;
+        Ok(())
     }
 
     /// Steps until t = `t_end` exactly.

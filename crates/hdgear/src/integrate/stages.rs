@@ -11,7 +11,8 @@ use super::System;
 #[allow(
     clippy::excessive_precision,
     clippy::unreadable_literal,
-    clippy::needless_range_loop
+    clippy::needless_range_loop,
+    clippy::too_many_lines
 )]
 pub(crate) fn main_stages<S: System<N> + ?Sized, const N: usize>(
     sys: &S,
@@ -131,7 +132,8 @@ pub(crate) fn main_stages<S: System<N> + ?Sized, const N: usize>(
 #[allow(
     clippy::excessive_precision,
     clippy::unreadable_literal,
-    clippy::needless_range_loop
+    clippy::needless_range_loop,
+    clippy::too_many_lines
 )]
 pub(crate) fn error_estimates<const N: usize>(k: &[[f64; N]; 12]) -> ([f64; N], [f64; N]) {
     let mut e5 = [0.0; N];
@@ -163,7 +165,8 @@ pub(crate) fn error_estimates<const N: usize>(k: &[[f64; N]; 12]) -> ([f64; N], 
     clippy::excessive_precision,
     clippy::unreadable_literal,
     clippy::needless_range_loop,
-    clippy::too_many_arguments
+    clippy::too_many_arguments,
+    clippy::too_many_lines
 )]
 pub(crate) fn dense_coefficients<S: System<N> + ?Sized, const N: usize>(
     sys: &S,

@@ -174,6 +174,101 @@ fn plot_err(figure: &str, source: DrawError) -> Error {
     }
 }
 
+/// Splits a polyline where it turns back on itself, keeping one point per pixel (`px` maps a
+/// point to its pixel): plotters joins thick segments through their normals, and a zero-length
+/// segment or a reversal (a spike narrower than a pixel, drawn up and down one pixel column)
+/// loses segments.
+fn pixel_pieces(
+    points: &[(f64, f64)],
+    px: impl Fn(&(f64, f64)) -> (i32, i32),
+) -> Vec<Vec<(f64, f64)>> {
+    let mut pieces: Vec<Vec<(f64, f64)>> = vec![Vec::new()];
+    let mut px_prev: Option<(i32, i32)> = None;
+    let mut dir_prev: Option<(f64, f64)> = None;
+    for q in points
+        .iter()
+        .copied()
+        .filter(|q| q.0.is_finite() && q.1.is_finite())
+    {
+        let at = px(&q);
+        if px_prev == Some(at) {
+            continue;
+        }
+        if let Some(pp) = px_prev {
+            let d = (f64::from(at.0 - pp.0), f64::from(at.1 - pp.1));
+            if let Some(dp) = dir_prev {
+                let dot = d.0 * dp.0 + d.1 * dp.1;
+                let norm = (d.0.hypot(d.1)) * (dp.0.hypot(dp.1));
+                let last = pieces.last().and_then(|v| v.last()).copied();
+                if let (true, Some(last)) = (dot < -0.5 * norm, last) {
+                    pieces.push(vec![last]);
+                }
+            }
+            dir_prev = Some(d);
+        }
+        if let Some(piece) = pieces.last_mut() {
+            piece.push(q);
+        }
+        px_prev = Some(at);
+    }
+    pieces.retain(|v| !v.is_empty());
+    pieces
+}
+
+/// Draws one series on `chart`; true when it added a legend entry.
+fn draw_series<DB: DrawingBackend, CT: CoordTranslate<From = (f64, f64)>>(
+    chart: &mut ChartContext<'_, DB, CT>,
+    s: &Series,
+) -> std::result::Result<bool, DrawError>
+where
+    DB::ErrorType: 'static,
+{
+    let c = color(s.color);
+    let pieces = pixel_pieces(&s.points, |q| chart.as_coord_spec().translate(q));
+    let mut labelled = false;
+    for piece in pieces {
+        let anno = match s.style {
+            Style::Line | Style::Thin => {
+                let w = if s.style == Style::Line { 2 } else { 1 };
+                chart.draw_series(LineSeries::new(piece, c.stroke_width(w)))?
+            }
+            Style::Points => chart.draw_series(
+                piece
+                    .into_iter()
+                    .map(move |q| Circle::new(q, 2, c.filled())),
+            )?,
+        };
+        if !labelled && !s.label.is_empty() {
+            anno.label(s.label.as_str()).legend(move |(x, y)| {
+                PathElement::new(vec![(x, y), (x + 18, y)], c.stroke_width(3))
+            });
+            labelled = true;
+        }
+    }
+    Ok(labelled)
+}
+
+/// Draws a map's cells on `chart`, one legend entry per category; true when there was one.
+fn draw_cells<DB: DrawingBackend, CT: CoordTranslate<From = (f64, f64)>>(
+    chart: &mut ChartContext<'_, DB, CT>,
+    m: &Map,
+) -> std::result::Result<bool, DrawError>
+where
+    DB::ErrorType: 'static,
+{
+    for (i, name) in m.categories.iter().enumerate() {
+        let c = color(i);
+        let cells = m.cells.iter().filter(move |c| c.4 == i);
+        chart
+            .draw_series(cells.map(move |&(x0, x1, y0, y1, _)| {
+                Rectangle::new([(x0, y0), (x1, y1)], c.mix(0.75).filled())
+            }))?
+            .label(name.as_str())
+            .legend(move |(x, y)| Rectangle::new([(x, y - 6), (x + 14, y + 6)], c.filled()));
+    }
+    Ok(!m.categories.is_empty())
+}
+
 #[allow(clippy::too_many_arguments)]
 fn draw_chart<DB: DrawingBackend, X, Y>(
     area: &DrawingArea<DB, Shift>,
@@ -209,17 +304,7 @@ where
         .draw()?;
     let mut legend = false;
     if let Some(m) = map {
-        for (i, name) in m.categories.iter().enumerate() {
-            let c = color(i);
-            let cells = m.cells.iter().filter(move |c| c.4 == i);
-            chart
-                .draw_series(cells.map(move |&(x0, x1, y0, y1, _)| {
-                    Rectangle::new([(x0, y0), (x1, y1)], c.mix(0.75).filled())
-                }))?
-                .label(name.as_str())
-                .legend(move |(x, y)| Rectangle::new([(x, y - 6), (x + 14, y + 6)], c.filled()));
-            legend = true;
-        }
+        legend |= draw_cells(&mut chart, m)?;
     }
     for (k, &(x0, x1, ci)) in p.shaded.iter().enumerate() {
         let c = color(ci);
@@ -235,63 +320,7 @@ where
         }
     }
     for s in &p.series {
-        let c = color(s.color);
-        // Keep one point per pixel, and split the line where it turns back on itself: plotters
-        // joins thick segments through their normals, and a zero-length segment or a reversal
-        // (a spike narrower than a pixel, drawn up and down one pixel column) loses segments.
-        let spec = chart.as_coord_spec();
-        let mut pieces: Vec<Vec<(f64, f64)>> = vec![Vec::new()];
-        let mut px_prev: Option<(i32, i32)> = None;
-        let mut dir_prev: Option<(f64, f64)> = None;
-        for q in s
-            .points
-            .iter()
-            .copied()
-            .filter(|q| q.0.is_finite() && q.1.is_finite())
-        {
-            let px = spec.translate(&q);
-            if px_prev == Some(px) {
-                continue;
-            }
-            if let Some(pp) = px_prev {
-                let d = ((px.0 - pp.0) as f64, (px.1 - pp.1) as f64);
-                if let Some(dp) = dir_prev {
-                    let dot = d.0 * dp.0 + d.1 * dp.1;
-                    let norm = (d.0.hypot(d.1)) * (dp.0.hypot(dp.1));
-                    if dot < -0.5 * norm {
-                        let last = *pieces
-                            .last()
-                            .and_then(|v| v.last())
-                            .expect("non-empty piece");
-                        pieces.push(vec![last]);
-                    }
-                }
-                dir_prev = Some(d);
-            }
-            pieces.last_mut().expect("one piece").push(q);
-            px_prev = Some(px);
-        }
-        let mut labelled = false;
-        for piece in pieces.into_iter().filter(|v| !v.is_empty()) {
-            let anno = match s.style {
-                Style::Line | Style::Thin => {
-                    let w = if s.style == Style::Line { 2 } else { 1 };
-                    chart.draw_series(LineSeries::new(piece, c.stroke_width(w)))?
-                }
-                Style::Points => chart.draw_series(
-                    piece
-                        .into_iter()
-                        .map(move |q| Circle::new(q, 2, c.filled())),
-                )?,
-            };
-            if !labelled && !s.label.is_empty() {
-                anno.label(s.label.as_str()).legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + 18, y)], c.stroke_width(3))
-                });
-                labelled = true;
-                legend = true;
-            }
-        }
+        legend |= draw_series(&mut chart, s)?;
     }
     for (x, label) in &p.vlines {
         let c = RGBColor(90, 90, 90);
