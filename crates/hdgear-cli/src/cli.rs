@@ -435,6 +435,10 @@ pub struct TolArgs {
     /// Absolute tolerance (> 0).
     #[arg(long, default_value = "1e-10", allow_negative_numbers = true)]
     pub atol: f64,
+    /// Integration method: taylor (order from the tolerance, Jorba–Zou steps) or dop853
+    /// (Dormand–Prince 8(5,3), the independent cross-check).
+    #[arg(long, default_value = "taylor")]
+    pub method: hdgear::integrate::Method,
 }
 
 impl TolArgs {
@@ -443,6 +447,7 @@ impl TolArgs {
         let o = Options {
             rtol: self.rtol,
             atol: self.atol,
+            method: self.method,
             ..Options::default()
         };
         o.validate()?;

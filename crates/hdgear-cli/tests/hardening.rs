@@ -328,10 +328,11 @@ fn signals_remove_every_temporary() {
     }
 }
 
+/// A sweep long enough (about a second on one thread) to be interrupted part-way.
 const SWEEP: [&str; 7] = [
     "sweep",
     "--param",
-    "gamma=0.1:30:160:log",
+    "gamma=0.1:30:1000:log",
     "--threads",
     "1",
     "--out",
@@ -371,7 +372,9 @@ fn an_interrupted_sweep_resumes_to_the_same_file() {
         .args(["--resume", "--quiet"])
         .assert()
         .success()
-        .stderr(predicates::str::contains("wrote s.csv: 160 rows, 0 failed"));
+        .stderr(predicates::str::contains(
+            "wrote s.csv: 1000 rows, 0 failed",
+        ));
     assert_eq!(std::fs::read(dir.path().join("s.csv")).unwrap(), whole);
 }
 

@@ -2,7 +2,7 @@
 
 use hdgear::Params;
 use hdgear::integrate::events::{Detector, Direction};
-use hdgear::integrate::{DenseOutput, Dop853, Options, System, sample};
+use hdgear::integrate::{DenseOutput, Dop853, Method, Options, Stepper, System, sample};
 use hdgear::model::Dimensionless;
 
 /// y' = cos(t)·y, y(0) = 1  ⇒  y = exp(sin t). Non-autonomous, so a stage evaluated at the wrong
@@ -132,11 +132,22 @@ fn adaptive_error_tracks_tolerance() {
 
 #[test]
 fn sampling_does_not_change_the_steps() {
+    for method in [Method::Taylor, Method::Dop853] {
+        sampling_leaves_steps_alone(method);
+    }
+}
+
+fn sampling_leaves_steps_alone(method: Method) {
     let p = Params::default();
     let sys = Dimensionless::new(p);
-    let o = Options::default();
-    let mut plain = Dop853::new(&sys, 0.0, [0.0, 0.0], o).unwrap();
-    plain.integrate_to(300.0).unwrap();
+    let o = Options {
+        method,
+        ..Options::default()
+    };
+    let mut plain = hdgear::integrate::stepper(&sys, 0.0, [0.0, 0.0], o).unwrap();
+    while plain.t() < 300.0 {
+        plain.step(300.0).unwrap();
+    }
     for dt in [0.05, 1.0, 7.0] {
         let mut n = 0;
         let (y, st) = sample(&sys, 0.0, [0.0, 0.0], 300.0, dt, o, |_, _| n += 1).unwrap();
@@ -208,11 +219,11 @@ fn paper_runs_stay_within_the_evaluation_budget() {
             gamma,
             ..Params::default()
         };
-        let sys = Dimensionless::new(p);
-        let x0 = hdgear::fast::stable_equilibrium(&p, 0.0);
-        let mut s = Dop853::new(&sys, 0.0, [x0, 0.0], Options::default()).unwrap();
-        s.integrate_to(3.0 * p.slow_period()).unwrap();
-        let st = s.stats();
+        let o = Options {
+            method: Method::Dop853,
+            ..Options::default()
+        };
+        let (_, st) = hdgear::simulate::integrate_periods(&p, 3.0, o).unwrap();
         eprintln!("gamma {gamma}: {st:?}");
         assert!(st.rhs_evals <= 130_000, "gamma {gamma}: {st:?}");
     }
@@ -284,4 +295,156 @@ fn the_models_jacobian_matches_finite_differences() {
             );
         }
     }
+}
+
+/// y'' = −y with its Taylor coefficients (x_{k+1} = v_k/(k+1), v_{k+1} = −x_k/(k+1)): y = sin t.
+struct TaylorOsc;
+impl System<2> for TaylorOsc {
+    fn rhs(&self, _t: f64, y: &[f64; 2]) -> [f64; 2] {
+        [y[1], -y[0]]
+    }
+    fn taylor(&self, _t: f64, y: &[f64; 2], order: usize, c: &mut [[f64; 2]]) -> bool {
+        c[0] = *y;
+        for k in 0..order {
+            let inv = 1.0 / (k + 1) as f64;
+            c[k + 1] = [c[k][1] * inv, -c[k][0] * inv];
+        }
+        true
+    }
+}
+
+fn taylor_opts(tol: f64) -> Options {
+    Options {
+        rtol: tol,
+        atol: tol,
+        method: Method::Taylor,
+        ..Options::default()
+    }
+}
+
+#[test]
+fn taylor_order_follows_jorba_zou() {
+    use hdgear::integrate::taylor::order_for;
+    // p = ⌈−ln ε / 2 + 1⌉
+    assert_eq!(order_for(1e-10), 13);
+    assert_eq!(order_for(1e-6), 8);
+    assert_eq!(order_for(1e-16), 20);
+    assert_eq!(order_for(1.0), hdgear::integrate::taylor::MIN_ORDER);
+}
+
+#[test]
+fn taylor_tracks_the_closed_form_and_its_tolerance() {
+    // over 50 periods of sin t the global error stays within a small multiple of the tolerance,
+    // at the step ends and (through the step polynomial) in between
+    for tol in [1e-6, 1e-9, 1e-12] {
+        let mut s =
+            hdgear::integrate::stepper(&TaylorOsc, 0.0, [0.0, 1.0], taylor_opts(tol)).unwrap();
+        let (mut worst, mut worst_dense) = (0.0f64, 0.0f64);
+        let t_end = 100.0 * std::f64::consts::PI;
+        while s.t() < t_end {
+            s.step(t_end).unwrap();
+            worst = worst.max((s.y()[0] - s.t().sin()).abs());
+            let d = s.dense();
+            for f in [0.25, 0.5, 0.75] {
+                let t = d.t_start() + f * (d.t_end() - d.t_start());
+                worst_dense = worst_dense.max((d.eval(t)[1] - t.cos()).abs());
+            }
+        }
+        eprintln!(
+            "tol {tol:e}: steps {}, error {worst:e}, dense {worst_dense:e}",
+            s.stats().steps
+        );
+        assert!(worst < 50.0 * tol, "tol {tol}: {worst:e}");
+        assert!(worst_dense < 50.0 * tol, "tol {tol}: dense {worst_dense:e}");
+        assert_eq!(s.stats().rejected, 0, "Taylor steps are never rejected");
+    }
+}
+
+#[test]
+fn the_models_taylor_coefficients_are_its_derivatives() {
+    // c1 = f(t, y) and c2 = (J f + ∂f/∂t)/2 exactly, with ∂f/∂t = (0, δω cos ωt)
+    let p = Params::default();
+    let sys = Dimensionless::new(p);
+    for (t, y) in [
+        (0.0, [0.3, -0.2]),
+        (123.4, [-0.07, 0.5]),
+        (900.0, [0.6, 0.01]),
+    ] {
+        let mut c = [[0.0; 2]; 14];
+        assert!(sys.taylor(t, &y, 13, &mut c));
+        let f = sys.rhs(t, &y);
+        let j = sys.jacobian(t, &y).unwrap();
+        let ft = [0.0, p.delta * p.omega * (p.omega * t).cos()];
+        for i in 0..2 {
+            assert!((c[1][i] - f[i]).abs() < 1e-14 * (1.0 + f[i].abs()));
+            let second = 0.5 * (j[i][0] * f[0] + j[i][1] * f[1] + ft[i]);
+            assert!(
+                (c[2][i] - second).abs() < 1e-12 * (1.0 + second.abs()),
+                "{t}: {} vs {second}",
+                c[2][i]
+            );
+        }
+    }
+}
+
+#[test]
+fn events_work_on_the_taylor_polynomial() {
+    // the same zeros as DOP853 locates on its interpolant, to 1e-9 (both at tolerance 1e-12)
+    let p = Params::default();
+    let sys = Dimensionless::new(p);
+    let zeros = |method: Method| {
+        let o = Options {
+            method,
+            ..taylor_opts(1e-12)
+        };
+        // released far from equilibrium: x' changes sign at every swing of the damped ringing
+        let mut s = hdgear::integrate::stepper(&sys, 0.0, [0.9, 0.0], o).unwrap();
+        let mut det = Detector::new(|_t, y: &[f64; 2]| y[1], Direction::Either);
+        let mut found = Vec::new();
+        let t_end = 60.0;
+        while s.t() < t_end {
+            s.step(t_end).unwrap();
+            det.scan(&s.dense(), |c| found.push(c.t));
+        }
+        found
+    };
+    let (a, b) = (zeros(Method::Taylor), zeros(Method::Dop853));
+    eprintln!("{} zeros of x'", a.len());
+    assert!(a.len() >= 5);
+    assert_eq!(a.len(), b.len());
+    for (x, y) in a.iter().zip(&b) {
+        assert!((x - y).abs() < 1e-9, "{x} vs {y}");
+    }
+}
+
+#[test]
+fn taylor_refuses_a_system_without_coefficients() {
+    let e = hdgear::integrate::stepper(&Osc, 0.0, [0.0, 1.0], taylor_opts(1e-10))
+        .err()
+        .unwrap();
+    assert!(e.to_string().contains("method"), "{e}");
+}
+
+#[test]
+fn the_physical_model_agrees_across_methods() {
+    use hdgear::physical::simulate::simulate_physical;
+    let (d, _) = hdgear::physical::catalogue::preset("CSF-20-50", None).unwrap();
+    let run = |method: Method| {
+        let mut out = Vec::new();
+        let o = Options {
+            method,
+            ..taylor_opts(1e-12)
+        };
+        simulate_physical(&d, 0.5, 1e-3, o, |s| out.push(s.theta)).unwrap();
+        out
+    };
+    let (a, b) = (run(Method::Taylor), run(Method::Dop853));
+    let scale = b.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let worst = a
+        .iter()
+        .zip(&b)
+        .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()))
+        / scale;
+    eprintln!("physical Taylor vs DOP853: {worst:e} relative");
+    assert!(worst < 1e-9, "{worst:e}");
 }

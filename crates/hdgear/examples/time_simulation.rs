@@ -1,42 +1,55 @@
-//! Times the plain three-slow-period integration (as in `benches/simulate.rs`) and prints one JSON
-//! line per γ: `{"gamma":..,"seconds_per_run":..,"steps":..,"rhs_evals":..}`.
-//! Used by `bench/compare_scipy.py`. Usage: `cargo run --release --example time_simulation [REPS]`.
+//! Times the plain three-slow-period integration ([`hdgear::simulate::integrate_periods`]) with
+//! each method and prints one JSON line per (method, γ):
+//! `{"method":..,"gamma":..,"rtol":..,"seconds_per_run":..,"steps":..,"rhs_evals":..,"x":..,"xdot":..}`.
+//! Used by `bench/compare_scipy.py` and `bench/compare_heyoka.py`.
+//! Usage: `cargo run --release --example time_simulation [REPS] [TOL ...]` (default 200, 1e-10).
 
 use hdgear::Params;
-use hdgear::integrate::{Dop853, Options};
-use hdgear::model::Dimensionless;
+use hdgear::integrate::{Method, Options};
+use hdgear::simulate::integrate_periods;
 use std::time::Instant;
 
 fn main() {
-    let reps: u32 = std::env::args()
-        .nth(1)
-        .and_then(|s| s.parse().ok())
-        .unwrap_or(200);
-    for gamma in [30.0, 0.1] {
-        let p = Params {
-            gamma,
-            ..Params::default()
-        };
-        let sys = Dimensionless::new(p);
-        let x0 = hdgear::fast::stable_equilibrium(&p, 0.0);
-        let t_end = 3.0 * p.slow_period();
-        let mut stats = None;
-        let mut best = f64::INFINITY;
-        // best of 5 batches: the least-disturbed estimate on a shared machine
-        for _ in 0..5 {
-            let t0 = Instant::now();
-            for _ in 0..reps {
-                let mut s = Dop853::new(&sys, 0.0, [x0, 0.0], Options::default()).unwrap();
-                s.integrate_to(t_end).unwrap();
-                stats = Some(s.stats());
-                std::hint::black_box(s.y());
-            }
-            best = best.min(t0.elapsed().as_secs_f64() / f64::from(reps));
-        }
-        let st = stats.unwrap();
-        println!(
-            "{{\"gamma\":{gamma},\"seconds_per_run\":{best},\"steps\":{},\"rhs_evals\":{}}}",
-            st.steps, st.rhs_evals
-        );
+    let mut args = std::env::args().skip(1);
+    let reps: u32 = args.next().and_then(|s| s.parse().ok()).unwrap_or(200);
+    let mut tols: Vec<f64> = args.filter_map(|s| s.parse().ok()).collect();
+    if tols.is_empty() {
+        tols.push(1e-10);
     }
+    for tol in tols {
+        for method in [Method::Taylor, Method::Dop853] {
+            for gamma in [30.0, 0.1] {
+                time(method, gamma, tol, reps);
+            }
+        }
+    }
+}
+
+fn time(method: Method, gamma: f64, tol: f64, reps: u32) {
+    let p = Params {
+        gamma,
+        ..Params::default()
+    };
+    let o = Options {
+        rtol: tol,
+        atol: tol,
+        method,
+        ..Options::default()
+    };
+    let mut last = None;
+    let mut best = f64::INFINITY;
+    // best of 5 batches: the least-disturbed estimate on a shared machine
+    for _ in 0..5 {
+        let t0 = Instant::now();
+        for _ in 0..reps {
+            last = Some(std::hint::black_box(integrate_periods(&p, 3.0, o).unwrap()));
+        }
+        best = best.min(t0.elapsed().as_secs_f64() / f64::from(reps));
+    }
+    let Some((y, st)) = last else { return };
+    let name = serde_json::to_string(&method).unwrap_or_default();
+    println!(
+        "{{\"method\":{name},\"gamma\":{gamma},\"rtol\":{tol:e},\"seconds_per_run\":{best},\"steps\":{},\"rhs_evals\":{},\"x\":{:.17e},\"xdot\":{:.17e}}}",
+        st.steps, st.rhs_evals, y[0], y[1]
+    );
 }

@@ -34,4 +34,29 @@ impl System<2> for Dimensionless {
     fn jacobian(&self, _t: f64, y: &[f64; 2]) -> Option<[[f64; 2]; 2]> {
         Some([[0.0, 1.0], [-self.p.g_prime(y[0]), -1.0]])
     }
+    /// x_{k+1} = v_k/(k+1), v_{k+1} = (μ[k=0] + δ s_k − v_k − α(x³)_k + (x²)_k − γ x_k
+    /// + γε[k=0])/(k+1), with (x²)_k, (x³)_k Cauchy sums and s_k the coefficients of sin ωt.
+    fn taylor(&self, t: f64, y: &[f64; 2], order: usize, c: &mut [[f64; 2]]) -> bool {
+        use crate::integrate::taylor::{INV, MAX_ORDER, cauchy, sine_coefficients};
+        let p = &self.p;
+        let n = order.min(MAX_ORDER).min(c.len() - 1);
+        let (mut x, mut x2, mut s) = (
+            [0.0; MAX_ORDER + 1],
+            [0.0; MAX_ORDER + 1],
+            [0.0; MAX_ORDER + 1],
+        );
+        sine_coefficients(p.omega, t, n, &mut s);
+        c[0] = *y;
+        x[0] = y[0];
+        for k in 0..n {
+            x2[k] = cauchy(&x, &x, k);
+            let x3 = cauchy(&x2, &x, k);
+            let [xk, vk] = c[k];
+            let constant = if k == 0 { p.mu + p.gamma * p.eps } else { 0.0 };
+            let acc = constant + p.delta * s[k] - vk - p.alpha * x3 + x2[k] - p.gamma * xk;
+            c[k + 1] = [vk * INV[k], acc * INV[k]];
+            x[k + 1] = c[k + 1][0];
+        }
+        true
+    }
 }

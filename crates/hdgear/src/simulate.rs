@@ -3,7 +3,7 @@
 use crate::error::Result;
 use crate::fast::stable_equilibrium;
 use crate::integrate::events::{Detector, Direction};
-use crate::integrate::{Grid, Method, Options, Stats, Stepper, System, stepper};
+use crate::integrate::{Grid, Options, Stats, Stepper, System, stepper};
 use crate::model::Dimensionless;
 use crate::params::Params;
 use serde::Serialize;
@@ -89,7 +89,7 @@ pub fn simulate(
     let y0 = initial_state(p, opts.start);
     let sys = Dimensionless::new(*p);
     let mut grid = Grid::new(0.0, opts.t_end, opts.dt)?;
-    let mut solver = stepper(Method::default(), &sys, 0.0, y0, opts.tol)?;
+    let mut solver = stepper(&sys, 0.0, y0, opts.tol)?;
     let mut extrema = Detector::new(|t, y: &[f64; 2]| sys.rhs(t, y)[1], Direction::Either);
     let mut max_v = y0[1].abs();
     grid.start(&y0, &mut out);
@@ -161,4 +161,26 @@ pub struct Setup {
     pub params: Params,
     /// The run's options.
     pub options: SimOptions,
+}
+
+/// Integrates `periods` slow periods from the default start (the stable equilibrium at a = 0, at
+/// rest) with nothing sampled: the plain integration that benchmarks and work counts time.
+/// Returns the final state and the work counters.
+///
+/// ```
+/// use hdgear::{Params, integrate::Options, simulate::integrate_periods};
+/// let (y, stats) = integrate_periods(&Params::default(), 3.0, Options::default()).unwrap();
+/// assert!(y[0].is_finite() && stats.steps > 1000);
+/// ```
+pub fn integrate_periods(p: &Params, periods: f64, tol: Options) -> Result<([f64; 2], Stats)> {
+    p.validate()?;
+    let sys = Dimensionless::new(*p);
+    let y0 = initial_state(p, Start::Equilibrium);
+    let t_end = periods * p.slow_period();
+    crate::integrate::check_budget(t_end, &tol)?;
+    let mut solver = stepper(&sys, 0.0, y0, tol)?;
+    while solver.t() < t_end {
+        solver.step(t_end)?;
+    }
+    Ok((*solver.y(), solver.stats()))
 }

@@ -53,7 +53,7 @@ use scan::{Pivot, Scan, Scanner};
 
 use crate::error::{Error, Result};
 use crate::fast::{self, stable_equilibrium};
-use crate::integrate::{DenseOutput, Method, Options, Stepper, stepper};
+use crate::integrate::{DenseOutput, Options, Stepper, stepper};
 use crate::model::Dimensionless;
 use crate::params::Params;
 use serde::{Deserialize, Serialize};
@@ -447,7 +447,7 @@ pub fn response_observed(
 
     let sys = Dimensionless::new(*p);
     let x0 = stable_equilibrium(p, 0.0);
-    let mut solver = stepper(Method::default(), &sys, 0.0, [x0, 0.0], opts.tol)?;
+    let mut solver = stepper(&sys, 0.0, [x0, 0.0], opts.tol)?;
     let mut scanner = Scanner::new(
         p,
         x0,

@@ -31,6 +31,9 @@
 
 pub mod events;
 mod stages;
+pub mod taylor;
+
+pub use taylor::{Taylor, TaylorDense};
 
 use crate::error::{Error, Result, SolverError};
 use serde::{Deserialize, Serialize};
@@ -43,6 +46,12 @@ pub trait System<const N: usize> {
     /// equations, implicit steps); `None` when the system does not provide it.
     fn jacobian(&self, _t: f64, _y: &[f64; N]) -> Option<[[f64; N]; N]> {
         None
+    }
+    /// Fills `c[0..=order]` with the normalised Taylor coefficients of the solution through
+    /// (t, y): y(t + h) = Σ_k c\[k\]·h^k, c\[0\] = y (for [`Method::Taylor`]). Returns false, the
+    /// default, when the system does not provide them.
+    fn taylor(&self, _t: f64, _y: &[f64; N], _order: usize, _c: &mut [[f64; N]]) -> bool {
+        false
     }
 }
 
@@ -75,23 +84,61 @@ pub trait Stepper<const N: usize> {
     fn stats(&self) -> Stats;
 }
 
-/// The integration method. One today; the enum is the place a second one is chosen.
+/// The integration method.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Method {
-    /// Dormand–Prince 8(5,3) with 7th-order dense output ([`Dop853`]).
+    /// Taylor's method with the Jorba–Zou order and step rule ([`Taylor`]), for systems that
+    /// provide [`System::taylor`] (both models do).
     #[default]
+    Taylor,
+    /// Dormand–Prince 8(5,3) with 7th-order dense output ([`Dop853`]).
     Dop853,
 }
 
 impl Method {
+    /// Every method.
+    pub const ALL: [Method; 2] = [Method::Taylor, Method::Dop853];
+
+    /// The name users write (and the serde name).
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::Taylor => "taylor",
+            Method::Dop853 => "dop853",
+        }
+    }
+
     /// The method in words, for reports.
     pub fn describe(self) -> &'static str {
         match self {
+            Method::Taylor => {
+                "Taylor's method of order ⌈−ln(tol)/2 + 1⌉ with the Jorba–Zou step rule, the step \
+                 polynomial as dense output"
+            }
             Method::Dop853 => {
                 "adaptive Dormand–Prince 8(5,3) (Hairer's DOP853) with 7th-order dense output"
             }
         }
+    }
+}
+
+impl std::fmt::Display for Method {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.pad(self.name())
+    }
+}
+
+impl std::str::FromStr for Method {
+    type Err = Error;
+    fn from_str(name: &str) -> Result<Method> {
+        Method::ALL
+            .into_iter()
+            .find(|m| m.name() == name)
+            .ok_or_else(|| Error::InvalidInput {
+                what: "method",
+                text: name.into(),
+                reason: "expected taylor or dop853".into(),
+            })
     }
 }
 
@@ -111,6 +158,9 @@ pub struct Options {
     /// A state component whose magnitude exceeds this is a blow-up ([`SolverError::BlowUp`]).
     /// Default 1e100: far beyond any physical motion, yet below overflow in a cubic right-hand side.
     pub blowup: f64,
+    /// The method ([`stepper`] builds it). Default [`Method::Taylor`].
+    #[serde(default)]
+    pub method: Method,
 }
 
 impl Default for Options {
@@ -122,6 +172,7 @@ impl Default for Options {
             h_max: None,
             max_steps: 100_000_000,
             blowup: 1e100,
+            method: Method::default(),
         }
     }
 }
@@ -204,7 +255,8 @@ pub struct Stats {
     pub steps: u64,
     /// Rejected step attempts.
     pub rejected: u64,
-    /// Right-hand-side evaluations, including those of the initial-step guess and dense output.
+    /// Right-hand-side evaluations, including those of the initial-step guess and dense output
+    /// (for Taylor's method: evaluations of the Taylor coefficients, one per step).
     pub rhs_evals: u64,
 }
 
@@ -657,16 +709,89 @@ impl Grid {
     }
 }
 
-/// The stepper of `method` for `sys` at (t0, y0).
+/// The stepper of `opts.method` for `sys` at (t0, y0).
 pub fn stepper<'s, S: System<N> + ?Sized, const N: usize>(
-    method: Method,
     sys: &'s S,
     t0: f64,
     y0: [f64; N],
     opts: Options,
-) -> Result<impl Stepper<N> + 's> {
-    match method {
-        Method::Dop853 => Dop853::new(sys, t0, y0, opts),
+) -> Result<AnyStepper<'s, S, N>> {
+    Ok(match opts.method {
+        Method::Taylor => AnyStepper::Taylor(Taylor::new(sys, t0, y0, opts)?),
+        Method::Dop853 => AnyStepper::Dop853(Dop853::new(sys, t0, y0, opts)?),
+    })
+}
+
+/// A stepper of either method (what [`stepper`] returns).
+pub enum AnyStepper<'s, S: ?Sized, const N: usize> {
+    /// Taylor's method.
+    Taylor(Taylor<'s, S, N>),
+    /// DOP853.
+    Dop853(Dop853<'s, S, N>),
+}
+
+/// The dense output of either method.
+#[derive(Clone, Copy, Debug)]
+pub enum AnyDense<const N: usize> {
+    /// The step polynomial of Taylor's method.
+    Taylor(TaylorDense<N>),
+    /// DOP853's continuous extension.
+    Dop853(Dense<N>),
+}
+
+impl<const N: usize> DenseOutput<N> for AnyDense<N> {
+    fn t_start(&self) -> f64 {
+        match self {
+            AnyDense::Taylor(d) => d.t_start(),
+            AnyDense::Dop853(d) => d.t_start(),
+        }
+    }
+    fn t_end(&self) -> f64 {
+        match self {
+            AnyDense::Taylor(d) => d.t_end(),
+            AnyDense::Dop853(d) => d.t_end(),
+        }
+    }
+    #[inline]
+    fn eval(&self, t: f64) -> [f64; N] {
+        match self {
+            AnyDense::Taylor(d) => d.eval(t),
+            AnyDense::Dop853(d) => d.eval(t),
+        }
+    }
+}
+
+impl<'s, S: System<N> + ?Sized, const N: usize> Stepper<N> for AnyStepper<'s, S, N> {
+    type Dense = AnyDense<N>;
+    fn t(&self) -> f64 {
+        match self {
+            AnyStepper::Taylor(s) => s.t(),
+            AnyStepper::Dop853(s) => s.t,
+        }
+    }
+    fn y(&self) -> &[f64; N] {
+        match self {
+            AnyStepper::Taylor(s) => s.y(),
+            AnyStepper::Dop853(s) => &s.y,
+        }
+    }
+    fn step(&mut self, t_bound: f64) -> Result<()> {
+        match self {
+            AnyStepper::Taylor(s) => s.step(t_bound),
+            AnyStepper::Dop853(s) => s.step(t_bound),
+        }
+    }
+    fn dense(&mut self) -> AnyDense<N> {
+        match self {
+            AnyStepper::Taylor(s) => AnyDense::Taylor(s.dense()),
+            AnyStepper::Dop853(s) => AnyDense::Dop853(s.dense()),
+        }
+    }
+    fn stats(&self) -> Stats {
+        match self {
+            AnyStepper::Taylor(s) => s.stats(),
+            AnyStepper::Dop853(s) => s.stats,
+        }
     }
 }
 
@@ -682,7 +807,7 @@ pub fn sample<S: System<N> + ?Sized, const N: usize>(
     mut out: impl FnMut(f64, &[f64; N]),
 ) -> Result<([f64; N], Stats)> {
     let mut grid = Grid::new(t0, t_end, dt)?;
-    let mut solver = stepper(Method::default(), sys, t0, y0, opts)?;
+    let mut solver = stepper(sys, t0, y0, opts)?;
     grid.start(&y0, &mut out);
     while solver.t() < t_end {
         solver.step(t_end)?;

@@ -73,4 +73,38 @@ impl System<4> for Physical {
             self.t_c * acc_out,
         ]
     }
+
+    /// The same equations order by order: the spring (k1 + k2θ²)(θ − φ) from Cauchy sums of θ,
+    /// the disturbance from the coefficients of sin Ωt.
+    fn taylor(&self, t: f64, z: &[f64; 4], order: usize, c: &mut [[f64; 4]]) -> bool {
+        use crate::integrate::taylor::{INV, MAX_ORDER, cauchy, sine_coefficients};
+        let d = &self.d;
+        let n = order.min(MAX_ORDER).min(c.len() - 1);
+        let (mut th, mut th2, mut s) = (
+            [0.0; MAX_ORDER + 1],
+            [0.0; MAX_ORDER + 1],
+            [0.0; MAX_ORDER + 1],
+        );
+        sine_coefficients(d.omega, t, n, &mut s);
+        c[0] = *z;
+        th[0] = z[0];
+        for k in 0..n {
+            th2[k] = cauchy(&th, &th, k);
+            let th3 = cauchy(&th2, &th, k);
+            let first = if k == 0 { 1.0 } else { 0.0 };
+            let spring = d.k1 * (th[k] - first * d.backlash) + d.k2 * (th3 - d.backlash * th2[k]);
+            let damper = d.c_eq * c[k][1] / self.t_c;
+            let acc_out = (first * d.t_m + d.t_am * s[k] - damper - spring) / d.j_out;
+            let acc_in = (-first * d.t_m + damper + spring) / (d.ratio * d.j_in);
+            let acc_rel = acc_out - acc_in / d.ratio;
+            c[k + 1] = [
+                c[k][1] / self.t_c * INV[k],
+                self.t_c * acc_rel * INV[k],
+                c[k][3] / self.t_c * INV[k],
+                self.t_c * acc_out * INV[k],
+            ];
+            th[k + 1] = c[k + 1][0];
+        }
+        true
+    }
 }

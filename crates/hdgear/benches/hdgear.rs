@@ -1,0 +1,219 @@
+//! hdgear's benchmarks in one binary (`cargo bench`; `cargo bench -- simulate` for one group):
+//!
+//! * `simulate_3_periods`: three slow periods at rtol = atol = 1e-10, γ ∈ {30, 0.1}: each method
+//!   (`taylor`, `dop853`) on the plain integration, DOP853 as a bare loop (`plain`), with the
+//!   sampled output of `hdgear simulate` (`sampled`), and the `differential-equations` crate's
+//!   DOP853 on the same problem.
+//! * `fast`: the fast-subsystem analysis without simulation.
+//! * `sweep_1000_gamma`: a 1000-point γ sweep with burst analysis on 1 and 2 threads.
+//! * `physical_300_tau`: the two-inertia model as the input inertia shrinks (stiffness check).
+//!
+//! Against other tools in the same run: `bench/compare_heyoka.py`, `bench/compare_scipy.py`.
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use hdgear::Params;
+use hdgear::burst::BurstOptions;
+use hdgear::fast::{analyze, curve};
+use hdgear::integrate::{Dop853, Method, Options};
+use hdgear::model::Dimensionless;
+use hdgear::physical::PhysicalParams;
+use hdgear::physical::simulate::simulate_physical;
+use hdgear::simulate::{SimOptions, Start, integrate_periods, simulate};
+use hdgear::sweep::{Axis, Grid, run};
+use std::collections::HashSet;
+use std::hint::black_box;
+
+// Three slow periods of the study's model at rtol = atol = 1e-10, γ ∈ {30, 0.1}.
+//
+// * `plain`: the bare integration to τ = 3·2π/ω (what SPEC §5's "stack-only DOP853" row measures;
+//   this integrator is itself a stack-only DOP853 loop, so it is its own yardstick).
+// * `sampled`: `hdgear simulate`'s work: dense output at dt = 0.05 plus the exact max |x'|.
+//
+// * `differential-equations/dop853`: the same problem with the `differential-equations` 0.7
+//   crate's DOP853 (final state only), the best-kept crate SPEC §5 lists: the reason hdgear
+//   has its own integrator is measured here.
+//
+// Steps and right-hand-side evaluations are printed once per case.
+
+/// The same model for the `differential-equations` crate (with the same `libm` sine as ours, so
+/// the integrators are compared, not the sines).
+struct DeModel(Params);
+
+impl differential_equations::prelude::ODE<f64, [f64; 2]> for DeModel {
+    fn diff(&self, t: f64, y: &[f64; 2], dydt: &mut [f64; 2]) {
+        let p = &self.0;
+        dydt[0] = y[1];
+        dydt[1] = p.forcing(libm::sin(p.omega * t)) - y[1] - p.g(y[0]);
+    }
+}
+
+fn simulate_group(c: &mut Criterion) {
+    let mut g = c.benchmark_group("simulate_3_periods");
+    for gamma in [30.0, 0.1] {
+        let p = Params {
+            gamma,
+            ..Params::default()
+        };
+        let sys = Dimensionless::new(p);
+        let x0 = hdgear::fast::stable_equilibrium(&p, 0.0);
+        let t_end = 3.0 * p.slow_period();
+        let run = || {
+            let mut s = Dop853::new(&sys, 0.0, [x0, 0.0], Options::default()).unwrap();
+            s.integrate_to(t_end).unwrap();
+            s
+        };
+        for method in Method::ALL {
+            let o = Options {
+                method,
+                ..Options::default()
+            };
+            g.bench_function(format!("{method}/gamma={gamma}"), |b| {
+                b.iter(|| black_box(integrate_periods(&p, 3.0, o).unwrap()))
+            });
+        }
+        let st = run().stats();
+        eprintln!(
+            "gamma {gamma}: plain: steps {} rejected {} rhs_evals {}",
+            st.steps, st.rejected, st.rhs_evals
+        );
+        let opts = SimOptions::default();
+        let s2 = simulate(&p, &opts, |_, _| {}).unwrap().stats;
+        eprintln!(
+            "gamma {gamma}: sampled (dt 0.05): steps {} rhs_evals {}",
+            s2.steps, s2.rhs_evals
+        );
+        let de = DeModel(p);
+        let de_run = || {
+            use differential_equations::prelude::*;
+            IVP::ode(&de, 0.0, t_end, [x0, 0.0])
+                .method(ExplicitRungeKutta::dop853().rtol(1e-10).atol(1e-10))
+                .t_eval([t_end])
+                .solve()
+                .unwrap()
+        };
+        let sol = de_run();
+        let (ours, theirs) = (run().y()[0], sol.y.last().unwrap()[0]);
+        eprintln!(
+            "gamma {gamma}: differential-equations dop853: steps {} (rejected {}) rhs_evals {}; \
+             final x differs from ours by {:.1e}",
+            sol.steps.accepted,
+            sol.steps.rejected,
+            sol.evals.function,
+            (ours - theirs).abs()
+        );
+        g.bench_function(
+            format!("differential-equations-dop853/gamma={gamma}"),
+            |b| b.iter(|| black_box(de_run().y.len())),
+        );
+        g.bench_function(format!("plain/gamma={gamma}"), |b| {
+            b.iter(|| black_box(run().y()[0]))
+        });
+        g.bench_function(format!("sampled/gamma={gamma}"), |b| {
+            b.iter(|| {
+                let mut acc = 0.0;
+                simulate(&p, &opts, |_, y| acc += y[0]).unwrap();
+                black_box(acc)
+            })
+        });
+    }
+    g.finish();
+}
+
+// The fast-subsystem analysis without simulation: `analyze` (folds, cusp, slopes, spiking areas)
+// and a 10,000-point equilibrium curve, at the study's point (γ = 0.1) and in the fold regime
+// (γ = 0.01). Bar (analysis issue): the curve under 10 ms; AUTO-07p takes 18–37 ms per branch.
+
+fn fast_group(c: &mut Criterion) {
+    let mut g = c.benchmark_group("fast");
+    for gamma in [0.1, 0.01] {
+        let p = Params {
+            gamma,
+            ..Params::default()
+        };
+        g.bench_function(format!("analyze/gamma={gamma}"), |b| {
+            b.iter(|| black_box(analyze(black_box(&p), (-1.0, 1.0)).unwrap()))
+        });
+        g.bench_function(format!("curve_10000/gamma={gamma}"), |b| {
+            b.iter(|| black_box(curve(black_box(&p), (-1.0, 1.0), 10_000).unwrap()))
+        });
+    }
+    g.finish();
+}
+
+// A 1000-point γ sweep (0.1 to 30, log-spaced; the default response: 1 slow period discarded,
+// 2 analysed, rtol = atol = 1e-10) on 1 and 2 threads. Bar (burst issue): under 1.5 s on the
+// 2-core machine; a numba-compiled Dormand–Prince 5(4) needs ~2.9 s on one core.
+
+fn sweep_group(c: &mut Criterion) {
+    let grid = Grid::new(
+        Params::default(),
+        vec![Axis::parse("gamma=0.1:30:1000:log").unwrap()],
+    )
+    .unwrap();
+    let opts = BurstOptions::default();
+    let mut g = c.benchmark_group("sweep_1000_gamma");
+    g.sample_size(10);
+    for threads in [1, 2] {
+        g.bench_function(format!("threads={threads}"), |b| {
+            b.iter(|| {
+                let mut n = 0usize;
+                run(&grid, &opts, &HashSet::new(), threads, |r| {
+                    n += 1;
+                    black_box(r);
+                })
+                .unwrap();
+                assert_eq!(n, 1000);
+            })
+        });
+    }
+    g.finish();
+}
+
+// The two-inertia model: does a small input inertia (J_i N² ≪ J_o) make it stiff?
+//
+// The same reduced point (α 16, ε 1/16, γ 1, μ 0.07, δ 15, ω 0.01) is mapped back to drives with
+// N²J_i/J_o from 0.25 down to 2.5e-7 and simulated by DOP853 over 300 dimensionless time
+// units, next to the dimensionless model. Steps and right-hand-side evaluations are printed;
+// the times are measured. If the small inertia made the system stiff, the explicit method's
+// step count would grow as N²J_i/J_o falls (its steps limited by stability, not accuracy).
+
+fn physical_group(c: &mut Criterion) {
+    let p = Params {
+        alpha: 16.0,
+        gamma: 1.0,
+        eps: 1.0 / 16.0,
+        ..Params::default()
+    };
+    let tau_end = 300.0;
+    let mut g = c.benchmark_group("physical_300_tau");
+    let s = simulate(
+        &p,
+        &SimOptions {
+            t_end: tau_end,
+            dt: tau_end,
+            start: Start::Rest,
+            ..SimOptions::default()
+        },
+        |_, _| {},
+    )
+    .unwrap();
+    eprintln!("dimensionless: {:?}", s.stats);
+    for j_in in [1e-4, 1e-6, 1e-8, 1e-10] {
+        let d = PhysicalParams::from_dimensionless(&p, j_in, 1.0, 50.0, 5.0, 1e-3).unwrap();
+        let r = d.reduce().unwrap();
+        let t_end = r.time(tau_end);
+        let run = || simulate_physical(&d, t_end, t_end, Options::default(), |_| {}).unwrap();
+        let ratio = 2500.0 * j_in;
+        eprintln!("N^2 J_i / J_o = {ratio:e}: {:?}", run().stats);
+        g.bench_function(format!("ratio={ratio:e}"), |b| b.iter(|| black_box(run())));
+    }
+    g.finish();
+}
+
+// No criterion plots: its plotters backend would need a font this binary does not register.
+criterion_group! {
+    name = benches;
+    config = Criterion::default().without_plots();
+    targets = simulate_group, fast_group, sweep_group, physical_group
+}
+criterion_main!(benches);
