@@ -7,11 +7,15 @@
 //! ([`System::taylor`]): products by Cauchy sums, sin(ωt + ωh) in closed form. One step costs
 //! O(p²) multiplications, never rejects, and its dense output is the polynomial itself.
 //!
-//! * Order: p = ⌈−ln(ε)/2 + 1⌉ with ε = min(rtol, atol) (13 at 1e-10), clamped to
+//! * Order: p = ⌈−ln(ε)/2 + 1⌉ with ε = rtol (13 at 1e-10), clamped to
 //!   [`MIN_ORDER`]…[`MAX_ORDER`].
 //! * Step: ρ = min((1/‖c_{p−1}‖)^{1/(p−1)}, (1/‖c_p‖)^{1/p}), h = ρ·e^{−2}·e^{−0.7/(p−1)}, where
-//!   the norms are divided by ‖y‖∞ when ‖y‖∞ > 1 (relative control) — the radius of convergence
-//!   estimated from the last two coefficients, scaled so the truncation error stays below ε.
+//!   each component of the coefficients is divided by max(|y_i|, atol/rtol) before the max-norm —
+//!   relative control where rtol·|y_i| ≥ atol, absolute below (Jorba–Zou's mixed criterion, per
+//!   component as DOP853's error norm is, so that a large rigid-body angle does not loosen the
+//!   control of a small torsion; with rtol = atol the switch is at |y_i| = 1, as in heyoka) — the
+//!   radius of convergence estimated from the last two coefficients, scaled so the truncation
+//!   error stays below ε.
 
 use super::{DenseOutput, Options, SolverError, Stats, Stepper, System};
 use crate::error::{Error, Result};
@@ -113,7 +117,7 @@ impl<'s, S: System<N> + ?Sized, const N: usize> Taylor<'s, S, N> {
     /// are unusable.
     pub fn new(sys: &'s S, t0: f64, y0: [f64; N], opts: Options) -> Result<Self> {
         opts.validate()?;
-        let order = order_for(opts.rtol.min(opts.atol));
+        let order = order_for(opts.rtol);
         let mut c = [[0.0; N]; MAX_ORDER + 1];
         if !sys.taylor(t0, &y0, order, &mut c) {
             return Err(Error::InvalidOption {
@@ -142,10 +146,14 @@ impl<'s, S: System<N> + ?Sized, const N: usize> Taylor<'s, S, N> {
     /// The Jorba–Zou step from the coefficients in `self.c`.
     fn step_size(&self) -> f64 {
         let p = self.order;
-        let norm = |row: &[f64; N]| row.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-        let scale = norm(&self.c[0]).max(1.0);
+        // per component: relative where rtol·|y_i| ≥ atol, absolute (in units of atol/rtol) below
+        let floor = self.opts.atol / self.opts.rtol;
+        let y = &self.c[0];
+        let norm = |row: &[f64; N]| {
+            (0..N).fold(0.0f64, |m, i| m.max(row[i].abs() / y[i].abs().max(floor)))
+        };
         // ln ρ_k = −ln(‖c_k‖)/k; ρ = min over k = p − 1, p
-        let ln_rho = |k: usize| -(norm(&self.c[k]) / scale).ln() / k as f64;
+        let ln_rho = |k: usize| -norm(&self.c[k]).ln() / k as f64;
         (ln_rho(p - 1).min(ln_rho(p)) - 2.0 - 0.7 / (p - 1) as f64).exp()
     }
 }
