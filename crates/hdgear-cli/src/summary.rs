@@ -121,7 +121,7 @@ fn prediction_text(s: &mut String, e: &hdgear::fast::EquilibriaSummary) {
 /// The readable form of a measured response and its classification.
 pub fn response_text(r: &hdgear::burst::Response, c: &hdgear::burst::Classification) -> String {
     let mut s = String::new();
-    let rate = r.bursts_per_period.map_or_else(
+    let rate = r.rates.bursts_per_period.map_or_else(
         || "continuous fast motion (no separate bursts)".to_string(),
         |b| format!("{b} bursts per slow period"),
     );
@@ -132,12 +132,12 @@ pub fn response_text(r: &hdgear::burst::Response, c: &hdgear::burst::Classificat
          max |x - x*| {:.4}",
         r.window_start,
         r.window_end,
-        r.spikes_per_burst,
-        r.burst_amplitude,
-        r.peak_abs_xdot,
-        r.quiescent_duration,
-        100.0 * r.quiescent_fraction,
-        r.max_tracking_error
+        r.rates.spikes_per_burst,
+        r.rates.burst_amplitude,
+        r.rates.peak_abs_xdot,
+        r.rates.quiescent_duration,
+        100.0 * r.rates.quiescent_fraction,
+        r.rates.max_tracking_error
     );
     let g = &r.signatures;
     let yes = |b: bool| if b { "yes" } else { "no" };

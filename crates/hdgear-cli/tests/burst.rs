@@ -61,7 +61,7 @@ fn agrees_with_the_independent_reference_on_all_twenty_cases() {
         assert_eq!(c.verdict.name(), rf["verdict"].as_str().unwrap(), "{id}");
         if c.bursting {
             assert_eq!(
-                r.bursts_per_period,
+                r.rates.bursts_per_period,
                 rf["bursts_per_period"].as_f64(),
                 "{id}"
             );
@@ -75,7 +75,7 @@ fn agrees_with_the_independent_reference_on_all_twenty_cases() {
             r.signatures.max_overshoot
         );
         assert!(
-            (r.peak_abs_xdot - rf["peak_abs_xdot"].as_f64().unwrap()).abs() < 1e-6,
+            (r.rates.peak_abs_xdot - rf["peak_abs_xdot"].as_f64().unwrap()).abs() < 1e-6,
             "{id}"
         );
         assert_eq!(
@@ -172,13 +172,13 @@ fn the_study_table_under_signatures() {
         assert_eq!((c.verdict, c.mode), (verdict, mode), "gamma {g}: {r:?}");
         assert!(c.fast_slow_domain);
         assert!(
-            (r.peak_abs_xdot - peak).abs() < 0.06 * peak,
+            (r.rates.peak_abs_xdot - peak).abs() < 0.06 * peak,
             "gamma {g}: {}",
-            r.peak_abs_xdot
+            r.rates.peak_abs_xdot
         );
         if c.bursting {
             assert_eq!(c.mechanism, Mechanism::SharpQuantitativeChange);
-            assert_eq!(r.bursts_per_period, Some(2.0));
+            assert_eq!(r.rates.bursts_per_period, Some(2.0));
             for b in &r.bursts {
                 assert!(b.complete && b.spikes >= 1);
                 assert!(b.a_peak.abs() < 0.1, "pulses near a = 0: {b:?}");
@@ -187,8 +187,8 @@ fn the_study_table_under_signatures() {
             }
         } else {
             assert_eq!(c.mechanism, Mechanism::None);
-            assert_eq!(r.bursts_per_period, Some(0.0));
-            assert_eq!(r.quiescent_fraction, 1.0);
+            assert_eq!(r.rates.bursts_per_period, Some(0.0));
+            assert_eq!(r.rates.quiescent_fraction, 1.0);
             // adiabatic: the lag is the first-order adiabatic lag, the speed the quasi-static one
             assert!(
                 (r.measures.lag_ratio - 1.0).abs() < 0.05,
@@ -216,7 +216,7 @@ fn fold_loops_count_each_jump_once() {
         omega: 0.01,
     };
     let (c, r) = verdict_of(&p, &BurstOptions::default());
-    assert_eq!(r.bursts_per_period, Some(2.0), "{:?}", r.bursts);
+    assert_eq!(r.rates.bursts_per_period, Some(2.0), "{:?}", r.bursts);
     assert_eq!(r.signatures.jumps_per_period, 2.0);
     assert_eq!(
         (c.verdict, c.mode, c.mechanism),
@@ -229,7 +229,7 @@ fn fold_loops_count_each_jump_once() {
     assert!(r.bursts.iter().all(|b| b.spikes >= 1 && b.jumps == 1));
     let p = paper(0.01);
     let (c, r) = verdict_of(&p, &BurstOptions::default());
-    assert_eq!(r.bursts_per_period, Some(2.0));
+    assert_eq!(r.rates.bursts_per_period, Some(2.0));
     assert_eq!(c.mechanism, Mechanism::FoldHysteresis);
 }
 
@@ -265,7 +265,7 @@ fn outside_the_fast_slow_domain_no_word_is_forced() {
     };
     let (c, r) = verdict_of(&p, &BurstOptions::default());
     assert!(r.continuous_fast_motion);
-    assert_eq!(r.bursts_per_period, None);
+    assert_eq!(r.rates.bursts_per_period, None);
     assert_eq!(c.mode, Mode::NotFastSlow);
 }
 
@@ -278,7 +278,7 @@ fn key(p: &Params, o: &BurstOptions) -> Key {
     (
         c.verdict,
         c.mode,
-        r.bursts_per_period,
+        r.rates.bursts_per_period,
         r.bursts
             .iter()
             .map(|b| (b.jumps, b.overshoot_lobes > 0))
@@ -366,7 +366,7 @@ fn floors_and_gap_do_not_change_verdicts() {
     ];
     let verdict = |p: &Params, o: &BurstOptions| {
         let (c, r) = verdict_of(p, o);
-        (c.verdict, c.mode, r.bursts_per_period)
+        (c.verdict, c.mode, r.rates.bursts_per_period)
     };
     for (id, p, _) in reference_cases() {
         let base = verdict(&p, &d);
@@ -385,7 +385,7 @@ fn burst_count_does_not_depend_on_the_window_phase() {
             ..Default::default()
         };
         let r = response(&paper(1.0), &o).unwrap();
-        assert_eq!(r.bursts_per_period, Some(2.0), "discard {discard}");
+        assert_eq!(r.rates.bursts_per_period, Some(2.0), "discard {discard}");
         assert!(r.window_start >= discard * paper(1.0).slow_period());
     }
 }
@@ -459,8 +459,8 @@ fn sweeps_are_identical_on_one_and_two_threads() {
     let ser = |v: &Vec<hdgear::sweep::SweepRow>| serde_json::to_string(v).unwrap();
     assert_eq!(ser(&runs[0]), ser(&runs[1]));
     // grid order: first axis fastest
-    assert_eq!(runs[0][1].gamma, g.point(1).gamma);
-    assert_eq!(runs[0][6].delta, 16.0);
+    assert_eq!(runs[0][1].params.gamma, g.point(1).gamma);
+    assert_eq!(runs[0][6].params.delta, 16.0);
     assert!(runs[0].iter().all(|r| r.error.is_empty()));
 }
 

@@ -507,27 +507,24 @@ fn sweep_writes_json_in_grid_order() {
     assert_eq!(rows.len(), 6);
     for (i, r) in rows.iter().enumerate() {
         assert_eq!(r["index"], i);
+        for k in ["alpha", "gamma", "eps", "mu", "delta", "omega"] {
+            assert!(r["params"].get(k).is_some(), "params.{k}");
+        }
         for k in [
-            "alpha",
-            "gamma",
-            "eps",
-            "mu",
-            "delta",
-            "omega",
-            "mode",
-            "mechanism",
             "bursts_per_period",
             "spikes_per_burst",
             "peak_abs_xdot",
             "quiescent_fraction",
             "max_tracking_error",
-            "max_slope",
         ] {
+            assert!(r["rates"].get(k).is_some(), "rates.{k}");
+        }
+        for k in ["mode", "mechanism", "max_slope", "error"] {
             assert!(r.get(k).is_some(), "{k}");
         }
     }
-    assert_eq!(rows[4]["gamma"], 1.25);
-    assert_eq!(rows[4]["omega"], 0.02);
+    assert_eq!(rows[4]["params"]["gamma"], 1.25);
+    assert_eq!(rows[4]["params"]["omega"], 0.02);
     assert_eq!(files_in(dir.path()), ["s.json"]);
 }
 

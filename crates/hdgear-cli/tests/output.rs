@@ -23,7 +23,52 @@ fn record_columns_match_the_fields() {
     check(&hdgear::fast::fold_curves(&p, 0.0, 2).unwrap()[0]);
     let r = hdgear::burst::response(&p, &Default::default()).unwrap();
     check(&r.bursts[0]);
-    check(&hdgear::sweep::run_point(0, &p, &Default::default()));
+}
+
+/// Leaf keys of a JSON object, nested objects opened (sorted: `Value` keeps no order).
+fn leaves(v: &serde_json::Value, out: &mut Vec<String>) {
+    for (k, x) in v.as_object().unwrap() {
+        if x.is_object() {
+            leaves(x, out);
+        } else {
+            out.push(k.clone());
+        }
+    }
+}
+
+#[test]
+fn sweep_rows_are_flat_columns_that_read_back_by_position() {
+    // a sweep row nests its parameters and statistics; csv writes them as flat columns in
+    // field order, and `--resume` reads them back by position: the round trip must be exact,
+    // for a computed row and for a failed one (NaN statistics, no bursts per period)
+    use hdgear::sweep::{SweepRow, run_point};
+    let p = Params::default();
+    let good = run_point(3, &p, &Default::default());
+    let bad = run_point(4, &Params { omega: 1e-9, ..p }, &Default::default());
+    assert!(!bad.error.is_empty());
+    let mut names = Vec::new();
+    leaves(&serde_json::to_value(&good).unwrap(), &mut names);
+    names.sort();
+    let mut columns: Vec<String> = SweepRow::COLUMNS.iter().map(|c| c.to_string()).collect();
+    columns.sort();
+    assert_eq!(names, columns);
+    let mut w = RecordWriter::<_, SweepRow>::new(Vec::new(), Format::Csv, &()).unwrap();
+    w.row(&good).unwrap();
+    w.row(&bad).unwrap();
+    let text = String::from_utf8(w.finish().unwrap()).unwrap();
+    let mut rdr = csv::Reader::from_reader(text.as_bytes());
+    assert_eq!(
+        rdr.headers().unwrap().iter().collect::<Vec<_>>(),
+        SweepRow::COLUMNS
+    );
+    let back: Vec<SweepRow> = rdr
+        .records()
+        .map(|r| r.unwrap().deserialize(None).unwrap())
+        .collect();
+    assert_eq!(back[0], good);
+    assert_eq!(back[1].error, bad.error);
+    assert_eq!(back[1].params, bad.params);
+    assert!(back[1].rates.spikes_per_burst.is_nan() && back[1].rates.bursts_per_period.is_none());
 }
 
 #[test]

@@ -222,7 +222,7 @@ pub fn xdot_gamma(base: &Params, study: &mut Study) -> Result<Figure> {
             title: format!(
                 "γ = {gamma}: {} (max |x'| = {:.4})",
                 c.mode.name(),
-                w.response.peak_abs_xdot
+                w.response.rates.peak_abs_xdot
             ),
             x_label: "τ".into(),
             y_label: "x'".into(),
@@ -337,7 +337,7 @@ pub fn x_equilibrium(p: &Params, study: &mut Study) -> Result<Figure> {
              its equilibrium; where the equilibrium curve is steep x* runs across almost at once, \
              the state lags behind (max |x − x*| = {:.4}) and catches up with damped ringing \
              (shaded: the detected burst).",
-            p.gamma, w.response.max_tracking_error
+            p.gamma, w.response.rates.max_tracking_error
         ),
         size: (1000, 800),
         panels,
@@ -572,12 +572,18 @@ pub fn slope(base: &Params, _study: &mut Study) -> Result<Figure> {
 pub fn sweep_figure(base: &Params, study: &mut Study) -> Result<Figure> {
     let rows = &study.sweep(base)?.rows;
     let gc = base.critical_gamma();
-    let peak: Vec<(f64, f64)> = rows.iter().map(|r| (r.gamma, r.peak_abs_xdot)).collect();
-    let spikes: Vec<(f64, f64)> = rows.iter().map(|r| (r.gamma, r.spikes_per_burst)).collect();
+    let peak: Vec<(f64, f64)> = rows
+        .iter()
+        .map(|r| (r.params.gamma, r.rates.peak_abs_xdot))
+        .collect();
+    let spikes: Vec<(f64, f64)> = rows
+        .iter()
+        .map(|r| (r.params.gamma, r.rates.spikes_per_burst))
+        .collect();
     let bursting = rows
         .iter()
-        .filter(|r| r.bursts_per_period > 0.0)
-        .map(|r| r.gamma)
+        .filter(|r| r.rates.bursts_per_period.is_some_and(|b| b > 0.0))
+        .map(|r| r.params.gamma)
         .fold(0.0, f64::max);
     let vline = vec![(gc, format!("1/(3α) = {gc:.4}"))];
     Ok(Figure {

@@ -5,7 +5,7 @@
 //! Rows are handed to the caller as they finish (for streaming and resuming); the caller puts
 //! them in grid order at the end.
 
-use crate::burst::{BurstOptions, Mechanism, Mode, classify, response};
+use crate::burst::{BurstOptions, Mechanism, Mode, Rates, classify, response};
 use crate::error::{Error, Result};
 use crate::fast;
 use crate::params::{Param, Params};
@@ -176,41 +176,20 @@ impl Grid {
     }
 }
 
-/// One sweep result: the CSV columns of `hdgear sweep`.
+/// One sweep result: the CSV columns of `hdgear sweep` (nested structs are written as their
+/// fields in order, so the columns stay flat; JSON keeps the nesting).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct SweepRow {
     /// Grid index (first axis fastest).
     pub index: usize,
-    /// α
-    pub alpha: f64,
-    /// γ
-    pub gamma: f64,
-    /// ε
-    pub eps: f64,
-    /// μ
-    pub mu: f64,
-    /// δ
-    pub delta: f64,
-    /// ω
-    pub omega: f64,
+    /// The point's parameters.
+    pub params: Params,
     /// Oscillation mode (empty when the point failed: see `error`).
     pub mode: Option<Mode>,
     /// Mechanism (empty when the point failed).
     pub mechanism: Option<Mechanism>,
-    /// Bursts per slow period.
-    pub bursts_per_period: f64,
-    /// Mean spikes per burst.
-    pub spikes_per_burst: f64,
-    /// Mean peak |x'| of the bursts.
-    pub burst_amplitude: f64,
-    /// Largest |x'| in the window.
-    pub peak_abs_xdot: f64,
-    /// Mean quiescent duration between bursts.
-    pub quiescent_duration: f64,
-    /// Fraction of the window outside bursts.
-    pub quiescent_fraction: f64,
-    /// Largest tracking error max|x − x*|.
-    pub max_tracking_error: f64,
+    /// The burst statistics (unknown when the point failed).
+    pub rates: Rates,
     /// Largest |dx/da| on a ∈ [−1, 1] (inf with folds in range).
     pub max_slope: f64,
     /// Empty, or the error that stopped this point (its metrics are then NaN).
@@ -225,21 +204,10 @@ pub fn run_point(index: usize, p: &Params, opts: &BurstOptions) -> SweepRow {
     });
     let mut row = SweepRow {
         index,
-        alpha: p.alpha,
-        gamma: p.gamma,
-        eps: p.eps,
-        mu: p.mu,
-        delta: p.delta,
-        omega: p.omega,
+        params: *p,
         mode: None,
         mechanism: None,
-        bursts_per_period: f64::NAN,
-        spikes_per_burst: f64::NAN,
-        burst_amplitude: f64::NAN,
-        peak_abs_xdot: f64::NAN,
-        quiescent_duration: f64::NAN,
-        quiescent_fraction: f64::NAN,
-        max_tracking_error: f64::NAN,
+        rates: Rates::unknown(),
         max_slope: f64::NAN,
         error: String::new(),
     };
@@ -247,13 +215,7 @@ pub fn run_point(index: usize, p: &Params, opts: &BurstOptions) -> SweepRow {
         Ok((c, r, slope)) => {
             row.mode = Some(c.mode);
             row.mechanism = Some(c.mechanism);
-            row.bursts_per_period = r.bursts_per_period.unwrap_or(f64::NAN);
-            row.spikes_per_burst = r.spikes_per_burst;
-            row.burst_amplitude = r.burst_amplitude;
-            row.peak_abs_xdot = r.peak_abs_xdot;
-            row.quiescent_duration = r.quiescent_duration;
-            row.quiescent_fraction = r.quiescent_fraction;
-            row.max_tracking_error = r.max_tracking_error;
+            row.rates = r.rates;
             row.max_slope = slope;
         }
         Err(e) => row.error = e.to_string(),

@@ -155,9 +155,9 @@ fn measure(p: &Params, opts: &BurstOptions) -> Result<Measured> {
         .unwrap_or(f64::NAN);
     Ok(Measured {
         bursting: classify(p, &r).bursting,
-        amplitude: r.burst_amplitude,
-        spikes: r.spikes_per_burst,
-        quiescent: r.quiescent_duration,
+        amplitude: r.rates.burst_amplitude,
+        spikes: r.rates.spikes_per_burst,
+        quiescent: r.rates.quiescent_duration,
         center,
     })
 }
@@ -210,9 +210,9 @@ pub fn gamma_row(case: &Case, study_mode: Mode) -> GammaRow {
         shape: shape_words(e.max_slope.value),
         max_slope: e.max_slope.value,
         slope_at_a0: e.slope_at_a0.unwrap_or(f64::NAN),
-        bursts_per_period: r.bursts_per_period.unwrap_or(f64::NAN),
-        spikes_per_burst: r.spikes_per_burst,
-        peak_abs_xdot: r.peak_abs_xdot,
+        bursts_per_period: r.rates.bursts_per_period.unwrap_or(f64::NAN),
+        spikes_per_burst: r.rates.spikes_per_burst,
+        peak_abs_xdot: r.rates.peak_abs_xdot,
         mode: c.mode,
         verdict: c.verdict,
         mechanism: c.mechanism,

@@ -159,9 +159,19 @@ fn read_partial(path: &Path, grid: &Grid, want: &serde_json::Value) -> Result<Ve
         .comment(Some(b'#'))
         .from_path(path)
         .with_context(|| format!("cannot read {}", path.display()))?;
+    let columns = <SweepRow as hdgear::output::Record>::COLUMNS;
+    if rdr.headers()?.iter().ne(columns.iter().copied()) {
+        bail!(
+            "{} has other columns than this hdgear writes: delete it to start over",
+            path.display()
+        );
+    }
     let mut rows: BTreeMap<usize, SweepRow> = BTreeMap::new();
-    for rec in rdr.deserialize::<SweepRow>() {
-        let Ok(row) = rec else { break };
+    // by position: the row's nested parameters and statistics are flat columns
+    for rec in rdr.records() {
+        let Ok(row) = rec.and_then(|r| r.deserialize::<SweepRow>(None)) else {
+            break;
+        };
         if row.index >= grid.len() {
             bail!(
                 "{} belongs to another sweep: row index {} is outside this grid of {} points",
@@ -171,16 +181,14 @@ fn read_partial(path: &Path, grid: &Grid, want: &serde_json::Value) -> Result<Ve
             );
         }
         let p = grid.point(row.index);
-        let same = [p.alpha, p.gamma, p.eps, p.mu, p.delta, p.omega]
-            == [row.alpha, row.gamma, row.eps, row.mu, row.delta, row.omega];
-        if !same {
+        if p != row.params {
             bail!(
                 "{} belongs to another sweep: row {} has parameters {:?}, this grid has {:?} \
                  there (delete it, or run without --resume)",
                 path.display(),
                 row.index,
-                [row.alpha, row.gamma, row.eps, row.mu, row.delta, row.omega],
-                [p.alpha, p.gamma, p.eps, p.mu, p.delta, p.omega]
+                row.params,
+                p
             );
         }
         if let Some(prev) = rows.get(&row.index) {
@@ -210,10 +218,11 @@ fn start_partial(
     let mut f = hdgear::output::AtomicFile::create(path)?;
     writeln!(f, "{HEADER_TAG}{settings}")?;
     {
-        let mut w = csv::Writer::from_writer(&mut f);
-        if rows.is_empty() {
-            w.write_record(<SweepRow as hdgear::output::Record>::COLUMNS)?;
-        }
+        // the header by hand: csv cannot name the columns of nested structs itself
+        let mut w = csv::WriterBuilder::new()
+            .has_headers(false)
+            .from_writer(&mut f);
+        w.write_record(<SweepRow as hdgear::output::Record>::COLUMNS)?;
         for r in rows {
             w.serialize(r)?;
         }

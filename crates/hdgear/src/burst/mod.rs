@@ -232,15 +232,11 @@ pub struct Measures {
     pub relative_lag: f64,
 }
 
-/// The measured response.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct Response {
-    /// Start of the analysis window.
-    pub window_start: f64,
-    /// End of the analysis window.
-    pub window_end: f64,
+/// A response's burst statistics over its window: what a sweep row reports of it.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Rates {
     /// Bursts whose pulse lies in the window, per slow period; `None` when the fast motion never
-    /// stops ([`Response::continuous_fast_motion`]).
+    /// stops ([`Response::continuous_fast_motion`]) or the point failed.
     pub bursts_per_period: Option<f64>,
     /// Mean spikes per burst (0 without bursts).
     pub spikes_per_burst: f64,
@@ -255,6 +251,34 @@ pub struct Response {
     pub quiescent_fraction: f64,
     /// max |x − x*(a)| over the window (x*: the stable equilibrium followed), located.
     pub max_tracking_error: f64,
+}
+
+impl Rates {
+    /// The statistics of a point that could not be computed: every value NaN (none for the
+    /// bursts per period).
+    pub fn unknown() -> Rates {
+        Rates {
+            bursts_per_period: None,
+            spikes_per_burst: f64::NAN,
+            burst_amplitude: f64::NAN,
+            peak_abs_xdot: f64::NAN,
+            quiescent_duration: f64::NAN,
+            quiescent_fraction: f64::NAN,
+            max_tracking_error: f64::NAN,
+        }
+    }
+}
+
+/// The measured response.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Response {
+    /// Start of the analysis window.
+    pub window_start: f64,
+    /// End of the analysis window.
+    pub window_end: f64,
+    /// The burst statistics (their fields at the top level of the JSON).
+    #[serde(flatten)]
+    pub rates: Rates,
     /// A burst lasts longer than half a slow period: the fast motion never settles.
     pub continuous_fast_motion: bool,
     /// The signatures.
@@ -417,7 +441,7 @@ pub fn window(p: &Params, opts: &BurstOptions) -> (f64, f64) {
 /// ```
 /// use hdgear::{Params, burst::{response, BurstOptions}};
 /// let r = response(&Params::default(), &BurstOptions::default()).unwrap(); // γ = 0.1
-/// assert_eq!(r.bursts_per_period, Some(2.0));
+/// assert_eq!(r.rates.bursts_per_period, Some(2.0));
 /// assert!(r.signatures.overshoot);
 /// ```
 pub fn response(p: &Params, opts: &BurstOptions) -> Result<Response> {
@@ -682,13 +706,15 @@ fn assemble(
     Response {
         window_start: t_w0,
         window_end: t_w1,
-        bursts_per_period: (!continuous).then(|| bursts.len() as f64 / n_periods),
-        spikes_per_burst: mean(&|b| f64::from(b.spikes)),
-        burst_amplitude: mean(&|b| b.peak_abs_xdot),
-        peak_abs_xdot: scan.peak_abs_xdot,
-        quiescent_duration,
-        quiescent_fraction: 1.0 - busy / window,
-        max_tracking_error: scan.max_lag,
+        rates: Rates {
+            bursts_per_period: (!continuous).then(|| bursts.len() as f64 / n_periods),
+            spikes_per_burst: mean(&|b| f64::from(b.spikes)),
+            burst_amplitude: mean(&|b| b.peak_abs_xdot),
+            peak_abs_xdot: scan.peak_abs_xdot,
+            quiescent_duration,
+            quiescent_fraction: 1.0 - busy / window,
+            max_tracking_error: scan.max_lag,
+        },
         continuous_fast_motion: continuous,
         signatures,
         measures,
@@ -796,7 +822,7 @@ impl BurstsSetup {
             params: *params,
             options: *options,
             classification: classify(params, r),
-            bursts_per_period: r.bursts_per_period,
+            bursts_per_period: r.rates.bursts_per_period,
             window: (r.window_start, r.window_end),
         }
     }

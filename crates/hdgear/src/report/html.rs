@@ -347,7 +347,10 @@ fn mechanism(h: &mut String, r: &Report) {
             areas,
             cell("forcing_rate", e.prediction.forcing_rate),
             onsets,
-            cell("bursts_per_period", r.bursts_per_period.unwrap_or(f64::NAN)),
+            cell(
+                "bursts_per_period",
+                r.rates.bursts_per_period.unwrap_or(f64::NAN)
+            ),
             c.verdict.name(),
             c.mode.name(),
             c.mechanism.name()
@@ -355,8 +358,8 @@ fn mechanism(h: &mut String, r: &Report) {
     }
     let first_burst = sweep
         .iter()
-        .filter(|r| r.bursts_per_period > 0.0)
-        .map(|r| r.gamma)
+        .filter(|r| r.rates.bursts_per_period.is_some_and(|b| b > 0.0))
+        .map(|r| r.params.gamma)
         .fold(0.0, f64::max);
     let predicted = crate::fast::predicted_gamma_boundary(base);
     let _ = write!(
