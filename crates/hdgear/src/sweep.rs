@@ -281,3 +281,5 @@ impl Settings {
         }
     }
 }
+
+crate::record!(SweepRow: "index", "alpha", "gamma", "eps", "mu", "delta", "omega", "mode", "mechanism", "bursts_per_period", "spikes_per_burst", "burst_amplitude", "peak_abs_xdot", "quiescent_duration", "quiescent_fraction", "max_tracking_error", "max_slope", "error");

@@ -12,9 +12,9 @@ pub fn run(a: TableArgs) -> Result<()> {
     let text = if a.json {
         serde_json::to_string_pretty(&t)? + "\n"
     } else if a.csv {
-        hdgear::output::tables::csv(&t)?
+        hdgear::table::render::csv(&t)?
     } else {
-        hdgear::output::tables::markdown(&t)
+        hdgear::table::render::markdown(&t)
     };
     print!("{text}");
     Ok(())

@@ -827,3 +827,5 @@ impl BurstsSetup {
         }
     }
 }
+
+crate::record!(Burst: "onset", "end", "a_onset", "duration", "t_peak", "a_peak", "peak_abs_xdot", "spikes", "extrema", "ringing_swing", "overshoot", "overshoot_lobes", "jumps", "complete");

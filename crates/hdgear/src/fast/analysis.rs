@@ -531,3 +531,5 @@ pub fn fold_curves(p: &Params, gamma_min: f64, points: usize) -> Result<Vec<Fold
         })
         .collect()
 }
+
+crate::record!(FoldRow: "gamma", "a_lower", "x_lower", "a_upper", "x_upper");

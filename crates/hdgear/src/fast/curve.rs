@@ -301,3 +301,5 @@ fn sample_polyline(
         out.push(pt);
     }
 }
+
+crate::record!(CurvePoint: "a", "x", "slope", "gprime", "re1", "im1", "re2", "im2", "type", "branch");

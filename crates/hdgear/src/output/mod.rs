@@ -6,7 +6,6 @@
 //! them all ([`remove_temporaries`]) before it exits.
 
 pub mod plot;
-pub mod tables;
 
 use crate::error::{Error, Result};
 use std::fs::File;
@@ -321,8 +320,3 @@ macro_rules! record {
         }
     };
 }
-
-record!(crate::fast::CurvePoint: "a", "x", "slope", "gprime", "re1", "im1", "re2", "im2", "type", "branch");
-record!(crate::fast::FoldRow: "gamma", "a_lower", "x_lower", "a_upper", "x_upper");
-record!(crate::burst::Burst: "onset", "end", "a_onset", "duration", "t_peak", "a_peak", "peak_abs_xdot", "spikes", "extrema", "ringing_swing", "overshoot", "overshoot_lobes", "jumps", "complete");
-record!(crate::sweep::SweepRow: "index", "alpha", "gamma", "eps", "mu", "delta", "omega", "mode", "mechanism", "bursts_per_period", "spikes_per_burst", "burst_amplitude", "peak_abs_xdot", "quiescent_duration", "quiescent_fraction", "max_tracking_error", "max_slope", "error");

@@ -303,7 +303,7 @@ impl Report {
         out.json("data/tables.json", &self.tables)?;
         out.bytes(
             "data/tables.csv",
-            crate::output::tables::csv(&self.tables)
+            crate::table::render::csv(&self.tables)
                 .map_err(|source| crate::Error::Io {
                     path: out.path("data/tables.csv"),
                     source,

@@ -1,6 +1,6 @@
 //! Markdown and CSV renderings of the study's tables.
 
-use crate::table::Tables;
+use super::Tables;
 use std::fmt::Write;
 
 fn g(v: f64) -> String {
@@ -64,7 +64,7 @@ pub fn markdown(t: &Tables) -> String {
             g(r.spiking_center[0]),
             g(r.spiking_center[1]),
             r.claim,
-            if r.verdict == crate::table::ClaimVerdict::Contradicts {
+            if r.verdict == super::ClaimVerdict::Contradicts {
                 format!("**contradicts**: {}", r.measured)
             } else {
                 r.verdict.to_string()

@@ -1,6 +1,8 @@
 //! The study's two tables, with measured numbers: the γ table (curve shape, slopes, bursts, mode)
 //! and the parameter-effects table (each parameter halved and doubled around the study's point).
 
+pub mod render;
+
 use crate::burst::{BurstOptions, Mechanism, Mode, Verdict, classify, response};
 use crate::error::Result;
 use crate::fast::analyze;
