@@ -24,23 +24,10 @@ import tempfile
 import time
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parent.parent
-VENV = ROOT / "target" / "bench-venv"
-from study_model import ALPHA, DELTA, EPS, MU, OMEGA, equilibrium
+from common import ROOT, ensure_venv
+from common import ALPHA, DELTA, EPS, MU, OMEGA, equilibrium
 GAMMAS = (30.0, 0.1)
 TOLS = (1e-6, 1e-8, 1e-10, 1e-12, 1e-13)
-
-
-def ensure_venv():
-    """Re-runs this script inside a virtual environment that has heyoka and numpy."""
-    if os.environ.get("HDGEAR_BENCH_VENV") == "1":
-        return
-    py = VENV / "bin" / "python"
-    if not py.exists():
-        subprocess.run([sys.executable, "-m", "venv", str(VENV)], check=True)
-        subprocess.run([str(py), "-m", "pip", "install", "-q", "heyoka", "numpy"], check=True)
-    env = dict(os.environ, HDGEAR_BENCH_VENV="1")
-    sys.exit(subprocess.run([str(py), __file__, *sys.argv[1:]], env=env).returncode)
 
 
 def reference():
@@ -132,7 +119,7 @@ def hdgear_error(binary, ref, tol, method):
 
 
 def main():
-    ensure_venv()
+    ensure_venv(__file__, ['heyoka', 'numpy'])
     reps = int(sys.argv[1]) if len(sys.argv) > 1 else 100
     subprocess.run(["cargo", "build", "--release", "-q", "--example", "time_simulation",
                     "--bin", "hdgear"], cwd=ROOT, check=True)

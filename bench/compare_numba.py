@@ -19,26 +19,13 @@ import tempfile
 import time
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parent.parent
-VENV = ROOT / "target" / "bench-venv"
-
-
-def ensure_venv():
-    if os.environ.get("HDGEAR_BENCH_VENV") == "1":
-        return
-    py = VENV / "bin" / "python"
-    if not py.exists():
-        subprocess.run([sys.executable, "-m", "venv", str(VENV)], check=True)
-    if subprocess.run([str(py), "-c", "import numba"], capture_output=True).returncode != 0:
-        subprocess.run([str(py), "-m", "pip", "install", "-q", "numba", "numpy"], check=True)
-    env = dict(os.environ, HDGEAR_BENCH_VENV="1", NUMBA_NUM_THREADS="2")
-    sys.exit(subprocess.run([str(py), __file__, *sys.argv[1:]], env=env).returncode)
+from common import ROOT, ensure_venv
 
 
 def build_numba():
     import numba as nb
     import numpy as np
-    from study_model import ALPHA, DELTA, EPS, MU, OMEGA
+    from common import ALPHA, DELTA, EPS, MU, OMEGA
 
     # Dormand-Prince 5(4) tableau
     c = np.array([0.0, 1 / 5, 3 / 10, 4 / 5, 8 / 9, 1.0, 1.0])
@@ -102,9 +89,9 @@ def build_numba():
 
 
 def main():
-    ensure_venv()
+    ensure_venv(__file__, ['numba', 'numpy'], {'NUMBA_NUM_THREADS': '2'})
     import numpy as np
-    from study_model import OMEGA, equilibrium
+    from common import OMEGA, equilibrium
     subprocess.run(["cargo", "build", "--release", "-q", "--bin", "hdgear"], cwd=ROOT, check=True)
     binary = ROOT / "target" / "release" / "hdgear"
     gammas = np.geomspace(0.1, 30.0, 1000)

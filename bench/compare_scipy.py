@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from study_model import ALPHA, DELTA, EPS, MU, OMEGA, equilibrium
+from common import ALPHA, DELTA, EPS, MU, OMEGA, equilibrium
 
 
 def rhs(gamma):
