@@ -49,7 +49,14 @@ impl System<2> for Dimensionless {
         c[0] = *y;
         x[0] = y[0];
         for k in 0..n {
-            x2[k] = cauchy(&x, &x, k);
+            // (x²)_k by symmetry: twice the products below the middle, plus the middle square
+            let half = k.div_ceil(2);
+            let below: f64 = x[..half]
+                .iter()
+                .zip(x[k + 1 - half..=k].iter().rev())
+                .map(|(a, b)| a * b)
+                .sum();
+            x2[k] = 2.0 * below + if k % 2 == 0 { x[k / 2] * x[k / 2] } else { 0.0 };
             let x3 = cauchy(&x2, &x, k);
             let [xk, vk] = c[k];
             let constant = if k == 0 { p.mu + p.gamma * p.eps } else { 0.0 };

@@ -39,9 +39,13 @@ pub fn sine_coefficients(omega: f64, t: f64, order: usize, s: &mut [f64]) {
     let (sn, cs) = libm::sincos(omega * t);
     let cycle = [sn, cs, -sn, -cs];
     let mut f = 1.0;
-    for (k, sk) in s.iter_mut().enumerate().take(order + 1) {
+    for (k, sk) in s
+        .iter_mut()
+        .enumerate()
+        .take((order + 1).min(MAX_ORDER + 1))
+    {
         *sk = f * cycle[k % 4];
-        f *= omega / (k + 1) as f64;
+        f *= omega * INV[k];
     }
 }
 
