@@ -13,15 +13,17 @@
 //!
 //! Principal types:
 //! * [`Params`]: the dimensionless parameters, presets and validation ([`params`]).
-//! * [`model::Dimensionless`]: the right-hand side.
-//! * [`integrate::Dop853`] behind the [`integrate::Stepper`] seam: the adaptive 8th-order
-//!   integrator with dense output and events.
+//! * [`model::Dimensionless`]: the right-hand side and its Taylor coefficients.
+//! * [`integrate::Taylor`] (the default) and [`integrate::Dop853`] behind the
+//!   [`integrate::Stepper`] seam, with dense output and events; [`integrate::batch`] runs 16
+//!   parameter sets in SIMD lock-step.
 //! * [`simulate::simulate`]: a sampled trajectory with a summary.
 //! * [`fast`]: equilibria and stability of the fast subsystem, and [`fast::predict`], bursting
 //!   predicted from the equilibrium curve alone.
 //! * [`burst::response`] and [`burst::classify`]: bursts judged by their signatures (jump,
 //!   overshoot, ringing), modes and mechanisms.
 //! * [`physical`]: the drive in SI units, its reduction, simulation and design check.
+//! * [`study::Study`] and [`report::Report`]: computations done once, then rendered.
 //!
 //! ```
 //! use hdgear::{Params, simulate::{simulate, SimOptions}};
