@@ -10,7 +10,7 @@ use crate::burst::{
 };
 use crate::error::Result;
 use crate::fast::{A_RANGE, Analysis, analyze};
-use crate::integrate::DenseOutput;
+use crate::integrate::{self, DenseOutput};
 use crate::params::{Param, Params};
 use crate::sweep::{Axis, Grid, SweepRow};
 use rayon::prelude::*;
@@ -50,19 +50,22 @@ impl Case {
         let analysis = analyze(p, A_RANGE)?;
         let (t0, _) = crate::burst::window(p, opts);
         let t1 = t0 + p.slow_period();
+        // the grid k·dt from τ = 0 to the period's end, as `simulate` samples it, kept from the
+        // window's start
+        let mut grid = integrate::Grid::new(0.0, t1, SAMPLE_DT)?;
         let mut samples = Vec::new();
-        // the grid k·dt (as `simulate` samples it), from the window's start
-        let mut k = (t0 / SAMPLE_DT).ceil();
-        let mut keep = |d: &dyn DenseOutput<2>| {
-            while k * SAMPLE_DT <= d.t_end().min(t1) {
-                let t = k * SAMPLE_DT;
-                let y = d.eval(t);
+        let mut push = |t: f64, y: &[f64; 2]| {
+            if t >= t0 {
                 samples.push((t, y[0], y[1]));
-                k += 1.0;
             }
-            if d.t_start() < t1 && d.t_end() >= t1 && samples.last().is_some_and(|s| s.0 < t1) {
-                let y = d.eval(t1);
-                samples.push((t1, y[0], y[1]));
+        };
+        let mut keep = |d: &dyn DenseOutput<2>| {
+            if d.t_start() < t1 {
+                let y_end = d.eval(d.t_end().min(t1));
+                grid.fill(d, &y_end, &mut push);
+                if d.t_end() >= t1 {
+                    grid.finish(&y_end, &mut push);
+                }
             }
         };
         let response = response_observed(p, opts, Some(&mut keep))?;

@@ -680,7 +680,7 @@ impl Grid {
     /// Emits the samples inside the step described by `d` (whose end state is `y_end`).
     pub fn fill<const N: usize>(
         &mut self,
-        d: &impl DenseOutput<N>,
+        d: &(impl DenseOutput<N> + ?Sized),
         y_end: &[f64; N],
         out: &mut impl FnMut(f64, &[f64; N]),
     ) {
