@@ -299,7 +299,10 @@ impl Report {
     /// Writes the report into `dir` (created if missing; files hdgear did not write there are
     /// refused unless `force`): data, figures as SVG and PNG, and `index.html`.
     pub fn write(&self, dir: &Path, force: bool) -> Result<ReportSummary> {
-        let mut out = Files::open(dir, force)?;
+        self.write_into(Files::open(dir, force)?)
+    }
+
+    fn write_into(&self, mut out: Files) -> Result<ReportSummary> {
         out.json("data/tables.json", &self.tables)?;
         out.bytes(
             "data/tables.csv",
@@ -342,8 +345,8 @@ pub fn build(
     observer: &mut impl Observer,
 ) -> Result<ReportSummary> {
     // refuse a directory with foreign files before computing anything
-    drop(Files::open(dir, opts.force)?);
+    let out = Files::open(dir, opts.force)?;
     let report = Report::compute(opts, observer)?;
     observer.stage(Stage::Writing);
-    report.write(dir, opts.force)
+    report.write_into(out)
 }
