@@ -126,3 +126,25 @@ pub enum SolverError {
 
 /// Result alias of the library.
 pub type Result<T> = std::result::Result<T, Error>;
+
+/// The element of `all` called `text` (by `name`), or an [`Error::InvalidInput`] about `what`
+/// that lists the names: how every name-parsed enum (parameters, figure kinds, methods) reads
+/// user text.
+pub(crate) fn by_name<T: Copy>(
+    all: &[T],
+    name: fn(T) -> &'static str,
+    what: &'static str,
+    text: &str,
+) -> Result<T> {
+    all.iter()
+        .copied()
+        .find(|&v| name(v) == text)
+        .ok_or_else(|| Error::InvalidInput {
+            what,
+            text: text.to_string(),
+            reason: format!(
+                "expected one of {}",
+                all.iter().map(|&v| name(v)).collect::<Vec<_>>().join(", ")
+            ),
+        })
+}

@@ -140,17 +140,7 @@ impl std::fmt::Display for FigureKind {
 impl std::str::FromStr for FigureKind {
     type Err = crate::Error;
     fn from_str(name: &str) -> Result<FigureKind> {
-        FigureKind::ALL
-            .into_iter()
-            .find(|k| k.name() == name)
-            .ok_or_else(|| crate::Error::InvalidInput {
-                what: "figure kind",
-                text: name.into(),
-                reason: format!(
-                    "expected one of {}",
-                    FigureKind::ALL.map(FigureKind::name).join(", ")
-                ),
-            })
+        crate::error::by_name(&FigureKind::ALL, FigureKind::name, "figure kind", name)
     }
 }
 

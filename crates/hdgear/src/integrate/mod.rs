@@ -132,14 +132,7 @@ impl std::fmt::Display for Method {
 impl std::str::FromStr for Method {
     type Err = Error;
     fn from_str(name: &str) -> Result<Method> {
-        Method::ALL
-            .into_iter()
-            .find(|m| m.name() == name)
-            .ok_or_else(|| Error::InvalidInput {
-                what: "method",
-                text: name.into(),
-                reason: "expected taylor or dop853".into(),
-            })
+        crate::error::by_name(&Method::ALL, Method::name, "method", name)
     }
 }
 

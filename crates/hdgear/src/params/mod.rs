@@ -93,14 +93,7 @@ impl fmt::Display for Param {
 impl std::str::FromStr for Param {
     type Err = Error;
     fn from_str(name: &str) -> Result<Param> {
-        Param::ALL
-            .into_iter()
-            .find(|p| p.name() == name)
-            .ok_or_else(|| Error::InvalidInput {
-                what: "parameter name",
-                text: name.to_string(),
-                reason: format!("expected one of {}", Param::ALL.map(Param::name).join(", ")),
-            })
+        crate::error::by_name(&Param::ALL, Param::name, "parameter name", name)
     }
 }
 

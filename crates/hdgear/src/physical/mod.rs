@@ -120,17 +120,12 @@ impl std::fmt::Display for DriveParam {
 impl std::str::FromStr for DriveParam {
     type Err = Error;
     fn from_str(name: &str) -> Result<DriveParam> {
-        DriveParam::ALL
-            .into_iter()
-            .find(|p| p.name() == name)
-            .ok_or_else(|| Error::InvalidInput {
-                what: "drive parameter name",
-                text: name.into(),
-                reason: format!(
-                    "expected one of {}",
-                    DriveParam::ALL.map(DriveParam::name).join(", ")
-                ),
-            })
+        crate::error::by_name(
+            &DriveParam::ALL,
+            DriveParam::name,
+            "drive parameter name",
+            name,
+        )
     }
 }
 
