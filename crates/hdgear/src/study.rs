@@ -95,7 +95,7 @@ pub struct GridRun {
 }
 
 /// What the figures and the report compute, each once: cases by parameter point, sweeps and maps
-/// by base point, bursting boundaries by parameter point.
+/// by grid, bursting boundaries by parameter point.
 #[derive(Clone, Debug)]
 pub struct Study {
     /// Options of single responses.
@@ -110,8 +110,7 @@ pub struct Study {
     /// Size of a (γ, δ) map.
     pub map_size: (usize, usize),
     cases: Vec<Case>,
-    sweeps: Vec<(Params, GridRun)>,
-    maps: Vec<(Params, GridRun)>,
+    runs: Vec<GridRun>,
     boundaries: Vec<(Params, Boundaries)>,
 }
 
@@ -146,8 +145,7 @@ impl Study {
             sweep_points,
             map_size,
             cases: Vec::new(),
-            sweeps: Vec::new(),
-            maps: Vec::new(),
+            runs: Vec::new(),
             boundaries: Vec::new(),
         }
     }
@@ -181,15 +179,7 @@ impl Study {
     /// The γ sweep around `base`: [`Study::sweep_points`] values log-spaced from 0.01 to 30.
     pub fn sweep(&mut self, base: &Params) -> Result<&GridRun> {
         let axes = vec![log_axis(Param::Gamma, 0.01, 30.0, self.sweep_points)];
-        let i = match self.sweeps.iter().position(|s| s.0 == *base) {
-            Some(i) => i,
-            None => {
-                let run = self.run(base, axes)?;
-                self.sweeps.push((*base, run));
-                self.sweeps.len() - 1
-            }
-        };
-        Ok(&self.sweeps[i].1)
+        self.grid_run(Grid::new(*base, axes)?)
     }
 
     /// The (γ, δ) map around `base`: γ log-spaced 0.01–30, δ log-spaced 0.05–30, of
@@ -200,21 +190,20 @@ impl Study {
             log_axis(Param::Gamma, 0.01, 30.0, ng),
             log_axis(Param::Delta, 0.05, 30.0, nd),
         ];
-        let i = match self.maps.iter().position(|s| s.0 == *base) {
-            Some(i) => i,
-            None => {
-                let run = self.run(base, axes)?;
-                self.maps.push((*base, run));
-                self.maps.len() - 1
-            }
-        };
-        Ok(&self.maps[i].1)
+        self.grid_run(Grid::new(*base, axes)?)
     }
 
-    fn run(&self, base: &Params, axes: Vec<Axis>) -> Result<GridRun> {
-        let grid = Grid::new(*base, axes)?;
-        let rows = run_grid(&grid, &self.grid_opts, self.threads)?;
-        Ok(GridRun { grid, rows })
+    /// The run of `grid`, computed the first time it is asked for.
+    fn grid_run(&mut self, grid: Grid) -> Result<&GridRun> {
+        let i = match self.runs.iter().position(|r| r.grid == grid) {
+            Some(i) => i,
+            None => {
+                let rows = run_grid(&grid, &self.grid_opts, self.threads)?;
+                self.runs.push(GridRun { grid, rows });
+                self.runs.len() - 1
+            }
+        };
+        Ok(&self.runs[i])
     }
 
     /// The bursting boundaries through each of `points` (predicted, and simulated by bisection),
