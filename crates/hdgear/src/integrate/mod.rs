@@ -242,6 +242,12 @@ pub fn check_budget(span: f64, opts: &Options) -> Result<()> {
     Ok(())
 }
 
+/// The smallest step either method takes at `t` with `remaining` to go: ten rounding units of
+/// the larger of the two (a smaller step would not change t).
+pub(crate) fn smallest_step(t: f64, remaining: f64) -> f64 {
+    10.0 * f64::EPSILON * t.abs().max(remaining.abs()).max(1e-300)
+}
+
 /// Work counters of an integration.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub struct Stats {
@@ -469,7 +475,7 @@ impl<'s, S: System<N> + ?Sized, const N: usize> Dop853<'s, S, N> {
             if let Some(hm) = self.opts.h_max {
                 h = h.min(hm);
             }
-            let min_step = 10.0 * f64::EPSILON * self.t.abs().max(remaining.abs()).max(1e-300);
+            let min_step = smallest_step(self.t, remaining);
             if h < min_step && h < remaining {
                 return Err(SolverError::StepSizeTooSmall { t: self.t, h }.into());
             }

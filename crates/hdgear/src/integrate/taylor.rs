@@ -191,7 +191,7 @@ impl<'s, S: System<N> + ?Sized, const N: usize> Stepper<N> for Taylor<'s, S, N> 
         if let Some(hm) = self.opts.h_max {
             h = h.min(hm);
         }
-        let min_step = 10.0 * f64::EPSILON * self.t.abs().max(remaining.abs()).max(1e-300);
+        let min_step = super::smallest_step(self.t, remaining);
         if !(h >= min_step || h >= remaining) {
             return Err(SolverError::StepSizeTooSmall { t: self.t, h }.into());
         }
