@@ -35,8 +35,10 @@ pub enum Command {
     Bursts(BurstsArgs),
     /// The study's gamma table and parameter-effects table with measured numbers.
     Table(TableArgs),
-    /// Sweep one or two parameters over a grid in parallel (resumable).
+    /// Sweep one or two parameters over a grid in parallel (resumable, shardable).
     Sweep(SweepArgs),
+    /// Join the shard files of a sweep into the file one machine would have written.
+    Merge(MergeArgs),
     /// A physical drive in SI units: reduction, two-inertia simulation, design check.
     Physical(PhysicalArgs),
     /// Draw one figure: xdot-gamma, x-equilibrium, transformed-phase, phase-plane, slope, sweep, map.
@@ -268,6 +270,34 @@ pub struct SweepArgs {
     /// Continue an interrupted sweep from FILE.partial.
     #[arg(long)]
     pub resume: bool,
+    /// Compute only shard K of N (K = 0 … N−1): the grid points i with i mod N = K, written to
+    /// DIR/NAME.shard-K-of-N.csv for --out DIR/NAME.EXT. `hdgear merge` joins the shards.
+    #[arg(long, value_name = "K/N")]
+    pub shard: Option<String>,
+    /// Write SLURM scripts (not submitted): a job array of N shards and a merge job that runs
+    /// after them, next to FILE; prints the sbatch command.
+    #[arg(long, value_name = "N", conflicts_with_all = ["shard", "resume"])]
+    pub slurm: Option<usize>,
+    /// SLURM partition of the jobs (with --slurm).
+    #[arg(long, requires = "slurm", value_name = "P")]
+    pub partition: Option<String>,
+    /// SLURM time limit of each shard, e.g. 30:00 or 1-12:00:00 (with --slurm).
+    #[arg(long, requires = "slurm", value_name = "T")]
+    pub time: Option<String>,
+    /// CPUs of each shard, its worker threads (with --slurm; default 1).
+    #[arg(long, requires = "slurm", value_name = "C")]
+    pub cpus_per_task: Option<usize>,
+}
+
+/// Arguments of `hdgear merge`.
+#[derive(Args, Debug)]
+pub struct MergeArgs {
+    /// The shard files (FILE.shard-K-of-N.csv), all N of them, in any order.
+    #[arg(required = true, value_name = "SHARD")]
+    pub shards: Vec<PathBuf>,
+    /// The merged file, .csv or .json (default: the shards' name without .shard-K-of-N, .csv).
+    #[arg(long, value_name = "FILE")]
+    pub out: Option<PathBuf>,
 }
 
 /// Parses `A0:A1` into a checked range.

@@ -4,7 +4,6 @@ use hdgear::Params;
 use hdgear::burst::{BurstOptions, Classification, Mechanism, Mode, Verdict, classify, response};
 use hdgear::fast::predict;
 use hdgear::sweep::{Axis, Grid};
-use std::collections::HashSet;
 
 fn paper(gamma: f64) -> Params {
     Params {
@@ -446,7 +445,7 @@ fn sweeps_are_identical_on_one_and_two_threads() {
         hdgear::sweep::run(
             &g,
             &BurstOptions::default(),
-            &HashSet::new(),
+            &(0..g.len()).collect::<Vec<_>>(),
             threads,
             |r| rows.push(r),
         )

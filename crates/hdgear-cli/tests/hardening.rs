@@ -122,6 +122,53 @@ fn range_and_spec_vectors(v: &mut Vec<Vec<String>>) {
     }
 }
 
+/// Bad shards, cluster settings and merges.
+fn shard_vectors(v: &mut Vec<Vec<String>>) {
+    let sweep = |extra: &[String]| {
+        let mut a: Vec<String> = ["sweep", "--param", "gamma=1:2:3", "--out", "s.csv"]
+            .map(String::from)
+            .to_vec();
+        a.extend(extra.iter().cloned());
+        a
+    };
+    for k in [
+        "",
+        "1",
+        "2/2",
+        "-1/2",
+        "1/-2",
+        "a/b",
+        "0/0",
+        "1e3/2",
+        "0/99999999999999999999",
+        "0/4",
+    ] {
+        v.push(sweep(&[format!("--shard={k}")]));
+    }
+    for val in VALUES.iter().chain(&["4", "3"]) {
+        v.push(sweep(&[format!("--slurm={val}")]));
+        v.push(sweep(&[
+            "--slurm=2".into(),
+            format!("--cpus-per-task={val}"),
+        ]));
+        v.push(sweep(&["--slurm=2".into(), format!("--time={val}")]));
+        v.push(sweep(&["--slurm=2".into(), format!("--partition={val}")]));
+    }
+    for files in [
+        &[""][..],
+        &["nope.csv"],
+        &["/"],
+        &["."],
+        &["pre-dir"],
+        &["a.shard-0-of-1.csv"],
+        &["pre-dir", "--out=x.csv"],
+    ] {
+        let mut a = vec!["merge".to_string()];
+        a.extend(files.iter().map(|s| s.to_string()));
+        v.push(a);
+    }
+}
+
 /// Bad output paths for each command that writes a file.
 fn output_vectors(v: &mut Vec<Vec<String>>) {
     for out in [
@@ -205,6 +252,7 @@ fn hostile_vectors() -> Vec<Vec<String>> {
             format!("--preset={p}"),
         ]);
     }
+    shard_vectors(&mut v);
     for d in ["csf-20-50", "CSF-99-50", ""] {
         v.push(vec!["physical".into(), format!("--drive={d}")]);
     }

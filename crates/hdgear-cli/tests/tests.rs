@@ -11,3 +11,4 @@ mod output;
 mod physical;
 mod reference;
 mod report;
+mod shard;

@@ -20,7 +20,6 @@ use hdgear::physical::PhysicalParams;
 use hdgear::physical::simulate::simulate_physical;
 use hdgear::simulate::{SimOptions, Start, integrate_periods, simulate};
 use hdgear::sweep::{Axis, Grid, run};
-use std::collections::HashSet;
 use std::hint::black_box;
 
 // Three slow periods of the study's model at rtol = atol = 1e-10, γ ∈ {30, 0.1}.
@@ -151,13 +150,14 @@ fn sweep_group(c: &mut Criterion) {
     )
     .unwrap();
     let opts = BurstOptions::default();
+    let all: Vec<usize> = (0..grid.len()).collect();
     let mut g = c.benchmark_group("sweep_1000_gamma");
     g.sample_size(10);
     for threads in [1, 2] {
         g.bench_function(format!("threads={threads}"), |b| {
             b.iter(|| {
                 let mut n = 0usize;
-                run(&grid, &opts, &HashSet::new(), threads, |r| {
+                run(&grid, &opts, &all, threads, |r| {
                     n += 1;
                     black_box(r);
                 })

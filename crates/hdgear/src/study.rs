@@ -120,7 +120,7 @@ pub fn run_grid(grid: &Grid, opts: &BurstOptions, threads: usize) -> Result<Vec<
     crate::sweep::run(
         grid,
         opts,
-        &std::collections::HashSet::new(),
+        &(0..grid.len()).collect::<Vec<_>>(),
         threads,
         |r| rows.push(r),
     )?;

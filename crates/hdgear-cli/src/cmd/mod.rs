@@ -5,6 +5,7 @@ mod analyze;
 mod bifurcation;
 mod bursts;
 mod equilibria;
+mod merge;
 mod physical;
 mod plot;
 mod report;
@@ -25,6 +26,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Bursts(a) => bursts::run(a),
         Command::Table(a) => table::run(a),
         Command::Sweep(a) => sweep::run(a),
+        Command::Merge(a) => merge::run(a),
         Command::Physical(a) => physical::run(a),
         Command::Plot(a) => plot::run(a),
         Command::Report(a) => report::run(a),

@@ -11,7 +11,10 @@ use crate::fast;
 use crate::params::{Param, Params};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
-use std::collections::HashSet;
+use std::collections::{BTreeMap, BTreeSet};
+
+mod shard;
+pub use shard::{MergeError, Plan, Shard, plan};
 
 /// One axis of a grid: `NAME=START:END:COUNT[:log]`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -112,7 +115,9 @@ impl Axis {
 }
 
 /// A grid of one or two axes over a base parameter set. Index i runs over the first axis fastest.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+///
+/// Deserialising does not check it: pass a grid read from a file through [`Grid::new`].
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Grid {
     /// The parameters not swept.
     pub base: Params,
@@ -223,12 +228,12 @@ pub fn run_point(index: usize, p: &Params, opts: &BurstOptions) -> SweepRow {
     row
 }
 
-/// Runs every grid point not in `done` on `threads` worker threads (0: one per core) and calls
+/// Runs the grid points `todo` (indices) on `threads` worker threads (0: one per core) and calls
 /// `on_row` from the calling thread as each point finishes. Returns when all are done.
 pub fn run(
     grid: &Grid,
     opts: &BurstOptions,
-    done: &HashSet<usize>,
+    todo: &[usize],
     threads: usize,
     mut on_row: impl FnMut(SweepRow),
 ) -> Result<()> {
@@ -241,7 +246,6 @@ pub fn run(
             text: threads.to_string(),
             reason: e.to_string(),
         })?;
-    let todo: Vec<usize> = (0..grid.len()).filter(|i| !done.contains(i)).collect();
     let (tx, rx) = std::sync::mpsc::channel();
     std::thread::scope(|s| {
         s.spawn(move || {
@@ -259,25 +263,171 @@ pub fn run(
     Ok(())
 }
 
-/// Everything that changes a sweep's rows: hdgear's version, the grid and the options. The `meta`
-/// of a sweep's JSON output, and (flattened) the header that resuming checks.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+/// Everything that changes a sweep's rows: hdgear's version, the grid and the options, and for a
+/// part of a sharded sweep, which part. The `meta` of a sweep's JSON output, and the settings line
+/// of partial and shard files that resuming and merging check.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Settings {
     /// hdgear's version.
-    pub version: &'static str,
+    pub version: String,
     /// The grid.
     pub grid: Grid,
     /// Detection options and tolerances.
     pub options: BurstOptions,
+    /// The part of the grid computed (absent for a whole sweep).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shard: Option<Shard>,
 }
 
 impl Settings {
-    /// The settings of `grid` run with `options` by this version.
+    /// The settings of the whole `grid` run with `options` by this version.
     pub fn new(grid: &Grid, options: &BurstOptions) -> Settings {
         Settings {
-            version: env!("CARGO_PKG_VERSION"),
+            version: env!("CARGO_PKG_VERSION").to_string(),
             grid: grid.clone(),
             options: *options,
+            shard: None,
+        }
+    }
+
+    /// The same settings for one shard of the grid.
+    pub fn with_shard(mut self, shard: Option<Shard>) -> Settings {
+        self.shard = shard;
+        self
+    }
+
+    /// The grid points these settings compute, in grid order: the whole grid, or its shard.
+    pub fn indices(&self) -> Vec<usize> {
+        match self.shard {
+            Some(s) => s.indices(self.grid.len()).collect(),
+            None => (0..self.grid.len()).collect(),
+        }
+    }
+
+    /// The first setting in which `self` and `other` differ (keys as paths into the JSON form,
+    /// e.g. `grid.axes[0].end`), or `None` when they agree.
+    pub fn first_difference(&self, other: &Settings) -> Option<Difference> {
+        let (mut a, mut b) = (BTreeMap::new(), BTreeMap::new());
+        flatten("", &serde_json::to_value(self).ok()?, &mut a);
+        flatten("", &serde_json::to_value(other).ok()?, &mut b);
+        let keys: BTreeSet<&String> = a.keys().chain(b.keys()).collect();
+        keys.into_iter().find_map(|k| {
+            let (x, y) = (a.get(k), b.get(k));
+            let text = |v: Option<&String>| v.map_or_else(|| "absent".to_string(), Clone::clone);
+            (x != y).then(|| Difference {
+                key: k.clone(),
+                here: text(x),
+                there: text(y),
+            })
+        })
+    }
+
+    /// Checks one row read back from a file written with these settings: a point these settings
+    /// compute (index in the grid and in the shard) with that point's parameters.
+    pub fn check_row(&self, row: &SweepRow) -> std::result::Result<(), RowError> {
+        let i = row.index;
+        if i >= self.grid.len() {
+            return Err(RowError::OutsideGrid {
+                index: i,
+                len: self.grid.len(),
+            });
+        }
+        if let Some(s) = self.shard.filter(|s| !s.contains(i)) {
+            return Err(RowError::OutsideShard { index: i, shard: s });
+        }
+        let want = self.grid.point(i);
+        if want != row.params {
+            return Err(RowError::OtherParameters {
+                index: i,
+                found: Box::new(row.params),
+                grid: Box::new(want),
+            });
+        }
+        Ok(())
+    }
+
+    /// Checks rows read back from a file written with these settings ([`Settings::check_row`]
+    /// for each), and that no point appears twice.
+    pub fn check_rows(&self, rows: &[SweepRow]) -> std::result::Result<(), RowError> {
+        let mut seen = std::collections::HashSet::with_capacity(rows.len());
+        for row in rows {
+            self.check_row(row)?;
+            if !seen.insert(row.index) {
+                return Err(RowError::Duplicate { index: row.index });
+            }
+        }
+        Ok(())
+    }
+}
+
+/// One setting in which two [`Settings`] differ.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Difference {
+    /// The setting: a path into the JSON form, e.g. `grid.axes[0].end`.
+    pub key: String,
+    /// Its value (JSON text) in the first settings, or `absent`.
+    pub here: String,
+    /// Its value in the second, or `absent`.
+    pub there: String,
+}
+
+/// A row that does not belong to the file's settings.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum RowError {
+    /// The row's index is beyond the grid.
+    #[error("row index {index} is outside the grid of {len} points")]
+    OutsideGrid {
+        /// The row's index.
+        index: usize,
+        /// Points in the grid.
+        len: usize,
+    },
+    /// The row's index is in another shard.
+    #[error("grid point {index} is not in shard {shard}")]
+    OutsideShard {
+        /// The row's index.
+        index: usize,
+        /// The file's shard.
+        shard: Shard,
+    },
+    /// The row's parameters are not the grid's at its index.
+    #[error("row {index} has parameters {found:?}, the grid has {grid:?} there")]
+    OtherParameters {
+        /// The row's index.
+        index: usize,
+        /// The row's parameters.
+        found: Box<Params>,
+        /// The grid's parameters at that index.
+        grid: Box<Params>,
+    },
+    /// Two rows for one grid point.
+    #[error("grid point {index} appears twice")]
+    Duplicate {
+        /// The repeated index.
+        index: usize,
+    },
+}
+
+/// Flattens a JSON value into `path → scalar text`.
+fn flatten(prefix: &str, v: &serde_json::Value, out: &mut BTreeMap<String, String>) {
+    match v {
+        serde_json::Value::Object(m) => {
+            for (k, x) in m {
+                let key = if prefix.is_empty() {
+                    k.clone()
+                } else {
+                    format!("{prefix}.{k}")
+                };
+                flatten(&key, x, out);
+            }
+        }
+        serde_json::Value::Array(a) => {
+            for (i, x) in a.iter().enumerate() {
+                flatten(&format!("{prefix}[{i}]"), x, out);
+            }
+        }
+        other => {
+            out.insert(prefix.to_string(), other.to_string());
         }
     }
 }

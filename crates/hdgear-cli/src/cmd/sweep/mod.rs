@@ -1,0 +1,255 @@
+//! `hdgear sweep`: grid → parallel run with a progress bar → rows streamed into FILE.partial →
+//! FILE in grid order at the end. `--resume` continues from FILE.partial.
+//!
+//! FILE.partial starts with a comment line `# hdgear-sweep {settings}` holding everything that
+//! changes a row (the grid, every detection option and tolerance, the hdgear version), so a
+//! resume with other settings is refused, naming the first difference. A lock on FILE.lock
+//! (holding the owner's pid) keeps a second sweep off the same FILE while one runs.
+
+//! `hdgear sweep`: grid → parallel run with a progress bar → rows streamed into FILE.partial →
+//! FILE in grid order at the end. `--resume` continues from FILE.partial; `--shard K/N` computes
+//! one interleaved part of the grid into FILE's name with `.shard-K-of-N.csv` (joined by
+//! `hdgear merge`); `--slurm N` writes the job scripts that run N shards on a cluster.
+//!
+//! A lock on FILE.lock (holding the owner's pid) keeps a second sweep off the same file while one
+//! runs. The row files' format is in [`file`].
+
+pub mod file;
+mod slurm;
+
+use crate::cli::SweepArgs;
+use crate::sink::{warn, write_records};
+use anyhow::{Context, Result, anyhow, bail};
+use file::sibling;
+use hdgear::burst::BurstOptions;
+use hdgear::output::Format;
+use hdgear::sweep::{Axis, Grid, Settings, Shard, SweepRow};
+use indicatif::{ProgressBar, ProgressStyle};
+use std::collections::HashSet;
+use std::fs::{File, OpenOptions};
+use std::io::{IsTerminal, Read, Seek, Write};
+use std::path::{Path, PathBuf};
+
+/// The file a shard of a sweep into `out` is written to: `DIR/NAME.shard-K-of-N.csv` for
+/// `DIR/NAME.EXT` (always CSV: see [`file`]).
+pub fn shard_path(out: &Path, shard: Shard) -> PathBuf {
+    let stem = out.file_stem().unwrap_or_default().to_string_lossy();
+    out.with_file_name(format!(
+        "{stem}.shard-{}-of-{}.csv",
+        shard.index, shard.count
+    ))
+}
+
+/// The advisory lock on FILE.lock, released (and the file removed) on drop.
+struct Lock {
+    path: PathBuf,
+    _file: File,
+}
+
+impl Lock {
+    fn acquire(out: &Path) -> Result<Lock> {
+        let path = sibling(out, ".lock");
+        let mut file = OpenOptions::new()
+            .read(true)
+            .write(true)
+            .create(true)
+            .truncate(false)
+            .open(&path)
+            .with_context(|| format!("cannot create {}", path.display()))?;
+        if file.try_lock().is_err() {
+            let mut pid = String::new();
+            let _ = file.read_to_string(&mut pid);
+            bail!(
+                "another hdgear sweep is writing {} (pid {}): wait for it, or stop it first",
+                out.display(),
+                pid.trim()
+            );
+        }
+        file.set_len(0)?;
+        file.rewind()?;
+        write!(file, "{}", std::process::id())?;
+        hdgear::output::track_temporary(&path);
+        Ok(Lock { path, _file: file })
+    }
+}
+
+impl Drop for Lock {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_file(&self.path);
+        hdgear::output::untrack_temporary(&self.path);
+    }
+}
+
+/// A progress bar on a terminal (hidden otherwise) at `done` of `len` points.
+fn progress_bar(len: usize, done: usize) -> Result<ProgressBar> {
+    let bar = if std::io::stderr().is_terminal() {
+        let b = ProgressBar::new(len as u64);
+        b.set_style(
+            ProgressStyle::with_template(
+                "{bar:40} {pos}/{len} points  {elapsed} elapsed, eta {eta}",
+            )
+            .map_err(|e| anyhow!("progress template: {e}"))?,
+        );
+        b
+    } else {
+        ProgressBar::hidden()
+    };
+    bar.set_position(done as u64);
+    Ok(bar)
+}
+
+/// A checked sweep: what to compute and where it goes.
+pub struct Job {
+    /// Everything that changes a row (with the shard, when one).
+    pub settings: Settings,
+    /// The user's --out.
+    pub out: PathBuf,
+    /// Where this run writes: `out`, or the shard's file.
+    pub file: PathBuf,
+    /// Worker threads (0: one per core).
+    pub threads: usize,
+    /// Continue from the partial file.
+    pub resume: bool,
+}
+
+/// Arguments → a checked job (every grid point validated before any work).
+pub fn check(a: &SweepArgs) -> Result<Job> {
+    let (base, warnings) = a.params.resolve()?;
+    let opts: BurstOptions = a.burst.options()?;
+    Format::from_path(&a.out).context("--out")?;
+    let axes = a
+        .axes
+        .iter()
+        .map(|s| Axis::parse(s))
+        .collect::<hdgear::Result<Vec<_>>>()
+        .context("--param")?;
+    let grid = Grid::new(base, axes)?;
+    if a.threads == Some(0) {
+        bail!("invalid option --threads = 0: must be ≥ 1");
+    }
+    let shard = a.shard.as_deref().map(Shard::parse).transpose()?;
+    if let Some(s) = shard.filter(|s| s.count > grid.len()) {
+        bail!(
+            "invalid shard '{s}': {} shards of a grid of {} points would leave some empty",
+            s.count,
+            grid.len()
+        );
+    }
+    let file = shard.map_or_else(|| a.out.clone(), |s| shard_path(&a.out, s));
+    hdgear::output::check_output_path(&file)?;
+    warn(&warnings);
+    Ok(Job {
+        settings: Settings::new(&grid, &opts).with_shard(shard),
+        out: a.out.clone(),
+        file,
+        threads: a.threads.unwrap_or(0),
+        resume: a.resume,
+    })
+}
+
+/// Runs the sweep command: writes the SLURM scripts, or computes.
+pub fn run(a: SweepArgs) -> Result<()> {
+    let cluster = a
+        .slurm
+        .map(|n| slurm::Cluster::check(&a, n))
+        .transpose()?;
+    let job = check(&a)?;
+    match cluster {
+        Some(c) => slurm::write(&job, &c),
+        None => compute(&job),
+    }
+}
+
+/// Computes a checked job.
+fn compute(job: &Job) -> Result<()> {
+    let settings = &job.settings;
+    let grid = &settings.grid;
+    let _lock = Lock::acquire(&job.file)?;
+    let partial = sibling(&job.file, ".partial");
+    let mut rows: Vec<SweepRow> = Vec::new();
+    if job.resume && partial.exists() {
+        rows = file::read_partial(&partial, settings)?;
+    } else if partial.exists() {
+        bail!(
+            "{} exists (an interrupted sweep): pass --resume to continue it, or delete it",
+            partial.display()
+        );
+    }
+    file::write(&partial, settings, &rows)?;
+    let mut w = file::append(&partial)?;
+    crate::signals::set_hint(format!(
+        "the finished rows are kept in {}: rerun the same command with --resume",
+        partial.display()
+    ));
+    let done: HashSet<usize> = rows.iter().map(|r| r.index).collect();
+    let todo: Vec<usize> = settings
+        .indices()
+        .into_iter()
+        .filter(|i| !done.contains(i))
+        .collect();
+
+    let bar = progress_bar(todo.len() + done.len(), done.len())?;
+    let mut io_err: Option<anyhow::Error> = None;
+    hdgear::sweep::run(grid, &settings.options, &todo, job.threads, |row| {
+        if io_err.is_none() {
+            let res = w
+                .serialize(&row)
+                .map_err(anyhow::Error::from)
+                .and_then(|_| w.flush().map_err(anyhow::Error::from));
+            if let Err(e) = res {
+                io_err = Some(e.context(format!("writing {}", partial.display())));
+            }
+        }
+        rows.push(row);
+        bar.inc(1);
+    })?;
+    bar.finish_and_clear();
+    if let Some(e) = io_err {
+        return Err(e);
+    }
+    drop(w);
+    rows.sort_by_key(|r| r.index);
+    let failed = rows.iter().filter(|r| !r.error.is_empty()).count();
+    let n = rows.len();
+    match settings.shard {
+        None => write_records(Some(&job.file), settings, rows)?,
+        Some(_) => file::write(&job.file, settings, &rows)?,
+    }
+    std::fs::remove_file(&partial).ok();
+    match settings.shard {
+        None => eprintln!("wrote {}: {n} rows, {failed} failed", job.file.display()),
+        Some(s) => eprintln!(
+            "wrote {}: shard {s}, {n} rows, {failed} failed; when all {} shards are done: \
+             hdgear merge {} --out {}",
+            job.file.display(),
+            s.count,
+            shard_path(
+                &job.out,
+                Shard {
+                    index: 0,
+                    count: s.count
+                }
+            )
+            .display()
+            .to_string()
+            .replace(".shard-0-of-", ".shard-*-of-"),
+            job.out.display()
+        ),
+    }
+    // a shard whose points all failed is still a complete shard: the merge judges the sweep
+    if settings.shard.is_none() {
+        all_failed(n, failed)?;
+    }
+    Ok(())
+}
+
+/// Exit code 1 when every one of `n > 0` points failed (the rows are written: they say why).
+pub fn all_failed(n: usize, failed: usize) -> Result<()> {
+    if n > 0 && failed == n {
+        return Err(crate::sink::ComputationFailed(
+            "every grid point failed (their rows carry the error)".into(),
+        )
+        .into());
+    }
+    Ok(())
+}
