@@ -135,7 +135,7 @@ pub struct PhysicalArgs {
     /// Output spacing [s] (default J_eq/C / 20).
     #[arg(long, requires = "simulate", allow_negative_numbers = true)]
     pub dt: Option<f64>,
-    /// Trajectory file (.csv or .json; CSV on stdout without it and without --summary).
+    /// Trajectory file (.csv, .json or .parquet; CSV on stdout without it and without --summary).
     #[arg(long, value_name = "FILE", requires = "simulate")]
     pub out: Option<PathBuf>,
     /// Print a JSON summary of the simulation.
@@ -225,7 +225,7 @@ pub struct BurstsArgs {
     pub params: ParamArgs,
     #[command(flatten)]
     pub burst: BurstArgs,
-    /// Output file, .csv or .json (CSV on stdout without it).
+    /// Output file, .csv, .json or .parquet (CSV on stdout without it).
     #[arg(long, value_name = "FILE")]
     pub out: Option<PathBuf>,
 }
@@ -263,7 +263,7 @@ pub struct SweepArgs {
     /// Worker threads (default: one per core).
     #[arg(long)]
     pub threads: Option<usize>,
-    /// Output file, .csv or .json. Rows stream into FILE.partial as they finish; FILE is written
+    /// Output file, .csv, .json or .parquet. Rows stream into FILE.partial as they finish; FILE is written
     /// in grid order at the end.
     #[arg(long, value_name = "FILE")]
     pub out: PathBuf,
@@ -295,7 +295,7 @@ pub struct MergeArgs {
     /// The shard files (FILE.shard-K-of-N.csv), all N of them, in any order.
     #[arg(required = true, value_name = "SHARD")]
     pub shards: Vec<PathBuf>,
-    /// The merged file, .csv or .json (default: the shards' name without .shard-K-of-N, .csv).
+    /// The merged file, .csv, .json or .parquet (default: the shards' name without .shard-K-of-N, .csv).
     #[arg(long, value_name = "FILE")]
     pub out: Option<PathBuf>,
 }
@@ -325,7 +325,7 @@ pub struct EquilibriaArgs {
     /// Range of the slow variable a, as A0:A1.
     #[arg(long, default_value = "-1:1", allow_hyphen_values = true)]
     pub a_range: String,
-    /// Output file, .csv or .json (CSV on stdout without it).
+    /// Output file, .csv, .json or .parquet (CSV on stdout without it).
     #[arg(long, value_name = "FILE")]
     pub out: Option<PathBuf>,
 }
@@ -363,7 +363,7 @@ pub struct BifurcationArgs {
     /// Number of rows (≥ 2), equally spaced in gamma, the last at the cusp.
     #[arg(long, default_value_t = 200)]
     pub points: usize,
-    /// Output file, .csv or .json (CSV on stdout without it).
+    /// Output file, .csv, .json or .parquet (CSV on stdout without it).
     #[arg(long, value_name = "FILE")]
     pub out: Option<PathBuf>,
 }
@@ -515,7 +515,7 @@ pub struct SimulateArgs {
     /// Output spacing (sampled from dense output).
     #[arg(long, default_value_t = 0.05, allow_negative_numbers = true)]
     pub dt: f64,
-    /// Output file, .csv or .json (CSV on stdout without it).
+    /// Output file, .csv, .json or .parquet (CSV on stdout without it).
     #[arg(long, value_name = "FILE")]
     pub out: Option<PathBuf>,
     /// Print one JSON summary object to stdout instead of the trajectory.

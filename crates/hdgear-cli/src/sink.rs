@@ -121,7 +121,7 @@ pub fn warn(warnings: &[Warning]) {
 /// Where records go: an atomic file, or stdout.
 pub enum Sink {
     File(AtomicFile),
-    Stdout(std::io::BufWriter<std::io::StdoutLock<'static>>),
+    Stdout(std::io::BufWriter<std::io::Stdout>),
 }
 
 impl Sink {
@@ -133,7 +133,7 @@ impl Sink {
                 Format::from_path(path)?,
             ),
             None => (
-                Sink::Stdout(std::io::BufWriter::new(std::io::stdout().lock())),
+                Sink::Stdout(std::io::BufWriter::new(std::io::stdout())),
                 Format::Csv,
             ),
         })

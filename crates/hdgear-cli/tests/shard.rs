@@ -189,7 +189,7 @@ fn merge_refuses_missing_duplicated_and_foreign_shards() {
     refused(
         d,
         &[s0, s1, s2, "--out", "m.txt"],
-        "the extension must be .csv or .json",
+        "the extension must be .csv, .json or .parquet",
     );
     refused(
         d,

@@ -18,7 +18,7 @@ struct Sample {
 hdgear::record!(Sample: "t", "a", "x", "xdot");
 
 /// Streams a simulation into a table on `sink`; returns the sink (for committing) and the summary.
-fn simulate_into<W: Write>(
+fn simulate_into<W: Write + Send>(
     run: &SimulateRun,
     sink: W,
     format: Format,

@@ -5,6 +5,8 @@
 //! also listed in a process-wide registry, so that a program interrupted by a signal can remove
 //! them all ([`remove_temporaries`]) before it exits.
 
+#[cfg(feature = "parquet")]
+pub mod parquet;
 pub mod plot;
 
 use crate::error::{Error, Result};
@@ -199,11 +201,21 @@ pub enum Format {
     Csv,
     /// JSON.
     Json,
+    /// Apache Parquet (columnar; with the cargo feature `parquet`, on by default).
+    Parquet,
 }
 
 impl Format {
-    /// `.csv` or `.json` (case-insensitive); anything else is an error naming the path.
+    /// `.csv`, `.json` or `.parquet` (case-insensitive); anything else is an error naming the
+    /// path, as is `.parquet` in a build without the `parquet` feature.
     pub fn from_path(path: &Path) -> Result<Format> {
+        let bad = |reason: &str| {
+            Err(Error::InvalidInput {
+                what: "output file",
+                text: path.display().to_string(),
+                reason: reason.into(),
+            })
+        };
         match path
             .extension()
             .and_then(|e| e.to_str())
@@ -212,11 +224,9 @@ impl Format {
         {
             Some("csv") => Ok(Format::Csv),
             Some("json") => Ok(Format::Json),
-            _ => Err(Error::InvalidInput {
-                what: "output file",
-                text: path.display().to_string(),
-                reason: "the extension must be .csv or .json".into(),
-            }),
+            Some("parquet") if cfg!(feature = "parquet") => Ok(Format::Parquet),
+            Some("parquet") => bad("this hdgear was built without Parquet (cargo feature parquet)"),
+            _ => bad("the extension must be .csv, .json or .parquet"),
         }
     }
 }
@@ -229,18 +239,20 @@ pub trait Record: serde::Serialize {
     const COLUMNS: &'static [&'static str];
 }
 
-/// Streams records as CSV with a header row, or as JSON `{"meta": …, "rows": [{…}, …]}`, row by
-/// row, so a late failure loses nothing already computed and memory stays flat however long the
+/// Streams records as CSV with a header row, as JSON `{"meta": …, "rows": [{…}, …]}`, row by
+/// row, or as Parquet a row group at a time ([`parquet`]), so memory stays flat however long the
 /// output.
-pub struct RecordWriter<W: Write, T: Record> {
+pub struct RecordWriter<W: Write + Send, T: Record> {
     inner: Inner<W>,
     rows: u64,
     _t: std::marker::PhantomData<fn(&T)>,
 }
 
-enum Inner<W: Write> {
+enum Inner<W: Write + Send> {
     Csv(Box<csv::Writer<W>>),
     Json(W),
+    #[cfg(feature = "parquet")]
+    Parquet(Box<parquet::ParquetWriter<W>>),
 }
 
 fn csv_io(e: csv::Error) -> std::io::Error {
@@ -250,9 +262,9 @@ fn csv_io(e: csv::Error) -> std::io::Error {
     }
 }
 
-impl<W: Write, T: Record> RecordWriter<W, T> {
+impl<W: Write + Send, T: Record> RecordWriter<W, T> {
     /// Starts the output (the CSV header is written at once). `meta` (the parameters and options
-    /// that produced the rows) goes into JSON output only.
+    /// that produced the rows) goes into JSON and Parquet output only.
     pub fn new(
         mut w: W,
         format: Format,
@@ -269,6 +281,18 @@ impl<W: Write, T: Record> RecordWriter<W, T> {
                 serde_json::to_writer(&mut w, meta)?;
                 w.write_all(b",\"rows\":[")?;
                 Inner::Json(w)
+            }
+            #[cfg(feature = "parquet")]
+            Format::Parquet => Inner::Parquet(Box::new(parquet::ParquetWriter::new(
+                w,
+                T::COLUMNS,
+                serde_json::to_string(meta)?,
+            ))),
+            #[cfg(not(feature = "parquet"))]
+            Format::Parquet => {
+                return Err(std::io::Error::other(
+                    "this hdgear was built without Parquet (cargo feature parquet)",
+                ));
             }
         };
         Ok(RecordWriter {
@@ -288,6 +312,8 @@ impl<W: Write, T: Record> RecordWriter<W, T> {
                 }
                 serde_json::to_writer(&mut *w, record)?;
             }
+            #[cfg(feature = "parquet")]
+            Inner::Parquet(p) => p.row(record)?,
         }
         self.rows += 1;
         Ok(())
@@ -307,6 +333,8 @@ impl<W: Write, T: Record> RecordWriter<W, T> {
                 w.flush()?;
                 Ok(w)
             }
+            #[cfg(feature = "parquet")]
+            Inner::Parquet(p) => p.finish(),
         }
     }
 }

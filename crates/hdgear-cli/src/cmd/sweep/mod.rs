@@ -149,10 +149,7 @@ pub fn check(a: &SweepArgs) -> Result<Job> {
 
 /// Runs the sweep command: writes the SLURM scripts, or computes.
 pub fn run(a: SweepArgs) -> Result<()> {
-    let cluster = a
-        .slurm
-        .map(|n| slurm::Cluster::check(&a, n))
-        .transpose()?;
+    let cluster = a.slurm.map(|n| slurm::Cluster::check(&a, n)).transpose()?;
     let job = check(&a)?;
     match cluster {
         Some(c) => slurm::write(&job, &c),
