@@ -45,6 +45,24 @@ pub enum Command {
     Plot(PlotArgs),
     /// Run everything on the study's defaults and write a self-contained HTML report.
     Report(ReportArgs),
+    /// A live explorer in the browser: move a parameter, see the curve, the response and the
+    /// verdict change (serves until Ctrl-C).
+    Serve(ServeArgs),
+}
+
+/// Arguments of `hdgear serve`.
+#[derive(Args, Debug)]
+pub struct ServeArgs {
+    /// Port (0: any free port; the URL is printed).
+    #[arg(long, default_value_t = 8080)]
+    pub port: u16,
+    /// Address to listen on. The default, 127.0.0.1, serves this machine only; 0.0.0.0 exposes
+    /// the explorer (and its CPU) to everyone who can reach this machine.
+    #[arg(long, default_value = "127.0.0.1", value_name = "ADDR")]
+    pub bind: String,
+    /// Open the page in the desktop's browser.
+    #[arg(long)]
+    pub open: bool,
 }
 
 /// Arguments of `hdgear report`.

@@ -253,6 +253,9 @@ fn hostile_vectors() -> Vec<Vec<String>> {
         ]);
     }
     shard_vectors(&mut v);
+    for bad in ["--bind=nope", "--bind=", "--port=-1", "--port=70000", "--port=x"] {
+        v.push(vec!["serve".into(), bad.into()]);
+    }
     for d in ["csf-20-50", "CSF-99-50", ""] {
         v.push(vec!["physical".into(), format!("--drive={d}")]);
     }

@@ -189,28 +189,13 @@ fn every_figure_file_is_valid_and_not_empty() {
     }
 }
 
-fn chromium() -> Option<String> {
-    if let Ok(c) = std::env::var("HDGEAR_CHROMIUM") {
-        return Some(c);
-    }
-    ["chromium", "chromium-browser", "google-chrome"]
-        .into_iter()
-        .find(|c| {
-            std::process::Command::new(c)
-                .arg("--version")
-                .output()
-                .is_ok_and(|o| o.status.success())
-        })
-        .map(str::to_string)
-}
-
 #[test]
 #[cfg_attr(
     hdgear_no_chromium,
     ignore = "no Chromium on this machine: install chromium or set HDGEAR_CHROMIUM"
 )]
 fn report_renders_in_headless_chromium() {
-    let Some(browser) = chromium() else {
+    let Some(browser) = crate::common::chromium() else {
         // CI installs Chromium (.ci/run) and must run this test; elsewhere it is optional.
         assert!(
             std::env::var_os("CI").is_none(),

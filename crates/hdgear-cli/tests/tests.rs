@@ -11,4 +11,5 @@ mod output;
 mod physical;
 mod reference;
 mod report;
+mod serve;
 mod shard;

@@ -36,6 +36,7 @@
 
 pub mod burst;
 pub mod error;
+pub mod explore;
 pub mod fast;
 pub mod figures;
 pub mod integrate;

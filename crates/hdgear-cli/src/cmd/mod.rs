@@ -9,6 +9,7 @@ mod merge;
 mod physical;
 mod plot;
 mod report;
+mod serve;
 mod simulate;
 mod sweep;
 mod table;
@@ -30,5 +31,6 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Physical(a) => physical::run(a),
         Command::Plot(a) => plot::run(a),
         Command::Report(a) => report::run(a),
+        Command::Serve(a) => serve::run(a),
     }
 }

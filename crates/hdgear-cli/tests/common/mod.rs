@@ -53,3 +53,20 @@ pub fn stdout_of(args: &[&str]) -> String {
 pub fn json_of(args: &[&str]) -> serde_json::Value {
     serde_json::from_str(&stdout_of(args)).unwrap()
 }
+
+/// A Chromium to drive: `HDGEAR_CHROMIUM`, or the first of chromium, chromium-browser,
+/// google-chrome that answers `--version`.
+pub fn chromium() -> Option<String> {
+    if let Ok(c) = std::env::var("HDGEAR_CHROMIUM") {
+        return Some(c);
+    }
+    ["chromium", "chromium-browser", "google-chrome"]
+        .into_iter()
+        .find(|c| {
+            std::process::Command::new(c)
+                .arg("--version")
+                .output()
+                .is_ok_and(|o| o.status.success())
+        })
+        .map(str::to_string)
+}

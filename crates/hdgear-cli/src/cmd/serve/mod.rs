@@ -1,0 +1,256 @@
+//! `hdgear serve`: a local web server with one page (the live explorer) and a small JSON API.
+//!
+//! - `GET /` (and `/app.js`, `/app.css`): the page, embedded in the binary (`include_str!`).
+//! - `GET /api/view?alpha=…&gamma=…&eps=…&mu=…&delta=…&omega=…` (any subset; the rest from the
+//!   study's default point): [`hdgear::explore::View`] as JSON.
+//! - `GET /api/boundaries?…`: the bursting boundaries located by simulation (seconds).
+//! - `GET /api/drives` and `GET /api/drive?name=CSF-20-50`: the catalogue drives and one drive's
+//!   reduction to the dimensionless parameters.
+//!
+//! Bad parameters get a 400 with the CLI's one-line message; a parameter set whose run would
+//! exceed the explorer's step budget ([`hdgear::explore::STEP_BUDGET`], checked before any work)
+//! a 422 with the reason; every computation runs on the blocking pool (never on the async
+//! runtime, so requests do not block each other), at most two per core at once, and is abandoned
+//! with a 503 after [`VIEW_TIMEOUT`] (boundaries: [`BOUNDARY_TIMEOUT`]).
+
+use crate::cli::ServeArgs;
+use anyhow::{Context, Result};
+use axum::Json;
+use axum::extract::{Query, State};
+use axum::http::{StatusCode, header};
+use axum::response::{IntoResponse, Response};
+use axum::routing::get;
+use hdgear::params::{Param, ParamOverrides, Params, Warning};
+use std::collections::BTreeMap;
+use std::io::Write;
+use std::sync::Arc;
+use std::time::Duration;
+use tokio::sync::Semaphore;
+
+/// Longest a view may take before the request is answered with a 503.
+pub const VIEW_TIMEOUT: Duration = Duration::from_secs(5);
+/// Longest a boundary search may take.
+pub const BOUNDARY_TIMEOUT: Duration = Duration::from_secs(30);
+
+const PAGE: &str = include_str!("assets/index.html");
+const APP_JS: &str = include_str!("assets/app.js");
+const APP_CSS: &str = include_str!("assets/app.css");
+
+/// An API error: status and one line.
+struct ApiError(StatusCode, String);
+
+impl IntoResponse for ApiError {
+    fn into_response(self) -> Response {
+        let body = serde_json::json!({ "error": self.1 });
+        (self.0, Json(body)).into_response()
+    }
+}
+
+impl From<hdgear::Error> for ApiError {
+    fn from(e: hdgear::Error) -> Self {
+        match e {
+            hdgear::Error::RunTooLong {
+                estimated_steps, ..
+            } => ApiError(
+                StatusCode::UNPROCESSABLE_ENTITY,
+                format!(
+                    "refused: this parameter set needs about {estimated_steps:.1e} integration \
+                     steps, beyond the explorer's budget of {:.0e} (about a second); a larger ω \
+                     shortens the run, or use `hdgear analyze` for it",
+                    hdgear::explore::STEP_BUDGET as f64
+                ),
+            ),
+            hdgear::Error::Solver(s) => ApiError(
+                StatusCode::UNPROCESSABLE_ENTITY,
+                format!("the integration failed: {s}"),
+            ),
+            other => ApiError(StatusCode::BAD_REQUEST, other.to_string()),
+        }
+    }
+}
+
+/// Query → checked parameters (the CLI's validation and messages).
+fn params(q: &BTreeMap<String, String>) -> Result<(Params, Vec<Warning>), ApiError> {
+    let bad = |m: String| ApiError(StatusCode::BAD_REQUEST, m);
+    let mut o = ParamOverrides::default();
+    for (k, v) in q {
+        let param: Param = k.parse().map_err(|e: hdgear::Error| bad(e.to_string()))?;
+        let value: f64 = v
+            .trim()
+            .parse()
+            .map_err(|_| bad(format!("invalid value '{v}' for {k}: not a number")))?;
+        let slot = match param {
+            Param::Alpha => &mut o.alpha,
+            Param::Gamma => &mut o.gamma,
+            Param::Eps => &mut o.eps,
+            Param::Mu => &mut o.mu,
+            Param::Delta => &mut o.delta,
+            Param::Omega => &mut o.omega,
+        };
+        *slot = Some(value);
+    }
+    Ok(hdgear::params::resolve("paper", None, &o)?)
+}
+
+/// Runs `f` on the blocking pool under the concurrency limit, abandoned after `limit`.
+async fn compute<T: Send + 'static>(
+    permits: &Semaphore,
+    limit: Duration,
+    f: impl FnOnce() -> hdgear::Result<T> + Send + 'static,
+) -> Result<T, ApiError> {
+    let _permit = permits
+        .acquire()
+        .await
+        .map_err(|_| ApiError(StatusCode::SERVICE_UNAVAILABLE, "shutting down".into()))?;
+    match tokio::time::timeout(limit, tokio::task::spawn_blocking(f)).await {
+        Ok(Ok(r)) => Ok(r?),
+        Ok(Err(e)) => Err(ApiError(
+            StatusCode::INTERNAL_SERVER_ERROR,
+            format!("the computation failed: {e}"),
+        )),
+        Err(_) => Err(ApiError(
+            StatusCode::SERVICE_UNAVAILABLE,
+            format!(
+                "refused: the computation took longer than {} s",
+                limit.as_secs()
+            ),
+        )),
+    }
+}
+
+type Permits = Arc<Semaphore>;
+type Q = Query<BTreeMap<String, String>>;
+
+async fn view(State(permits): State<Permits>, Query(q): Q) -> Result<Response, ApiError> {
+    let (p, warnings) = params(&q)?;
+    let v = compute(&permits, VIEW_TIMEOUT, move || {
+        hdgear::explore::View::compute(&p, warnings, &hdgear::explore::View::options())
+    })
+    .await?;
+    Ok(Json(v).into_response())
+}
+
+async fn boundaries(State(permits): State<Permits>, Query(q): Q) -> Result<Response, ApiError> {
+    let (p, _) = params(&q)?;
+    let b = compute(&permits, BOUNDARY_TIMEOUT, move || {
+        hdgear::burst::boundaries(&p, &hdgear::explore::View::options())
+    })
+    .await?;
+    Ok(Json(b).into_response())
+}
+
+async fn drives() -> Response {
+    let names: Vec<&str> = hdgear::physical::catalogue::DRIVES
+        .iter()
+        .map(|d| d.name)
+        .collect();
+    Json(serde_json::json!({
+        "drives": names,
+        "assumptions": hdgear::physical::catalogue::ASSUMPTIONS,
+    }))
+    .into_response()
+}
+
+async fn drive(Query(q): Q) -> Result<Response, ApiError> {
+    let name = q.get("name").map_or("CSF-20-50", String::as_str);
+    let (d, fit) = hdgear::physical::catalogue::preset(name, None)?;
+    let reduction = d.reduce()?;
+    Ok(Json(serde_json::json!({
+        "name": name,
+        "drive": d,
+        "fit": fit,
+        "reduction": reduction,
+        "alpha_eps": reduction.params.alpha * reduction.params.eps,
+    }))
+    .into_response())
+}
+
+fn asset(kind: &'static str, body: &'static str) -> Response {
+    (
+        [
+            (header::CONTENT_TYPE, kind),
+            (header::CACHE_CONTROL, "no-cache"),
+        ],
+        body,
+    )
+        .into_response()
+}
+
+/// The application: routes and their shared state.
+pub fn router() -> axum::Router {
+    let cores = std::thread::available_parallelism().map_or(2, |n| n.get());
+    let permits: Permits = Arc::new(Semaphore::new(2 * cores));
+    axum::Router::new()
+        .route(
+            "/",
+            get(|| async { asset("text/html; charset=utf-8", PAGE) }),
+        )
+        .route(
+            "/app.js",
+            get(|| async { asset("text/javascript; charset=utf-8", APP_JS) }),
+        )
+        .route(
+            "/app.css",
+            get(|| async { asset("text/css; charset=utf-8", APP_CSS) }),
+        )
+        .route("/api/view", get(view))
+        .route("/api/boundaries", get(boundaries))
+        .route("/api/drives", get(drives))
+        .route("/api/drive", get(drive))
+        .fallback(|| async { ApiError(StatusCode::NOT_FOUND, "no such page".into()) })
+        .with_state(permits)
+}
+
+/// Runs the serve command until Ctrl-C.
+pub fn run(a: ServeArgs) -> Result<()> {
+    let ip: std::net::IpAddr = a.bind.parse().map_err(|_| {
+        anyhow::anyhow!(
+            "invalid --bind '{}': expected an IP address such as 127.0.0.1",
+            a.bind
+        )
+    })?;
+    let addr = std::net::SocketAddr::new(ip, a.port);
+    let rt = tokio::runtime::Builder::new_multi_thread()
+        .enable_all()
+        .build()
+        .context("cannot start the server's runtime")?;
+    rt.block_on(async move {
+        let listener = tokio::net::TcpListener::bind(addr)
+            .await
+            .with_context(|| format!("cannot listen on {addr}"))?;
+        let local = listener.local_addr()?;
+        let url = format!("http://{local}/");
+        println!("hdgear serve: {url}  (Ctrl-C stops it)");
+        std::io::stdout().flush()?;
+        if !ip.is_loopback() {
+            crate::sink::note(&format!(
+                "listening on {ip}: anyone who can reach this machine can use the explorer"
+            ));
+        }
+        if a.open {
+            open(&url);
+        }
+        axum::serve(listener, router())
+            .await
+            .context("the server stopped")
+    })
+}
+
+/// Opens `url` in the desktop's browser, if there is one (a note otherwise).
+fn open(url: &str) {
+    let tried = std::env::var("BROWSER")
+        .ok()
+        .into_iter()
+        .chain(["xdg-open".to_string(), "open".to_string()]);
+    for cmd in tried {
+        let spawned = std::process::Command::new(&cmd)
+            .arg(url)
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::null())
+            .spawn();
+        if spawned.is_ok() {
+            return;
+        }
+    }
+    crate::sink::note(&format!("--open: no browser found; open {url} yourself"));
+}

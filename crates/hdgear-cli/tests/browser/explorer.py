@@ -1,0 +1,121 @@
+"""Drives `hdgear serve` in a real Chromium (Debian's, through Playwright; no browser download).
+
+    python explorer.py URL CHROMIUM OUTDIR
+
+Loads the page at γ = 30, checks the verdict says "not bursting", drags the γ slider with the
+mouse from 30 down to 0.1 (a storm of input events), checks the verdict turns to "bursting", the
+equilibrium curve was redrawn (its path changed), the quick button γ = 0.1 gives the study's
+numbers, the permalink reproduces the view, a bad value shows the server's one-line message, and
+no console error or page error occurred. Screenshots at 1400 and 800 px wide go to OUTDIR.
+Prints one JSON line of what it measured; exits 1 on the first failed check.
+"""
+import json
+import math
+import sys
+import time
+
+from playwright.sync_api import sync_playwright
+
+URL, CHROMIUM, OUT = sys.argv[1], sys.argv[2], sys.argv[3]
+ARGS = ["--headless=new", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
+        "--disable-background-networking", "--disable-component-update", "--disable-sync"]
+
+
+def check(cond, what):
+    if not cond:
+        print(f"FAILED: {what}", file=sys.stderr)
+        sys.exit(1)
+
+
+def verdict(page):
+    return page.locator("#verdict-word").inner_text(timeout=10_000)
+
+
+def settle(page):
+    """Waits until no request is in flight and the view is current."""
+    page.wait_for_function("!document.body.classList.contains('stale')", timeout=10_000)
+
+
+def slider_x(box, value):
+    lo, hi = math.log10(1e-3), math.log10(100)
+    f = (math.log10(value) - lo) / (hi - lo)
+    # the thumb's centre travels between half a thumb from either end (about 8 px)
+    return box["x"] + 8 + f * (box["width"] - 16)
+
+
+with sync_playwright() as p:
+    browser = p.chromium.launch(executable_path=CHROMIUM, args=ARGS)
+    page = browser.new_page(viewport={"width": 1400, "height": 1000})
+    errors = []
+    page.on("console", lambda m: errors.append(f"console {m.type}: {m.text}") if m.type == "error" else None)
+    page.on("pageerror", lambda e: errors.append(f"page error: {e}"))
+    page.goto(URL + "?gamma=30")
+    check(verdict(page) == "not bursting", "γ = 30 is not bursting")
+    settle(page)
+    curve_30 = page.locator("#curve-stable").get_attribute("d")
+    page.screenshot(path=f"{OUT}/explorer-g30-1400.png", full_page=True)
+
+    # drag the γ thumb from 30 to 0.1
+    box = page.locator("#s-gamma").bounding_box()
+    y = box["y"] + box["height"] / 2
+    page.mouse.move(slider_x(box, 30), y)
+    page.mouse.down()
+    t0 = time.time()
+    for k in range(1, 41):
+        v = 30 * (0.1 / 30) ** (k / 40)
+        page.mouse.move(slider_x(box, v), y)
+        page.wait_for_timeout(15)
+    page.mouse.up()
+    settle(page)
+    drag_s = time.time() - t0
+    g = float(page.locator("#n-gamma").input_value())
+    check(abs(math.log10(g / 0.1)) < 0.02, f"the slider ended near γ = 0.1 (at {g})")
+    check(verdict(page) == "bursting", f"γ ≈ 0.1 is bursting (verdict: {verdict(page)})")
+    curve_01 = page.locator("#curve-stable").get_attribute("d")
+    check(curve_01 != curve_30 and len(curve_01) > 100, "the curve was redrawn")
+
+    # the study's point exactly, and how long one update takes
+    t0 = time.time()
+    page.click("button[data-gamma='0.1']")
+    settle(page)
+    update_ms = (time.time() - t0) * 1000
+    check("gamma=0.1" in page.url, f"the permalink follows the parameters ({page.url})")
+    text = page.locator("#verdict").inner_text()
+    check("pronounced-bursting" in text and "overshoot, ringing" in text, f"study point verdict: {text}")
+    bursts = page.locator("#trace rect").count()
+    check(bursts >= 1, "bursts are shaded in the x'(τ) view")
+    page.screenshot(path=f"{OUT}/explorer-g0.1-1400.png", full_page=True)
+    full = page.locator("#curve-stable").get_attribute("d")
+    page.click("#zoom")
+    check(page.locator("#curve-stable").get_attribute("d") != full, "zoom redraws the phase portrait")
+    page.locator(".views").screenshot(path=f"{OUT}/explorer-g0.1-zoom.png")
+    page.click("#zoom")
+
+    # hover shows values
+    pbox = page.locator("#phase").bounding_box()
+    page.mouse.move(pbox["x"] + pbox["width"] * 0.5, pbox["y"] + pbox["height"] * 0.5)
+    tip = page.locator("#tip").inner_text()
+    check("x* =" in tip and "dx/da" in tip, f"hover shows curve values ({tip!r})")
+
+    # a permalink reproduces the view in a fresh page
+    link = page.url
+    other = browser.new_page(viewport={"width": 800, "height": 1400})
+    other.on("console", lambda m: errors.append(f"console {m.type}: {m.text}") if m.type == "error" else None)
+    other.on("pageerror", lambda e: errors.append(f"page error: {e}"))
+    other.goto(link)
+    check(verdict(other) == "bursting", "the permalink reproduces the verdict")
+    settle(other)
+    other.screenshot(path=f"{OUT}/explorer-g0.1-800.png", full_page=True)
+
+    # a bad value: the server's message, no crash
+    page.fill("#n-omega", "-1")
+    page.press("#n-omega", "Enter")
+    page.wait_for_selector("#verdict .err", timeout=10_000)
+    err = page.locator("#verdict .err").inner_text()
+    check("invalid parameter omega" in err, f"a bad ω shows the server's message ({err!r})")
+    # console errors from the 400 response itself are the browser's network log, not the page's
+    errors = [e for e in errors if "status of 400" not in e]
+    check(not errors, f"no console errors: {errors}")
+    browser.close()
+    print(json.dumps({"drag_seconds": round(drag_s, 2), "update_ms": round(update_ms),
+                      "bursts_shaded": bursts, "gamma_after_drag": g}))

@@ -1,0 +1,312 @@
+//! `hdgear serve`: the JSON API (answers, refusals with the CLI's messages), 2,000 requests from
+//! 16 concurrent clients (every answer checked against the library, memory flat), and the page
+//! driven in a real Chromium (tests/browser/explorer.py, Playwright with the system Chromium).
+
+use hdgear::Params;
+use hdgear::explore::View;
+use std::io::{BufRead, Read, Write};
+use std::net::TcpStream;
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+/// A running `hdgear serve --port 0`, killed on drop.
+struct Server {
+    child: Child,
+    addr: String,
+}
+
+impl Server {
+    fn start() -> Server {
+        let mut child = Command::new(assert_cmd::cargo::cargo_bin("hdgear"))
+            .args(["serve", "--port", "0", "--quiet"])
+            .stdout(Stdio::piped())
+            .stderr(Stdio::null())
+            .spawn()
+            .unwrap();
+        let mut line = String::new();
+        std::io::BufReader::new(child.stdout.take().unwrap())
+            .read_line(&mut line)
+            .unwrap();
+        // "hdgear serve: http://127.0.0.1:PORT/  (Ctrl-C stops it)"
+        let addr = line
+            .split("http://")
+            .nth(1)
+            .and_then(|r| r.split('/').next())
+            .unwrap_or_else(|| panic!("no URL in {line:?}"))
+            .to_string();
+        Server { child, addr }
+    }
+
+    /// Resident memory of the server process, in kB.
+    fn rss_kb(&self) -> u64 {
+        let status = std::fs::read_to_string(format!("/proc/{}/status", self.child.id())).unwrap();
+        status
+            .lines()
+            .find_map(|l| l.strip_prefix("VmRSS:"))
+            .and_then(|v| v.split_whitespace().next()?.parse().ok())
+            .unwrap()
+    }
+}
+
+impl Drop for Server {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+/// One HTTP/1.1 GET on a fresh connection: (status, body).
+fn get(addr: &str, path: &str) -> (u16, String) {
+    let mut s = TcpStream::connect(addr).unwrap();
+    s.set_read_timeout(Some(Duration::from_secs(30))).unwrap();
+    write!(
+        s,
+        "GET {path} HTTP/1.1\r\nHost: {addr}\r\nConnection: close\r\n\r\n"
+    )
+    .unwrap();
+    let mut raw = Vec::new();
+    s.read_to_end(&mut raw).unwrap();
+    let text = String::from_utf8_lossy(&raw);
+    let (head, body) = text.split_once("\r\n\r\n").unwrap();
+    assert!(
+        !head
+            .to_ascii_lowercase()
+            .contains("transfer-encoding: chunked"),
+        "{head}"
+    );
+    let status = head.split(' ').nth(1).unwrap().parse().unwrap();
+    (status, body.to_string())
+}
+
+fn json(body: &str) -> serde_json::Value {
+    serde_json::from_str(body).unwrap_or_else(|e| panic!("{e}: {body:.200}"))
+}
+
+#[test]
+fn the_api_answers_and_refuses_with_the_cli_messages() {
+    let s = Server::start();
+    let (code, body) = get(&s.addr, "/api/view?gamma=0.1");
+    assert_eq!(code, 200);
+    let v = json(&body);
+    let want = View::compute(&Params::default(), Vec::new(), &View::options()).unwrap();
+    assert_eq!(v["classification"]["mode"], "pronounced-bursting");
+    assert_eq!(
+        v["response"]["peak_abs_xdot"].as_f64(),
+        Some(want.response.rates.peak_abs_xdot),
+        "the served view is the library's, to the last bit"
+    );
+    assert_eq!(
+        v["trace"]["t"].as_array().unwrap().len(),
+        want.trace.t.len()
+    );
+    assert_eq!(
+        v["curve"]["a"].as_array().unwrap().len(),
+        hdgear::explore::CURVE_POINTS
+    );
+    // the CLI's messages for the same values
+    let cli = |flag: &str| {
+        let o = crate::common::hdgear()
+            .args(["analyze", "--no-response", flag])
+            .output()
+            .unwrap();
+        String::from_utf8_lossy(&o.stderr)
+            .trim()
+            .trim_start_matches("error: ")
+            .to_string()
+    };
+    for (query, flag) in [
+        ("omega=0", "--omega=0"),
+        ("alpha=-2", "--alpha=-2"),
+        ("delta=nan", "--delta=nan"),
+    ] {
+        let (code, body) = get(&s.addr, &format!("/api/view?{query}"));
+        assert_eq!(code, 400, "{query}");
+        assert_eq!(json(&body)["error"], cli(flag), "{query}");
+    }
+    for (query, code, needle) in [
+        ("beta=1", 400, "invalid parameter name 'beta'"),
+        ("gamma=abc", 400, "invalid value 'abc' for gamma"),
+        ("omega=1e-7", 422, "beyond the explorer's budget"),
+    ] {
+        let (c, body) = get(&s.addr, &format!("/api/view?{query}"));
+        assert_eq!(c, code, "{query}: {body}");
+        let e = json(&body)["error"].as_str().unwrap().to_string();
+        assert!(e.contains(needle) && !e.contains('\n'), "{query}: {e}");
+    }
+    let (code, body) = get(&s.addr, "/api/drive?name=CSF-14-50");
+    assert_eq!(code, 200);
+    assert!((json(&body)["alpha_eps"].as_f64().unwrap() - 1.0).abs() < 1e-12);
+    assert_eq!(get(&s.addr, "/api/drive?name=nope").0, 400);
+    assert_eq!(get(&s.addr, "/nope").0, 404);
+    for page in ["/", "/app.js", "/app.css"] {
+        let (code, body) = get(&s.addr, page);
+        assert_eq!(code, 200, "{page}");
+        assert!(body.len() > 1000, "{page}");
+    }
+}
+
+/// Latency quantile (ms) of sorted durations.
+fn quantile(sorted: &[Duration], q: f64) -> f64 {
+    let i = ((sorted.len() - 1) as f64 * q).round() as usize;
+    sorted[i].as_secs_f64() * 1e3
+}
+
+#[test]
+fn two_thousand_requests_from_sixteen_clients() {
+    let s = Server::start();
+    // eight parameter sets across the bursting boundary, and one bad request in ten
+    let gammas: Vec<f64> = (0..8).map(|k| 0.05 * 600f64.powf(k as f64 / 7.0)).collect();
+    let expected: Vec<(bool, f64)> = gammas
+        .iter()
+        .map(|&g| {
+            let v = View::compute(
+                &Params::default().with(hdgear::params::Param::Gamma, g),
+                Vec::new(),
+                &View::options(),
+            )
+            .unwrap();
+            (v.classification.bursting, v.response.rates.peak_abs_xdot)
+        })
+        .collect();
+    assert!(expected.iter().any(|e| e.0) && expected.iter().any(|e| !e.0));
+    let mut rss = Vec::new();
+    let mut all = Vec::new();
+    let t0 = Instant::now();
+    for round in 0..2 {
+        let lat: Vec<Duration> = std::thread::scope(|scope| {
+            let handles: Vec<_> = (0..16)
+                .map(|client| {
+                    let (addr, gammas, expected) = (&s.addr, &gammas, &expected);
+                    scope.spawn(move || {
+                        let mut lat = Vec::new();
+                        for k in 0..63 {
+                            let n = client * 63 + k + round;
+                            let t = Instant::now();
+                            if n % 10 == 9 {
+                                let (code, body) = get(addr, "/api/view?omega=0");
+                                assert_eq!(code, 400);
+                                assert!(json(&body)["error"].as_str().unwrap().contains("omega"));
+                            } else {
+                                let i = n % 8;
+                                let (code, body) =
+                                    get(addr, &format!("/api/view?gamma={:?}", gammas[i]));
+                                assert_eq!(code, 200, "{body:.300}");
+                                let v = json(&body);
+                                assert_eq!(
+                                    v["classification"]["bursting"].as_bool(),
+                                    Some(expected[i].0)
+                                );
+                                assert_eq!(
+                                    v["response"]["peak_abs_xdot"].as_f64(),
+                                    Some(expected[i].1)
+                                );
+                            }
+                            lat.push(t.elapsed());
+                        }
+                        lat
+                    })
+                })
+                .collect();
+            handles
+                .into_iter()
+                .flat_map(|h| h.join().unwrap())
+                .collect()
+        });
+        all.extend(lat);
+        rss.push(s.rss_kb());
+    }
+    let wall = t0.elapsed().as_secs_f64();
+    all.sort();
+    assert_eq!(all.len(), 2016);
+    eprintln!(
+        "serve load: {} requests from 16 clients in {wall:.2} s ({:.0} requests/s); latency p50 {:.1} ms, p99 {:.1} ms, max {:.1} ms; resident memory after each half {} kB, {} kB",
+        all.len(),
+        all.len() as f64 / wall,
+        quantile(&all, 0.5),
+        quantile(&all, 0.99),
+        quantile(&all, 1.0),
+        rss[0],
+        rss[1]
+    );
+    // flat: the second thousand requests may not grow the server by more than 32 MB (each
+    // response is ~200 kB; a leak of one per request would be 200 MB)
+    assert!(rss[1] < rss[0] + 32 * 1024, "memory grew: {rss:?} kB");
+}
+
+/// A Python with Playwright: `HDGEAR_PLAYWRIGHT_PYTHON`, or a virtual environment made once
+/// under the test's target directory.
+fn playwright_python() -> Result<String, String> {
+    if let Ok(p) = std::env::var("HDGEAR_PLAYWRIGHT_PYTHON") {
+        return Ok(p);
+    }
+    let venv = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("playwright-venv");
+    let python = venv.join("bin/python");
+    let ok = |c: &mut Command| c.status().is_ok_and(|s| s.success());
+    if !ok(Command::new(&python).args(["-c", "import playwright"])) {
+        let made = ok(Command::new("python3").arg("-m").arg("venv").arg(&venv))
+            && ok(Command::new(&python).args(["-m", "pip", "install", "-q", "playwright"]));
+        if !made {
+            return Err(format!("cannot install playwright into {}", venv.display()));
+        }
+    }
+    Ok(python.display().to_string())
+}
+
+#[test]
+#[cfg_attr(
+    hdgear_no_chromium,
+    ignore = "no Chromium on this machine: install chromium or set HDGEAR_CHROMIUM"
+)]
+fn the_explorer_in_a_real_browser() {
+    let ci = std::env::var_os("CI").is_some();
+    let name = crate::common::chromium().expect("no Chromium found (CI installs it)");
+    // Playwright wants a path
+    let browser = if name.contains('/') {
+        name
+    } else {
+        std::env::split_paths(&std::env::var_os("PATH").unwrap_or_default())
+            .map(|d| d.join(&name))
+            .find(|p| p.is_file())
+            .map(|p| p.display().to_string())
+            .unwrap_or(name)
+    };
+    let python = match playwright_python() {
+        Ok(p) => p,
+        Err(e) if !ci => {
+            eprintln!("SKIPPED the browser test: {e} (set HDGEAR_PLAYWRIGHT_PYTHON)");
+            return;
+        }
+        Err(e) => panic!("{e}"),
+    };
+    let s = Server::start();
+    let shots = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("explorer-screenshots");
+    std::fs::create_dir_all(&shots).unwrap();
+    let script = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/browser/explorer.py");
+    let out = Command::new(python)
+        .arg(script)
+        .arg(format!("http://{}/", s.addr))
+        .arg(browser)
+        .arg(&shots)
+        .output()
+        .unwrap();
+    let (stdout, stderr) = (
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr),
+    );
+    assert!(out.status.success(), "{stdout}\n{stderr}");
+    eprintln!(
+        "explorer in Chromium: {stdout} (screenshots in {})",
+        shots.display()
+    );
+    for name in [
+        "explorer-g30-1400.png",
+        "explorer-g0.1-1400.png",
+        "explorer-g0.1-800.png",
+        "explorer-g0.1-zoom.png",
+    ] {
+        assert!(
+            std::fs::metadata(shots.join(name)).unwrap().len() > 20_000,
+            "{name}"
+        );
+    }
+}
