@@ -253,7 +253,13 @@ fn hostile_vectors() -> Vec<Vec<String>> {
         ]);
     }
     shard_vectors(&mut v);
-    for bad in ["--bind=nope", "--bind=", "--port=-1", "--port=70000", "--port=x"] {
+    for bad in [
+        "--bind=nope",
+        "--bind=",
+        "--port=-1",
+        "--port=70000",
+        "--port=x",
+    ] {
         v.push(vec!["serve".into(), bad.into()]);
     }
     for d in ["csf-20-50", "CSF-99-50", ""] {

@@ -97,8 +97,44 @@ with sync_playwright() as p:
     tip = page.locator("#tip").inner_text()
     check("x* =" in tip and "dx/da" in tip, f"hover shows curve values ({tip!r})")
 
+    # downloads: the JSON of what is shown, the trajectory CSV, an SVG of a view
+    with page.expect_download() as d:
+        page.click("#dl-json")
+    shown = json.loads(open(d.value.path()).read())
+    check(shown["params"]["gamma"] == 0.1 and shown["classification"]["bursting"], "JSON download")
+    with page.expect_download() as d:
+        page.click("#dl-csv")
+    rows = open(d.value.path()).read().splitlines()
+    check(rows[0] == "t,a,x,xdot" and len(rows) > 1000, f"CSV download ({rows[:2]})")
+    with page.expect_download() as d:
+        page.click("button.svg-dl[data-view='slope']")
+    svg = open(d.value.path()).read()
+    check(svg.startswith("<svg") and "slope-path" in svg, "SVG download")
+
+    # the boundaries located by simulation, on demand
+    page.click("#simulate-b")
+    page.wait_for_function("document.getElementById('simulated').textContent.startsWith('γ')", timeout=60_000)
+    located = page.locator("#simulated").inner_text()
+
+    # a catalogue drive: its reduced parameters (α·ε = 1) replace the sliders
+    page.click("#physical summary")
+    page.select_option("#drive", "CSF-32-50")
+    page.click("#use-drive")
+    page.wait_for_function("document.getElementById('drive-info').textContent.includes('α·ε = 1')", timeout=10_000)
+    settle(page)
+    check(abs(float(page.locator("#n-alpha").input_value()) * float(page.locator("#n-eps").input_value()) - 1) < 1e-5,
+          "the drive's α·ε = 1 is in the fields")
+    check("not 1" not in page.locator("#verdict").inner_text(), "no α·ε warning for a physical drive")
+    drive_verdict = verdict(page)
+    page.screenshot(path=f"{OUT}/explorer-drive-1400.png", full_page=True)
+    mu_pos = int(page.locator("#s-mu").input_value())
+    check(0 < mu_pos < 1000, f"the μ slider's range grew to hold the drive's μ (at {mu_pos})")
+    page.click("#reset")
+    settle(page)
+
     # a permalink reproduces the view in a fresh page
     link = page.url
+    check("gamma=0.1" in link and "alpha=16" in link, f"permalink {link}")
     other = browser.new_page(viewport={"width": 800, "height": 1400})
     other.on("console", lambda m: errors.append(f"console {m.type}: {m.text}") if m.type == "error" else None)
     other.on("pageerror", lambda e: errors.append(f"page error: {e}"))
@@ -118,4 +154,5 @@ with sync_playwright() as p:
     check(not errors, f"no console errors: {errors}")
     browser.close()
     print(json.dumps({"drag_seconds": round(drag_s, 2), "update_ms": round(update_ms),
-                      "bursts_shaded": bursts, "gamma_after_drag": g}))
+                      "bursts_shaded": bursts, "gamma_after_drag": g, "located": located,
+                      "csf_32_50": drive_verdict}))

@@ -56,8 +56,13 @@ function buildSliders() {
 function set(key, value, from) {
   state[key] = value;
   const p = PARAMS.find((q) => q.key === key);
+  // a value beyond the slider (a physical drive's μ, say) widens it, so the slider stays usable
+  if (Number.isFinite(value) && (!p.log || value > 0)) {
+    if (value > p.max) p.max = p.log ? value * 3 : value + 0.25 * (value - p.min);
+    if (value < p.min) p.min = p.log ? value / 3 : value - 0.25 * (p.max - value);
+  }
   if (from !== "slider") $(`s-${key}`).value = toPos(p, value);
-  if (from !== "number") $(`n-${key}`).value = value;
+  if (from !== "number") $(`n-${key}`).value = Number(value.toPrecision(7));
   for (const b of document.querySelectorAll("[data-gamma]")) b.classList.toggle("on", Number(b.dataset.gamma) === state.gamma);
   schedule();
 }
