@@ -1,0 +1,227 @@
+"""hdgear: fast-slow dynamics of harmonic drive gears, from Python.
+
+The model x'' + x' + αx³ − x² + γ(x − ε) = μ + δ sin ωτ (the study's dimensionless harmonic
+drive), its fast subsystem, bursting verdicts, sweeps and the physical drive, computed by the Rust
+library (the GIL is released during every computation) and returned as numpy arrays, dicts, or
+pandas DataFrames when pandas is installed.
+
+    >>> import hdgear, numpy as np
+    >>> tr = hdgear.simulate(hdgear.Params.paper(gamma=0.1))
+    >>> tr.xdot.shape == tr.t.shape
+    True
+    >>> hdgear.analyze(hdgear.Params(gamma=30)).classification.bursting
+    False
+
+Errors: bad values raise ``ValueError`` with the command-line tool's message; a failed
+integration raises ``RuntimeError``.
+"""
+import json as _json
+import math as _math
+
+import numpy as _np
+
+from . import _hdgear
+from ._hdgear import Params
+
+__version__ = _hdgear.__version__
+__all__ = ["Params", "Trajectory", "Result", "Drive", "simulate", "equilibria", "curve",
+           "analyze", "bursts", "sweep"]
+
+
+class Result:
+    """A nested result with attribute access (``r.classification.mode``) and ``to_dict()``."""
+
+    def __init__(self, data):
+        self._data = data
+        for k, v in data.items():
+            setattr(self, k, Result(v) if isinstance(v, dict) else v)
+
+    def to_dict(self):
+        """The result as plain dicts, lists and numbers (JSON's null as None)."""
+        return self._data
+
+    def __repr__(self):
+        keys = ", ".join(self._data)
+        return f"Result({keys})"
+
+
+def _frame(columns):
+    """A pandas DataFrame of the columns when pandas is installed, else the dict itself."""
+    try:
+        import pandas as pd
+    except ImportError:
+        return columns
+    return pd.DataFrame(columns)
+
+
+class Trajectory:
+    """A simulation: numpy arrays ``t, a, x, xdot`` (a = sin ωτ) and ``stats`` (integrator
+    work: steps, rejected, rhs_evals) and ``summary`` (initial and final state, max |x'|)."""
+
+    def __init__(self, t, a, x, xdot, summary):
+        self.t, self.a, self.x, self.xdot = t, a, x, xdot
+        self.summary = summary
+        self.stats = summary["stats"]
+
+    def __len__(self):
+        return len(self.t)
+
+    def to_dict(self):
+        """The columns as a dict of arrays."""
+        return {"t": self.t, "a": self.a, "x": self.x, "xdot": self.xdot}
+
+    def to_dataframe(self):
+        """The columns as a pandas DataFrame (needs pandas)."""
+        import pandas as pd
+        return pd.DataFrame(self.to_dict())
+
+    def __repr__(self):
+        return f"Trajectory({len(self)} samples, t = {self.t[0]}…{self.t[-1]})"
+
+
+def _params(p):
+    if p is None:
+        return Params()
+    if not isinstance(p, Params):
+        raise TypeError(f"expected hdgear.Params, got {type(p).__name__}")
+    return p
+
+
+def simulate(params=None, t_end=None, periods=3.0, dt=0.05, x0=None, v0=None, from_rest=False,
+             rtol=1e-10, atol=1e-10, method="taylor"):
+    """Simulates the dimensionless model from τ = 0 to ``t_end`` (default ``periods`` slow
+    periods 2π/ω), sampled every ``dt``; starts on the stable equilibrium at a = 0 (or at ``x0``,
+    ``v0``, or at rest). Returns a :class:`Trajectory`."""
+    p = _params(params)
+    if t_end is None:
+        t_end = periods * 2 * _math.pi / p.omega
+    t, a, x, xdot, summary = _hdgear.simulate(p, float(t_end), float(dt), x0, v0, bool(from_rest),
+                                              float(rtol), float(atol), method)
+    return Trajectory(t, a, x, xdot, _json.loads(summary))
+
+
+def equilibria(params, a):
+    """The equilibria of the fast subsystem at the slow value ``a``: a Result with ``x`` (array),
+    their ``types`` and ``stable`` flags."""
+    data = _json.loads(_hdgear.equilibria(_params(params), float(a)))
+    return Result(data)
+
+
+def curve(params=None, points=401, a_range=(-1.0, 1.0)):
+    """The equilibrium curve x*(a) sampled at ``points`` points over ``a_range``: a dict of
+    arrays ``a, x, slope (dx/da), gprime, stable`` and lists ``type, branch``."""
+    return _hdgear.curve(_params(params), int(points), float(a_range[0]), float(a_range[1]))
+
+
+def analyze(params=None, response=True, simulated_boundaries=False, discard=1.0,
+            window_periods=2, rtol=1e-10, atol=1e-10, method="taylor"):
+    """The fast-subsystem analysis, the measured response and its classification (what
+    ``hdgear analyze --json`` prints), as a :class:`Result`."""
+    text = _hdgear.analyze(_params(params), bool(response), bool(simulated_boundaries),
+                           float(discard), int(window_periods), float(rtol), float(atol), method)
+    return Result(_json.loads(text))
+
+
+def bursts(params=None, discard=1.0, window_periods=2, rtol=1e-10, atol=1e-10, method="taylor"):
+    """The bursts of the response, one row each (onset, end, a_onset, duration, t_peak, a_peak,
+    peak_abs_xdot, spikes, extrema, ringing_swing, overshoot, overshoot_lobes, jumps, complete):
+    a DataFrame, or a dict of arrays without pandas."""
+    rows = _json.loads(_hdgear.bursts(_params(params), float(discard), int(window_periods),
+                                      float(rtol), float(atol), method))
+    keys = ["onset", "end", "a_onset", "duration", "t_peak", "a_peak", "peak_abs_xdot", "spikes",
+            "extrema", "ringing_swing", "overshoot", "overshoot_lobes", "jumps", "complete"]
+    cols = {k: _np.array([r[k] for r in rows]) for k in keys}
+    return _frame(cols)
+
+
+def sweep(axes, base=None, grid=True, threads=0, discard=1.0, window_periods=2, rtol=1e-10,
+          atol=1e-10, method="taylor"):
+    """Runs the burst analysis at many parameter sets in parallel (all cores, ``threads=0``)
+    with the GIL released.
+
+    ``axes`` maps parameter names to values, e.g. ``{"gamma": np.geomspace(0.1, 30, 1000)}``.
+    With ``grid=True`` the points are every combination, the first name varying fastest (the
+    order of ``hdgear sweep``); with ``grid=False`` the arrays are zipped (equal lengths) and
+    each position is one point. Returns the columns of ``hdgear sweep`` (index, the six
+    parameters, mode, mechanism, the rates, max_slope, error; NaN and '' for a failed point) as a
+    DataFrame, or a dict of numpy arrays without pandas."""
+    if not axes:
+        raise ValueError("give at least one parameter to sweep")
+    names = list(axes)
+    vals = [_np.asarray(axes[k], dtype=float).ravel() for k in names]
+    if grid:
+        mesh = _np.meshgrid(*vals, indexing="ij")
+        # first name fastest: transpose so the first axis varies fastest in C order
+        vals = [m.transpose(tuple(reversed(range(len(vals))))).ravel() for m in mesh]
+    cols = _hdgear.sweep(_params(base), names, [v.tolist() for v in vals], int(threads),
+                         float(discard), int(window_periods), float(rtol), float(atol), method)
+    for k in ("mode", "mechanism", "error"):
+        cols[k] = _np.array(cols[k], dtype=object)
+    return _frame(cols)
+
+
+class Drive:
+    """A harmonic drive in SI units (j_in, j_out [kg m²], ratio, k1 [N m/rad], k2 [N m/rad³],
+    backlash [rad], c_eq [N m s/rad], t_m, t_am [N m], omega [rad/s]).
+
+    ``Drive.catalogue("CSF-20-50")`` takes the stiffness from the catalogue curve and documented
+    assumptions for the rest; ``Drive(**values)`` starts from CSF-20-50 and replaces values."""
+
+    def __init__(self, **values):
+        base = _json.loads(_hdgear.Drive.catalogue("CSF-20-50")[0].to_json())
+        unknown = set(values) - set(base)
+        if unknown:
+            raise ValueError(f"unknown drive value(s) {sorted(unknown)}: expected {sorted(base)}")
+        base.update({k: float(v) for k, v in values.items()})
+        self._native = _hdgear.Drive.from_json(_json.dumps(base))
+        self.fit = None
+
+    @classmethod
+    def catalogue(cls, name, fit_torque=None):
+        """A catalogue drive: CSF-14-50, CSF-20-50, CSF-32-50, CSF-32-30; ``fit`` holds the
+        stiffness fit."""
+        native, fit = _hdgear.Drive.catalogue(name, fit_torque)
+        d = cls.__new__(cls)
+        d._native = native
+        d.fit = _json.loads(fit)
+        return d
+
+    def to_dict(self):
+        """The ten values."""
+        return _json.loads(self._native.to_json())
+
+    def __getattr__(self, name):
+        values = _json.loads(object.__getattribute__(self, "_native").to_json())
+        if name in values:
+            return values[name]
+        raise AttributeError(name)
+
+    def reduce(self):
+        """The reduction to the dimensionless model: a Result with ``params`` (an
+        :class:`hdgear.Params`), ``time_scale`` [s], ``length_scale`` [rad] and ``j_eq``."""
+        params, text = self._native.reduce()
+        r = Result(_json.loads(text))
+        r.params = params
+        return r
+
+    def simulate(self, t_end, dt=None, rtol=1e-10, atol=1e-10):
+        """The two-inertia model from rest to ``t_end`` seconds, every ``dt`` seconds (default
+        J_eq/C/20): a Result of arrays ``t, theta_in, theta_out, theta, theta_dot`` and
+        ``summary``."""
+        if dt is None:
+            r = self.reduce()
+            dt = r.time_scale / 20
+        cols, summary = self._native.simulate(float(t_end), float(dt), float(rtol), float(atol))
+        out = Result({"summary": _json.loads(summary)})
+        for k, c in zip(["t", "theta_in", "theta_out", "theta", "theta_dot"], cols):
+            setattr(out, k, c)
+        return out
+
+    def design_check(self, discard=1.0, window_periods=2, rtol=1e-10, atol=1e-10):
+        """The distance to the bursting regime and the single changes that cross it (what
+        ``hdgear physical --design --json`` prints), as a Result."""
+        return Result(_json.loads(self._native.design_check(float(discard), int(window_periods),
+                                                            float(rtol), float(atol))))
+
+    def __repr__(self):
+        return "Drive(" + ", ".join(f"{k}={v!r}" for k, v in self.to_dict().items()) + ")"

@@ -1,0 +1,234 @@
+"""Tests of the hdgear Python package: every function, errors, dtypes and shapes, agreement with
+the command-line tool to the last bit, and the GIL released during computations.
+
+The CLI is found at $HDGEAR_BIN (default: target/release/hdgear of this checkout)."""
+import csv
+import json
+import math
+import os
+import subprocess
+import sys
+import threading
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import hdgear
+
+ROOT = Path(__file__).resolve().parents[3]
+BIN = os.environ.get("HDGEAR_BIN", str(ROOT / "target" / "release" / "hdgear"))
+
+
+def cli(*args, tmp=None):
+    out = subprocess.run([BIN, *args, "--quiet"], capture_output=True, text=True, cwd=tmp)
+    return out
+
+
+def cli_json(*args):
+    out = cli(*args)
+    assert out.returncode == 0, out.stderr
+    return json.loads(out.stdout)
+
+
+def read_csv(path):
+    with open(path) as f:
+        return list(csv.DictReader(f))
+
+
+def same(a, b):
+    """Bitwise equality of floats, NaN equal to NaN."""
+    a, b = float(a), float(b)
+    return (math.isnan(a) and math.isnan(b)) or a == b
+
+
+# ---- Params ----------------------------------------------------------------------------------
+
+def test_params_defaults_presets_and_replace():
+    p = hdgear.Params()
+    assert (p.alpha, p.gamma, p.eps, p.mu, p.delta, p.omega) == (16.0, 0.1, 0.71, 0.07, 15.0, 0.01)
+    assert hdgear.Params.paper(gamma=1).gamma == 1.0
+    assert hdgear.Params(preset="paper-g30").gamma == 30.0
+    q = p.replace(gamma=2.5)
+    assert q.gamma == 2.5 and p.gamma == 0.1 and q != p and q == hdgear.Params(gamma=2.5)
+    assert p.to_dict() == {"alpha": 16.0, "gamma": 0.1, "eps": 0.71, "mu": 0.07, "delta": 15.0, "omega": 0.01}
+    assert "alpha*eps" in p.warnings[0]
+    assert repr(p).startswith("Params(alpha=16.0")
+
+
+@pytest.mark.parametrize("kw,flag", [({"gamma": float("nan")}, "--gamma=nan"), ({"omega": 0.0}, "--omega=0"),
+                                     ({"alpha": -1.0}, "--alpha=-1"), ({"delta": -2.0}, "--delta=-2")])
+def test_invalid_values_raise_valueerror_with_the_cli_message(kw, flag):
+    with pytest.raises(ValueError) as e:
+        hdgear.Params(**kw)
+    out = cli("simulate", "--summary", flag)
+    assert out.returncode == 2
+    assert str(e.value) == out.stderr.strip().removeprefix("error: ")
+
+
+def test_other_bad_input():
+    with pytest.raises(ValueError, match="unknown preset 'nope'"):
+        hdgear.Params(preset="nope")
+    with pytest.raises(ValueError, match="rtol"):
+        hdgear.simulate(rtol=0.0)
+    with pytest.raises(ValueError, match="method"):
+        hdgear.simulate(method="euler")
+    with pytest.raises(TypeError):
+        hdgear.simulate(params={"gamma": 1})
+    with pytest.raises(ValueError, match="beyond the budget"):
+        hdgear.simulate(t_end=1e12)
+    with pytest.raises(ValueError, match="unknown drive value"):
+        hdgear.Drive(k3=1.0)
+
+
+# ---- simulate --------------------------------------------------------------------------------
+
+def test_simulate_shapes_dtypes_and_the_cli_to_the_last_bit(tmp_path):
+    tr = hdgear.simulate(hdgear.Params(gamma=1.0), periods=1, dt=0.5)
+    n = len(tr)
+    for arr in (tr.t, tr.a, tr.x, tr.xdot):
+        assert arr.dtype == np.float64 and arr.shape == (n,)
+    assert tr.t[0] == 0.0 and abs(tr.t[-1] - 2 * math.pi / 0.01) < 1e-9
+    assert set(tr.stats) == {"steps", "rejected", "rhs_evals"} and tr.stats["steps"] > 100
+    assert np.array_equal(tr.a, np.sin(0.01 * tr.t))
+    out = cli("simulate", "--gamma", "1", "--periods", "1", "--dt", "0.5", "--out", str(tmp_path / "t.csv"))
+    assert out.returncode == 0, out.stderr
+    rows = read_csv(tmp_path / "t.csv")
+    assert len(rows) == n
+    for k in ("t", "a", "x", "xdot"):
+        assert all(same(r[k], v) for r, v in zip(rows, getattr(tr, k))), k
+
+
+def test_simulate_starts():
+    rest = hdgear.simulate(t_end=10, from_rest=True)
+    assert rest.x[0] == 0.0 and rest.xdot[0] == 0.0
+    given = hdgear.simulate(t_end=10, x0=0.3, v0=-0.1)
+    assert (given.x[0], given.xdot[0]) == (0.3, -0.1)
+    with pytest.raises(ValueError):
+        hdgear.simulate(t_end=10, x0=0.3, from_rest=True)
+    assert hdgear.simulate(t_end=10, method="dop853").stats["rejected"] >= 0
+
+
+# ---- fast subsystem --------------------------------------------------------------------------
+
+def test_equilibria_and_curve():
+    e = hdgear.equilibria(hdgear.Params(gamma=0.001), -0.00473)  # between the folds
+    assert len(e.roots) == 3 and e.roots[0]["kind"] in ("stable-node", "stable-focus")
+    c = hdgear.curve(hdgear.Params(), points=101)
+    assert set(c) == {"a", "x", "slope", "gprime", "stable", "type", "branch"}
+    assert c["a"].shape == (101,) and c["stable"].dtype == np.bool_ and c["stable"].all()
+    # dx/da = δ / g'(x)
+    assert np.allclose(c["slope"], 15.0 / c["gprime"], rtol=1e-12)
+    with pytest.raises(ValueError):
+        hdgear.curve(points=1)
+
+
+def test_analyze_equals_the_cli_json():
+    for g in ("30", "1", "0.1"):
+        r = hdgear.analyze(hdgear.Params(gamma=float(g)))
+        assert r.to_dict() == cli_json("analyze", "--json", "--gamma", g)
+    r = hdgear.analyze(hdgear.Params(gamma=0.1))
+    assert r.classification.bursting and r.classification.mode == "pronounced-bursting"
+    assert "response" not in hdgear.analyze(response=False).to_dict()
+
+
+def test_bursts_equal_the_cli(tmp_path):
+    b = hdgear.bursts(hdgear.Params(gamma=0.1))
+    assert cli("bursts", "--gamma", "0.1", "--out", str(tmp_path / "b.csv")).returncode == 0
+    rows = read_csv(tmp_path / "b.csv")
+    assert len(b["onset"]) == len(rows) == 4
+    for k in ("onset", "end", "peak_abs_xdot", "overshoot"):
+        assert all(same(r[k], v) for r, v in zip(rows, list(b[k]))), k
+    assert [int(r["spikes"]) for r in rows] == [int(v) for v in b["spikes"]]
+
+
+# ---- sweeps ----------------------------------------------------------------------------------
+
+def columns_equal(py, rows):
+    for k in rows[0]:
+        for r, v in zip(rows, list(py[k])):
+            if k in ("mode", "mechanism", "error"):
+                assert r[k] == v, k
+            elif k == "bursts_per_period" and r[k] == "":
+                assert math.isnan(v)
+            else:
+                assert same(r[k], v), (k, r[k], v)
+
+
+def test_sweep_equals_the_cli_to_the_last_bit(tmp_path):
+    out = cli("sweep", "--param", "gamma=0.05:30:40:log", "--param", "delta=8:16:3", "--out", str(tmp_path / "s.csv"))
+    assert out.returncode == 0, out.stderr
+    rows = read_csv(tmp_path / "s.csv")
+    gammas = [float(r["gamma"]) for r in rows[:40]]
+    deltas = [float(rows[40 * j]["delta"]) for j in range(3)]
+    s = hdgear.sweep({"gamma": gammas, "delta": deltas})
+    assert len(s["index"]) == 120
+    columns_equal(s, rows)
+    # the same points zipped
+    z = hdgear.sweep({"gamma": [float(r["gamma"]) for r in rows], "delta": [float(r["delta"]) for r in rows]}, grid=False)
+    columns_equal(z, rows)
+
+
+def test_sweep_without_pandas_gives_a_dict_of_arrays(monkeypatch):
+    monkeypatch.setitem(sys.modules, "pandas", None)  # as if pandas were not installed
+    d = hdgear.sweep({"gamma": np.geomspace(0.1, 30, 7)})
+    assert isinstance(d, dict) and len(d) == 18
+    assert d["peak_abs_xdot"].dtype == np.float64 and d["index"].dtype == np.int64
+    assert d["mode"].dtype == object and d["peak_abs_xdot"].shape == (7,)
+    b = hdgear.bursts(hdgear.Params())
+    assert isinstance(b, dict) and b["onset"].dtype == np.float64
+    with pytest.raises(ValueError, match="same number"):
+        hdgear.sweep({"gamma": [1, 2], "delta": [1]}, grid=False)
+    with pytest.raises(ValueError, match="invalid parameter"):
+        hdgear.sweep({"omega": [0.0]})
+    with pytest.raises(ValueError, match="parameter name"):
+        hdgear.sweep({"beta": [1.0]})
+
+
+def test_sweep_with_pandas_gives_a_dataframe():
+    pd = pytest.importorskip("pandas")
+    s = hdgear.sweep({"gamma": np.geomspace(0.1, 30, 7)})
+    assert isinstance(s, pd.DataFrame) and s.shape == (7, 18)
+    assert s["gamma"].dtype == np.float64 and s["index"].dtype == np.int64
+    assert isinstance(hdgear.bursts(hdgear.Params()), pd.DataFrame)
+    assert hdgear.simulate(t_end=5).to_dataframe().shape[1] == 4
+
+
+@pytest.mark.skipif((os.cpu_count() or 1) < 2, reason="needs two cores")
+def test_the_gil_is_released_during_a_sweep():
+    g = {"gamma": np.geomspace(0.1, 30, 160)}
+    hdgear.sweep(g, threads=1)  # warm up
+    t0 = time.perf_counter()
+    hdgear.sweep(g, threads=1)
+    one = time.perf_counter() - t0
+    threads = [threading.Thread(target=hdgear.sweep, args=(g,), kwargs={"threads": 1}) for _ in range(2)]
+    t0 = time.perf_counter()
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    two = time.perf_counter() - t0
+    # holding the GIL would serialise them (2×); released, they overlap (≈1× on 2 cores)
+    assert two < 1.6 * one, f"two sweeps in {two:.3f} s, one in {one:.3f} s"
+
+
+# ---- the physical drive ----------------------------------------------------------------------
+
+def test_drive_catalogue_reduce_simulate_and_design_check():
+    d = hdgear.Drive.catalogue("CSF-20-50")
+    assert d.fit["k1"] == d.k1
+    r = d.reduce()
+    assert isinstance(r.params, hdgear.Params)
+    assert abs(r.params.alpha * r.params.eps - 1) < 1e-12
+    phys = cli_json("physical", "--drive", "CSF-20-50", "--json")
+    assert r.params.to_dict() == phys["reduced"] and r.to_dict()["time_scale"] == phys["time_scale"]
+    assert d.to_dict() == phys["drive"] and d.fit == phys["catalogue"]["fit"]
+    s = d.simulate(t_end=0.5)
+    assert s.t.shape == s.theta.shape and s.t[-1] == pytest.approx(0.5)
+    dc = d.design_check()
+    assert dc.to_dict() == cli_json("physical", "--drive", "CSF-20-50", "--design", "--json")
+    stiffer = hdgear.Drive(k1=2 * d.k1)
+    assert stiffer.k1 == 2 * d.k1 and stiffer.j_in == d.j_in
+    with pytest.raises(ValueError, match="CSF-99"):
+        hdgear.Drive.catalogue("CSF-99")
