@@ -37,6 +37,8 @@ pub enum Command {
     Table(TableArgs),
     /// Sweep one or two parameters over a grid in parallel (resumable, shardable).
     Sweep(SweepArgs),
+    /// The periodic response: the orbit by shooting, its Floquet multipliers, the Lyapunov exponent.
+    Periodic(PeriodicArgs),
     /// Join the shard files of a sweep into the file one machine would have written.
     Merge(MergeArgs),
     /// A physical drive in SI units: reduction, two-inertia simulation, design check.
@@ -305,6 +307,25 @@ pub struct SweepArgs {
     /// CPUs of each shard, its worker threads (with --slurm; default 1).
     #[arg(long, requires = "slurm", value_name = "C")]
     pub cpus_per_task: Option<usize>,
+}
+
+/// Arguments of `hdgear periodic`.
+#[derive(Args, Debug)]
+pub struct PeriodicArgs {
+    #[command(flatten)]
+    pub params: ParamArgs,
+    /// K: look for the orbit of period K·2π/ω.
+    #[arg(long, default_value_t = 1)]
+    pub subharmonic: u32,
+    /// Also compute the largest Lyapunov exponent (Benettin, over 50 forcing periods).
+    #[arg(long)]
+    pub lyapunov: bool,
+    /// Print one JSON document.
+    #[arg(long)]
+    pub json: bool,
+    /// The orbit's samples (t,x,xdot every 0.05 over one period) to a .csv, .json or .parquet file.
+    #[arg(long, value_name = "FILE")]
+    pub out: Option<PathBuf>,
 }
 
 /// Arguments of `hdgear merge`.

@@ -15,7 +15,7 @@ pub fn exit_code(e: &anyhow::Error) -> u8 {
         return 1;
     }
     match e.downcast_ref::<hdgear::Error>() {
-        Some(hdgear::Error::Solver(_)) => 1,
+        Some(hdgear::Error::Solver(_) | hdgear::Error::NoConvergence { .. }) => 1,
         _ => 2,
     }
 }

@@ -8,6 +8,7 @@ mod fast;
 mod hardening;
 mod integrate;
 mod output;
+mod periodic;
 mod physical;
 mod reference;
 mod report;

@@ -68,6 +68,16 @@ pub enum Error {
         /// The budget (`Options::max_steps`).
         budget: f64,
     },
+    /// An iteration (Newton's method for a periodic orbit) did not converge on valid input.
+    #[error("{what} did not converge: residual {residual:e} after {iterations} iterations")]
+    NoConvergence {
+        /// What was being solved.
+        what: &'static str,
+        /// Iterations taken.
+        iterations: usize,
+        /// The last residual.
+        residual: f64,
+    },
     /// The reduction to dimensionless form does not exist for this drive.
     #[error("no dimensionless reduction: {reason}")]
     NoReduction {

@@ -43,6 +43,7 @@ pub mod integrate;
 pub mod model;
 pub mod output;
 pub mod params;
+pub mod periodic;
 pub mod physical;
 pub mod report;
 pub mod scenario;

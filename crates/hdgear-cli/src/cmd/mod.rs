@@ -6,6 +6,7 @@ mod bifurcation;
 mod bursts;
 mod equilibria;
 mod merge;
+mod periodic;
 mod physical;
 mod plot;
 mod report;
@@ -28,6 +29,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Table(a) => table::run(a),
         Command::Sweep(a) => sweep::run(a),
         Command::Merge(a) => merge::run(a),
+        Command::Periodic(a) => periodic::run(a),
         Command::Physical(a) => physical::run(a),
         Command::Plot(a) => plot::run(a),
         Command::Report(a) => report::run(a),

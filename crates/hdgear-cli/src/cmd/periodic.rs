@@ -1,0 +1,97 @@
+//! `hdgear periodic`: the periodic orbit by shooting, its Floquet multipliers and stability, and
+//! optionally the largest Lyapunov exponent.
+
+use crate::cli::PeriodicArgs;
+use crate::sink::{warn, write_records};
+use anyhow::Result;
+use hdgear::periodic::{PeriodicOptions, lyapunov, shoot};
+use serde::Serialize;
+
+/// One sample of the orbit: the columns `t,x,xdot`.
+#[derive(Serialize)]
+struct Sample {
+    t: f64,
+    x: f64,
+    xdot: f64,
+}
+hdgear::record!(Sample: "t", "x", "xdot");
+
+/// The JSON document: the orbit and, when asked, the Lyapunov exponent.
+#[derive(Serialize)]
+struct Doc<'a> {
+    #[serde(flatten)]
+    orbit: &'a hdgear::periodic::PeriodicOrbit,
+    lyapunov_exponent: Option<f64>,
+}
+
+/// Forcing periods over which the Lyapunov exponent is averaged (after one to align).
+const LYAPUNOV_PERIODS: f64 = 50.0;
+
+pub fn run(a: PeriodicArgs) -> Result<()> {
+    let (p, warnings) = a.params.resolve()?;
+    crate::cli::check_out(&a.out)?;
+    warn(&warnings);
+    let opts = PeriodicOptions::default();
+    let orbit = shoot(&p, a.subharmonic, &opts)?;
+    let lyap = if a.lyapunov {
+        let t = p.slow_period();
+        Some(lyapunov(
+            &p,
+            orbit.start,
+            t,
+            LYAPUNOV_PERIODS * t,
+            opts.tol,
+        )?)
+    } else {
+        None
+    };
+    if let Some(out) = &a.out {
+        let rows = orbit.samples.iter().map(|s| Sample {
+            t: s[0],
+            x: s[1],
+            xdot: s[2],
+        });
+        write_records(Some(out), &orbit, rows)?;
+    }
+    if a.json {
+        let doc = Doc {
+            orbit: &orbit,
+            lyapunov_exponent: lyap,
+        };
+        println!("{}", serde_json::to_string_pretty(&doc)?);
+        return Ok(());
+    }
+    let m = |k: usize| {
+        let q = orbit.multipliers[k];
+        format!("ln|m{}| = {:.10}, arg {:.4}", k + 1, q.log_abs, q.arg)
+    };
+    println!(
+        "periodic orbit of period {} × 2π/ω = {:.6}: starts at (x, x') = ({:.12}, {:.12}) at τ = 0",
+        orbit.subharmonic, orbit.period, orbit.start[0], orbit.start[1]
+    );
+    println!(
+        "  Newton: {} iterations, residual {:.1e}",
+        orbit.newton_iterations, orbit.residual
+    );
+    if orbit.minimal_subharmonic < orbit.subharmonic {
+        println!(
+            "  its least period is {} × 2π/ω: no subharmonic of order {} here",
+            orbit.minimal_subharmonic, orbit.subharmonic
+        );
+    }
+    println!("  Floquet multipliers: {}; {}", m(0), m(1));
+    println!(
+        "  Floquet exponents {:.8}, {:.8}: {}",
+        orbit.floquet_exponents[0],
+        orbit.floquet_exponents[1],
+        if orbit.stable { "stable" } else { "unstable" }
+    );
+    println!(
+        "  x from {:.6} to {:.6} (peak to peak {:.6}), max |x'| {:.6}",
+        orbit.x_range[0], orbit.x_range[1], orbit.peak_to_peak, orbit.max_abs_xdot
+    );
+    if let Some(l) = lyap {
+        println!("  largest Lyapunov exponent (Benettin, {LYAPUNOV_PERIODS} periods): {l:.8}");
+    }
+    Ok(())
+}
