@@ -11,11 +11,15 @@ fn main() {
     let path = std::env::var_os("PATH").unwrap_or_default();
     let mut found = std::env::var_os("HDGEAR_CHROMIUM").is_some();
     for dir in std::env::split_paths(&path) {
+        // Watch each existing directory of PATH (its mtime changes when a program is installed
+        // into it), so installing Chromium later rebuilds the tests. Not the candidate files
+        // themselves: cargo takes a watched file that does not exist as changed on every build,
+        // which rebuilt the binary on every `cargo run`.
+        if dir.is_dir() {
+            println!("cargo::rerun-if-changed={}", dir.display());
+        }
         for n in names {
-            let candidate = dir.join(n);
-            // watch the place it would be installed, so installing it later rebuilds the tests
-            println!("cargo::rerun-if-changed={}", candidate.display());
-            found |= candidate.is_file();
+            found |= dir.join(n).is_file();
         }
     }
     if !found && std::env::var_os("CI").is_none() {
