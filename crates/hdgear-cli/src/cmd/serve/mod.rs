@@ -20,7 +20,7 @@ use axum::extract::{Query, State};
 use axum::http::{StatusCode, header};
 use axum::response::{IntoResponse, Response};
 use axum::routing::get;
-use hdgear::params::{Param, ParamOverrides, Params, Warning};
+use hdgear::params::{Param, Params, Warning};
 use std::collections::BTreeMap;
 use std::io::Write;
 use std::sync::Arc;
@@ -72,24 +72,17 @@ impl From<hdgear::Error> for ApiError {
 /// Query → checked parameters (the CLI's validation and messages).
 fn params(q: &BTreeMap<String, String>) -> Result<(Params, Vec<Warning>), ApiError> {
     let bad = |m: String| ApiError(StatusCode::BAD_REQUEST, m);
-    let mut o = ParamOverrides::default();
+    let mut p = Params::preset("paper")?;
     for (k, v) in q {
         let param: Param = k.parse().map_err(|e: hdgear::Error| bad(e.to_string()))?;
         let value: f64 = v
             .trim()
             .parse()
             .map_err(|_| bad(format!("invalid value '{v}' for {k}: not a number")))?;
-        let slot = match param {
-            Param::Alpha => &mut o.alpha,
-            Param::Gamma => &mut o.gamma,
-            Param::Eps => &mut o.eps,
-            Param::Mu => &mut o.mu,
-            Param::Delta => &mut o.delta,
-            Param::Omega => &mut o.omega,
-        };
-        *slot = Some(value);
+        p = p.with(param, value);
     }
-    Ok(hdgear::params::resolve("paper", None, &o)?)
+    let warnings = p.validate()?;
+    Ok((p, warnings))
 }
 
 /// Runs `f` on the blocking pool under the concurrency limit, abandoned after `limit`.
