@@ -345,19 +345,6 @@ impl Settings {
         }
         Ok(())
     }
-
-    /// Checks rows read back from a file written with these settings ([`Settings::check_row`]
-    /// for each), and that no point appears twice.
-    pub fn check_rows(&self, rows: &[SweepRow]) -> std::result::Result<(), RowError> {
-        let mut seen = std::collections::HashSet::with_capacity(rows.len());
-        for row in rows {
-            self.check_row(row)?;
-            if !seen.insert(row.index) {
-                return Err(RowError::Duplicate { index: row.index });
-            }
-        }
-        Ok(())
-    }
 }
 
 /// One setting in which two [`Settings`] differ.
@@ -399,12 +386,6 @@ pub enum RowError {
         found: Box<Params>,
         /// The grid's parameters at that index.
         grid: Box<Params>,
-    },
-    /// Two rows for one grid point.
-    #[error("grid point {index} appears twice")]
-    Duplicate {
-        /// The repeated index.
-        index: usize,
     },
 }
 
