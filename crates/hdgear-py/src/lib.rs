@@ -6,7 +6,7 @@
 //! Errors: the library's input errors become `ValueError` with the CLI's message; a failed
 //! integration (step-size underflow, blow-up, step budget) a `RuntimeError`.
 
-use hdgear::burst::BurstOptions;
+use hdgear::burst::{BurstOptions, Mechanism, Mode};
 use hdgear::integrate::{Method, Options};
 use hdgear::params::{Param, ParamOverrides, Params as LibParams};
 use hdgear::physical::PhysicalParams;
@@ -443,20 +443,10 @@ fn columns<'py>(py: Python<'py>, rows: &[hdgear::sweep::SweepRow]) -> PyResult<B
     ] {
         d.set_item(name, col.into_pyarray(py))?;
     }
-    let text = |v: Option<String>| v.unwrap_or_default();
-    let name_of = |v: serde_json::Value| v.as_str().map(String::from);
-    let mode: Vec<String> = rows
+    let mode: Vec<&str> = rows.iter().map(|r| r.mode.map_or("", Mode::name)).collect();
+    let mech: Vec<&str> = rows
         .iter()
-        .map(|r| text(r.mode.and_then(|m| name_of(serde_json::to_value(m).ok()?))))
-        .collect();
-    let mech: Vec<String> = rows
-        .iter()
-        .map(|r| {
-            text(
-                r.mechanism
-                    .and_then(|m| name_of(serde_json::to_value(m).ok()?)),
-            )
-        })
+        .map(|r| r.mechanism.map_or("", Mechanism::name))
         .collect();
     d.set_item("mode", mode)?;
     d.set_item("mechanism", mech)?;
