@@ -39,6 +39,15 @@ pub enum Command {
     Sweep(SweepArgs),
     /// The periodic response: the orbit by shooting, its Floquet multipliers, the Lyapunov exponent.
     Periodic(PeriodicArgs),
+    /// Follow the periodic orbit in a parameter (pseudo-arclength): folds, period doublings,
+    /// the doubled branches.
+    Continue(ContinueArgs),
+    /// The frequency-response curve: response amplitude against omega, stable and unstable
+    /// branches, folds (the jumps).
+    FrequencyResponse(FrequencyResponseArgs),
+    /// The stroboscopic orbit diagram against a parameter, swept up and down (hysteresis), with
+    /// the largest Lyapunov exponent on request.
+    OrbitDiagram(OrbitDiagramArgs),
     /// Join the shard files of a sweep into the file one machine would have written.
     Merge(MergeArgs),
     /// A physical drive in SI units: reduction, two-inertia simulation, design check.
@@ -314,6 +323,8 @@ pub struct SweepArgs {
 pub struct PeriodicArgs {
     #[command(flatten)]
     pub params: ParamArgs,
+    #[command(flatten)]
+    pub burst: BurstArgs,
     /// K: look for the orbit of period K·2π/ω.
     #[arg(long, default_value_t = 1)]
     pub subharmonic: u32,
@@ -326,6 +337,76 @@ pub struct PeriodicArgs {
     /// The orbit's samples (t,x,xdot every 0.05 over one period) to a .csv, .json or .parquet file.
     #[arg(long, value_name = "FILE")]
     pub out: Option<PathBuf>,
+}
+
+/// Arguments of `hdgear continue`.
+#[derive(Args, Debug)]
+pub struct ContinueArgs {
+    #[command(flatten)]
+    pub params: ParamArgs,
+    /// NAME=FROM:TO[:log]: follow the orbit in NAME from FROM (the parameter is set to it) to TO,
+    /// in ln NAME with :log.
+    #[arg(long = "param", value_name = "SPEC", allow_hyphen_values = true)]
+    pub range: String,
+    /// K: follow the orbit of period K·2π/ω.
+    #[arg(long, default_value_t = 1)]
+    pub subharmonic: u32,
+    /// Also follow the doubled branch from every period doubling found (one level).
+    #[arg(long)]
+    pub switch: bool,
+    /// The branch points (branch,subharmonic,param,x0,xdot0,x_min,x_max,…,special) to a .csv,
+    /// .json or .parquet file.
+    #[arg(long, value_name = "FILE")]
+    pub out: Option<PathBuf>,
+    /// Print one JSON document (the branches with every point).
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Arguments of `hdgear frequency-response`.
+#[derive(Args, Debug)]
+pub struct FrequencyResponseArgs {
+    #[command(flatten)]
+    pub params: ParamArgs,
+    /// LO:HI, the omega range (default: from 1/20 to 3 times the stiffest static frequency).
+    #[arg(long = "omega-range", value_name = "LO:HI")]
+    pub omega_range: Option<String>,
+    /// The curve's points to a .csv, .json or .parquet file.
+    #[arg(long, value_name = "FILE")]
+    pub out: Option<PathBuf>,
+    /// The figure to a .svg or .png file.
+    #[arg(long, value_name = "FILE")]
+    pub plot: Option<PathBuf>,
+    /// Print one JSON document.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// Arguments of `hdgear orbit-diagram`.
+#[derive(Args, Debug)]
+pub struct OrbitDiagramArgs {
+    #[command(flatten)]
+    pub params: ParamArgs,
+    /// NAME=START:END:COUNT[:log]: the parameter values, swept up then down.
+    #[arg(long = "param", value_name = "SPEC", allow_hyphen_values = true)]
+    pub axis: String,
+    /// Forcing periods discarded at each value.
+    #[arg(long, default_value_t = 200)]
+    pub discard: u32,
+    /// Forcing periods recorded at each value.
+    #[arg(long, default_value_t = 32)]
+    pub record: u32,
+    /// Also the largest Lyapunov exponent at each value, averaged over N forcing periods after
+    /// the recorded ones (Benettin).
+    #[arg(long, value_name = "N", num_args = 0..=1, default_missing_value = "400")]
+    pub lyapunov: Option<u32>,
+    /// The section points (sweep,param,period,lyapunov,x,xdot) to a .csv, .json or .parquet file
+    /// (CSV on stdout without it).
+    #[arg(long, value_name = "FILE")]
+    pub out: Option<PathBuf>,
+    /// The figure to a .svg or .png file.
+    #[arg(long, value_name = "FILE")]
+    pub plot: Option<PathBuf>,
 }
 
 /// Arguments of `hdgear merge`.
@@ -341,7 +422,16 @@ pub struct MergeArgs {
 
 /// Parses `A0:A1` into a checked range.
 pub fn parse_range(text: &str) -> Result<(f64, f64)> {
-    let bad = || anyhow::anyhow!("invalid --a-range '{text}': expected A0:A1 with finite A0 < A1");
+    parse_pair("--a-range", "A0:A1", text)
+}
+
+/// Parses `LO:HI` (finite, LO < HI) for option `flag`.
+pub fn parse_pair(flag: &str, form: &str, text: &str) -> Result<(f64, f64)> {
+    let bad = || {
+        anyhow::anyhow!(
+            "invalid {flag} '{text}': expected {form} with finite numbers, the first smaller"
+        )
+    };
     let (l, r) = text.split_once(':').ok_or_else(bad)?;
     let (l, r): (f64, f64) = (
         l.trim().parse().map_err(|_| bad())?,
@@ -414,6 +504,23 @@ pub fn check_out(out: &Option<PathBuf>) -> Result<()> {
         hdgear::output::check_output_path(out).context("--out")?;
     }
     Ok(())
+}
+
+/// Checks a figure's path: .svg or .png, in an existing directory.
+pub fn check_plot(path: &std::path::Path) -> Result<()> {
+    match path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase)
+        .as_deref()
+    {
+        Some("svg" | "png") => {}
+        _ => anyhow::bail!(
+            "--plot {}: the extension must be .svg or .png",
+            path.display()
+        ),
+    }
+    hdgear::output::check_output_path(path).context("--plot")
 }
 
 /// Model parameters shared by every command: preset, then file, then flags.

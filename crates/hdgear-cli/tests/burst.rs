@@ -485,3 +485,32 @@ fn axis_specs_are_checked() {
     .to_string();
     assert!(e.contains("alpha = -1"), "{e}");
 }
+
+#[test]
+fn the_verdict_on_the_periodic_orbit_is_the_verdict_after_the_transient() {
+    // the periodic orbit has no transient: measuring from its start with nothing discarded must
+    // give what the default run gives after discarding one slow period, on the twenty reference
+    // cases (ω from 1e-3 to 0.05) and the study's four γ
+    use hdgear::periodic::{PeriodicOptions, burst_verdict, shoot};
+    let mut cases = reference_cases();
+    for g in [30.0, 10.0, 1.0, 0.1] {
+        cases.push((
+            format!("study γ = {g}"),
+            Params {
+                gamma: g,
+                ..Params::default()
+            },
+            serde_json::Value::Null,
+        ));
+    }
+    for (id, p, _) in cases {
+        let o = BurstOptions::default();
+        let after_transient = verdict_of(&p, &o).0;
+        let orbit = shoot(&p, 1, &PeriodicOptions::default()).unwrap();
+        let on_orbit = burst_verdict(&orbit, &o).unwrap();
+        assert_eq!(
+            on_orbit, after_transient,
+            "{id}: orbit {on_orbit:?}, transient {after_transient:?}"
+        );
+    }
+}

@@ -122,6 +122,66 @@ fn range_and_spec_vectors(v: &mut Vec<Vec<String>>) {
     }
 }
 
+/// Bad continuation ranges, frequency ranges, orbit-diagram axes and their counts.
+fn periodic_vectors(v: &mut Vec<Vec<String>>) {
+    for spec in [
+        "omega=1:2:3",
+        "omega=0:2:log",
+        "omega=1e-300:1",
+        "omega=-1:1",
+        "omega=1:1",
+        "mu=-1e308:1e308",
+        "gamma=nan:1",
+        "beta=1:2",
+        "omega=5e-324:1:log",
+        "delta=15:1e300",
+        "",
+    ] {
+        v.push(vec!["continue".into(), format!("--param={spec}")]);
+        v.push(vec![
+            "orbit-diagram".into(),
+            format!("--param={spec}:3"),
+            "--record=2".into(),
+            "--discard=1".into(),
+        ]);
+    }
+    for val in VALUES {
+        v.push(vec![
+            "continue".into(),
+            "--param=mu=0.07:0.08".into(),
+            format!("--subharmonic={val}"),
+        ]);
+        v.push(vec![
+            "frequency-response".into(),
+            format!("--omega-range={val}:10"),
+        ]);
+        v.push(vec![
+            "frequency-response".into(),
+            format!("--omega-range=1:{val}"),
+        ]);
+        for flag in ["--record", "--discard", "--lyapunov"] {
+            v.push(vec![
+                "orbit-diagram".into(),
+                "--param=omega=5:6:3".into(),
+                "--record=4".into(),
+                "--discard=2".into(),
+                format!("{flag}={val}"),
+            ]);
+        }
+    }
+    v.push(vec![
+        "continue".into(),
+        "--param=omega=1:2".into(),
+        "--omega=3".into(),
+    ]);
+    v.push(vec!["frequency-response".into(), "--omega=3".into()]);
+    v.push(vec![
+        "frequency-response".into(),
+        "--omega-range=5:6".into(),
+        "--plot=f.txt".into(),
+    ]);
+}
+
 /// Bad shards, cluster settings and merges.
 fn shard_vectors(v: &mut Vec<Vec<String>>) {
     let sweep = |extra: &[String]| {
@@ -238,6 +298,7 @@ fn hostile_vectors() -> Vec<Vec<String>> {
         }
     }
     range_and_spec_vectors(&mut v);
+    periodic_vectors(&mut v);
     output_vectors(&mut v);
     for kind in ["", "nope", "MAP", "slope --gamma 5", "map --delta=3"] {
         let mut a = vec!["plot".to_string()];

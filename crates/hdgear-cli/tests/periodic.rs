@@ -156,3 +156,440 @@ fn a_subharmonic_request_reports_the_least_period() {
         })
     ));
 }
+
+// ---- continuation, frequency response, orbit diagram (issue 16, second part) ----
+
+use hdgear::params::Param;
+use hdgear::periodic::{
+    Branch, ContinuationOptions, DiagramOptions, DiagramPoint, End, Oscillator, Scale, Special,
+    Sweep, continue_orbit, frequency_response, orbit_diagram, switch_at_period_doubling,
+};
+
+/// The study's point with γ = 30: its frequency-response curve bends over with two folds.
+fn bent() -> Params {
+    paper(30.0)
+}
+
+fn specials<P>(b: &Branch<P>, kind: Special) -> Vec<f64> {
+    b.specials()
+        .filter(|q| q.special == Some(kind))
+        .map(|q| q.param)
+        .collect()
+}
+
+/// The diagram's points of one sweep, in sweep order.
+fn sweep_of(points: &[DiagramPoint], s: Sweep) -> Vec<&DiagramPoint> {
+    points.iter().filter(|q| q.sweep == s).collect()
+}
+
+#[test]
+fn folds_of_the_frequency_response_are_where_slow_sweeps_jump() {
+    let b =
+        frequency_response(&bent(), Some((6.0, 10.0)), &ContinuationOptions::default()).unwrap();
+    assert_eq!(b.end, End::Reached);
+    let folds = specials(&b, Special::Fold);
+    assert_eq!(folds.len(), 2, "folds {folds:?}");
+    // hardening: the curve bends to the right, so the upper fold comes first along the branch
+    let (upper, lower) = (folds[0], folds[1]);
+    assert!(upper > lower, "{folds:?}");
+    // between the folds the middle branch is unstable, outside them the response is stable
+    for q in &b.points {
+        if q.special.is_none() && (q.param < lower - 1e-3 || q.param > upper + 1e-3) {
+            assert!(q.stable, "ω = {} outside the folds is unstable", q.param);
+        }
+    }
+    // brute force: sweep ω up and down in steps of 0.005, each value from the previous state
+    let step = 0.005;
+    let values: Vec<f64> = (0..=400).map(|i| 7.0 + step * f64::from(i)).collect();
+    let mut points = Vec::new();
+    orbit_diagram(
+        &bent(),
+        Param::Omega,
+        &values,
+        &DiagramOptions::default(),
+        |q| points.push(q),
+    )
+    .unwrap();
+    let jump = |s: Sweep| {
+        let pts = sweep_of(&points, s);
+        let (i, size) = pts
+            .windows(2)
+            .map(|w| (w[1].section[0][0] - w[0].section[0][0]).abs())
+            .enumerate()
+            .max_by(|a, b| a.1.total_cmp(&b.1))
+            .unwrap();
+        (pts[i].param, pts[i + 1].param, size)
+    };
+    let (a, b_, size) = jump(Sweep::Up);
+    assert!(
+        size > 0.5 && a.min(b_) - step <= upper && upper <= a.max(b_) + step,
+        "the up-sweep jumps between ω = {a} and {b_} (by {size}); the upper fold is at {upper}"
+    );
+    let (a, b_, size) = jump(Sweep::Down);
+    assert!(
+        size > 0.5 && a.min(b_) - step <= lower && lower <= a.max(b_) + step,
+        "the down-sweep jumps between ω = {a} and {b_} (by {size}); the lower fold is at {lower}"
+    );
+}
+
+#[test]
+fn liouville_holds_along_a_branch() {
+    let b =
+        frequency_response(&bent(), Some((0.5, 20.0)), &ContinuationOptions::default()).unwrap();
+    assert!(b.points.len() > 50);
+    for q in &b.points {
+        let period = std::f64::consts::TAU / q.param;
+        let sum = q.multipliers[0].log_abs + q.multipliers[1].log_abs;
+        assert!(
+            (sum + period).abs() < 1e-9 * period.max(1.0),
+            "ω = {}: ln|m1 m2| = {sum}, −T = {}",
+            q.param,
+            -period
+        );
+    }
+}
+
+/// The multiplier nearest −1 of the period-1 orbit at ω, from a monodromy by central
+/// differences of plain simulations (independent of the variational equations).
+fn fd_multiplier_near_minus_one(p: &Params) -> f64 {
+    let o = shoot(p, 1, &PeriodicOptions::default()).unwrap();
+    let h = 1e-6;
+    let mut fd = [[0.0; 2]; 2];
+    for j in 0..2 {
+        let (mut plus, mut minus) = (o.start, o.start);
+        plus[j] += h;
+        minus[j] -= h;
+        let (a, b) = (state_at(p, plus, o.period), state_at(p, minus, o.period));
+        for i in 0..2 {
+            fd[i][j] = (a[i] - b[i]) / (2.0 * h);
+        }
+    }
+    let tr = fd[0][0] + fd[1][1];
+    let det = fd[0][0] * fd[1][1] - fd[0][1] * fd[1][0];
+    let disc = tr * tr - 4.0 * det;
+    assert!(disc >= 0.0, "complex multipliers near a period doubling");
+    let r = [0.5 * (tr + disc.sqrt()), 0.5 * (tr - disc.sqrt())];
+    *r.iter()
+        .min_by(|a, b| (*a + 1.0).abs().total_cmp(&(*b + 1.0).abs()))
+        .unwrap()
+}
+
+#[test]
+fn a_period_doubling_is_located_to_1e_6_and_its_doubled_branch_followed() {
+    // γ = 10, δ = 15: the period-1 response loses stability through −1 near ω = 8.14 and regains
+    // it near 9.56 (a period-doubling bubble; found with the orbit diagram)
+    let p = paper(10.0).with(Param::Omega, 7.0);
+    let opts = ContinuationOptions {
+        scale: Scale::Log,
+        ..ContinuationOptions::default()
+    };
+    let b = continue_orbit(&p, Param::Omega, 1, None, 10.0, &opts).unwrap();
+    let pds: Vec<_> = b
+        .specials()
+        .filter(|q| q.special == Some(Special::PeriodDoubling))
+        .copied()
+        .collect();
+    assert_eq!(pds.len(), 2, "{:?}", specials(&b, Special::PeriodDoubling));
+    let (w1, w2) = (pds[0].param, pds[1].param);
+    assert!(w1 > 8.0 && w1 < 8.3 && w2 > 9.4 && w2 < 9.7, "{w1} {w2}");
+    // located to 1e-6: an independent monodromy (differences of plain simulations) has a
+    // multiplier on either side of −1 at ω ∓ 1e-6
+    for w in [w1, w2] {
+        let below = fd_multiplier_near_minus_one(&p.with(Param::Omega, w - 1e-6));
+        let above = fd_multiplier_near_minus_one(&p.with(Param::Omega, w + 1e-6));
+        assert!(
+            (below + 1.0) * (above + 1.0) < 0.0,
+            "ω = {w}: multipliers {below} and {above} at ω ∓ 1e-6 do not straddle −1"
+        );
+    }
+    // the doubled branch from the first one ends at the second (the bubble closes)
+    let d =
+        switch_at_period_doubling(&p, Param::Omega, 1, &pds[0], &pds, [7.0, 10.0], &opts).unwrap();
+    assert_eq!(d.subharmonic, 2);
+    match d.end {
+        End::Rejoined { param } => assert!((param - w2).abs() < 1e-9, "{param} vs {w2}"),
+        e => panic!("the doubled branch ended with {e:?}"),
+    }
+    // inside the bubble its orbits have least period 2, and a long simulation settles on them
+    let mid = d
+        .points
+        .iter()
+        .filter(|q| q.stable && q.param > w1 + 0.3 && q.param < w2 - 0.3)
+        .max_by(|a, b| {
+            a.amplitude
+                .peak_to_peak
+                .total_cmp(&b.amplitude.peak_to_peak)
+        })
+        .expect("a stable doubled orbit inside the bubble");
+    let pm = p.with(Param::Omega, mid.param);
+    let t = std::f64::consts::TAU / mid.param;
+    let after_one = state_at(&pm, mid.start, t);
+    assert!(
+        (after_one[0] - mid.start[0]).abs() > 1e-2,
+        "not a period-2 orbit"
+    );
+    let settled = state_at(&pm, [mid.start[0] + 0.05, mid.start[1]], 400.0 * t);
+    let d2 = (settled[0] - mid.start[0]).hypot(settled[1] - mid.start[1]);
+    assert!(
+        d2 < 1e-8,
+        "a simulation of 400 periods ends {d2:e} from the doubled orbit"
+    );
+    // normal form of a period doubling: the split between x(0) and x(T) grows like √|ω − ω_pd|
+    let split = |q: &hdgear::periodic::BranchPoint| {
+        let y = state_at(
+            &p.with(Param::Omega, q.param),
+            q.start,
+            std::f64::consts::TAU / q.param,
+        );
+        (y[0] - q.start[0]).abs()
+    };
+    let near: Vec<_> = d.points[1..]
+        .iter()
+        .filter(|q| (q.param - w1).abs() < 0.02 && (q.param - w1).abs() > 1e-4)
+        .take(2)
+        .collect();
+    assert_eq!(
+        near.len(),
+        2,
+        "two doubled points close to the period doubling"
+    );
+    let ratio = split(near[1]) / split(near[0]);
+    let predicted = ((near[1].param - w1).abs() / (near[0].param - w1).abs()).sqrt();
+    assert!(
+        (ratio / predicted - 1.0).abs() < 0.1,
+        "split ratio {ratio}, √ of the distance ratio {predicted}"
+    );
+}
+
+#[test]
+fn the_diagrams_lyapunov_exponent_is_the_floquet_exponent() {
+    // away from bifurcations, at γ = 10, δ = 15: a focus-type period-1 orbit (−1/2 exactly, the
+    // complex pair has |m| = e^{−T/2}) and a node-type doubled orbit (ln|m1|/(2T))
+    let p = paper(10.0);
+    let opts = DiagramOptions {
+        lyapunov: Some(400),
+        ..DiagramOptions::default()
+    };
+    let mut points = Vec::new();
+    orbit_diagram(&p, Param::Omega, &[6.5, 8.7], &opts, |q| points.push(q)).unwrap();
+    let up = sweep_of(&points, Sweep::Up);
+    // Benettin converges like 1/span: over 400 periods the error is a few 1e-3 (measured 0.2–
+    // 5e-3 over ω ∈ [6, 7.5]); 1e-2 is the bound
+    assert_eq!(up[0].period, Some(1));
+    let l = up[0].lyapunov.unwrap();
+    assert!((l + 0.5).abs() < 1e-2, "ω = 6.5: λ = {l}, Floquet −1/2");
+    assert_eq!(up[1].period, Some(2));
+    let o = shoot(&p.with(Param::Omega, 8.7), 2, &PeriodicOptions::default()).unwrap();
+    assert_eq!(o.minimal_subharmonic, 2);
+    let l = up[1].lyapunov.unwrap();
+    assert!(
+        (l - o.floquet_exponents[0]).abs() < 1e-2,
+        "ω = 8.7: λ = {l}, Floquet {}",
+        o.floquet_exponents[0]
+    );
+}
+
+/// A forced Duffing oscillator x'' + c x' + x + x³ = F cos s, through the same seam.
+#[derive(Clone, Copy, Debug)]
+struct Duffing {
+    c: f64,
+    f: f64,
+    omega: f64,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum DuffingParam {
+    Omega,
+}
+
+impl std::fmt::Display for DuffingParam {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("omega")
+    }
+}
+
+impl Oscillator for Duffing {
+    type Param = DuffingParam;
+    fn omega(&self) -> f64 {
+        self.omega
+    }
+    fn accel(&self, s: f64, x: f64, v: f64) -> f64 {
+        self.f * s.cos() - self.c * v - x - x * x * x
+    }
+    fn accel_gradient(&self, _s: f64, x: f64, _v: f64) -> [f64; 2] {
+        [-1.0 - 3.0 * x * x, -self.c]
+    }
+    fn accel_derivative(&self, _p: DuffingParam, _s: f64, _x: f64, _v: f64) -> f64 {
+        0.0
+    }
+    fn get(&self, _p: DuffingParam) -> f64 {
+        self.omega
+    }
+    fn with(&self, _p: DuffingParam, value: f64) -> hdgear::Result<Self> {
+        Ok(Duffing {
+            omega: value,
+            ..*self
+        })
+    }
+    fn is_frequency(_p: DuffingParam) -> bool {
+        true
+    }
+    fn check(&self) -> hdgear::Result<()> {
+        Ok(())
+    }
+}
+
+#[test]
+fn a_duffing_oscillators_peak_matches_harmonic_balance() {
+    // harmonic balance, x ≈ A cos(ωτ − θ): ((1 + 3A²/4 − ω²)² + (cω)²) A² = F²; at the peak
+    // ω² = 1 + 3A²/4 and A = F/(cω). With c = 0.05, F = 0.02: ω⁴ − ω² − 0.12 = 0.
+    let d = Duffing {
+        c: 0.05,
+        f: 0.02,
+        omega: 0.8,
+    };
+    let w2 = (1.0 + 1.48f64.sqrt()) / 2.0;
+    let (w_peak, a_peak) = (w2.sqrt(), 0.02 / (0.05 * w2.sqrt()));
+    let opts = ContinuationOptions {
+        scale: Scale::Log,
+        ..ContinuationOptions::default()
+    };
+    let b = continue_orbit(&d, DuffingParam::Omega, 1, None, 1.4, &opts).unwrap();
+    let top = b
+        .points
+        .iter()
+        .max_by(|x, y| {
+            x.amplitude
+                .peak_to_peak
+                .total_cmp(&y.amplitude.peak_to_peak)
+        })
+        .unwrap();
+    let a = top.amplitude.peak_to_peak / 2.0;
+    // the neglected third harmonic is O(A²/32) ≈ 0.5 % of A here; 2 % bounds it
+    assert!(
+        (a / a_peak - 1.0).abs() < 0.02,
+        "peak amplitude {a}, harmonic balance {a_peak}"
+    );
+    assert!(
+        (top.param / w_peak - 1.0).abs() < 0.02,
+        "peak at ω = {}, harmonic balance {w_peak}",
+        top.param
+    );
+    // the peak is (next to) the upper fold: a hardening bend with two folds
+    assert_eq!(specials(&b, Special::Fold).len(), 2);
+}
+
+/// Rows of a CSV file as maps from column to text.
+fn csv_rows(path: &std::path::Path) -> Vec<std::collections::HashMap<String, String>> {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text.lines().filter(|l| !l.starts_with('#'));
+    let head: Vec<String> = lines.next().unwrap().split(',').map(String::from).collect();
+    lines
+        .map(|l| {
+            head.iter()
+                .cloned()
+                .zip(l.split(',').map(String::from))
+                .collect()
+        })
+        .collect()
+}
+
+/// Runs hdgear in `dir` and returns its stdout; it must succeed.
+fn run_in(dir: &std::path::Path, args: &[&str]) -> String {
+    let out = crate::common::hdgear()
+        .current_dir(dir)
+        .args(args)
+        .arg("--quiet")
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8(out.stdout).unwrap()
+}
+
+#[test]
+fn continue_writes_the_branch_and_its_doubled_branch() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = |args: &[&str]| run_in(dir.path(), args);
+    // a branch with its doubled branch
+    let text = run(&[
+        "continue",
+        "--param",
+        "omega=5:10:log",
+        "--gamma",
+        "10",
+        "--delta",
+        "15",
+        "--switch",
+        "--out",
+        "b.csv",
+    ]);
+    assert!(text.contains("rejoined the parent branch"), "{text}");
+    let rows = csv_rows(&dir.path().join("b.csv"));
+    let count = |branch: &str, special: &str| {
+        rows.iter()
+            .filter(|r| r["branch"] == branch && r["special"] == special)
+            .count()
+    };
+    assert_eq!((count("0", "fold"), count("0", "period-doubling")), (2, 2));
+    assert!(
+        rows.iter()
+            .any(|r| r["branch"] == "1" && r["subharmonic"] == "2")
+    );
+    let last = rows.iter().rfind(|r| r["branch"] == "0").unwrap();
+    assert_eq!(
+        last["param"], "10.0",
+        "the branch ends on the range's end exactly"
+    );
+    assert_eq!(crate::common::files_in(dir.path()), ["b.csv"]);
+}
+
+#[test]
+fn frequency_response_and_orbit_diagram_write_curves_figures_and_sections() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = |args: &[&str]| run_in(dir.path(), args);
+    // the frequency response with its figure
+    let text = run(&[
+        "frequency-response",
+        "--gamma",
+        "30",
+        "--omega-range",
+        "6:10",
+        "--out",
+        "f.csv",
+        "--plot",
+        "f.svg",
+    ]);
+    assert_eq!(text.matches("fold ").count(), 2, "{text}");
+    let svg = std::fs::read_to_string(dir.path().join("f.svg")).unwrap();
+    assert!(svg.contains("<svg") && svg.contains("fold"));
+    let rows = csv_rows(&dir.path().join("f.csv"));
+    assert_eq!(rows.iter().filter(|r| r["special"] == "fold").count(), 2);
+    // the orbit diagram: two sweeps × values × recorded periods
+    run(&[
+        "orbit-diagram",
+        "--param",
+        "omega=7.5:8.6:12",
+        "--gamma",
+        "30",
+        "--record",
+        "8",
+        "--out",
+        "d.csv",
+    ]);
+    let rows = csv_rows(&dir.path().join("d.csv"));
+    assert_eq!(rows.len(), 2 * 12 * 8);
+    assert!(
+        rows.iter().all(|r| r["period"] == "1"),
+        "every response is period 1 here"
+    );
+    let (up, down): (Vec<_>, Vec<_>) = rows.iter().partition(|r| r["sweep"] == "up");
+    assert_eq!((up.len(), down.len()), (96, 96));
+    assert_eq!(
+        crate::common::files_in(dir.path()),
+        ["d.csv", "f.csv", "f.svg"]
+    );
+}

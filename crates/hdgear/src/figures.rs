@@ -897,3 +897,199 @@ pub fn boundary_figure(base: &Params, study: &mut Study) -> Result<Figure> {
         map: None,
     })
 }
+
+/// Splits a branch into runs of equal stability, as (stable, points (λ, y)) with the boundary
+/// point in both neighbours so the curve stays connected.
+fn stability_runs(
+    b: &crate::periodic::Branch<Param>,
+    y: impl Fn(&crate::periodic::BranchPoint) -> f64,
+) -> Vec<(bool, Vec<(f64, f64)>)> {
+    let mut runs: Vec<(bool, Vec<(f64, f64)>)> = Vec::new();
+    for q in &b.points {
+        let pt = (q.param, y(q));
+        match runs.last_mut() {
+            Some((s, pts)) if *s == q.stable || q.special.is_some() => pts.push(pt),
+            Some((_, pts)) => {
+                let last = *pts.last().expect("runs are never empty");
+                runs.push((q.stable, vec![last, pt]));
+            }
+            None => runs.push((q.stable, vec![pt])),
+        }
+    }
+    runs
+}
+
+/// One panel of the frequency-response figure: `y` of the branch against ω.
+fn response_panel(
+    b: &crate::periodic::Branch<Param>,
+    title: &str,
+    y: fn(&crate::periodic::BranchPoint) -> f64,
+) -> Panel {
+    use crate::periodic::Special;
+    let mut series = Vec::new();
+    let (mut stable_named, mut unstable_named) = (false, false);
+    for (stable, points) in stability_runs(b, y) {
+        let named = if stable {
+            &mut stable_named
+        } else {
+            &mut unstable_named
+        };
+        let label = match (*named, stable) {
+            (true, _) => String::new(),
+            (false, true) => "stable".into(),
+            (false, false) => "unstable".into(),
+        };
+        *named = true;
+        series.push(Series {
+            label,
+            points,
+            color: usize::from(!stable),
+            style: if stable { Style::Line } else { Style::Thin },
+        });
+    }
+    let markers = b
+        .specials()
+        .map(|q| {
+            let label = match q.special {
+                Some(Special::Fold) => "fold",
+                Some(Special::PeriodDoubling) => "period doubling",
+                _ => "branch point",
+            };
+            (q.param, y(q), label.to_string())
+        })
+        .collect();
+    Panel {
+        title: title.into(),
+        x_label: "ω".into(),
+        y_label: title.into(),
+        x_log: true,
+        series,
+        markers,
+        ..Panel::default()
+    }
+}
+
+/// The frequency-response curve: peak-to-peak x and max |x'| against ω (log), stable branches
+/// thick, unstable thin, folds and period doublings marked.
+pub fn frequency_response_figure(p: &Params, b: &crate::periodic::Branch<Param>) -> Figure {
+    use crate::periodic::Special;
+    let folds: Vec<String> = b
+        .specials()
+        .filter(|q| q.special == Some(Special::Fold))
+        .map(|q| format!("{:.4}", q.param))
+        .collect();
+    let pds = b
+        .specials()
+        .filter(|q| q.special == Some(Special::PeriodDoubling))
+        .count();
+    Figure {
+        name: "frequency-response".into(),
+        caption: format!(
+            "Frequency response of the periodic response (period 2π/ω) at α = {}, γ = {}, ε = {}, \
+             μ = {}, δ = {}, by pseudo-arclength continuation in ln ω with Floquet multipliers \
+             from the variational equations. Thick: stable; thin: unstable. {} {}",
+            p.alpha,
+            p.gamma,
+            p.eps,
+            p.mu,
+            p.delta,
+            if folds.is_empty() {
+                "No fold: the response is single-valued, a slow sweep of ω does not jump."
+                    .to_string()
+            } else {
+                format!(
+                    "Folds at ω = {}: the hardening stiffness bends the resonance peak to the \
+                     right, and a slow sweep of ω jumps at the folds (up at the upper fold, down \
+                     at the lower), with hysteresis between them.",
+                    folds.join(", ")
+                )
+            },
+            if pds > 0 {
+                format!(
+                    "{pds} period doubling(s): between them the period-1 response is unstable and \
+                     the response has twice the forcing period."
+                )
+            } else {
+                String::new()
+            }
+        ),
+        size: (1000, 800),
+        panels: vec![
+            response_panel(b, "peak-to-peak x", |q| q.amplitude.peak_to_peak),
+            response_panel(b, "max |x'|", |q| q.amplitude.max_abs_xdot),
+        ],
+        map: None,
+    }
+}
+
+/// The stroboscopic orbit diagram: x at phase 0 of every recorded period against the parameter,
+/// up-sweep and down-sweep in two colours (where they differ, the response is hysteretic).
+pub fn orbit_diagram_figure(
+    p: &Params,
+    param: Param,
+    points: &[crate::periodic::DiagramPoint],
+) -> Figure {
+    use crate::periodic::Sweep;
+    let series = [Sweep::Up, Sweep::Down]
+        .into_iter()
+        .enumerate()
+        .map(|(i, s)| Series {
+            label: format!("sweep {}", s.name()),
+            points: points
+                .iter()
+                .filter(|q| q.sweep == s)
+                .flat_map(|q| q.section.iter().map(move |y| (q.param, y[0])))
+                .collect(),
+            color: i,
+            style: Style::Points,
+        })
+        .collect();
+    let positive = points.iter().all(|q| q.param > 0.0);
+    let (lo, hi) = points.iter().fold((f64::INFINITY, 0.0f64), |(l, h), q| {
+        (l.min(q.param), h.max(q.param))
+    });
+    let lyap: Vec<(f64, f64)> = points
+        .iter()
+        .filter(|q| q.sweep == Sweep::Up)
+        .filter_map(|q| q.lyapunov.map(|l| (q.param, l)))
+        .collect();
+    let x_log = positive && hi > 10.0 * lo;
+    let mut panels = vec![Panel {
+        title: format!("stroboscopic section against {param}"),
+        x_label: param.to_string(),
+        y_label: "x at phase 0".into(),
+        x_log,
+        series,
+        ..Panel::default()
+    }];
+    if !lyap.is_empty() {
+        panels.push(Panel {
+            title: "largest Lyapunov exponent (up-sweep)".into(),
+            x_label: param.to_string(),
+            y_label: "λ_max".into(),
+            x_log,
+            series: vec![Series {
+                label: String::new(),
+                points: lyap,
+                color: 2,
+                style: Style::Line,
+            }],
+            ..Panel::default()
+        });
+    }
+    Figure {
+        name: "orbit-diagram".into(),
+        caption: format!(
+            "Orbit diagram against {param} (the other parameters: α = {}, γ = {}, ε = {}, μ = {}, \
+             δ = {}, ω = {}): x at phase 0 of each recorded forcing period after the transient, \
+             each value started from the previous value's state. One dot per value: a period-1 \
+             response; two: period 2 (after a period doubling); a cloud: no periodic response \
+             within the record. Where the up- and down-sweeps differ, two stable responses \
+             coexist and the sweep direction decides (hysteresis between folds).",
+            p.alpha, p.gamma, p.eps, p.mu, p.delta, p.omega
+        ),
+        size: (1000, if panels.len() > 1 { 800 } else { 600 }),
+        panels,
+        map: None,
+    }
+}

@@ -4,7 +4,10 @@
 mod analyze;
 mod bifurcation;
 mod bursts;
+mod continuation;
+mod diagram;
 mod equilibria;
+mod frequency;
 mod merge;
 mod periodic;
 mod physical;
@@ -29,6 +32,9 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Table(a) => table::run(a),
         Command::Sweep(a) => sweep::run(a),
         Command::Merge(a) => merge::run(a),
+        Command::Continue(a) => continuation::run(a),
+        Command::FrequencyResponse(a) => frequency::run(a),
+        Command::OrbitDiagram(a) => diagram::run(a),
         Command::Periodic(a) => periodic::run(a),
         Command::Physical(a) => physical::run(a),
         Command::Plot(a) => plot::run(a),

@@ -4,7 +4,7 @@
 use crate::cli::PeriodicArgs;
 use crate::sink::{warn, write_records};
 use anyhow::Result;
-use hdgear::periodic::{PeriodicOptions, lyapunov, shoot};
+use hdgear::periodic::{PeriodicOptions, burst_verdict, lyapunov, shoot};
 use serde::Serialize;
 
 /// One sample of the orbit: the columns `t,x,xdot`.
@@ -21,6 +21,8 @@ hdgear::record!(Sample: "t", "x", "xdot");
 struct Doc<'a> {
     #[serde(flatten)]
     orbit: &'a hdgear::periodic::PeriodicOrbit,
+    /// The burst verdict on the orbit itself.
+    bursts: hdgear::burst::Classification,
     lyapunov_exponent: Option<f64>,
 }
 
@@ -29,10 +31,12 @@ const LYAPUNOV_PERIODS: f64 = 50.0;
 
 pub fn run(a: PeriodicArgs) -> Result<()> {
     let (p, warnings) = a.params.resolve()?;
+    let burst_opts = a.burst.options()?;
     crate::cli::check_out(&a.out)?;
     warn(&warnings);
     let opts = PeriodicOptions::default();
     let orbit = shoot(&p, a.subharmonic, &opts)?;
+    let bursts = burst_verdict(&orbit, &burst_opts)?;
     let lyap = if a.lyapunov {
         let t = p.slow_period();
         Some(lyapunov(
@@ -56,6 +60,7 @@ pub fn run(a: PeriodicArgs) -> Result<()> {
     if a.json {
         let doc = Doc {
             orbit: &orbit,
+            bursts,
             lyapunov_exponent: lyap,
         };
         println!("{}", serde_json::to_string_pretty(&doc)?);
@@ -89,6 +94,13 @@ pub fn run(a: PeriodicArgs) -> Result<()> {
     println!(
         "  x from {:.6} to {:.6} (peak to peak {:.6}), max |x'| {:.6}",
         orbit.x_range[0], orbit.x_range[1], orbit.peak_to_peak, orbit.max_abs_xdot
+    );
+    println!(
+        "  bursts on the orbit itself: {} (verdict {}, mode {}, mechanism {})",
+        if bursts.bursting { "yes" } else { "no" },
+        bursts.verdict.name(),
+        bursts.mode.name(),
+        bursts.mechanism.name()
     );
     if let Some(l) = lyap {
         println!("  largest Lyapunov exponent (Benettin, {LYAPUNOV_PERIODS} periods): {l:.8}");

@@ -457,6 +457,23 @@ pub type StepObserver<'a> = &'a mut dyn FnMut(&dyn DenseOutput<2>);
 pub fn response_observed(
     p: &Params,
     opts: &BurstOptions,
+    on_step: Option<StepObserver<'_>>,
+) -> Result<Response> {
+    measure(p, opts, [stable_equilibrium(p, 0.0), 0.0], on_step)
+}
+
+/// The response from the state `start` at τ = 0 instead of the default start: with a point of
+/// the periodic orbit (at phase 0) and `opts.discard_periods` = 0 it is the verdict on the
+/// periodic response itself, with no transient to discard (see
+/// [`crate::periodic::burst_verdict`]).
+pub fn response_from(p: &Params, opts: &BurstOptions, start: [f64; 2]) -> Result<Response> {
+    measure(p, opts, start, None)
+}
+
+fn measure(
+    p: &Params,
+    opts: &BurstOptions,
+    start: [f64; 2],
     mut on_step: Option<StepObserver<'_>>,
 ) -> Result<Response> {
     p.validate()?;
@@ -470,8 +487,22 @@ pub fn response_observed(
     let x_extent = curve_extent(p);
 
     let sys = Dimensionless::new(*p);
-    let x0 = stable_equilibrium(p, 0.0);
-    let mut solver = stepper(&sys, 0.0, [x0, 0.0], opts.tol)?;
+    if !start.iter().all(|v| v.is_finite()) {
+        return Err(crate::Error::InvalidOption {
+            name: "start",
+            value: start[0] + start[1],
+            reason: "must be finite",
+        });
+    }
+    // the equilibrium the tracker starts from: the stable one at a(0) = 0 nearest the start
+    let x0 = crate::fast::equilibria(p, 0.0)
+        .roots
+        .iter()
+        .filter(|r| r.kind.is_stable())
+        .map(|r| r.x)
+        .min_by(|a, b| (a - start[0]).abs().total_cmp(&(b - start[0]).abs()))
+        .unwrap_or(start[0]);
+    let mut solver = stepper(&sys, 0.0, start, opts.tol)?;
     let mut scanner = Scanner::new(
         p,
         x0,

@@ -215,6 +215,45 @@ fn pixel_pieces(
     pieces
 }
 
+/// Draws marked points, one shape and one legend entry per distinct label (red crosses, black
+/// circles, alternately); true when it added a legend entry.
+fn draw_markers<DB: DrawingBackend, CT: CoordTranslate<From = (f64, f64)>>(
+    chart: &mut ChartContext<'_, DB, CT>,
+    markers: &[(f64, f64, String)],
+) -> std::result::Result<bool, DrawError>
+where
+    DB::ErrorType: 'static,
+{
+    // one legend entry and one shape per distinct label: red crosses, then black circles, …
+    let mut kinds: Vec<&str> = Vec::new();
+    for (x, y, label) in markers {
+        let known = kinds.iter().position(|k| *k == label);
+        let j = known.unwrap_or(kinds.len());
+        if known.is_none() {
+            kinds.push(label);
+        }
+        let first = known.is_none();
+        if j % 2 == 0 {
+            let c = RGBColor(200, 0, 0);
+            let anno =
+                chart.draw_series(std::iter::once(Cross::new((*x, *y), 7, c.stroke_width(2))))?;
+            if first {
+                anno.label(label.as_str())
+                    .legend(move |(x, y)| Cross::new((x + 8, y), 6, c.stroke_width(2)));
+            }
+        } else {
+            let c = RGBColor(0, 0, 0);
+            let anno =
+                chart.draw_series(std::iter::once(Circle::new((*x, *y), 6, c.stroke_width(2))))?;
+            if first {
+                anno.label(label.as_str())
+                    .legend(move |(x, y)| Circle::new((x + 8, y), 5, c.stroke_width(2)));
+            }
+        }
+    }
+    Ok(!markers.is_empty())
+}
+
 /// Draws one series on `chart`; true when it added a legend entry.
 fn draw_series<DB: DrawingBackend, CT: CoordTranslate<From = (f64, f64)>>(
     chart: &mut ChartContext<'_, DB, CT>,
@@ -333,16 +372,7 @@ where
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 18, y)], c.stroke_width(1)));
         legend = true;
     }
-    for (i, (x, y, label)) in p.markers.iter().enumerate() {
-        let c = RGBColor(200, 0, 0);
-        let anno =
-            chart.draw_series(std::iter::once(Cross::new((*x, *y), 7, c.stroke_width(2))))?;
-        if i == 0 {
-            anno.label(label.as_str())
-                .legend(move |(x, y)| Cross::new((x + 8, y), 6, c.stroke_width(2)));
-            legend = true;
-        }
-    }
+    legend |= draw_markers(&mut chart, &p.markers)?;
     if legend {
         chart
             .configure_series_labels()

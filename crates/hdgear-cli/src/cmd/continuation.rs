@@ -1,0 +1,142 @@
+//! `hdgear continue`: a branch of periodic orbits by pseudo-arclength continuation, its special
+//! points, and (with --switch) the doubled branches born at its period doublings.
+
+use crate::cli::ContinueArgs;
+use crate::sink::{warn, write_records};
+use anyhow::{Context, Result};
+use hdgear::params::Param;
+use hdgear::periodic::{
+    Branch, BranchRow, ContinuationOptions, End, Range, Special, continue_orbit,
+    switch_at_period_doubling,
+};
+use serde::Serialize;
+
+/// What `--json` prints and `--out` carries as metadata.
+#[derive(Serialize)]
+struct Doc<'a> {
+    range: Range,
+    params: hdgear::Params,
+    options: ContinuationOptions,
+    branches: &'a [Branch<Param>],
+}
+
+pub fn run(a: ContinueArgs) -> Result<()> {
+    let range = Range::parse(&a.range).context("--param")?;
+    if a.params.given(range.param.name()) {
+        anyhow::bail!(
+            "--{0} does not apply: --param {1} sets {0} itself",
+            range.param,
+            a.range
+        );
+    }
+    let (p, warnings) = a.params.resolve()?;
+    let p = p.with(range.param, range.from);
+    p.validate().context("--param")?;
+    crate::cli::check_out(&a.out)?;
+    warn(&warnings);
+    let opts = ContinuationOptions {
+        scale: range.scale,
+        ..ContinuationOptions::default()
+    };
+    let branches = compute(&p, &range, a.subharmonic, a.switch, &opts)?;
+    let doc = Doc {
+        range,
+        params: p,
+        options: opts,
+        branches: &branches,
+    };
+    if let Some(out) = &a.out {
+        let rows = branches.iter().enumerate().flat_map(|(i, b)| {
+            b.points
+                .iter()
+                .map(move |q| BranchRow::new(i, b.subharmonic, q))
+        });
+        write_records(Some(out), &doc, rows)?;
+    }
+    if a.json {
+        println!("{}", serde_json::to_string_pretty(&doc)?);
+    } else {
+        print_summary(&branches, range.param);
+    }
+    Ok(())
+}
+
+/// The branch asked for, then with `switch` the doubled branch from each period doubling.
+pub fn compute(
+    p: &hdgear::Params,
+    range: &Range,
+    k: u32,
+    switch: bool,
+    opts: &ContinuationOptions,
+) -> Result<Vec<Branch<Param>>> {
+    let main = continue_orbit(p, range.param, k, None, range.to, opts)?;
+    let mut branches = vec![main];
+    if switch {
+        let bounds = [range.from.min(range.to), range.from.max(range.to)];
+        let pds: Vec<_> = branches[0]
+            .specials()
+            .filter(|q| q.special == Some(Special::PeriodDoubling))
+            .copied()
+            .collect();
+        for pd in &pds {
+            // a doubled branch often ends at the next period doubling of the same branch
+            // (a bubble): one already traced from its other end is not traced again
+            let seen = branches[1..].iter().any(|b| {
+                b.points
+                    .last()
+                    .is_some_and(|q| (q.param - pd.param).abs() <= 1e-6 * (1.0 + pd.param.abs()))
+            });
+            if seen {
+                continue;
+            }
+            branches.push(switch_at_period_doubling(
+                p,
+                range.param,
+                k,
+                pd,
+                &pds,
+                bounds,
+                opts,
+            )?);
+        }
+    }
+    Ok(branches)
+}
+
+fn print_summary(branches: &[Branch<Param>], param: Param) {
+    for (i, b) in branches.iter().enumerate() {
+        let (first, last) = (b.points.first(), b.points.last());
+        let span = match (first, last) {
+            (Some(f), Some(l)) => format!("{param} from {} to {}", f.param, l.param),
+            _ => "no points".to_string(),
+        };
+        let end = match b.end {
+            End::Reached => "left the range".to_string(),
+            End::MaxPoints => "stopped at the point limit".to_string(),
+            End::Closed => "closed on itself (an isola)".to_string(),
+            End::Rejoined { param: v } => {
+                format!("rejoined the parent branch at the period doubling at {param} = {v}")
+            }
+            End::StepTooSmall { param: v } => {
+                format!("the step fell below its minimum near {param} = {v}")
+            }
+        };
+        println!(
+            "branch {i}: period {} × 2π/ω, {} points, {span}; {end}",
+            b.subharmonic,
+            b.points.len()
+        );
+        let stable = b.points.iter().filter(|q| q.stable).count();
+        println!("  {stable} stable, {} unstable", b.points.len() - stable);
+        for q in b.specials() {
+            println!(
+                "  {:<16} {param} = {:<14.10} x0 = {:<12.8} peak-to-peak x {:.6}, max |x'| {:.6}",
+                q.special.map_or("", Special::name),
+                q.param,
+                q.start[0],
+                q.amplitude.peak_to_peak,
+                q.amplitude.max_abs_xdot
+            );
+        }
+    }
+}

@@ -1,0 +1,94 @@
+//! `hdgear orbit-diagram`: the stroboscopic section against a parameter, swept up and down.
+
+use crate::cli::OrbitDiagramArgs;
+use crate::sink::{Sink, warn};
+use anyhow::{Context, Result};
+use hdgear::output::RecordWriter;
+use hdgear::periodic::{DiagramOptions, DiagramPoint, orbit_diagram};
+use hdgear::sweep::Axis;
+use serde::Serialize;
+
+/// One section point: the columns of the output.
+#[derive(Serialize)]
+struct Row {
+    sweep: &'static str,
+    param: f64,
+    period: Option<u32>,
+    lyapunov: Option<f64>,
+    x: f64,
+    xdot: f64,
+}
+hdgear::record!(Row: "sweep", "param", "period", "lyapunov", "x", "xdot");
+
+#[derive(Serialize)]
+struct Meta<'a> {
+    axis: &'a Axis,
+    params: hdgear::Params,
+    options: DiagramOptions,
+}
+
+pub fn run(a: OrbitDiagramArgs) -> Result<()> {
+    let axis = Axis::parse(&a.axis).context("--param")?;
+    if a.params.given(axis.param.name()) {
+        anyhow::bail!(
+            "--{0} does not apply: --param {1} varies {0} itself",
+            axis.param,
+            a.axis
+        );
+    }
+    let (p, warnings) = a.params.resolve()?;
+    crate::cli::check_out(&a.out)?;
+    if let Some(plot) = &a.plot {
+        crate::cli::check_plot(plot)?;
+    }
+    let opts = DiagramOptions {
+        discard: a.discard,
+        record: a.record,
+        lyapunov: a.lyapunov,
+        ..DiagramOptions::default()
+    };
+    let mut values: Vec<f64> = (0..axis.count).map(|i| axis.value(i)).collect();
+    values.sort_by(f64::total_cmp);
+    values.dedup();
+    warn(&warnings);
+    let meta = Meta {
+        axis: &axis,
+        params: p,
+        options: opts,
+    };
+    let (sink, format) = Sink::open(a.out.as_deref())?;
+    let mut w = RecordWriter::new(sink, format, &meta)?;
+    let mut points: Vec<DiagramPoint> = Vec::new();
+    let mut failure = None;
+    orbit_diagram(&p, axis.param, &values, &opts, |q| {
+        if failure.is_some() {
+            return;
+        }
+        for s in &q.section {
+            let row = Row {
+                sweep: q.sweep.name(),
+                param: q.param,
+                period: q.period,
+                lyapunov: q.lyapunov,
+                x: s[0],
+                xdot: s[1],
+            };
+            if let Err(e) = w.row(&row) {
+                failure = Some(e);
+                return;
+            }
+        }
+        if a.plot.is_some() {
+            points.push(q);
+        }
+    })?;
+    if let Some(e) = failure {
+        return Err(anyhow::Error::from(e).context("writing the output"));
+    }
+    w.finish().context("writing the output")?.commit()?;
+    if let Some(plot) = &a.plot {
+        let f = hdgear::figures::orbit_diagram_figure(&p, axis.param, &points);
+        hdgear::output::plot::write(&f, plot)?;
+    }
+    Ok(())
+}

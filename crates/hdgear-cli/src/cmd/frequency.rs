@@ -1,0 +1,77 @@
+//! `hdgear frequency-response`: the response amplitude against ω by continuation in ln ω, with
+//! its folds (the jumps of a slow up- or down-sweep) and stability along the curve.
+
+use crate::cli::FrequencyResponseArgs;
+use crate::sink::{warn, write_records};
+use anyhow::{Context, Result};
+use hdgear::periodic::{BranchRow, ContinuationOptions, Special, frequency_response};
+
+pub fn run(a: FrequencyResponseArgs) -> Result<()> {
+    if a.params.given("omega") {
+        anyhow::bail!("--omega does not apply: the curve varies omega itself (see --omega-range)");
+    }
+    let range = a
+        .omega_range
+        .as_deref()
+        .map(|t| crate::cli::parse_pair("--omega-range", "LO:HI", t))
+        .transpose()?;
+    if let Some((lo, _)) = range
+        && lo <= 0.0
+    {
+        anyhow::bail!(
+            "invalid --omega-range '{}': omega must be > 0",
+            a.omega_range.unwrap_or_default()
+        );
+    }
+    let (p, warnings) = a.params.resolve()?;
+    crate::cli::check_out(&a.out)?;
+    if let Some(plot) = &a.plot {
+        crate::cli::check_plot(plot)?;
+    }
+    warn(&warnings);
+    let opts = ContinuationOptions::default();
+    let b = frequency_response(&p, range, &opts).context("frequency-response")?;
+    if let Some(out) = &a.out {
+        let rows = b.points.iter().map(|q| BranchRow::new(0, 1, q));
+        write_records(Some(out), &b.param, rows)?;
+    }
+    if let Some(plot) = &a.plot {
+        let f = hdgear::figures::frequency_response_figure(&p, &b);
+        hdgear::output::plot::write(&f, plot)?;
+    }
+    if a.json {
+        println!("{}", serde_json::to_string_pretty(&b)?);
+        return Ok(());
+    }
+    let peak = b.points.iter().max_by(|x, y| {
+        x.amplitude
+            .peak_to_peak
+            .total_cmp(&y.amplitude.peak_to_peak)
+    });
+    let (lo, hi) = (b.points[0].param, b.points[b.points.len() - 1].param);
+    println!(
+        "frequency response over omega {lo:.6} … {hi:.6}: {} points",
+        b.points.len()
+    );
+    if let Some(q) = peak {
+        println!(
+            "  largest response: peak-to-peak x {:.6} at omega = {:.6} ({})",
+            q.amplitude.peak_to_peak,
+            q.param,
+            if q.stable { "stable" } else { "unstable" }
+        );
+    }
+    let specials: Vec<_> = b.specials().collect();
+    if specials.is_empty() {
+        println!("  no fold, no period doubling: the response is single-valued (no jump)");
+    }
+    for q in specials {
+        println!(
+            "  {:<16} omega = {:.10}, peak-to-peak x {:.6}",
+            q.special.map_or("", Special::name),
+            q.param,
+            q.amplitude.peak_to_peak
+        );
+    }
+    Ok(())
+}

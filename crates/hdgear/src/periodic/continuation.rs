@@ -1,0 +1,866 @@
+//! Pseudo-arclength continuation of periodic orbits, with folds of cycles, period doublings and
+//! branch switching onto the doubled branch.
+//!
+//! **Unknowns** z = (x₀, x₀', u): the orbit's start at phase 0 and the parameter coordinate u = λ
+//! (or ln λ with [`Scale::Log`]). **Equations**: P(z) = φ_{2πk}(x₀, x₀'; λ) − (x₀, x₀') = 0, and
+//! the arclength condition t·(z − z_pred) = 0 with t the unit tangent at the last point. The
+//! Jacobian [M − I | ∂φ/∂u] comes from the variational equations (M) and the parameter
+//! sensitivity integrated with them (∂φ/∂u), never from finite differences; the tangent is the
+//! cross product of its two rows (a 2 × 3 matrix has a one-dimensional kernel at regular points
+//! and at folds alike).
+//!
+//! **Step control**: the step grows by 1.5 after a corrector that converged in ≤ 2 iterations,
+//! shrinks by 0.7 after ≥ 5, halves after a failure or a tangent turn over
+//! [`ContinuationOptions::max_turn`], down to [`ContinuationOptions::min_step`].
+//!
+//! **Special points.** The multipliers of the forced model can leave the unit circle only as real
+//! numbers: their product is det M = e^{−kT} < 1 (Liouville, trace −1), so a complex pair has
+//! |m| = e^{−kT/2} < 1 and no torus (Neimark–Sacker) bifurcation exists. Two test functions
+//! follow the real multipliers: ψ₊ = ln m of the largest positive one (zero at a fold of cycles,
+//! or at a branch point if the parameter does not turn back) and ψ₋ = ln|m| of the largest
+//! negative one (zero at a period doubling). A sign change between two points is located by the
+//! Illinois method on the arclength, correcting onto the branch at every trial, to |ψ| ≤ 1e-10.
+//! Real multipliers change only by collisions inside the circle, so both functions are continuous
+//! where they cross zero.
+//!
+//! **Branch switching** at a period doubling: the doubled branch (period 2k) leaves the point
+//! perpendicular to the parameter axis along the eigenvector v of M for −1 (for the 2k-map the
+//! point is a symmetric pitchfork), so the first doubled point is corrected from (x* + h·v, u*)
+//! with the hyperplane v·(x − x* − h·v) = 0, and then followed like any branch.
+//!
+//! ```
+//! use hdgear::{Params, params::Param, periodic::{ContinuationOptions, continue_orbit}};
+//! // the study's point followed in μ from 0.07 to 0.2
+//! let p = Params::default();
+//! let b = continue_orbit(&p, Param::Mu, 1, None, 0.2, &ContinuationOptions::default()).unwrap();
+//! assert!((b.points.last().unwrap().param - 0.2).abs() < 1e-12);
+//! assert!(b.points.iter().all(|q| q.stable));
+//! ```
+
+use super::{Amplitude, Multiplier, Oscillator, PeriodicOptions, Solved, amplitude, flow};
+use crate::error::{Error, Result, SolverError};
+use serde::Serialize;
+use std::f64::consts::{PI, TAU};
+
+/// How the parameter enters the arclength: as itself, or as its logarithm (for ranges over
+/// decades of a positive parameter, such as ω).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Scale {
+    /// u = λ.
+    Linear,
+    /// u = ln λ (λ > 0).
+    Log,
+}
+
+impl Scale {
+    fn to_u(self, lambda: f64) -> f64 {
+        match self {
+            Scale::Linear => lambda,
+            Scale::Log => lambda.ln(),
+        }
+    }
+    fn to_lambda(self, u: f64) -> f64 {
+        match self {
+            Scale::Linear => u,
+            Scale::Log => u.exp(),
+        }
+    }
+    /// dλ/du.
+    fn dlambda(self, u: f64) -> f64 {
+        match self {
+            Scale::Linear => 1.0,
+            Scale::Log => u.exp(),
+        }
+    }
+}
+
+/// Options of the continuation.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct ContinuationOptions {
+    /// Integrator tolerances and Newton's iteration limit.
+    pub periodic: PeriodicOptions,
+    /// Linear or logarithmic parameter coordinate.
+    pub scale: Scale,
+    /// First step, as a fraction of the range |u(end) − u(start)|.
+    pub initial_step: f64,
+    /// Largest step, same unit: 1/40 of the range keeps ≥ 40 points on a straight branch.
+    pub max_step: f64,
+    /// Smallest step, same unit; below it the continuation stops ([`End::StepTooSmall`]).
+    pub min_step: f64,
+    /// Largest angle (radians) between successive tangents: a sharper turn means the predictor
+    /// may have jumped to another branch, so the step is halved.
+    pub max_turn: f64,
+    /// Corrector iterations at most.
+    pub max_corrector: usize,
+    /// Points at most.
+    pub max_points: usize,
+}
+
+impl Default for ContinuationOptions {
+    fn default() -> Self {
+        ContinuationOptions {
+            periodic: PeriodicOptions::default(),
+            scale: Scale::Linear,
+            initial_step: 0.005,
+            max_step: 0.025,
+            min_step: 1e-9,
+            max_turn: 0.3,
+            max_corrector: 8,
+            max_points: 5000,
+        }
+    }
+}
+
+impl ContinuationOptions {
+    /// Checks the step sizes, angle and limits.
+    pub fn validate(&self) -> Result<()> {
+        let bad = |name, value: f64, reason| {
+            Err(Error::InvalidOption {
+                name,
+                value,
+                reason,
+            })
+        };
+        if !(self.min_step > 0.0 && self.min_step <= self.initial_step) {
+            return bad("min_step", self.min_step, "must be > 0 and ≤ initial_step");
+        }
+        if !(self.initial_step <= self.max_step && self.max_step <= 1.0) {
+            return bad("max_step", self.max_step, "must be ≥ initial_step and ≤ 1");
+        }
+        if !(self.max_turn > 0.0 && self.max_turn < PI) {
+            return bad("max_turn", self.max_turn, "must be in (0, π)");
+        }
+        if self.max_corrector == 0 || self.max_points < 2 {
+            return bad("max_points", self.max_points as f64, "must be ≥ 2");
+        }
+        self.periodic.tol.validate()
+    }
+}
+
+/// A special point of a branch.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Special {
+    /// A multiplier through +1 where the parameter turns back: a fold (saddle-node) of cycles,
+    /// the jump of a frequency-response curve.
+    Fold,
+    /// A multiplier through −1: a period doubling; the doubled branch starts here.
+    PeriodDoubling,
+    /// A multiplier through +1 where the parameter does not turn: a branch point.
+    BranchPoint,
+}
+
+impl Special {
+    /// The name written in tables.
+    pub fn name(self) -> &'static str {
+        match self {
+            Special::Fold => "fold",
+            Special::PeriodDoubling => "period-doubling",
+            Special::BranchPoint => "branch-point",
+        }
+    }
+}
+
+/// One point of a branch.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct BranchPoint {
+    /// The parameter λ.
+    pub param: f64,
+    /// (x, x') at phase 0.
+    pub start: [f64; 2],
+    /// The multipliers, the larger first.
+    pub multipliers: [Multiplier; 2],
+    /// Both inside the unit circle.
+    pub stable: bool,
+    /// Extremes of the response.
+    pub amplitude: Amplitude,
+    /// Set at a located special point.
+    pub special: Option<Special>,
+    /// At a special point, the eigenvector of M for the critical multiplier (unit length).
+    #[serde(skip)]
+    pub critical_direction: Option<[f64; 2]>,
+}
+
+/// Why a branch ended.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[serde(rename_all = "kebab-case", tag = "reason")]
+pub enum End {
+    /// It reached the end of the range (the last point is on it exactly) or left the range at
+    /// its start.
+    Reached,
+    /// [`ContinuationOptions::max_points`] points.
+    MaxPoints,
+    /// The corrector failed even at the smallest step, near this parameter.
+    StepTooSmall {
+        /// λ at the last point.
+        param: f64,
+    },
+    /// The branch came back to its first point: a closed loop (an isola), traced once.
+    Closed,
+    /// A doubled branch reached another period doubling of the branch it was born on (a
+    /// period-doubling bubble; the last point is that period doubling).
+    Rejoined {
+        /// λ at that period doubling.
+        param: f64,
+    },
+}
+
+/// A branch of periodic orbits.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Branch<P> {
+    /// The parameter followed.
+    pub param: P,
+    /// k: the orbits have period k·2π/ω.
+    pub subharmonic: u32,
+    /// The points in order along the branch, special points in their place.
+    pub points: Vec<BranchPoint>,
+    /// Why it ended.
+    pub end: End,
+}
+
+impl<P> Branch<P> {
+    /// The special points.
+    pub fn specials(&self) -> impl Iterator<Item = &BranchPoint> {
+        self.points.iter().filter(|p| p.special.is_some())
+    }
+}
+
+/// A corrected point: z, the flow from it, the corrector's iterations.
+struct Point {
+    z: [f64; 3],
+    flow: super::Flow,
+    iterations: usize,
+}
+
+/// Everything fixed along one continuation.
+struct Tracer<'a, O: Oscillator> {
+    o: &'a O,
+    param: O::Param,
+    k: u32,
+    opts: &'a ContinuationOptions,
+    /// The range in u, low and high.
+    bounds: [f64; 2],
+    /// |range| in u.
+    range: f64,
+    /// The range in λ, low and high (exactly as given).
+    lambda_bounds: [f64; 2],
+    /// Points where the branch ends if it passes through them: (z, the point, why).
+    terminals: Vec<([f64; 3], BranchPoint, End)>,
+}
+
+fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+fn norm(a: [f64; 3]) -> f64 {
+    dot(a, a).sqrt()
+}
+
+/// Solves a 3 × 3 system by Gaussian elimination with partial pivoting.
+fn solve3(mut a: [[f64; 3]; 3], mut b: [f64; 3]) -> Option<[f64; 3]> {
+    for c in 0..3 {
+        let p = (c..3).max_by(|&i, &j| a[i][c].abs().total_cmp(&a[j][c].abs()))?;
+        if a[p][c] == 0.0 || !a[p][c].is_finite() {
+            return None;
+        }
+        a.swap(c, p);
+        b.swap(c, p);
+        for r in c + 1..3 {
+            let f = a[r][c] / a[c][c];
+            let pivot = a[c];
+            for (x, y) in a[r][c..].iter_mut().zip(&pivot[c..]) {
+                *x -= f * y;
+            }
+            b[r] -= f * b[c];
+        }
+    }
+    let mut x = [0.0; 3];
+    for r in (0..3).rev() {
+        let s: f64 = (r + 1..3).map(|j| a[r][j] * x[j]).sum();
+        x[r] = (b[r] - s) / a[r][r];
+    }
+    x.iter().all(|v| v.is_finite()).then_some(x)
+}
+
+impl<O: Oscillator> Tracer<'_, O> {
+    fn at(&self, u: f64) -> Result<O> {
+        self.o.with(self.param, self.opts.scale.to_lambda(u))
+    }
+
+    fn flow_at(&self, z: [f64; 3]) -> Result<super::Flow> {
+        let o = self.at(z[2])?;
+        let mut f = flow(
+            &o,
+            Some(self.param),
+            0.0,
+            [z[0], z[1]],
+            TAU * f64::from(self.k),
+            self.opts.periodic.tol,
+        )?;
+        let d = self.opts.scale.dlambda(z[2]);
+        f.w = [f.w[0] * d, f.w[1] * d];
+        Ok(f)
+    }
+
+    /// Newton on P(z) = 0, n·z = c from z. `Ok(None)` when it does not converge (the caller
+    /// shrinks the step); errors of the integration itself propagate.
+    fn correct(&self, mut z: [f64; 3], n: [f64; 3], c: f64) -> Result<Option<Point>> {
+        for iterations in 0..=self.opts.max_corrector {
+            if self.at(z[2]).is_err() {
+                return Ok(None);
+            }
+            let f = match self.flow_at(z) {
+                Ok(f) => f,
+                Err(Error::Solver(
+                    SolverError::StepSizeTooSmall { .. } | SolverError::BlowUp { .. },
+                )) => {
+                    return Ok(None);
+                }
+                Err(e) => return Err(e),
+            };
+            let r = [f.y[0] - z[0], f.y[1] - z[1]];
+            let g = dot(n, z) - c;
+            if super::converged(r, [z[0], z[1]]) && g.abs() <= 1e-12 * (1.0 + norm(z)) {
+                return Ok(Some(Point {
+                    z,
+                    flow: f,
+                    iterations,
+                }));
+            }
+            if iterations == self.opts.max_corrector {
+                break;
+            }
+            let Some(a) = f.m_minus_i() else {
+                return Ok(None);
+            };
+            let j = [
+                [a[0][0], a[0][1], f.w[0]],
+                [a[1][0], a[1][1], f.w[1]],
+                [n[0], n[1], n[2]],
+            ];
+            let Some(d) = solve3(j, [-r[0], -r[1], -g]) else {
+                return Ok(None);
+            };
+            z = [z[0] + d[0], z[1] + d[1], z[2] + d[2]];
+            if !z.iter().all(|v| v.is_finite()) {
+                return Ok(None);
+            }
+        }
+        Ok(None)
+    }
+
+    /// The unit tangent at a point: the kernel of [M − I | ∂φ/∂u], oriented along `along`.
+    fn tangent(&self, p: &Point, along: [f64; 3]) -> Option<[f64; 3]> {
+        let a = p.flow.m_minus_i()?;
+        let (r0, r1) = (
+            [a[0][0], a[0][1], p.flow.w[0]],
+            [a[1][0], a[1][1], p.flow.w[1]],
+        );
+        let t = [
+            r0[1] * r1[2] - r0[2] * r1[1],
+            r0[2] * r1[0] - r0[0] * r1[2],
+            r0[0] * r1[1] - r0[1] * r1[0],
+        ];
+        let n = norm(t);
+        if !(n > 0.0 && n.is_finite()) {
+            return None;
+        }
+        let s = if dot(t, along) < 0.0 { -1.0 } else { 1.0 };
+        Some(t.map(|v| s * v / n))
+    }
+
+    fn branch_point(&self, p: &Point, special: Option<Special>) -> Result<BranchPoint> {
+        let multipliers = super::multipliers(&p.flow);
+        let o = self.at(p.z[2])?;
+        let critical_direction = special.map(|s| critical_direction(&p.flow, s));
+        Ok(BranchPoint {
+            param: self.opts.scale.to_lambda(p.z[2]),
+            start: [p.z[0], p.z[1]],
+            multipliers,
+            stable: multipliers.iter().all(|m| m.log_abs < 0.0),
+            amplitude: amplitude(&o, [p.z[0], p.z[1]], self.k, self.opts.periodic.tol)?,
+            special,
+            critical_direction,
+        })
+    }
+
+    /// Follows the branch from `p` with tangent `t` until the range ends.
+    fn trace(
+        &self,
+        mut p: Point,
+        mut t: [f64; 3],
+        mut points: Vec<BranchPoint>,
+    ) -> Result<Branch<O::Param>> {
+        let (min, max) = (
+            self.opts.min_step * self.range,
+            self.opts.max_step * self.range,
+        );
+        let mut ds = self.opts.initial_step * self.range;
+        let mut psi = test_functions(&p.flow);
+        let mut first_terminal: Option<([f64; 3], BranchPoint, End)> = None;
+        loop {
+            if points.len() >= self.opts.max_points {
+                return Ok(self.finish(points, End::MaxPoints));
+            }
+            let zp = [p.z[0] + ds * t[0], p.z[1] + ds * t[1], p.z[2] + ds * t[2]];
+            let next = self.correct(zp, t, dot(t, zp))?;
+            let accepted = next.and_then(|q| self.tangent(&q, t).map(|tq| (q, tq)));
+            let Some((q, tq)) = accepted.filter(|(_, tq)| {
+                dot(t, *tq).clamp(-1.0, 1.0).acos() <= self.opts.max_turn || ds <= min
+            }) else {
+                ds *= 0.5;
+                if ds < min {
+                    let param = self.opts.scale.to_lambda(p.z[2]);
+                    return Ok(self.finish(points, End::StepTooSmall { param }));
+                }
+                continue;
+            };
+            let psi_q = test_functions(&q.flow);
+            points.extend(self.specials_between(&p, t, &q, tq, psi, psi_q)?);
+            if let Some((_, point, end)) = self.terminal_hit(first_terminal.as_ref(), &p, &q) {
+                points.push(*point);
+                return Ok(self.finish(points, *end));
+            }
+            if first_terminal.is_none() && points.len() >= 3 {
+                // the start becomes a terminal once the branch is more than two steps from it
+                let b = points[0];
+                let z0 = [b.start[0], b.start[1], self.opts.scale.to_u(b.param)];
+                if norm(sub(q.z, z0)) > 2.0 * norm(sub(q.z, p.z)) {
+                    let closing = BranchPoint { special: None, ..b };
+                    first_terminal = Some((z0, closing, End::Closed));
+                }
+            }
+            if !self.inside(q.z[2]) {
+                points.extend(self.edge_point(&p, &q)?);
+                return Ok(self.finish(points, End::Reached));
+            }
+            points.push(self.branch_point(&q, None)?);
+            ds = if q.iterations <= 2 {
+                (ds * 1.5).min(max)
+            } else if q.iterations >= 5 {
+                (ds * 0.7).max(min)
+            } else {
+                ds
+            };
+            psi = psi_q;
+            p = q;
+            t = tq;
+        }
+    }
+
+    /// The special points between p and q (tangents t, tq; test functions psi, psi_q), located
+    /// and in arclength order.
+    fn specials_between(
+        &self,
+        p: &Point,
+        t: [f64; 3],
+        q: &Point,
+        tq: [f64; 3],
+        psi: [Option<f64>; 2],
+        psi_q: [Option<f64>; 2],
+    ) -> Result<Vec<BranchPoint>> {
+        let mut found = Vec::new();
+        for (i, kind) in [(0, Special::BranchPoint), (1, Special::PeriodDoubling)] {
+            if let (Some(a), Some(b)) = (psi[i], psi_q[i])
+                && (a > 0.0) != (b > 0.0)
+            {
+                // a multiplier through +1 where the parameter turns back is a fold
+                let kind = if i == 0 && t[2] * tq[2] < 0.0 {
+                    Special::Fold
+                } else {
+                    kind
+                };
+                if let Some((sigma, s)) = self.locate(p, t, dot(t, q.z) - dot(t, p.z), i, a, b)? {
+                    found.push((sigma, s, kind));
+                }
+            }
+        }
+        found.sort_by(|a, b| a.0.total_cmp(&b.0));
+        found
+            .into_iter()
+            .filter(|(_, s, _)| self.inside(s.z[2]))
+            .map(|(_, s, kind)| self.branch_point(&s, Some(kind)))
+            .collect()
+    }
+
+    /// The terminal (or `extra`) the chord from p to q passes through, if any: within a quarter
+    /// of the chord's length of it, beyond p.
+    fn terminal_hit<'t>(
+        &'t self,
+        extra: Option<&'t ([f64; 3], BranchPoint, End)>,
+        p: &Point,
+        q: &Point,
+    ) -> Option<&'t ([f64; 3], BranchPoint, End)> {
+        let chord = sub(q.z, p.z);
+        self.terminals.iter().chain(extra).find(|(z, _, _)| {
+            let rel = sub(*z, p.z);
+            let w = (dot(rel, chord) / dot(chord, chord)).clamp(0.0, 1.0);
+            let off = sub(rel, chord.map(|c| w * c));
+            w > 0.0 && norm(off) <= 0.25 * norm(chord)
+        })
+    }
+
+    /// The point on the end of the range between p (inside) and q (outside), corrected with the
+    /// parameter fixed at the end, which it carries exactly.
+    fn edge_point(&self, p: &Point, q: &Point) -> Result<Option<BranchPoint>> {
+        let high = q.z[2] > self.bounds[1];
+        let edge = self.bounds[usize::from(high)];
+        let w = (edge - p.z[2]) / (q.z[2] - p.z[2]);
+        let guess = [
+            p.z[0] + w * (q.z[0] - p.z[0]),
+            p.z[1] + w * (q.z[1] - p.z[1]),
+            edge,
+        ];
+        match self.correct(guess, [0.0, 0.0, 1.0], edge)? {
+            Some(e) => {
+                let mut b = self.branch_point(&e, None)?;
+                b.param = self.lambda_bounds[usize::from(high)];
+                Ok(Some(b))
+            }
+            None => Ok(None),
+        }
+    }
+
+    fn inside(&self, u: f64) -> bool {
+        let slack = 1e-12 * (1.0 + u.abs());
+        u >= self.bounds[0] - slack && u <= self.bounds[1] + slack
+    }
+
+    fn finish(&self, points: Vec<BranchPoint>, end: End) -> Branch<O::Param> {
+        Branch {
+            param: self.param,
+            subharmonic: self.k,
+            points,
+            end,
+        }
+    }
+
+    /// The zero of test function `i` between p (σ = 0, value a) and σ_b (value b), by the
+    /// Illinois method on σ with a corrector at every trial.
+    fn locate(
+        &self,
+        p: &Point,
+        t: [f64; 3],
+        sigma_b: f64,
+        i: usize,
+        a: f64,
+        b: f64,
+    ) -> Result<Option<(f64, Point)>> {
+        let (mut lo, mut hi, mut flo, mut fhi) = (0.0, sigma_b, a, b);
+        let mut side = 0;
+        let mut best = None;
+        for _ in 0..60 {
+            let sigma = (lo * fhi - hi * flo) / (fhi - flo);
+            let zp = [
+                p.z[0] + sigma * t[0],
+                p.z[1] + sigma * t[1],
+                p.z[2] + sigma * t[2],
+            ];
+            let Some(q) = self.correct(zp, t, dot(t, p.z) + sigma)? else {
+                return Ok(best);
+            };
+            let Some(f) = test_functions(&q.flow)[i] else {
+                return Ok(best);
+            };
+            let done = f.abs() <= 1e-10 || (hi - lo).abs() <= 1e-12 * (1.0 + norm(p.z));
+            best = Some((sigma, q));
+            if done {
+                return Ok(best);
+            }
+            if (f > 0.0) == (flo > 0.0) {
+                lo = sigma;
+                flo = f;
+                if side == -1 {
+                    fhi *= 0.5;
+                }
+                side = -1;
+            } else {
+                hi = sigma;
+                fhi = f;
+                if side == 1 {
+                    flo *= 0.5;
+                }
+                side = 1;
+            }
+        }
+        Ok(best)
+    }
+}
+
+/// ψ₊ (ln of the largest positive real multiplier) and ψ₋ (ln |·| of the largest negative one).
+fn test_functions(f: &super::Flow) -> [Option<f64>; 2] {
+    let m = super::multipliers(f);
+    let pick = |arg: f64| {
+        m.iter()
+            .filter(|q| q.arg == arg)
+            .map(|q| q.log_abs)
+            .max_by(f64::total_cmp)
+    };
+    [pick(0.0), pick(PI)]
+}
+
+/// The unit eigenvector of M for its multiplier nearest +1 (fold, branch point) or −1.
+fn critical_direction(f: &super::Flow, s: Special) -> [f64; 2] {
+    let target = if s == Special::PeriodDoubling {
+        -1.0
+    } else {
+        1.0
+    };
+    // in the normalised m the critical eigenvalue is ±e^{−log_scale}
+    let e = target * (-f.log_scale).exp();
+    let m = f.m;
+    let (v1, v2) = ([m[0][1], e - m[0][0]], [e - m[1][1], m[1][0]]);
+    let v = if v1[0].hypot(v1[1]) >= v2[0].hypot(v2[1]) {
+        v1
+    } else {
+        v2
+    };
+    let n = v[0].hypot(v[1]);
+    if n > 0.0 {
+        [v[0] / n, v[1] / n]
+    } else {
+        [1.0, 0.0]
+    }
+}
+
+/// Follows the periodic orbit of period k·2π/ω of `o` in `param` from its current value to
+/// `to`. The first orbit is found by Newton from `guess` (or, when None, from the state after
+/// settling from rest for [`super::SETTLE_TIME`]).
+pub fn continue_orbit<O: Oscillator>(
+    o: &O,
+    param: O::Param,
+    k: u32,
+    guess: Option<[f64; 2]>,
+    to: f64,
+    opts: &ContinuationOptions,
+) -> Result<Branch<O::Param>> {
+    opts.validate()?;
+    o.check()?;
+    let from = o.get(param);
+    let tracer = tracer(o, param, k, [from, to], opts)?;
+    let Solved { y, .. } = match guess {
+        Some(y) => super::newton(o, k, y, &opts.periodic)?,
+        None => super::settle_and_solve(o, k, [0.0, 0.0], &opts.periodic)?,
+    };
+    let u = opts.scale.to_u(from);
+    let z = [y[0], y[1], u];
+    let first = tracer
+        .correct(z, [0.0, 0.0, 1.0], u)?
+        .ok_or(Error::NoConvergence {
+            what: "first point of the branch",
+            iterations: opts.max_corrector,
+            residual: f64::NAN,
+        })?;
+    let dir = if opts.scale.to_u(to) >= u { 1.0 } else { -1.0 };
+    let t = tracer
+        .tangent(&first, [0.0, 0.0, dir])
+        .ok_or(Error::NoConvergence {
+            what: "tangent at the first point (it is a fold)",
+            iterations: 0,
+            residual: f64::NAN,
+        })?;
+    let points = vec![tracer.branch_point(&first, None)?];
+    tracer.trace(first, t, points)
+}
+
+fn tracer<'a, O: Oscillator>(
+    o: &'a O,
+    param: O::Param,
+    k: u32,
+    [from, to]: [f64; 2],
+    opts: &'a ContinuationOptions,
+) -> Result<Tracer<'a, O>> {
+    if k == 0 {
+        return Err(Error::InvalidOption {
+            name: "subharmonic",
+            value: 0.0,
+            reason: "must be ≥ 1",
+        });
+    }
+    o.with(param, from)?;
+    o.with(param, to)?;
+    if opts.scale == Scale::Log && !(from > 0.0 && to > 0.0) {
+        return Err(Error::InvalidOption {
+            name: "to",
+            value: if from > 0.0 { to } else { from },
+            reason: "a logarithmic continuation needs a positive parameter at both ends",
+        });
+    }
+    let (a, b) = (opts.scale.to_u(from), opts.scale.to_u(to));
+    let range = (b - a).abs();
+    if !(range > 0.0 && range.is_finite()) {
+        return Err(Error::InvalidOption {
+            name: "to",
+            value: to,
+            reason: "must differ from the parameter's current value",
+        });
+    }
+    // the longest forcing period in the range decides the integration budget
+    let slowest = if O::is_frequency(param) {
+        from.min(to)
+    } else {
+        o.omega()
+    };
+    crate::integrate::check_budget(TAU * f64::from(k) / slowest, &opts.periodic.tol)?;
+    Ok(Tracer {
+        o,
+        param,
+        k,
+        opts,
+        bounds: [a.min(b), a.max(b)],
+        range,
+        lambda_bounds: [from.min(to), from.max(to)],
+        terminals: Vec::new(),
+    })
+}
+
+/// Starts the doubled branch (period 2k·2π/ω) at a period-doubling point of a branch of period
+/// k and follows it, on whichever side of the point it lies, until it leaves `range` (the
+/// parameter's [low, high], which must contain the point), closes, or reaches one of the `others`
+/// period doublings of the parent branch (a bubble: it ends there, [`End::Rejoined`]). The first
+/// point of the result is the period-doubling point itself (seen as a 2k-orbit).
+pub fn switch_at_period_doubling<O: Oscillator>(
+    o: &O,
+    param: O::Param,
+    k: u32,
+    at: &BranchPoint,
+    others: &[BranchPoint],
+    range: [f64; 2],
+    opts: &ContinuationOptions,
+) -> Result<Branch<O::Param>> {
+    opts.validate()?;
+    let Some(v) = at
+        .critical_direction
+        .filter(|_| at.special == Some(Special::PeriodDoubling))
+    else {
+        return Err(Error::InvalidOption {
+            name: "at",
+            value: at.param,
+            reason: "is not a located period-doubling point",
+        });
+    };
+    let mut tracer = tracer(o, param, 2 * k, range, opts)?;
+    for q in others
+        .iter()
+        .filter(|q| q.special == Some(Special::PeriodDoubling) && q != &at)
+    {
+        let z = [q.start[0], q.start[1], opts.scale.to_u(q.param)];
+        if let Some(c) = tracer.correct(z, [0.0, 0.0, 1.0], z[2])? {
+            let end = End::Rejoined { param: q.param };
+            tracer.terminals.push((
+                z,
+                tracer.branch_point(&c, Some(Special::PeriodDoubling))?,
+                end,
+            ));
+        }
+    }
+    if !tracer.inside(opts.scale.to_u(at.param)) {
+        return Err(Error::InvalidOption {
+            name: "range",
+            value: at.param,
+            reason: "must contain the period-doubling point",
+        });
+    }
+    let u = opts.scale.to_u(at.param);
+    let star = [at.start[0], at.start[1], u];
+    let origin = tracer.correct(star, [0.0, 0.0, 1.0], u)?;
+    let mut points = Vec::new();
+    if let Some(origin) = &origin {
+        let mut b = tracer.branch_point(origin, Some(Special::PeriodDoubling))?;
+        b.critical_direction = Some(v);
+        points.push(b);
+    }
+    let n = [v[0], v[1], 0.0];
+    let tol = opts.periodic.tol;
+    for h in [1.0, 0.3, 3.0, 0.1].map(|f| f * opts.initial_step * tracer.range) {
+        let zp = [star[0] + h * v[0], star[1] + h * v[1], u];
+        let Some(first) = tracer.correct(zp, n, dot(n, zp))? else {
+            continue;
+        };
+        // landed on the period-k branch again?
+        let oz = tracer.at(first.z[2])?;
+        let y = [first.z[0], first.z[1]];
+        if super::minimal_subharmonic(&oz, y, 2 * k, tol)? < 2 * k {
+            continue;
+        }
+        let Some(t) = tracer.tangent(&first, n) else {
+            continue;
+        };
+        points.push(tracer.branch_point(&first, None)?);
+        return tracer.trace(first, t, points);
+    }
+    Err(Error::NoConvergence {
+        what: "the doubled branch at a period doubling",
+        iterations: opts.max_corrector,
+        residual: f64::NAN,
+    })
+}
+
+/// One row of a branch table (`hdgear continue --out`): the branch's index (0 the branch asked
+/// for, 1, 2, … the doubled branches), its subharmonic, and the point.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct BranchRow {
+    /// Index of the branch.
+    pub branch: usize,
+    /// k of the branch (period k·2π/ω).
+    pub subharmonic: u32,
+    /// The parameter's value.
+    pub param: f64,
+    /// x at phase 0.
+    pub x0: f64,
+    /// x' at phase 0.
+    pub xdot0: f64,
+    /// Smallest x.
+    pub x_min: f64,
+    /// Largest x.
+    pub x_max: f64,
+    /// x_max − x_min.
+    pub peak_to_peak: f64,
+    /// Largest |x'|.
+    pub max_abs_xdot: f64,
+    /// ln |m1| (the larger multiplier).
+    pub ln_abs_m1: f64,
+    /// arg m1.
+    pub arg_m1: f64,
+    /// ln |m2|.
+    pub ln_abs_m2: f64,
+    /// arg m2.
+    pub arg_m2: f64,
+    /// Both multipliers inside the unit circle.
+    pub stable: bool,
+    /// fold, period-doubling, branch-point or empty.
+    pub special: &'static str,
+}
+crate::record!(
+    BranchRow: "branch", "subharmonic", "param", "x0", "xdot0", "x_min", "x_max",
+    "peak_to_peak", "max_abs_xdot", "ln_abs_m1", "arg_m1", "ln_abs_m2", "arg_m2", "stable",
+    "special"
+);
+
+impl BranchRow {
+    /// The row of point `q` of branch number `branch` with subharmonic `k`.
+    pub fn new(branch: usize, k: u32, q: &BranchPoint) -> BranchRow {
+        BranchRow {
+            branch,
+            subharmonic: k,
+            param: q.param,
+            x0: q.start[0],
+            xdot0: q.start[1],
+            x_min: q.amplitude.x_min,
+            x_max: q.amplitude.x_max,
+            peak_to_peak: q.amplitude.peak_to_peak,
+            max_abs_xdot: q.amplitude.max_abs_xdot,
+            ln_abs_m1: q.multipliers[0].log_abs,
+            arg_m1: q.multipliers[0].arg,
+            ln_abs_m2: q.multipliers[1].log_abs,
+            arg_m2: q.multipliers[1].arg,
+            stable: q.stable,
+            special: q.special.map_or("", Special::name),
+        }
+    }
+}

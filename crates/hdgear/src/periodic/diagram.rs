@@ -1,0 +1,185 @@
+//! The stroboscopic (Poincaré) orbit diagram: (x, x') at phase 0 of every forcing period after a
+//! transient, against a parameter, each value started from the previous value's final state —
+//! swept up and then down, so coexisting responses show as hysteresis.
+
+use super::{Oscillator, Plain};
+use crate::error::{Error, Result};
+use crate::integrate::{Method, Options, Stepper, stepper};
+use serde::Serialize;
+use std::f64::consts::TAU;
+
+/// Options of the orbit diagram.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct DiagramOptions {
+    /// Forcing periods discarded at each value before recording. The previous value's state is
+    /// close, so the transient is small, but near a fold or period doubling it decays as slowly
+    /// as the critical multiplier (critical slowing down): 200 periods.
+    pub discard: u32,
+    /// Forcing periods recorded at each value.
+    pub record: u32,
+    /// Integrator tolerances.
+    pub tol: Options,
+    /// Also the largest Lyapunov exponent at each value, averaged over this many forcing periods
+    /// after the recorded ones (Benettin's estimate converges like 1/span: over 32 periods of
+    /// ω = 6 it wanders by ±0.05 around the exact −1/2 of a focus-type orbit, over 400 by less
+    /// than ±0.005).
+    pub lyapunov: Option<u32>,
+}
+
+impl Default for DiagramOptions {
+    fn default() -> Self {
+        DiagramOptions {
+            discard: 200,
+            record: 32,
+            tol: Options {
+                method: Method::Dop853,
+                ..Options::default()
+            },
+            lyapunov: None,
+        }
+    }
+}
+
+/// The direction of a sweep.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Sweep {
+    /// Values in increasing order.
+    Up,
+    /// Values in decreasing order.
+    Down,
+}
+
+impl Sweep {
+    /// The name written in tables.
+    pub fn name(self) -> &'static str {
+        match self {
+            Sweep::Up => "up",
+            Sweep::Down => "down",
+        }
+    }
+}
+
+/// The recorded response at one parameter value.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct DiagramPoint {
+    /// The parameter.
+    pub param: f64,
+    /// The sweep it belongs to.
+    pub sweep: Sweep,
+    /// (x, x') at phase 0 of each recorded period.
+    pub section: Vec<[f64; 2]>,
+    /// The least j ≤ record/2 with section\[i + j\] = section\[i\] for all i (to 1e-6 relative):
+    /// the response's period in forcing periods; None if there is none (no periodic response
+    /// within the record: quasi-periodic, chaotic or not settled).
+    pub period: Option<u32>,
+    /// The largest Lyapunov exponent per unit τ, when asked for.
+    pub lyapunov: Option<f64>,
+}
+
+/// Relative tolerance for two section points to count as one.
+pub const SAME_POINT: f64 = 1e-6;
+
+fn least_period(section: &[[f64; 2]]) -> Option<u32> {
+    let n = section.len();
+    (1..=n / 2)
+        .find(|&j| {
+            (0..n - j).all(|i| {
+                let (a, b) = (section[i], section[i + j]);
+                (a[0] - b[0]).hypot(a[1] - b[1]) <= SAME_POINT * (1.0 + a[0].hypot(a[1]))
+            })
+        })
+        .map(|j| j as u32)
+}
+
+/// The orbit diagram of `o` against `param` over `values` (increasing), swept up from the state
+/// after `discard` periods from rest at the first value, then down from the last state. `each`
+/// sees every point as it is computed (2 × values.len() calls).
+pub fn orbit_diagram<O: Oscillator>(
+    o: &O,
+    param: O::Param,
+    values: &[f64],
+    opts: &DiagramOptions,
+    mut each: impl FnMut(DiagramPoint),
+) -> Result<()> {
+    opts.tol.validate()?;
+    if opts.record < 2 {
+        return Err(Error::InvalidOption {
+            name: "record",
+            value: f64::from(opts.record),
+            reason: "must be ≥ 2 periods",
+        });
+    }
+    if let Some(w) = values
+        .windows(2)
+        .find(|w| w[1].partial_cmp(&w[0]) != Some(std::cmp::Ordering::Greater))
+    {
+        return Err(Error::InvalidOption {
+            name: "values",
+            value: w[1],
+            reason: "must increase",
+        });
+    }
+    let tol = Options {
+        method: Method::Dop853,
+        ..opts.tol
+    };
+    let mut oscillators = Vec::with_capacity(values.len());
+    for &v in values {
+        let q = o.with(param, v)?;
+        crate::integrate::check_budget(
+            TAU * f64::from(opts.discard + opts.record) / q.omega(),
+            &tol,
+        )?;
+        oscillators.push(q);
+    }
+    let mut y = [0.0, 0.0];
+    let order: Vec<(usize, Sweep)> = (0..values.len())
+        .map(|i| (i, Sweep::Up))
+        .chain((0..values.len()).rev().map(|i| (i, Sweep::Down)))
+        .collect();
+    for (i, sweep) in order {
+        let q = &oscillators[i];
+        y = advance(q, y, opts.discard, tol)?;
+        let mut section = Vec::with_capacity(opts.record as usize);
+        for _ in 0..opts.record {
+            section.push(y);
+            y = advance(q, y, 1, tol)?;
+        }
+        let lyapunov = match opts.lyapunov {
+            Some(periods) => {
+                let t = TAU / q.omega();
+                Some(super::lyapunov(
+                    q,
+                    y,
+                    t,
+                    f64::from(periods.max(1)) * t,
+                    tol,
+                )?)
+            }
+            None => None,
+        };
+        each(DiagramPoint {
+            param: values[i],
+            sweep,
+            period: least_period(&section),
+            section,
+            lyapunov,
+        });
+    }
+    Ok(())
+}
+
+/// The state at phase 0 after `periods` forcing periods from `y` at phase 0.
+fn advance<O: Oscillator>(o: &O, y: [f64; 2], periods: u32, tol: Options) -> Result<[f64; 2]> {
+    if periods == 0 {
+        return Ok(y);
+    }
+    let sys = Plain(o, 1.0 / o.omega());
+    let end = TAU * f64::from(periods);
+    let mut s = stepper(&sys, 0.0, y, tol)?;
+    while s.t() < end {
+        s.step(end)?;
+    }
+    Ok(*s.y())
+}
