@@ -48,6 +48,8 @@ pub enum Command {
     /// The stroboscopic orbit diagram against a parameter, swept up and down (hysteresis), with
     /// the largest Lyapunov exponent on request.
     OrbitDiagram(OrbitDiagramArgs),
+    /// The largest Lyapunov exponent over a grid of one or two parameters (a sweep or a map).
+    LyapunovMap(LyapunovMapArgs),
     /// Join the shard files of a sweep into the file one machine would have written.
     Merge(MergeArgs),
     /// A physical drive in SI units: reduction, two-inertia simulation, design check.
@@ -164,9 +166,21 @@ pub struct PhysicalArgs {
     /// Output spacing [s] (default J_eq/C / 20).
     #[arg(long, requires = "simulate", allow_negative_numbers = true)]
     pub dt: Option<f64>,
-    /// Trajectory file (.csv, .json or .parquet; CSV on stdout without it and without --summary).
-    #[arg(long, value_name = "FILE", requires = "simulate")]
+    /// Trajectory file with --simulate (.csv, .json or .parquet; CSV on stdout without it and
+    /// without --summary), or the curve with --frequency-response.
+    #[arg(long, value_name = "FILE")]
     pub out: Option<PathBuf>,
+    /// The frequency-response curve of the drive (continuation in the disturbance frequency) in
+    /// SI units: twist, torque, stability, folds.
+    #[arg(long, conflicts_with_all = ["simulate", "design"])]
+    pub frequency_response: bool,
+    /// LO:HI, the frequency range in Hz of --frequency-response (default: from 1/20 to 3 times
+    /// the stiffest static frequency).
+    #[arg(long, value_name = "LO:HI", requires = "frequency_response")]
+    pub hz: Option<String>,
+    /// The figure of --frequency-response to a .svg or .png file.
+    #[arg(long, value_name = "FILE", requires = "frequency_response")]
+    pub plot: Option<PathBuf>,
     /// Print a JSON summary of the simulation.
     #[arg(long, requires = "simulate")]
     pub summary: bool,
@@ -405,6 +419,40 @@ pub struct OrbitDiagramArgs {
     #[arg(long, value_name = "FILE")]
     pub out: Option<PathBuf>,
     /// The figure to a .svg or .png file.
+    #[arg(long, value_name = "FILE")]
+    pub plot: Option<PathBuf>,
+}
+
+/// Arguments of `hdgear lyapunov-map`.
+#[derive(Args, Debug)]
+pub struct LyapunovMapArgs {
+    #[command(flatten)]
+    pub params: ParamArgs,
+    /// An axis NAME=START:END:COUNT[:log] (one or two).
+    #[arg(
+        long = "param",
+        value_name = "SPEC",
+        required = true,
+        allow_hyphen_values = true
+    )]
+    pub axes: Vec<String>,
+    /// Forcing periods discarded at each point (from the default start).
+    #[arg(long, default_value_t = 200)]
+    pub discard: u32,
+    /// Forcing periods recorded to find the response's period.
+    #[arg(long, default_value_t = 32)]
+    pub record: u32,
+    /// Forcing periods Benettin's average runs over.
+    #[arg(long, default_value_t = 400)]
+    pub periods: u32,
+    /// Worker threads (default: one per core).
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// The rows (index,alpha,…,omega,lyapunov,period,error), in grid order, to a .csv, .json or
+    /// .parquet file.
+    #[arg(long, value_name = "FILE")]
+    pub out: PathBuf,
+    /// The figure (a map for two axes, a curve for one) to a .svg or .png file.
     #[arg(long, value_name = "FILE")]
     pub plot: Option<PathBuf>,
 }

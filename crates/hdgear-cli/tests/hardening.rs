@@ -175,6 +175,28 @@ fn periodic_vectors(v: &mut Vec<Vec<String>>) {
         "--omega=3".into(),
     ]);
     v.push(vec!["frequency-response".into(), "--omega=3".into()]);
+    for val in VALUES {
+        v.push(vec![
+            "physical".into(),
+            "--frequency-response".into(),
+            format!("--hz={val}:100"),
+        ]);
+        v.push(vec![
+            "lyapunov-map".into(),
+            "--param=omega=5:6:2".into(),
+            "--out=l.csv".into(),
+            "--discard=2".into(),
+            "--record=2".into(),
+            format!("--periods={val}"),
+        ]);
+    }
+    v.push(vec!["physical".into(), "--out=x.csv".into()]);
+    v.push(vec!["physical".into(), "--hz=1:2".into()]);
+    v.push(vec![
+        "lyapunov-map".into(),
+        "--param=omega=1e-9:1e-8:2".into(),
+        "--out=l.csv".into(),
+    ]);
     v.push(vec![
         "frequency-response".into(),
         "--omega-range=5:6".into(),

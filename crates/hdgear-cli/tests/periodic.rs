@@ -593,3 +593,42 @@ fn frequency_response_and_orbit_diagram_write_curves_figures_and_sections() {
         ["d.csv", "f.csv", "f.svg"]
     );
 }
+
+#[test]
+fn a_lyapunov_map_is_in_grid_order_whatever_the_threads() {
+    let dir = tempfile::tempdir().unwrap();
+    let args = |threads: &str, out: &str| {
+        vec![
+            "lyapunov-map".to_string(),
+            "--param=omega=6:10:4".into(),
+            "--param=delta=10:20:3".into(),
+            "--gamma=10".into(),
+            "--periods=100".into(),
+            format!("--threads={threads}"),
+            format!("--out={out}"),
+        ]
+    };
+    let a: Vec<String> = args("1", "one.csv");
+    let b: Vec<String> = [args("2", "two.csv"), vec!["--plot=map.svg".into()]].concat();
+    run_in(
+        dir.path(),
+        &a.iter().map(String::as_str).collect::<Vec<_>>(),
+    );
+    run_in(
+        dir.path(),
+        &b.iter().map(String::as_str).collect::<Vec<_>>(),
+    );
+    let one = std::fs::read(dir.path().join("one.csv")).unwrap();
+    assert_eq!(one, std::fs::read(dir.path().join("two.csv")).unwrap());
+    let rows = csv_rows(&dir.path().join("one.csv"));
+    assert_eq!(rows.len(), 12);
+    for (i, r) in rows.iter().enumerate() {
+        assert_eq!(r["index"], i.to_string());
+        let l: f64 = r["lyapunov"].parse().unwrap();
+        // a damped forced oscillator with trace −1: no exponent below −1/2 (both Floquet
+        // exponents sum to −1 and the larger is ≥ their mean), none positive here
+        assert!(l > -0.5 - 1e-2 && l < 0.0, "row {i}: λ = {l}");
+    }
+    let svg = std::fs::read_to_string(dir.path().join("map.svg")).unwrap();
+    assert!(svg.contains("complex multipliers"));
+}

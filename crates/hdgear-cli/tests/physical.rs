@@ -189,3 +189,62 @@ fn every_design_margin_of_the_bursting_variant_is_real() {
     }
     assert_eq!(checked, 6, "{:?}", c.margins);
 }
+
+/// The twist range over the last two disturbance periods of a two-inertia simulation from rest
+/// at `hz`, long enough (100 decay times J_eq/C) for the transient to be gone.
+fn simulated_twist_range(d: &PhysicalParams, hz: f64) -> (f64, f64) {
+    let d = PhysicalParams {
+        omega: std::f64::consts::TAU * hz,
+        ..*d
+    };
+    let period = 1.0 / hz;
+    let t_end = ((100.0 * d.j_eq() / d.c_eq) / period).ceil() * period + 2.0 * period;
+    let tol = Options {
+        rtol: 1e-11,
+        atol: 1e-13,
+        ..Options::default()
+    };
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    simulate_physical(&d, t_end, period / 4000.0, tol, |s| {
+        if s.t >= t_end - 2.0 * period {
+            lo = lo.min(s.theta);
+            hi = hi.max(s.theta);
+        }
+    })
+    .unwrap();
+    (lo, hi)
+}
+
+#[test]
+fn a_drives_frequency_response_in_si_units_is_what_the_two_inertia_model_does() {
+    use hdgear::periodic::{ContinuationOptions, physical_frequency_response};
+    let (drive, _) = hdgear::physical::catalogue::preset("CSF-20-50", None).unwrap();
+    // the catalogue drive near its resonance, and the softer, harder-driven variant of the
+    // report on its upper (resonant) branch
+    let variant = PhysicalParams {
+        k1: 2000.0,
+        t_am: 112.0,
+        ..drive
+    };
+    for (d, hz) in [(drive, 104.3), (variant, 150.0)] {
+        // the curve from hz/2 up to hz: its last point is at hz exactly
+        let r =
+            physical_frequency_response(&d, Some((hz / 2.0, hz)), &ContinuationOptions::default())
+                .unwrap();
+        let q = r.points.last().unwrap();
+        assert!((q.frequency_hz - hz).abs() < 1e-9 * hz && q.stable);
+        let (lo, hi) = simulated_twist_range(&d, hz);
+        // sampling 4000 times a period misses an extremum by at most (π/4000)²/2 ≈ 3e-7 of the
+        // amplitude; 1e-5 of the peak-to-peak bounds that and the tolerances
+        let tol = 1e-5 * q.twist_peak_to_peak;
+        assert!(
+            (lo - q.twist_range[0]).abs() < tol && (hi - q.twist_range[1]).abs() < tol,
+            "{hz} Hz: simulated {lo:e} … {hi:e}, curve {:e} … {:e}",
+            q.twist_range[0],
+            q.twist_range[1]
+        );
+        // the torque range is the stiffness law's range on the twist range
+        let t = |th: f64| (d.k1 + d.k2 * th * th) * (th - d.backlash);
+        assert!(q.torque_range[1] >= t(hi) - 1e-9 * t(hi).abs());
+    }
+}

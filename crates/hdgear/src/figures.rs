@@ -902,11 +902,11 @@ pub fn boundary_figure(base: &Params, study: &mut Study) -> Result<Figure> {
 /// point in both neighbours so the curve stays connected.
 fn stability_runs(
     b: &crate::periodic::Branch<Param>,
-    y: impl Fn(&crate::periodic::BranchPoint) -> f64,
+    xy: &impl Fn(&crate::periodic::BranchPoint) -> (f64, f64),
 ) -> Vec<(bool, Vec<(f64, f64)>)> {
     let mut runs: Vec<(bool, Vec<(f64, f64)>)> = Vec::new();
     for q in &b.points {
-        let pt = (q.param, y(q));
+        let pt = xy(q);
         match runs.last_mut() {
             Some((s, pts)) if *s == q.stable || q.special.is_some() => pts.push(pt),
             Some((_, pts)) => {
@@ -919,16 +919,17 @@ fn stability_runs(
     runs
 }
 
-/// One panel of the frequency-response figure: `y` of the branch against ω.
+/// One panel of a frequency-response figure: the points `xy` of the branch's points, with the
+/// axis labels.
 fn response_panel(
     b: &crate::periodic::Branch<Param>,
-    title: &str,
-    y: fn(&crate::periodic::BranchPoint) -> f64,
+    (title, x_label): (&str, &str),
+    xy: impl Fn(&crate::periodic::BranchPoint) -> (f64, f64),
 ) -> Panel {
     use crate::periodic::Special;
     let mut series = Vec::new();
     let (mut stable_named, mut unstable_named) = (false, false);
-    for (stable, points) in stability_runs(b, y) {
+    for (stable, points) in stability_runs(b, &xy) {
         let named = if stable {
             &mut stable_named
         } else {
@@ -955,12 +956,13 @@ fn response_panel(
                 Some(Special::PeriodDoubling) => "period doubling",
                 _ => "branch point",
             };
-            (q.param, y(q), label.to_string())
+            let (x, y) = xy(q);
+            (x, y, label.to_string())
         })
         .collect();
     Panel {
         title: title.into(),
-        x_label: "ω".into(),
+        x_label: x_label.into(),
         y_label: title.into(),
         x_log: true,
         series,
@@ -1015,8 +1017,12 @@ pub fn frequency_response_figure(p: &Params, b: &crate::periodic::Branch<Param>)
         ),
         size: (1000, 800),
         panels: vec![
-            response_panel(b, "peak-to-peak x", |q| q.amplitude.peak_to_peak),
-            response_panel(b, "max |x'|", |q| q.amplitude.max_abs_xdot),
+            response_panel(b, ("peak-to-peak x", "ω"), |q| {
+                (q.param, q.amplitude.peak_to_peak)
+            }),
+            response_panel(b, ("max |x'|", "ω"), |q| {
+                (q.param, q.amplitude.max_abs_xdot)
+            }),
         ],
         map: None,
     }
@@ -1090,6 +1096,181 @@ pub fn orbit_diagram_figure(
         ),
         size: (1000, if panels.len() > 1 { 800 } else { 600 }),
         panels,
+        map: None,
+    }
+}
+
+/// Bins of the Lyapunov map, as (upper bound, name), the last unbounded. −1/2 is the exponent of
+/// every orbit whose multipliers are a complex pair (|m| = e^{−T/2}, SPEC §3's trace −1), the
+/// most strongly attracting a response of this damping can be; near 0 a multiplier is near the
+/// unit circle (a fold or a period doubling close by); above 0, sensitive dependence.
+pub const LYAPUNOV_BINS: [(f64, &str); 5] = [
+    (-0.45, "λ ≈ −1/2: complex multipliers"),
+    (-0.1, "−0.45 < λ ≤ −0.1"),
+    (-0.01, "−0.1 < λ ≤ −0.01: near a bifurcation"),
+    (0.01, "|λ| ≤ 0.01: at a bifurcation, or not periodic"),
+    (f64::INFINITY, "λ > 0.01: chaotic"),
+];
+
+/// The Lyapunov exponent over a grid: a curve for one axis, a map in [`LYAPUNOV_BINS`] for two.
+pub fn lyapunov_figure(grid: &crate::sweep::Grid, rows: &[crate::periodic::LyapunovRow]) -> Figure {
+    let p = grid.base;
+    let caption = format!(
+        "Largest Lyapunov exponent (Benettin, variational equations) of the response reached \
+         from the default start, over {} point(s) (the other parameters: α = {}, γ = {}, ε = {}, \
+         μ = {}, δ = {}, ω = {}). For a periodic response it equals the largest Floquet exponent; \
+         −1/2 wherever the multipliers are a complex pair; near 0 at folds and period doublings.",
+        rows.len(),
+        p.alpha,
+        p.gamma,
+        p.eps,
+        p.mu,
+        p.delta,
+        p.omega
+    );
+    let ax = &grid.axes[0];
+    if grid.axes.len() == 1 {
+        return lyapunov_curve(ax, rows, caption);
+    }
+    let ay = &grid.axes[1];
+    let cells = rows
+        .iter()
+        .filter(|r| r.lyapunov.is_finite())
+        .map(|r| {
+            let (i, j) = (r.index % ax.count, r.index / ax.count);
+            let (x0, x1) = cell_edges(ax, i);
+            let (y0, y1) = cell_edges(ay, j);
+            let k = LYAPUNOV_BINS
+                .iter()
+                .position(|(hi, _)| r.lyapunov <= *hi)
+                .unwrap_or(LYAPUNOV_BINS.len() - 1);
+            (x0, x1, y0, y1, k)
+        })
+        .collect();
+    let (xr, yr) = (
+        (cell_edges(ax, 0).0, cell_edges(ax, ax.count - 1).1),
+        (cell_edges(ay, 0).0, cell_edges(ay, ay.count - 1).1),
+    );
+    Figure {
+        name: "lyapunov".into(),
+        caption,
+        size: (1000, 700),
+        panels: Vec::new(),
+        map: Some(Map {
+            frame: Panel {
+                title: format!(
+                    "largest Lyapunov exponent over ({}, {})",
+                    ax.param, ay.param
+                ),
+                x_label: ax.param.to_string(),
+                y_label: ay.param.to_string(),
+                x_log: ax.log,
+                y_log: ay.log,
+                x_range: Some(xr),
+                y_range: Some(yr),
+                legend_left: true,
+                ..Panel::default()
+            },
+            cells,
+            categories: LYAPUNOV_BINS.iter().map(|b| b.1.to_string()).collect(),
+        }),
+    }
+}
+
+/// A drive's frequency-response curve in SI units: peak-to-peak twist [mrad] and the largest
+/// elastic torque [N m] against the disturbance frequency [Hz].
+pub fn physical_response_figure(r: &crate::periodic::PhysicalResponse) -> Figure {
+    let red = &r.reduction;
+    let d = &r.drive;
+    let hz = |q: &crate::periodic::BranchPoint| q.param / red.time_scale / std::f64::consts::TAU;
+    let twist = |x: f64| red.theta(x);
+    let folds: Vec<String> = r
+        .points
+        .iter()
+        .filter(|q| q.special == Some(crate::periodic::Special::Fold))
+        .map(|q| format!("{:.1} Hz", q.frequency_hz))
+        .collect();
+    let peak = r
+        .points
+        .iter()
+        .max_by(|a, b| a.twist_peak_to_peak.total_cmp(&b.twist_peak_to_peak));
+    Figure {
+        name: "physical-frequency-response".into(),
+        caption: format!(
+            "Frequency response of the drive (J_i = {} kg m², J_o = {} kg m², N = {}, k1 = {} N m/rad,              k2 = {} N m/rad³, φ = {} rad, C = {} N m s/rad, T_m = {} N m, T_am = {} N m) against              the disturbance frequency, from the reduced model's continuation converted to SI              (θ = L x, Ω = ω/T). {} {}",
+            d.j_in,
+            d.j_out,
+            d.ratio,
+            d.k1,
+            d.k2,
+            d.backlash,
+            d.c_eq,
+            d.t_m,
+            d.t_am,
+            peak.map_or(String::new(), |q| format!(
+                "The largest response, {:.3} mrad peak to peak, is at {:.1} Hz.",
+                1e3 * q.twist_peak_to_peak,
+                q.frequency_hz
+            )),
+            if folds.is_empty() {
+                "No fold: at this disturbance amplitude the response is single-valued and a                  frequency sweep does not jump."
+                    .to_string()
+            } else {
+                format!(
+                    "Folds (jumps of a frequency sweep) at {}.",
+                    folds.join(", ")
+                )
+            }
+        ),
+        size: (1000, 800),
+        panels: vec![
+            response_panel(&r.branch, ("peak-to-peak twist [mrad]", "f [Hz]"), |q| {
+                (
+                    hz(q),
+                    1e3 * (twist(q.amplitude.x_max) - twist(q.amplitude.x_min)),
+                )
+            }),
+            response_panel(&r.branch, ("largest elastic torque [N m]", "f [Hz]"), |q| {
+                let t = crate::periodic::torque_range(
+                    d,
+                    twist(q.amplitude.x_min),
+                    twist(q.amplitude.x_max),
+                );
+                (hz(q), t[1])
+            }),
+        ],
+        map: None,
+    }
+}
+
+/// The Lyapunov exponent against the one axis of a sweep.
+fn lyapunov_curve(
+    ax: &crate::sweep::Axis,
+    rows: &[crate::periodic::LyapunovRow],
+    caption: String,
+) -> Figure {
+    let points = rows
+        .iter()
+        .filter(|r| r.lyapunov.is_finite())
+        .map(|r| (r.params.value(ax.param), r.lyapunov))
+        .collect();
+    Figure {
+        name: "lyapunov".into(),
+        caption,
+        size: (1000, 500),
+        panels: vec![Panel {
+            title: format!("largest Lyapunov exponent against {}", ax.param),
+            x_label: ax.param.to_string(),
+            y_label: "λ_max".into(),
+            x_log: ax.log,
+            series: vec![Series {
+                label: String::new(),
+                points,
+                color: 2,
+                style: Style::Line,
+            }],
+            ..Panel::default()
+        }],
         map: None,
     }
 }

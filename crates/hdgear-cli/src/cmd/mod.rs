@@ -8,6 +8,7 @@ mod continuation;
 mod diagram;
 mod equilibria;
 mod frequency;
+mod lyapunov;
 mod merge;
 mod periodic;
 mod physical;
@@ -35,6 +36,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Continue(a) => continuation::run(a),
         Command::FrequencyResponse(a) => frequency::run(a),
         Command::OrbitDiagram(a) => diagram::run(a),
+        Command::LyapunovMap(a) => lyapunov::run(a),
         Command::Periodic(a) => periodic::run(a),
         Command::Physical(a) => physical::run(a),
         Command::Plot(a) => plot::run(a),

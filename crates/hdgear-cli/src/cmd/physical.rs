@@ -14,9 +14,15 @@ pub fn run(a: PhysicalArgs) -> Result<()> {
     if a.simulate {
         return simulate(&a, &d, opts.tol);
     }
+    if a.out.is_some() && !a.frequency_response {
+        bail!("--out needs --simulate or --frequency-response");
+    }
     // a drive without a reduction is refused here with the way out
     d.reduce()
         .context("cannot reduce the drive (run it with hdgear physical --simulate)")?;
+    if a.frequency_response {
+        return frequency_response(&a, &d);
+    }
     if a.design {
         let check = hdgear::physical::design::design_check(&d, &opts)?;
         if a.json {
@@ -94,6 +100,106 @@ fn simulate(
     if a.summary {
         let doc = summary.report();
         println!("{}", serde_json::to_string_pretty(&doc)?);
+    }
+    Ok(())
+}
+
+/// One point of a drive's frequency-response curve: the columns of `--frequency-response --out`.
+#[derive(serde::Serialize)]
+struct ResponseRow {
+    frequency_hz: f64,
+    omega_rad_s: f64,
+    twist_min: f64,
+    twist_max: f64,
+    twist_peak_to_peak: f64,
+    max_twist_rate: f64,
+    torque_min: f64,
+    torque_max: f64,
+    stable: bool,
+    special: &'static str,
+}
+hdgear::record!(
+    ResponseRow: "frequency_hz", "omega_rad_s", "twist_min", "twist_max", "twist_peak_to_peak",
+    "max_twist_rate", "torque_min", "torque_max", "stable", "special"
+);
+
+fn frequency_response(a: &PhysicalArgs, d: &hdgear::physical::PhysicalParams) -> Result<()> {
+    use hdgear::periodic::{ContinuationOptions, Special, physical_frequency_response};
+    let hz =
+        a.hz.as_deref()
+            .map(|t| crate::cli::parse_pair("--hz", "LO:HI", t))
+            .transpose()?;
+    if let Some((lo, _)) = hz
+        && lo <= 0.0
+    {
+        bail!(
+            "invalid --hz '{}': frequencies must be > 0",
+            a.hz.clone().unwrap_or_default()
+        );
+    }
+    check_out(&a.out)?;
+    if let Some(plot) = &a.plot {
+        crate::cli::check_plot(plot)?;
+    }
+    let r = physical_frequency_response(d, hz, &ContinuationOptions::default())
+        .context("frequency response")?;
+    if let Some(out) = &a.out {
+        let rows = r.points.iter().map(|q| ResponseRow {
+            frequency_hz: q.frequency_hz,
+            omega_rad_s: q.omega_rad_s,
+            twist_min: q.twist_range[0],
+            twist_max: q.twist_range[1],
+            twist_peak_to_peak: q.twist_peak_to_peak,
+            max_twist_rate: q.max_twist_rate,
+            torque_min: q.torque_range[0],
+            torque_max: q.torque_range[1],
+            stable: q.stable,
+            special: q.special.map_or("", Special::name),
+        });
+        crate::sink::write_records(Some(out), &r.drive, rows)?;
+    }
+    if let Some(plot) = &a.plot {
+        let f = hdgear::figures::physical_response_figure(&r);
+        hdgear::output::plot::write(&f, plot)?;
+    }
+    if a.json {
+        println!("{}", serde_json::to_string_pretty(&r)?);
+        return Ok(());
+    }
+    let (first, last) = (&r.points[0], &r.points[r.points.len() - 1]);
+    println!(
+        "frequency response of the drive from {:.3} Hz to {:.3} Hz: {} points",
+        first.frequency_hz,
+        last.frequency_hz,
+        r.points.len()
+    );
+    if let Some(q) = r
+        .points
+        .iter()
+        .max_by(|x, y| x.twist_peak_to_peak.total_cmp(&y.twist_peak_to_peak))
+    {
+        println!(
+            "  largest response at {:.3} Hz: twist {:.4e} … {:.4e} rad ({:.4e} rad peak to peak), \
+             elastic torque {:.3} … {:.3} N m",
+            q.frequency_hz,
+            q.twist_range[0],
+            q.twist_range[1],
+            q.twist_peak_to_peak,
+            q.torque_range[0],
+            q.torque_range[1]
+        );
+    }
+    let specials: Vec<_> = r.points.iter().filter(|q| q.special.is_some()).collect();
+    if specials.is_empty() {
+        println!("  no fold: the response is single-valued, a frequency sweep does not jump");
+    }
+    for q in specials {
+        println!(
+            "  {:<16} {:.6} Hz, twist {:.4e} rad peak to peak",
+            q.special.map_or("", Special::name),
+            q.frequency_hz,
+            q.twist_peak_to_peak
+        );
     }
     Ok(())
 }

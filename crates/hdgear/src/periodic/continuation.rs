@@ -410,8 +410,11 @@ impl<O: Oscillator> Tracer<'_, O> {
             let zp = [p.z[0] + ds * t[0], p.z[1] + ds * t[1], p.z[2] + ds * t[2]];
             let next = self.correct(zp, t, dot(t, zp))?;
             let accepted = next.and_then(|q| self.tangent(&q, t).map(|tq| (q, tq)));
-            let Some((q, tq)) = accepted.filter(|(_, tq)| {
-                dot(t, *tq).clamp(-1.0, 1.0).acos() <= self.opts.max_turn || ds <= min
+            // a corrector that lands far from the predictor (on the hyperplane, but on another
+            // branch) or a sharp turn of the tangent: the step was too long
+            let Some((q, tq)) = accepted.filter(|(q, tq)| {
+                let turn = dot(t, *tq).clamp(-1.0, 1.0).acos();
+                (turn <= self.opts.max_turn && norm(sub(q.z, zp)) <= ds) || ds <= min
             }) else {
                 ds *= 0.5;
                 if ds < min {

@@ -183,3 +183,62 @@ fn advance<O: Oscillator>(o: &O, y: [f64; 2], periods: u32, tol: Options) -> Res
     }
     Ok(*s.y())
 }
+
+/// One point of a Lyapunov map (`hdgear lyapunov-map`).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct LyapunovRow {
+    /// Grid index (first axis fastest).
+    pub index: usize,
+    /// The point's parameters.
+    pub params: crate::params::Params,
+    /// The largest Lyapunov exponent per unit τ (NaN when the point failed).
+    pub lyapunov: f64,
+    /// The response's period in forcing periods (see [`DiagramPoint::period`]).
+    pub period: Option<u32>,
+    /// Empty, or the error that stopped this point.
+    pub error: String,
+}
+crate::record!(
+    LyapunovRow: "index", "alpha", "gamma", "eps", "mu", "delta", "omega", "lyapunov",
+    "period", "error"
+);
+
+/// The largest Lyapunov exponent at one parameter set: from the default start (the stable
+/// equilibrium at a = 0, at rest), `opts.discard` periods settle, `opts.record` periods give the
+/// period, then Benettin over `opts.lyapunov` periods (400 when None).
+pub fn lyapunov_point(
+    index: usize,
+    p: &crate::params::Params,
+    opts: &DiagramOptions,
+) -> LyapunovRow {
+    let result = (|| -> Result<(f64, Option<u32>)> {
+        p.validate()?;
+        let tol = Options {
+            method: Method::Dop853,
+            ..opts.tol
+        };
+        let periods = opts.lyapunov.unwrap_or(400).max(1);
+        let t = TAU / p.omega;
+        crate::integrate::check_budget(t * f64::from(opts.discard + opts.record + periods), &tol)?;
+        let start = crate::simulate::initial_state(p, crate::simulate::Start::Equilibrium);
+        let mut y = advance(p, start, opts.discard, tol)?;
+        let mut section = Vec::with_capacity(opts.record as usize);
+        for _ in 0..opts.record {
+            section.push(y);
+            y = advance(p, y, 1, tol)?;
+        }
+        let l = super::lyapunov(p, y, t, f64::from(periods) * t, tol)?;
+        Ok((l, least_period(&section)))
+    })();
+    let (lyapunov, period, error) = match result {
+        Ok((l, k)) => (l, k, String::new()),
+        Err(e) => (f64::NAN, None, e.to_string()),
+    };
+    LyapunovRow {
+        index,
+        params: *p,
+        lyapunov,
+        period,
+        error,
+    }
+}

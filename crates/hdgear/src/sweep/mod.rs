@@ -235,9 +235,22 @@ pub fn run(
     opts: &BurstOptions,
     todo: &[usize],
     threads: usize,
-    mut on_row: impl FnMut(SweepRow),
+    on_row: impl FnMut(SweepRow),
 ) -> Result<()> {
     opts.validate()?;
+    run_with(grid, todo, threads, |i, p| run_point(i, p, opts), on_row)
+}
+
+/// Runs `point(i, parameters of i)` for the grid points `todo` on `threads` worker threads (0:
+/// one per core) and calls `on_row` from the calling thread with each result as it finishes: the
+/// one parallel loop of sweeps, maps and Lyapunov maps.
+pub fn run_with<R: Send>(
+    grid: &Grid,
+    todo: &[usize],
+    threads: usize,
+    point: impl Fn(usize, &Params) -> R + Sync,
+    mut on_row: impl FnMut(R),
+) -> Result<()> {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
@@ -248,11 +261,12 @@ pub fn run(
         })?;
     let (tx, rx) = std::sync::mpsc::channel();
     std::thread::scope(|s| {
+        let point = &point;
         s.spawn(move || {
             pool.install(|| {
                 todo.par_iter().for_each_with(tx, |tx, &i| {
                     // the receiver only goes away if the caller panicked
-                    let _ = tx.send(run_point(i, &grid.point(i), opts));
+                    let _ = tx.send(point(i, &grid.point(i)));
                 });
             });
         });

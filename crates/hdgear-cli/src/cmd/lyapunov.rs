@@ -1,0 +1,76 @@
+//! `hdgear lyapunov-map`: the largest Lyapunov exponent over a grid of one or two parameters.
+
+use crate::cli::LyapunovMapArgs;
+use crate::sink::{warn, write_records};
+use anyhow::{Context, Result};
+use hdgear::periodic::{DiagramOptions, LyapunovRow, lyapunov_point};
+use hdgear::sweep::{Axis, Grid};
+use serde::Serialize;
+
+#[derive(Serialize)]
+struct Meta<'a> {
+    grid: &'a Grid,
+    options: DiagramOptions,
+}
+
+pub fn run(a: LyapunovMapArgs) -> Result<()> {
+    let axes = a
+        .axes
+        .iter()
+        .map(|t| Axis::parse(t))
+        .collect::<hdgear::Result<Vec<_>>>()
+        .context("--param")?;
+    for ax in &axes {
+        if a.params.given(ax.param.name()) {
+            anyhow::bail!("--{0} does not apply: an axis varies {0}", ax.param);
+        }
+    }
+    if a.threads == Some(0) {
+        anyhow::bail!("invalid option --threads = 0: must be ≥ 1");
+    }
+    let (p, warnings) = a.params.resolve()?;
+    let grid = Grid::new(p, axes).context("--param")?;
+    crate::cli::check_out(&Some(a.out.clone()))?;
+    if let Some(plot) = &a.plot {
+        crate::cli::check_plot(plot)?;
+    }
+    let opts = DiagramOptions {
+        discard: a.discard,
+        record: a.record.max(2),
+        lyapunov: Some(a.periods.max(1)),
+        ..DiagramOptions::default()
+    };
+    warn(&warnings);
+    // rows come in completion order; they are kept (about 100 bytes each) and written in grid
+    // order, so the file is the same whatever the thread count
+    let mut rows: Vec<LyapunovRow> = Vec::with_capacity(grid.len());
+    let todo: Vec<usize> = (0..grid.len()).collect();
+    hdgear::sweep::run_with(
+        &grid,
+        &todo,
+        a.threads.unwrap_or(0),
+        |i, q| lyapunov_point(i, q, &opts),
+        |r| {
+            rows.push(r);
+        },
+    )?;
+    rows.sort_by_key(|r| r.index);
+    let failed = rows.iter().filter(|r| !r.error.is_empty()).count();
+    if failed == rows.len() {
+        return Err(crate::sink::ComputationFailed(format!(
+            "every one of the {failed} points failed (first: {})",
+            rows[0].error
+        ))
+        .into());
+    }
+    let meta = Meta {
+        grid: &grid,
+        options: opts,
+    };
+    write_records(Some(&a.out), &meta, rows.iter().cloned())?;
+    if let Some(plot) = &a.plot {
+        let f = hdgear::figures::lyapunov_figure(&grid, &rows);
+        hdgear::output::plot::write(&f, plot)?;
+    }
+    Ok(())
+}
