@@ -54,7 +54,8 @@ pub enum Command {
     Merge(MergeArgs),
     /// A physical drive in SI units: reduction, two-inertia simulation, design check.
     Physical(PhysicalArgs),
-    /// Draw one figure: xdot-gamma, x-equilibrium, transformed-phase, phase-plane, slope, sweep, map.
+    /// Draw one figure: xdot-gamma, x-equilibrium, transformed-phase, phase-plane, slope, sweep,
+    /// map, boundary, frequency-response, orbit-diagram, lyapunov-map.
     Plot(PlotArgs),
     /// Run everything on the study's defaults and write a self-contained HTML report.
     Report(ReportArgs),
@@ -96,7 +97,8 @@ pub struct ReportArgs {
 /// Arguments of `hdgear plot`.
 #[derive(Args, Debug)]
 pub struct PlotArgs {
-    /// The figure: xdot-gamma, x-equilibrium, transformed-phase, phase-plane, slope, sweep, map.
+    /// The figure: xdot-gamma, x-equilibrium, transformed-phase, phase-plane, slope, sweep, map,
+    /// boundary, frequency-response, orbit-diagram, lyapunov-map.
     pub kind: String,
     #[command(flatten)]
     pub params: ParamArgs,

@@ -5,9 +5,13 @@ use crate::common::hdgear;
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
 
-/// The report's figure files, from the library's one list.
+/// The report's figure files, from the library's lists (the study's, the periodic section's).
 fn figures() -> Vec<&'static str> {
-    hdgear::report::FIGURES.iter().map(|f| f.2).collect()
+    hdgear::report::FIGURES
+        .iter()
+        .map(|f| f.2)
+        .chain(hdgear::report::PERIODIC_FIGURES.iter().map(|f| f.1))
+        .collect()
 }
 
 #[test]
@@ -22,7 +26,10 @@ fn every_figure_kind_is_in_its_table_line_and_in_the_report() {
             serde_json::json!(e.name)
         );
         assert!(
-            hdgear::report::FIGURES.iter().any(|f| f.0 == e.kind),
+            hdgear::report::FIGURES.iter().any(|f| f.0 == e.kind)
+                || hdgear::report::PERIODIC_FIGURES
+                    .iter()
+                    .any(|f| f.0 == Some(e.kind)),
             "{} not in the report",
             e.name
         );
@@ -62,6 +69,7 @@ fn report_has_every_section_and_figure_inline() {
         "figures",
         "mechanism",
         "physical",
+        "periodic",
         "methods",
     ] {
         assert!(

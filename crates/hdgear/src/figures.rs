@@ -31,6 +31,12 @@ pub enum FigureKind {
     Map,
     /// The bursting boundary in the (ω, γ) plane, predicted and simulated.
     Boundary,
+    /// The frequency-response curve with stable and unstable branches, folds and doublings.
+    FrequencyResponse,
+    /// The stroboscopic orbit diagram against ω, swept up and down, with Benettin's exponent.
+    OrbitDiagram,
+    /// The largest Lyapunov exponent over (ω, δ).
+    LyapunovMap,
 }
 
 /// How a figure kind is named, what it varies and how it is built.
@@ -46,7 +52,7 @@ pub struct KindEntry {
 }
 
 /// The one list of figure kinds, in the order listed to users.
-pub const KINDS: [KindEntry; 8] = [
+pub const KINDS: [KindEntry; 11] = [
     KindEntry {
         kind: FigureKind::XdotGamma,
         name: "xdot-gamma",
@@ -94,6 +100,24 @@ pub const KINDS: [KindEntry; 8] = [
         name: "boundary",
         varies: &[Param::Gamma, Param::Omega],
         build: boundary_figure,
+    },
+    KindEntry {
+        kind: FigureKind::FrequencyResponse,
+        name: "frequency-response",
+        varies: &[Param::Omega],
+        build: frequency_response_kind,
+    },
+    KindEntry {
+        kind: FigureKind::OrbitDiagram,
+        name: "orbit-diagram",
+        varies: &[Param::Omega],
+        build: orbit_diagram_kind,
+    },
+    KindEntry {
+        kind: FigureKind::LyapunovMap,
+        name: "lyapunov-map",
+        varies: &[Param::Omega, Param::Delta],
+        build: lyapunov_map_kind,
     },
 ];
 
@@ -1177,8 +1201,8 @@ pub fn lyapunov_figure(grid: &crate::sweep::Grid, rows: &[crate::periodic::Lyapu
     }
 }
 
-/// A drive's frequency-response curve in SI units: peak-to-peak twist [mrad] and the largest
-/// elastic torque [N m] against the disturbance frequency [Hz].
+/// A drive's frequency-response curve in SI units: peak-to-peak twist \[mrad\] and the largest
+/// elastic torque \[N m\] against the disturbance frequency \[Hz\].
 pub fn physical_response_figure(r: &crate::periodic::PhysicalResponse) -> Figure {
     let red = &r.reduction;
     let d = &r.drive;
@@ -1273,4 +1297,72 @@ fn lyapunov_curve(
         }],
         map: None,
     }
+}
+
+/// [`frequency_response_figure`] over the default ω range of `p`.
+pub fn frequency_response_kind(p: &Params, _study: &mut Study) -> Result<Figure> {
+    let b = crate::periodic::frequency_response(
+        p,
+        None,
+        &crate::periodic::ContinuationOptions::default(),
+    )?;
+    Ok(frequency_response_figure(p, &b))
+}
+
+/// [`orbit_diagram_figure`] over ω ∈ [ω_s/2, 1.5 ω_s] (ω_s: the stiffest static frequency, see
+/// [`crate::periodic::default_frequency_range`]), the resonance and its bend, 161 values.
+pub fn orbit_diagram_kind(p: &Params, _study: &mut Study) -> Result<Figure> {
+    // the default range is [ω_s/20, 3 ω_s]
+    let ws = crate::periodic::default_frequency_range(p).1 / 3.0;
+    let values: Vec<f64> = (0..=160)
+        .map(|i| 0.5 * ws + ws * f64::from(i) / 160.0)
+        .collect();
+    let opts = crate::periodic::DiagramOptions {
+        lyapunov: Some(200),
+        ..crate::periodic::DiagramOptions::default()
+    };
+    let mut points = Vec::new();
+    crate::periodic::orbit_diagram(p, Param::Omega, &values, &opts, |q| points.push(q))?;
+    Ok(orbit_diagram_figure(p, Param::Omega, &points))
+}
+
+/// [`lyapunov_figure`] over ω ∈ [ω_s/4, 2ω_s] × δ ∈ [δ/8, 8δ] (log, 32 × 20).
+pub fn lyapunov_map_kind(p: &Params, study: &mut Study) -> Result<Figure> {
+    let ws = crate::periodic::default_frequency_range(p).1 / 3.0;
+    let d = if p.delta > 0.0 { p.delta } else { 1.0 };
+    let grid = crate::sweep::Grid::new(
+        *p,
+        vec![
+            Axis {
+                param: Param::Omega,
+                start: ws / 4.0,
+                end: 2.0 * ws,
+                count: 32,
+                log: true,
+            },
+            Axis {
+                param: Param::Delta,
+                start: d / 8.0,
+                end: 8.0 * d,
+                count: 20,
+                log: true,
+            },
+        ],
+    )?;
+    let opts = crate::periodic::DiagramOptions {
+        discard: 100,
+        lyapunov: Some(100),
+        ..crate::periodic::DiagramOptions::default()
+    };
+    let mut rows = Vec::with_capacity(grid.len());
+    let todo: Vec<usize> = (0..grid.len()).collect();
+    crate::sweep::run_with(
+        &grid,
+        &todo,
+        study.threads,
+        |i, q| crate::periodic::lyapunov_point(i, q, &opts),
+        |r| rows.push(r),
+    )?;
+    rows.sort_by_key(|r| r.index);
+    Ok(lyapunov_figure(&grid, &rows))
 }

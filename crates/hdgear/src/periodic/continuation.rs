@@ -15,13 +15,15 @@
 //!
 //! **Special points.** The multipliers of the forced model can leave the unit circle only as real
 //! numbers: their product is det M = e^{−kT} < 1 (Liouville, trace −1), so a complex pair has
-//! |m| = e^{−kT/2} < 1 and no torus (Neimark–Sacker) bifurcation exists. Two test functions
-//! follow the real multipliers: ψ₊ = ln m of the largest positive one (zero at a fold of cycles,
-//! or at a branch point if the parameter does not turn back) and ψ₋ = ln|m| of the largest
-//! negative one (zero at a period doubling). A sign change between two points is located by the
-//! Illinois method on the arclength, correcting onto the branch at every trial, to |ψ| ≤ 1e-10.
-//! Real multipliers change only by collisions inside the circle, so both functions are continuous
-//! where they cross zero.
+//! |m| = e^{−kT/2} < 1 and no torus (Neimark–Sacker) bifurcation exists. Two test functions,
+//! ψ₊ = det(M − I) (zero at a fold of cycles, or at a branch point if the parameter does not turn
+//! back) and ψ₋ = det(M + I) (zero at a period doubling), are symmetric functions of the
+//! multipliers and so continuous along the branch, even when a multiplier crosses ±1 and then
+//! collides with the other within one step (seen at a fold of a drive's response: a functional of
+//! the largest real multiplier alone missed it). A sign change between two points is located by
+//! the Illinois method on the arclength, correcting onto the branch at every trial, to
+//! |ψ| ≤ 1e-10. A pair of crossings closer than one step (a bubble narrower than the step) is not
+//! seen; [`ContinuationOptions::max_step`] bounds how narrow.
 //!
 //! **Branch switching** at a period doubling: the doubled branch (period 2k) leaves the point
 //! perpendicular to the parameter axis along the eigenvector v of M for −1 (for the 2k-map the
@@ -245,6 +247,10 @@ struct Tracer<'a, O: Oscillator> {
     range: f64,
     /// The range in λ, low and high (exactly as given).
     lambda_bounds: [f64; 2],
+    /// The state's scale S: the unknowns are (x₀/S, x₀'/S, u), so that the arclength weighs the
+    /// state and the parameter alike whatever the response's size (set from the first orbit:
+    /// its largest |x|, |x'| or peak-to-peak x, at least 1).
+    scale: f64,
     /// Points where the branch ends if it passes through them: (z, the point, why).
     terminals: Vec<([f64; 3], BranchPoint, End)>,
 }
@@ -298,13 +304,24 @@ impl<O: Oscillator> Tracer<'_, O> {
             &o,
             Some(self.param),
             0.0,
-            [z[0], z[1]],
+            self.state(z),
             TAU * f64::from(self.k),
             self.opts.periodic.tol,
         )?;
-        let d = self.opts.scale.dlambda(z[2]);
+        // ∂(φ/S)/∂u
+        let d = self.opts.scale.dlambda(z[2]) / self.scale;
         f.w = [f.w[0] * d, f.w[1] * d];
         Ok(f)
+    }
+
+    /// The state (x₀, x₀') of the unknowns z.
+    fn state(&self, z: [f64; 3]) -> [f64; 2] {
+        [self.scale * z[0], self.scale * z[1]]
+    }
+
+    /// The unknowns of state y at parameter coordinate u.
+    fn unknowns(&self, y: [f64; 2], u: f64) -> [f64; 3] {
+        [y[0] / self.scale, y[1] / self.scale, u]
     }
 
     /// Newton on P(z) = 0, n·z = c from z. `Ok(None)` when it does not converge (the caller
@@ -323,9 +340,10 @@ impl<O: Oscillator> Tracer<'_, O> {
                 }
                 Err(e) => return Err(e),
             };
-            let r = [f.y[0] - z[0], f.y[1] - z[1]];
+            let y = self.state(z);
+            let r = [f.y[0] - y[0], f.y[1] - y[1]];
             let g = dot(n, z) - c;
-            if super::converged(r, [z[0], z[1]]) && g.abs() <= 1e-12 * (1.0 + norm(z)) {
+            if super::converged(r, y) && g.abs() <= 1e-12 * (1.0 + norm(z)) {
                 return Ok(Some(Point {
                     z,
                     flow: f,
@@ -343,7 +361,8 @@ impl<O: Oscillator> Tracer<'_, O> {
                 [a[1][0], a[1][1], f.w[1]],
                 [n[0], n[1], n[2]],
             ];
-            let Some(d) = solve3(j, [-r[0], -r[1], -g]) else {
+            // the scaled residual (φ − y)/S has the Jacobian [M − I | ∂(φ/S)/∂u] in (y/S, u)
+            let Some(d) = solve3(j, [-r[0] / self.scale, -r[1] / self.scale, -g]) else {
                 return Ok(None);
             };
             z = [z[0] + d[0], z[1] + d[1], z[2] + d[2]];
@@ -380,10 +399,10 @@ impl<O: Oscillator> Tracer<'_, O> {
         let critical_direction = special.map(|s| critical_direction(&p.flow, s));
         Ok(BranchPoint {
             param: self.opts.scale.to_lambda(p.z[2]),
-            start: [p.z[0], p.z[1]],
+            start: self.state(p.z),
             multipliers,
             stable: multipliers.iter().all(|m| m.log_abs < 0.0),
-            amplitude: amplitude(&o, [p.z[0], p.z[1]], self.k, self.opts.periodic.tol)?,
+            amplitude: amplitude(&o, self.state(p.z), self.k, self.opts.periodic.tol)?,
             special,
             critical_direction,
         })
@@ -432,7 +451,7 @@ impl<O: Oscillator> Tracer<'_, O> {
             if first_terminal.is_none() && points.len() >= 3 {
                 // the start becomes a terminal once the branch is more than two steps from it
                 let b = points[0];
-                let z0 = [b.start[0], b.start[1], self.opts.scale.to_u(b.param)];
+                let z0 = self.unknowns(b.start, self.opts.scale.to_u(b.param));
                 if norm(sub(q.z, z0)) > 2.0 * norm(sub(q.z, p.z)) {
                     let closing = BranchPoint { special: None, ..b };
                     first_terminal = Some((z0, closing, End::Closed));
@@ -464,14 +483,13 @@ impl<O: Oscillator> Tracer<'_, O> {
         t: [f64; 3],
         q: &Point,
         tq: [f64; 3],
-        psi: [Option<f64>; 2],
-        psi_q: [Option<f64>; 2],
+        psi: [f64; 2],
+        psi_q: [f64; 2],
     ) -> Result<Vec<BranchPoint>> {
         let mut found = Vec::new();
         for (i, kind) in [(0, Special::BranchPoint), (1, Special::PeriodDoubling)] {
-            if let (Some(a), Some(b)) = (psi[i], psi_q[i])
-                && (a > 0.0) != (b > 0.0)
-            {
+            let (a, b) = (psi[i], psi_q[i]);
+            if (a > 0.0) != (b > 0.0) {
                 // a multiplier through +1 where the parameter turns back is a fold
                 let kind = if i == 0 && t[2] * tq[2] < 0.0 {
                     Special::Fold
@@ -567,9 +585,7 @@ impl<O: Oscillator> Tracer<'_, O> {
             let Some(q) = self.correct(zp, t, dot(t, p.z) + sigma)? else {
                 return Ok(best);
             };
-            let Some(f) = test_functions(&q.flow)[i] else {
-                return Ok(best);
-            };
+            let f = test_functions(&q.flow)[i];
             let done = f.abs() <= 1e-10 || (hi - lo).abs() <= 1e-12 * (1.0 + norm(p.z));
             best = Some((sigma, q));
             if done {
@@ -595,16 +611,15 @@ impl<O: Oscillator> Tracer<'_, O> {
     }
 }
 
-/// ψ₊ (ln of the largest positive real multiplier) and ψ₋ (ln |·| of the largest negative one).
-fn test_functions(f: &super::Flow) -> [Option<f64>; 2] {
-    let m = super::multipliers(f);
-    let pick = |arg: f64| {
-        m.iter()
-            .filter(|q| q.arg == arg)
-            .map(|q| q.log_abs)
-            .max_by(f64::total_cmp)
-    };
-    [pick(0.0), pick(PI)]
+/// ψ₊ = det(M − I) = (m1 − 1)(m2 − 1) and ψ₋ = det(M + I) = (m1 + 1)(m2 + 1): symmetric in the
+/// multipliers, so continuous along the branch even where a multiplier crosses ±1 and collides
+/// with the other within one step; a complex pair contributes |m ∓ 1|² > 0, so a sign change
+/// means a real multiplier through ±1. From det M (accumulated) and tr M (normalised), with the
+/// scale capped so that e^{700} still fits.
+fn test_functions(f: &super::Flow) -> [f64; 2] {
+    let det = f.det_sign * f.log_det.min(700.0).exp();
+    let tr = (f.m[0][0] + f.m[1][1]) * f.log_scale.min(700.0).exp();
+    [det - tr + 1.0, det + tr + 1.0]
 }
 
 /// The unit eigenvector of M for its multiplier nearest +1 (fold, branch point) or −1.
@@ -645,13 +660,14 @@ pub fn continue_orbit<O: Oscillator>(
     opts.validate()?;
     o.check()?;
     let from = o.get(param);
-    let tracer = tracer(o, param, k, [from, to], opts)?;
+    let mut tracer = tracer(o, param, k, [from, to], opts)?;
     let Solved { y, .. } = match guess {
         Some(y) => super::newton(o, k, y, &opts.periodic)?,
         None => super::settle_and_solve(o, k, [0.0, 0.0], &opts.periodic)?,
     };
+    tracer.scale = state_scale(y, &amplitude(o, y, k, opts.periodic.tol)?);
     let u = opts.scale.to_u(from);
-    let z = [y[0], y[1], u];
+    let z = tracer.unknowns(y, u);
     let first = tracer
         .correct(z, [0.0, 0.0, 1.0], u)?
         .ok_or(Error::NoConvergence {
@@ -667,8 +683,23 @@ pub fn continue_orbit<O: Oscillator>(
             iterations: 0,
             residual: f64::NAN,
         })?;
-    let points = vec![tracer.branch_point(&first, None)?];
-    tracer.trace(first, t, points)
+    let mut start = tracer.branch_point(&first, None)?;
+    start.param = from;
+    tracer.trace(first, t, vec![start])
+}
+
+/// The state scale of a branch from its first orbit (see [`Tracer::scale`]).
+fn state_scale(y: [f64; 2], a: &Amplitude) -> f64 {
+    [
+        y[0].abs(),
+        y[1].abs(),
+        a.peak_to_peak,
+        a.max_abs_xdot,
+        a.x_min.abs(),
+        a.x_max.abs(),
+    ]
+    .into_iter()
+    .fold(1.0, f64::max)
 }
 
 fn tracer<'a, O: Oscillator>(
@@ -717,6 +748,7 @@ fn tracer<'a, O: Oscillator>(
         opts,
         bounds: [a.min(b), a.max(b)],
         range,
+        scale: 1.0,
         lambda_bounds: [from.min(to), from.max(to)],
         terminals: Vec::new(),
     })
@@ -748,11 +780,12 @@ pub fn switch_at_period_doubling<O: Oscillator>(
         });
     };
     let mut tracer = tracer(o, param, 2 * k, range, opts)?;
+    tracer.scale = state_scale(at.start, &at.amplitude);
     for q in others
         .iter()
         .filter(|q| q.special == Some(Special::PeriodDoubling) && q != &at)
     {
-        let z = [q.start[0], q.start[1], opts.scale.to_u(q.param)];
+        let z = tracer.unknowns(q.start, opts.scale.to_u(q.param));
         if let Some(c) = tracer.correct(z, [0.0, 0.0, 1.0], z[2])? {
             let end = End::Rejoined { param: q.param };
             tracer.terminals.push((
@@ -770,7 +803,7 @@ pub fn switch_at_period_doubling<O: Oscillator>(
         });
     }
     let u = opts.scale.to_u(at.param);
-    let star = [at.start[0], at.start[1], u];
+    let star = tracer.unknowns(at.start, u);
     let origin = tracer.correct(star, [0.0, 0.0, 1.0], u)?;
     let mut points = Vec::new();
     if let Some(origin) = &origin {
@@ -787,7 +820,7 @@ pub fn switch_at_period_doubling<O: Oscillator>(
         };
         // landed on the period-k branch again?
         let oz = tracer.at(first.z[2])?;
-        let y = [first.z[0], first.z[1]];
+        let y = tracer.state(first.z);
         if super::minimal_subharmonic(&oz, y, 2 * k, tol)? < 2 * k {
             continue;
         }

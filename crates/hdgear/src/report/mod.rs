@@ -9,6 +9,7 @@
 
 mod files;
 pub mod html;
+pub mod periodic;
 
 use crate::burst::{Boundaries, BurstOptions};
 use crate::error::Result;
@@ -94,6 +95,17 @@ pub const FIGURES: [(FigureKind, Option<f64>, &str); 9] = [
     (FigureKind::Boundary, None, "boundary"),
 ];
 
+/// Figures of the periodic section, built from its computations (see
+/// [`periodic::PeriodicEvidence::figures`]), in order: the figure kind they are an instance of
+/// (None: the drive's response in SI units, which only `hdgear physical --frequency-response
+/// --plot` draws) and the file stem.
+pub const PERIODIC_FIGURES: [(Option<FigureKind>, &str); 4] = [
+    (Some(FigureKind::FrequencyResponse), "frequency-response"),
+    (Some(FigureKind::OrbitDiagram), "orbit-diagram-g10"),
+    (Some(FigureKind::LyapunovMap), "lyapunov-map-g10"),
+    (None, "physical-frequency-response"),
+];
+
 /// The drive of the physical section.
 pub const PHYSICAL_DRIVE: &str = "CSF-20-50";
 
@@ -113,6 +125,8 @@ pub enum Stage {
     Map,
     /// The physical drive and the bursting boundaries.
     Physical,
+    /// The periodic response: orbits, continuation, orbit diagram, Lyapunov map.
+    Periodic,
     /// Building the figures from what was computed.
     Figures,
     /// Rendering and writing the files.
@@ -121,11 +135,12 @@ pub enum Stage {
 
 impl Stage {
     /// Every stage, in order.
-    pub const ALL: [Stage; 6] = [
+    pub const ALL: [Stage; 7] = [
         Stage::Tables,
         Stage::Sweep,
         Stage::Map,
         Stage::Physical,
+        Stage::Periodic,
         Stage::Figures,
         Stage::Writing,
     ];
@@ -143,7 +158,10 @@ impl Stage {
                 "physical drive ({PHYSICAL_DRIVE}): reduction, two-inertia check, design check; \
                  bursting boundaries"
             ),
-            Stage::Figures => format!("{} figures", FIGURES.len()),
+            Stage::Periodic => "periodic orbits, frequency response, period-doubling bubble, \
+                orbit diagram, Lyapunov map, the drive's frequency response"
+                .into(),
+            Stage::Figures => format!("{} figures", FIGURES.len() + PERIODIC_FIGURES.len()),
             Stage::Writing => "writing SVG, PNG, data and index.html".into(),
         }
     }
@@ -224,7 +242,9 @@ pub struct Report {
     pub physical: PhysicalEvidence,
     /// Bursting boundaries through the study's point and through γ = 1.
     pub boundaries: [Boundaries; 2],
-    /// The figures, in [`FIGURES`] order.
+    /// The periodic section.
+    pub periodic: periodic::PeriodicEvidence,
+    /// The figures, in [`FIGURES`] order, then the periodic section's.
     #[serde(skip)]
     pub figures: Vec<Figure>,
 }
@@ -273,6 +293,16 @@ impl Report {
         );
         let (physical, bounds) = (physical?, bounds?);
 
+        observer.stage(Stage::Periodic);
+        let gammas: Vec<f64> = STUDY_GAMMAS.iter().map(|g| g.0).collect();
+        let periodic = periodic::PeriodicEvidence::compute(
+            &base,
+            &gammas,
+            &opts.burst,
+            (&physical.drive, &physical.variant),
+            opts.threads,
+        )?;
+
         observer.stage(Stage::Figures);
         let figures = FIGURES
             .iter()
@@ -282,6 +312,8 @@ impl Report {
                 Ok(f)
             })
             .collect::<Result<Vec<_>>>()?;
+        let mut figures = figures;
+        figures.extend(periodic.figures(&base));
         Ok(Report {
             version: env!("CARGO_PKG_VERSION"),
             options: *opts,
@@ -292,6 +324,7 @@ impl Report {
             map,
             physical,
             boundaries: [bounds[0], bounds[1]],
+            periodic,
             figures,
         })
     }
@@ -320,6 +353,24 @@ impl Report {
         }
         out.csv("data/sweep-gamma.csv", &self.sweep.rows)?;
         out.csv("data/map-gamma-delta.csv", &self.map.rows)?;
+        let pe = &self.periodic;
+        let rows = |branches: &[&crate::periodic::Branch<crate::params::Param>]| {
+            branches
+                .iter()
+                .enumerate()
+                .flat_map(|(i, b)| {
+                    b.points
+                        .iter()
+                        .map(move |q| crate::periodic::BranchRow::new(i, b.subharmonic, q))
+                })
+                .collect::<Vec<_>>()
+        };
+        out.csv("data/frequency-response.csv", &rows(&[&pe.response]))?;
+        let mut bubble = vec![&pe.bubble];
+        bubble.extend(pe.doubled.as_ref());
+        out.csv("data/period-doubling-bubble.csv", &rows(&bubble))?;
+        out.csv("data/lyapunov-map.csv", &pe.lyapunov)?;
+        out.json("data/periodic.json", pe)?;
         let mut svgs = Vec::new();
         for f in &self.figures {
             let svg = plot::svg(f)?;
