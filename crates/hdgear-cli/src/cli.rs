@@ -556,8 +556,13 @@ pub fn check_out(out: &Option<PathBuf>) -> Result<()> {
     Ok(())
 }
 
-/// Checks a figure's path: .svg or .png, in an existing directory.
+/// Checks a figure's path given with `--plot`: .svg or .png, in an existing directory.
 pub fn check_plot(path: &std::path::Path) -> Result<()> {
+    check_figure_path("--plot", path)
+}
+
+/// Checks a figure's path given with `flag`: .svg or .png, in an existing directory.
+pub fn check_figure_path(flag: &'static str, path: &std::path::Path) -> Result<()> {
     match path
         .extension()
         .and_then(|e| e.to_str())
@@ -566,11 +571,11 @@ pub fn check_plot(path: &std::path::Path) -> Result<()> {
     {
         Some("svg" | "png") => {}
         _ => anyhow::bail!(
-            "--plot {}: the extension must be .svg or .png",
+            "{flag} {}: the extension must be .svg or .png",
             path.display()
         ),
     }
-    hdgear::output::check_output_path(path).context("--plot")
+    hdgear::output::check_output_path(path).context(flag)
 }
 
 /// Model parameters shared by every command: preset, then file, then flags.

@@ -7,20 +7,7 @@ pub fn run(a: crate::cli::PlotArgs) -> Result<()> {
     let (p, warnings) = a.params.resolve()?;
     let opts = a.burst.options()?;
     let kind: hdgear::figures::FigureKind = a.kind.parse()?;
-    match a
-        .out
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase)
-        .as_deref()
-    {
-        Some("svg" | "png") => {}
-        _ => anyhow::bail!(
-            "--out {}: the extension must be .svg or .png",
-            a.out.display()
-        ),
-    }
-    hdgear::output::check_output_path(&a.out)?;
+    crate::cli::check_figure_path("--out", &a.out)?;
     // figures that vary a parameter themselves would silently ignore its flag
     for param in kind.varies() {
         if a.params.given(param.name()) {
