@@ -579,6 +579,140 @@ impl Drive {
     }
 }
 
+/// The periodic orbit of period k·2π/ω by shooting, with its burst verdict, as JSON.
+#[pyfunction]
+#[pyo3(signature = (params, subharmonic))]
+fn periodic(py: Python<'_>, params: &Params, subharmonic: u32) -> PyResult<String> {
+    use hdgear::periodic::{PeriodicOptions, burst_verdict, shoot};
+    let p = params.inner;
+    let (orbit, bursts) = py
+        .detach(|| {
+            let o = shoot(&p, subharmonic, &PeriodicOptions::default())?;
+            let b = burst_verdict(&o, &BurstOptions::default())?;
+            Ok::<_, hdgear::Error>((o, b))
+        })
+        .map_err(err)?;
+    #[derive(serde::Serialize)]
+    struct Doc<'a> {
+        #[serde(flatten)]
+        orbit: &'a hdgear::periodic::PeriodicOrbit,
+        bursts: hdgear::burst::Classification,
+        samples: &'a [[f64; 3]],
+    }
+    json(&Doc {
+        orbit: &orbit,
+        bursts,
+        samples: &orbit.samples,
+    })
+}
+
+/// Continuation of the periodic orbit in `name` from the value in `params` to `to` (log scale
+/// when `log`), with the doubled branches when `switch`: the rows of `hdgear continue` as a dict
+/// of columns. `to` of None and name "omega" with `log`: the frequency response over the default
+/// range (then `params`' ω is ignored).
+#[pyfunction]
+#[pyo3(signature = (params, name, to, log, subharmonic, switch))]
+fn continuation<'py>(
+    py: Python<'py>,
+    params: &Params,
+    name: &str,
+    to: Option<f64>,
+    log: bool,
+    subharmonic: u32,
+    switch: bool,
+) -> PyResult<Bound<'py, PyDict>> {
+    use hdgear::periodic::{
+        Branch, BranchRow, ContinuationOptions, Scale, Special, continue_orbit, frequency_response,
+        switch_at_period_doubling,
+    };
+    let param: Param = name.parse().map_err(err)?;
+    let p = params.inner;
+    let opts = ContinuationOptions {
+        scale: if log { Scale::Log } else { Scale::Linear },
+        ..ContinuationOptions::default()
+    };
+    let branches: Vec<Branch<Param>> = py
+        .detach(|| {
+            let main = match to {
+                Some(to) => continue_orbit(&p, param, subharmonic, None, to, &opts)?,
+                None => frequency_response(&p, None, &opts)?,
+            };
+            let (lo, hi) = match (main.points.first(), main.points.last()) {
+                (Some(a), Some(b)) => (a.param.min(b.param), a.param.max(b.param)),
+                _ => (0.0, 0.0),
+            };
+            let pds: Vec<_> = main
+                .specials()
+                .filter(|q| q.special == Some(Special::PeriodDoubling))
+                .copied()
+                .collect();
+            let start = p.with(
+                param,
+                main.points.first().map_or(p.value(param), |q| q.param),
+            );
+            let mut all = vec![main];
+            if switch {
+                for pd in &pds {
+                    let seen = all[1..].iter().any(|b| {
+                        b.points.last().is_some_and(|q| {
+                            (q.param - pd.param).abs() <= 1e-6 * (1.0 + pd.param.abs())
+                        })
+                    });
+                    if !seen {
+                        all.push(switch_at_period_doubling(
+                            &start,
+                            param,
+                            subharmonic,
+                            pd,
+                            &pds,
+                            [lo, hi],
+                            &opts,
+                        )?);
+                    }
+                }
+            }
+            Ok::<_, hdgear::Error>(all)
+        })
+        .map_err(err)?;
+    let rows: Vec<BranchRow> = branches
+        .iter()
+        .enumerate()
+        .flat_map(|(i, b)| {
+            b.points
+                .iter()
+                .map(move |q| BranchRow::new(i, b.subharmonic, q))
+        })
+        .collect();
+    let d = PyDict::new(py);
+    let f = |g: fn(&BranchRow) -> f64| rows.iter().map(g).collect::<Vec<f64>>();
+    let ints = |g: fn(&BranchRow) -> i64| rows.iter().map(g).collect::<Vec<i64>>();
+    d.set_item("branch", ints(|r| r.branch as i64).into_pyarray(py))?;
+    d.set_item(
+        "subharmonic",
+        ints(|r| i64::from(r.subharmonic)).into_pyarray(py),
+    )?;
+    for (col, v) in [
+        ("param", f(|r| r.param)),
+        ("x0", f(|r| r.x0)),
+        ("xdot0", f(|r| r.xdot0)),
+        ("x_min", f(|r| r.x_min)),
+        ("x_max", f(|r| r.x_max)),
+        ("peak_to_peak", f(|r| r.peak_to_peak)),
+        ("max_abs_xdot", f(|r| r.max_abs_xdot)),
+        ("ln_abs_m1", f(|r| r.ln_abs_m1)),
+        ("arg_m1", f(|r| r.arg_m1)),
+        ("ln_abs_m2", f(|r| r.ln_abs_m2)),
+        ("arg_m2", f(|r| r.arg_m2)),
+    ] {
+        d.set_item(col, v.into_pyarray(py))?;
+    }
+    let stable: Vec<bool> = rows.iter().map(|r| r.stable).collect();
+    d.set_item("stable", stable)?;
+    let special: Vec<&str> = rows.iter().map(|r| r.special).collect();
+    d.set_item("special", special)?;
+    Ok(d)
+}
+
 /// The native module.
 #[pymodule]
 fn _hdgear(m: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -592,6 +726,8 @@ fn _hdgear(m: &Bound<'_, PyModule>) -> PyResult<()> {
         wrap_pyfunction!(analyze, m)?,
         wrap_pyfunction!(sweep, m)?,
         wrap_pyfunction!(bursts, m)?,
+        wrap_pyfunction!(periodic, m)?,
+        wrap_pyfunction!(continuation, m)?,
     ] {
         m.add_function(f)?;
     }

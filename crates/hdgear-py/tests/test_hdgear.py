@@ -232,3 +232,29 @@ def test_drive_catalogue_reduce_simulate_and_design_check():
     assert stiffer.k1 == 2 * d.k1 and stiffer.j_in == d.j_in
     with pytest.raises(ValueError, match="CSF-99"):
         hdgear.Drive.catalogue("CSF-99")
+
+
+# ---- the periodic response -------------------------------------------------------------------
+
+def test_periodic_orbit_equals_the_cli():
+    o = hdgear.periodic(hdgear.Params.paper(1.0))
+    c = cli_json("periodic", "--preset", "paper-g1", "--json")
+    assert o.start == c["start"] and o.multipliers[0]["log_abs"] == c["multipliers"][0]["log_abs"]
+    assert o.bursts.verdict == c["bursts"]["verdict"] == "overshoot"
+    assert len(o.samples) == len(c["samples"])
+
+
+def test_continuation_equals_the_cli_and_finds_the_bubble(tmp_path, monkeypatch):
+    monkeypatch.setitem(sys.modules, "pandas", None)
+    p = hdgear.Params(gamma=10.0, omega=5.0)
+    b = hdgear.continuation("omega", 10.5, params=p, log=True, switch=True)
+    out = cli("continue", "--param", "omega=5:10.5:log", "--gamma", "10", "--switch",
+              "--out", str(tmp_path / "b.csv"))
+    assert out.returncode == 0, out.stderr
+    rows = read_csv(tmp_path / "b.csv")
+    assert len(rows) == len(b["param"])
+    assert [float(r["param"]) for r in rows] == b["param"].tolist()
+    assert list(b["special"]).count("period-doubling") >= 2 and 1 in b["branch"]
+    fr = hdgear.frequency_response(hdgear.Params(gamma=30.0), omega_range=(6.0, 10.0))
+    folds = fr["param"][fr["special"] == "fold"]
+    assert len(folds) == 2 and 7.8 < folds.min() < 7.9 and 8.4 < folds.max() < 8.5

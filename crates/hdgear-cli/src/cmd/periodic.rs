@@ -24,6 +24,8 @@ struct Doc<'a> {
     /// The burst verdict on the orbit itself.
     bursts: hdgear::burst::Classification,
     lyapunov_exponent: Option<f64>,
+    /// (τ, x, x') every 0.05 over one period.
+    samples: &'a [[f64; 3]],
 }
 
 /// Forcing periods over which the Lyapunov exponent is averaged (after one to align).
@@ -62,6 +64,7 @@ pub fn run(a: PeriodicArgs) -> Result<()> {
             orbit: &orbit,
             bursts,
             lyapunov_exponent: lyap,
+            samples: &orbit.samples,
         };
         println!("{}", serde_json::to_string_pretty(&doc)?);
         return Ok(());

@@ -25,7 +25,7 @@ from ._hdgear import Params
 
 __version__ = _hdgear.__version__
 __all__ = ["Params", "Trajectory", "Result", "Drive", "simulate", "equilibria", "curve",
-           "analyze", "bursts", "sweep"]
+           "analyze", "bursts", "sweep", "periodic", "continuation", "frequency_response"]
 
 
 class Result:
@@ -158,6 +158,45 @@ def sweep(axes, base=None, grid=True, threads=0, discard=1.0, window_periods=2, 
     for k in ("mode", "mechanism", "error"):
         cols[k] = _np.array(cols[k], dtype=object)
     return _frame(cols)
+
+
+def periodic(params=None, subharmonic=1):
+    """The periodic orbit of period ``subharmonic``·2π/ω by shooting (Newton on the stroboscopic
+    map, monodromy from the variational equations): ``start``, ``period``, ``multipliers``
+    (``log_abs``, ``arg``), ``floquet_exponents``, ``stable``, the amplitudes, ``bursts`` (the
+    burst verdict on the orbit itself) and ``samples`` ((τ, x, x') every 0.05) as a Result."""
+    return Result(_json.loads(_hdgear.periodic(_params(params), int(subharmonic))))
+
+
+def _branch_frame(cols):
+    for k in ("special",):
+        cols[k] = _np.array(cols[k], dtype=object)
+    cols["stable"] = _np.array(cols["stable"], dtype=bool)
+    return _frame(cols)
+
+
+def continuation(param, to, params=None, log=False, subharmonic=1, switch=False):
+    """Follows the periodic orbit in ``param`` from its value in ``params`` to ``to``
+    (pseudo-arclength; in the logarithm of the parameter with ``log=True``), locating folds and
+    period doublings, and with ``switch=True`` the doubled branches. Returns the columns of
+    ``hdgear continue`` (branch, subharmonic, param, x0, xdot0, x_min, x_max, peak_to_peak,
+    max_abs_xdot, ln_abs_m1, arg_m1, ln_abs_m2, arg_m2, stable, special) as a DataFrame, or a
+    dict of numpy arrays without pandas."""
+    return _branch_frame(_hdgear.continuation(_params(params), str(param), float(to), bool(log),
+                                              int(subharmonic), bool(switch)))
+
+
+def frequency_response(params=None, omega_range=None, switch=False):
+    """The frequency-response curve: continuation in ln ω over ``omega_range`` (default: from
+    1/20 to 3 times the stiffest static frequency), same columns as :func:`continuation`
+    (``param`` is ω)."""
+    p = _params(params)
+    if omega_range is None:
+        cols = _hdgear.continuation(p, "omega", None, True, 1, bool(switch))
+    else:
+        lo, hi = (float(v) for v in omega_range)
+        cols = _hdgear.continuation(p.replace(omega=lo), "omega", hi, True, 1, bool(switch))
+    return _branch_frame(cols)
 
 
 class Drive:
