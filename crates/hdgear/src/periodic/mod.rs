@@ -1,10 +1,15 @@
 //! The periodic response itself: the orbit of period k·T (T = 2π/ω) found by shooting, its
 //! monodromy matrix from the variational equations, its Floquet multipliers, and the largest
-//! Lyapunov exponent by Benettin's method.
+//! Lyapunov exponent by Benettin's method; continuation of the orbit in a parameter with its
+//! folds and period doublings ([`continue_orbit`]), frequency-response curves
+//! ([`frequency_response`], also a drive's in SI units), the stroboscopic orbit diagram and
+//! Lyapunov maps ([`orbit_diagram`], [`lyapunov_point`]). Every model goes through one small
+//! trait, [`Oscillator`], in the forcing phase s = ωτ.
 //!
 //! **Variational equations.** Along a solution (x, x'), a perturbation Φ obeys Φ' = J Φ with
-//! J = [[0, 1], [−g'(x), −1]], g'(x) = 3αx² − 2x + γ. They are integrated with the state
-//! (a 6-dimensional system) by DOP853; the monodromy M = Φ(kT) is never formed directly, because
+//! J = [[0, 1], [−g'(x), −1]], g'(x) = 3αx² − 2x + γ (for the study's model). They are integrated
+//! with the state and the parameter sensitivity w = ∂(x, x')/∂λ (an 8-dimensional system) by
+//! DOP853; the monodromy M = Φ(kT) is never formed directly, because
 //! its entries shrink like e^{−τ/2} (e^{−314} over one slow period of the study): the span is cut
 //! into pieces of at most [`PIECE`] time units, Φ restarts at I on each, and the product is kept
 //! normalised with its logarithmic scale apart. The determinant is accumulated as Σ ln det of the
@@ -53,7 +58,7 @@ pub const NEWTON_TOL: f64 = 1e-11;
 /// Options of the periodic-orbit computations.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct PeriodicOptions {
-    /// Integrator tolerances (DOP853 is used for the 6-dimensional variational system).
+    /// Integrator tolerances (DOP853 is used for the 8-dimensional variational system).
     pub tol: Options,
     /// Newton iterations at most.
     pub max_newton: usize,
