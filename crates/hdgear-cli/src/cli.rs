@@ -290,13 +290,9 @@ pub struct TableArgs {
     pub csv: bool,
 }
 
-/// Arguments of `hdgear sweep`.
+/// The axes of a grid, shared by `sweep` and `lyapunov-map`.
 #[derive(Args, Debug)]
-pub struct SweepArgs {
-    #[command(flatten)]
-    pub params: ParamArgs,
-    #[command(flatten)]
-    pub burst: BurstArgs,
+pub struct GridAxes {
     /// An axis NAME=START:END:COUNT[:log] (one or two).
     #[arg(
         long = "param",
@@ -305,6 +301,17 @@ pub struct SweepArgs {
         allow_hyphen_values = true
     )]
     pub axes: Vec<String>,
+}
+
+/// Arguments of `hdgear sweep`.
+#[derive(Args, Debug)]
+pub struct SweepArgs {
+    #[command(flatten)]
+    pub params: ParamArgs,
+    #[command(flatten)]
+    pub burst: BurstArgs,
+    #[command(flatten)]
+    pub grid: GridAxes,
     /// Worker threads (default: one per core).
     #[arg(long)]
     pub threads: Option<usize>,
@@ -430,14 +437,8 @@ pub struct OrbitDiagramArgs {
 pub struct LyapunovMapArgs {
     #[command(flatten)]
     pub params: ParamArgs,
-    /// An axis NAME=START:END:COUNT[:log] (one or two).
-    #[arg(
-        long = "param",
-        value_name = "SPEC",
-        required = true,
-        allow_hyphen_values = true
-    )]
-    pub axes: Vec<String>,
+    #[command(flatten)]
+    pub grid: GridAxes,
     /// Forcing periods discarded at each point (from the default start).
     #[arg(long, default_value_t = 200)]
     pub discard: u32,

@@ -15,6 +15,7 @@ struct Meta<'a> {
 
 pub fn run(a: LyapunovMapArgs) -> Result<()> {
     let axes = a
+        .grid
         .axes
         .iter()
         .map(|t| Axis::parse(t))

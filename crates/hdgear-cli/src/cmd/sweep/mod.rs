@@ -118,6 +118,7 @@ pub fn check(a: &SweepArgs) -> Result<Job> {
     let opts: BurstOptions = a.burst.options()?;
     Format::from_path(&a.out).context("--out")?;
     let axes = a
+        .grid
         .axes
         .iter()
         .map(|s| Axis::parse(s))
