@@ -622,8 +622,8 @@ fn continuation<'py>(
     switch: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     use hdgear::periodic::{
-        Branch, BranchRow, ContinuationOptions, Scale, Special, continue_orbit, frequency_response,
-        switch_at_period_doubling,
+        Branch, BranchRow, ContinuationOptions, Scale, continue_with_doubled,
+        default_frequency_range as frequency_range,
     };
     let param: Param = name.parse().map_err(err)?;
     let p = params.inner;
@@ -633,45 +633,14 @@ fn continuation<'py>(
     };
     let branches: Vec<Branch<Param>> = py
         .detach(|| {
-            let main = match to {
-                Some(to) => continue_orbit(&p, param, subharmonic, None, to, &opts)?,
-                None => frequency_response(&p, None, &opts)?,
-            };
-            let (lo, hi) = match (main.points.first(), main.points.last()) {
-                (Some(a), Some(b)) => (a.param.min(b.param), a.param.max(b.param)),
-                _ => (0.0, 0.0),
-            };
-            let pds: Vec<_> = main
-                .specials()
-                .filter(|q| q.special == Some(Special::PeriodDoubling))
-                .copied()
-                .collect();
-            let start = p.with(
-                param,
-                main.points.first().map_or(p.value(param), |q| q.param),
-            );
-            let mut all = vec![main];
-            if switch {
-                for pd in &pds {
-                    let seen = all[1..].iter().any(|b| {
-                        b.points.last().is_some_and(|q| {
-                            (q.param - pd.param).abs() <= 1e-6 * (1.0 + pd.param.abs())
-                        })
-                    });
-                    if !seen {
-                        all.push(switch_at_period_doubling(
-                            &start,
-                            param,
-                            subharmonic,
-                            pd,
-                            &pds,
-                            [lo, hi],
-                            &opts,
-                        )?);
-                    }
+            let (start, to) = match to {
+                Some(to) => (p, to),
+                None => {
+                    let (lo, hi) = frequency_range(&p);
+                    (p.with(param, lo), hi)
                 }
-            }
-            Ok::<_, hdgear::Error>(all)
+            };
+            continue_with_doubled(&start, param, subharmonic, to, switch, &opts)
         })
         .map_err(err)?;
     let rows: Vec<BranchRow> = branches

@@ -6,8 +6,7 @@ use crate::sink::{warn, write_records};
 use anyhow::{Context, Result};
 use hdgear::params::Param;
 use hdgear::periodic::{
-    Branch, BranchRow, ContinuationOptions, End, Range, Special, continue_orbit,
-    switch_at_period_doubling,
+    Branch, BranchRow, ContinuationOptions, End, Range, Special, continue_with_doubled,
 };
 use serde::Serialize;
 
@@ -38,7 +37,8 @@ pub fn run(a: ContinueArgs) -> Result<()> {
         scale: range.scale,
         ..ContinuationOptions::default()
     };
-    let branches = compute(&p, &range, a.subharmonic, a.switch, &opts)?;
+    let branches =
+        continue_with_doubled(&p, range.param, a.subharmonic, range.to, a.switch, &opts)?;
     let doc = Doc {
         range,
         params: p,
@@ -59,48 +59,6 @@ pub fn run(a: ContinueArgs) -> Result<()> {
         print_summary(&branches, range.param);
     }
     Ok(())
-}
-
-/// The branch asked for, then with `switch` the doubled branch from each period doubling.
-pub fn compute(
-    p: &hdgear::Params,
-    range: &Range,
-    k: u32,
-    switch: bool,
-    opts: &ContinuationOptions,
-) -> Result<Vec<Branch<Param>>> {
-    let main = continue_orbit(p, range.param, k, None, range.to, opts)?;
-    let mut branches = vec![main];
-    if switch {
-        let bounds = [range.from.min(range.to), range.from.max(range.to)];
-        let pds: Vec<_> = branches[0]
-            .specials()
-            .filter(|q| q.special == Some(Special::PeriodDoubling))
-            .copied()
-            .collect();
-        for pd in &pds {
-            // a doubled branch often ends at the next period doubling of the same branch
-            // (a bubble): one already traced from its other end is not traced again
-            let seen = branches[1..].iter().any(|b| {
-                b.points
-                    .last()
-                    .is_some_and(|q| (q.param - pd.param).abs() <= 1e-6 * (1.0 + pd.param.abs()))
-            });
-            if seen {
-                continue;
-            }
-            branches.push(switch_at_period_doubling(
-                p,
-                range.param,
-                k,
-                pd,
-                &pds,
-                bounds,
-                opts,
-            )?);
-        }
-    }
-    Ok(branches)
 }
 
 fn print_summary(branches: &[Branch<Param>], param: Param) {

@@ -837,6 +837,44 @@ pub fn switch_at_period_doubling<O: Oscillator>(
     })
 }
 
+/// The branch of period k·2π/ω from the parameter's current value to `to`
+/// ([`continue_orbit`]), then with `switch` the doubled branch born at each of its period
+/// doublings ([`switch_at_period_doubling`], within the range between the two values). A doubled
+/// branch that ends at a later period doubling (a bubble) is not traced again from there.
+pub fn continue_with_doubled<O: Oscillator>(
+    o: &O,
+    param: O::Param,
+    k: u32,
+    to: f64,
+    switch: bool,
+    opts: &ContinuationOptions,
+) -> Result<Vec<Branch<O::Param>>> {
+    let from = o.get(param);
+    let mut branches = vec![continue_orbit(o, param, k, None, to, opts)?];
+    if !switch {
+        return Ok(branches);
+    }
+    let pds: Vec<BranchPoint> = branches[0]
+        .specials()
+        .filter(|q| q.special == Some(Special::PeriodDoubling))
+        .copied()
+        .collect();
+    for pd in &pds {
+        let seen = branches[1..].iter().any(|b| {
+            b.points
+                .last()
+                .is_some_and(|q| (q.param - pd.param).abs() <= 1e-6 * (1.0 + pd.param.abs()))
+        });
+        if !seen {
+            let range = [from.min(to), from.max(to)];
+            branches.push(switch_at_period_doubling(
+                o, param, k, pd, &pds, range, opts,
+            )?);
+        }
+    }
+    Ok(branches)
+}
+
 /// One row of a branch table (`hdgear continue --out`): the branch's index (0 the branch asked
 /// for, 1, 2, … the doubled branches), its subharmonic, and the point.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
