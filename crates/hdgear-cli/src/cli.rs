@@ -476,6 +476,18 @@ pub fn parse_range(text: &str) -> Result<(f64, f64)> {
     parse_pair("--a-range", "A0:A1", text)
 }
 
+/// Parses an optional frequency range `LO:HI` (finite, 0 < LO < HI) for option `flag`.
+pub fn parse_frequency_range(flag: &str, text: Option<&str>) -> Result<Option<(f64, f64)>> {
+    let Some(text) = text else {
+        return Ok(None);
+    };
+    let (lo, hi) = parse_pair(flag, "LO:HI", text)?;
+    if lo <= 0.0 {
+        anyhow::bail!("invalid {flag} '{text}': frequencies must be > 0");
+    }
+    Ok(Some((lo, hi)))
+}
+
 /// Parses `LO:HI` (finite, LO < HI) for option `flag`.
 pub fn parse_pair(flag: &str, form: &str, text: &str) -> Result<(f64, f64)> {
     let bad = || {

@@ -10,19 +10,7 @@ pub fn run(a: FrequencyResponseArgs) -> Result<()> {
     if a.params.given("omega") {
         anyhow::bail!("--omega does not apply: the curve varies omega itself (see --omega-range)");
     }
-    let range = a
-        .omega_range
-        .as_deref()
-        .map(|t| crate::cli::parse_pair("--omega-range", "LO:HI", t))
-        .transpose()?;
-    if let Some((lo, _)) = range
-        && lo <= 0.0
-    {
-        anyhow::bail!(
-            "invalid --omega-range '{}': omega must be > 0",
-            a.omega_range.unwrap_or_default()
-        );
-    }
+    let range = crate::cli::parse_frequency_range("--omega-range", a.omega_range.as_deref())?;
     let (p, warnings) = a.params.resolve()?;
     crate::cli::check_out(&a.out)?;
     if let Some(plot) = &a.plot {

@@ -3,7 +3,7 @@
 use crate::cli::LyapunovMapArgs;
 use crate::sink::{warn, write_records};
 use anyhow::{Context, Result};
-use hdgear::periodic::{DiagramOptions, LyapunovRow, lyapunov_point};
+use hdgear::periodic::{DiagramOptions, lyapunov_map};
 use hdgear::sweep::{Axis, Grid};
 use serde::Serialize;
 
@@ -42,20 +42,8 @@ pub fn run(a: LyapunovMapArgs) -> Result<()> {
         ..DiagramOptions::default()
     };
     warn(&warnings);
-    // rows come in completion order; they are kept (about 100 bytes each) and written in grid
-    // order, so the file is the same whatever the thread count
-    let mut rows: Vec<LyapunovRow> = Vec::with_capacity(grid.len());
-    let todo: Vec<usize> = (0..grid.len()).collect();
-    hdgear::sweep::run_with(
-        &grid,
-        &todo,
-        a.threads.unwrap_or(0),
-        |i, q| lyapunov_point(i, q, &opts),
-        |r| {
-            rows.push(r);
-        },
-    )?;
-    rows.sort_by_key(|r| r.index);
+    // rows come in grid order, so the file is the same whatever the thread count
+    let rows = lyapunov_map(&grid, &opts, a.threads.unwrap_or(0))?;
     let failed = rows.iter().filter(|r| !r.error.is_empty()).count();
     if failed == rows.len() {
         return Err(crate::sink::ComputationFailed(format!(

@@ -125,18 +125,7 @@ hdgear::record!(
 
 fn frequency_response(a: &PhysicalArgs, d: &hdgear::physical::PhysicalParams) -> Result<()> {
     use hdgear::periodic::{ContinuationOptions, Special, physical_frequency_response};
-    let hz =
-        a.hz.as_deref()
-            .map(|t| crate::cli::parse_pair("--hz", "LO:HI", t))
-            .transpose()?;
-    if let Some((lo, _)) = hz
-        && lo <= 0.0
-    {
-        bail!(
-            "invalid --hz '{}': frequencies must be > 0",
-            a.hz.clone().unwrap_or_default()
-        );
-    }
+    let hz = crate::cli::parse_frequency_range("--hz", a.hz.as_deref())?;
     check_out(&a.out)?;
     if let Some(plot) = &a.plot {
         crate::cli::check_plot(plot)?;

@@ -459,7 +459,8 @@ pub fn response_observed(
     opts: &BurstOptions,
     on_step: Option<StepObserver<'_>>,
 ) -> Result<Response> {
-    measure(p, opts, [stable_equilibrium(p, 0.0), 0.0], on_step)
+    let x0 = stable_equilibrium(p, 0.0);
+    measure(p, opts, [x0, 0.0], x0, on_step)
 }
 
 /// The response from the state `start` at τ = 0 instead of the default start: with a point of
@@ -467,13 +468,32 @@ pub fn response_observed(
 /// periodic response itself, with no transient to discard (see
 /// [`crate::periodic::burst_verdict`]).
 pub fn response_from(p: &Params, opts: &BurstOptions, start: [f64; 2]) -> Result<Response> {
-    measure(p, opts, start, None)
+    p.validate()?;
+    if !start.iter().all(|v| v.is_finite()) {
+        return Err(crate::Error::InvalidOption {
+            name: "start",
+            value: start[0] + start[1],
+            reason: "must be finite",
+        });
+    }
+    // the equilibrium the tracker starts from: the stable one at a(0) = 0 nearest the start
+    let x_eq = crate::fast::equilibria(p, 0.0)
+        .roots
+        .iter()
+        .filter(|r| r.kind.is_stable())
+        .map(|r| r.x)
+        .min_by(|a, b| (a - start[0]).abs().total_cmp(&(b - start[0]).abs()))
+        .unwrap_or(start[0]);
+    measure(p, opts, start, x_eq, None)
 }
 
+/// Simulates from `start` at τ = 0 and scans the response, the equilibrium tracker starting on
+/// the branch through `x_eq` at a = 0.
 fn measure(
     p: &Params,
     opts: &BurstOptions,
     start: [f64; 2],
+    x_eq: f64,
     mut on_step: Option<StepObserver<'_>>,
 ) -> Result<Response> {
     p.validate()?;
@@ -487,25 +507,10 @@ fn measure(
     let x_extent = curve_extent(p);
 
     let sys = Dimensionless::new(*p);
-    if !start.iter().all(|v| v.is_finite()) {
-        return Err(crate::Error::InvalidOption {
-            name: "start",
-            value: start[0] + start[1],
-            reason: "must be finite",
-        });
-    }
-    // the equilibrium the tracker starts from: the stable one at a(0) = 0 nearest the start
-    let x0 = crate::fast::equilibria(p, 0.0)
-        .roots
-        .iter()
-        .filter(|r| r.kind.is_stable())
-        .map(|r| r.x)
-        .min_by(|a, b| (a - start[0]).abs().total_cmp(&(b - start[0]).abs()))
-        .unwrap_or(start[0]);
     let mut solver = stepper(&sys, 0.0, start, opts.tol)?;
     let mut scanner = Scanner::new(
         p,
-        x0,
+        x_eq,
         swing_floor(p, opts, x_extent),
         0.01 * overshoot_floor(opts, x_extent),
         4.0 * gap,

@@ -242,3 +242,23 @@ pub fn lyapunov_point(
         error,
     }
 }
+
+/// [`lyapunov_point`] at every point of `grid` on `threads` worker threads (0: one per core),
+/// the rows in grid order whatever the thread count.
+pub fn lyapunov_map(
+    grid: &crate::sweep::Grid,
+    opts: &DiagramOptions,
+    threads: usize,
+) -> Result<Vec<LyapunovRow>> {
+    let mut rows = Vec::with_capacity(grid.len());
+    let todo: Vec<usize> = (0..grid.len()).collect();
+    crate::sweep::run_with(
+        grid,
+        &todo,
+        threads,
+        |i, q| lyapunov_point(i, q, opts),
+        |r| rows.push(r),
+    )?;
+    rows.sort_by_key(|r| r.index);
+    Ok(rows)
+}
