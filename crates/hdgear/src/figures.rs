@@ -926,11 +926,11 @@ pub fn boundary_figure(base: &Params, study: &mut Study) -> Result<Figure> {
 /// point in both neighbours so the curve stays connected.
 fn stability_runs(
     b: &crate::periodic::Branch<Param>,
-    xy: &impl Fn(&crate::periodic::BranchPoint) -> (f64, f64),
+    xy: &impl Fn(usize, &crate::periodic::BranchPoint) -> (f64, f64),
 ) -> Vec<(bool, Vec<(f64, f64)>)> {
     let mut runs: Vec<(bool, Vec<(f64, f64)>)> = Vec::new();
-    for q in &b.points {
-        let pt = xy(q);
+    for (i, q) in b.points.iter().enumerate() {
+        let pt = xy(i, q);
         match runs.last_mut() {
             Some((s, pts)) if *s == q.stable || q.special.is_some() => pts.push(pt),
             Some((_, pts)) => {
@@ -943,12 +943,12 @@ fn stability_runs(
     runs
 }
 
-/// One panel of a frequency-response figure: the points `xy` of the branch's points, with the
-/// axis labels.
+/// One panel of a frequency-response figure: the points `xy(i, point i)` of the branch, with
+/// the axis labels.
 fn response_panel(
     b: &crate::periodic::Branch<Param>,
     (title, x_label): (&str, &str),
-    xy: impl Fn(&crate::periodic::BranchPoint) -> (f64, f64),
+    xy: impl Fn(usize, &crate::periodic::BranchPoint) -> (f64, f64),
 ) -> Panel {
     use crate::periodic::Special;
     let mut series = Vec::new();
@@ -973,14 +973,17 @@ fn response_panel(
         });
     }
     let markers = b
-        .specials()
-        .map(|q| {
+        .points
+        .iter()
+        .enumerate()
+        .filter(|(_, q)| q.special.is_some())
+        .map(|(i, q)| {
             let label = match q.special {
                 Some(Special::Fold) => "fold",
                 Some(Special::PeriodDoubling) => "period doubling",
                 _ => "branch point",
             };
-            let (x, y) = xy(q);
+            let (x, y) = xy(i, q);
             (x, y, label.to_string())
         })
         .collect();
@@ -1041,10 +1044,10 @@ pub fn frequency_response_figure(p: &Params, b: &crate::periodic::Branch<Param>)
         ),
         size: (1000, 800),
         panels: vec![
-            response_panel(b, ("peak-to-peak x", "ω"), |q| {
+            response_panel(b, ("peak-to-peak x", "ω"), |_, q| {
                 (q.param, q.amplitude.peak_to_peak)
             }),
-            response_panel(b, ("max |x'|", "ω"), |q| {
+            response_panel(b, ("max |x'|", "ω"), |_, q| {
                 (q.param, q.amplitude.max_abs_xdot)
             }),
         ],
@@ -1204,10 +1207,7 @@ pub fn lyapunov_figure(grid: &crate::sweep::Grid, rows: &[crate::periodic::Lyapu
 /// A drive's frequency-response curve in SI units: peak-to-peak twist \[mrad\] and the largest
 /// elastic torque \[N m\] against the disturbance frequency \[Hz\].
 pub fn physical_response_figure(r: &crate::periodic::PhysicalResponse) -> Figure {
-    let red = &r.reduction;
     let d = &r.drive;
-    let hz = |q: &crate::periodic::BranchPoint| q.param / red.time_scale / std::f64::consts::TAU;
-    let twist = |x: f64| red.theta(x);
     let folds: Vec<String> = r
         .points
         .iter()
@@ -1221,7 +1221,10 @@ pub fn physical_response_figure(r: &crate::periodic::PhysicalResponse) -> Figure
     Figure {
         name: "physical-frequency-response".into(),
         caption: format!(
-            "Frequency response of the drive (J_i = {} kg m², J_o = {} kg m², N = {}, k1 = {} N m/rad,              k2 = {} N m/rad³, φ = {} rad, C = {} N m s/rad, T_m = {} N m, T_am = {} N m) against              the disturbance frequency, from the reduced model's continuation converted to SI              (θ = L x, Ω = ω/T). {} {}",
+            "Frequency response of the drive (J_i = {} kg m², J_o = {} kg m², N = {}, k1 = {} N m/rad, \
+             k2 = {} N m/rad³, φ = {} rad, C = {} N m s/rad, T_m = {} N m, T_am = {} N m) against \
+             the disturbance frequency, from the reduced model's continuation converted to SI \
+             (θ = L x, Ω = ω/T). {} {}",
             d.j_in,
             d.j_out,
             d.ratio,
@@ -1237,7 +1240,8 @@ pub fn physical_response_figure(r: &crate::periodic::PhysicalResponse) -> Figure
                 q.frequency_hz
             )),
             if folds.is_empty() {
-                "No fold: at this disturbance amplitude the response is single-valued and a                  frequency sweep does not jump."
+                "No fold: at this disturbance amplitude the response is single-valued and a \
+                 frequency sweep does not jump."
                     .to_string()
             } else {
                 format!(
@@ -1248,20 +1252,20 @@ pub fn physical_response_figure(r: &crate::periodic::PhysicalResponse) -> Figure
         ),
         size: (1000, 800),
         panels: vec![
-            response_panel(&r.branch, ("peak-to-peak twist [mrad]", "f [Hz]"), |q| {
-                (
-                    hz(q),
-                    1e3 * (twist(q.amplitude.x_max) - twist(q.amplitude.x_min)),
-                )
-            }),
-            response_panel(&r.branch, ("largest elastic torque [N m]", "f [Hz]"), |q| {
-                let t = crate::periodic::torque_range(
-                    d,
-                    twist(q.amplitude.x_min),
-                    twist(q.amplitude.x_max),
-                );
-                (hz(q), t[1])
-            }),
+            // the SI values of point i are r.points[i] (one per branch point)
+            response_panel(
+                &r.branch,
+                ("peak-to-peak twist [mrad]", "f [Hz]"),
+                |i, _| {
+                    let q = &r.points[i];
+                    (q.frequency_hz, 1e3 * q.twist_peak_to_peak)
+                },
+            ),
+            response_panel(
+                &r.branch,
+                ("largest elastic torque [N m]", "f [Hz]"),
+                |i, _| (r.points[i].frequency_hz, r.points[i].torque_range[1]),
+            ),
         ],
         map: None,
     }
@@ -1354,15 +1358,6 @@ pub fn lyapunov_map_kind(p: &Params, study: &mut Study) -> Result<Figure> {
         lyapunov: Some(100),
         ..crate::periodic::DiagramOptions::default()
     };
-    let mut rows = Vec::with_capacity(grid.len());
-    let todo: Vec<usize> = (0..grid.len()).collect();
-    crate::sweep::run_with(
-        &grid,
-        &todo,
-        study.threads,
-        |i, q| crate::periodic::lyapunov_point(i, q, &opts),
-        |r| rows.push(r),
-    )?;
-    rows.sort_by_key(|r| r.index);
+    let rows = crate::periodic::lyapunov_map(&grid, &opts, study.threads)?;
     Ok(lyapunov_figure(&grid, &rows))
 }

@@ -155,7 +155,7 @@ pub struct PhysicalResponse {
     pub drive: PhysicalParams,
     /// Its reduction (the dimensionless parameters and the scales).
     pub reduction: Reduction,
-    /// The curve in SI units.
+    /// The curve in SI units: one point per point of `branch`, in the same order.
     pub points: Vec<PhysicalPoint>,
     /// The dimensionless branch it comes from.
     #[serde(skip)]

@@ -528,23 +528,38 @@ fn periodic(h: &mut String, r: &Report) {
         h,
         "</table><p>At the study's ω = {} the orbit is the quasi-static response: its multipliers are \
          e<sup>−T/2</sup> = e<sup>−{:.2}</sup>, and the burst verdict measured on the orbit itself, with no \
-         transient to discard, is the verdict of the long simulation for every γ (also a test over the twenty \
-         reference cases).</p>\
+         transient to discard, {} (a test checks the same over the twenty reference cases).</p>\
          <p><b>Frequency response at the study's point</b> (γ = {}, δ = {}; figure \
-         <a href=\"#fig-frequency-response\">frequency-response</a>): {} points from ω = {:.4} to {:.4}, {} of them \
-         stable. Folds at ω = {}; period doublings: {}. Between two folds two stable responses coexist \
-         and a slow sweep of ω jumps at the folds (the hardening cubic bends the resonance to the right; the \
-         jumps were checked against brute-force up- and down-sweeps to within the sweep step).</p>",
+         <a href=\"#fig-{}\">frequency-response</a>): {} points from ω = {:.4} to {:.4}, {} of them \
+         stable. Folds at ω = {}; period doublings: {}. {}</p>",
         base.omega,
         std::f64::consts::PI / base.omega,
+        if pe
+            .orbits
+            .iter()
+            .zip(&r.cases)
+            .all(|(o, c)| o.on_orbit == c.classification)
+        {
+            "is the verdict of the long simulation for every γ"
+        } else {
+            "differs from the long simulation's for some γ (see the table)"
+        },
         base.gamma,
         base.delta,
+        super::PERIODIC_FIGURES[0].1,
         b.points.len(),
         b.points.first().map_or(f64::NAN, |q| q.param),
         b.points.last().map_or(f64::NAN, |q| q.param),
         stable,
         special_list(b, Special::Fold),
         special_list(b, Special::PeriodDoubling),
+        if b.specials().any(|q| q.special == Some(Special::Fold)) {
+            "Between two folds two stable responses coexist and a slow sweep of ω jumps at the folds \
+             (the hardening cubic bends the resonance to the right; such jumps were checked against \
+             brute-force up- and down-sweeps to within the sweep step, test)."
+        } else {
+            "Without a fold the response is single-valued: a slow sweep of ω does not jump."
+        },
     );
     bubble(h, pe);
     drive_response(h, pe);
@@ -574,17 +589,17 @@ fn bubble(h: &mut String, pe: &super::periodic::PeriodicEvidence) {
     let near_zero = pe.lyapunov.iter().filter(|r| r.lyapunov > -0.01).count();
     let _ = write!(
         h,
-        "<p><b>A period-doubling bubble</b> (γ = {}; figure <a href=\"#fig-orbit-diagram-g{}\">orbit diagram</a>): \
+        "<p><b>A period-doubling bubble</b> (γ = {}; figure <a href=\"#fig-{}\">orbit diagram</a>): \
          continued in ω from {} to {}, the period-1 response has folds at ω = {} and doubles at ω = {}; \
          the doubled branch: {}. The orbit diagram (each ω started from the previous state, swept up and \
          down) shows the same jumps and the period-2 window; Benettin's exponent goes to 0 at each \
          bifurcation and is −1/2 wherever the multipliers are complex.</p>\
-         <p><b>Lyapunov map</b> over (ω, δ) at γ = {} ({} points; figure <a href=\"#fig-lyapunov-map-g{}\">\
+         <p><b>Lyapunov map</b> over (ω, δ) at γ = {} ({} points; figure <a href=\"#fig-{}\">\
          lyapunov map</a>): the largest exponent is {:.4}; {} points are within 0.01 of 0 (at a bifurcation). \
-         No positive exponent was found in this range: with this damping the responses are periodic, and \
-         the tongues where the exponent rises toward 0 are the resonances where folds and doublings occur.</p>",
+         {} The tongues where the exponent rises toward 0 are the resonances where folds and doublings \
+         occur.</p>",
         BUBBLE_GAMMA,
-        BUBBLE_GAMMA,
+        super::PERIODIC_FIGURES[1].1,
         BUBBLE_OMEGA.0,
         BUBBLE_OMEGA.1,
         special_list(&pe.bubble, Special::Fold),
@@ -592,9 +607,15 @@ fn bubble(h: &mut String, pe: &super::periodic::PeriodicEvidence) {
         doubled,
         BUBBLE_GAMMA,
         pe.lyapunov.len(),
-        BUBBLE_GAMMA,
+        super::PERIODIC_FIGURES[2].1,
         max_l,
         near_zero,
+        if max_l > 0.01 {
+            "Positive exponents were found: sensitive dependence, no periodic response there."
+        } else {
+            "No positive exponent was found in this range: with this damping the responses are \
+             periodic."
+        },
     );
 }
 
@@ -615,7 +636,7 @@ fn drive_response(h: &mut String, pe: &super::periodic::PeriodicEvidence) {
             .map(|q| format!("{:.1} Hz", q.frequency_hz))
             .collect();
         if v.is_empty() {
-            "none".to_string()
+            "none, a frequency sweep does not jump".to_string()
         } else {
             v.join(", ")
         }
@@ -625,15 +646,16 @@ fn drive_response(h: &mut String, pe: &super::periodic::PeriodicEvidence) {
             h,
             "<p><b>The physical drive's frequency response</b> ({PHYSICAL_DRIVE}, in SI units: θ = L·x, \
              f = ω/(2πT)): at its catalogue disturbance the largest response is {:.3} mrad peak to peak at \
-             {:.1} Hz (elastic torque up to {:.2} N m), and there is no fold — a frequency sweep does not \
-             jump. The softer, harder-driven variant above (figure <a href=\"#fig-physical-frequency-response\">\
-             physical frequency response</a>) bends strongly: its largest response is {:.2} mrad at {:.1} Hz \
-             with an elastic torque of {:.0} N m, folds at {}, so near those frequencies a small change of \
-             speed makes the twist jump. These curves were checked against the two-inertia simulation in SI \
+             {:.1} Hz (elastic torque up to {:.2} N m); folds: {}. The softer, harder-driven variant above \
+             (figure <a href=\"#fig-{}\">physical frequency response</a>): its largest response is {:.2} \
+             mrad at {:.1} Hz with an elastic torque of {:.0} N m; folds: {} (where there are folds, a small \
+             change of speed near them makes the twist jump). These curves were checked against the two-inertia simulation in SI \
              units (test: twist extremes to 1e-5 of the amplitude).</p></section>\n",
             1e3 * a.twist_peak_to_peak,
             a.frequency_hz,
             a.torque_range[1],
+            folds_hz(&pe.drive),
+            super::PERIODIC_FIGURES[3].1,
             1e3 * v.twist_peak_to_peak,
             v.frequency_hz,
             v.torque_range[1],

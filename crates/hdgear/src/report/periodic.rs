@@ -9,8 +9,8 @@ use crate::output::plot::Figure;
 use crate::params::{Param, Params};
 use crate::periodic::{
     Branch, ContinuationOptions, DiagramOptions, DiagramPoint, LyapunovRow, PeriodicOptions,
-    PhysicalResponse, Scale, Special, burst_verdict, continue_orbit, frequency_response,
-    lyapunov_point, orbit_diagram, physical_frequency_response, shoot, switch_at_period_doubling,
+    PhysicalResponse, Scale, burst_verdict, continue_with_doubled, frequency_response,
+    lyapunov_map, orbit_diagram, physical_frequency_response, shoot,
 };
 use crate::physical::PhysicalParams;
 use crate::sweep::{Axis, Grid};
@@ -107,16 +107,7 @@ impl PeriodicEvidence {
             lyapunov: Some(100),
             ..DiagramOptions::default()
         };
-        let mut lyapunov = Vec::with_capacity(lyapunov_grid.len());
-        let todo: Vec<usize> = (0..lyapunov_grid.len()).collect();
-        crate::sweep::run_with(
-            &lyapunov_grid,
-            &todo,
-            threads,
-            |i, q| lyapunov_point(i, q, &lopts),
-            |r| lyapunov.push(r),
-        )?;
-        lyapunov.sort_by_key(|r| r.index);
+        let lyapunov = lyapunov_map(&lyapunov_grid, &lopts, threads)?;
         Ok(PeriodicEvidence {
             orbits,
             response,
@@ -195,24 +186,16 @@ fn dimensionless_part(
         scale: Scale::Log,
         ..copts
     };
-    let bubble = continue_orbit(&at, Param::Omega, 1, None, BUBBLE_OMEGA.1, &log)?;
-    let pds: Vec<_> = bubble
-        .specials()
-        .filter(|q| q.special == Some(Special::PeriodDoubling))
-        .copied()
-        .collect();
-    let doubled = match pds.first() {
-        Some(pd) => Some(switch_at_period_doubling(
-            &at,
-            Param::Omega,
-            1,
-            pd,
-            &pds,
-            [BUBBLE_OMEGA.0, BUBBLE_OMEGA.1],
-            &log,
-        )?),
-        None => None,
-    };
+    // the branch and the doubled branch from its first period doubling (which ends at the
+    // second, so no other is traced)
+    let mut branches =
+        continue_with_doubled(&at, Param::Omega, 1, BUBBLE_OMEGA.1, true, &log)?.into_iter();
+    let bubble = branches.next().ok_or(crate::Error::NoConvergence {
+        what: "the period-doubling bubble's branch",
+        iterations: 0,
+        residual: f64::NAN,
+    })?;
+    let doubled = branches.next();
     // 0.05 apart over the bubble's range; 100 periods settle (the previous value's state is
     // close) and 100 more give Benettin's exponent to a few 1e-3
     let values: Vec<f64> = (0..=110)
