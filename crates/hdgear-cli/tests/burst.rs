@@ -514,3 +514,73 @@ fn the_verdict_on_the_periodic_orbit_is_the_verdict_after_the_transient() {
         );
     }
 }
+
+/// The batch path (sixteen points in lock-step, each step's polynomial scanned as it comes) gives
+/// the scalar path's verdicts, counts and spikes on the 20 reference cases, the 200-point γ sweep
+/// and an ω scan it was not built from, at the default tolerance and the sweeps' 1e-8; its
+/// measures agree to 1e-6 relative (both runs carry errors near the tolerance, and the peak and
+/// tracking error are located on interpolants, so 1e-6 is a hundred times the 1e-8 tolerance).
+#[test]
+fn batched_responses_equal_one_by_one_responses() {
+    let omega_scan = (0..48).map(|i| Params {
+        omega: 1e-3 * 1000f64.powf(f64::from(i) / 47.0),
+        gamma: [0.1, 1.0, 30.0][i as usize % 3],
+        ..Params::default()
+    });
+    let sets: Vec<Params> = reference_cases()
+        .into_iter()
+        .map(|c| c.1)
+        .chain(sweep_200())
+        .chain(omega_scan)
+        .collect();
+    for tol in [1e-10, hdgear::burst::CLASSIFICATION_TOL] {
+        let mut o = BurstOptions::default();
+        o.tol.rtol = tol;
+        o.tol.atol = tol;
+        let batch = hdgear::burst::responses(&sets, &o);
+        assert_eq!(batch.len(), sets.len());
+        for (p, b) in sets.iter().zip(batch) {
+            let (b, one) = (b.unwrap(), response(p, &o).unwrap());
+            let (cb, co) = (classify(p, &b), classify(p, &one));
+            assert_eq!(cb, co, "{p:?} at tol {tol}");
+            assert_eq!(
+                b.rates.bursts_per_period, one.rates.bursts_per_period,
+                "{p:?}"
+            );
+            let per_burst = |r: &hdgear::burst::Response| {
+                r.bursts
+                    .iter()
+                    .map(|b| (b.spikes, b.jumps, b.overshoot_lobes > 0))
+                    .collect::<Vec<_>>()
+            };
+            assert_eq!(per_burst(&b), per_burst(&one), "{p:?} at tol {tol}");
+            for (x, y) in [
+                (b.rates.peak_abs_xdot, one.rates.peak_abs_xdot),
+                (b.rates.max_tracking_error, one.rates.max_tracking_error),
+            ] {
+                assert!((x - y).abs() <= 1e-6 * y.abs(), "{p:?}: {x} vs {y}");
+            }
+        }
+    }
+}
+
+/// A point's batched result does not depend on the points beside it, even when one of them
+/// fails: the same point alone, among others, and next to a point whose run is too long.
+#[test]
+fn a_batched_point_does_not_depend_on_its_neighbours() {
+    let o = BurstOptions::default();
+    let p = paper(1.0);
+    let alone = hdgear::burst::responses(&[p], &o).remove(0).unwrap();
+    let crowd: Vec<Params> = (0..20).map(|i| paper(0.1 + f64::from(i))).collect();
+    let mut mixed = crowd.clone();
+    mixed[3] = p;
+    mixed[4] = Params { omega: 1e-9, ..p }; // too long a run: its own error
+    let among = hdgear::burst::responses(&mixed, &o);
+    assert_eq!(among[3].as_ref().unwrap(), &alone);
+    assert!(
+        matches!(among[4], Err(hdgear::Error::RunTooLong { .. })),
+        "{:?}",
+        among[4]
+    );
+    assert!(among.iter().enumerate().all(|(i, r)| i == 4 || r.is_ok()));
+}

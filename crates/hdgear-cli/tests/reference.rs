@@ -68,7 +68,7 @@ fn reproduce(method: Method, bar: f64) -> f64 {
 /// the four γ in one batch padded to the lane count.
 #[test]
 fn batch_lanes_reach_the_reference_final_states() {
-    use hdgear::integrate::batch::{LANES, integrate_batch};
+    use hdgear::batch::{LANES, integrate_batch};
     let rows = reference_rows();
     let mut gammas: Vec<f64> = rows.iter().map(|r| r[0]).collect();
     gammas.dedup();

@@ -58,7 +58,7 @@ fn time(method: Method, gamma: f64, tol: f64, reps: u32) {
 }
 
 fn time_batch(tol: f64, reps: u32) {
-    use hdgear::integrate::batch::{LANES, integrate_batch};
+    use hdgear::batch::{LANES, integrate_batch};
     let points: Vec<Params> = (0..LANES)
         .map(|l| Params {
             gamma: if l % 2 == 0 { 30.0 } else { 0.1 },

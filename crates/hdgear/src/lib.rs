@@ -15,7 +15,7 @@
 //! * [`Params`]: the dimensionless parameters, presets and validation ([`params`]).
 //! * [`model::Dimensionless`]: the right-hand side and its Taylor coefficients.
 //! * [`integrate::Taylor`] (the default) and [`integrate::Dop853`] behind the
-//!   [`integrate::Stepper`] seam, with dense output and events; [`integrate::batch`] runs 16
+//!   [`integrate::Stepper`] seam, with dense output and events; [`batch`] runs 16
 //!   parameter sets in SIMD lock-step.
 //! * [`simulate::simulate`]: a sampled trajectory with a summary.
 //! * [`fast`]: equilibria and stability of the fast subsystem, and [`fast::predict`], bursting
@@ -34,6 +34,7 @@
 //! ```
 #![warn(missing_docs)]
 
+pub mod batch;
 pub mod burst;
 pub mod error;
 pub mod explore;

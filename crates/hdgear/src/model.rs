@@ -37,33 +37,168 @@ impl System<2> for Dimensionless {
     /// x_{k+1} = v_k/(k+1), v_{k+1} = (μ[k=0] + δ s_k − v_k − α(x³)_k + (x²)_k − γ x_k
     /// + γε[k=0])/(k+1), with (x²)_k, (x³)_k Cauchy sums and s_k the coefficients of sin ωt.
     fn taylor(&self, t: f64, y: &[f64; 2], order: usize, c: &mut [[f64; 2]]) -> bool {
-        use crate::integrate::taylor::{INV, MAX_ORDER, cauchy, sine_coefficients};
-        let p = &self.p;
-        let n = order.min(MAX_ORDER).min(c.len() - 1);
-        let (mut x, mut x2, mut s) = (
-            [0.0; MAX_ORDER + 1],
-            [0.0; MAX_ORDER + 1],
-            [0.0; MAX_ORDER + 1],
-        );
-        sine_coefficients(p.omega, t, n, &mut s);
-        c[0] = *y;
-        x[0] = y[0];
-        for k in 0..n {
-            // (x²)_k by symmetry: twice the products below the middle, plus the middle square
-            let half = k.div_ceil(2);
-            let below: f64 = x[..half]
-                .iter()
-                .zip(x[k + 1 - half..=k].iter().rev())
-                .map(|(a, b)| a * b)
-                .sum();
-            x2[k] = 2.0 * below + if k % 2 == 0 { x[k / 2] * x[k / 2] } else { 0.0 };
-            let x3 = cauchy(&x2, &x, k);
-            let [xk, vk] = c[k];
-            let constant = if k == 0 { p.mu + p.gamma * p.eps } else { 0.0 };
-            let acc = constant + p.delta * s[k] - vk - p.alpha * x3 + x2[k] - p.gamma * xk;
-            c[k + 1] = [vk * INV[k], acc * INV[k]];
-            x[k + 1] = c[k + 1][0];
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("fma") {
+            // SAFETY: the CPU has FMA (checked just above).
+            unsafe { taylor_fma(&self.p, t, y, order, c) };
+            return true;
         }
+        taylor_scalar::<false>(&self.p, t, y, order, c);
         true
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "fma")]
+fn taylor_fma(p: &Params, t: f64, y: &[f64; 2], order: usize, c: &mut [[f64; 2]]) {
+    taylor_scalar::<true>(p, t, y, order, c);
+}
+
+/// [`System::taylor`] for one parameter set: sin ωt's coefficients in closed form, then the
+/// recurrence [`taylor_rows`] on one lane.
+#[inline(always)]
+fn taylor_scalar<const FMA: bool>(
+    p: &Params,
+    t: f64,
+    y: &[f64; 2],
+    order: usize,
+    c: &mut [[f64; 2]],
+) {
+    use crate::integrate::taylor::{MAX_ORDER, sine_coefficients};
+    let n = order.min(MAX_ORDER).min(c.len() - 1);
+    let mut sine = [0.0; MAX_ORDER + 1];
+    sine_coefficients(p.omega, t, n, &mut sine);
+    let mut rows = Rows::<1>::default();
+    for (r, s) in rows.s.iter_mut().zip(sine) {
+        *r = [s];
+    }
+    rows.x[0] = [y[0]];
+    rows.v[0] = [y[1]];
+    taylor_rows::<1, FMA>(&LaneParams::new(std::slice::from_ref(p)), n, &mut rows);
+    for (k, ck) in c.iter_mut().enumerate().take(n + 1) {
+        *ck = [rows.x[k][0], rows.v[k][0]];
+    }
+}
+
+/// a·b + c, fused (one rounding, one instruction) where the caller was compiled for FMA.
+#[inline(always)]
+pub(crate) fn mul_add<const FMA: bool>(a: f64, b: f64, c: f64) -> f64 {
+    if FMA { a.mul_add(b, c) } else { a * b + c }
+}
+
+/// The parameters of `L` lanes, in the form the recurrence uses.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct LaneParams<const L: usize> {
+    neg_alpha: [f64; L],
+    neg_gamma: [f64; L],
+    delta: [f64; L],
+    /// μ + γε: the constant term of the acceleration.
+    constant: [f64; L],
+}
+
+impl<const L: usize> LaneParams<L> {
+    /// Lane l takes `points[l]`, or `points[0]` past the end (padding).
+    pub(crate) fn new(points: &[Params]) -> Self {
+        let get = |f: fn(&Params) -> f64| -> [f64; L] {
+            std::array::from_fn(|l| f(&points[if l < points.len() { l } else { 0 }]))
+        };
+        LaneParams {
+            neg_alpha: get(|p| -p.alpha),
+            neg_gamma: get(|p| -p.gamma),
+            delta: get(|p| p.delta),
+            constant: get(|p| p.mu + p.gamma * p.eps),
+        }
+    }
+}
+
+/// Taylor coefficients of `L` lanes, structure of arrays: row k holds every lane's k-th
+/// coefficient of x, x', sin ωt and x².
+#[derive(Clone, Debug)]
+pub(crate) struct Rows<const L: usize> {
+    pub(crate) x: [[f64; L]; MAX_ROWS],
+    pub(crate) v: [[f64; L]; MAX_ROWS],
+    /// sin ωt's coefficients: filled by the caller before [`taylor_rows`].
+    pub(crate) s: [[f64; L]; MAX_ROWS],
+    pub(crate) x2: [[f64; L]; MAX_ROWS],
+}
+
+const MAX_ROWS: usize = crate::integrate::taylor::MAX_ORDER + 1;
+
+impl<const L: usize> Default for Rows<L> {
+    fn default() -> Self {
+        Rows {
+            x: [[0.0; L]; MAX_ROWS],
+            v: [[0.0; L]; MAX_ROWS],
+            s: [[0.0; L]; MAX_ROWS],
+            x2: [[0.0; L]; MAX_ROWS],
+        }
+    }
+}
+
+/// The model's Taylor recurrence on `L` lanes at once (one lane for [`System::taylor`], 16 for
+/// [`crate::batch`]): from rows 0 of x, x' and rows 0..=order of sin ωt, rows
+/// 1..=order of x and x':
+///
+/// x_{k+1} = v_k/(k+1), v_{k+1} = (μ[k=0] + γε[k=0] + δ s_k − v_k − α(x³)_k + (x²)_k − γ x_k)/(k+1),
+///
+/// (x²)_k and (x³)_k = Σ_j (x²)_j x_{k−j} by Cauchy sums. Each sum adds its newest terms last
+/// (x_k came from the previous order, (x²)_k from this one) so that the older products are summed
+/// while those are computed: the recurrence is a chain through the orders, and this keeps the
+/// chain short (measured: 0.50 → 0.41 ms per 3-period run, before fused multiply-adds).
+#[inline(always)]
+#[allow(clippy::needless_range_loop)] // lanes of parallel arrays, indexed together
+pub(crate) fn taylor_rows<const L: usize, const FMA: bool>(
+    lp: &LaneParams<L>,
+    order: usize,
+    r: &mut Rows<L>,
+) {
+    use crate::integrate::taylor::INV;
+    let fma = mul_add::<FMA>;
+    for k in 0..order {
+        // (x²)_k by symmetry: twice the products below the middle, plus the middle square
+        let half = k.div_ceil(2);
+        let mut below = [0.0; L];
+        for j in (1..half).rev() {
+            for l in 0..L {
+                below[l] = fma(r.x[j][l], r.x[k - j][l], below[l]);
+            }
+        }
+        if half > 0 {
+            for l in 0..L {
+                below[l] = fma(r.x[0][l], r.x[k][l], below[l]);
+            }
+        }
+        // loops, not `array::from_fn`: its closures are not inlined into the vector paths
+        let mut sq = [0.0; L];
+        if k % 2 == 0 {
+            for l in 0..L {
+                sq[l] = fma(r.x[k / 2][l], r.x[k / 2][l], 2.0 * below[l]);
+            }
+        } else {
+            for l in 0..L {
+                sq[l] = 2.0 * below[l];
+            }
+        }
+        r.x2[k] = sq;
+        let mut cube = [0.0; L];
+        for j in 1..k {
+            for l in 0..L {
+                cube[l] = fma(r.x2[j][l], r.x[k - j][l], cube[l]);
+            }
+        }
+        if k > 0 {
+            for l in 0..L {
+                cube[l] = fma(r.x2[0][l], r.x[k][l], cube[l]);
+            }
+        }
+        let first = if k == 0 { 1.0 } else { 0.0 };
+        for l in 0..L {
+            cube[l] = fma(sq[l], r.x[0][l], cube[l]);
+            let slow = fma(lp.neg_gamma[l], r.x[k][l], first * lp.constant[l]);
+            let drive = fma(lp.delta[l], r.s[k][l], slow) - r.v[k][l];
+            let acc = fma(lp.neg_alpha[l], cube[l], drive + sq[l]);
+            r.x[k + 1][l] = r.v[k][l] * INV[k];
+            r.v[k + 1][l] = acc * INV[k];
+        }
     }
 }

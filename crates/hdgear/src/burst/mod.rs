@@ -496,29 +496,13 @@ fn measure(
     x_eq: f64,
     mut on_step: Option<StepObserver<'_>>,
 ) -> Result<Response> {
-    p.validate()?;
-    opts.validate()?;
-    let period = p.slow_period();
-    let gap = opts.group_gap(period);
-    let (t_w0, t_w1) = window(p, opts);
-    let margin = (period / 4.0).min(5.0 * gap);
-    let (t_s0, t_s1) = ((t_w0 - margin).max(0.0), t_w1 + margin);
-    crate::integrate::check_budget(t_s1, &opts.tol)?;
-    let x_extent = curve_extent(p);
-
+    let plan = Plan::new(p, opts)?;
     let sys = Dimensionless::new(*p);
     let mut solver = stepper(&sys, 0.0, start, opts.tol)?;
-    let mut scanner = Scanner::new(
-        p,
-        x_eq,
-        swing_floor(p, opts, x_extent),
-        0.01 * overshoot_floor(opts, x_extent),
-        4.0 * gap,
-        (t_w0, t_w1),
-    );
-    while solver.t() < t_s1 {
-        solver.step(t_s1)?;
-        let scanned = solver.t() > t_s0;
+    let mut scanner = plan.scanner(p, opts, x_eq);
+    while solver.t() < plan.scan.1 {
+        solver.step(plan.scan.1)?;
+        let scanned = solver.t() > plan.scan.0;
         if scanned || on_step.is_some() {
             let dense = solver.dense();
             if let Some(f) = on_step.as_mut() {
@@ -529,8 +513,122 @@ fn measure(
             }
         }
     }
-    let scan = scanner.finish();
-    Ok(assemble(p, opts, scan, (t_w0, t_w1), t_s1, gap, x_extent))
+    Ok(plan.assemble(p, opts, scanner.finish()))
+}
+
+/// The responses of many parameter sets from the default start, by the batch integrator
+/// ([`crate::batch`]: sixteen points in lock-step, each step's polynomial scanned as it
+/// comes). The same verdicts and measures as [`response`] with [`crate::integrate::Method::Taylor`],
+/// up to the batch's own rounding (it carries sin ωt as state and uses fused multiply-adds where
+/// the CPU has them). Options with `Method::Dop853` run [`response`] point by point. One result per
+/// point, in order; a point that fails (bad parameters, a run too long, a blow-up) has its own
+/// error and leaves the others' results as they would be without it.
+///
+/// ```
+/// use hdgear::{Params, burst::{BurstOptions, response, responses}};
+/// let points = [0.1, 3.0, 30.0].map(|gamma| Params { gamma, ..Params::default() });
+/// let opts = BurstOptions::default();
+/// let batch = responses(&points, &opts);
+/// for (p, r) in points.iter().zip(&batch) {
+///     let one = response(p, &opts).unwrap();
+///     assert_eq!(r.as_ref().unwrap().rates.bursts_per_period, one.rates.bursts_per_period);
+/// }
+/// ```
+pub fn responses(points: &[Params], opts: &BurstOptions) -> Vec<Result<Response>> {
+    // None: not measured yet (then measured on its own below)
+    let mut out: Vec<Option<Result<Response>>> = Vec::with_capacity(points.len());
+    if opts.tol.method == crate::integrate::Method::Taylor {
+        // the points that can run (the others keep their own error), with plans and scanners
+        let mut ok = Vec::new();
+        for (i, p) in points.iter().enumerate() {
+            match Plan::new(p, opts) {
+                Ok(plan) => {
+                    let x0 = stable_equilibrium(p, 0.0);
+                    ok.push((i, plan.scanner(p, opts, x0), plan, [x0, 0.0]));
+                    out.push(None);
+                }
+                Err(e) => out.push(Some(Err(e))),
+            }
+        }
+        let params: Vec<Params> = ok.iter().map(|o| points[o.0]).collect();
+        let starts: Vec<[f64; 2]> = ok.iter().map(|o| o.3).collect();
+        let spans: Vec<(f64, f64)> = ok.iter().map(|o| o.2.scan).collect();
+        let run = crate::batch::integrate_batch_observed(
+            &params,
+            &starts,
+            &spans,
+            opts.tol,
+            |j, step| ok[j].1.push(step),
+        );
+        // (an error here is bad input for the batch as a whole: each point then on its own)
+        if let Ok(lanes) = run {
+            for ((i, scanner, plan, _), lane) in ok.into_iter().zip(lanes) {
+                out[i] = Some(lane.map(|_| plan.assemble(&points[i], opts, scanner.finish())));
+            }
+        }
+    }
+    out.resize_with(points.len(), || None);
+    out.into_iter()
+        .zip(points)
+        .map(|(r, p)| r.unwrap_or_else(|| response(p, opts)))
+        .collect()
+}
+
+/// Where a response is integrated and scanned, from the options and the slow period.
+struct Plan {
+    /// The window [t_w0, t_w1).
+    window: (f64, f64),
+    /// The scanned span [t_s0, t_s1]: the window and a margin on both sides.
+    scan: (f64, f64),
+    gap: f64,
+    x_extent: f64,
+}
+
+impl Plan {
+    fn new(p: &Params, opts: &BurstOptions) -> Result<Plan> {
+        p.validate()?;
+        opts.validate()?;
+        let period = p.slow_period();
+        let gap = opts.group_gap(period);
+        let (t_w0, t_w1) = window(p, opts);
+        let margin = (period / 4.0).min(5.0 * gap);
+        let scan = ((t_w0 - margin).max(0.0), t_w1 + margin);
+        crate::integrate::check_budget(scan.1, &opts.tol)?;
+        Ok(Plan {
+            window: (t_w0, t_w1),
+            scan,
+            gap,
+            x_extent: curve_extent(p),
+        })
+    }
+
+    fn scanner<D: DenseOutput<2> + Copy>(
+        &self,
+        p: &Params,
+        opts: &BurstOptions,
+        x_eq: f64,
+    ) -> Scanner<D> {
+        Scanner::new(
+            p,
+            x_eq,
+            swing_floor(p, opts, self.x_extent),
+            0.01 * overshoot_floor(opts, self.x_extent),
+            4.0 * self.gap,
+            self.window,
+        )
+    }
+
+    fn assemble(&self, p: &Params, opts: &BurstOptions, scan: Scan) -> Response {
+        assemble(
+            p,
+            opts,
+            scan,
+            self.window,
+            self.scan.1,
+            self.gap,
+            self.x_extent,
+        )
+    }
 }
 
 /// Integration noise in the state is this many times the tolerance scale atol + rtol·X:

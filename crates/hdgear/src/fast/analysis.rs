@@ -249,9 +249,22 @@ fn counts(fold_list: &[Fold], (a0, a1): (f64, f64)) -> (usize, usize) {
     }
 }
 
-/// The largest |dx/da| on the traversed curve: at x = 1/(3α) if on it, at the folds, or at the
-/// ends.
-fn max_slope(p: &Params, a_range: (f64, f64), fold_list: &[Fold]) -> Slope {
+/// The largest |dx/da| on the curve traversed by a ∈ `a_range`: at x = 1/(3α) if on it, at the
+/// folds (+inf), or at the ends. What a sweep row reports of the curve, without the rest of
+/// [`analyze`] (whose γ-boundary bisection costs more than the row's simulation).
+///
+/// ```
+/// use hdgear::{Params, fast::max_slope};
+/// let p = Params::default(); // γ = 0.1 > 1/(3α): no folds, steepest at x = 1/(3α)
+/// let s = max_slope(&p, (-1.0, 1.0));
+/// assert!((s.value - p.delta / (p.gamma - p.critical_gamma())).abs() < 1e-9 * s.value);
+/// ```
+pub fn max_slope(p: &Params, a_range: (f64, f64)) -> Slope {
+    slope_with_folds(p, a_range, &folds(p, a_range))
+}
+
+/// [`max_slope`] with the folds already found.
+fn slope_with_folds(p: &Params, a_range: (f64, f64), fold_list: &[Fold]) -> Slope {
     let (a0, a1) = a_range;
     let intervals = x_intervals(p, a_range);
     let on_curve = |x: f64| intervals.iter().any(|&(l, r)| x >= l && x <= r);
@@ -414,7 +427,7 @@ pub fn analyze(p: &Params, a_range: (f64, f64)) -> Result<Analysis> {
     let cusp_in_range = regime == Regime::Cusp && cusp_pt.a >= a0 && cusp_pt.a <= a1;
     let stable_everywhere = max_count == 1 && !cusp_in_range;
 
-    let max_slope = max_slope(p, a_range, &fold_list);
+    let max_slope = slope_with_folds(p, a_range, &fold_list);
     let x0 = 1.0 / (3.0 * p.alpha);
     let steepest_point = (p.gamma > gc).then(|| Slope {
         value: p.delta / (p.gamma - gc),

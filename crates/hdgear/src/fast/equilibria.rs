@@ -271,7 +271,10 @@ pub struct EquilibriumTracker {
     p: Params,
     /// The a-interval with three equilibria (between the fold values), if any.
     multi: Option<(f64, f64)>,
+    /// The last equilibrium returned, the a it was for, and dx*/da there (0: unknown).
     hint: f64,
+    last_a: f64,
+    slope: f64,
 }
 
 impl EquilibriumTracker {
@@ -285,6 +288,8 @@ impl EquilibriumTracker {
             p: *p,
             multi,
             hint: x0,
+            last_a: 0.0,
+            slope: 0.0,
         }
     }
 
@@ -294,23 +299,29 @@ impl EquilibriumTracker {
         let unique = self.multi.is_none_or(|(lo, hi)| a < lo || a > hi);
         if unique {
             let rhs = p.forcing(a);
-            let mut y = self.hint;
+            // predicted along the branch's tangent dx*/da = δ/g' from the last point: Newton's
+            // first step then lands at the rounding level for the small moves of a scan
+            let mut y = self.hint + self.slope * (a - self.last_a);
+            // x-scale of the cubic's features (its inflection is at 1/(3α))
+            let scale = 1.0 / p.alpha;
             for _ in 0..8 {
-                let f = p.g(y) - rhs;
-                // converged when F is at its rounding level (the sum of its terms' sizes)
-                let scale = ((p.alpha * y * y).abs() + y.abs() + p.gamma.abs()) * y.abs()
-                    + (p.gamma * p.eps).abs()
-                    + rhs.abs();
                 let gp = p.g_prime(y);
-                if f.abs() <= 8.0 * f64::EPSILON * scale && gp > 0.0 {
-                    self.hint = y;
+                if gp.is_nan() || gp <= 0.0 {
+                    break; // not on a stable branch: the exact solve below decides
+                }
+                let dy = (p.g(y) - rhs) / gp;
+                y -= dy;
+                // Newton's error after this step is |g''|/(2g')·dy² to leading order: done when
+                // that is at the rounding level of y (no second evaluation to test the residual)
+                let half_curvature = (3.0 * p.alpha * y - 1.0).abs();
+                if half_curvature * dy * dy <= 4.0 * f64::EPSILON * (y.abs() + scale) * gp {
+                    (self.hint, self.last_a, self.slope) = (y, a, p.delta / gp);
                     return y;
                 }
-                y -= f / gp;
             }
         }
         let y = super::nearest_stable_equilibrium(p, a, x).unwrap_or(x);
-        self.hint = y;
+        (self.hint, self.last_a, self.slope) = (y, a, 0.0);
         y
     }
 }

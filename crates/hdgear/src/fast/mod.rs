@@ -29,7 +29,7 @@ mod predict;
 
 pub use analysis::{
     Analysis, Cusp, EquilibriaSummary, Fold, FoldRow, Interval, NO_HOPF_REASON, Point, Regime,
-    Slope, analyze, cusp, fold_curves, folds, relaxation_rate,
+    Slope, analyze, cusp, fold_curves, folds, max_slope, relaxation_rate,
 };
 pub use curve::{A_RANGE_LIMIT, Branch, CurvePoint, check_a_range, curve, x_intervals};
 pub use equilibria::{

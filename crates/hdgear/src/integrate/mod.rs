@@ -29,7 +29,6 @@
 //! assert!((s.y()[0] - 10f64.sin()).abs() < 1e-9);
 //! ```
 
-pub mod batch;
 pub mod events;
 mod stages;
 pub mod taylor;

@@ -80,6 +80,13 @@ pub struct TaylorDense<const N: usize> {
     c: Coefficients<N>,
 }
 
+impl<const N: usize> TaylorDense<N> {
+    /// The step from `t0` to `t1` with coefficients `c` (rows 0..=order used).
+    pub(crate) fn new(t0: f64, t1: f64, order: usize, c: Coefficients<N>) -> Self {
+        TaylorDense { t0, t1, order, c }
+    }
+}
+
 impl<const N: usize> DenseOutput<N> for TaylorDense<N> {
     fn t_start(&self) -> f64 {
         self.t0

@@ -203,9 +203,14 @@ pub struct SweepRow {
 
 /// Runs one point.
 pub fn run_point(index: usize, p: &Params, opts: &BurstOptions) -> SweepRow {
-    let result = response(p, opts).and_then(|r| {
-        let an = fast::analyze(p, crate::fast::A_RANGE)?;
-        Ok((classify(p, &r), r, an.equilibria.max_slope.value))
+    row(index, p, response(p, opts))
+}
+
+/// The row of point `index` from its measured response (or the error that stopped it).
+fn row(index: usize, p: &Params, result: Result<crate::burst::Response>) -> SweepRow {
+    let result = result.map(|r| {
+        let slope = fast::max_slope(p, fast::A_RANGE).value;
+        (classify(p, &r), r, slope)
     });
     let mut row = SweepRow {
         index,
@@ -229,7 +234,9 @@ pub fn run_point(index: usize, p: &Params, opts: &BurstOptions) -> SweepRow {
 }
 
 /// Runs the grid points `todo` (indices) on `threads` worker threads (0: one per core) and calls
-/// `on_row` from the calling thread as each point finishes. Returns when all are done.
+/// `on_row` from the calling thread as each point finishes. Returns when all are done. Points
+/// run [`LANES`](crate::batch::LANES) at a time through the batch integrator
+/// ([`crate::burst::responses`]).
 pub fn run(
     grid: &Grid,
     opts: &BurstOptions,
@@ -238,7 +245,16 @@ pub fn run(
     on_row: impl FnMut(SweepRow),
 ) -> Result<()> {
     opts.validate()?;
-    run_with(grid, todo, threads, |i, p| run_point(i, p, opts), on_row)
+    let rows = |chunk: &[(usize, Params)]| {
+        let points: Vec<Params> = chunk.iter().map(|&(_, p)| p).collect();
+        let responses = crate::burst::responses(&points, opts);
+        chunk
+            .iter()
+            .zip(responses)
+            .map(|(&(i, p), r)| row(i, &p, r))
+            .collect()
+    };
+    run_chunked(grid, todo, crate::batch::LANES, threads, rows, on_row)
 }
 
 /// Runs `point(i, parameters of i)` for the grid points `todo` on `threads` worker threads (0:
@@ -249,6 +265,20 @@ pub fn run_with<R: Send>(
     todo: &[usize],
     threads: usize,
     point: impl Fn(usize, &Params) -> R + Sync,
+    on_row: impl FnMut(R),
+) -> Result<()> {
+    let each = |chunk: &[(usize, Params)]| chunk.iter().map(|(i, p)| point(*i, p)).collect();
+    run_chunked(grid, todo, 1, threads, each, on_row)
+}
+
+/// [`run_with`] for work done `chunk` points at a time: `points` gets up to `chunk` (index,
+/// parameters) pairs and returns their results.
+pub fn run_chunked<R: Send>(
+    grid: &Grid,
+    todo: &[usize],
+    chunk: usize,
+    threads: usize,
+    points: impl Fn(&[(usize, Params)]) -> Vec<R> + Sync,
     mut on_row: impl FnMut(R),
 ) -> Result<()> {
     let pool = rayon::ThreadPoolBuilder::new()
@@ -261,13 +291,18 @@ pub fn run_with<R: Send>(
         })?;
     let (tx, rx) = std::sync::mpsc::channel();
     std::thread::scope(|s| {
-        let point = &point;
+        let points = &points;
         s.spawn(move || {
             pool.install(|| {
-                todo.par_iter().for_each_with(tx, |tx, &i| {
-                    // the receiver only goes away if the caller panicked
-                    let _ = tx.send(point(i, &grid.point(i)));
-                });
+                todo.par_chunks(chunk.max(1))
+                    .for_each_with(tx, |tx, indices| {
+                        let work: Vec<(usize, Params)> =
+                            indices.iter().map(|&i| (i, grid.point(i))).collect();
+                        for r in points(&work) {
+                            // the receiver only goes away if the caller panicked
+                            let _ = tx.send(r);
+                        }
+                    });
             });
         });
         for row in rx {

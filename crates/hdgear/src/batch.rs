@@ -1,0 +1,394 @@
+//! Taylor's method on [`LANES`] parameter sets of the dimensionless model at once, in lock-step:
+//! structure of arrays (every coefficient is a `[f64; LANES]`), each lane with its own time, step
+//! and end, so the compiler turns each operation into one vector instruction over the lanes. The
+//! recurrence is the model's own ([`crate::model`]'s `taylor_rows`, the one the scalar stepper runs
+//! on a single lane).
+//!
+//! The same order and step rule as [`crate::integrate::Taylor`], with two differences that keep the lanes in
+//! vector registers: sin ωt and cos ωt are carried as two more state components (their Taylor
+//! coefficients by the recurrence s' = ωc, c' = −ωs, as heyoka does), so no lane calls a sine; and
+//! the step's logarithm and exponential are evaluated by short polynomials to ~1e-6
+//! (the step size is a heuristic: a relative change of 1e-6 in h changes nothing measurable).
+//!
+//! [`integrate_batch_observed`] shows every lane's steps as their polynomials: sweeps and maps
+//! scan them for bursts as they come ([`crate::burst::responses`]), nothing is integrated twice.
+//!
+//! The shipped binary picks the widest vector unit the CPU has at run time (AVX-512 with FMA,
+//! AVX2 with FMA, else the portable SSE2 path). The two FMA paths compute bit-identical results;
+//! the portable one rounds each product separately, so it differs from them at the rounding
+//! level (a relative 1e-16 per operation, far below the tolerance).
+
+use crate::error::Result;
+use crate::error::SolverError;
+use crate::integrate::Options;
+use crate::integrate::taylor::{INV, MAX_ORDER, TaylorDense, order_for};
+use crate::model::{LaneParams, Rows, mul_add, taylor_rows};
+use crate::params::Params;
+
+/// Trajectories per batch.
+pub const LANES: usize = 16;
+
+type V = [f64; LANES];
+
+/// The outcome of one lane.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LaneResult {
+    /// Final state [x, x'].
+    pub y: [f64; 2],
+    /// Steps taken by this lane.
+    pub steps: u64,
+}
+
+/// Integrates each of `points` from its start `y0` at τ = 0 to `t_end`, [`LANES`] at a time, and
+/// returns the final states in order.
+///
+/// ```
+/// use hdgear::{Params, batch::integrate_batch, integrate::Options};
+/// let points: Vec<Params> = [30.0, 10.0, 1.0, 0.1]
+///     .iter()
+///     .map(|&gamma| Params { gamma, ..Params::default() })
+///     .collect();
+/// let starts = vec![[0.0, 0.0]; 4];
+/// let out = integrate_batch(&points, &starts, 100.0, Options::default()).unwrap();
+/// assert_eq!(out.len(), 4);
+/// ```
+pub fn integrate_batch(
+    points: &[Params],
+    starts: &[[f64; 2]],
+    t_end: f64,
+    tol: Options,
+) -> Result<Vec<LaneResult>> {
+    let spans = vec![(t_end, t_end); points.len()];
+    integrate_batch_observed(points, starts, &spans, tol, |_, _| {})?
+        .into_iter()
+        .collect()
+}
+
+/// [`integrate_batch`] with a time span per point, showing the steps: `spans[i] = (from, t_end)`
+/// integrates point i to its own `t_end` and calls `observe(i, step)` with every step that ends
+/// after `from`, in order, as its polynomial (the same [`TaylorDense`] the scalar Taylor stepper
+/// gives). This is how sweeps run their burst analysis on sixteen points at once. Fails as a whole
+/// only on bad input; a point that blows up or runs out of steps gets its own error, and its
+/// neighbours' results are the same as without it.
+///
+/// ```
+/// use hdgear::{Params, batch::integrate_batch_observed, integrate::{DenseOutput, Options}};
+/// let points = vec![Params::default(), Params { gamma: 30.0, ..Params::default() }];
+/// let mut peak = [0.0f64; 2];
+/// let spans = [(0.0, 100.0), (50.0, 200.0)];
+/// let out = integrate_batch_observed(&points, &[[0.0; 2]; 2], &spans, Options::default(), |i, step| {
+///     assert!(step.t_end() > spans[i].0 && step.t_end() <= spans[i].1);
+///     peak[i] = peak[i].max(step.eval(step.t_end())[1].abs());
+/// })
+/// .unwrap();
+/// assert!(out.iter().all(|r| r.is_ok()));
+/// assert!(peak[0] > 0.0 && peak[1] > 0.0);
+/// ```
+pub fn integrate_batch_observed(
+    points: &[Params],
+    starts: &[[f64; 2]],
+    spans: &[(f64, f64)],
+    tol: Options,
+    mut observe: impl FnMut(usize, &TaylorDense<2>),
+) -> Result<Vec<Result<LaneResult>>> {
+    tol.validate()?;
+    if starts.len() != points.len() || spans.len() != points.len() {
+        return Err(crate::Error::InvalidInput {
+            what: "batch",
+            text: format!(
+                "{} starts and {} spans for {} parameter sets",
+                starts.len(),
+                spans.len(),
+                points.len()
+            ),
+            reason: "one start and one span per parameter set".into(),
+        });
+    }
+    for (p, &(_, t_end)) in points.iter().zip(spans) {
+        p.validate()?;
+        crate::integrate::check_budget(t_end, &tol)?;
+    }
+    let mut out = Vec::with_capacity(points.len());
+    for (c, chunk) in points.chunks(LANES).enumerate() {
+        let range = c * LANES..c * LANES + chunk.len();
+        let mut show = |l: usize, d: &TaylorDense<2>| observe(c * LANES + l, d);
+        let lanes = run_chunk(
+            chunk,
+            &starts[range.clone()],
+            &spans[range],
+            &tol,
+            &mut show,
+        );
+        out.extend(lanes.into_iter().take(chunk.len()));
+    }
+    Ok(out)
+}
+
+/// What a chunk shows its steps to: (lane, step).
+type Show<'a> = &'a mut dyn FnMut(usize, &TaylorDense<2>);
+
+/// One chunk (padded with copies of its first lane), on the widest vector unit available.
+fn run_chunk(
+    points: &[Params],
+    starts: &[[f64; 2]],
+    spans: &[(f64, f64)],
+    tol: &Options,
+    show: Show<'_>,
+) -> Outcomes {
+    let mut b = Lanes::new(points, starts, spans, tol);
+    #[cfg(target_arch = "x86_64")]
+    {
+        let fma = std::arch::is_x86_feature_detected!("fma");
+        if fma && std::arch::is_x86_feature_detected!("avx512f") {
+            // SAFETY: the CPU has AVX-512F and FMA (checked just above).
+            return unsafe { run_avx512(&mut b, tol, show) };
+        }
+        if fma && std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the CPU has AVX2 and FMA (checked just above).
+            return unsafe { run_avx2(&mut b, tol, show) };
+        }
+    }
+    run::<false>(&mut b, tol, show)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,fma")]
+fn run_avx512(b: &mut Lanes, tol: &Options, show: Show<'_>) -> Outcomes {
+    run::<true>(b, tol, show)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+fn run_avx2(b: &mut Lanes, tol: &Options, show: Show<'_>) -> Outcomes {
+    run::<true>(b, tol, show)
+}
+
+/// What a chunk gives: one outcome per lane.
+type Outcomes = [Result<LaneResult>; LANES];
+
+/// Steps every lane to its end. A lane that blows up or runs out of steps stops there with its
+/// error; the others go on, so a point's outcome never depends on the points beside it.
+#[inline(always)]
+fn run<const FMA: bool>(b: &mut Lanes, tol: &Options, show: Show<'_>) -> Outcomes {
+    let mut failed: [Option<crate::Error>; LANES] = std::array::from_fn(|_| None);
+    while (0..LANES).any(|l| b.t[l] < b.t_end[l]) {
+        let (t0, h, nx, nv) = b.step::<FMA>();
+        for l in 0..LANES {
+            if h[l] <= 0.0 {
+                continue;
+            }
+            let error = if !(nx[l].abs() <= tol.blowup && nv[l].abs() <= tol.blowup) {
+                let value = if nx[l].abs() > nv[l].abs() {
+                    nx[l]
+                } else {
+                    nv[l]
+                };
+                Some(SolverError::BlowUp { t: b.t[l], value })
+            } else if b.steps[l] >= tol.max_steps && b.t[l] < b.t_end[l] {
+                Some(SolverError::TooManySteps {
+                    t: b.t[l],
+                    max_steps: tol.max_steps,
+                })
+            } else {
+                None
+            };
+            if let Some(e) = error {
+                failed[l] = Some(e.into());
+                b.t_end[l] = b.t[l];
+                continue;
+            }
+            if l < b.live && b.t[l] > b.from[l] {
+                show(l, &b.dense(l, t0[l]));
+            }
+            (b.rows.x[0][l], b.rows.v[0][l]) = (nx[l], nv[l]);
+        }
+    }
+    std::array::from_fn(|l| match failed[l].take() {
+        Some(e) => Err(e),
+        None => Ok(LaneResult {
+            y: [b.rows.x[0][l], b.rows.v[0][l]],
+            steps: b.steps[l],
+        }),
+    })
+}
+
+/// The lanes' parameters, states and coefficients.
+struct Lanes {
+    params: LaneParams<LANES>,
+    omega: V,
+    t: V,
+    t_end: V,
+    /// Steps ending after this are shown.
+    from: V,
+    /// Lanes that hold a point (the rest are padding).
+    live: usize,
+    /// sin ωt, carried as state (cos ωt is row 0 of `cos`).
+    sin: V,
+    steps: [u64; LANES],
+    order: usize,
+    floor: f64,
+    h_max: f64,
+    /// Taylor coefficients of x, x', sin ωt; row 0 of x and x' is the state between steps.
+    rows: Box<Rows<LANES>>,
+    /// Taylor coefficients of cos ωt; row 0 is its value between steps.
+    cos: Box<[V; MAX_ORDER + 1]>,
+}
+
+impl Lanes {
+    fn new(points: &[Params], starts: &[[f64; 2]], spans: &[(f64, f64)], tol: &Options) -> Lanes {
+        let pick = |l: usize| if l < points.len() { l } else { 0 };
+        let mut rows = Box::<Rows<LANES>>::default();
+        rows.x[0] = std::array::from_fn(|l| starts[pick(l)][0]);
+        rows.v[0] = std::array::from_fn(|l| starts[pick(l)][1]);
+        Lanes {
+            params: LaneParams::new(points),
+            omega: std::array::from_fn(|l| points[pick(l)].omega),
+            t: [0.0; LANES],
+            t_end: std::array::from_fn(|l| spans[pick(l)].1),
+            from: std::array::from_fn(|l| spans[pick(l)].0),
+            live: points.len(),
+            sin: [0.0; LANES],
+            steps: [0; LANES],
+            order: order_for(tol.rtol),
+            floor: tol.atol / tol.rtol,
+            h_max: tol.h_max.unwrap_or(f64::INFINITY),
+            rows,
+            cos: Box::new([[1.0; LANES]; MAX_ORDER + 1]),
+        }
+    }
+
+    /// One step of every lane still short of its end: returns the lanes' start times, steps (0
+    /// for a lane already at its end) and new x, x', and leaves the step's coefficients in `rows`
+    /// (row 0 still the old state, for [`Lanes::dense`]; `run` writes the new one after).
+    #[inline(always)]
+    #[allow(clippy::needless_range_loop)] // lanes of parallel arrays, indexed together
+    fn step<const FMA: bool>(&mut self) -> (V, V, V, V) {
+        let p = self.order;
+        let r = &mut *self.rows;
+        let c = &mut *self.cos;
+        r.s[0] = self.sin;
+        // sin and cos first: their recurrence s' = ωc, c' = −ωs does not involve x
+        // (whole rows through locals: written lane by lane in place, the loop stayed scalar)
+        for k in 0..p {
+            let (sk, ck) = (r.s[k], c[k]);
+            let (mut sn, mut cn) = ([0.0; LANES], [0.0; LANES]);
+            for l in 0..LANES {
+                let w = self.omega[l] * INV[k];
+                sn[l] = w * ck[l];
+                cn[l] = -w * sk[l];
+            }
+            (r.s[k + 1], c[k + 1]) = (sn, cn);
+        }
+        taylor_rows::<LANES, FMA>(&self.params, p, r);
+        let h = step_sizes(p, self.floor, self.h_max, &self.t, &self.t_end, r);
+        let horner = |rows: &[V; MAX_ORDER + 1]| -> V {
+            let mut y = rows[p];
+            for k in (0..p).rev() {
+                for l in 0..LANES {
+                    y[l] = mul_add::<FMA>(y[l], h[l], rows[k][l]);
+                }
+            }
+            y
+        };
+        let (nx, nv, ns, nc) = (horner(&r.x), horner(&r.v), horner(&r.s), horner(c));
+        let t0 = self.t;
+        for l in 0..LANES {
+            if h[l] > 0.0 {
+                let last = self.t[l] + h[l] >= self.t_end[l];
+                self.t[l] = if last {
+                    self.t_end[l]
+                } else {
+                    self.t[l] + h[l]
+                };
+                self.steps[l] += 1;
+            }
+        }
+        for l in 0..LANES {
+            if h[l] > 0.0 {
+                (self.sin[l], c[0][l]) = (ns[l], nc[l]);
+            }
+        }
+        (t0, h, nx, nv)
+    }
+
+    /// Lane `l`'s last step as its polynomial in x and x' (from `t0`).
+    fn dense(&self, l: usize, t0: f64) -> TaylorDense<2> {
+        let mut c = [[0.0; 2]; MAX_ORDER + 1];
+        for (k, ck) in c.iter_mut().enumerate().take(self.order + 1) {
+            *ck = [self.rows.x[k][l], self.rows.v[k][l]];
+        }
+        TaylorDense::new(t0, self.t[l], self.order, c)
+    }
+}
+
+/// The Jorba–Zou step of each lane (0 for a lane already at its end), at most `h_max`, clipped
+/// to the lane's end.
+#[inline(always)]
+fn step_sizes(p: usize, floor: f64, h_max: f64, t: &V, t_end: &V, r: &Rows<LANES>) -> V {
+    // a loop, not `array::from_fn`: its closure is not inlined into the vector paths
+    let (x, v) = (&r.x, &r.v);
+    let mut h = [0.0; LANES];
+    for l in 0..LANES {
+        let sx = 1.0 / x[0][l].abs().max(floor);
+        let sv = 1.0 / v[0][l].abs().max(floor);
+        let n1 = (x[p - 1][l].abs() * sx).max(v[p - 1][l].abs() * sv);
+        let n2 = (x[p][l].abs() * sx).max(v[p][l].abs() * sv);
+        let ln_rho = (-ln(n1) * INV[p - 2]).min(-ln(n2) * INV[p - 1]);
+        let hl = exp(ln_rho - 2.0 - 0.7 * INV[p - 2]).min(h_max);
+        let remaining = t_end[l] - t[l];
+        h[l] = if remaining > 0.0 {
+            hl.min(remaining)
+        } else {
+            0.0
+        };
+    }
+    h
+}
+
+/// ln(x) to ~1e-6 for the step rule: exponent from the bits, the mantissa m ∈ [1, 2)
+/// by ln(m) = 2·atanh((m − 1)/(m + 1)) to the 7th power. x = 0 gives a huge negative number, so
+/// a vanishing coefficient allows an unbounded step, as the exact rule does.
+#[inline(always)]
+fn ln(x: f64) -> f64 {
+    let bits = x.to_bits();
+    let e = ((bits >> 52) & 0x7ff) as i64 - 1023;
+    let m = f64::from_bits((bits & 0x000f_ffff_ffff_ffff) | 0x3ff0_0000_0000_0000);
+    let z = (m - 1.0) / (m + 1.0);
+    let z2 = z * z;
+    let atanh = z * (1.0 + z2 * (1.0 / 3.0 + z2 * (1.0 / 5.0 + z2 * (1.0 / 7.0 + z2 / 9.0))));
+    e as f64 * std::f64::consts::LN_2 + 2.0 * atanh
+}
+
+/// exp(x) to ~1e-9 relative for the step rule (x well inside ±700): 2^k by the exponent bits, the
+/// rest by its Taylor series to the 8th power on |r| ≤ ln 2/2 (remainder < 2e-10).
+#[inline(always)]
+fn exp(x: f64) -> f64 {
+    let x = x.clamp(-700.0, 700.0);
+    // k = x/ln 2 rounded to nearest by a conversion (not a libm call): |r| ≤ ln 2/2
+    let y = x * std::f64::consts::LOG2_E;
+    let k = (y + 0.5f64.copysign(y)) as i64;
+    let r = x - k as f64 * std::f64::consts::LN_2;
+    let mut poly = 1.0;
+    for inv in INV[..8].iter().rev() {
+        poly = 1.0 + poly * r * inv;
+    }
+    let two_k = f64::from_bits(((k + 1023) as u64) << 52);
+    poly * two_k
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn fast_ln_and_exp_are_close() {
+        for &x in &[1e-300, 1e-20, 0.3, 1.0, 1.7, 123.0, 1e200] {
+            assert!(
+                (super::ln(x) - x.ln()).abs() <= 1e-6 * x.ln().abs().max(1.0),
+                "{x}"
+            );
+        }
+        for &x in &[-600.0, -30.0, -2.7, 0.0, 1.3, 50.0] {
+            let e: f64 = f64::exp(x);
+            assert!((super::exp(x) - e).abs() <= 1e-9 * e, "{x}");
+        }
+    }
+}
