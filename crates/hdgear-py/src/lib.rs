@@ -417,10 +417,10 @@ fn sweep<'py>(
         .map_err(|e| PyValueError::new_err(format!("invalid threads = {threads}: {e}")))?;
     let rows: Vec<hdgear::sweep::SweepRow> = py.detach(|| {
         pool.install(|| {
-            points
-                .par_iter()
-                .enumerate()
-                .map(|(i, p)| hdgear::sweep::run_point(i, p, &opts))
+            let indexed: Vec<(usize, LibParams)> = points.into_iter().enumerate().collect();
+            indexed
+                .par_chunks(hdgear::batch::LANES)
+                .flat_map_iter(|chunk| hdgear::sweep::run_points(chunk, &opts))
                 .collect()
         })
     });

@@ -206,6 +206,20 @@ pub fn run_point(index: usize, p: &Params, opts: &BurstOptions) -> SweepRow {
     row(index, p, response(p, opts))
 }
 
+/// The rows of (index, parameters) pairs, measured together through the batch integrator
+/// ([`crate::burst::responses`]): what [`run`] computes for each chunk of
+/// [`LANES`](crate::batch::LANES) points, for callers that hold their own points (the Python
+/// package). A row is the same whichever points it is computed with.
+pub fn run_points(points: &[(usize, Params)], opts: &BurstOptions) -> Vec<SweepRow> {
+    let params: Vec<Params> = points.iter().map(|&(_, p)| p).collect();
+    let responses = crate::burst::responses(&params, opts);
+    points
+        .iter()
+        .zip(responses)
+        .map(|(&(i, p), r)| row(i, &p, r))
+        .collect()
+}
+
 /// The row of point `index` from its measured response (or the error that stopped it).
 fn row(index: usize, p: &Params, result: Result<crate::burst::Response>) -> SweepRow {
     let result = result.map(|r| {
@@ -245,15 +259,7 @@ pub fn run(
     on_row: impl FnMut(SweepRow),
 ) -> Result<()> {
     opts.validate()?;
-    let rows = |chunk: &[(usize, Params)]| {
-        let points: Vec<Params> = chunk.iter().map(|&(_, p)| p).collect();
-        let responses = crate::burst::responses(&points, opts);
-        chunk
-            .iter()
-            .zip(responses)
-            .map(|(&(i, p), r)| row(i, &p, r))
-            .collect()
-    };
+    let rows = |chunk: &[(usize, Params)]| run_points(chunk, opts);
     run_chunked(grid, todo, crate::batch::LANES, threads, rows, on_row)
 }
 
