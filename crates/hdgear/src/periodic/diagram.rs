@@ -4,7 +4,7 @@
 
 use super::{Oscillator, Plain};
 use crate::error::{Error, Result};
-use crate::integrate::{Method, Options, Stepper, stepper};
+use crate::integrate::{Options, Stepper, stepper};
 use serde::Serialize;
 use std::f64::consts::TAU;
 
@@ -31,10 +31,7 @@ impl Default for DiagramOptions {
         DiagramOptions {
             discard: 200,
             record: 32,
-            tol: Options {
-                method: Method::Dop853,
-                ..Options::default()
-            },
+            tol: Options::default(),
             lyapunov: None,
         }
     }
@@ -120,10 +117,7 @@ pub fn orbit_diagram<O: Oscillator>(
             reason: "must increase",
         });
     }
-    let tol = Options {
-        method: Method::Dop853,
-        ..opts.tol
-    };
+    let tol = super::method_for::<O>(opts.tol);
     let mut oscillators = Vec::with_capacity(values.len());
     for &v in values {
         let q = o.with(param, v)?;
@@ -177,7 +171,7 @@ fn advance<O: Oscillator>(o: &O, y: [f64; 2], periods: u32, tol: Options) -> Res
     }
     let sys = Plain(o, 1.0 / o.omega());
     let end = TAU * f64::from(periods);
-    let mut s = stepper(&sys, 0.0, y, tol)?;
+    let mut s = stepper(&sys, 0.0, y, super::method_for::<O>(tol))?;
     while s.t() < end {
         s.step(end)?;
     }
@@ -213,10 +207,7 @@ pub fn lyapunov_point(
 ) -> LyapunovRow {
     let result = (|| -> Result<(f64, Option<u32>)> {
         p.validate()?;
-        let tol = Options {
-            method: Method::Dop853,
-            ..opts.tol
-        };
+        let tol = super::method_for::<crate::params::Params>(opts.tol);
         let periods = opts.lyapunov.unwrap_or(400).max(1);
         let t = TAU / p.omega;
         crate::integrate::check_budget(t * f64::from(opts.discard + opts.record + periods), &tol)?;

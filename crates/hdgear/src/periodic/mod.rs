@@ -9,7 +9,8 @@
 //! **Variational equations.** Along a solution (x, x'), a perturbation Φ obeys Φ' = J Φ with
 //! J = [[0, 1], [−g'(x), −1]], g'(x) = 3αx² − 2x + γ (for the study's model). They are integrated
 //! with the state and the parameter sensitivity w = ∂(x, x')/∂λ (an 8-dimensional system) by
-//! DOP853; the monodromy M = Φ(kT) is never formed directly, because
+//! Taylor's method ([`Oscillator::phase_taylor`]; DOP853 for an oscillator without Taylor
+//! coefficients); the monodromy M = Φ(kT) is never formed directly, because
 //! its entries shrink like e^{−τ/2} (e^{−314} over one slow period of the study): the span is cut
 //! into pieces of at most [`PIECE`] time units, Φ restarts at I on each, and the product is kept
 //! normalised with its logarithmic scale apart. The determinant is accumulated as Σ ln det of the
@@ -58,7 +59,8 @@ pub const NEWTON_TOL: f64 = 1e-11;
 /// Options of the periodic-orbit computations.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct PeriodicOptions {
-    /// Integrator tolerances (DOP853 is used for the 8-dimensional variational system).
+    /// Integrator tolerances and method (Taylor by default, DOP853 for an oscillator without
+    /// Taylor coefficients).
     pub tol: Options,
     /// Newton iterations at most.
     pub max_newton: usize,
@@ -72,7 +74,6 @@ impl Default for PeriodicOptions {
             tol: Options {
                 rtol: 1e-12,
                 atol: 1e-12,
-                method: Method::Dop853,
                 ..Options::default()
             },
             max_newton: 20,
@@ -110,6 +111,22 @@ impl<O: Oscillator> System<8> for Phase<'_, O> {
             y[7] * k + d1,
             (ax * y[6] + av * y[7]) * k + d2,
         ]
+    }
+    fn taylor(&self, s: f64, y: &[f64; 8], order: usize, c: &mut [[f64; 8]]) -> bool {
+        self.o.phase_taylor(self.param, s, y, order, c)
+    }
+}
+
+/// `tol` with Taylor's method replaced by DOP853 where the oscillator gives no Taylor
+/// coefficients ([`Oscillator::TAYLOR`]).
+pub(crate) fn method_for<O: Oscillator>(tol: Options) -> Options {
+    if tol.method == Method::Taylor && !O::TAYLOR {
+        Options {
+            method: Method::Dop853,
+            ..tol
+        }
+    } else {
+        tol
     }
 }
 
@@ -183,7 +200,7 @@ pub(crate) fn flow<O: Oscillator>(
             s0 + span * (k + 1) as f64 / pieces as f64,
         );
         let start = [out.y[0], out.y[1], 1.0, 0.0, 0.0, 1.0, 0.0, 0.0];
-        let mut s = stepper(&sys, a, start, tol)?;
+        let mut s = stepper(&sys, a, start, method_for::<O>(tol))?;
         while s.t() < b {
             s.step(b)?;
         }
@@ -376,6 +393,9 @@ impl<O: Oscillator> System<2> for Plain<'_, O> {
     fn rhs(&self, s: f64, y: &[f64; 2]) -> [f64; 2] {
         [y[1] * self.1, self.0.accel(s, y[0], y[1]) * self.1]
     }
+    fn taylor(&self, s: f64, y: &[f64; 2], order: usize, c: &mut [[f64; 2]]) -> bool {
+        self.0.phase_taylor(None, s, y, order, c)
+    }
 }
 
 /// Sub-intervals of each step searched for sign changes of x' and x''.
@@ -386,15 +406,7 @@ pub fn amplitude<O: Oscillator>(o: &O, y0: [f64; 2], k: u32, tol: Options) -> Re
     use crate::integrate::DenseOutput;
     let sys = Plain(o, 1.0 / o.omega());
     let end = std::f64::consts::TAU * f64::from(k);
-    let mut s = stepper(
-        &sys,
-        0.0,
-        y0,
-        Options {
-            method: Method::Dop853,
-            ..tol
-        },
-    )?;
+    let mut s = stepper(&sys, 0.0, y0, method_for::<O>(tol))?;
     let (mut lo, mut hi, mut vmax) = (y0[0], y0[0], y0[1].abs());
     let acc = |t: f64, y: [f64; 2]| o.accel(t, y[0], y[1]);
     while s.t() < end {
@@ -599,7 +611,7 @@ pub fn lyapunov<O: Oscillator>(
     let end = discard + span;
     while t < end {
         let b = (t + PIECE).min(end);
-        let mut s = stepper(&sys, t * omega, z, tol)?;
+        let mut s = stepper(&sys, t * omega, z, method_for::<O>(tol))?;
         while s.t() < b * omega {
             s.step(b * omega)?;
         }
