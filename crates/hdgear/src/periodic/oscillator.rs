@@ -103,92 +103,81 @@ impl Oscillator for Params {
         order: usize,
         c: &mut [[f64; N]],
     ) -> bool {
-        phase_taylor(self, param, s, y, order, c)
-    }
-}
-
-/// [`Oscillator::phase_taylor`] for the study's model.
-fn phase_taylor<const N: usize>(
-    p: &Params,
-    param: Option<Param>,
-    s: f64,
-    y: &[f64; N],
-    order: usize,
-    c: &mut [[f64; N]],
-) -> bool {
-    use crate::integrate::taylor::{INV, MAX_ORDER, cauchy, sine_coefficients};
-    let n = order.min(MAX_ORDER).min(c.len() - 1);
-    let k = 1.0 / p.omega;
-    if N == 2 {
-        // the model's own recurrence in τ = s/ω: the k-th coefficient in s is ω^−k times it
-        let mut tau = [[0.0; 2]; MAX_ORDER + 1];
-        let model = crate::model::Dimensionless::new(*p);
-        crate::integrate::System::taylor(&model, s * k, &[y[0], y[1]], n, &mut tau);
-        let mut scale = 1.0;
-        for (cj, tj) in c.iter_mut().zip(tau).take(n + 1) {
-            cj[0] = tj[0] * scale;
-            cj[1] = tj[1] * scale;
-            scale *= k;
-        }
-        return true;
-    }
-    if N != 8 {
-        return false;
-    }
-    // series of x, x², x³, sin s, a, g'(x), and the columns of each variable (for Cauchy sums)
-    let mut col = [[0.0; MAX_ORDER + 1]; 8];
-    let (mut x2, mut x3, mut sine, mut acc, mut gp) = (
-        [0.0; MAX_ORDER + 1],
-        [0.0; MAX_ORDER + 1],
-        [0.0; MAX_ORDER + 1],
-        [0.0; MAX_ORDER + 1],
-        [0.0; MAX_ORDER + 1],
-    );
-    sine_coefficients(1.0, s, n, &mut sine);
-    c[0] = *y;
-    for (i, v) in y.iter().enumerate() {
-        col[i][0] = *v;
-    }
-    let first = |j: usize| if j == 0 { 1.0 } else { 0.0 };
-    for j in 0..n {
-        let x = &col[0];
-        x2[j] = cauchy(x, x, j);
-        x3[j] = cauchy(&x2, x, j);
-        acc[j] = first(j) * (p.mu + p.gamma * p.eps) + p.delta * sine[j]
-            - col[1][j]
-            - (p.alpha * x3[j] - x2[j] + p.gamma * x[j]);
-        gp[j] = 3.0 * p.alpha * x2[j] - 2.0 * x[j] + first(j) * p.gamma;
-        let mut next = [0.0; 8];
-        next[0] = k * col[1][j];
-        next[1] = k * acc[j];
-        if N == 8 {
-            // Φ's two columns and w: p' = k q, q' = k (−g' p − q)
-            for (pi, qi) in [(2, 3), (4, 5), (6, 7)] {
-                next[pi] = k * col[qi][j];
-                next[qi] = k * (-cauchy(&gp, &col[pi], j) - col[qi][j]);
+        use crate::integrate::taylor::{INV, MAX_ORDER, cauchy, sine_coefficients};
+        let p = self;
+        let n = order.min(MAX_ORDER).min(c.len() - 1);
+        let k = 1.0 / p.omega;
+        if N == 2 {
+            // the model's own recurrence in τ = s/ω: the k-th coefficient in s is ω^−k times it
+            let mut tau = [[0.0; 2]; MAX_ORDER + 1];
+            let model = crate::model::Dimensionless::new(*p);
+            crate::integrate::System::taylor(&model, s * k, &[y[0], y[1]], n, &mut tau);
+            let mut scale = 1.0;
+            for (cj, tj) in c.iter_mut().zip(tau).take(n + 1) {
+                cj[0] = tj[0] * scale;
+                cj[1] = tj[1] * scale;
+                scale *= k;
             }
-            let (d1, d2) = match param {
-                None => (0.0, 0.0),
-                Some(Param::Omega) => (-k * k * col[1][j], -k * k * acc[j]),
-                Some(q) => {
-                    let da = match q {
-                        Param::Alpha => -x3[j],
-                        Param::Gamma => -(col[0][j] - first(j) * p.eps),
-                        Param::Eps => first(j) * p.gamma,
-                        Param::Mu => first(j),
-                        Param::Delta => sine[j],
-                        Param::Omega => 0.0,
-                    };
-                    (0.0, k * da)
+            return true;
+        }
+        if N != 8 {
+            return false;
+        }
+        // series of x, x², x³, sin s, a, g'(x), and the columns of each variable (for Cauchy sums)
+        let mut col = [[0.0; MAX_ORDER + 1]; 8];
+        let (mut x2, mut x3, mut sine, mut acc, mut gp) = (
+            [0.0; MAX_ORDER + 1],
+            [0.0; MAX_ORDER + 1],
+            [0.0; MAX_ORDER + 1],
+            [0.0; MAX_ORDER + 1],
+            [0.0; MAX_ORDER + 1],
+        );
+        sine_coefficients(1.0, s, n, &mut sine);
+        c[0] = *y;
+        for (i, v) in y.iter().enumerate() {
+            col[i][0] = *v;
+        }
+        let first = |j: usize| if j == 0 { 1.0 } else { 0.0 };
+        for j in 0..n {
+            let x = &col[0];
+            x2[j] = cauchy(x, x, j);
+            x3[j] = cauchy(&x2, x, j);
+            acc[j] = first(j) * (p.mu + p.gamma * p.eps) + p.delta * sine[j]
+                - col[1][j]
+                - (p.alpha * x3[j] - x2[j] + p.gamma * x[j]);
+            gp[j] = 3.0 * p.alpha * x2[j] - 2.0 * x[j] + first(j) * p.gamma;
+            let mut next = [0.0; 8];
+            next[0] = k * col[1][j];
+            next[1] = k * acc[j];
+            if N == 8 {
+                // Φ's two columns and w: p' = k q, q' = k (−g' p − q)
+                for (pi, qi) in [(2, 3), (4, 5), (6, 7)] {
+                    next[pi] = k * col[qi][j];
+                    next[qi] = k * (-cauchy(&gp, &col[pi], j) - col[qi][j]);
                 }
-            };
-            next[6] += d1;
-            next[7] += d2;
+                let (d1, d2) = match param {
+                    None => (0.0, 0.0),
+                    Some(Param::Omega) => (-k * k * col[1][j], -k * k * acc[j]),
+                    Some(q) => {
+                        let da = match q {
+                            Param::Alpha => -x3[j],
+                            Param::Gamma => -(col[0][j] - first(j) * p.eps),
+                            Param::Eps => first(j) * p.gamma,
+                            Param::Mu => first(j),
+                            Param::Delta => sine[j],
+                            Param::Omega => 0.0,
+                        };
+                        (0.0, k * da)
+                    }
+                };
+                next[6] += d1;
+                next[7] += d2;
+            }
+            for i in 0..N {
+                col[i][j + 1] = next[i] * INV[j];
+                c[j + 1][i] = col[i][j + 1];
+            }
         }
-        for i in 0..N {
-            col[i][j + 1] = next[i] * INV[j];
-            c[j + 1][i] = col[i][j + 1];
-        }
+        true
     }
-    true
 }
