@@ -4,11 +4,16 @@
 //! recurrence is the model's own ([`crate::model`]'s `taylor_rows`, the one the scalar stepper runs
 //! on a single lane).
 //!
-//! The same order and step rule as [`crate::integrate::Taylor`], with two differences that keep the lanes in
-//! vector registers: sin ωt and cos ωt are carried as two more state components (their Taylor
-//! coefficients by the recurrence s' = ωc, c' = −ωs, as heyoka does), so no lane calls a sine; and
-//! the step's logarithm and exponential are evaluated by short polynomials to ~1e-6
-//! (the step size is a heuristic: a relative change of 1e-6 in h changes nothing measurable).
+//! The same order and step rule as [`crate::integrate::Taylor`], with two differences that keep
+//! the lanes in vector registers: sin ωt and cos ωt are carried as two more state components, so
+//! no lane calls a sine (sin ω(t + h)'s coefficients are ω^k/k!·(±sin ωt or ±cos ωt), products
+//! with no chain through the orders; the new values by the addition theorems from cos ωh and
+//! sin ωh to the step's order); and the step's logarithm and exponential are evaluated by short
+//! polynomials to ~1e-9 (the step size is a heuristic: a relative change of 1e-9 in h changes
+//! nothing measurable).
+//!
+//! Each step's bookkeeping (blow-up, step budget, which lanes to show) is checked over all lanes
+//! at once; only a step where some lane fails goes lane by lane.
 //!
 //! [`integrate_batch_observed`] shows every lane's steps as their polynomials: sweeps and maps
 //! scan them for bursts as they come ([`crate::burst::responses`]), nothing is integrated twice.
@@ -21,8 +26,8 @@
 use crate::error::Result;
 use crate::error::SolverError;
 use crate::integrate::Options;
-use crate::integrate::taylor::{INV, MAX_ORDER, TaylorDense, order_for};
-use crate::model::{LaneParams, Rows, mul_add, taylor_rows};
+use crate::integrate::taylor::{INV, MAX_ORDER, TaylorDense, mul_add, order_for, step_from_norms};
+use crate::model::{LaneParams, Rows, taylor_rows};
 use crate::params::Params;
 
 /// Trajectories per batch.
@@ -173,35 +178,34 @@ fn run<const FMA: bool>(b: &mut Lanes, tol: &Options, show: Show<'_>) -> Outcome
     let mut failed: [Option<crate::Error>; LANES] = std::array::from_fn(|_| None);
     while (0..LANES).any(|l| b.t[l] < b.t_end[l]) {
         let (t0, h, nx, nv) = b.step::<FMA>();
+        // the common case checked over all lanes at once: no lane blew up or ran out of steps
+        let (mut trouble, mut shown) = (false, false);
         for l in 0..LANES {
-            if h[l] <= 0.0 {
-                continue;
-            }
-            let error = if !(nx[l].abs() <= tol.blowup && nv[l].abs() <= tol.blowup) {
-                let value = if nx[l].abs() > nv[l].abs() {
-                    nx[l]
-                } else {
-                    nv[l]
-                };
-                Some(SolverError::BlowUp { t: b.t[l], value })
-            } else if b.steps[l] >= tol.max_steps && b.t[l] < b.t_end[l] {
-                Some(SolverError::TooManySteps {
-                    t: b.t[l],
-                    max_steps: tol.max_steps,
-                })
-            } else {
-                None
-            };
-            if let Some(e) = error {
-                failed[l] = Some(e.into());
-                b.t_end[l] = b.t[l];
-                continue;
-            }
-            if l < b.live && b.t[l] > b.from[l] {
-                show(l, &b.dense(l, t0[l]));
-            }
-            (b.rows.x[0][l], b.rows.v[0][l]) = (nx[l], nv[l]);
+            let moved = h[l] > 0.0;
+            let finite = nx[l].abs() <= tol.blowup && nv[l].abs() <= tol.blowup;
+            let spent = b.steps[l] >= tol.max_steps && b.t[l] < b.t_end[l];
+            trouble |= moved & (!finite | spent);
+            shown |= moved & (b.t[l] > b.from[l]);
         }
+        if trouble {
+            settle_trouble(b, tol, &t0, &h, &nx, &nv, &mut failed, show);
+            continue;
+        }
+        if shown {
+            for l in 0..b.live {
+                if h[l] > 0.0 && b.t[l] > b.from[l] {
+                    show(l, &b.dense(l, t0[l]));
+                }
+            }
+        }
+        let (x0, v0) = (b.rows.x[0], b.rows.v[0]);
+        let (mut x, mut v) = ([0.0; LANES], [0.0; LANES]);
+        for l in 0..LANES {
+            let moved = h[l] > 0.0;
+            x[l] = if moved { nx[l] } else { x0[l] };
+            v[l] = if moved { nv[l] } else { v0[l] };
+        }
+        (b.rows.x[0], b.rows.v[0]) = (x, v);
     }
     std::array::from_fn(|l| match failed[l].take() {
         Some(e) => Err(e),
@@ -212,26 +216,71 @@ fn run<const FMA: bool>(b: &mut Lanes, tol: &Options, show: Show<'_>) -> Outcome
     })
 }
 
+/// `run`'s step when some lane blew up or ran out of steps: lane by lane, each failing lane
+/// stops with its error, the others are shown and move on.
+#[allow(clippy::too_many_arguments)]
+#[cold]
+fn settle_trouble(
+    b: &mut Lanes,
+    tol: &Options,
+    t0: &V,
+    h: &V,
+    nx: &V,
+    nv: &V,
+    failed: &mut [Option<crate::Error>; LANES],
+    show: Show<'_>,
+) {
+    for l in 0..LANES {
+        if h[l] <= 0.0 {
+            continue;
+        }
+        let error = if !(nx[l].abs() <= tol.blowup && nv[l].abs() <= tol.blowup) {
+            let value = if nx[l].abs() > nv[l].abs() {
+                nx[l]
+            } else {
+                nv[l]
+            };
+            Some(SolverError::BlowUp { t: b.t[l], value })
+        } else if b.steps[l] >= tol.max_steps && b.t[l] < b.t_end[l] {
+            Some(SolverError::TooManySteps {
+                t: b.t[l],
+                max_steps: tol.max_steps,
+            })
+        } else {
+            None
+        };
+        if let Some(e) = error {
+            failed[l] = Some(e.into());
+            b.t_end[l] = b.t[l];
+            continue;
+        }
+        if l < b.live && b.t[l] > b.from[l] {
+            show(l, &b.dense(l, t0[l]));
+        }
+        (b.rows.x[0][l], b.rows.v[0][l]) = (nx[l], nv[l]);
+    }
+}
+
 /// The lanes' parameters, states and coefficients.
 struct Lanes {
     params: LaneParams<LANES>,
-    omega: V,
     t: V,
     t_end: V,
     /// Steps ending after this are shown.
     from: V,
     /// Lanes that hold a point (the rest are padding).
     live: usize,
-    /// sin ωt, carried as state (cos ωt is row 0 of `cos`).
+    /// sin ωt and cos ωt, carried as state.
     sin: V,
+    cos: V,
+    /// ω^k/k!: sin ω(t + h)'s k-th Taylor coefficient in h is this times ±sin ωt or ±cos ωt.
+    omega_powers: Box<[V; MAX_ORDER + 1]>,
     steps: [u64; LANES],
     order: usize,
     floor: f64,
     h_max: f64,
     /// Taylor coefficients of x, x', sin ωt; row 0 of x and x' is the state between steps.
     rows: Box<Rows<LANES>>,
-    /// Taylor coefficients of cos ωt; row 0 is its value between steps.
-    cos: Box<[V; MAX_ORDER + 1]>,
 }
 
 impl Lanes {
@@ -242,18 +291,25 @@ impl Lanes {
         rows.v[0] = std::array::from_fn(|l| starts[pick(l)][1]);
         Lanes {
             params: LaneParams::new(points),
-            omega: std::array::from_fn(|l| points[pick(l)].omega),
             t: [0.0; LANES],
             t_end: std::array::from_fn(|l| spans[pick(l)].1),
             from: std::array::from_fn(|l| spans[pick(l)].0),
             live: points.len(),
             sin: [0.0; LANES],
+            cos: [1.0; LANES],
+            omega_powers: Box::new(std::array::from_fn(|k| {
+                std::array::from_fn(|l| {
+                    let omega = points[pick(l)].omega;
+                    (0..k).fold(1.0, |f, j| f * omega * INV[j])
+                })
+            })),
             steps: [0; LANES],
             order: order_for(tol.rtol),
-            floor: tol.atol / tol.rtol,
+            // ≥ 1e-150 so that [`step_sizes`]' product of two scales stays normal; a state
+            // below that in both components is far under any tolerance the options allow
+            floor: (tol.atol / tol.rtol).max(1e-150),
             h_max: tol.h_max.unwrap_or(f64::INFINITY),
             rows,
-            cos: Box::new([[1.0; LANES]; MAX_ORDER + 1]),
         }
     }
 
@@ -265,22 +321,24 @@ impl Lanes {
     fn step<const FMA: bool>(&mut self) -> (V, V, V, V) {
         let p = self.order;
         let r = &mut *self.rows;
-        let c = &mut *self.cos;
-        r.s[0] = self.sin;
-        // sin and cos first: their recurrence s' = ωc, c' = −ωs does not involve x
-        // (whole rows through locals: written lane by lane in place, the loop stayed scalar)
-        for k in 0..p {
-            let (sk, ck) = (r.s[k], c[k]);
-            let (mut sn, mut cn) = ([0.0; LANES], [0.0; LANES]);
+        let f = &*self.omega_powers;
+        // sin ω(t + h) = Σ ω^k/k!·sin(ωt + kπ/2)·h^k: each row a product, no chain through the
+        // orders (loops over whole rows: written lane by lane in place, they stayed scalar)
+        for k in 0..=p {
+            let (base, sign) = match k % 4 {
+                0 => (&self.sin, 1.0),
+                1 => (&self.cos, 1.0),
+                2 => (&self.sin, -1.0),
+                _ => (&self.cos, -1.0),
+            };
+            let mut row = [0.0; LANES];
             for l in 0..LANES {
-                let w = self.omega[l] * INV[k];
-                sn[l] = w * ck[l];
-                cn[l] = -w * sk[l];
+                row[l] = sign * f[k][l] * base[l];
             }
-            (r.s[k + 1], c[k + 1]) = (sn, cn);
+            r.s[k] = row;
         }
         taylor_rows::<LANES, FMA>(&self.params, p, r);
-        let h = step_sizes(p, self.floor, self.h_max, &self.t, &self.t_end, r);
+        let h = step_sizes::<FMA>(p, self.floor, self.h_max, &self.t, &self.t_end, r);
         let horner = |rows: &[V; MAX_ORDER + 1]| -> V {
             let mut y = rows[p];
             for k in (0..p).rev() {
@@ -290,7 +348,30 @@ impl Lanes {
             }
             y
         };
-        let (nx, nv, ns, nc) = (horner(&r.x), horner(&r.v), horner(&r.s), horner(c));
+        let (nx, nv) = (horner(&r.x), horner(&r.v));
+        // cos ωh and sin ωh to the step's order (Horner in h², signs alternating), then
+        // sin ω(t + h) and cos ω(t + h) by the addition theorems
+        let mut h2 = [0.0; LANES];
+        for l in 0..LANES {
+            h2[l] = h[l] * h[l];
+        }
+        let (mut ch, mut sh) = ([0.0; LANES], [0.0; LANES]);
+        for k in (0..=p).rev() {
+            let sign = if k % 4 < 2 { 1.0 } else { -1.0 };
+            let acc = if k % 2 == 0 { &mut ch } else { &mut sh };
+            for l in 0..LANES {
+                acc[l] = mul_add::<FMA>(acc[l], h2[l], sign * f[k][l]);
+            }
+        }
+        for l in 0..LANES {
+            sh[l] *= h[l];
+        }
+        let mut ns = [0.0; LANES];
+        let mut nc = [0.0; LANES];
+        for l in 0..LANES {
+            ns[l] = mul_add::<FMA>(self.sin[l], ch[l], self.cos[l] * sh[l]);
+            nc[l] = mul_add::<FMA>(self.cos[l], ch[l], -(self.sin[l] * sh[l]));
+        }
         let t0 = self.t;
         for l in 0..LANES {
             if h[l] > 0.0 {
@@ -305,7 +386,7 @@ impl Lanes {
         }
         for l in 0..LANES {
             if h[l] > 0.0 {
-                (self.sin[l], c[0][l]) = (ns[l], nc[l]);
+                (self.sin[l], self.cos[l]) = (ns[l], nc[l]);
             }
         }
         (t0, h, nx, nv)
@@ -322,19 +403,29 @@ impl Lanes {
 }
 
 /// The Jorba–Zou step of each lane (0 for a lane already at its end), at most `h_max`, clipped
-/// to the lane's end.
+/// to the lane's end. Two divisions per lane: one for both components' scales, one for both
+/// logarithms ([`ln_pair`]).
 #[inline(always)]
-fn step_sizes(p: usize, floor: f64, h_max: f64, t: &V, t_end: &V, r: &Rows<LANES>) -> V {
+#[allow(clippy::needless_range_loop)] // lanes of parallel arrays, indexed together
+fn step_sizes<const FMA: bool>(
+    p: usize,
+    floor: f64,
+    h_max: f64,
+    t: &V,
+    t_end: &V,
+    r: &Rows<LANES>,
+) -> V {
     // a loop, not `array::from_fn`: its closure is not inlined into the vector paths
     let (x, v) = (&r.x, &r.v);
     let mut h = [0.0; LANES];
     for l in 0..LANES {
-        let sx = 1.0 / x[0][l].abs().max(floor);
-        let sv = 1.0 / v[0][l].abs().max(floor);
+        // 1/ax and 1/av from one division (ax, av ≥ floor ≥ 1e-150: the product is normal)
+        let (ax, av) = (x[0][l].abs().max(floor), v[0][l].abs().max(floor));
+        let inv = 1.0 / (ax * av);
+        let (sx, sv) = (av * inv, ax * inv);
         let n1 = (x[p - 1][l].abs() * sx).max(v[p - 1][l].abs() * sv);
         let n2 = (x[p][l].abs() * sx).max(v[p][l].abs() * sv);
-        let ln_rho = (-ln(n1) * INV[p - 2]).min(-ln(n2) * INV[p - 1]);
-        let hl = exp(ln_rho - 2.0 - 0.7 * INV[p - 2]).min(h_max);
+        let hl = step_from_norms::<FMA, true>(p, n1, n2).min(h_max);
         let remaining = t_end[l] - t[l];
         h[l] = if remaining > 0.0 {
             hl.min(remaining)
@@ -343,52 +434,4 @@ fn step_sizes(p: usize, floor: f64, h_max: f64, t: &V, t_end: &V, r: &Rows<LANES
         };
     }
     h
-}
-
-/// ln(x) to ~1e-6 for the step rule: exponent from the bits, the mantissa m ∈ [1, 2)
-/// by ln(m) = 2·atanh((m − 1)/(m + 1)) to the 7th power. x = 0 gives a huge negative number, so
-/// a vanishing coefficient allows an unbounded step, as the exact rule does.
-#[inline(always)]
-fn ln(x: f64) -> f64 {
-    let bits = x.to_bits();
-    let e = ((bits >> 52) & 0x7ff) as i64 - 1023;
-    let m = f64::from_bits((bits & 0x000f_ffff_ffff_ffff) | 0x3ff0_0000_0000_0000);
-    let z = (m - 1.0) / (m + 1.0);
-    let z2 = z * z;
-    let atanh = z * (1.0 + z2 * (1.0 / 3.0 + z2 * (1.0 / 5.0 + z2 * (1.0 / 7.0 + z2 / 9.0))));
-    e as f64 * std::f64::consts::LN_2 + 2.0 * atanh
-}
-
-/// exp(x) to ~1e-9 relative for the step rule (x well inside ±700): 2^k by the exponent bits, the
-/// rest by its Taylor series to the 8th power on |r| ≤ ln 2/2 (remainder < 2e-10).
-#[inline(always)]
-fn exp(x: f64) -> f64 {
-    let x = x.clamp(-700.0, 700.0);
-    // k = x/ln 2 rounded to nearest by a conversion (not a libm call): |r| ≤ ln 2/2
-    let y = x * std::f64::consts::LOG2_E;
-    let k = (y + 0.5f64.copysign(y)) as i64;
-    let r = x - k as f64 * std::f64::consts::LN_2;
-    let mut poly = 1.0;
-    for inv in INV[..8].iter().rev() {
-        poly = 1.0 + poly * r * inv;
-    }
-    let two_k = f64::from_bits(((k + 1023) as u64) << 52);
-    poly * two_k
-}
-
-#[cfg(test)]
-mod tests {
-    #[test]
-    fn fast_ln_and_exp_are_close() {
-        for &x in &[1e-300, 1e-20, 0.3, 1.0, 1.7, 123.0, 1e200] {
-            assert!(
-                (super::ln(x) - x.ln()).abs() <= 1e-6 * x.ln().abs().max(1.0),
-                "{x}"
-            );
-        }
-        for &x in &[-600.0, -30.0, -2.7, 0.0, 1.3, 50.0] {
-            let e: f64 = f64::exp(x);
-            assert!((super::exp(x) - e).abs() <= 1e-9 * e, "{x}");
-        }
-    }
 }
