@@ -194,7 +194,7 @@ fn run<const FMA: bool>(b: &mut Lanes, tol: &Options, show: Show<'_>) -> Outcome
         if shown {
             for l in 0..b.live {
                 if h[l] > 0.0 && b.t[l] > b.from[l] {
-                    show(l, &b.dense(l, t0[l]));
+                    show(l, &b.dense(l, t0[l], [nx[l], nv[l]]));
                 }
             }
         }
@@ -255,7 +255,7 @@ fn settle_trouble(
             continue;
         }
         if l < b.live && b.t[l] > b.from[l] {
-            show(l, &b.dense(l, t0[l]));
+            show(l, &b.dense(l, t0[l], [nx[l], nv[l]]));
         }
         (b.rows.x[0][l], b.rows.v[0][l]) = (nx[l], nv[l]);
     }
@@ -392,13 +392,13 @@ impl Lanes {
         (t0, h, nx, nv)
     }
 
-    /// Lane `l`'s last step as its polynomial in x and x' (from `t0`).
-    fn dense(&self, l: usize, t0: f64) -> TaylorDense<2> {
+    /// Lane `l`'s last step as its polynomial in x and x' (from `t0`), ending on `y1`.
+    fn dense(&self, l: usize, t0: f64, y1: [f64; 2]) -> TaylorDense<2> {
         let mut c = [[0.0; 2]; MAX_ORDER + 1];
         for (k, ck) in c.iter_mut().enumerate().take(self.order + 1) {
             *ck = [self.rows.x[k][l], self.rows.v[k][l]];
         }
-        TaylorDense::new(t0, self.t[l], self.order, c)
+        TaylorDense::new(t0, self.t[l], self.order, c, y1)
     }
 }
 

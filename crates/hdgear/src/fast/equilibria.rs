@@ -271,10 +271,12 @@ pub struct EquilibriumTracker {
     p: Params,
     /// The a-interval with three equilibria (between the fold values), if any.
     multi: Option<(f64, f64)>,
-    /// The last equilibrium returned, the a it was for, and dx*/da there (0: unknown).
+    /// The last equilibrium returned, the a it was for, and dx*/da and d²x*/da² there (0:
+    /// unknown).
     hint: f64,
     last_a: f64,
     slope: f64,
+    curvature: f64,
 }
 
 impl EquilibriumTracker {
@@ -290,6 +292,7 @@ impl EquilibriumTracker {
             hint: x0,
             last_a: 0.0,
             slope: 0.0,
+            curvature: 0.0,
         }
     }
 
@@ -299,29 +302,39 @@ impl EquilibriumTracker {
         let unique = self.multi.is_none_or(|(lo, hi)| a < lo || a > hi);
         if unique {
             let rhs = p.forcing(a);
-            // predicted along the branch's tangent dx*/da = δ/g' from the last point: Newton's
-            // first step then lands at the rounding level for the small moves of a scan
-            let mut y = self.hint + self.slope * (a - self.last_a);
+            // predicted along the branch's Taylor polynomial from the last point, with
+            // dx*/da = δ/g' and d²x*/da² = −g''·(dx*/da)²/g' (differentiate g(x*) = μ + δa
+            // twice): Newton's first step then lands at the rounding level for the small moves
+            // of a scan (with the tangent alone it took two)
+            let da = a - self.last_a;
+            let mut y = self.hint + da * (self.slope + 0.5 * self.curvature * da);
             // x-scale of the cubic's features (its inflection is at 1/(3α))
             let scale = 1.0 / p.alpha;
             for _ in 0..8 {
+                // everything but the step itself from the iterate y (one division, computed
+                // while g(y) is): calls follow each other through the tracker's state, so the
+                // length of this chain is what a scan pays per sample
                 let gp = p.g_prime(y);
                 if gp.is_nan() || gp <= 0.0 {
                     break; // not on a stable branch: the exact solve below decides
                 }
-                let dy = (p.g(y) - rhs) / gp;
+                let inv_gp = 1.0 / gp;
+                let half_g2 = 3.0 * p.alpha * y - 1.0;
+                let tolerance = 4.0 * f64::EPSILON * (y.abs() + scale) * gp;
+                let dy = (p.g(y) - rhs) * inv_gp;
                 y -= dy;
                 // Newton's error after this step is |g''|/(2g')·dy² to leading order: done when
                 // that is at the rounding level of y (no second evaluation to test the residual)
-                let half_curvature = (3.0 * p.alpha * y - 1.0).abs();
-                if half_curvature * dy * dy <= 4.0 * f64::EPSILON * (y.abs() + scale) * gp {
-                    (self.hint, self.last_a, self.slope) = (y, a, p.delta / gp);
+                if half_g2.abs() * dy * dy <= tolerance {
+                    let slope = p.delta * inv_gp;
+                    let curvature = -2.0 * half_g2 * slope * slope * inv_gp;
+                    (self.hint, self.last_a, self.slope, self.curvature) = (y, a, slope, curvature);
                     return y;
                 }
             }
         }
         let y = super::nearest_stable_equilibrium(p, a, x).unwrap_or(x);
-        (self.hint, self.last_a, self.slope) = (y, a, 0.0);
+        (self.hint, self.last_a, self.slope, self.curvature) = (y, a, 0.0, 0.0);
         y
     }
 }

@@ -64,6 +64,11 @@ pub trait DenseOutput<const N: usize> {
     fn t_end(&self) -> f64;
     /// The interpolated state at `t` (meant for t in the step).
     fn eval(&self, t: f64) -> [f64; N];
+    /// The state the step ended on: the integrator's own, where it keeps it (the next step
+    /// starts from it), else the interpolant at [`DenseOutput::t_end`].
+    fn end_state(&self) -> [f64; N] {
+        self.eval(self.t_end())
+    }
 }
 
 /// A one-step integrator positioned at (t, y): the seam every driver (simulation, burst
