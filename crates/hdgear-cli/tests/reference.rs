@@ -63,6 +63,60 @@ fn reproduce(method: Method, bar: f64) -> f64 {
     overall
 }
 
+/// Each step's dense output ends on the state the integrator ended on (the scan samples the step's
+/// end there), and its polynomial agrees with it at the step's end to rounding: for the scalar
+/// Taylor stepper and for every lane of a batch, whose last step ends on the lane's final state.
+#[test]
+fn dense_outputs_end_on_the_integrators_state() {
+    use hdgear::batch::integrate_batch_observed;
+    use hdgear::integrate::{DenseOutput, Method, Stepper, stepper};
+    use hdgear::model::Dimensionless;
+    let close = |a: [f64; 2], b: [f64; 2]| {
+        (0..2).all(|i| (a[i] - b[i]).abs() <= 1e-13 * (1.0 + b[i].abs()))
+    };
+    for gamma in [0.1, 30.0] {
+        let p = Params {
+            gamma,
+            ..Params::default()
+        };
+        let o = Options {
+            method: Method::Taylor,
+            ..Options::default()
+        };
+        let sys = Dimensionless::new(p);
+        let mut s = stepper(&sys, 0.0, [0.0, 0.0], o).unwrap();
+        for _ in 0..500 {
+            s.step(1e4).unwrap();
+            let d = s.dense();
+            assert_eq!(d.end_state(), *s.y(), "gamma {gamma}");
+            assert!(close(d.eval(d.t_end()), *s.y()), "gamma {gamma}");
+        }
+    }
+    let points: Vec<Params> = [0.1, 1.0, 30.0]
+        .iter()
+        .map(|&gamma| Params {
+            gamma,
+            ..Params::default()
+        })
+        .collect();
+    let mut last = vec![None; points.len()];
+    let spans = vec![(0.0, 300.0); points.len()];
+    let out = integrate_batch_observed(
+        &points,
+        &[[0.0; 2]; 3],
+        &spans,
+        Options::default(),
+        |i, d| {
+            assert!(close(d.eval(d.t_end()), d.end_state()), "lane {i}");
+            last[i] = Some(d.end_state());
+        },
+    )
+    .unwrap();
+    for (r, l) in out.iter().zip(&last) {
+        assert_eq!(Some(r.as_ref().unwrap().y), *l);
+    }
+}
+
 /// The batch integrator (lanes in lock-step, sine carried as state, approximate logarithm in the
 /// step rule) lands on the reference's final states as closely as the scalar Taylor method, for
 /// the four γ in one batch padded to the lane count.

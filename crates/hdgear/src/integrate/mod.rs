@@ -756,6 +756,12 @@ impl<const N: usize> DenseOutput<N> for AnyDense<N> {
             AnyDense::Dop853(d) => d.t_end(),
         }
     }
+    fn end_state(&self) -> [f64; N] {
+        match self {
+            AnyDense::Taylor(d) => d.end_state(),
+            AnyDense::Dop853(d) => d.end_state(),
+        }
+    }
     #[inline]
     fn eval(&self, t: f64) -> [f64; N] {
         match self {
