@@ -251,7 +251,7 @@ fn an_interrupted_shard_resumes_and_merges() {
     let grid = [
         "sweep",
         "--param",
-        "gamma=0.1:30:1000:log",
+        "gamma=0.1:30:3000:log",
         "--threads",
         "1",
         "--quiet",
@@ -272,7 +272,17 @@ fn an_interrupted_shard_resumes_and_merges() {
         .stderr(std::process::Stdio::piped())
         .spawn()
         .unwrap();
-    std::thread::sleep(std::time::Duration::from_millis(250));
+    // stopped once rows are in the partial file (polled: a fixed wait raced the run once the
+    // sweep got fast enough to finish a shard inside it)
+    let partial = d.join("s.shard-1-of-2.csv.partial");
+    let started = std::time::Instant::now();
+    while std::fs::read_to_string(&partial).map_or(0, |t| t.lines().count()) < 3 {
+        assert!(
+            started.elapsed() < std::time::Duration::from_secs(30),
+            "no rows written"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(2));
+    }
     assert!(
         Command::new("kill")
             .args(["-TERM", &child.id().to_string()])

@@ -155,22 +155,18 @@ pub(crate) fn taylor_rows<const L: usize, const FMA: bool>(
 ) {
     macro_rules! unrolled {
         ($($k:literal)*) => {
-            match order {
-                _ if L == 1 => {
-                    for k in 0..order {
-                        next_order::<L, FMA>(lp, k, r);
-                    }
-                }
-                $($k => unrolled_to::<L, FMA, $k>(lp, r),)*
-                _ => {
-                    for k in 0..order {
-                        next_order::<L, FMA>(lp, k, r);
-                    }
+            if L > 1 {
+                match order {
+                    $($k => return unrolled_to::<L, FMA, $k>(lp, r),)*
+                    _ => {}
                 }
             }
         };
     }
     unrolled!(8 9 10 11 12 13 14 15 16);
+    for k in 0..order {
+        next_order::<L, FMA>(lp, k, r);
+    }
 }
 
 /// Rows 1..=P, each order's step inlined with its k a constant.
@@ -195,67 +191,65 @@ fn unrolled_to<const L: usize, const FMA: bool, const P: usize>(
 fn next_order<const L: usize, const FMA: bool>(lp: &LaneParams<L>, k: usize, r: &mut Rows<L>) {
     use crate::integrate::taylor::INV;
     let fma = mul_add::<FMA>;
-    {
-        // (x²)_k = 2·Σ_{j<k/2} x_j x_{k−j} + [k even] x_{k/2}²: the older products (j ≥ 1, from the
-        // middle out, so the newest come last) first, x_0 x_k, the one with this order's x_k, in
-        // the last fused step
-        let half = k.div_ceil(2);
-        let mut older = [0.0; L];
-        for j in (1..half).rev() {
-            for l in 0..L {
-                older[l] = fma(r.x[j][l], r.x[k - j][l], older[l]);
-            }
-        }
-        // loops, not `array::from_fn`: its closures are not inlined into the vector paths
-        let mut sq = [0.0; L];
+    // (x²)_k = 2·Σ_{j<k/2} x_j x_{k−j} + [k even] x_{k/2}²: the older products (j ≥ 1, from the
+    // middle out, so the newest come last) first, x_0 x_k, the one with this order's x_k, in
+    // the last fused step
+    let half = k.div_ceil(2);
+    let mut older = [0.0; L];
+    for j in (1..half).rev() {
         for l in 0..L {
-            let m = if k.is_multiple_of(2) {
-                r.x[k / 2][l]
-            } else {
-                0.0
-            };
-            let rest = fma(m, m, 2.0 * older[l]);
-            sq[l] = if k == 0 {
-                rest
-            } else {
-                fma(2.0 * r.x[0][l], r.x[k][l], rest)
-            };
+            older[l] = fma(r.x[j][l], r.x[k - j][l], older[l]);
         }
-        r.x2[k] = sq;
-        // (x³)_k's older terms in two chains from the middle out: x²_j x_{k−j} for j = m..k−1
-        // (x² newest last) and for j = m−1 down to 1 (x newest last). The middle terms are known
-        // orders before the ends, so each chain runs while the previous orders are computed
-        // instead of starting at order k − 1.
-        let mid = k / 2;
-        let (mut hi, mut lo) = ([0.0; L], [0.0; L]);
-        for j in mid.max(1)..k {
-            for l in 0..L {
-                hi[l] = fma(r.x2[j][l], r.x[k - j][l], hi[l]);
-            }
-        }
-        for j in (1..mid).rev() {
-            for l in 0..L {
-                lo[l] = fma(r.x2[j][l], r.x[k - j][l], lo[l]);
-            }
-        }
-        // v_{k+1} = (−α(x³)_k + (x²)_k + c_k − v_k)/(k + 1) with c_k = δ s_k − γ x_k [+ μ + γε]:
-        // from x_k the chain is x_k → (x²)_k → (x³)_k → v_{k+1}, one fused step each, and from
-        // v_k one step (the division folded into the coefficients)
-        let inv = INV[k];
-        let first = if k == 0 { 1.0 } else { 0.0 };
+    }
+    // loops, not `array::from_fn`: its closures are not inlined into the vector paths
+    let mut sq = [0.0; L];
+    for l in 0..L {
+        let m = if k.is_multiple_of(2) {
+            r.x[k / 2][l]
+        } else {
+            0.0
+        };
+        let rest = fma(m, m, 2.0 * older[l]);
+        sq[l] = if k == 0 {
+            rest
+        } else {
+            fma(2.0 * r.x[0][l], r.x[k][l], rest)
+        };
+    }
+    r.x2[k] = sq;
+    // (x³)_k's older terms in two chains from the middle out: x²_j x_{k−j} for j = m..k−1
+    // (x² newest last) and for j = m−1 down to 1 (x newest last). The middle terms are known
+    // orders before the ends, so each chain runs while the previous orders are computed
+    // instead of starting at order k − 1.
+    let mid = k / 2;
+    let (mut hi, mut lo) = ([0.0; L], [0.0; L]);
+    for j in mid.max(1)..k {
         for l in 0..L {
-            let older_cube = if k > 0 {
-                fma(r.x2[0][l], r.x[k][l], hi[l] + lo[l])
-            } else {
-                0.0
-            };
-            let cube = fma(sq[l], r.x[0][l], older_cube);
-            let slow = fma(lp.neg_gamma[l], r.x[k][l], first * lp.constant[l]);
-            let linear = fma(lp.delta[l], r.s[k][l], slow) * inv;
-            let with_sq = fma(sq[l], inv, linear);
-            let with_v = fma(r.v[k][l], -inv, with_sq);
-            r.x[k + 1][l] = r.v[k][l] * inv;
-            r.v[k + 1][l] = fma(lp.neg_alpha[l] * inv, cube, with_v);
+            hi[l] = fma(r.x2[j][l], r.x[k - j][l], hi[l]);
         }
+    }
+    for j in (1..mid).rev() {
+        for l in 0..L {
+            lo[l] = fma(r.x2[j][l], r.x[k - j][l], lo[l]);
+        }
+    }
+    // v_{k+1} = (−α(x³)_k + (x²)_k + c_k − v_k)/(k + 1) with c_k = δ s_k − γ x_k [+ μ + γε]:
+    // from x_k the chain is x_k → (x²)_k → (x³)_k → v_{k+1}, one fused step each, and from
+    // v_k one step (the division folded into the coefficients)
+    let inv = INV[k];
+    let first = if k == 0 { 1.0 } else { 0.0 };
+    for l in 0..L {
+        let older_cube = if k > 0 {
+            fma(r.x2[0][l], r.x[k][l], hi[l] + lo[l])
+        } else {
+            0.0
+        };
+        let cube = fma(sq[l], r.x[0][l], older_cube);
+        let slow = fma(lp.neg_gamma[l], r.x[k][l], first * lp.constant[l]);
+        let linear = fma(lp.delta[l], r.s[k][l], slow) * inv;
+        let with_sq = fma(sq[l], inv, linear);
+        let with_v = fma(r.v[k][l], -inv, with_sq);
+        r.x[k + 1][l] = r.v[k][l] * inv;
+        r.v[k + 1][l] = fma(lp.neg_alpha[l] * inv, cube, with_v);
     }
 }
