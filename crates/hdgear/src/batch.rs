@@ -180,15 +180,17 @@ fn run<const FMA: bool>(b: &mut Lanes, tol: &Options, show: Show<'_>) -> Outcome
         let (t0, h, nx, nv) = b.step::<FMA>();
         // the common case checked over all lanes at once: no lane blew up or ran out of steps
         let (mut trouble, mut shown) = (false, false);
+        let (mut blown, mut spent) = ([false; LANES], [false; LANES]);
         for l in 0..LANES {
             let moved = h[l] > 0.0;
-            let finite = nx[l].abs() <= tol.blowup && nv[l].abs() <= tol.blowup;
-            let spent = b.steps[l] >= tol.max_steps && b.t[l] < b.t_end[l];
-            trouble |= moved & (!finite | spent);
+            blown[l] = !(nx[l].abs() <= tol.blowup && nv[l].abs() <= tol.blowup);
+            spent[l] = b.steps[l] >= tol.max_steps && b.t[l] < b.t_end[l];
+            trouble |= moved & (blown[l] | spent[l]);
             shown |= moved & (b.t[l] > b.from[l]);
         }
         if trouble {
-            settle_trouble(b, tol, &t0, &h, &nx, &nv, &mut failed, show);
+            let (new, failing) = ((t0, h, nx, nv), (blown, spent));
+            settle_trouble(b, tol, &new, &failing, &mut failed, show);
             continue;
         }
         if shown {
@@ -216,32 +218,32 @@ fn run<const FMA: bool>(b: &mut Lanes, tol: &Options, show: Show<'_>) -> Outcome
     })
 }
 
-/// `run`'s step when some lane blew up or ran out of steps: lane by lane, each failing lane
-/// stops with its error, the others are shown and move on.
-#[allow(clippy::too_many_arguments)]
+/// `run`'s step when some lane blew up or ran out of steps (`failing`: which lanes did, as `run`
+/// found them): lane by lane, each failing lane stops with its error, the others are shown and
+/// move on. `new`: the step's start times, sizes and new x, x'.
 #[cold]
 fn settle_trouble(
     b: &mut Lanes,
     tol: &Options,
-    t0: &V,
-    h: &V,
-    nx: &V,
-    nv: &V,
+    new: &(V, V, V, V),
+    failing: &([bool; LANES], [bool; LANES]),
     failed: &mut [Option<crate::Error>; LANES],
     show: Show<'_>,
 ) {
+    let (t0, h, nx, nv) = new;
+    let (blown, spent) = failing;
     for l in 0..LANES {
         if h[l] <= 0.0 {
             continue;
         }
-        let error = if !(nx[l].abs() <= tol.blowup && nv[l].abs() <= tol.blowup) {
+        let error = if blown[l] {
             let value = if nx[l].abs() > nv[l].abs() {
                 nx[l]
             } else {
                 nv[l]
             };
             Some(SolverError::BlowUp { t: b.t[l], value })
-        } else if b.steps[l] >= tol.max_steps && b.t[l] < b.t_end[l] {
+        } else if spent[l] {
             Some(SolverError::TooManySteps {
                 t: b.t[l],
                 max_steps: tol.max_steps,
