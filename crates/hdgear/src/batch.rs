@@ -96,6 +96,24 @@ pub fn integrate_batch_observed(
     tol: Options,
     mut observe: impl FnMut(usize, &TaylorDense<2>),
 ) -> Result<Vec<Result<LaneResult>>> {
+    let steps = |c: usize, step: &StepLanes<'_>| {
+        for l in step.shown() {
+            observe(c * LANES + l, &step.dense(l));
+        }
+    };
+    integrate_batch_steps(points, starts, spans, tol, steps)
+}
+
+/// [`integrate_batch_observed`] showing each step of a chunk of [`LANES`] points as one
+/// [`StepLanes`] (structure of arrays, the batch's own rows): `observe(c, step)` for chunk `c`
+/// (points `c·LANES ..`). For scanners that work on every lane at once.
+pub(crate) fn integrate_batch_steps(
+    points: &[Params],
+    starts: &[[f64; 2]],
+    spans: &[(f64, f64)],
+    tol: Options,
+    mut observe: impl FnMut(usize, &StepLanes<'_>),
+) -> Result<Vec<Result<LaneResult>>> {
     tol.validate()?;
     if starts.len() != points.len() || spans.len() != points.len() {
         return Err(crate::Error::InvalidInput {
@@ -116,7 +134,7 @@ pub fn integrate_batch_observed(
     let mut out = Vec::with_capacity(points.len());
     for (c, chunk) in points.chunks(LANES).enumerate() {
         let range = c * LANES..c * LANES + chunk.len();
-        let mut show = |l: usize, d: &TaylorDense<2>| observe(c * LANES + l, d);
+        let mut show = |step: &StepLanes<'_>| observe(c, step);
         let lanes = run_chunk(
             chunk,
             &starts[range.clone()],
@@ -129,8 +147,51 @@ pub fn integrate_batch_observed(
     Ok(out)
 }
 
-/// What a chunk shows its steps to: (lane, step).
-type Show<'a> = &'a mut dyn FnMut(usize, &TaylorDense<2>);
+/// One step of every lane of a chunk, as the batch holds it: what [`integrate_batch_steps`]
+/// shows. Rows `0..=order` of x and x' are the step's Taylor coefficients in (t − t0).
+pub(crate) struct StepLanes<'a> {
+    /// The Taylor order.
+    pub order: usize,
+    /// Each lane's step start.
+    pub t0: &'a V,
+    /// Each lane's step end.
+    pub t1: &'a V,
+    /// x's coefficient rows.
+    pub x: &'a [V],
+    /// x''s coefficient rows.
+    pub v: &'a [V],
+    /// The state each lane ended on.
+    pub end: (&'a V, &'a V),
+    /// sin ωt and cos ωt at each lane's step end (the batch's carried values).
+    pub sin_cos: (&'a V, &'a V),
+    /// Lanes whose step is shown (they moved, past their `from`, and hold a point).
+    pub shown: [bool; LANES],
+}
+
+impl StepLanes<'_> {
+    /// The shown lanes, in order.
+    pub(crate) fn shown(&self) -> impl Iterator<Item = usize> + '_ {
+        (0..LANES).filter(|&l| self.shown[l])
+    }
+
+    /// Lane `l`'s step as its polynomial (the same [`TaylorDense`] the scalar stepper gives).
+    pub(crate) fn dense(&self, l: usize) -> TaylorDense<2> {
+        let mut c = [[0.0; 2]; MAX_ORDER + 1];
+        for (k, ck) in c.iter_mut().enumerate().take(self.order + 1) {
+            *ck = [self.x[k][l], self.v[k][l]];
+        }
+        TaylorDense::new(
+            self.t0[l],
+            self.t1[l],
+            self.order,
+            c,
+            [self.end.0[l], self.end.1[l]],
+        )
+    }
+}
+
+/// What a chunk shows its steps to.
+type Show<'a> = &'a mut dyn FnMut(&StepLanes<'_>);
 
 /// One chunk (padded with copies of its first lane), on the widest vector unit available.
 fn run_chunk(
@@ -194,11 +255,8 @@ fn run<const FMA: bool>(b: &mut Lanes, tol: &Options, show: Show<'_>) -> Outcome
             continue;
         }
         if shown {
-            for l in 0..b.live {
-                if h[l] > 0.0 && b.t[l] > b.from[l] {
-                    show(l, &b.dense(l, t0[l], [nx[l], nv[l]]));
-                }
-            }
+            let lanes = std::array::from_fn(|l| l < b.live && h[l] > 0.0 && b.t[l] > b.from[l]);
+            show(&b.view(&t0, (&nx, &nv), lanes));
         }
         let (x0, v0) = (b.rows.x[0], b.rows.v[0]);
         let (mut x, mut v) = ([0.0; LANES], [0.0; LANES]);
@@ -232,6 +290,7 @@ fn settle_trouble(
 ) {
     let (t0, h, nx, nv) = new;
     let (blown, spent) = failing;
+    let mut lanes = [false; LANES];
     for l in 0..LANES {
         if h[l] <= 0.0 {
             continue;
@@ -256,10 +315,15 @@ fn settle_trouble(
             b.t_end[l] = b.t[l];
             continue;
         }
-        if l < b.live && b.t[l] > b.from[l] {
-            show(l, &b.dense(l, t0[l], [nx[l], nv[l]]));
+        lanes[l] = l < b.live && b.t[l] > b.from[l];
+    }
+    if lanes.contains(&true) {
+        show(&b.view(t0, (nx, nv), lanes));
+    }
+    for l in 0..LANES {
+        if h[l] > 0.0 && failed[l].is_none() {
+            (b.rows.x[0][l], b.rows.v[0][l]) = (nx[l], nv[l]);
         }
-        (b.rows.x[0][l], b.rows.v[0][l]) = (nx[l], nv[l]);
     }
 }
 
@@ -394,13 +458,20 @@ impl Lanes {
         (t0, h, nx, nv)
     }
 
-    /// Lane `l`'s last step as its polynomial in x and x' (from `t0`), ending on `y1`.
-    fn dense(&self, l: usize, t0: f64, y1: [f64; 2]) -> TaylorDense<2> {
-        let mut c = [[0.0; 2]; MAX_ORDER + 1];
-        for (k, ck) in c.iter_mut().enumerate().take(self.order + 1) {
-            *ck = [self.rows.x[k][l], self.rows.v[k][l]];
+    /// The last step of every lane (started at `t0`, ended on `end`), `shown` the lanes to show:
+    /// row 0 of x and x' must still be the old state.
+    fn view<'a>(&'a self, t0: &'a V, end: (&'a V, &'a V), shown: [bool; LANES]) -> StepLanes<'a> {
+        let rows = self.order + 1;
+        StepLanes {
+            order: self.order,
+            t0,
+            t1: &self.t,
+            x: &self.rows.x[..rows],
+            v: &self.rows.v[..rows],
+            end,
+            sin_cos: (&self.sin, &self.cos),
+            shown,
         }
-        TaylorDense::new(t0, self.t[l], self.order, c, y1)
     }
 }
 

@@ -45,11 +45,12 @@
 //! (min(T/4, 5G)) so that bursts at the window's edges are seen whole.
 
 mod boundary;
+mod lanes;
 mod scan;
 
 pub use boundary::{BOUNDARY_REL_TOL, Boundaries, OMEGA_SEARCH_MIN, boundaries};
 
-use scan::{Pivot, Scan, Scanner};
+use scan::{History, Pivot, Scan, Scanner};
 
 use crate::error::{Error, Result};
 use crate::fast::{self, stable_equilibrium};
@@ -500,6 +501,7 @@ fn measure(
     let sys = Dimensionless::new(*p);
     let mut solver = stepper(&sys, 0.0, start, opts.tol)?;
     let mut scanner = plan.scanner(p, opts, x_eq);
+    let mut history = History::new(plan.history_span());
     while solver.t() < plan.scan.1 {
         solver.step(plan.scan.1)?;
         let scanned = solver.t() > plan.scan.0;
@@ -509,11 +511,12 @@ fn measure(
                 f(&dense);
             }
             if scanned {
-                scanner.push(&dense);
+                history.push(dense);
+                scanner.push(&dense, &history);
             }
         }
     }
-    Ok(plan.assemble(p, opts, scanner.finish()))
+    Ok(plan.assemble(p, opts, scanner.finish(&history)))
 }
 
 /// The responses of many parameter sets from the default start, by the batch integrator
@@ -543,27 +546,44 @@ pub fn responses(points: &[Params], opts: &BurstOptions) -> Vec<Result<Response>
         for (i, p) in points.iter().enumerate() {
             match Plan::new(p, opts) {
                 Ok(plan) => {
-                    let x0 = stable_equilibrium(p, 0.0);
-                    ok.push((i, plan.scanner(p, opts, x0), plan, [x0, 0.0]));
+                    ok.push((i, plan, stable_equilibrium(p, 0.0)));
                     out.push(None);
                 }
                 Err(e) => out.push(Some(Err(e))),
             }
         }
         let params: Vec<Params> = ok.iter().map(|o| points[o.0]).collect();
-        let starts: Vec<[f64; 2]> = ok.iter().map(|o| o.3).collect();
-        let spans: Vec<(f64, f64)> = ok.iter().map(|o| o.2.scan).collect();
-        let run = crate::batch::integrate_batch_observed(
-            &params,
-            &starts,
-            &spans,
-            opts.tol,
-            |j, step| ok[j].1.push(step),
-        );
+        let starts: Vec<[f64; 2]> = ok.iter().map(|o| [o.2, 0.0]).collect();
+        let spans: Vec<(f64, f64)> = ok.iter().map(|o| o.1.scan).collect();
+        // one scan of sixteen lanes per chunk of the batch
+        let mut scans: Vec<lanes::LaneScan> = ok
+            .chunks(crate::batch::LANES)
+            .map(|chunk| {
+                let lanes = chunk.iter().map(|(i, plan, x0)| {
+                    let p = points[*i];
+                    let scanner = plan.scanner(&p, opts, *x0);
+                    (scanner, p, plan.scan.1, plan.history_span())
+                });
+                lanes::LaneScan::new(lanes.collect())
+            })
+            .collect();
+        let run =
+            crate::batch::integrate_batch_steps(&params, &starts, &spans, opts.tol, |c, step| {
+                scans[c].push(step)
+            });
         // (an error here is bad input for the batch as a whole: each point then on its own)
         if let Ok(lanes) = run {
-            for ((i, scanner, plan, _), lane) in ok.into_iter().zip(lanes) {
-                out[i] = Some(lane.map(|_| plan.assemble(&points[i], opts, scanner.finish())));
+            let scanned = scans.into_iter().flat_map(lanes::LaneScan::finish);
+            for (((i, plan, _), lane), scan) in ok.into_iter().zip(lanes).zip(scanned) {
+                let result = lane.and_then(|_| {
+                    // a lane that ends without error has been scanned to its end
+                    scan.ok_or(Error::InvalidInput {
+                        what: "batch",
+                        text: format!("point {i}"),
+                        reason: "its scan did not reach the end of its span".into(),
+                    })
+                });
+                out[i] = Some(result.map(|scan| plan.assemble(&points[i], opts, scan)));
             }
         }
     }
@@ -602,20 +622,19 @@ impl Plan {
         })
     }
 
-    fn scanner<D: DenseOutput<2> + Copy>(
-        &self,
-        p: &Params,
-        opts: &BurstOptions,
-        x_eq: f64,
-    ) -> Scanner<D> {
+    fn scanner(&self, p: &Params, opts: &BurstOptions, x_eq: f64) -> Scanner {
         Scanner::new(
             p,
             x_eq,
             swing_floor(p, opts, self.x_extent),
             0.01 * overshoot_floor(opts, self.x_extent),
-            4.0 * self.gap,
             self.window,
         )
+    }
+
+    /// How far back a pulse's onset is looked for.
+    fn history_span(&self) -> f64 {
+        4.0 * self.gap
     }
 
     fn assemble(&self, p: &Params, opts: &BurstOptions, scan: Scan) -> Response {

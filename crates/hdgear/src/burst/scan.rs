@@ -18,20 +18,20 @@ const SUBDIVISIONS: usize = 2;
 
 /// What the scan measures at one time.
 #[derive(Clone, Copy, Debug)]
-struct Sample {
-    t: f64,
-    x: f64,
-    v: f64,
+pub(crate) struct Sample {
+    pub t: f64,
+    pub x: f64,
+    pub v: f64,
     /// x''.
-    acc: f64,
+    pub acc: f64,
     /// cos(ωt): the sign of da/dt.
-    c: f64,
+    pub c: f64,
     /// e = x − x*(a).
-    e: f64,
+    pub e: f64,
     /// e' = x' − dx*/dt.
-    ed: f64,
+    pub ed: f64,
     /// The first-order adiabatic lag e₁ = −(dx*/dt)/g'(x*).
-    e1: f64,
+    pub e1: f64,
 }
 
 /// An extremum of x' that survived pruning.
@@ -103,8 +103,10 @@ pub(crate) struct Scan {
     pub max_first_order_lag: f64,
 }
 
-/// The streaming scanner. Feed it every step's dense output in order with [`Scanner::push`].
-pub(crate) struct Scanner<D: DenseOutput<2> + Copy> {
+/// The streaming scanner. Feed it every step's dense output in order with [`Scanner::push`]
+/// (or, with the samples measured elsewhere, [`Scanner::push_sampled`]), keeping the steps in
+/// a [`Past`] for the pulse onsets.
+pub(crate) struct Scanner {
     p: Params,
     follower: EquilibriumTracker,
     zigzag: ZigZag,
@@ -112,26 +114,22 @@ pub(crate) struct Scanner<D: DenseOutput<2> + Copy> {
     lobe_keep: f64,
     band: Option<(f64, f64)>,
     window: (f64, f64),
-    history: VecDeque<D>,
-    history_span: f64,
     last: Option<Sample>,
     side: i8,
     lobe: Option<(f64, bool, f64)>,
     out: Scan,
 }
 
-impl<D: DenseOutput<2> + Copy> Scanner<D> {
+impl Scanner {
     /// `swing_floor`: the smallest swing of x' that counts; `lobe_keep`: the smallest lobe kept;
-    /// `history_span`: how far back a pulse's onset is looked for; `window`: where the window
-    /// statistics are taken.
+    /// `window`: where the window statistics are taken.
     pub(crate) fn new(
         p: &Params,
         x0: f64,
         swing_floor: f64,
         lobe_keep: f64,
-        history_span: f64,
         window: (f64, f64),
-    ) -> Scanner<D> {
+    ) -> Scanner {
         Scanner {
             p: *p,
             follower: EquilibriumTracker::new(p, x0),
@@ -142,8 +140,6 @@ impl<D: DenseOutput<2> + Copy> Scanner<D> {
             lobe_keep,
             band: fold_abscissae(p),
             window,
-            history: VecDeque::new(),
-            history_span,
             last: None,
             side: 0,
             lobe: None,
@@ -157,68 +153,79 @@ impl<D: DenseOutput<2> + Copy> Scanner<D> {
     }
 
     /// [`Scanner::sample`] with sin ωt and cos ωt given.
-    fn sample_with(&mut self, t: f64, y: [f64; 2], s: f64, c: f64) -> Sample {
-        let p = &self.p;
-        let acc = p.forcing(s) - y[1] - p.g(y[0]);
+    pub(crate) fn sample_with(&mut self, t: f64, y: [f64; 2], s: f64, c: f64) -> Sample {
         let xs = self.follower.at(s, y[0]);
-        let inv_gp = 1.0 / self.p.g_prime(xs);
-        let xs_dot = self.p.omega * c * self.p.delta * inv_gp;
-        Sample {
-            t,
-            x: y[0],
-            v: y[1],
-            acc,
-            c,
-            e: y[0] - xs,
-            ed: y[1] - xs_dot,
-            e1: -xs_dot * inv_gp,
-        }
+        measure(&self.p, t, y, (s, c), xs)
+    }
+
+    /// The tracker of the equilibrium (for scanners that follow it elsewhere and hand it back).
+    pub(crate) fn follower(&mut self) -> &mut EquilibriumTracker {
+        &mut self.follower
+    }
+
+    /// [`Scanner::follower`], to read.
+    pub(crate) fn follower_ref(&self) -> &EquilibriumTracker {
+        &self.follower
     }
 
     fn in_window(&self, t: f64) -> bool {
         t >= self.window.0 && t <= self.window.1
     }
 
-    /// Scans one step.
-    pub(crate) fn push(&mut self, d: &D) {
-        self.history.push_back(*d);
-        while let Some(f) = self.history.front() {
-            if f.t_end() < d.t_end() - self.history_span {
-                self.history.pop_front();
-            } else {
-                break;
-            }
-        }
+    /// Scans one step; `past` holds the steps so far, this one included.
+    pub(crate) fn push<D: DenseOutput<2>>(&mut self, d: &D, past: &impl Past) {
         let (t0, t1) = (d.t_start(), d.t_end());
-        let mut prev = match self.last {
-            Some(s) if s.t == t0 => s,
-            _ => {
-                let s = self.sample(t0, d.eval(t0));
-                if s.e * s.c > 0.0 {
-                    // a leading lobe already under way: its start is unknown, so it cannot count
-                    self.lobe = Some((t0, true, s.e.abs()));
-                }
-                self.side = self.band_side(s.x, 0);
-                s
-            }
-        };
+        self.start(d);
         // sin and cos of ωt at the step's end, and at the midpoint by turning those back through
         // δ = ω(t1 − t0)/2 (a short series, exact to rounding for |δ| ≤ 1e-2: one sine per step)
         let (s1, c1) = (self.p.omega * t1).sin_cos();
         let tm = 0.5 * (t0 + t1);
         let delta = self.p.omega * (t1 - tm);
-        let (sm, cm) = if delta.abs() <= 1e-2 {
+        let (sm, cm) = if delta.abs() <= TURN_BACK_MAX {
             turn_back(s1, c1, delta)
         } else {
             (self.p.omega * tm).sin_cos()
         };
         // the step's end: the state the integrator ended on (and starts the next step from)
         let mid = self.sample_with(tm, d.eval(tm), sm, cm);
-        self.interval(d, &prev, &mid);
         let end = self.sample_with(t1, d.end_state(), s1, c1);
-        self.interval(d, &mid, &end);
-        prev = end;
-        self.last = Some(prev);
+        self.push_sampled(d, mid, end, past);
+    }
+
+    /// Samples the step's start when the step does not continue the last one (the first step):
+    /// a caller that samples the midpoint and end itself ([`Scanner::push_sampled`]) calls this
+    /// first, since the samples follow the equilibrium from the start's.
+    pub(crate) fn start<D: DenseOutput<2>>(&mut self, d: &D) {
+        let t0 = d.t_start();
+        if self.last.is_some_and(|s| s.t == t0) {
+            return;
+        }
+        let s = self.sample(t0, d.eval(t0));
+        if s.e * s.c > 0.0 {
+            // a leading lobe already under way: its start is unknown, so it cannot count
+            self.lobe = Some((t0, true, s.e.abs()));
+        }
+        self.side = self.band_side(s.x, 0);
+        self.last = Some(s);
+    }
+
+    /// [`Scanner::push`] with the step's midpoint and end sampled by the caller (the samples
+    /// [`Scanner::sample_with`] gives there, in order, after [`Scanner::start`]).
+    pub(crate) fn push_sampled<D: DenseOutput<2>>(
+        &mut self,
+        d: &D,
+        mid: Sample,
+        end: Sample,
+        past: &impl Past,
+    ) {
+        let Some(prev) = self.last else {
+            // (callers sample the start first: see above)
+            self.start(d);
+            return self.push_sampled(d, mid, end, past);
+        };
+        self.interval(d, &prev, &mid, past);
+        self.interval(d, &mid, &end, past);
+        self.last = Some(end);
     }
 
     fn band_side(&self, x: f64, old: i8) -> i8 {
@@ -230,7 +237,7 @@ impl<D: DenseOutput<2> + Copy> Scanner<D> {
     }
 
     /// Processes the sub-interval between two samples.
-    fn interval(&mut self, d: &D, a: &Sample, b: &Sample) {
+    fn interval<D: DenseOutput<2>>(&mut self, d: &D, a: &Sample, b: &Sample, past: &impl Past) {
         let p = self.p;
         // --- extrema of x': sign changes of x''
         if (a.acc > 0.0) != (b.acc > 0.0) && a.acc != 0.0 {
@@ -245,7 +252,7 @@ impl<D: DenseOutput<2> + Copy> Scanner<D> {
             }
             let is_max = a.acc > 0.0;
             if let Some((tp, vp)) = self.zigzag.push(te, ve, is_max) {
-                self.emit_pivot(tp, vp);
+                self.emit_pivot(tp, vp, past);
             }
         }
         for s in [a, b] {
@@ -270,7 +277,7 @@ impl<D: DenseOutput<2> + Copy> Scanner<D> {
 
     /// The breakpoints of the leading-side lobes of e in (a.t, b.t]: zeros of e and of cos ωt
     /// (turning points of a), and the extrema of e (zeros of e'), which measure the lobe.
-    fn lobe_marks(&mut self, d: &D, a: &Sample, b: &Sample) {
+    fn lobe_marks<D: DenseOutput<2>>(&mut self, d: &D, a: &Sample, b: &Sample) {
         let p = self.p;
         // extrema of e (zeros of e') measure the lobe
         let mut marks: Vec<(f64, Mark)> = Vec::new();
@@ -282,18 +289,13 @@ impl<D: DenseOutput<2> + Copy> Scanner<D> {
             };
             marks.push((refine_root(e, a.t, a.e, b.t, b.e), Mark::ZeroOfE));
         }
-        // turning points of a in (a.t, b.t]
-        let k0 = ((p.omega * a.t - FRAC_PI_2) / PI).floor() + 1.0;
-        let mut k = k0;
-        loop {
-            let tk = (FRAC_PI_2 + k * PI) / p.omega;
-            if tk > b.t || !tk.is_finite() {
-                break;
-            }
-            if tk > a.t {
-                marks.push((tk, Mark::Turn));
-            }
-            k += 1.0;
+        // turning points of a in (a.t, b.t]: none when cos ωt has one sign at both ends, well
+        // away from zero (its rounding is far below 1e-6, so a zero within rounding of an end
+        // cannot hide), and the interval is shorter than the π/ω two zeros would need
+        let (ca, cb) = (a.c, b.c);
+        let one_sign = (ca > 0.0) == (cb > 0.0) && ca.abs().min(cb.abs()) > 1e-6;
+        if !(one_sign && p.omega * (b.t - a.t) < 1.0) {
+            self.turning_points(a.t, b.t, &mut marks);
         }
         if (a.ed > 0.0) != (b.ed > 0.0) && a.ed.is_finite() && b.ed.is_finite() {
             let mut f = self.follower.clone();
@@ -310,6 +312,22 @@ impl<D: DenseOutput<2> + Copy> Scanner<D> {
             marks.push((t, Mark::ExtremumOfE(e.abs())));
         }
         self.apply_marks(marks, b);
+    }
+
+    /// The turning points of a (zeros of cos ωt) in (t0, t1].
+    fn turning_points(&self, t0: f64, t1: f64, marks: &mut Vec<(f64, Mark)>) {
+        let omega = self.p.omega;
+        let mut k = ((omega * t0 - FRAC_PI_2) / PI).floor() + 1.0;
+        loop {
+            let tk = (FRAC_PI_2 + k * PI) / omega;
+            if tk > t1 || !tk.is_finite() {
+                break;
+            }
+            if tk > t0 {
+                marks.push((tk, Mark::Turn));
+            }
+            k += 1.0;
+        }
     }
 
     /// Opens, grows and closes lobes at the breakpoints `marks` of one sub-interval ending at `b`.
@@ -343,55 +361,133 @@ impl<D: DenseOutput<2> + Copy> Scanner<D> {
         }
     }
 
-    fn emit_pivot(&mut self, t: f64, v: f64) {
-        let onset = self.onset(t, v.abs());
+    fn emit_pivot(&mut self, t: f64, v: f64, past: &impl Past) {
+        let onset = past.onset(t, v.abs());
         self.out.pivots.push(Pivot { t, v, onset });
     }
 
-    /// The last time before `t` at which |x'| < half of `peak`, searched back through the kept
-    /// history (its start when |x'| stayed above half the peak throughout).
-    fn onset(&self, t: f64, peak: f64) -> f64 {
-        let half = 0.5 * peak;
-        let mut earliest = t;
-        for d in self.history.iter().rev() {
-            if d.t_start() >= t {
-                continue;
-            }
-            let hi = d.t_end().min(t);
-            let lo = d.t_start();
-            earliest = lo;
-            let f = |s: f64| d.eval(s)[1].abs() - half;
-            let mut tb = hi;
-            let mut fb = f(tb);
-            for j in (0..SUBDIVISIONS).rev() {
-                let ta = lo + (hi - lo) * j as f64 / SUBDIVISIONS as f64;
-                let fa = f(ta);
-                if fa < 0.0 && fb >= 0.0 {
-                    return refine_root(f, ta, fa, tb, fb);
-                }
-                if fa < 0.0 {
-                    // already below half at the right end: the pulse rises after tb
-                    return tb;
-                }
-                tb = ta;
-                fb = fa;
-            }
-        }
-        earliest
-    }
-
     /// Ends the scan: the last candidate extremum is confirmed.
-    pub(crate) fn finish(mut self) -> Scan {
+    pub(crate) fn finish(mut self, past: &impl Past) -> Scan {
         if let Some((t, v, _)) = self.zigzag.cand.take() {
-            self.emit_pivot(t, v);
+            self.emit_pivot(t, v, past);
         }
         self.out
     }
 }
 
+/// The measures of a sample at time `t`, state `y`, (sin ωt, cos ωt) = `(s, c)`, from the
+/// equilibrium `xs` the state follows there (one function for the scanners of one step and of
+/// many).
+#[inline(always)]
+pub(crate) fn measure(p: &Params, t: f64, y: [f64; 2], (s, c): (f64, f64), xs: f64) -> Sample {
+    let acc = p.forcing(s) - y[1] - p.g(y[0]);
+    let inv_gp = 1.0 / p.g_prime(xs);
+    let xs_dot = p.omega * c * p.delta * inv_gp;
+    Sample {
+        t,
+        x: y[0],
+        v: y[1],
+        acc,
+        c,
+        e: y[0] - xs,
+        ed: y[1] - xs_dot,
+        e1: -xs_dot * inv_gp,
+    }
+}
+
+/// The steps a scan has seen, for the onset of a pulse: the last time before a pulse's peak at
+/// which |x'| was below half of it.
+pub(crate) trait Past {
+    /// The last time before `t` at which |x'| < `peak`/2, searched back through the steps kept
+    /// (the start of the oldest when |x'| stayed above half the peak throughout).
+    fn onset(&self, t: f64, peak: f64) -> f64;
+}
+
+/// One scan's steps over the last `span` of time.
+pub(crate) struct History<D> {
+    steps: VecDeque<D>,
+    span: f64,
+}
+
+impl<D: DenseOutput<2>> History<D> {
+    /// Keeps the steps ending within `span` of the latest.
+    pub(crate) fn new(span: f64) -> History<D> {
+        History {
+            steps: VecDeque::new(),
+            span,
+        }
+    }
+
+    /// Adds the latest step and forgets those ending more than the span before it.
+    pub(crate) fn push(&mut self, d: D) {
+        let t_end = d.t_end();
+        self.steps.push_back(d);
+        while let Some(f) = self.steps.front() {
+            if f.t_end() < t_end - self.span {
+                self.steps.pop_front();
+            } else {
+                break;
+            }
+        }
+    }
+}
+
+impl<D: DenseOutput<2>> Past for History<D> {
+    fn onset(&self, t: f64, peak: f64) -> f64 {
+        onset_in(
+            self.steps.iter().rev().map(|d| (d.t_start(), d.t_end(), d)),
+            t,
+            peak,
+            |d, s| d.eval(s)[1],
+        )
+    }
+}
+
+/// The onset search over steps `(t_start, t_end, step)` from the latest back, x' of a step at a
+/// time by `xdot`: each step split in [`SUBDIVISIONS`] parts, the crossing of half the peak
+/// refined on the polynomial.
+pub(crate) fn onset_in<S>(
+    steps: impl Iterator<Item = (f64, f64, S)>,
+    t: f64,
+    peak: f64,
+    xdot: impl Fn(&S, f64) -> f64,
+) -> f64 {
+    let half = 0.5 * peak;
+    let mut earliest = t;
+    for (t0, t1, d) in steps {
+        if t0 >= t {
+            continue;
+        }
+        let hi = t1.min(t);
+        let lo = t0;
+        earliest = lo;
+        let f = |s: f64| xdot(&d, s).abs() - half;
+        let mut tb = hi;
+        let mut fb = f(tb);
+        for j in (0..SUBDIVISIONS).rev() {
+            let ta = lo + (hi - lo) * j as f64 / SUBDIVISIONS as f64;
+            let fa = f(ta);
+            if fa < 0.0 && fb >= 0.0 {
+                return refine_root(f, ta, fa, tb, fb);
+            }
+            if fa < 0.0 {
+                // already below half at the right end: the pulse rises after tb
+                return tb;
+            }
+            tb = ta;
+            fb = fa;
+        }
+    }
+    earliest
+}
+
+/// The largest |δ| [`turn_back`] is used for.
+pub(crate) const TURN_BACK_MAX: f64 = 1e-2;
+
 /// sin(θ − δ) and cos(θ − δ) from sin θ, cos θ for |δ| ≤ 1e-2: cos δ and sin δ by their series to
 /// δ⁸ and δ⁹ (remainders below 1e-21), then the addition theorems.
-fn turn_back(s: f64, c: f64, delta: f64) -> (f64, f64) {
+#[inline(always)]
+pub(crate) fn turn_back(s: f64, c: f64, delta: f64) -> (f64, f64) {
     let d2 = delta * delta;
     let cos_d = 1.0 - d2 / 2.0 * (1.0 - d2 / 12.0 * (1.0 - d2 / 30.0 * (1.0 - d2 / 56.0)));
     let sin_d =

@@ -264,6 +264,47 @@ pub fn nearest_stable_equilibrium(p: &Params, a: f64, x: f64) -> Option<f64> {
         .min_by(|u, v| (u - x).abs().total_cmp(&(v - x).abs()))
 }
 
+/// One Newton step of the tracker on g(y) = `rhs` from the iterate `y` (computed without
+/// branches, so that it vectorises over the lanes of a batch).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Newton {
+    /// g'(y) > 0: the iterate is on a stable branch (else nothing below means anything).
+    pub on_branch: bool,
+    /// The next iterate.
+    pub y: f64,
+    /// The next iterate is the root to rounding.
+    pub done: bool,
+    /// dx*/da = δ/g' there.
+    pub slope: f64,
+    /// d²x*/da² = −g''·(dx*/da)²/g' there.
+    pub curvature: f64,
+}
+
+/// The tracker's Newton step (one function for one scan and for the lanes of many): everything
+/// but the step itself from the iterate y (one division, computed while g(y) is), since calls
+/// follow each other through the tracker's state and the length of this chain is what a scan
+/// pays per sample. Newton's error after the step is |g''|/(2g')·dy² to leading order: done when
+/// that is at the rounding level of y (no second evaluation to test the residual).
+#[inline(always)]
+pub(crate) fn newton(p: &Params, y: f64, rhs: f64) -> Newton {
+    // x-scale of the cubic's features (its inflection is at 1/(3α))
+    let scale = 1.0 / p.alpha;
+    let gp = p.g_prime(y);
+    let inv_gp = 1.0 / gp;
+    let half_g2 = 3.0 * p.alpha * y - 1.0;
+    let tolerance = 4.0 * f64::EPSILON * (y.abs() + scale) * gp;
+    let dy = (p.g(y) - rhs) * inv_gp;
+    let slope = p.delta * inv_gp;
+    Newton {
+        // (false for NaN)
+        on_branch: gp > 0.0,
+        y: y - dy,
+        done: half_g2.abs() * dy * dy <= tolerance,
+        slope,
+        curvature: -2.0 * half_g2 * slope * slope * inv_gp,
+    }
+}
+
 /// The equilibrium a state follows: the nearest stable one at the current a (the only one without
 /// folds), by Newton warm-started from the last one, with the exact cubic solve as fallback.
 #[derive(Clone, Debug)]
@@ -296,6 +337,21 @@ impl EquilibriumTracker {
         }
     }
 
+    /// The a-interval with three equilibria (between the fold values), if any.
+    pub(crate) fn multi(&self) -> Option<(f64, f64)> {
+        self.multi
+    }
+
+    /// The warm start: the last equilibrium, its a, dx*/da and d²x*/da² there.
+    pub(crate) fn state(&self) -> [f64; 4] {
+        [self.hint, self.last_a, self.slope, self.curvature]
+    }
+
+    /// Sets the warm start [`EquilibriumTracker::state`] gives (as followed elsewhere).
+    pub(crate) fn set_state(&mut self, [hint, last_a, slope, curvature]: [f64; 4]) {
+        (self.hint, self.last_a, self.slope, self.curvature) = (hint, last_a, slope, curvature);
+    }
+
     /// x*(a) for a state at x.
     pub fn at(&mut self, a: f64, x: f64) -> f64 {
         let p = &self.p;
@@ -308,27 +364,15 @@ impl EquilibriumTracker {
             // of a scan (with the tangent alone it took two)
             let da = a - self.last_a;
             let mut y = self.hint + da * (self.slope + 0.5 * self.curvature * da);
-            // x-scale of the cubic's features (its inflection is at 1/(3α))
-            let scale = 1.0 / p.alpha;
             for _ in 0..8 {
-                // everything but the step itself from the iterate y (one division, computed
-                // while g(y) is): calls follow each other through the tracker's state, so the
-                // length of this chain is what a scan pays per sample
-                let gp = p.g_prime(y);
-                if gp.is_nan() || gp <= 0.0 {
+                let n = newton(p, y, rhs);
+                if !n.on_branch {
                     break; // not on a stable branch: the exact solve below decides
                 }
-                let inv_gp = 1.0 / gp;
-                let half_g2 = 3.0 * p.alpha * y - 1.0;
-                let tolerance = 4.0 * f64::EPSILON * (y.abs() + scale) * gp;
-                let dy = (p.g(y) - rhs) * inv_gp;
-                y -= dy;
-                // Newton's error after this step is |g''|/(2g')·dy² to leading order: done when
-                // that is at the rounding level of y (no second evaluation to test the residual)
-                if half_g2.abs() * dy * dy <= tolerance {
-                    let slope = p.delta * inv_gp;
-                    let curvature = -2.0 * half_g2 * slope * slope * inv_gp;
-                    (self.hint, self.last_a, self.slope, self.curvature) = (y, a, slope, curvature);
+                y = n.y;
+                if n.done {
+                    (self.hint, self.last_a, self.slope, self.curvature) =
+                        (y, a, n.slope, n.curvature);
                     return y;
                 }
             }

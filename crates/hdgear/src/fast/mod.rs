@@ -25,6 +25,7 @@ pub fn x_extent(p: &crate::params::Params, a_range: (f64, f64)) -> f64 {
 mod analysis;
 mod curve;
 mod equilibria;
+pub(crate) use equilibria::newton;
 mod predict;
 
 pub use analysis::{

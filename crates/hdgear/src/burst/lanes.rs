@@ -1,0 +1,560 @@
+//! The burst scan of a batch's [`LANES`] trajectories, one step of all of them at a time: what
+//! every step needs (x and x' at the midpoint, the equilibrium followed at the midpoint and the
+//! end, the sample's measures) is computed over all lanes at once in vector registers, from the
+//! batch's own rows and its carried sin ωt and cos ωt; then each lane's [`Scanner`] looks for
+//! events between its samples and, only where it finds one, locates it on that lane's step
+//! polynomial. A lane whose tracker needs more than two Newton steps (or the exact solve: with
+//! three equilibria, or off a stable branch) is sampled by its scanner as in the scan of one
+//! trajectory. The steps kept for pulse onsets are one copy of the batch's x' rows per step.
+
+use super::scan::{Past, Sample, Scan, Scanner, TURN_BACK_MAX, measure, onset_in, turn_back};
+use crate::batch::{LANES, StepLanes};
+use crate::fast::newton;
+use crate::integrate::DenseOutput;
+use crate::integrate::taylor::{MAX_ORDER, TaylorDense, mul_add};
+use crate::params::Params;
+use std::cell::OnceCell;
+use std::collections::VecDeque;
+
+type V = [f64; LANES];
+
+/// The scanners of one chunk of a batch.
+pub(crate) struct LaneScan {
+    /// One scanner per lane holding a point, until its scan ends (`None` after).
+    scanners: Vec<Option<Scanner>>,
+    /// Each finished scan.
+    done: Vec<Option<Scan>>,
+    params: ParamLanes,
+    /// Each lane's a-interval with three equilibria (an empty one without folds), where its
+    /// tracker solves the cubic.
+    multi: [(f64, f64); LANES],
+    /// Where each lane's scan ends.
+    t_end: V,
+    /// How far back each lane's pulse onsets are looked for.
+    span: V,
+    steps: Steps,
+    simd: Simd,
+}
+
+/// The vector unit the lanes' arithmetic is compiled for (the batch integrator's choice).
+#[derive(Clone, Copy, Debug)]
+enum Simd {
+    Avx512,
+    Avx2,
+    Portable,
+}
+
+impl LaneScan {
+    /// Scanners for the points of one chunk (at most [`LANES`]), each with where its scan ends and
+    /// how far back its pulse onsets are looked for.
+    pub(crate) fn new(scanners: Vec<(Scanner, Params, f64, f64)>) -> LaneScan {
+        debug_assert!(
+            scanners.len() <= LANES,
+            "a chunk holds at most LANES points"
+        );
+        let first = scanners.first().map_or_else(Params::default, |s| s.1);
+        let pick = |l: usize| scanners.get(l);
+        let params = ParamLanes::new(&std::array::from_fn(|l| pick(l).map_or(first, |s| s.1)));
+        let t_end = std::array::from_fn(|l| pick(l).map_or(0.0, |s| s.2));
+        let span = std::array::from_fn(|l| pick(l).map_or(0.0, |s| s.3));
+        let n = scanners.len();
+        let none = (f64::INFINITY, f64::NEG_INFINITY);
+        let multi: Vec<(f64, f64)> = scanners
+            .iter()
+            .map(|s| s.0.follower_ref().multi().unwrap_or(none))
+            .collect();
+        let multi = std::array::from_fn(|l| multi.get(l).copied().unwrap_or(none));
+        LaneScan {
+            multi,
+            scanners: scanners.into_iter().map(|s| Some(s.0)).collect(),
+            done: (0..n).map(|_| None).collect(),
+            params,
+            t_end,
+            span,
+            steps: Steps::new(),
+            simd: Simd::detect(),
+        }
+    }
+
+    /// Scans one step of every shown lane.
+    pub(crate) fn push(&mut self, step: &StepLanes<'_>) {
+        let shown: [bool; LANES] = std::array::from_fn(|l| {
+            step.shown[l] && self.scanners.get(l).is_some_and(Option::is_some)
+        });
+        self.steps.push(step, &shown);
+        // the first step of a lane: its start sampled by its scanner
+        for l in (0..LANES).filter(|&l| shown[l]) {
+            if let Some(s) = self.scanners[l].as_mut() {
+                s.start(&LaneDense::new(step, l));
+            }
+        }
+        let mut trackers = Trackers::default();
+        for l in (0..LANES).filter(|&l| shown[l]) {
+            if let Some(s) = self.scanners[l].as_mut() {
+                trackers.set(l, s.follower().state());
+            }
+        }
+        let mid = self.sampled(step, &shown, &mut trackers, Point::Mid);
+        let end = self.sampled(step, &shown, &mut trackers, Point::End);
+        for l in (0..LANES).filter(|&l| shown[l]) {
+            let past = LanePast {
+                steps: &self.steps,
+                lane: l,
+                span: self.span[l],
+            };
+            let Some(s) = self.scanners[l].as_mut() else {
+                continue;
+            };
+            s.follower().set_state(trackers.get(l));
+            s.push_sampled(&LaneDense::new(step, l), mid.get(l), end.get(l), &past);
+            if step.t1[l] >= self.t_end[l] {
+                // the lane's scan is over: finished now, while its steps are kept
+                if let Some(s) = self.scanners[l].take() {
+                    self.done[l] = Some(s.finish(&past));
+                }
+            }
+        }
+        self.steps.forget(&self.span);
+    }
+
+    /// Each lane's scan (`None` for a lane whose integration failed before its end).
+    pub(crate) fn finish(self) -> Vec<Option<Scan>> {
+        self.done
+    }
+
+    /// The samples at the midpoint or the end of every lane's step: over all lanes at once, then
+    /// the lanes that need more (see the module) by their own scanner.
+    fn sampled(
+        &mut self,
+        step: &StepLanes<'_>,
+        shown: &[bool; LANES],
+        trackers: &mut Trackers,
+        at: Point,
+    ) -> Samples {
+        let (mut out, ok) = match self.simd {
+            // SAFETY: `Simd::detect` found these features on this CPU.
+            #[cfg(target_arch = "x86_64")]
+            Simd::Avx512 => unsafe {
+                samples_avx512(&self.params, &self.multi, step, trackers, at)
+            },
+            // SAFETY: as above.
+            #[cfg(target_arch = "x86_64")]
+            Simd::Avx2 => unsafe { samples_avx2(&self.params, &self.multi, step, trackers, at) },
+            _ => samples::<false>(&self.params, &self.multi, step, trackers, at),
+        };
+        for l in (0..LANES).filter(|&l| shown[l] && !ok[l]) {
+            let Some(s) = self.scanners[l].as_mut() else {
+                continue;
+            };
+            let d = LaneDense::new(step, l);
+            let (t0, t1) = (step.t0[l], step.t1[l]);
+            let omega = self.params.omega[l];
+            let (s1, c1) = (step.sin_cos.0[l], step.sin_cos.1[l]);
+            let (t, y, sc) = match at {
+                Point::Mid => {
+                    let tm = 0.5 * (t0 + t1);
+                    let delta = omega * (t1 - tm);
+                    let sc = if delta.abs() <= TURN_BACK_MAX {
+                        turn_back(s1, c1, delta)
+                    } else {
+                        (omega * tm).sin_cos()
+                    };
+                    (tm, d.eval(tm), sc)
+                }
+                Point::End => (t1, d.end_state(), (s1, c1)),
+            };
+            s.follower().set_state(trackers.get(l));
+            out.set(l, &s.sample_with(t, y, sc.0, sc.1));
+            trackers.set(l, s.follower().state());
+        }
+        out
+    }
+}
+
+impl Simd {
+    fn detect() -> Simd {
+        #[cfg(target_arch = "x86_64")]
+        {
+            let fma = std::arch::is_x86_feature_detected!("fma");
+            if fma && std::arch::is_x86_feature_detected!("avx512f") {
+                return Simd::Avx512;
+            }
+            if fma && std::arch::is_x86_feature_detected!("avx2") {
+                return Simd::Avx2;
+            }
+        }
+        Simd::Portable
+    }
+}
+
+/// The lanes' parameters, structure of arrays.
+struct ParamLanes {
+    alpha: V,
+    gamma: V,
+    eps: V,
+    mu: V,
+    delta: V,
+    omega: V,
+}
+
+impl ParamLanes {
+    fn new(p: &[Params; LANES]) -> ParamLanes {
+        ParamLanes {
+            alpha: p.map(|p| p.alpha),
+            gamma: p.map(|p| p.gamma),
+            eps: p.map(|p| p.eps),
+            mu: p.map(|p| p.mu),
+            delta: p.map(|p| p.delta),
+            omega: p.map(|p| p.omega),
+        }
+    }
+
+    #[inline(always)]
+    fn get(&self, l: usize) -> Params {
+        Params {
+            alpha: self.alpha[l],
+            gamma: self.gamma[l],
+            eps: self.eps[l],
+            mu: self.mu[l],
+            delta: self.delta[l],
+            omega: self.omega[l],
+        }
+    }
+}
+
+/// Which sample of a step.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Point {
+    Mid,
+    End,
+}
+
+/// The lanes' equilibrium trackers' warm starts (see `EquilibriumTracker::state`), structure of
+/// arrays.
+#[derive(Default)]
+struct Trackers {
+    hint: V,
+    last_a: V,
+    slope: V,
+    curvature: V,
+}
+
+impl Trackers {
+    fn set(&mut self, l: usize, [h, a, s, c]: [f64; 4]) {
+        (
+            self.hint[l],
+            self.last_a[l],
+            self.slope[l],
+            self.curvature[l],
+        ) = (h, a, s, c);
+    }
+
+    fn get(&self, l: usize) -> [f64; 4] {
+        [
+            self.hint[l],
+            self.last_a[l],
+            self.slope[l],
+            self.curvature[l],
+        ]
+    }
+}
+
+/// One sample per lane, structure of arrays.
+#[derive(Default)]
+struct Samples {
+    t: V,
+    x: V,
+    v: V,
+    acc: V,
+    c: V,
+    e: V,
+    ed: V,
+    e1: V,
+}
+
+impl Samples {
+    fn get(&self, l: usize) -> Sample {
+        Sample {
+            t: self.t[l],
+            x: self.x[l],
+            v: self.v[l],
+            acc: self.acc[l],
+            c: self.c[l],
+            e: self.e[l],
+            ed: self.ed[l],
+            e1: self.e1[l],
+        }
+    }
+
+    fn set(&mut self, l: usize, s: &Sample) {
+        (self.t[l], self.x[l], self.v[l], self.acc[l]) = (s.t, s.x, s.v, s.acc);
+        (self.c[l], self.e[l], self.ed[l], self.e1[l]) = (s.c, s.e, s.ed, s.e1);
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,fma")]
+fn samples_avx512(
+    params: &ParamLanes,
+    multi: &[(f64, f64); LANES],
+    step: &StepLanes<'_>,
+    trackers: &mut Trackers,
+    at: Point,
+) -> (Samples, [bool; LANES]) {
+    samples::<true>(params, multi, step, trackers, at)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+fn samples_avx2(
+    params: &ParamLanes,
+    multi: &[(f64, f64); LANES],
+    step: &StepLanes<'_>,
+    trackers: &mut Trackers,
+    at: Point,
+) -> (Samples, [bool; LANES]) {
+    samples::<true>(params, multi, step, trackers, at)
+}
+
+/// Every lane's sample at `at`, following each lane's equilibrium by at most two Newton steps
+/// from the tracker's prediction (what `EquilibriumTracker::at` does on a branch alone); `false`
+/// for a lane that needs more (its tracker state is then unchanged). The same arithmetic as the
+/// scan of one trajectory, lane by lane, so the loop vectorises.
+#[inline(always)]
+#[allow(clippy::needless_range_loop)] // lanes of parallel arrays, indexed together
+fn samples<const FMA: bool>(
+    params: &ParamLanes,
+    multi: &[(f64, f64); LANES],
+    step: &StepLanes<'_>,
+    tr: &mut Trackers,
+    at: Point,
+) -> (Samples, [bool; LANES]) {
+    let mut out = Samples::default();
+    let mut ok = [false; LANES];
+    // x and x' (the end: the state the lane ended on) and sin ωt, cos ωt there
+    let mut turned = [true; LANES];
+    // x and x' (the end: the state the lane ended on) and sin ωt, cos ωt there
+    let (t, x, v, s, c) = match at {
+        Point::End => (
+            *step.t1,
+            *step.end.0,
+            *step.end.1,
+            *step.sin_cos.0,
+            *step.sin_cos.1,
+        ),
+        Point::Mid => {
+            let p = step.order;
+            let (mut t, mut h) = ([0.0; LANES], [0.0; LANES]);
+            for l in 0..LANES {
+                t[l] = 0.5 * (step.t0[l] + step.t1[l]);
+                h[l] = t[l] - step.t0[l];
+            }
+            let (mut x, mut v) = (step.x[p], step.v[p]);
+            for k in (0..p).rev() {
+                for l in 0..LANES {
+                    x[l] = mul_add::<FMA>(x[l], h[l], step.x[k][l]);
+                    v[l] = mul_add::<FMA>(v[l], h[l], step.v[k][l]);
+                }
+            }
+            let (mut s, mut c) = ([0.0; LANES], [0.0; LANES]);
+            for l in 0..LANES {
+                let delta = params.omega[l] * (step.t1[l] - t[l]);
+                turned[l] = delta.abs() <= TURN_BACK_MAX;
+                (s[l], c[l]) = turn_back(step.sin_cos.0[l], step.sin_cos.1[l], delta);
+            }
+            (t, x, v, s, c)
+        }
+    };
+    for l in 0..LANES {
+        let p = &params.get(l);
+        let a = s[l];
+        let (lo, hi) = multi[l];
+        // (`|` and `&`, not `||` and `&&`: no branches, so the loop vectorises)
+        let unique = (a < lo) | (a > hi);
+        let rhs = p.forcing(a);
+        let da = a - tr.last_a[l];
+        let y0 = tr.hint[l] + da * (tr.slope[l] + 0.5 * tr.curvature[l] * da);
+        // two Newton steps, the first one's result where it is done (as the tracker returns)
+        let n1 = newton(p, y0, rhs);
+        let n2 = newton(p, n1.y, rhs);
+        let first = n1.on_branch & n1.done;
+        let second = n1.on_branch & n2.on_branch & n2.done;
+        let n = if first { n1 } else { n2 };
+        let keep = unique & turned[l] & (first | second);
+        ok[l] = keep;
+        let pick = |new: f64, old: f64| if keep { new } else { old };
+        tr.hint[l] = pick(n.y, tr.hint[l]);
+        tr.last_a[l] = pick(a, tr.last_a[l]);
+        tr.slope[l] = pick(n.slope, tr.slope[l]);
+        tr.curvature[l] = pick(n.curvature, tr.curvature[l]);
+        let m = measure(p, t[l], [x[l], v[l]], (s[l], c[l]), n.y);
+        out.t[l] = m.t;
+        out.x[l] = m.x;
+        out.v[l] = m.v;
+        out.acc[l] = m.acc;
+        out.c[l] = m.c;
+        out.e[l] = m.e;
+        out.ed[l] = m.ed;
+        out.e1[l] = m.e1;
+    }
+    (out, ok)
+}
+
+/// Lane `l`'s step as a [`DenseOutput`], its polynomial gathered from the batch's rows only if
+/// it is evaluated (an event to locate, a first sample, a lane sampled on its own).
+struct LaneDense<'a, 'b> {
+    step: &'a StepLanes<'b>,
+    lane: usize,
+    poly: OnceCell<TaylorDense<2>>,
+}
+
+impl<'a, 'b> LaneDense<'a, 'b> {
+    fn new(step: &'a StepLanes<'b>, lane: usize) -> Self {
+        LaneDense {
+            step,
+            lane,
+            poly: OnceCell::new(),
+        }
+    }
+}
+
+impl DenseOutput<2> for LaneDense<'_, '_> {
+    fn t_start(&self) -> f64 {
+        self.step.t0[self.lane]
+    }
+    fn t_end(&self) -> f64 {
+        self.step.t1[self.lane]
+    }
+    fn eval(&self, t: f64) -> [f64; 2] {
+        self.poly.get_or_init(|| self.step.dense(self.lane)).eval(t)
+    }
+    fn end_state(&self) -> [f64; 2] {
+        [self.step.end.0[self.lane], self.step.end.1[self.lane]]
+    }
+}
+
+/// One step of every lane as kept for pulse onsets: start, end, which lanes it belongs to, and
+/// x''s rows.
+struct Kept {
+    t0: V,
+    t1: V,
+    shown: [bool; LANES],
+    order: usize,
+    v: Box<[V; MAX_ORDER + 1]>,
+}
+
+/// The steps kept, oldest first, and the latest end of each lane (with whether the latest step
+/// showed the lane).
+struct Steps {
+    kept: VecDeque<Kept>,
+    /// Storage of forgotten steps, reused.
+    spare: Vec<Kept>,
+    latest: V,
+    live: [bool; LANES],
+    fma: bool,
+}
+
+impl Steps {
+    fn new() -> Steps {
+        Steps {
+            kept: VecDeque::new(),
+            spare: Vec::new(),
+            latest: [0.0; LANES],
+            live: [false; LANES],
+            // x' evaluated as `TaylorDense::eval` does it (fused where the CPU can)
+            fma: fma(),
+        }
+    }
+
+    fn push(&mut self, step: &StepLanes<'_>, shown: &[bool; LANES]) {
+        let mut k = self.spare.pop().unwrap_or_else(|| Kept {
+            t0: [0.0; LANES],
+            t1: [0.0; LANES],
+            shown: [false; LANES],
+            order: 0,
+            v: Box::new([[0.0; LANES]; MAX_ORDER + 1]),
+        });
+        (k.t0, k.t1, k.shown, k.order) = (*step.t0, *step.t1, *shown, step.order);
+        k.v[..=step.order].copy_from_slice(step.v);
+        self.kept.push_back(k);
+        self.latest = *step.t1;
+        self.live = *shown;
+    }
+
+    /// Forgets the oldest steps no lane can look back to: for each lane shown in the latest
+    /// step, those ending more than its span before its latest end (the scan of one trajectory
+    /// forgets the same ones); the others' scans are over.
+    fn forget(&mut self, span: &V) {
+        while let Some(f) = self.kept.front() {
+            let needed = (0..LANES)
+                .any(|l| self.live[l] && f.shown[l] && f.t1[l] >= self.latest[l] - span[l]);
+            if needed {
+                break;
+            }
+            if let Some(k) = self.kept.pop_front() {
+                self.spare.push(k);
+            }
+        }
+    }
+}
+
+/// Lane `l`'s polynomial with coefficient rows `rows` at `h`, by Horner's rule (as
+/// `TaylorDense::eval`).
+#[inline(always)]
+fn lane_horner<const FMA: bool>(rows: &[V], l: usize, h: f64) -> f64 {
+    let (last, lower) = rows.split_last().map_or((0.0, rows), |(c, r)| (c[l], r));
+    lower
+        .iter()
+        .rev()
+        .fold(last, |y, c| mul_add::<FMA>(y, h, c[l]))
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "fma")]
+fn lane_horner_fma(rows: &[V], l: usize, h: f64) -> f64 {
+    lane_horner::<true>(rows, l, h)
+}
+
+#[cfg(target_arch = "x86_64")]
+fn fma() -> bool {
+    std::arch::is_x86_feature_detected!("fma")
+}
+
+#[cfg(not(target_arch = "x86_64"))]
+fn fma() -> bool {
+    false
+}
+
+/// Lane `lane`'s kept steps, for [`Scanner`]'s onsets.
+struct LanePast<'a> {
+    steps: &'a Steps,
+    lane: usize,
+    span: f64,
+}
+
+impl Past for LanePast<'_> {
+    fn onset(&self, t: f64, peak: f64) -> f64 {
+        let l = self.lane;
+        let from = self.steps.latest[l] - self.span;
+        let fma = self.steps.fma;
+        // the lane's steps ending within its span of its latest (the ones `History` keeps)
+        let own = self
+            .steps
+            .kept
+            .iter()
+            .rev()
+            .filter(|k| k.shown[l])
+            .take_while(|k| k.t1[l] >= from)
+            .map(|k| (k.t0[l], k.t1[l], k));
+        onset_in(own, t, peak, |k, s| {
+            let rows = &k.v[..=k.order];
+            let h = s - k.t0[l];
+            #[cfg(target_arch = "x86_64")]
+            if fma {
+                // SAFETY: `fma` is set only where the CPU has FMA.
+                return unsafe { lane_horner_fma(rows, l, h) };
+            }
+            lane_horner::<false>(rows, l, h)
+        })
+    }
+}
