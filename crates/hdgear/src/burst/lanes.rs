@@ -292,29 +292,25 @@ impl Samples {
     }
 }
 
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f,fma")]
-fn samples_avx512(
-    params: &ParamLanes,
-    multi: &[(f64, f64); LANES],
-    step: &StepLanes<'_>,
-    trackers: &mut Trackers,
-    at: Point,
-) -> (Samples, [bool; LANES]) {
-    samples::<true>(params, multi, step, trackers, at)
+/// [`samples`] compiled for a vector unit (`$features`), with fused multiply-adds.
+macro_rules! samples_for {
+    ($name:ident, $features:literal) => {
+        #[cfg(target_arch = "x86_64")]
+        #[target_feature(enable = $features)]
+        fn $name(
+            params: &ParamLanes,
+            multi: &[(f64, f64); LANES],
+            step: &StepLanes<'_>,
+            trackers: &mut Trackers,
+            at: Point,
+        ) -> (Samples, [bool; LANES]) {
+            samples::<true>(params, multi, step, trackers, at)
+        }
+    };
 }
 
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-fn samples_avx2(
-    params: &ParamLanes,
-    multi: &[(f64, f64); LANES],
-    step: &StepLanes<'_>,
-    trackers: &mut Trackers,
-    at: Point,
-) -> (Samples, [bool; LANES]) {
-    samples::<true>(params, multi, step, trackers, at)
-}
+samples_for!(samples_avx512, "avx512f,fma");
+samples_for!(samples_avx2, "avx2,fma");
 
 /// Every lane's sample at `at`, following each lane's equilibrium by at most two Newton steps
 /// from the tracker's prediction (what `EquilibriumTracker::at` does on a branch alone); `false`
