@@ -57,7 +57,9 @@ impl Default for ReportOptions {
             burst: BurstOptions::default(),
             sweep_points: 160,
             map_size: (60, 36),
-            grid_tol: crate::burst::CLASSIFICATION_TOL,
+            // the default (with Taylor a looser tolerance takes more steps: see
+            // `burst::CLASSIFICATION_TOL`)
+            grid_tol: crate::integrate::Options::default().rtol,
             threads: 0,
             force: false,
         }
