@@ -202,19 +202,61 @@ fn run_chunk(
     show: Show<'_>,
 ) -> Outcomes {
     let mut b = Lanes::new(points, starts, spans, tol);
-    #[cfg(target_arch = "x86_64")]
-    {
-        let fma = std::arch::is_x86_feature_detected!("fma");
-        if fma && std::arch::is_x86_feature_detected!("avx512f") {
-            // SAFETY: the CPU has AVX-512F and FMA (checked just above).
-            return unsafe { run_avx512(&mut b, tol, show) };
+    match Simd::detect() {
+        // SAFETY: the CPU has AVX-512F and FMA (`Simd::detect`).
+        #[cfg(target_arch = "x86_64")]
+        Simd::Avx512 => unsafe { run_avx512(&mut b, tol, show) },
+        // SAFETY: the CPU has AVX2 and FMA (`Simd::detect`).
+        #[cfg(target_arch = "x86_64")]
+        Simd::Avx2 => unsafe { run_avx2(&mut b, tol, show) },
+        _ => run::<false>(&mut b, tol, show),
+    }
+}
+
+/// The widest vector unit this CPU has that the batch's code is compiled for: AVX-512 with FMA,
+/// AVX2 with FMA, else the portable path (SSE2 on x86-64, no fused multiply-adds).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Simd {
+    /// AVX-512F and FMA.
+    Avx512,
+    /// AVX2 and FMA.
+    Avx2,
+    /// Neither.
+    Portable,
+}
+
+impl Simd {
+    /// The choice for the CPU this runs on.
+    pub(crate) fn detect() -> Simd {
+        #[cfg(target_arch = "x86_64")]
+        {
+            let fma = std::arch::is_x86_feature_detected!("fma");
+            if fma && std::arch::is_x86_feature_detected!("avx512f") {
+                return Simd::Avx512;
+            }
+            if fma && std::arch::is_x86_feature_detected!("avx2") {
+                return Simd::Avx2;
+            }
         }
-        if fma && std::arch::is_x86_feature_detected!("avx2") {
-            // SAFETY: the CPU has AVX2 and FMA (checked just above).
-            return unsafe { run_avx2(&mut b, tol, show) };
+        Simd::Portable
+    }
+}
+
+/// Every lane's x and x' at its own `h` from their coefficient rows `x` and `v` (lowest order
+/// first, as many of each), by Horner's rule (the arithmetic of `TaylorDense::eval`, lane by
+/// lane; the two chains interleaved).
+#[inline(always)]
+#[allow(clippy::needless_range_loop)] // lanes of parallel arrays, indexed together
+pub(crate) fn horner_lanes<const FMA: bool>(x: &[V], v: &[V], h: &V) -> (V, V) {
+    let p = x.len().min(v.len()).saturating_sub(1);
+    let (mut yx, mut yv) = (x[p], v[p]);
+    for k in (0..p).rev() {
+        for l in 0..LANES {
+            yx[l] = mul_add::<FMA>(yx[l], h[l], x[k][l]);
+            yv[l] = mul_add::<FMA>(yv[l], h[l], v[k][l]);
         }
     }
-    run::<false>(&mut b, tol, show)
+    (yx, yv)
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -405,16 +447,7 @@ impl Lanes {
         }
         taylor_rows::<LANES, FMA>(&self.params, p, r);
         let h = step_sizes::<FMA>(p, self.floor, self.h_max, &self.t, &self.t_end, r);
-        let horner = |rows: &[V; MAX_ORDER + 1]| -> V {
-            let mut y = rows[p];
-            for k in (0..p).rev() {
-                for l in 0..LANES {
-                    y[l] = mul_add::<FMA>(y[l], h[l], rows[k][l]);
-                }
-            }
-            y
-        };
-        let (nx, nv) = (horner(&r.x), horner(&r.v));
+        let (nx, nv) = horner_lanes::<FMA>(&r.x[..=p], &r.v[..=p], &h);
         // cos ωh and sin ωh to the step's order (Horner in h², signs alternating), then
         // sin ω(t + h) and cos ω(t + h) by the addition theorems
         let mut h2 = [0.0; LANES];

@@ -7,8 +7,10 @@
 //! three equilibria, or off a stable branch) is sampled by its scanner as in the scan of one
 //! trajectory. The steps kept for pulse onsets are one copy of the batch's x' rows per step.
 
-use super::scan::{Past, Sample, Scan, Scanner, TURN_BACK_MAX, measure, onset_in, turn_back};
-use crate::batch::{LANES, StepLanes};
+use super::scan::{
+    Past, Sample, Scan, Scanner, TURN_BACK_MAX, measure, midpoint, onset_in, turn_back,
+};
+use crate::batch::{LANES, Simd, StepLanes, horner_lanes};
 use crate::fast::newton;
 use crate::integrate::DenseOutput;
 use crate::integrate::taylor::{MAX_ORDER, TaylorDense, mul_add};
@@ -36,14 +38,6 @@ pub(crate) struct LaneScan {
     simd: Simd,
 }
 
-/// The vector unit the lanes' arithmetic is compiled for (the batch integrator's choice).
-#[derive(Clone, Copy, Debug)]
-enum Simd {
-    Avx512,
-    Avx2,
-    Portable,
-}
-
 impl LaneScan {
     /// Scanners for the points of one chunk (at most [`LANES`]), each with where its scan ends and
     /// how far back its pulse onsets are looked for.
@@ -58,12 +52,10 @@ impl LaneScan {
         let t_end = std::array::from_fn(|l| pick(l).map_or(0.0, |s| s.2));
         let span = std::array::from_fn(|l| pick(l).map_or(0.0, |s| s.3));
         let n = scanners.len();
-        let none = (f64::INFINITY, f64::NEG_INFINITY);
-        let multi: Vec<(f64, f64)> = scanners
-            .iter()
-            .map(|s| s.0.follower_ref().multi().unwrap_or(none))
-            .collect();
-        let multi = std::array::from_fn(|l| multi.get(l).copied().unwrap_or(none));
+        let multi = std::array::from_fn(|l| {
+            let multi = pick(l).and_then(|s| s.0.follower_ref().multi());
+            multi.unwrap_or((f64::INFINITY, f64::NEG_INFINITY))
+        });
         LaneScan {
             multi,
             scanners: scanners.into_iter().map(|s| Some(s.0)).collect(),
@@ -82,15 +74,11 @@ impl LaneScan {
             step.shown[l] && self.scanners.get(l).is_some_and(Option::is_some)
         });
         self.steps.push(step, &shown);
-        // the first step of a lane: its start sampled by its scanner
-        for l in (0..LANES).filter(|&l| shown[l]) {
-            if let Some(s) = self.scanners[l].as_mut() {
-                s.start(&LaneDense::new(step, l));
-            }
-        }
+        // each lane's start (sampled by its scanner on a lane's first step) and tracker
         let mut trackers = Trackers::default();
         for l in (0..LANES).filter(|&l| shown[l]) {
             if let Some(s) = self.scanners[l].as_mut() {
+                s.start(&LaneDense::new(step, l));
                 trackers.set(l, s.follower().state());
             }
         }
@@ -148,42 +136,19 @@ impl LaneScan {
             };
             let d = LaneDense::new(step, l);
             let (t0, t1) = (step.t0[l], step.t1[l]);
-            let omega = self.params.omega[l];
-            let (s1, c1) = (step.sin_cos.0[l], step.sin_cos.1[l]);
+            let end_sc = (step.sin_cos.0[l], step.sin_cos.1[l]);
             let (t, y, sc) = match at {
                 Point::Mid => {
-                    let tm = 0.5 * (t0 + t1);
-                    let delta = omega * (t1 - tm);
-                    let sc = if delta.abs() <= TURN_BACK_MAX {
-                        turn_back(s1, c1, delta)
-                    } else {
-                        (omega * tm).sin_cos()
-                    };
+                    let (tm, sc) = midpoint(self.params.omega[l], t0, t1, end_sc);
                     (tm, d.eval(tm), sc)
                 }
-                Point::End => (t1, d.end_state(), (s1, c1)),
+                Point::End => (t1, d.end_state(), end_sc),
             };
             s.follower().set_state(trackers.get(l));
             out.set(l, &s.sample_with(t, y, sc.0, sc.1));
             trackers.set(l, s.follower().state());
         }
         out
-    }
-}
-
-impl Simd {
-    fn detect() -> Simd {
-        #[cfg(target_arch = "x86_64")]
-        {
-            let fma = std::arch::is_x86_feature_detected!("fma");
-            if fma && std::arch::is_x86_feature_detected!("avx512f") {
-                return Simd::Avx512;
-            }
-            if fma && std::arch::is_x86_feature_detected!("avx2") {
-                return Simd::Avx2;
-            }
-        }
-        Simd::Portable
     }
 }
 
@@ -327,7 +292,6 @@ fn samples<const FMA: bool>(
 ) -> (Samples, [bool; LANES]) {
     let mut out = Samples::default();
     let mut ok = [false; LANES];
-    // x and x' (the end: the state the lane ended on) and sin ωt, cos ωt there
     let mut turned = [true; LANES];
     // x and x' (the end: the state the lane ended on) and sin ωt, cos ωt there
     let (t, x, v, s, c) = match at {
@@ -345,14 +309,10 @@ fn samples<const FMA: bool>(
                 t[l] = 0.5 * (step.t0[l] + step.t1[l]);
                 h[l] = t[l] - step.t0[l];
             }
-            let (mut x, mut v) = (step.x[p], step.v[p]);
-            for k in (0..p).rev() {
-                for l in 0..LANES {
-                    x[l] = mul_add::<FMA>(x[l], h[l], step.x[k][l]);
-                    v[l] = mul_add::<FMA>(v[l], h[l], step.v[k][l]);
-                }
-            }
+            let (x, v) = horner_lanes::<FMA>(&step.x[..=p], &step.v[..=p], &h);
             let (mut s, mut c) = ([0.0; LANES], [0.0; LANES]);
+            // (`midpoint` without its branch to the library's sine: lanes past the series'
+            // range are sampled on their own)
             for l in 0..LANES {
                 let delta = params.omega[l] * (step.t1[l] - t[l]);
                 turned[l] = delta.abs() <= TURN_BACK_MAX;
@@ -383,15 +343,7 @@ fn samples<const FMA: bool>(
         tr.last_a[l] = pick(a, tr.last_a[l]);
         tr.slope[l] = pick(n.slope, tr.slope[l]);
         tr.curvature[l] = pick(n.curvature, tr.curvature[l]);
-        let m = measure(p, t[l], [x[l], v[l]], (s[l], c[l]), n.y);
-        out.t[l] = m.t;
-        out.x[l] = m.x;
-        out.v[l] = m.v;
-        out.acc[l] = m.acc;
-        out.c[l] = m.c;
-        out.e[l] = m.e;
-        out.ed[l] = m.ed;
-        out.e1[l] = m.e1;
+        out.set(l, &measure(p, t[l], [x[l], v[l]], (s[l], c[l]), n.y));
     }
     (out, ok)
 }

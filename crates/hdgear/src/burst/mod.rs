@@ -524,8 +524,8 @@ fn measure(
 
 /// The responses of many parameter sets from the default start, by the batch integrator
 /// ([`crate::batch`]: sixteen points in lock-step, each step of all sixteen scanned as it comes,
-/// what every step needs computed over the lanes at once). The same verdicts and measures as [`response`] with [`crate::integrate::Method::Taylor`],
-/// up to the batch's own rounding (it carries sin ωt as state and uses fused multiply-adds where
+/// what every step needs computed over the lanes at once). The same verdicts and measures as
+/// [`response`] with [`crate::integrate::Method::Taylor`], up to the batch's own rounding (it carries sin ωt as state and uses fused multiply-adds where
 /// the CPU has them). Options with `Method::Dop853` run [`response`] point by point. One result per
 /// point, in order; a point that fails (bad parameters, a run too long, a blow-up) has its own
 /// error and leaves the others' results as they would be without it.

@@ -176,16 +176,9 @@ impl Scanner {
     pub(crate) fn push<D: DenseOutput<2>>(&mut self, d: &D, past: &impl Past) {
         let (t0, t1) = (d.t_start(), d.t_end());
         self.start(d);
-        // sin and cos of ωt at the step's end, and at the midpoint by turning those back through
-        // δ = ω(t1 − t0)/2 (a short series, exact to rounding for |δ| ≤ 1e-2: one sine per step)
+        // sin and cos of ωt at the step's end, the midpoint's from them: one sine per step
         let (s1, c1) = (self.p.omega * t1).sin_cos();
-        let tm = 0.5 * (t0 + t1);
-        let delta = self.p.omega * (t1 - tm);
-        let (sm, cm) = if delta.abs() <= TURN_BACK_MAX {
-            turn_back(s1, c1, delta)
-        } else {
-            (self.p.omega * tm).sin_cos()
-        };
+        let (tm, (sm, cm)) = midpoint(self.p.omega, t0, t1, (s1, c1));
         // the step's end: the state the integrator ended on (and starts the next step from)
         let mid = self.sample_with(tm, d.eval(tm), sm, cm);
         let end = self.sample_with(t1, d.end_state(), s1, c1);
@@ -479,6 +472,20 @@ pub(crate) fn onset_in<S>(
         }
     }
     earliest
+}
+
+/// The midpoint tm of a step from `t0` to `t1`, with sin ωtm and cos ωtm from their values
+/// `(s1, c1)` at `t1`: turned back through δ = ω(t1 − tm) ([`turn_back`], a short series exact
+/// to rounding for |δ| ≤ [`TURN_BACK_MAX`]), else by the library's sine.
+pub(crate) fn midpoint(omega: f64, t0: f64, t1: f64, (s1, c1): (f64, f64)) -> (f64, (f64, f64)) {
+    let tm = 0.5 * (t0 + t1);
+    let delta = omega * (t1 - tm);
+    let sc = if delta.abs() <= TURN_BACK_MAX {
+        turn_back(s1, c1, delta)
+    } else {
+        (omega * tm).sin_cos()
+    };
+    (tm, sc)
 }
 
 /// The largest |δ| [`turn_back`] is used for.
