@@ -430,6 +430,35 @@ fn interrupt(dir: &Path, args: &[&str], sig: &str, after: Duration) -> (i32, Str
     )
 }
 
+/// Runs `hdgear args` in `dir` (with its progress lines), sends `sig` as soon as a line of
+/// stderr contains `marker`, and returns the exit code and everything it wrote to stderr.
+fn interrupt_at(dir: &Path, args: &[&str], sig: &str, marker: &str) -> (i32, String) {
+    use std::io::{BufRead, Read};
+    let mut child = Command::new(assert_cmd::cargo::cargo_bin("hdgear"))
+        .current_dir(dir)
+        .args(args)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut err = std::io::BufReader::new(child.stderr.take().unwrap());
+    let mut text = String::new();
+    loop {
+        let mut line = String::new();
+        if err.read_line(&mut line).unwrap() == 0 {
+            break;
+        }
+        text.push_str(&line);
+        if line.contains(marker) {
+            kill(child.id(), sig);
+            break;
+        }
+    }
+    err.read_to_string(&mut text).unwrap();
+    let status = child.wait().unwrap();
+    (status.code().unwrap_or(-1), text)
+}
+
 #[test]
 fn signals_remove_every_temporary() {
     let long_sim: &[&str] = &[
@@ -628,15 +657,12 @@ fn a_sweep_whose_points_all_fail_exits_1() {
 
 #[test]
 fn an_interrupted_report_leaves_only_complete_files() {
-    // both inside the run (2.9 s on the 2-core machine, longer under the test suite's load)
-    for (sig, code, ms) in [("-INT", 130, 700), ("-TERM", 143, 2000)] {
+    // as the periodic section starts (computing; nothing written yet) and as the writing
+    // starts (the files are being written): signalled when the progress line appears, so the
+    // test stays inside the run however fast the report gets
+    for (sig, code, marker) in [("-INT", 130, "[5/7"), ("-TERM", 143, "[7/7")] {
         let dir = tempfile::tempdir().unwrap();
-        let (c, err) = interrupt(
-            dir.path(),
-            &["report", "--out", "r"],
-            sig,
-            Duration::from_millis(ms),
-        );
+        let (c, err) = interrupt_at(dir.path(), &["report", "--out", "r"], sig, marker);
         assert_eq!(c, code, "{err}");
         let left = walk(dir.path());
         assert!(left.iter().all(|f| !f.contains(".tmp-")), "{left:?}");

@@ -26,8 +26,10 @@
 use crate::error::Result;
 use crate::error::SolverError;
 use crate::integrate::Options;
-use crate::integrate::taylor::{INV, MAX_ORDER, TaylorDense, mul_add, order_for, step_from_norms};
-use crate::model::{LaneParams, Rows, taylor_rows};
+use crate::integrate::taylor::{
+    INV, MAX_ORDER, TaylorDense, exponent, mul_add, order_for, pow2, step_from_norms,
+};
+use crate::model::{LaneParams, Rows, TangentRows, tangent_rows, taylor_rows};
 use crate::params::Params;
 
 /// Trajectories per batch.
@@ -114,13 +116,32 @@ pub(crate) fn integrate_batch_steps(
     tol: Options,
     mut observe: impl FnMut(usize, &StepLanes<'_>),
 ) -> Result<Vec<Result<LaneResult>>> {
+    check_inputs(points, starts.len(), spans, &tol)?;
+    let mut out = Vec::with_capacity(points.len());
+    for (c, chunk) in points.chunks(LANES).enumerate() {
+        let range = c * LANES..c * LANES + chunk.len();
+        let mut show = |step: &StepLanes<'_>| observe(c, step);
+        let mut b = Lanes::new(chunk, &starts[range.clone()], &spans[range], &tol);
+        let lanes = run_chunk(&mut b, &tol, &mut show);
+        out.extend(lanes.into_iter().take(chunk.len()));
+    }
+    Ok(out)
+}
+
+/// The checks every batch entry point makes: usable options, one start and one span per
+/// point, valid parameters, a step budget that can reach each span's end.
+fn check_inputs(
+    points: &[Params],
+    starts: usize,
+    spans: &[(f64, f64)],
+    tol: &Options,
+) -> Result<()> {
     tol.validate()?;
-    if starts.len() != points.len() || spans.len() != points.len() {
+    if starts != points.len() || spans.len() != points.len() {
         return Err(crate::Error::InvalidInput {
             what: "batch",
             text: format!(
-                "{} starts and {} spans for {} parameter sets",
-                starts.len(),
+                "{starts} starts and {} spans for {} parameter sets",
                 spans.len(),
                 points.len()
             ),
@@ -129,20 +150,98 @@ pub(crate) fn integrate_batch_steps(
     }
     for (p, &(_, t_end)) in points.iter().zip(spans) {
         p.validate()?;
-        crate::integrate::check_budget(t_end, &tol)?;
+        crate::integrate::check_budget(t_end, tol)?;
     }
+    Ok(())
+}
+
+/// The outcome of one lane integrated with a tangent vector ([`integrate_batch_tangent`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TangentResult {
+    /// Final state [x, x'].
+    pub y: [f64; 2],
+    /// The final tangent vector's direction, scaled by a power of two (largest component in
+    /// [1, 2)).
+    pub tangent: [f64; 2],
+    /// ln(|δ(t_end)| / |δ(t0)|): the tangent's growth over the span (Euclidean norms).
+    pub ln_growth: f64,
+    /// Steps taken by this lane.
+    pub steps: u64,
+}
+
+/// Integrates each of `points` from `starts[i] = [x, x', δx, δx']` at `spans[i] = (t0, t_end)`
+/// to `t_end`, together with the tangent vector δ of the flow (the linearised model
+/// δx'' = (−3αx² + 2x − γ)·δx − δx', its Taylor coefficients from the state's by one more Cauchy
+/// sum per order), [`LANES`] at a time. The step is chosen from the state alone (the tangent's
+/// series has the same radius of convergence, it is the flow's derivative); the tangent is
+/// rescaled by an exact power of two after every step, so it neither overflows nor
+/// underflows over any span, and its growth is returned as a logarithm. Benettin's Lyapunov
+/// exponents in [`crate::periodic::lyapunov_many`] are built on it.
+///
+/// ```
+/// use hdgear::{Params, batch::integrate_batch_tangent, integrate::Options};
+/// let p = Params::default();
+/// let x0 = hdgear::fast::stable_equilibrium(&p, 0.0);
+/// let out = integrate_batch_tangent(&[p], &[[x0, 0.0, 1.0, 0.0]], &[(0.0, 50.0)], Options::default())
+///     .unwrap();
+/// let r = out[0].as_ref().unwrap();
+/// // near a stable node the tangent decays: Liouville bounds the area by e^{−t}
+/// assert!(r.ln_growth < 0.0);
+/// ```
+pub fn integrate_batch_tangent(
+    points: &[Params],
+    starts: &[[f64; 4]],
+    spans: &[(f64, f64)],
+    tol: Options,
+) -> Result<Vec<Result<TangentResult>>> {
+    check_inputs(points, starts.len(), spans, &tol)?;
     let mut out = Vec::with_capacity(points.len());
     for (c, chunk) in points.chunks(LANES).enumerate() {
         let range = c * LANES..c * LANES + chunk.len();
-        let mut show = |step: &StepLanes<'_>| observe(c, step);
-        let lanes = run_chunk(
-            chunk,
-            &starts[range.clone()],
-            &spans[range],
-            &tol,
-            &mut show,
+        let state: Vec<[f64; 2]> = starts[range.clone()].iter().map(|s| [s[0], s[1]]).collect();
+        // nothing is shown: every step ends before the "shown after" time +∞
+        let ends: Vec<(f64, f64)> = spans[range.clone()]
+            .iter()
+            .map(|&(_, end)| (f64::INFINITY, end))
+            .collect();
+        let mut b = Lanes::new(chunk, &state, &ends, &tol);
+        let t0: Vec<f64> = spans[range.clone()].iter().map(|s| s.0).collect();
+        b.start_at(chunk, &t0);
+        let mut tangent = Box::<Tangent>::default();
+        let pick = |l: usize| starts[range.start + if l < chunk.len() { l } else { 0 }];
+        tangent.rows.x[0] = std::array::from_fn(|l| pick(l)[2]);
+        tangent.rows.v[0] = std::array::from_fn(|l| pick(l)[3]);
+        b.tangent = Some(tangent);
+        let lanes = run_chunk(&mut b, &tol, &mut |_| {});
+        let tg = b.tangent.take().unwrap_or_default();
+        out.extend(
+            lanes
+                .into_iter()
+                .take(chunk.len())
+                .enumerate()
+                .map(|(l, r)| {
+                    r.and_then(|r| {
+                        let s = pick(l);
+                        let d = [tg.rows.x[0][l], tg.rows.v[0][l]];
+                        let ln_growth = d[0].hypot(d[1]).ln() - s[2].hypot(s[3]).ln()
+                            + tg.log2_scale[l] * std::f64::consts::LN_2;
+                        if ln_growth.is_finite() {
+                            Ok(TangentResult {
+                                y: r.y,
+                                tangent: d,
+                                ln_growth,
+                                steps: r.steps,
+                            })
+                        } else {
+                            Err(crate::Error::NoConvergence {
+                                what: "the tangent vector (zero or not finite)",
+                                iterations: r.steps as usize,
+                                residual: ln_growth,
+                            })
+                        }
+                    })
+                }),
         );
-        out.extend(lanes.into_iter().take(chunk.len()));
     }
     Ok(out)
 }
@@ -193,23 +292,27 @@ impl StepLanes<'_> {
 /// What a chunk shows its steps to.
 type Show<'a> = &'a mut dyn FnMut(&StepLanes<'_>);
 
-/// One chunk (padded with copies of its first lane), on the widest vector unit available.
-fn run_chunk(
-    points: &[Params],
-    starts: &[[f64; 2]],
-    spans: &[(f64, f64)],
-    tol: &Options,
-    show: Show<'_>,
-) -> Outcomes {
-    let mut b = Lanes::new(points, starts, spans, tol);
+/// Runs one chunk's lanes to their ends, on the widest vector unit available.
+/// With a tangent the chunk runs its own copy of the loop (the tangent a constant): a run-time
+/// test in the one loop measured the plain batch 25 % slower (0.055 → 0.070 ms per trajectory).
+fn run_chunk(b: &mut Lanes, tol: &Options, show: Show<'_>) -> Outcomes {
+    if b.tangent.is_some() {
+        run_simd::<true>(b, tol, show)
+    } else {
+        run_simd::<false>(b, tol, show)
+    }
+}
+
+/// [`run`] on the widest vector unit available.
+fn run_simd<const TANGENT: bool>(b: &mut Lanes, tol: &Options, show: Show<'_>) -> Outcomes {
     match Simd::detect() {
         // SAFETY: the CPU has AVX-512F and FMA (`Simd::detect`).
         #[cfg(target_arch = "x86_64")]
-        Simd::Avx512 => unsafe { run_avx512(&mut b, tol, show) },
+        Simd::Avx512 => unsafe { run_avx512::<TANGENT>(b, tol, show) },
         // SAFETY: the CPU has AVX2 and FMA (`Simd::detect`).
         #[cfg(target_arch = "x86_64")]
-        Simd::Avx2 => unsafe { run_avx2(&mut b, tol, show) },
-        _ => run::<false>(&mut b, tol, show),
+        Simd::Avx2 => unsafe { run_avx2::<TANGENT>(b, tol, show) },
+        _ => run::<false, TANGENT>(b, tol, show),
     }
 }
 
@@ -261,14 +364,14 @@ pub(crate) fn horner_lanes<const FMA: bool>(x: &[V], v: &[V], h: &V) -> (V, V) {
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f,fma")]
-fn run_avx512(b: &mut Lanes, tol: &Options, show: Show<'_>) -> Outcomes {
-    run::<true>(b, tol, show)
+fn run_avx512<const TANGENT: bool>(b: &mut Lanes, tol: &Options, show: Show<'_>) -> Outcomes {
+    run::<true, TANGENT>(b, tol, show)
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
-fn run_avx2(b: &mut Lanes, tol: &Options, show: Show<'_>) -> Outcomes {
-    run::<true>(b, tol, show)
+fn run_avx2<const TANGENT: bool>(b: &mut Lanes, tol: &Options, show: Show<'_>) -> Outcomes {
+    run::<true, TANGENT>(b, tol, show)
 }
 
 /// What a chunk gives: one outcome per lane.
@@ -277,10 +380,14 @@ type Outcomes = [Result<LaneResult>; LANES];
 /// Steps every lane to its end. A lane that blows up or runs out of steps stops there with its
 /// error; the others go on, so a point's outcome never depends on the points beside it.
 #[inline(always)]
-fn run<const FMA: bool>(b: &mut Lanes, tol: &Options, show: Show<'_>) -> Outcomes {
+fn run<const FMA: bool, const TANGENT: bool>(
+    b: &mut Lanes,
+    tol: &Options,
+    show: Show<'_>,
+) -> Outcomes {
     let mut failed: [Option<crate::Error>; LANES] = std::array::from_fn(|_| None);
     while (0..LANES).any(|l| b.t[l] < b.t_end[l]) {
-        let (t0, h, nx, nv) = b.step::<FMA>();
+        let (t0, h, nx, nv) = b.step::<FMA, TANGENT>();
         // the common case checked over all lanes at once: no lane blew up or ran out of steps
         let (mut trouble, mut shown) = (false, false);
         let (mut blown, mut spent) = ([false; LANES], [false; LANES]);
@@ -369,7 +476,12 @@ fn settle_trouble(
     }
 }
 
-/// The lanes' parameters, states and coefficients.
+/// `T` aligned to a cache line.
+#[repr(C, align(64))]
+struct Aligned<T>(T);
+
+/// The lanes' parameters, states and coefficients; like [`Rows`], aligned to a cache line.
+#[repr(C, align(64))]
 struct Lanes {
     params: LaneParams<LANES>,
     t: V,
@@ -382,13 +494,23 @@ struct Lanes {
     sin: V,
     cos: V,
     /// ω^k/k!: sin ω(t + h)'s k-th Taylor coefficient in h is this times ±sin ωt or ±cos ωt.
-    omega_powers: Box<[V; MAX_ORDER + 1]>,
+    omega_powers: Box<Aligned<[V; MAX_ORDER + 1]>>,
     steps: [u64; LANES],
     order: usize,
     floor: f64,
     h_max: f64,
     /// Taylor coefficients of x, x', sin ωt; row 0 of x and x' is the state between steps.
     rows: Box<Rows<LANES>>,
+    /// The tangent vector's coefficients, when one is carried ([`integrate_batch_tangent`]).
+    tangent: Option<Box<Tangent>>,
+}
+
+/// A tangent vector carried by every lane: its coefficient rows (row 0 the vector between
+/// steps, rescaled after each step by 2^−e) and each lane's total e.
+#[derive(Default)]
+struct Tangent {
+    rows: TangentRows<LANES>,
+    log2_scale: V,
 }
 
 impl Lanes {
@@ -405,19 +527,29 @@ impl Lanes {
             live: points.len(),
             sin: [0.0; LANES],
             cos: [1.0; LANES],
-            omega_powers: Box::new(std::array::from_fn(|k| {
+            omega_powers: Box::new(Aligned(std::array::from_fn(|k| {
                 std::array::from_fn(|l| {
                     let omega = points[pick(l)].omega;
                     (0..k).fold(1.0, |f, j| f * omega * INV[j])
                 })
-            })),
+            }))),
             steps: [0; LANES],
             order: order_for(tol.rtol),
-            // ≥ 1e-150 so that [`step_sizes`]' product of two scales stays normal; a state
+            // ≥ 1e-150 so that [`row_norms`]' product of two scales stays normal; a state
             // below that in both components is far under any tolerance the options allow
             floor: (tol.atol / tol.rtol).max(1e-150),
             h_max: tol.h_max.unwrap_or(f64::INFINITY),
             rows,
+            tangent: None,
+        }
+    }
+
+    /// Starts lane l at time `t0[l]` instead of 0 (padding lanes at `t0[0]`).
+    fn start_at(&mut self, points: &[Params], t0: &[f64]) {
+        for l in 0..LANES {
+            let i = if l < points.len() { l } else { 0 };
+            self.t[l] = t0[i];
+            (self.sin[l], self.cos[l]) = libm::sincos(points[i].omega * t0[i]);
         }
     }
 
@@ -426,10 +558,10 @@ impl Lanes {
     /// (row 0 still the old state, for [`Lanes::dense`]; `run` writes the new one after).
     #[inline(always)]
     #[allow(clippy::needless_range_loop)] // lanes of parallel arrays, indexed together
-    fn step<const FMA: bool>(&mut self) -> (V, V, V, V) {
+    fn step<const FMA: bool, const TANGENT: bool>(&mut self) -> (V, V, V, V) {
         let p = self.order;
         let r = &mut *self.rows;
-        let f = &*self.omega_powers;
+        let f = &self.omega_powers.0;
         // sin ω(t + h) = Σ ω^k/k!·sin(ωt + kπ/2)·h^k: each row a product, no chain through the
         // orders (loops over whole rows: written lane by lane in place, they stayed scalar)
         for k in 0..=p {
@@ -446,8 +578,31 @@ impl Lanes {
             r.s[k] = row;
         }
         taylor_rows::<LANES, FMA>(&self.params, p, r);
-        let h = step_sizes::<FMA>(p, self.floor, self.h_max, &self.t, &self.t_end, r);
+        let mut norms = row_norms(p, self.floor, &r.x[..=p], &r.v[..=p]);
+        if let Some(tg) = self.tangent.as_deref_mut().filter(|_| TANGENT) {
+            // the tangent's own coefficients count too: near a rest point the state's are tiny
+            // (it hardly moves) while the tangent turns at the linearisation's frequency
+            tangent_rows::<LANES, FMA>(&self.params, p, r, &mut tg.rows);
+            let (n1, n2) = row_norms(p, self.floor, &tg.rows.x[..=p], &tg.rows.v[..=p]);
+            for l in 0..LANES {
+                norms.0[l] = norms.0[l].max(n1[l]);
+                norms.1[l] = norms.1[l].max(n2[l]);
+            }
+        }
+        let h = step_sizes::<FMA>(p, self.h_max, &self.t, &self.t_end, norms);
         let (nx, nv) = horner_lanes::<FMA>(&r.x[..=p], &r.v[..=p], &h);
+        if let Some(tg) = self.tangent.as_deref_mut().filter(|_| TANGENT) {
+            let (dx, dv) = horner_lanes::<FMA>(&tg.rows.x[..=p], &tg.rows.v[..=p], &h);
+            // rescaled by 2^−e, e the exponent of the larger component: exact, and the
+            // vector stays near 1 whatever its growth (e kept in ±1000 so 2^−e is normal)
+            for l in 0..LANES {
+                let e = exponent(dx[l].abs().max(dv[l].abs())).clamp(-1000.0, 1000.0);
+                let scale = pow2(-e);
+                tg.rows.x[0][l] = dx[l] * scale;
+                tg.rows.v[0][l] = dv[l] * scale;
+                tg.log2_scale[l] += e;
+            }
+        }
         // cos ωh and sin ωh to the step's order (Horner in h², signs alternating), then
         // sin ω(t + h) and cos ω(t + h) by the addition theorems
         let mut h2 = [0.0; LANES];
@@ -508,30 +663,34 @@ impl Lanes {
     }
 }
 
-/// The Jorba–Zou step of each lane (0 for a lane already at its end), at most `h_max`, clipped
-/// to the lane's end. Two divisions per lane: one for both components' scales, one for both
-/// logarithms ([`ln_pair`]).
+/// The scaled max-norms of rows p − 1 and p of each lane's coefficients (`x`, `v`),
+/// each component divided by max(|its value|, `floor`) as the scalar stepper does
+/// ([`crate::integrate::Taylor`]): one division per lane for both scales.
 #[inline(always)]
 #[allow(clippy::needless_range_loop)] // lanes of parallel arrays, indexed together
-fn step_sizes<const FMA: bool>(
-    p: usize,
-    floor: f64,
-    h_max: f64,
-    t: &V,
-    t_end: &V,
-    r: &Rows<LANES>,
-) -> V {
-    // a loop, not `array::from_fn`: its closure is not inlined into the vector paths
-    let (x, v) = (&r.x, &r.v);
-    let mut h = [0.0; LANES];
+fn row_norms(p: usize, floor: f64, x: &[V], v: &[V]) -> (V, V) {
+    let (mut n1, mut n2) = ([0.0; LANES], [0.0; LANES]);
     for l in 0..LANES {
         // 1/ax and 1/av from one division (ax, av ≥ floor ≥ 1e-150: the product is normal)
         let (ax, av) = (x[0][l].abs().max(floor), v[0][l].abs().max(floor));
         let inv = 1.0 / (ax * av);
         let (sx, sv) = (av * inv, ax * inv);
-        let n1 = (x[p - 1][l].abs() * sx).max(v[p - 1][l].abs() * sv);
-        let n2 = (x[p][l].abs() * sx).max(v[p][l].abs() * sv);
-        let hl = step_from_norms::<FMA, true>(p, n1, n2).min(h_max);
+        n1[l] = (x[p - 1][l].abs() * sx).max(v[p - 1][l].abs() * sv);
+        n2[l] = (x[p][l].abs() * sx).max(v[p][l].abs() * sv);
+    }
+    (n1, n2)
+}
+
+/// The Jorba–Zou step of each lane from its norms ([`row_norms`]; 0 for a lane already at its
+/// end), at most `h_max`, clipped to the lane's end; the logarithms of both norms from one
+/// division ([`step_from_norms`]).
+#[inline(always)]
+#[allow(clippy::needless_range_loop)] // lanes of parallel arrays, indexed together
+fn step_sizes<const FMA: bool>(p: usize, h_max: f64, t: &V, t_end: &V, n: (V, V)) -> V {
+    // a loop, not `array::from_fn`: its closure is not inlined into the vector paths
+    let mut h = [0.0; LANES];
+    for l in 0..LANES {
+        let hl = step_from_norms::<FMA, true>(p, n.0[l], n.1[l]).min(h_max);
         let remaining = t_end[l] - t[l];
         h[l] = if remaining > 0.0 {
             hl.min(remaining)

@@ -318,10 +318,8 @@ const TWO_52: f64 = 4_503_599_627_370_496.0;
 #[inline(always)]
 fn ln_pair<const FMA: bool>(a: f64, b: f64) -> (f64, f64) {
     let split = |x: f64| {
-        let bits = x.to_bits();
-        // the biased exponent as the low bits of a double in [2⁵², 2⁵³)
-        let e = f64::from_bits((bits >> 52) | TWO_52.to_bits()) - (TWO_52 + 1023.0);
-        let m = f64::from_bits((bits & 0x000f_ffff_ffff_ffff) | 1.0f64.to_bits());
+        let e = exponent(x);
+        let m = f64::from_bits((x.to_bits() & 0x000f_ffff_ffff_ffff) | 1.0f64.to_bits());
         // m ∈ [√½, √2): |z| ≤ 0.172, the series' remainder below 1e-9
         let big = m > std::f64::consts::SQRT_2;
         (if big { e + 1.0 } else { e }, if big { 0.5 * m } else { m })
@@ -367,9 +365,22 @@ fn exp<const FMA: bool>(x: f64) -> f64 {
     for c in INV_FACTORIAL[..8].iter().rev() {
         poly = fma(poly, r, *c);
     }
-    // 2^k: k + 1023 in the low mantissa bits, shifted into the exponent field
-    let two_k = f64::from_bits((k + (TWO_52 + 1023.0)).to_bits() << 52);
-    poly * two_k
+    poly * pow2(k)
+}
+
+/// The binary exponent e of a positive finite x (x = m·2^e, m ∈ [1, 2); −1023 for 0 and
+/// subnormals), as a double, from the bits alone (it stays in the vector unit).
+#[inline(always)]
+pub(crate) fn exponent(x: f64) -> f64 {
+    // the biased exponent as the low bits of a double in [2⁵², 2⁵³)
+    f64::from_bits((x.to_bits() >> 52) | TWO_52.to_bits()) - (TWO_52 + 1023.0)
+}
+
+/// 2^k for an integer k ∈ [−1022, 1023] held in a double: k + 1023 in the low mantissa bits,
+/// shifted into the exponent field.
+#[inline(always)]
+pub(crate) fn pow2(k: f64) -> f64 {
+    f64::from_bits((k + (TWO_52 + 1023.0)).to_bits() << 52)
 }
 
 #[cfg(test)]

@@ -91,7 +91,9 @@ fn least_period(section: &[[f64; 2]]) -> Option<u32> {
 
 /// The orbit diagram of `o` against `param` over `values` (increasing), swept up from the state
 /// after `discard` periods from rest at the first value, then down from the last state. `each`
-/// sees every point as it is computed (2 × values.len() calls).
+/// sees every point as it is computed (2 × values.len() calls), in groups of
+/// [`LANES`](crate::batch::LANES) when Lyapunov exponents are asked for: those feed nothing
+/// back, so a group's are computed together ([`Oscillator::lyapunov_each`]).
 pub fn orbit_diagram<O: Oscillator>(
     o: &O,
     param: O::Param,
@@ -132,34 +134,40 @@ pub fn orbit_diagram<O: Oscillator>(
         .map(|i| (i, Sweep::Up))
         .chain((0..values.len()).rev().map(|i| (i, Sweep::Down)))
         .collect();
-    for (i, sweep) in order {
-        let q = &oscillators[i];
-        y = advance(q, y, opts.discard, tol)?;
-        let mut section = Vec::with_capacity(opts.record as usize);
-        for _ in 0..opts.record {
-            section.push(y);
-            y = advance(q, y, 1, tol)?;
-        }
-        let lyapunov = match opts.lyapunov {
-            Some(periods) => {
-                let t = TAU / q.omega();
-                Some(super::lyapunov(
-                    q,
-                    y,
-                    t,
-                    f64::from(periods.max(1)) * t,
-                    tol,
-                )?)
+    // the values one after the other (each from the previous one's state), their Lyapunov
+    // exponents (which feed nothing back) [`LANES`](crate::batch::LANES) values at a time
+    for group in order.chunks(crate::batch::LANES) {
+        let mut points = Vec::with_capacity(group.len());
+        let mut lyapunov_items = Vec::with_capacity(group.len());
+        for &(i, sweep) in group {
+            let q = &oscillators[i];
+            y = advance(q, y, opts.discard, tol)?;
+            let mut section = Vec::with_capacity(opts.record as usize);
+            for _ in 0..opts.record {
+                section.push(y);
+                y = advance(q, y, 1, tol)?;
             }
-            None => None,
-        };
-        each(DiagramPoint {
-            param: values[i],
-            sweep,
-            period: least_period(&section),
-            section,
-            lyapunov,
-        });
+            if let Some(periods) = opts.lyapunov {
+                let t = TAU / q.omega();
+                lyapunov_items.push((*q, y, (t, f64::from(periods.max(1)) * t)));
+            }
+            points.push(DiagramPoint {
+                param: values[i],
+                sweep,
+                period: least_period(&section),
+                section,
+                lyapunov: None,
+            });
+        }
+        if opts.lyapunov.is_some() {
+            for (point, l) in points
+                .iter_mut()
+                .zip(O::lyapunov_each(&lyapunov_items, tol)?)
+            {
+                point.lyapunov = Some(l?);
+            }
+        }
+        points.into_iter().for_each(&mut each);
     }
     Ok(())
 }
@@ -221,33 +229,162 @@ pub fn lyapunov_point(
         let l = super::lyapunov(p, y, t, f64::from(periods) * t, tol)?;
         Ok((l, least_period(&section)))
     })();
-    let (lyapunov, period, error) = match result {
-        Ok((l, k)) => (l, k, String::new()),
-        Err(e) => (f64::NAN, None, e.to_string()),
-    };
-    LyapunovRow {
-        index,
-        params: *p,
-        lyapunov,
-        period,
-        error,
+    LyapunovRow::new(index, p, result.map_err(|e| e.to_string()))
+}
+
+impl LyapunovRow {
+    /// The row of point `index` from its (exponent, period) or the error that stopped it.
+    fn new(
+        index: usize,
+        p: &crate::params::Params,
+        result: std::result::Result<(f64, Option<u32>), String>,
+    ) -> LyapunovRow {
+        let (lyapunov, period, error) = match result {
+            Ok((l, k)) => (l, k, String::new()),
+            Err(e) => (f64::NAN, None, e),
+        };
+        LyapunovRow {
+            index,
+            params: *p,
+            lyapunov,
+            period,
+            error,
+        }
     }
 }
 
+/// [`lyapunov_point`] for several (index, parameters) pairs at once: with Taylor's method
+/// through the batch integrator ([`LANES`](crate::batch::LANES) points in lock-step: the settling
+/// periods, each recorded period, then [`super::lyapunov_many`]), otherwise point by point. A
+/// row does not depend on the points computed with it; it equals [`lyapunov_point`]'s up to the
+/// integration's error (test `batched_lyapunov_rows_equal_one_by_one_rows`).
+pub fn lyapunov_points(
+    points: &[(usize, crate::params::Params)],
+    opts: &DiagramOptions,
+) -> Vec<LyapunovRow> {
+    if opts.tol.method != crate::integrate::Method::Taylor {
+        return points
+            .iter()
+            .map(|(i, p)| lyapunov_point(*i, p, opts))
+            .collect();
+    }
+    let periods = opts.lyapunov.unwrap_or(400).max(1);
+    // the points that can run; the others keep their error
+    let checks: Vec<Result<()>> = points
+        .iter()
+        .map(|(_, p)| {
+            p.validate()?;
+            let span = TAU / p.omega * f64::from(opts.discard + opts.record + periods);
+            crate::integrate::check_budget(span, &opts.tol)
+        })
+        .collect();
+    let live: Vec<crate::params::Params> = points
+        .iter()
+        .zip(&checks)
+        .filter(|(_, c)| c.is_ok())
+        .map(|((_, p), _)| *p)
+        .collect();
+    // (fails as a whole only on bad input, which the checks above rule out)
+    let measured = measure_batch(&live, opts, periods);
+    let mut measured = match measured {
+        Ok(m) => m
+            .into_iter()
+            .map(|r| r.map_err(|e| e.to_string()))
+            .collect(),
+        Err(e) => vec![Err(e.to_string()); live.len()],
+    }
+    .into_iter();
+    points
+        .iter()
+        .zip(checks)
+        .map(|((index, p), check)| {
+            let result = match check {
+                Ok(()) => measured
+                    .next()
+                    .unwrap_or_else(|| Err("no result for this point".into())),
+                Err(e) => Err(e.to_string()),
+            };
+            LyapunovRow::new(*index, p, result)
+        })
+        .collect()
+}
+
+/// One point's Lyapunov exponent and the period of its response.
+type Measured = (f64, Option<u32>);
+
+/// The settling periods, the recorded periods (each from phase 0) and Benettin's exponent of
+/// every point, through the batch integrator: (exponent, the response's period) each.
+fn measure_batch(
+    points: &[crate::params::Params],
+    opts: &DiagramOptions,
+    periods: u32,
+) -> Result<Vec<Result<Measured>>> {
+    use crate::batch::integrate_batch_observed;
+    let period = |p: &crate::params::Params| TAU / p.omega;
+    let start = |p| crate::simulate::initial_state(p, crate::simulate::Start::Equilibrium);
+    let mut state: Vec<Result<[f64; 2]>> = points.iter().map(|p| Ok(start(p))).collect();
+    let mut sections = vec![Vec::with_capacity(opts.record as usize); points.len()];
+    let current = |state: &[Result<[f64; 2]>]| -> Vec<[f64; 2]> {
+        state
+            .iter()
+            .map(|y| *y.as_ref().unwrap_or(&[0.0; 2]))
+            .collect()
+    };
+    // `discard` periods, then one period at a time for the record (a point that failed keeps
+    // its error and is carried along from a dummy state)
+    let legs = std::iter::once(opts.discard).chain((0..opts.record).map(|_| 1));
+    for (leg, n) in legs.enumerate() {
+        if leg > 0 {
+            for (section, y) in sections.iter_mut().zip(&state) {
+                if let Ok(y) = y {
+                    section.push(*y);
+                }
+            }
+        }
+        if n == 0 {
+            continue;
+        }
+        let spans: Vec<(f64, f64)> = points
+            .iter()
+            .map(|p| (f64::from(n) * period(p), f64::from(n) * period(p)))
+            .collect();
+        let ends = integrate_batch_observed(points, &current(&state), &spans, opts.tol, |_, _| {})?;
+        for (y, end) in state.iter_mut().zip(ends) {
+            if y.is_ok() {
+                *y = end.map(|r| r.y);
+            }
+        }
+    }
+    let spans: Vec<(f64, f64)> = points
+        .iter()
+        .map(|p| (period(p), f64::from(periods) * period(p)))
+        .collect();
+    let exponents = super::lyapunov_many(points, &current(&state), &spans, opts.tol)?;
+    Ok(state
+        .into_iter()
+        .zip(exponents)
+        .zip(sections)
+        .map(|((y, l), section)| Ok((y.and(l)?, least_period(&section))))
+        .collect())
+}
+
 /// [`lyapunov_point`] at every point of `grid` on `threads` worker threads (0: one per core),
-/// the rows in grid order whatever the thread count.
+/// [`LANES`](crate::batch::LANES) points at a time ([`lyapunov_points`]), the rows in grid order
+/// whatever the thread count.
 pub fn lyapunov_map(
     grid: &crate::sweep::Grid,
     opts: &DiagramOptions,
     threads: usize,
 ) -> Result<Vec<LyapunovRow>> {
+    opts.tol.validate()?;
     let mut rows = Vec::with_capacity(grid.len());
     let todo: Vec<usize> = (0..grid.len()).collect();
-    crate::sweep::run_with(
+    crate::sweep::run_chunked(
         grid,
         &todo,
+        crate::batch::LANES,
         threads,
-        |i, q| lyapunov_point(i, q, opts),
+        |chunk| lyapunov_points(chunk, opts),
         |r| rows.push(r),
     )?;
     rows.sort_by_key(|r| r.index);

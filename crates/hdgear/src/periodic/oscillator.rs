@@ -4,6 +4,7 @@
 //! any forced oscillator can be another (the tests use a lightly damped Duffing oscillator).
 
 use crate::error::Result;
+use crate::integrate::Options;
 use crate::params::{Param, Params};
 use std::fmt;
 
@@ -50,6 +51,18 @@ pub trait Oscillator: Copy + Send + Sync {
     ) -> bool {
         false
     }
+    /// Benettin's largest Lyapunov exponent ([`super::lyapunov`]) of each `(oscillator, start,
+    /// (discard, span))`, several at once: one by one by default; [`Params`] with Taylor's method
+    /// runs them through the batch integrator ([`super::lyapunov_many`]).
+    fn lyapunov_each(
+        items: &[(Self, [f64; 2], (f64, f64))],
+        tol: Options,
+    ) -> Result<Vec<Result<f64>>> {
+        Ok(items
+            .iter()
+            .map(|(o, y, (discard, span))| super::lyapunov(o, *y, *discard, *span, tol))
+            .collect())
+    }
 }
 
 impl Oscillator for Params {
@@ -91,6 +104,21 @@ impl Oscillator for Params {
         self.validate().map(|_| ())
     }
     const TAYLOR: bool = true;
+    fn lyapunov_each(
+        items: &[(Self, [f64; 2], (f64, f64))],
+        tol: Options,
+    ) -> Result<Vec<Result<f64>>> {
+        if tol.method != crate::integrate::Method::Taylor {
+            return Ok(items
+                .iter()
+                .map(|(o, y, (discard, span))| super::lyapunov(o, *y, *discard, *span, tol))
+                .collect());
+        }
+        let points: Vec<Params> = items.iter().map(|i| i.0).collect();
+        let starts: Vec<[f64; 2]> = items.iter().map(|i| i.1).collect();
+        let spans: Vec<(f64, f64)> = items.iter().map(|i| i.2).collect();
+        super::lyapunov_many(&points, &starts, &spans, tol)
+    }
     /// In the phase, with k = 1/ω: x' = k v, v' = k a, a = μ + δ sin s − v − g(x); the
     /// variations p' = k q, q' = k (−g'(x) p − q) for each column (p, q) of Φ and for w, plus
     /// ∂f/∂λ in w: (−k² v, −k² a) for ω, (0, k ∂a/∂λ) otherwise. Coefficients of x², x³ and
