@@ -657,10 +657,10 @@ fn a_sweep_whose_points_all_fail_exits_1() {
 
 #[test]
 fn an_interrupted_report_leaves_only_complete_files() {
-    // as the periodic section starts (computing; nothing written yet) and as the writing
-    // starts (the files are being written): signalled when the progress line appears, so the
-    // test stays inside the run however fast the report gets
-    for (sig, code, marker) in [("-INT", 130, "[5/7"), ("-TERM", 143, "[7/7")] {
+    // as the physical and periodic sections start (computing; nothing written yet) and as the
+    // writing starts (the files are being written): signalled when the progress line appears,
+    // so the test stays inside the run however fast the report gets
+    for (sig, code, marker) in [("-INT", 130, "[4/6"), ("-TERM", 143, "[6/6")] {
         let dir = tempfile::tempdir().unwrap();
         let (c, err) = interrupt_at(dir.path(), &["report", "--out", "r"], sig, marker);
         assert_eq!(c, code, "{err}");

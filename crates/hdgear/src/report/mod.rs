@@ -125,10 +125,10 @@ pub enum Stage {
     Sweep,
     /// The (γ, δ) map.
     Map,
-    /// The physical drive and the bursting boundaries.
-    Physical,
-    /// The periodic response: orbits, continuation, orbit diagram, Lyapunov map.
-    Periodic,
+    /// The physical drive and the bursting boundaries, and beside them the periodic response:
+    /// orbits, continuation, orbit diagram, Lyapunov map (independent computations, run
+    /// together).
+    PhysicalAndPeriodic,
     /// Building the figures from what was computed.
     Figures,
     /// Rendering and writing the files.
@@ -137,12 +137,11 @@ pub enum Stage {
 
 impl Stage {
     /// Every stage, in order.
-    pub const ALL: [Stage; 7] = [
+    pub const ALL: [Stage; 6] = [
         Stage::Tables,
         Stage::Sweep,
         Stage::Map,
-        Stage::Physical,
-        Stage::Periodic,
+        Stage::PhysicalAndPeriodic,
         Stage::Figures,
         Stage::Writing,
     ];
@@ -156,13 +155,12 @@ impl Stage {
                 "(γ, δ) map ({} simulations)",
                 opts.map_size.0 * opts.map_size.1
             ),
-            Stage::Physical => format!(
+            Stage::PhysicalAndPeriodic => format!(
                 "physical drive ({PHYSICAL_DRIVE}): reduction, two-inertia check, design check; \
-                 bursting boundaries"
+                 bursting boundaries; and together with them periodic orbits, frequency \
+                 response, period-doubling bubble, orbit diagram, Lyapunov map, the drive's \
+                 frequency response"
             ),
-            Stage::Periodic => "periodic orbits, frequency response, period-doubling bubble, \
-                orbit diagram, Lyapunov map, the drive's frequency response"
-                .into(),
             Stage::Figures => format!("{} figures", FIGURES.len() + PERIODIC_FIGURES.len()),
             Stage::Writing => "writing SVG, PNG, data and index.html".into(),
         }
@@ -201,14 +199,21 @@ pub struct PhysicalEvidence {
 }
 
 impl PhysicalEvidence {
-    /// The physical section for [`PHYSICAL_DRIVE`].
-    pub fn compute(opts: &BurstOptions) -> Result<PhysicalEvidence> {
-        let (drive, fit) = crate::physical::catalogue::preset(PHYSICAL_DRIVE, None)?;
+    /// [`PHYSICAL_DRIVE`] and its bursting variant (softer k1, larger disturbance).
+    pub fn drives() -> Result<(PhysicalParams, PhysicalParams)> {
+        let (drive, _) = crate::physical::catalogue::preset(PHYSICAL_DRIVE, None)?;
         let variant = PhysicalParams {
             k1: 2000.0,
             t_am: 112.0,
             ..drive
         };
+        Ok((drive, variant))
+    }
+
+    /// The physical section for [`PHYSICAL_DRIVE`].
+    pub fn compute(opts: &BurstOptions) -> Result<PhysicalEvidence> {
+        let (_, fit) = crate::physical::catalogue::preset(PHYSICAL_DRIVE, None)?;
+        let (drive, variant) = PhysicalEvidence::drives()?;
         let (span, tol) = REDUCTION_CHECK;
         Ok(PhysicalEvidence {
             catalogue: CatalogueDrive::by_name(PHYSICAL_DRIVE)?,
@@ -288,22 +293,27 @@ impl Report {
         observer.stage(Stage::Map);
         let map = study.map(&base)?.clone();
 
-        observer.stage(Stage::Physical);
-        let (physical, bounds) = rayon::join(
-            || PhysicalEvidence::compute(&opts.burst),
-            || study.boundaries(&[base, at(1.0)]),
-        );
-        let (physical, bounds) = (physical?, bounds?);
-
-        observer.stage(Stage::Periodic);
+        observer.stage(Stage::PhysicalAndPeriodic);
+        let (drive, variant) = PhysicalEvidence::drives()?;
         let gammas: Vec<f64> = STUDY_GAMMAS.iter().map(|g| g.0).collect();
-        let periodic = periodic::PeriodicEvidence::compute(
-            &base,
-            &gammas,
-            &opts.burst,
-            (&physical.drive, &physical.variant),
-            opts.threads,
-        )?;
+        let ((physical, bounds), periodic) = rayon::join(
+            || {
+                rayon::join(
+                    || PhysicalEvidence::compute(&opts.burst),
+                    || study.boundaries(&[base, at(1.0)]),
+                )
+            },
+            || {
+                periodic::PeriodicEvidence::compute(
+                    &base,
+                    &gammas,
+                    &opts.burst,
+                    (&drive, &variant),
+                    opts.threads,
+                )
+            },
+        );
+        let (physical, bounds, periodic) = (physical?, bounds?, periodic?);
 
         observer.stage(Stage::Figures);
         let figures = FIGURES
