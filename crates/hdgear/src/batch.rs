@@ -185,7 +185,8 @@ pub struct TangentResult {
 /// let out = integrate_batch_tangent(&[p], &[[x0, 0.0, 1.0, 0.0]], &[(0.0, 50.0)], Options::default())
 ///     .unwrap();
 /// let r = out[0].as_ref().unwrap();
-/// // near a stable node the tangent decays: Liouville bounds the area by e^{−t}
+/// // at a stable equilibrium both eigenvalues have a negative real part (their sum is the
+/// // Jacobian's trace, −1): the tangent decays
 /// assert!(r.ln_growth < 0.0);
 /// ```
 pub fn integrate_batch_tangent(
