@@ -53,7 +53,7 @@ fn foreign_files(dir: &Path) -> Vec<String> {
     out
 }
 
-/// Writes files into the report directory, recording each in the manifest as soon as it is
+/// Writes files into the report directory, listing each in the manifest just before it is
 /// written (so an interrupted report can be rerun without `--force`).
 pub(super) struct Files {
     dir: PathBuf,
@@ -94,14 +94,17 @@ impl Files {
         })
     }
 
-    /// Writes `bytes` to `name` (relative) atomically and records it.
+    /// Writes `bytes` to `name` (relative) atomically, claimed first.
     pub fn bytes(&mut self, name: &str, bytes: &[u8]) -> Result<()> {
-        write_atomic(&self.dir.join(name), bytes)?;
-        self.record(name)
+        self.claim(name)?;
+        write_atomic(&self.dir.join(name), bytes)
     }
 
-    /// Records a file written by someone else (a PNG renderer).
-    pub fn record(&mut self, name: &str) -> Result<()> {
+    /// Lists `name` in the manifest before it is written (by [`Files::bytes`] or by someone
+    /// else: a PNG renderer). In this order a signal can never leave a file hdgear wrote
+    /// unlisted (it did when the manifest was saved after the file: a rerun then refused the
+    /// directory); a listed file that was never written is harmless.
+    pub fn claim(&mut self, name: &str) -> Result<()> {
         self.written.push(name.to_string());
         save_manifest(&self.dir, &self.before, &self.written)
     }

@@ -388,8 +388,8 @@ impl Report {
             let svg = plot::svg(f)?;
             out.bytes(&format!("figures/{}.svg", f.name), svg.as_bytes())?;
             let png = format!("figures/{}.png", f.name);
+            out.claim(&png)?;
             plot::png(f, &out.path(&png))?;
-            out.record(&png)?;
             svgs.push(svg);
         }
         out.bytes("index.html", html::render(self, &svgs).as_bytes())?;
