@@ -172,9 +172,9 @@ pub struct TangentResult {
 /// Integrates each of `points` from `starts[i] = [x, x', δx, δx']` at `spans[i] = (t0, t_end)`
 /// to `t_end`, together with the tangent vector δ of the flow (the linearised model
 /// δx'' = (−3αx² + 2x − γ)·δx − δx', its Taylor coefficients from the state's by one more Cauchy
-/// sum per order), [`LANES`] at a time. The step is chosen from the state alone (the tangent's
-/// series has the same radius of convergence, it is the flow's derivative); the tangent is
-/// rescaled by an exact power of two after every step, so it neither overflows nor
+/// sum per order), [`LANES`] at a time. The step is chosen from the state's and the tangent's
+/// coefficients together (from the state's alone it is far too long near a rest point, where
+/// the state hardly moves while the tangent turns); the tangent is rescaled by an exact power of two after every step, so it neither overflows nor
 /// underflows over any span, and its growth is returned as a logarithm. Benettin's Lyapunov
 /// exponents in [`crate::periodic::lyapunov_many`] are built on it.
 ///

@@ -135,8 +135,14 @@ pub fn orbit_diagram<O: Oscillator>(
         .chain((0..values.len()).rev().map(|i| (i, Sweep::Down)))
         .collect();
     // the values one after the other (each from the previous one's state), their Lyapunov
-    // exponents (which feed nothing back) [`LANES`](crate::batch::LANES) values at a time
-    for group in order.chunks(crate::batch::LANES) {
+    // exponents (which feed nothing back) [`LANES`](crate::batch::LANES) values at a time;
+    // without them each point goes out as soon as it is computed
+    let group = if opts.lyapunov.is_some() {
+        crate::batch::LANES
+    } else {
+        1
+    };
+    for group in order.chunks(group) {
         let mut points = Vec::with_capacity(group.len());
         let mut lyapunov_items = Vec::with_capacity(group.len());
         for &(i, sweep) in group {

@@ -58,11 +58,19 @@ pub trait Oscillator: Copy + Send + Sync {
         items: &[(Self, [f64; 2], (f64, f64))],
         tol: Options,
     ) -> Result<Vec<Result<f64>>> {
-        Ok(items
-            .iter()
-            .map(|(o, y, (discard, span))| super::lyapunov(o, *y, *discard, *span, tol))
-            .collect())
+        Ok(lyapunov_one_by_one(items, tol))
     }
+}
+
+/// [`Oscillator::lyapunov_each`] one item after the other ([`super::lyapunov`]).
+fn lyapunov_one_by_one<O: Oscillator>(
+    items: &[(O, [f64; 2], (f64, f64))],
+    tol: Options,
+) -> Vec<Result<f64>> {
+    items
+        .iter()
+        .map(|(o, y, (discard, span))| super::lyapunov(o, *y, *discard, *span, tol))
+        .collect()
 }
 
 impl Oscillator for Params {
@@ -109,10 +117,7 @@ impl Oscillator for Params {
         tol: Options,
     ) -> Result<Vec<Result<f64>>> {
         if tol.method != crate::integrate::Method::Taylor {
-            return Ok(items
-                .iter()
-                .map(|(o, y, (discard, span))| super::lyapunov(o, *y, *discard, *span, tol))
-                .collect());
+            return Ok(lyapunov_one_by_one(items, tol));
         }
         let points: Vec<Params> = items.iter().map(|i| i.0).collect();
         let starts: Vec<[f64; 2]> = items.iter().map(|i| i.1).collect();

@@ -198,22 +198,26 @@ pub struct PhysicalEvidence {
     pub reduction_check: ReductionCheck,
 }
 
+/// `drive` made to burst: softer k1, larger disturbance.
+fn bursting_variant(drive: &PhysicalParams) -> PhysicalParams {
+    PhysicalParams {
+        k1: 2000.0,
+        t_am: 112.0,
+        ..*drive
+    }
+}
+
 impl PhysicalEvidence {
     /// [`PHYSICAL_DRIVE`] and its bursting variant (softer k1, larger disturbance).
     pub fn drives() -> Result<(PhysicalParams, PhysicalParams)> {
         let (drive, _) = crate::physical::catalogue::preset(PHYSICAL_DRIVE, None)?;
-        let variant = PhysicalParams {
-            k1: 2000.0,
-            t_am: 112.0,
-            ..drive
-        };
-        Ok((drive, variant))
+        Ok((drive, bursting_variant(&drive)))
     }
 
     /// The physical section for [`PHYSICAL_DRIVE`].
     pub fn compute(opts: &BurstOptions) -> Result<PhysicalEvidence> {
-        let (_, fit) = crate::physical::catalogue::preset(PHYSICAL_DRIVE, None)?;
-        let (drive, variant) = PhysicalEvidence::drives()?;
+        let (drive, fit) = crate::physical::catalogue::preset(PHYSICAL_DRIVE, None)?;
+        let variant = bursting_variant(&drive);
         let (span, tol) = REDUCTION_CHECK;
         Ok(PhysicalEvidence {
             catalogue: CatalogueDrive::by_name(PHYSICAL_DRIVE)?,
