@@ -604,29 +604,7 @@ impl Lanes {
                 tg.log2_scale[l] += e;
             }
         }
-        // cos ωh and sin ωh to the step's order (Horner in h², signs alternating), then
-        // sin ω(t + h) and cos ω(t + h) by the addition theorems
-        let mut h2 = [0.0; LANES];
-        for l in 0..LANES {
-            h2[l] = h[l] * h[l];
-        }
-        let (mut ch, mut sh) = ([0.0; LANES], [0.0; LANES]);
-        for k in (0..=p).rev() {
-            let sign = if k % 4 < 2 { 1.0 } else { -1.0 };
-            let acc = if k % 2 == 0 { &mut ch } else { &mut sh };
-            for l in 0..LANES {
-                acc[l] = mul_add::<FMA>(acc[l], h2[l], sign * f[k][l]);
-            }
-        }
-        for l in 0..LANES {
-            sh[l] *= h[l];
-        }
-        let mut ns = [0.0; LANES];
-        let mut nc = [0.0; LANES];
-        for l in 0..LANES {
-            ns[l] = mul_add::<FMA>(self.sin[l], ch[l], self.cos[l] * sh[l]);
-            nc[l] = mul_add::<FMA>(self.cos[l], ch[l], -(self.sin[l] * sh[l]));
-        }
+        let (ns, nc) = rotate::<FMA>(&f[..=p], &h, (&self.sin, &self.cos));
         let t0 = self.t;
         for l in 0..LANES {
             if h[l] > 0.0 {
@@ -662,6 +640,47 @@ impl Lanes {
             shown,
         }
     }
+}
+
+/// sin ω(t + h) and cos ω(t + h) of every lane from sin ωt and cos ωt (`sin_cos`) and `f` (rows
+/// 0..=p of ω^k/k!): cos ωh and sin ωh to order p (Horner in h², signs alternating), then the
+/// addition theorems.
+#[inline(always)]
+#[allow(clippy::needless_range_loop)] // lanes of parallel arrays, indexed together
+fn rotate<const FMA: bool>(f: &[V], h: &V, (sin, cos): (&V, &V)) -> (V, V) {
+    let p = f.len() - 1;
+    let mut h2 = [0.0; LANES];
+    for l in 0..LANES {
+        h2[l] = h[l] * h[l];
+    }
+    // both series in one loop over the pairs of orders 2i, 2i + 1 (sign (−1)^i), each in its own
+    // accumulator (one chosen by the order's parity lived in memory: a store and a load in the
+    // chain of every term)
+    let m = p / 2;
+    let top = if m.is_multiple_of(2) { 1.0 } else { -1.0 };
+    let (mut ch, mut sh) = ([0.0; LANES], [0.0; LANES]);
+    for l in 0..LANES {
+        ch[l] = top * f[2 * m][l];
+        sh[l] = if 2 * m < p {
+            top * f[2 * m + 1][l]
+        } else {
+            0.0
+        };
+    }
+    for i in (0..m).rev() {
+        let sign = if i.is_multiple_of(2) { 1.0 } else { -1.0 };
+        for l in 0..LANES {
+            ch[l] = mul_add::<FMA>(ch[l], h2[l], sign * f[2 * i][l]);
+            sh[l] = mul_add::<FMA>(sh[l], h2[l], sign * f[2 * i + 1][l]);
+        }
+    }
+    let (mut ns, mut nc) = ([0.0; LANES], [0.0; LANES]);
+    for l in 0..LANES {
+        let s = sh[l] * h[l];
+        ns[l] = mul_add::<FMA>(sin[l], ch[l], cos[l] * s);
+        nc[l] = mul_add::<FMA>(cos[l], ch[l], -(sin[l] * s));
+    }
+    (ns, nc)
 }
 
 /// The scaled max-norms of rows p − 1 and p of each lane's coefficients (`x`, `v`),
