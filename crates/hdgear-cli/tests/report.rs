@@ -152,6 +152,46 @@ fn report_tables_equal_hdgear_table_json() {
     }
 }
 
+/// Every file under `dir`, relative, sorted.
+fn files_under(dir: &Path) -> Vec<PathBuf> {
+    let mut out = Vec::new();
+    let mut todo = vec![dir.to_path_buf()];
+    while let Some(d) = todo.pop() {
+        for e in std::fs::read_dir(&d).unwrap() {
+            let path = e.unwrap().path();
+            if path.is_dir() {
+                todo.push(path);
+            } else {
+                out.push(path.strip_prefix(dir).unwrap().to_path_buf());
+            }
+        }
+    }
+    out.sort();
+    out
+}
+
+/// `--threads 1` keeps every stage on one thread (the sections computed side by side and the
+/// figures drawn side by side run one after the other) and changes no byte of any file: the
+/// results do not depend on how the work is split, nor the drawings on the order they are drawn.
+#[test]
+fn a_one_thread_report_writes_the_same_bytes() {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("report-one-thread");
+    let _ = std::fs::remove_dir_all(&dir);
+    hdgear()
+        .args(["report", "--threads", "1", "--out"])
+        .arg(&dir)
+        .assert()
+        .success();
+    let (many, one) = (files_under(report_dir()), files_under(&dir));
+    assert_eq!(many, one);
+    assert!(many.len() > 40, "{} files", many.len());
+    for f in &many {
+        let same =
+            std::fs::read(report_dir().join(f)).unwrap() == std::fs::read(dir.join(f)).unwrap();
+        assert!(same, "{} differs with --threads 1", f.display());
+    }
+}
+
 fn png_stats(path: &Path) -> (u32, u32, f64) {
     let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(path).unwrap()));
     let mut reader = decoder.read_info().unwrap();

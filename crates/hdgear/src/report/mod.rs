@@ -24,6 +24,7 @@ use crate::physical::simulate::{ReductionCheck, check_reduction};
 use crate::study::{Case, GridRun, Study};
 use crate::table::{STUDY_GAMMAS, Tables, tables_in};
 use files::Files;
+use rayon::prelude::*;
 use serde::Serialize;
 use std::path::Path;
 
@@ -40,7 +41,8 @@ pub struct ReportOptions {
     pub map_size: (usize, usize),
     /// Tolerance (rtol = atol) of the γ sweep and the map, which only need verdicts and counts.
     pub grid_tol: f64,
-    /// Worker threads (0: one per core).
+    /// Worker threads (0: one per core): the grids' in [`Report::compute`], every stage's in
+    /// [`build`].
     pub threads: usize,
     /// Overwrite files in the output directory that hdgear did not write (see [`MANIFEST`]).
     pub force: bool,
@@ -387,15 +389,34 @@ impl Report {
         out.csv("data/period-doubling-bubble.csv", &rows(&bubble))?;
         out.csv("data/lyapunov-map.csv", &pe.lyapunov)?;
         out.json("data/periodic.json", pe)?;
-        let mut svgs = Vec::new();
-        for f in &self.figures {
-            let svg = plot::svg(f)?;
-            out.bytes(&format!("figures/{}.svg", f.name), svg.as_bytes())?;
-            let png = format!("figures/{}.png", f.name);
-            out.claim(&png)?;
-            plot::png(f, &out.path(&png))?;
-            svgs.push(svg);
+        // every figure's two files listed first (see `Files::claim`), then the figures drawn
+        // and written on all cores: drawing is most of this stage's time, and one figure's
+        // files do not depend on another's
+        let names: Vec<(String, String)> = self
+            .figures
+            .iter()
+            .map(|f| {
+                (
+                    format!("figures/{}.svg", f.name),
+                    format!("figures/{}.png", f.name),
+                )
+            })
+            .collect();
+        for (svg, png) in &names {
+            out.claim(svg)?;
+            out.claim(png)?;
         }
+        let svgs = self
+            .figures
+            .par_iter()
+            .zip(&names)
+            .map(|(f, (svg_name, png_name))| {
+                let svg = plot::svg(f)?;
+                crate::output::write_atomic(&out.path(svg_name), svg.as_bytes())?;
+                plot::png(f, &out.path(png_name))?;
+                Ok(svg)
+            })
+            .collect::<Result<Vec<_>>>()?;
         out.bytes("index.html", html::render(self, &svgs).as_bytes())?;
         Ok(ReportSummary {
             files: out.written,
@@ -406,14 +427,32 @@ impl Report {
 
 /// Builds the report into `dir`: checks the directory, computes ([`Report::compute`]) and writes
 /// ([`Report::write`]).
+///
+/// With [`ReportOptions::threads`] > 0 every stage runs on that many threads (the grids, the
+/// sections computed side by side, the figures drawn side by side), so `threads: 1` keeps the
+/// report on one core.
 pub fn build(
     dir: &Path,
     opts: &ReportOptions,
-    observer: &mut impl Observer,
+    observer: &mut (impl Observer + Send),
 ) -> Result<ReportSummary> {
     // refuse a directory with foreign files before computing anything
     let out = Files::open(dir, opts.force)?;
-    let report = Report::compute(opts, observer)?;
-    observer.stage(Stage::Writing);
-    report.write_into(out)
+    let run = move || {
+        let report = Report::compute(opts, observer)?;
+        observer.stage(Stage::Writing);
+        report.write_into(out)
+    };
+    if opts.threads == 0 {
+        return run();
+    }
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(opts.threads)
+        .build()
+        .map_err(|e| crate::Error::InvalidInput {
+            what: "thread count",
+            text: opts.threads.to_string(),
+            reason: e.to_string(),
+        })?
+        .install(run)
 }
