@@ -124,7 +124,6 @@ pub fn run_grid(grid: &Grid, opts: &BurstOptions, threads: usize) -> Result<Vec<
         threads,
         |r| rows.push(r),
     )?;
-    rows.sort_by_key(|r| r.index);
     Ok(rows)
 }
 

@@ -393,6 +393,5 @@ pub fn lyapunov_map(
         |chunk| lyapunov_points(chunk, opts),
         |r| rows.push(r),
     )?;
-    rows.sort_by_key(|r| r.index);
     Ok(rows)
 }

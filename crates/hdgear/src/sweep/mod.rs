@@ -9,9 +9,9 @@ use crate::burst::{BurstOptions, Mechanism, Mode, Rates, classify, response};
 use crate::error::{Error, Result};
 use crate::fast;
 use crate::params::{Param, Params};
-use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::collections::{BTreeMap, BTreeSet};
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 mod shard;
 pub use shard::{MergeError, Plan, Shard, plan};
@@ -248,8 +248,10 @@ fn row(index: usize, p: &Params, result: Result<crate::burst::Response>) -> Swee
 }
 
 /// Runs the grid points `todo` (indices) on `threads` worker threads (0: one per core) and calls
-/// `on_row` from the calling thread as each point finishes. Returns when all are done. Points
-/// run [`LANES`](crate::batch::LANES) at a time through the batch integrator
+/// `on_row` from the calling thread with each point's row in `todo` order, as soon as it and
+/// every point before it are done (the workers take the points in that order, so few wait and
+/// memory stays flat however large the grid). Returns when all are done. Points run
+/// [`LANES`](crate::batch::LANES) at a time through the batch integrator
 /// ([`crate::burst::responses`]).
 pub fn run(
     grid: &Grid,
@@ -264,8 +266,8 @@ pub fn run(
 }
 
 /// Runs `point(i, parameters of i)` for the grid points `todo` on `threads` worker threads (0:
-/// one per core) and calls `on_row` from the calling thread with each result as it finishes: the
-/// one parallel loop of sweeps, maps and Lyapunov maps.
+/// one per core) and calls `on_row` from the calling thread with each result in `todo` order, as
+/// [`run`] does: the one parallel loop of sweeps, maps and Lyapunov maps.
 pub fn run_with<R: Send>(
     grid: &Grid,
     todo: &[usize],
@@ -278,7 +280,8 @@ pub fn run_with<R: Send>(
 }
 
 /// [`run_with`] for work done `chunk` points at a time: `points` gets up to `chunk` (index,
-/// parameters) pairs and returns their results.
+/// parameters) pairs and returns their results. Each worker takes the next chunk of `todo`; the
+/// results of a chunk that finishes before an earlier one wait until that one is passed on.
 pub fn run_chunked<R: Send>(
     grid: &Grid,
     todo: &[usize],
@@ -295,24 +298,44 @@ pub fn run_chunked<R: Send>(
             text: threads.to_string(),
             reason: e.to_string(),
         })?;
-    let (tx, rx) = std::sync::mpsc::channel();
+    let chunks: Vec<&[usize]> = todo.chunks(chunk.max(1)).collect();
+    let next = AtomicUsize::new(0);
+    let workers = pool.current_num_threads();
+    let (tx, rx) = std::sync::mpsc::channel::<(usize, Vec<R>)>();
     std::thread::scope(|s| {
-        let points = &points;
+        let (points, chunks, next) = (&points, &chunks, &next);
         s.spawn(move || {
-            pool.install(|| {
-                todo.par_chunks(chunk.max(1))
-                    .for_each_with(tx, |tx, indices| {
-                        let work: Vec<(usize, Params)> =
-                            indices.iter().map(|&i| (i, grid.point(i))).collect();
-                        for r in points(&work) {
+            pool.scope(|sc| {
+                for _ in 0..workers {
+                    let tx = tx.clone();
+                    // each worker takes the next chunk in `todo` order, so chunks finish
+                    // nearly in that order and few wait below to be passed on
+                    sc.spawn(move |_| {
+                        loop {
+                            let c = next.fetch_add(1, Ordering::Relaxed);
+                            let Some(indices) = chunks.get(c) else { break };
+                            let work: Vec<(usize, Params)> =
+                                indices.iter().map(|&i| (i, grid.point(i))).collect();
                             // the receiver only goes away if the caller panicked
-                            let _ = tx.send(r);
+                            if tx.send((c, points(&work))).is_err() {
+                                break;
+                            }
                         }
                     });
+                }
             });
         });
-        for row in rx {
-            on_row(row);
+        // results passed on in `todo` order: a chunk waits until every chunk before it is done
+        let mut waiting: BTreeMap<usize, Vec<R>> = BTreeMap::new();
+        let mut due = 0;
+        for (c, rows) in rx {
+            waiting.insert(c, rows);
+            while let Some(rows) = waiting.remove(&due) {
+                due += 1;
+                for row in rows {
+                    on_row(row);
+                }
+            }
         }
     });
     Ok(())

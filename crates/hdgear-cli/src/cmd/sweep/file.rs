@@ -22,22 +22,44 @@ pub fn sibling(out: &Path, suffix: &str) -> PathBuf {
     out.with_file_name(name)
 }
 
+/// A row file being written: the settings line and the column names first, then rows one at a
+/// time; nothing is at its path until [`RowFile::commit`] (a temporary until then, removed on
+/// an error, a drop or a signal).
+pub struct RowFile(csv::Writer<hdgear::output::AtomicFile>);
+
+impl RowFile {
+    /// Starts the row file of `settings` at `path`.
+    pub fn create(path: &Path, settings: &Settings) -> Result<RowFile> {
+        let mut f = hdgear::output::AtomicFile::create(path)?;
+        writeln!(f, "{HEADER_TAG}{}", serde_json::to_string(settings)?)?;
+        // the header by hand: csv cannot name the columns of nested structs itself
+        let mut w = csv::WriterBuilder::new().has_headers(false).from_writer(f);
+        w.write_record(SweepRow::COLUMNS)?;
+        Ok(RowFile(w))
+    }
+
+    /// Adds a row.
+    pub fn row(&mut self, r: &SweepRow) -> Result<()> {
+        Ok(self.0.serialize(r)?)
+    }
+
+    /// Puts the file in place.
+    pub fn commit(self) -> Result<()> {
+        let f = self
+            .0
+            .into_inner()
+            .map_err(|e| anyhow::Error::from(e.into_error()))?;
+        Ok(f.commit()?)
+    }
+}
+
 /// Writes a row file afresh, atomically: the settings line, the column names and `rows`.
 pub fn write(path: &Path, settings: &Settings, rows: &[SweepRow]) -> Result<()> {
-    let mut f = hdgear::output::AtomicFile::create(path)?;
-    writeln!(f, "{HEADER_TAG}{}", serde_json::to_string(settings)?)?;
-    {
-        // the header by hand: csv cannot name the columns of nested structs itself
-        let mut w = csv::WriterBuilder::new()
-            .has_headers(false)
-            .from_writer(&mut f);
-        w.write_record(SweepRow::COLUMNS)?;
-        for r in rows {
-            w.serialize(r)?;
-        }
-        w.flush()?;
+    let mut f = RowFile::create(path, settings)?;
+    for r in rows {
+        f.row(r)?;
     }
-    Ok(f.commit()?)
+    f.commit()
 }
 
 /// Opens a row file for appending rows.

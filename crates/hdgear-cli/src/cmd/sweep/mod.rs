@@ -1,13 +1,7 @@
-//! `hdgear sweep`: grid → parallel run with a progress bar → rows streamed into FILE.partial →
-//! FILE in grid order at the end. `--resume` continues from FILE.partial.
-//!
-//! FILE.partial starts with a comment line `# hdgear-sweep {settings}` holding everything that
-//! changes a row (the grid, every detection option and tolerance, the hdgear version), so a
-//! resume with other settings is refused, naming the first difference. A lock on FILE.lock
-//! (holding the owner's pid) keeps a second sweep off the same FILE while one runs.
-
-//! `hdgear sweep`: grid → parallel run with a progress bar → rows streamed into FILE.partial →
-//! FILE in grid order at the end. `--resume` continues from FILE.partial; `--shard K/N` computes
+//! `hdgear sweep`: grid → parallel run with a progress bar → each row, in grid order, appended to
+//! FILE.partial and streamed into FILE (a temporary put in place when the sweep is done), so
+//! memory stays flat however large the grid. `--resume` continues from FILE.partial (its rows
+//! are held while the rest is computed); `--shard K/N` computes
 //! one interleaved part of the grid into FILE's name with `.shard-K-of-N.csv` (joined by
 //! `hdgear merge`); `--slurm N` writes the job scripts that run N shards on a cluster.
 //!
@@ -18,7 +12,7 @@ pub mod file;
 mod slurm;
 
 use crate::cli::SweepArgs;
-use crate::sink::{warn, write_records};
+use crate::sink::warn;
 use anyhow::{Context, Result, anyhow, bail};
 use file::sibling;
 use hdgear::burst::BurstOptions;
@@ -158,62 +152,126 @@ pub fn run(a: SweepArgs) -> Result<()> {
     }
 }
 
+/// Where a sweep's rows end up, written in grid order as they come.
+enum Output {
+    /// A whole sweep: FILE in the format of its extension.
+    Records(hdgear::output::RecordWriter<crate::sink::Sink, SweepRow>),
+    /// A shard: its row file.
+    Shard(Box<file::RowFile>),
+}
+
+impl Output {
+    fn open(job: &Job) -> Result<Output> {
+        Ok(match job.settings.shard {
+            None => {
+                let (sink, format) = crate::sink::Sink::open(Some(&job.file))?;
+                Output::Records(hdgear::output::RecordWriter::new(
+                    sink,
+                    format,
+                    &job.settings,
+                )?)
+            }
+            Some(_) => Output::Shard(Box::new(file::RowFile::create(&job.file, &job.settings)?)),
+        })
+    }
+
+    fn row(&mut self, r: &SweepRow) -> Result<()> {
+        match self {
+            Output::Records(w) => Ok(w.row(r)?),
+            Output::Shard(f) => f.row(r),
+        }
+    }
+
+    fn commit(self) -> Result<()> {
+        match self {
+            Output::Records(w) => w.finish()?.commit(),
+            Output::Shard(f) => f.commit(),
+        }
+    }
+}
+
 /// Computes a checked job.
 fn compute(job: &Job) -> Result<()> {
     let settings = &job.settings;
     let grid = &settings.grid;
     let _lock = Lock::acquire(&job.file)?;
     let partial = sibling(&job.file, ".partial");
-    let mut rows: Vec<SweepRow> = Vec::new();
-    if job.resume && partial.exists() {
-        rows = file::read_partial(&partial, settings)?;
-    } else if partial.exists() {
-        bail!(
-            "{} exists (an interrupted sweep): pass --resume to continue it, or delete it",
-            partial.display()
-        );
-    }
-    file::write(&partial, settings, &rows)?;
-    let mut w = file::append(&partial)?;
-    crate::signals::set_hint(format!(
-        "the finished rows are kept in {}: rerun the same command with --resume",
-        partial.display()
-    ));
-    let done: HashSet<usize> = rows.iter().map(|r| r.index).collect();
+    let (finished, mut w) = open_partial(job, &partial)?;
+    let done: HashSet<usize> = finished.iter().map(|r| r.index).collect();
     let todo: Vec<usize> = settings
         .indices()
         .into_iter()
         .filter(|i| !done.contains(i))
         .collect();
+    drop(done);
 
-    let bar = progress_bar(todo.len() + done.len(), done.len())?;
+    let bar = progress_bar(todo.len() + finished.len(), finished.len())?;
+    let context = || format!("writing {}", job.file.display());
+    let mut out = Output::open(job).with_context(context)?;
+    // the rows come in grid order; a resumed sweep's finished rows (in grid order too) are
+    // merged in before the first new row after them
+    let mut finished = finished.into_iter().peekable();
+    let (mut n, mut failed) = (0usize, 0usize);
+    let mut put = |out: &mut Output, row: &SweepRow| {
+        n += 1;
+        failed += usize::from(!row.error.is_empty());
+        out.row(row).with_context(context)
+    };
     let mut io_err: Option<anyhow::Error> = None;
     hdgear::sweep::run(grid, &settings.options, &todo, job.threads, |row| {
         if io_err.is_none() {
             let res = w
                 .serialize(&row)
                 .map_err(anyhow::Error::from)
-                .and_then(|_| w.flush().map_err(anyhow::Error::from));
-            if let Err(e) = res {
-                io_err = Some(e.context(format!("writing {}", partial.display())));
-            }
+                .and_then(|_| w.flush().map_err(anyhow::Error::from))
+                .with_context(|| format!("writing {}", partial.display()))
+                .and_then(|()| {
+                    while let Some(old) = finished.next_if(|f| f.index < row.index) {
+                        put(&mut out, &old)?;
+                    }
+                    put(&mut out, &row)
+                });
+            io_err = res.err();
         }
-        rows.push(row);
         bar.inc(1);
     })?;
     bar.finish_and_clear();
     if let Some(e) = io_err {
         return Err(e);
     }
-    drop(w);
-    rows.sort_by_key(|r| r.index);
-    let failed = rows.iter().filter(|r| !r.error.is_empty()).count();
-    let n = rows.len();
-    match settings.shard {
-        None => write_records(Some(&job.file), settings, rows)?,
-        Some(_) => file::write(&job.file, settings, &rows)?,
+    for old in finished {
+        put(&mut out, &old)?;
     }
+    drop(w);
+    out.commit().with_context(context)?;
     std::fs::remove_file(&partial).ok();
+    written(job, n, failed)
+}
+
+/// FILE.partial started afresh, or for `--resume` with the rows it holds (returned, in grid
+/// order); then opened for appending.
+fn open_partial(job: &Job, partial: &Path) -> Result<(Vec<SweepRow>, csv::Writer<File>)> {
+    let mut finished: Vec<SweepRow> = Vec::new();
+    if job.resume && partial.exists() {
+        finished = file::read_partial(partial, &job.settings)?;
+    } else if partial.exists() {
+        bail!(
+            "{} exists (an interrupted sweep): pass --resume to continue it, or delete it",
+            partial.display()
+        );
+    }
+    file::write(partial, &job.settings, &finished)?;
+    let w = file::append(partial)?;
+    crate::signals::set_hint(format!(
+        "the finished rows are kept in {}: rerun the same command with --resume",
+        partial.display()
+    ));
+    Ok((finished, w))
+}
+
+/// Says what was written; exit code 1 when every point of a whole sweep failed.
+fn written(job: &Job, n: usize, failed: usize) -> Result<()> {
+    let settings = &job.settings;
     match settings.shard {
         None => eprintln!("wrote {}: {n} rows, {failed} failed", job.file.display()),
         Some(s) => eprintln!(
