@@ -197,20 +197,28 @@ def test_sweep_with_pandas_gives_a_dataframe():
 
 @pytest.mark.skipif((os.cpu_count() or 1) < 2, reason="needs two cores")
 def test_the_gil_is_released_during_a_sweep():
-    g = {"gamma": np.geomspace(0.1, 30, 160)}
+    g = {"gamma": np.geomspace(0.1, 30, 480)}
     hdgear.sweep(g, threads=1)  # warm up
-    t0 = time.perf_counter()
-    hdgear.sweep(g, threads=1)
-    one = time.perf_counter() - t0
-    threads = [threading.Thread(target=hdgear.sweep, args=(g,), kwargs={"threads": 1}) for _ in range(2)]
-    t0 = time.perf_counter()
-    for t in threads:
-        t.start()
-    for t in threads:
-        t.join()
-    two = time.perf_counter() - t0
-    # holding the GIL would serialise them (2×); released, they overlap (≈1× on 2 cores)
-    assert two < 1.6 * one, f"two sweeps in {two:.3f} s, one in {one:.3f} s"
+
+    def one():
+        t0 = time.perf_counter()
+        hdgear.sweep(g, threads=1)
+        return time.perf_counter() - t0
+
+    def two():
+        threads = [threading.Thread(target=hdgear.sweep, args=(g,), kwargs={"threads": 1}) for _ in range(2)]
+        t0 = time.perf_counter()
+        for t in threads:
+            t.start()
+        for t in threads:
+            t.join()
+        return time.perf_counter() - t0
+
+    # holding the GIL would serialise them (2×); released, they overlap (≈1× on 2 cores). Best of
+    # three of each, ~0.1 s apiece: one disturbed run of 0.035 s (160 points, one try) once made
+    # 1.66× on a busy CI machine
+    o, t = min(one() for _ in range(3)), min(two() for _ in range(3))
+    assert t < 1.6 * o, f"two sweeps in {t:.3f} s, one in {o:.3f} s"
 
 
 # ---- the physical drive ----------------------------------------------------------------------
