@@ -196,6 +196,10 @@ fn compute(job: &Job) -> Result<()> {
     let grid = &settings.grid;
     let _lock = Lock::acquire(&job.file)?;
     let partial = sibling(&job.file, ".partial");
+    // the output first: if it cannot be started, no partial file is left behind (a failure
+    // after this drops it, which removes its temporary)
+    let context = || format!("writing {}", job.file.display());
+    let mut out = Output::open(job).with_context(context)?;
     let (finished, mut w) = open_partial(job, &partial)?;
     let done: HashSet<usize> = finished.iter().map(|r| r.index).collect();
     let todo: Vec<usize> = settings
@@ -206,8 +210,6 @@ fn compute(job: &Job) -> Result<()> {
     drop(done);
 
     let bar = progress_bar(todo.len() + finished.len(), finished.len())?;
-    let context = || format!("writing {}", job.file.display());
-    let mut out = Output::open(job).with_context(context)?;
     // the rows come in grid order; a resumed sweep's finished rows (in grid order too) are
     // merged in before the first new row after them
     let mut finished = finished.into_iter().peekable();
