@@ -174,8 +174,9 @@ pub struct TangentResult {
 /// δx'' = (−3αx² + 2x − γ)·δx − δx', its Taylor coefficients from the state's by one more Cauchy
 /// sum per order), [`LANES`] at a time. The step is chosen from the state's and the tangent's
 /// coefficients together (from the state's alone it is far too long near a rest point, where
-/// the state hardly moves while the tangent turns); the tangent is rescaled by an exact power of two after every step, so it neither overflows nor
-/// underflows over any span, and its growth is returned as a logarithm. Benettin's Lyapunov
+/// the state hardly moves while the tangent turns); the tangent is rescaled by an exact power
+/// of two after every step, so it neither overflows nor underflows over any span, and its
+/// growth is returned as a logarithm. Benettin's Lyapunov
 /// exponents in [`crate::periodic::lyapunov_many`] are built on it.
 ///
 /// ```

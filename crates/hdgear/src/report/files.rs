@@ -97,6 +97,12 @@ impl Files {
     /// Writes `bytes` to `name` (relative) atomically, claimed first.
     pub fn bytes(&mut self, name: &str, bytes: &[u8]) -> Result<()> {
         self.claim(name)?;
+        self.write_claimed(name, bytes)
+    }
+
+    /// Writes `bytes` to `name` (relative), already claimed ([`Files::claim`]), atomically; from
+    /// any thread.
+    pub fn write_claimed(&self, name: &str, bytes: &[u8]) -> Result<()> {
         write_atomic(&self.dir.join(name), bytes)
     }
 

@@ -412,7 +412,7 @@ impl Report {
             .zip(&names)
             .map(|(f, (svg_name, png_name))| {
                 let svg = plot::svg(f)?;
-                crate::output::write_atomic(&out.path(svg_name), svg.as_bytes())?;
+                out.write_claimed(svg_name, svg.as_bytes())?;
                 plot::png(f, &out.path(png_name))?;
                 Ok(svg)
             })
@@ -446,13 +446,5 @@ pub fn build(
     if opts.threads == 0 {
         return run();
     }
-    rayon::ThreadPoolBuilder::new()
-        .num_threads(opts.threads)
-        .build()
-        .map_err(|e| crate::Error::InvalidInput {
-            what: "thread count",
-            text: opts.threads.to_string(),
-            reason: e.to_string(),
-        })?
-        .install(run)
+    crate::sweep::pool(opts.threads)?.install(run)
 }

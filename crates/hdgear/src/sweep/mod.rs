@@ -279,6 +279,18 @@ pub fn run_with<R: Send>(
     run_chunked(grid, todo, 1, threads, each, on_row)
 }
 
+/// A pool of `threads` worker threads (0: one per core); the error names the count.
+pub(crate) fn pool(threads: usize) -> Result<rayon::ThreadPool> {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map_err(|e| Error::InvalidInput {
+            what: "thread count",
+            text: threads.to_string(),
+            reason: e.to_string(),
+        })
+}
+
 /// [`run_with`] for work done `chunk` points at a time: `points` gets up to `chunk` (index,
 /// parameters) pairs and returns their results. Each worker takes the next chunk of `todo`; the
 /// results of a chunk that finishes before an earlier one wait until that one is passed on.
@@ -290,14 +302,7 @@ pub fn run_chunked<R: Send>(
     points: impl Fn(&[(usize, Params)]) -> Vec<R> + Sync,
     mut on_row: impl FnMut(R),
 ) -> Result<()> {
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .map_err(|e| Error::InvalidInput {
-            what: "thread count",
-            text: threads.to_string(),
-            reason: e.to_string(),
-        })?;
+    let pool = pool(threads)?;
     let chunks: Vec<&[usize]> = todo.chunks(chunk.max(1)).collect();
     let next = AtomicUsize::new(0);
     let workers = pool.current_num_threads();
