@@ -37,6 +37,7 @@ impl System<2> for Dimensionless {
     }
     /// x_{k+1} = v_k/(k+1), v_{k+1} = (μ[k=0] + δ s_k − v_k − α(x³)_k + (x²)_k − γ x_k
     /// + γε[k=0])/(k+1), with (x²)_k, (x³)_k Cauchy sums and s_k the coefficients of sin ωt.
+    #[inline(always)]
     fn taylor(&self, t: f64, y: &[f64; 2], order: usize, c: &mut [[f64; 2]]) -> bool {
         #[cfg(target_arch = "x86_64")]
         if std::arch::is_x86_feature_detected!("fma") {
@@ -51,6 +52,7 @@ impl System<2> for Dimensionless {
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "fma")]
+#[inline]
 fn taylor_fma(p: &Params, t: f64, y: &[f64; 2], order: usize, c: &mut [[f64; 2]]) {
     taylor_scalar::<true>(p, t, y, order, c);
 }

@@ -515,7 +515,9 @@ fn measure(
             }
             if scanned {
                 history.push(dense);
-                scanner.push(&dense, &history);
+                if let Some(d) = history.latest() {
+                    scanner.push(d, &history);
+                }
             }
         }
     }

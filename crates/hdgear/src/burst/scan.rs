@@ -423,6 +423,12 @@ impl<D: DenseOutput<2>> History<D> {
             }
         }
     }
+
+    /// The latest step (the one pushed last), where it is kept: scanned in place rather than
+    /// from a copy of its own (a Taylor step's polynomial is ~370 bytes).
+    pub(crate) fn latest(&self) -> Option<&D> {
+        self.steps.back()
+    }
 }
 
 impl<D: DenseOutput<2>> Past for History<D> {

@@ -36,6 +36,7 @@ pub fn order_for(eps: f64) -> usize {
 
 /// Normalised Taylor coefficients of sin(ω(t + h)) and cos(ω(t + h)) in h, up to `order`:
 /// s_k = ω^k/k!·sin(ωt + kπ/2).
+#[inline(always)]
 pub fn sine_coefficients(omega: f64, t: f64, order: usize, s: &mut [f64]) {
     let (sn, cs) = libm::sincos(omega * t);
     let cycle = [sn, cs, -sn, -cs];
@@ -70,6 +71,19 @@ pub fn cauchy(a: &[f64], b: &[f64], k: usize) -> f64 {
         .zip(b[..=k].iter().rev())
         .map(|(x, y)| x * y)
         .sum()
+}
+
+/// (a²)_k = Σ_{j=0..=k} a_j a_{k−j} by the symmetric half of the sum: 2·Σ_{j<k/2} a_j a_{k−j},
+/// plus a_{k/2}² for even k.
+#[inline(always)]
+pub fn square_coefficient(a: &[f64], k: usize) -> f64 {
+    let half: f64 = (0..k.div_ceil(2)).map(|j| a[j] * a[k - j]).sum();
+    let middle = if k.is_multiple_of(2) {
+        a[k / 2] * a[k / 2]
+    } else {
+        0.0
+    };
+    2.0 * half + middle
 }
 
 /// The dense output of one Taylor step: the step polynomial.

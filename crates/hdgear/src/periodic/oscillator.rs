@@ -136,7 +136,7 @@ impl Oscillator for Params {
         order: usize,
         c: &mut [[f64; N]],
     ) -> bool {
-        use crate::integrate::taylor::{INV, MAX_ORDER, cauchy, sine_coefficients};
+        use crate::integrate::taylor::{INV, MAX_ORDER, sine_coefficients, square_coefficient};
         let p = self;
         let n = order.min(MAX_ORDER).min(c.len() - 1);
         let k = 1.0 / p.omega;
@@ -173,20 +173,30 @@ impl Oscillator for Params {
         let first = |j: usize| if j == 0 { 1.0 } else { 0.0 };
         for j in 0..n {
             let x = &col[0];
-            x2[j] = cauchy(x, x, j);
-            x3[j] = cauchy(&x2, x, j);
+            x2[j] = square_coefficient(x, j);
+            gp[j] = 3.0 * p.alpha * x2[j] - 2.0 * x[j] + first(j) * p.gamma;
+            // x³'s sum and the three columns' g'·p sums in one pass, four independent chains
+            // (as four loops one after the other, each sum's additions waited on each other:
+            // 57 % of a frequency response's time was this function)
+            let mut sums = [0.0; 4];
+            for i in 0..=j {
+                sums[0] += x2[i] * x[j - i];
+                sums[1] += gp[i] * col[2][j - i];
+                sums[2] += gp[i] * col[4][j - i];
+                sums[3] += gp[i] * col[6][j - i];
+            }
+            x3[j] = sums[0];
             acc[j] = first(j) * (p.mu + p.gamma * p.eps) + p.delta * sine[j]
                 - col[1][j]
                 - (p.alpha * x3[j] - x2[j] + p.gamma * x[j]);
-            gp[j] = 3.0 * p.alpha * x2[j] - 2.0 * x[j] + first(j) * p.gamma;
             let mut next = [0.0; 8];
             next[0] = k * col[1][j];
             next[1] = k * acc[j];
             if N == 8 {
                 // Φ's two columns and w: p' = k q, q' = k (−g' p − q)
-                for (pi, qi) in [(2, 3), (4, 5), (6, 7)] {
+                for (m, (pi, qi)) in [(2, 3), (4, 5), (6, 7)].into_iter().enumerate() {
                     next[pi] = k * col[qi][j];
-                    next[qi] = k * (-cauchy(&gp, &col[pi], j) - col[qi][j]);
+                    next[qi] = k * (-sums[m + 1] - col[qi][j]);
                 }
                 let (d1, d2) = match param {
                     None => (0.0, 0.0),

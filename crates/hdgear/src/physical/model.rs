@@ -77,7 +77,9 @@ impl System<4> for Physical {
     /// The same equations order by order: the spring (k1 + k2θ²)(θ − φ) from Cauchy sums of θ,
     /// the disturbance from the coefficients of sin Ωt.
     fn taylor(&self, t: f64, z: &[f64; 4], order: usize, c: &mut [[f64; 4]]) -> bool {
-        use crate::integrate::taylor::{INV, MAX_ORDER, cauchy, sine_coefficients};
+        use crate::integrate::taylor::{
+            INV, MAX_ORDER, cauchy, sine_coefficients, square_coefficient,
+        };
         let d = &self.d;
         let n = order.min(MAX_ORDER).min(c.len() - 1);
         let (mut th, mut th2, mut s) = (
@@ -89,7 +91,7 @@ impl System<4> for Physical {
         c[0] = *z;
         th[0] = z[0];
         for k in 0..n {
-            th2[k] = cauchy(&th, &th, k);
+            th2[k] = square_coefficient(&th, k);
             let th3 = cauchy(&th2, &th, k);
             let first = if k == 0 { 1.0 } else { 0.0 };
             let spring = d.k1 * (th[k] - first * d.backlash) + d.k2 * (th3 - d.backlash * th2[k]);
