@@ -17,7 +17,8 @@
 //! * [`integrate::Taylor`] (the default) and [`integrate::Dop853`] behind the
 //!   [`integrate::Stepper`] seam, with dense output and events; [`batch`] runs 16
 //!   parameter sets in SIMD lock-step.
-//! * [`simulate::simulate`]: a sampled trajectory with a summary.
+//! * [`simulate::simulate`]: a sampled trajectory with a summary; [`simulate::summarize`], the
+//!   summary alone.
 //! * [`fast`]: equilibria and stability of the fast subsystem, and [`fast::predict`], bursting
 //!   predicted from the equilibrium curve alone.
 //! * [`burst::response`] and [`burst::classify`]: bursts judged by their signatures (jump,

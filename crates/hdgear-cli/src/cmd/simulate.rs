@@ -55,7 +55,7 @@ pub fn run(run: SimulateRun) -> Result<()> {
     warn(&run.warnings);
     if run.summary {
         let mut progress = RunProgress::new(run.opts.t_end, run.opts.t_end);
-        let s = hdgear::simulate::simulate(&run.params, &run.opts, |t, _| progress.at(t))?;
+        let s = hdgear::simulate::summarize(&run.params, &run.opts, |t| progress.at(t))?;
         drop(progress);
         let doc = s.report(&run.params, &run.warnings);
         println!("{}", serde_json::to_string_pretty(&doc)?);

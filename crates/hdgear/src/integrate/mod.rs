@@ -69,6 +69,12 @@ pub trait DenseOutput<const N: usize> {
     fn end_state(&self) -> [f64; N] {
         self.eval(self.t_end())
     }
+    /// An upper bound of |y_i| over the whole step, where the dense output gives one cheaply
+    /// (Taylor's step polynomial: Σ_k |c_k,i|·h^k), else `None` (the default). Lets a caller
+    /// that looks for a largest value skip a step that cannot hold one.
+    fn abs_bound(&self, _i: usize) -> Option<f64> {
+        None
+    }
 }
 
 /// A one-step integrator positioned at (t, y): the seam every driver (simulation, burst
@@ -767,6 +773,12 @@ impl<const N: usize> DenseOutput<N> for AnyDense<N> {
         match self {
             AnyDense::Taylor(d) => d.eval(t),
             AnyDense::Dop853(d) => d.eval(t),
+        }
+    }
+    fn abs_bound(&self, i: usize) -> Option<f64> {
+        match self {
+            AnyDense::Taylor(d) => d.abs_bound(i),
+            AnyDense::Dop853(d) => d.abs_bound(i),
         }
     }
 }

@@ -128,6 +128,15 @@ impl<const N: usize> DenseOutput<N> for TaylorDense<N> {
     fn end_state(&self) -> [f64; N] {
         self.y1
     }
+    /// Σ_k |c_k,i|·h^k with h the step's length, by Horner's rule on the absolute values.
+    fn abs_bound(&self, i: usize) -> Option<f64> {
+        if i >= N {
+            return None;
+        }
+        let h = self.t1 - self.t0;
+        let c = self.c.get(..=self.order)?;
+        Some(c.iter().rev().fold(0.0, |b, row| b * h + row[i].abs()))
+    }
 }
 
 /// [`horner`] with fused multiply-adds (half the latency of the chain: dense output is evaluated
