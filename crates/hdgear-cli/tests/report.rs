@@ -294,3 +294,95 @@ fn report_renders_in_headless_chromium() {
         ink
     );
 }
+
+/// The direct check [`hdgear::figures::decimate`] replaced: every point between an anchor and a
+/// candidate end measured against the line between them.
+fn direct(points: &[(f64, f64)], tol: f64) -> Vec<(f64, f64)> {
+    if points.len() < 3 {
+        return points.to_vec();
+    }
+    let mut out = vec![points[0]];
+    let mut anchor = 0;
+    for i in 2..points.len() {
+        let ((x0, y0), (x1, y1)) = (points[anchor], points[i]);
+        let ok = (anchor + 1..i).all(|j| {
+            let (x, y) = points[j];
+            let w = if x1 != x0 { (x - x0) / (x1 - x0) } else { 0.0 };
+            (y0 + w * (y1 - y0) - y).abs() <= tol
+        });
+        if !ok {
+            anchor = i - 1;
+            out.push(points[anchor]);
+        }
+    }
+    out.push(points[points.len() - 1]);
+    out
+}
+
+/// The linear-time decimation keeps exactly the points the direct check (every point between an
+/// anchor and a candidate end measured against the line between them) keeps, on the kinds of
+/// series the figures draw: a ringing signal at the plots' tolerance, a random walk, an S-shaped
+/// curve whose x turns back (an equilibrium curve drawn against a), repeated x, a NaN.
+#[test]
+fn decimation_keeps_the_points_the_direct_check_keeps() {
+    use hdgear::figures::decimate;
+    let ringing: Vec<(f64, f64)> = (0..20_000)
+        .map(|i| {
+            let t = 0.05 * f64::from(i);
+            (
+                t,
+                (-t / 300.0).exp() * (0.7 * t).sin() + 0.2 * (0.01 * t).sin(),
+            )
+        })
+        .collect();
+    let mut state = 0x2545_f491_4f6c_dd1du64;
+    let mut walk = vec![(0.0, 0.0)];
+    for i in 1..5000 {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        let step = (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
+        let last = walk[walk.len() - 1].1;
+        walk.push((
+            f64::from(i),
+            last + step * if i % 500 < 250 { 1e-3 } else { 1.0 },
+        ));
+    }
+    let s_curve: Vec<(f64, f64)> = (0..4000)
+        .map(|i| {
+            let x = -1.2 + 2.4 * f64::from(i) / 3999.0;
+            (16.0 * x * x * x - 3.0 * x, x)
+        })
+        .collect();
+    let repeated = vec![
+        (0.0, 0.0),
+        (0.0, 1e-4),
+        (1.0, 1.0),
+        (1.0, 1.0),
+        (2.0, 2.0),
+        (2.0, 5.0),
+        (3.0, 0.0),
+        (4.0, f64::NAN),
+        (5.0, 1.0),
+        (6.0, 2.0),
+    ];
+    for (name, points, tol) in [
+        ("ringing", &ringing, 1e-3 * 2.4),
+        ("random walk", &walk, 1e-2),
+        ("S-curve", &s_curve, 1e-3),
+        ("repeated x and a NaN", &repeated, 1e-3),
+    ] {
+        let (fast, slow) = (decimate(points, tol), direct(points, tol));
+        eprintln!("{name}: {} points -> {}", points.len(), fast.len());
+        assert!(
+            fast.len() < points.len() || points.len() < 20,
+            "{name}: nothing dropped"
+        );
+        let same = fast.len() == slow.len()
+            && fast
+                .iter()
+                .zip(&slow)
+                .all(|(a, b)| a.0.to_bits() == b.0.to_bits() && a.1.to_bits() == b.1.to_bits());
+        assert!(same, "{name}: {} vs {} points", fast.len(), slow.len());
+    }
+}
