@@ -9,6 +9,7 @@ use crate::params::{Param, Params};
 use crate::study::{Case, GridRun, Study};
 use crate::sweep::Axis;
 use crate::table::STUDY_GAMMAS;
+use rayon::prelude::*;
 
 /// The figure kinds (`hdgear plot KIND`, the report's figures). Adding a figure is a variant
 /// here, a line in [`KINDS`] and its function.
@@ -770,7 +771,6 @@ fn fold_boundary(base: &Params, g_min: f64, d_max: f64) -> Vec<(f64, f64)> {
 /// The (γ, δ) boundary predicted from the equilibrium curve alone: for each γ in `xr` the δ in
 /// `yr` above which bursting is predicted.
 fn predicted_delta_boundary(base: &Params, xr: (f64, f64), yr: (f64, f64)) -> Vec<(f64, f64)> {
-    use rayon::prelude::*;
     let gc = base.critical_gamma();
     // one bisection of predictions per γ, the γs side by side (the figure stage is otherwise
     // on one core)
@@ -891,7 +891,6 @@ pub fn by_kind(
 type Curve = Vec<(f64, f64)>;
 
 fn boundary_curves(base: &Params) -> (Curve, Curve) {
-    use rayon::prelude::*;
     let gc = base.critical_gamma();
     let (g0, g1) = (gc * 1.001, 30.0_f64);
     let gammas: Vec<f64> = (0..200)

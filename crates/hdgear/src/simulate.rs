@@ -84,11 +84,10 @@ pub fn simulate(
     opts: &SimOptions,
     mut out: impl FnMut(f64, &[f64; 2]),
 ) -> Result<SimSummary> {
-    p.validate()?;
-    crate::integrate::check_budget(opts.t_end, &opts.tol)?;
+    let y0 = checked_start(p, opts)?;
     let mut grid = Grid::new(0.0, opts.t_end, opts.dt)?;
-    grid.start(&initial_state(p, opts.start), &mut out);
-    let summary = run(p, opts, |d, y_end| grid.fill(d, y_end, &mut out))?;
+    grid.start(&y0, &mut out);
+    let summary = run(p, opts, y0, |d, y_end| grid.fill(d, y_end, &mut out))?;
     grid.finish(&summary.final_state, &mut out);
     Ok(summary)
 }
@@ -104,11 +103,19 @@ pub fn simulate(
 /// assert_eq!(alone, simulate(&p, &opts, |_, _| {}).unwrap());
 /// ```
 pub fn summarize(p: &Params, opts: &SimOptions, mut at: impl FnMut(f64)) -> Result<SimSummary> {
-    run(p, opts, |d, _| at(d.t_end()))
+    run(p, opts, checked_start(p, opts)?, |d, _| at(d.t_end()))
 }
 
-/// The integration both [`simulate`] and [`summarize`] run, showing each step's dense output and
-/// end state to `each`. max |x'| comes from the step ends and the extrema of x' (zeros of x''
+/// The checks both entry points make first (usable parameters, a run the step budget can reach),
+/// then the initial state.
+fn checked_start(p: &Params, opts: &SimOptions) -> Result<[f64; 2]> {
+    p.validate()?;
+    crate::integrate::check_budget(opts.t_end, &opts.tol)?;
+    Ok(initial_state(p, opts.start))
+}
+
+/// The integration both [`simulate`] and [`summarize`] run from `y0` ([`checked_start`]), showing
+/// each step's dense output and end state to `each`. max |x'| comes from the step ends and the extrema of x' (zeros of x''
 /// located on the dense output); a step whose polynomial bounds |x'| below the largest value so
 /// far ([`crate::integrate::DenseOutput::abs_bound`]) cannot hold a larger one and is not searched
 /// (the bound is a sum of positive terms, rounded by at most (order + 1)·2⁻⁵³ relative: 1e-14 of
@@ -116,11 +123,9 @@ pub fn summarize(p: &Params, opts: &SimOptions, mut at: impl FnMut(f64)) -> Resu
 fn run(
     p: &Params,
     opts: &SimOptions,
+    y0: [f64; 2],
     mut each: impl FnMut(&AnyDense<2>, &[f64; 2]),
 ) -> Result<SimSummary> {
-    p.validate()?;
-    crate::integrate::check_budget(opts.t_end, &opts.tol)?;
-    let y0 = initial_state(p, opts.start);
     let sys = Dimensionless::new(*p);
     let mut solver = stepper(&sys, 0.0, y0, opts.tol)?;
     let mut extrema = Detector::new(|t, y: &[f64; 2]| sys.rhs(t, y)[1], Direction::Either);
