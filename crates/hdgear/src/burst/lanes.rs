@@ -1,19 +1,22 @@
 //! The burst scan of a batch's [`LANES`] trajectories, one step of all of them at a time: what
 //! every step needs (x and x' at the midpoint, the equilibrium followed at the midpoint and the
 //! end, the sample's measures) is computed over all lanes at once in vector registers, from the
-//! batch's own rows and its carried sin ωt and cos ωt; then each lane's [`Scanner`] looks for
-//! events between its samples and, only where it finds one, locates it on that lane's step
-//! polynomial. A lane whose tracker needs more than two Newton steps (or the exact solve: with
-//! three equilibria, or off a stable branch) is sampled by its scanner as in the scan of one
-//! trajectory. The steps kept for pulse onsets are one copy of the batch's x' rows per step.
+//! batch's own rows and its carried sin ωt and cos ωt; so is whether a lane's step holds any event
+//! at all ([`scan::eventful`]). A step without one changes only a few running maxima, kept over
+//! the lanes ([`Quiet`]); a lane with one goes to its [`Scanner`], which locates the events on
+//! that lane's step polynomial. A lane whose tracker needs more than two Newton steps (or the
+//! exact solve: with three equilibria, or off a stable branch) is sampled by its scanner as in
+//! the scan of one trajectory. The steps kept for pulse onsets are one copy of the batch's x' rows
+//! per step, with a lower bound of |x'| on each, so the onset search passes over most of them
+//! without evaluating them.
 
 use super::scan::{
-    Past, Sample, Scan, Scanner, TURN_BACK_MAX, measure, midpoint, onset_in, turn_back,
+    self, Past, Sample, Scan, Scanner, TURN_BACK_MAX, measure, midpoint, onset_in, turn_back,
 };
 use crate::batch::{LANES, Simd, StepLanes, horner_lanes};
 use crate::fast::newton;
 use crate::integrate::DenseOutput;
-use crate::integrate::taylor::{MAX_ORDER, TaylorDense, mul_add};
+use crate::integrate::taylor::{MAX_ORDER, TaylorDense, abs_floor, mul_add};
 use crate::params::Params;
 use std::cell::OnceCell;
 use std::collections::VecDeque;
@@ -34,6 +37,10 @@ pub(crate) struct LaneScan {
     t_end: V,
     /// How far back each lane's pulse onsets are looked for.
     span: V,
+    /// Each lane's equilibrium tracker's warm start, between steps (its scanner's tracker is set
+    /// from it whenever the scanner works on the lane).
+    trackers: Trackers,
+    quiet: Quiet,
     steps: Steps,
     simd: Simd,
 }
@@ -56,6 +63,8 @@ impl LaneScan {
             let multi = pick(l).and_then(|s| s.0.follower_ref().multi());
             multi.unwrap_or((f64::INFINITY, f64::NEG_INFINITY))
         });
+        let quiet = Quiet::new(&std::array::from_fn(|l| pick(l).map(|s| &s.0)));
+        let simd = Simd::detect();
         LaneScan {
             multi,
             scanners: scanners.into_iter().map(|s| Some(s.0)).collect(),
@@ -63,27 +72,44 @@ impl LaneScan {
             params,
             t_end,
             span,
-            steps: Steps::new(),
-            simd: Simd::detect(),
+            trackers: Trackers::default(),
+            quiet,
+            steps: Steps::new(simd),
+            simd,
         }
     }
 
-    /// Scans one step of every shown lane.
+    /// Scans one step of every shown lane: the lanes without events over all lanes at once
+    /// ([`Quiet::absorb`]), the others by their own scanner.
     pub(crate) fn push(&mut self, step: &StepLanes<'_>) {
         let shown: [bool; LANES] = std::array::from_fn(|l| {
             step.shown[l] && self.scanners.get(l).is_some_and(Option::is_some)
         });
         self.steps.push(step, &shown);
-        // each lane's start (sampled by its scanner on a lane's first step) and tracker
-        let mut trackers = Trackers::default();
+        // a lane's first step: its scanner samples the start (and follows the equilibrium there)
         for l in (0..LANES).filter(|&l| shown[l]) {
+            if self.quiet.started[l] {
+                continue;
+            }
             if let Some(s) = self.scanners[l].as_mut() {
                 s.start(&LaneDense::new(step, l));
-                trackers.set(l, s.follower().state());
+                self.trackers.set(l, s.follower().state());
+                if let Some(last) = s.last() {
+                    self.quiet.last.set(l, &last);
+                }
+                self.quiet.started[l] = true;
             }
         }
-        let mid = self.sampled(step, &shown, &mut trackers, Point::Mid);
-        let end = self.sampled(step, &shown, &mut trackers, Point::End);
+        let mid = self.sampled(step, &shown, Point::Mid);
+        let end = self.sampled(step, &shown, Point::End);
+        let eventful = absorb(
+            self.simd,
+            &mut self.quiet,
+            &self.params.omega,
+            &shown,
+            &mid,
+            &end,
+        );
         for l in (0..LANES).filter(|&l| shown[l]) {
             let past = LanePast {
                 steps: &self.steps,
@@ -93,9 +119,16 @@ impl LaneScan {
             let Some(s) = self.scanners[l].as_mut() else {
                 continue;
             };
-            s.follower().set_state(trackers.get(l));
-            s.push_sampled(&LaneDense::new(step, l), mid.get(l), end.get(l), &past);
-            if step.t1[l] >= self.t_end[l] {
+            let over = step.t1[l] >= self.t_end[l];
+            if eventful[l] || over {
+                self.quiet.hand_over(l, s);
+            }
+            if eventful[l] {
+                s.follower().set_state(self.trackers.get(l));
+                s.push_sampled(&LaneDense::new(step, l), mid.get(l), end.get(l), &past);
+                self.quiet.last.set(l, &end.get(l));
+            }
+            if over {
                 // the lane's scan is over: finished now, while its steps are kept
                 if let Some(s) = self.scanners[l].take() {
                     self.done[l] = Some(s.finish(&past));
@@ -112,24 +145,9 @@ impl LaneScan {
 
     /// The samples at the midpoint or the end of every lane's step: over all lanes at once, then
     /// the lanes that need more (see the module) by their own scanner.
-    fn sampled(
-        &mut self,
-        step: &StepLanes<'_>,
-        shown: &[bool; LANES],
-        trackers: &mut Trackers,
-        at: Point,
-    ) -> Samples {
-        let (mut out, ok) = match self.simd {
-            // SAFETY: `Simd::detect` found these features on this CPU.
-            #[cfg(target_arch = "x86_64")]
-            Simd::Avx512 => unsafe {
-                samples_avx512(&self.params, &self.multi, step, trackers, at)
-            },
-            // SAFETY: as above.
-            #[cfg(target_arch = "x86_64")]
-            Simd::Avx2 => unsafe { samples_avx2(&self.params, &self.multi, step, trackers, at) },
-            _ => samples::<false>(&self.params, &self.multi, step, trackers, at),
-        };
+    fn sampled(&mut self, step: &StepLanes<'_>, shown: &[bool; LANES], at: Point) -> Samples {
+        let trackers = &mut self.trackers;
+        let (mut out, ok) = samples_at(self.simd, &self.params, &self.multi, step, trackers, at);
         for l in (0..LANES).filter(|&l| shown[l] && !ok[l]) {
             let Some(s) = self.scanners[l].as_mut() else {
                 continue;
@@ -149,6 +167,103 @@ impl LaneScan {
             trackers.set(l, s.follower().state());
         }
         out
+    }
+}
+
+/// What the scan of a step without events changes ([`Scanner::quiet`]: the window statistics and
+/// an open lobe's growth), over all lanes at once, with each lane's last sample; handed to the
+/// lane's scanner before it next works on the lane ([`Quiet::hand_over`]). Events are rare
+/// (about one sub-interval in forty in a (γ, δ) map), so most steps of most lanes end here.
+struct Quiet {
+    /// Each lane's last sample (the end of its latest step), once `started`.
+    last: Samples,
+    /// Lanes whose scanner has sampled its start.
+    started: [bool; LANES],
+    /// Each lane's fold abscissae (NaN without folds) and window.
+    band: (V, V),
+    window: (V, V),
+    /// The window's largest |x'|, |e|, |e₁| and the largest |e| (an open lobe's growth) since the
+    /// lane was last handed over.
+    peak: V,
+    lag: V,
+    lag1: V,
+    lobe: V,
+}
+
+impl Quiet {
+    fn new(scanners: &[Option<&Scanner>; LANES]) -> Quiet {
+        let pick = |f: fn(&Scanner) -> (f64, f64)| {
+            let pairs = scanners.map(|s| s.map_or((f64::NAN, f64::NAN), f));
+            (pairs.map(|p| p.0), pairs.map(|p| p.1))
+        };
+        Quiet {
+            last: Samples::default(),
+            started: [false; LANES],
+            band: pick(Scanner::band),
+            window: pick(Scanner::window),
+            peak: [0.0; LANES],
+            lag: [0.0; LANES],
+            lag1: [0.0; LANES],
+            lobe: [0.0; LANES],
+        }
+    }
+
+    /// Scans the step from each shown lane's last sample through `mid` to `end` where it has no
+    /// event ([`scan::eventful`] false on both halves), whose last sample becomes `end`, and
+    /// returns which lanes have one (their last sample is unchanged: their scanner takes it).
+    #[inline(always)]
+    #[allow(clippy::needless_range_loop)] // lanes of parallel arrays, indexed together
+    fn absorb(
+        &mut self,
+        omega: &V,
+        shown: &[bool; LANES],
+        mid: &Samples,
+        end: &Samples,
+    ) -> [bool; LANES] {
+        let mut eventful = [false; LANES];
+        for l in 0..LANES {
+            let (a, m, b) = (self.last.get(l), mid.get(l), end.get(l));
+            let band = (self.band.0[l], self.band.1[l]);
+            let events =
+                scan::eventful(omega[l], band, &a, &m) | scan::eventful(omega[l], band, &m, &b);
+            eventful[l] = shown[l] & events;
+            let quiet = shown[l] & !events;
+            let (lo, hi) = (self.window.0[l], self.window.1[l]);
+            for s in [a, m, b] {
+                let counted = quiet & (s.t >= lo) & (s.t <= hi);
+                self.peak[l] = if counted {
+                    self.peak[l].max(s.v.abs())
+                } else {
+                    self.peak[l]
+                };
+                self.lag[l] = if counted {
+                    self.lag[l].max(s.e.abs())
+                } else {
+                    self.lag[l]
+                };
+                self.lag1[l] = if counted {
+                    self.lag1[l].max(s.e1.abs())
+                } else {
+                    self.lag1[l]
+                };
+            }
+            let grown = self.lobe[l].max(m.e.abs()).max(b.e.abs());
+            self.lobe[l] = if quiet { grown } else { self.lobe[l] };
+        }
+        for l in (0..LANES).filter(|&l| shown[l] && !eventful[l]) {
+            self.last.set(l, &end.get(l));
+        }
+        eventful
+    }
+
+    /// Hands lane `l`'s quiet steps to its scanner ([`Scanner::resume`]) and starts afresh.
+    fn hand_over(&mut self, l: usize, s: &mut Scanner) {
+        s.resume(
+            self.last.get(l),
+            self.lobe[l],
+            [self.peak[l], self.lag[l], self.lag1[l]],
+        );
+        (self.peak[l], self.lag[l], self.lag1[l], self.lobe[l]) = (0.0, 0.0, 0.0, 0.0);
     }
 }
 
@@ -257,25 +372,66 @@ impl Samples {
     }
 }
 
-/// [`samples`] compiled for a vector unit (`$features`), with fused multiply-adds.
-macro_rules! samples_for {
-    ($name:ident, $features:literal) => {
-        #[cfg(target_arch = "x86_64")]
-        #[target_feature(enable = $features)]
-        fn $name(
-            params: &ParamLanes,
-            multi: &[(f64, f64); LANES],
-            step: &StepLanes<'_>,
-            trackers: &mut Trackers,
-            at: Point,
-        ) -> (Samples, [bool; LANES]) {
-            samples::<true>(params, multi, step, trackers, at)
+/// `$name(simd, args…)` runs `$body` (a call of a function marked `#[inline(always)]`, with the
+/// constant `FMA` in scope) compiled for the vector unit `simd` names: AVX-512 or AVX2, each with
+/// fused multiply-adds (`FMA` true), else the portable path (`FMA` false).
+macro_rules! dispatched {
+    ($(#[$doc:meta])* fn $name:ident($($arg:ident: $ty:ty),*) -> $ret:ty = $body:expr) => {
+        $(#[$doc])*
+        fn $name(simd: Simd, $($arg: $ty),*) -> $ret {
+            #[cfg(target_arch = "x86_64")]
+            #[target_feature(enable = "avx512f,fma")]
+            fn avx512($($arg: $ty),*) -> $ret {
+                #[allow(dead_code)] // (not every body multiplies)
+                const FMA: bool = true;
+                $body
+            }
+            #[cfg(target_arch = "x86_64")]
+            #[target_feature(enable = "avx2,fma")]
+            fn avx2($($arg: $ty),*) -> $ret {
+                #[allow(dead_code)] // (not every body multiplies)
+                const FMA: bool = true;
+                $body
+            }
+            fn portable($($arg: $ty),*) -> $ret {
+                #[allow(dead_code)] // (as above)
+                const FMA: bool = false;
+                $body
+            }
+            match simd {
+                // SAFETY: `Simd::detect` found these features on this CPU.
+                #[cfg(target_arch = "x86_64")]
+                Simd::Avx512 => unsafe { avx512($($arg),*) },
+                // SAFETY: as above.
+                #[cfg(target_arch = "x86_64")]
+                Simd::Avx2 => unsafe { avx2($($arg),*) },
+                _ => portable($($arg),*),
+            }
         }
     };
 }
 
-samples_for!(samples_avx512, "avx512f,fma");
-samples_for!(samples_avx2, "avx2,fma");
+dispatched! {
+    /// [`samples`] on the widest vector unit.
+    fn samples_at(
+        params: &ParamLanes,
+        multi: &[(f64, f64); LANES],
+        step: &StepLanes<'_>,
+        trackers: &mut Trackers,
+        at: Point
+    ) -> (Samples, [bool; LANES]) = samples::<FMA>(params, multi, step, trackers, at)
+}
+
+dispatched! {
+    /// [`Quiet::absorb`] on the widest vector unit.
+    fn absorb(
+        quiet: &mut Quiet,
+        omega: &V,
+        shown: &[bool; LANES],
+        mid: &Samples,
+        end: &Samples
+    ) -> [bool; LANES] = quiet.absorb(omega, shown, mid, end)
+}
 
 /// Every lane's sample at `at`, following each lane's equilibrium by at most two Newton steps
 /// from the tracker's prediction (what `EquilibriumTracker::at` does on a branch alone); `false`
@@ -381,29 +537,33 @@ impl DenseOutput<2> for LaneDense<'_, '_> {
     }
 }
 
-/// One step of every lane as kept for pulse onsets: start, end, which lanes it belongs to, and
-/// x''s rows.
+/// One step of every lane as kept for pulse onsets: start, end, which lanes it belongs to, x''s
+/// rows and a lower bound of |x'| over the step ([`abs_floor`]). Kept boxed: the queue moves
+/// pointers.
 struct Kept {
     t0: V,
     t1: V,
+    floor: V,
     shown: [bool; LANES],
     order: usize,
-    v: Box<[V; MAX_ORDER + 1]>,
+    v: [V; MAX_ORDER + 1],
 }
 
 /// The steps kept, oldest first, and the latest end of each lane (with whether the latest step
 /// showed the lane).
 struct Steps {
-    kept: VecDeque<Kept>,
-    /// Storage of forgotten steps, reused.
-    spare: Vec<Kept>,
+    kept: VecDeque<Box<Kept>>,
+    /// Storage of forgotten steps, reused (boxed: moved in and out of the queue as pointers).
+    #[allow(clippy::vec_box)]
+    spare: Vec<Box<Kept>>,
     latest: V,
     live: [bool; LANES],
     fma: bool,
+    simd: Simd,
 }
 
 impl Steps {
-    fn new() -> Steps {
+    fn new(simd: Simd) -> Steps {
         Steps {
             kept: VecDeque::new(),
             spare: Vec::new(),
@@ -411,19 +571,24 @@ impl Steps {
             live: [false; LANES],
             // x' evaluated as `TaylorDense::eval` does it (fused where the CPU can)
             fma: fma(),
+            simd,
         }
     }
 
     fn push(&mut self, step: &StepLanes<'_>, shown: &[bool; LANES]) {
-        let mut k = self.spare.pop().unwrap_or_else(|| Kept {
-            t0: [0.0; LANES],
-            t1: [0.0; LANES],
-            shown: [false; LANES],
-            order: 0,
-            v: Box::new([[0.0; LANES]; MAX_ORDER + 1]),
+        let mut k = self.spare.pop().unwrap_or_else(|| {
+            Box::new(Kept {
+                t0: [0.0; LANES],
+                t1: [0.0; LANES],
+                floor: [0.0; LANES],
+                shown: [false; LANES],
+                order: 0,
+                v: [[0.0; LANES]; MAX_ORDER + 1],
+            })
         });
         (k.t0, k.t1, k.shown, k.order) = (*step.t0, *step.t1, *shown, step.order);
         k.v[..=step.order].copy_from_slice(step.v);
+        k.floor = floors(self.simd, step.v, step.t0, step.t1);
         self.kept.push_back(k);
         self.latest = *step.t1;
         self.live = *shown;
@@ -444,6 +609,36 @@ impl Steps {
             }
         }
     }
+}
+
+dispatched! {
+    /// [`floors_of`] on the widest vector unit.
+    fn floors(v: &[V], t0: &V, t1: &V) -> V = floors_of(v, t0, t1)
+}
+
+/// Each lane's lower bound of |x'| over its step from `t0` to `t1`, x''s coefficient rows `v`
+/// ([`abs_floor`], as `TaylorDense::abs_floor` computes it).
+#[inline(always)]
+#[allow(clippy::needless_range_loop)] // lanes of parallel arrays, indexed together
+fn floors_of(v: &[V], t0: &V, t1: &V) -> V {
+    let mut h = [0.0; LANES];
+    for l in 0..LANES {
+        h[l] = t1[l] - t0[l];
+    }
+    let Some((first, higher)) = v.split_first() else {
+        return [f64::NEG_INFINITY; LANES];
+    };
+    let mut rest = [0.0; LANES];
+    for row in higher.iter().rev() {
+        for l in 0..LANES {
+            rest[l] = rest[l] * h[l] + row[l].abs();
+        }
+    }
+    let mut out = [0.0; LANES];
+    for l in 0..LANES {
+        out[l] = abs_floor(first[l].abs(), rest[l] * h[l]);
+    }
+    out
 }
 
 /// Lane `l`'s polynomial with coefficient rows `rows` at `h`, by Horner's rule (as
@@ -493,8 +688,8 @@ impl Past for LanePast<'_> {
             .rev()
             .filter(|k| k.shown[l])
             .take_while(|k| k.t1[l] >= from)
-            .map(|k| (k.t0[l], k.t1[l], k));
-        onset_in(own, t, peak, |k, s| {
+            .map(|k| (k.t0[l], k.t1[l], &**k));
+        let xdot = |k: &&Kept, s: f64| {
             let rows = &k.v[..=k.order];
             let h = s - k.t0[l];
             #[cfg(target_arch = "x86_64")]
@@ -503,6 +698,7 @@ impl Past for LanePast<'_> {
                 return unsafe { lane_horner_fma(rows, l, h) };
             }
             lane_horner::<false>(rows, l, h)
-        })
+        };
+        onset_in(own, t, peak, xdot, |k| k.floor[l])
     }
 }

@@ -103,9 +103,10 @@ pub(crate) struct Scan {
     pub max_first_order_lag: f64,
 }
 
-/// The streaming scanner. Feed it every step's dense output in order with [`Scanner::push`]
+/// The streaming scanner (`Debug` and `Clone` for its tests). Feed it every step's dense output in order with [`Scanner::push`]
 /// (or, with the samples measured elsewhere, [`Scanner::push_sampled`]), keeping the steps in
 /// a [`Past`] for the pulse onsets.
+#[derive(Clone, Debug)]
 pub(crate) struct Scanner {
     p: Params,
     follower: EquilibriumTracker,
@@ -229,8 +230,68 @@ impl Scanner {
         }
     }
 
+    /// The fold abscissae bounding the unstable band, as [`eventful`] takes them.
+    pub(crate) fn band(&self) -> (f64, f64) {
+        self.band.unwrap_or((f64::NAN, f64::NAN))
+    }
+
+    /// Where the window statistics are taken.
+    pub(crate) fn window(&self) -> (f64, f64) {
+        self.window
+    }
+
+    /// The last sample (the latest step's end), once the scan has started.
+    pub(crate) fn last(&self) -> Option<Sample> {
+        self.last
+    }
+
+    /// Takes the lane back after steps without events were scanned elsewhere (see
+    /// [`Scanner::quiet`]): `last` is the latest of them's end, `lobe_growth` the largest |e| at
+    /// their samples (the growth of a lobe open throughout them), and `maxima` the window's
+    /// largest |x'|, |e| and |e₁| over them.
+    pub(crate) fn resume(&mut self, last: Sample, lobe_growth: f64, maxima: [f64; 3]) {
+        self.last = Some(last);
+        if let Some(l) = self.lobe.as_mut() {
+            l.2 = l.2.max(lobe_growth);
+        }
+        let o = &mut self.out;
+        o.peak_abs_xdot = o.peak_abs_xdot.max(maxima[0]);
+        o.max_lag = o.max_lag.max(maxima[1]);
+        o.max_first_order_lag = o.max_first_order_lag.max(maxima[2]);
+    }
+
+    /// Counts a sample in the window statistics.
+    fn window_maxima(&mut self, s: &Sample) {
+        if self.in_window(s.t) {
+            self.out.peak_abs_xdot = self.out.peak_abs_xdot.max(s.v.abs());
+            self.out.max_lag = self.out.max_lag.max(s.e.abs());
+            self.out.max_first_order_lag = self.out.max_first_order_lag.max(s.e1.abs());
+        }
+    }
+
+    /// A sub-interval without events ([`eventful`] false): all it changes are the window
+    /// statistics and the growth of an open lobe. (The scan of a batch makes the same changes over
+    /// all its lanes at once.)
+    fn quiet(&mut self, a: &Sample, b: &Sample) {
+        self.window_maxima(a);
+        self.window_maxima(b);
+        if let Some(l) = self.lobe.as_mut() {
+            l.2 = l.2.max(b.e.abs());
+        }
+    }
+
     /// Processes the sub-interval between two samples.
     fn interval<D: DenseOutput<2>>(&mut self, d: &D, a: &Sample, b: &Sample, past: &impl Past) {
+        if !eventful(self.p.omega, self.band(), a, b) {
+            #[cfg(test)]
+            tests::check_quiet(self, d, a, b, past);
+            return self.quiet(a, b);
+        }
+        self.events(d, a, b, past);
+    }
+
+    /// [`Scanner::interval`] where [`eventful`] found something.
+    fn events<D: DenseOutput<2>>(&mut self, d: &D, a: &Sample, b: &Sample, past: &impl Past) {
         let p = self.p;
         // --- extrema of x': sign changes of x''
         if (a.acc > 0.0) != (b.acc > 0.0) && a.acc != 0.0 {
@@ -248,13 +309,8 @@ impl Scanner {
                 self.emit_pivot(tp, vp, past);
             }
         }
-        for s in [a, b] {
-            if self.in_window(s.t) {
-                self.out.peak_abs_xdot = self.out.peak_abs_xdot.max(s.v.abs());
-                self.out.max_lag = self.out.max_lag.max(s.e.abs());
-                self.out.max_first_order_lag = self.out.max_first_order_lag.max(s.e1.abs());
-            }
-        }
+        self.window_maxima(a);
+        self.window_maxima(b);
         // --- jumps across the band between the fold abscissae
         if let Some((xm, xp)) = self.band {
             let side = self.band_side(b.x, self.side);
@@ -368,6 +424,24 @@ impl Scanner {
     }
 }
 
+/// Whether [`Scanner::interval`] has anything to locate between samples `a` and `b` (of a model
+/// with forcing frequency `omega` and fold abscissae `band`, NaN without folds): a sign change of
+/// x'' (an extremum of x'), of e or of e' (a lobe's end or extremum), a crossing of either fold
+/// abscissa (a jump, or the side of the band the state is on changing), or a turning point of a
+/// that the cheap test cannot rule out. Each test is the one `interval` and its helpers make (the
+/// side: after `a` it is the side `a` is on, so it changes only if x crosses an abscissa), written
+/// with `|` and `&` so that the scan of a batch evaluates it over all lanes at once.
+#[inline(always)]
+pub(crate) fn eventful(omega: f64, (xm, xp): (f64, f64), a: &Sample, b: &Sample) -> bool {
+    let acc = ((a.acc > 0.0) != (b.acc > 0.0)) & (a.acc != 0.0);
+    let side = ((a.x < xm) != (b.x < xm)) | ((a.x > xp) != (b.x > xp));
+    let e = ((a.e > 0.0) != (b.e > 0.0)) & (a.e != 0.0);
+    let one_sign = ((a.c > 0.0) == (b.c > 0.0)) & (a.c.abs().min(b.c.abs()) > 1e-6);
+    let turn = !(one_sign & (omega * (b.t - a.t) < 1.0));
+    let ed = ((a.ed > 0.0) != (b.ed > 0.0)) & a.ed.is_finite() & b.ed.is_finite();
+    acc | side | e | turn | ed
+}
+
 /// The measures of a sample at time `t`, state `y`, (sin ωt, cos ωt) = `(s, c)`, from the
 /// equilibrium `xs` the state follows there (one function for the scanners of one step and of
 /// many).
@@ -438,18 +512,23 @@ impl<D: DenseOutput<2>> Past for History<D> {
             t,
             peak,
             |d, s| d.eval(s)[1],
+            |d| d.abs_floor(1).unwrap_or(f64::NEG_INFINITY),
         )
     }
 }
 
 /// The onset search over steps `(t_start, t_end, step)` from the latest back, x' of a step at a
 /// time by `xdot`: each step split in [`SUBDIVISIONS`] parts, the crossing of half the peak
-/// refined on the polynomial.
+/// refined on the polynomial. `floor` bounds |x'| over a step from below as `xdot` computes it
+/// (−∞ where unknown): a step whose bound is at least half the peak cannot hold the crossing and
+/// is passed over without evaluating x' (what the search would find there: |x'| ≥ half at each
+/// point it looks at), so the result is the same as without it.
 pub(crate) fn onset_in<S>(
     steps: impl Iterator<Item = (f64, f64, S)>,
     t: f64,
     peak: f64,
     xdot: impl Fn(&S, f64) -> f64,
+    floor: impl Fn(&S) -> f64,
 ) -> f64 {
     let half = 0.5 * peak;
     let mut earliest = t;
@@ -460,6 +539,9 @@ pub(crate) fn onset_in<S>(
         let hi = t1.min(t);
         let lo = t0;
         earliest = lo;
+        if floor(&d) >= half {
+            continue;
+        }
         let f = |s: f64| xdot(&d, s).abs() - half;
         let mut tb = hi;
         let mut fb = f(tb);
@@ -517,6 +599,63 @@ enum Mark {
 
 #[cfg(test)]
 mod tests {
+    use super::{DenseOutput, Past, Sample, Scanner};
+    use crate::Params;
+    use std::cell::Cell;
+
+    thread_local! {
+        /// Sub-intervals checked by [`check_quiet`] on this thread.
+        static CHECKED: Cell<usize> = const { Cell::new(0) };
+    }
+
+    /// Called by [`Scanner::interval`] (in this crate's unit tests) on each sub-interval it
+    /// treats as quiet: the full treatment changes the scanner exactly as the quiet one does.
+    pub(super) fn check_quiet<D: DenseOutput<2>>(
+        s: &Scanner,
+        d: &D,
+        a: &Sample,
+        b: &Sample,
+        past: &impl Past,
+    ) {
+        let (mut full, mut quiet) = (s.clone(), s.clone());
+        full.events(d, a, b, past);
+        quiet.quiet(a, b);
+        assert_eq!(format!("{full:?}"), format!("{quiet:?}"), "{a:?} to {b:?}");
+        CHECKED.with(|c| c.set(c.get() + 1));
+    }
+
+    /// The quiet treatment of a sub-interval without events (what [`super::eventful`] lets
+    /// [`Scanner::interval`] skip to, and the scan of a batch does over its lanes at once) is
+    /// the full one: checked on every such sub-interval of the scans of five regimes (folds;
+    /// the study's bursts; the smooth case; a faster and a slower drive), with the pivots, lobes
+    /// and jumps the full treatment found elsewhere (so the test is not a scan without events).
+    #[test]
+    fn quiet_sub_intervals_are_treated_as_the_full_treatment_would() {
+        use crate::burst::{BurstOptions, response};
+        for (gamma, omega) in [
+            (0.01, 0.01),
+            (0.1, 0.01),
+            (30.0, 0.01),
+            (0.1, 0.05),
+            (0.3, 1e-3),
+        ] {
+            let p = Params {
+                gamma,
+                omega,
+                ..Params::default()
+            };
+            let before = CHECKED.with(Cell::get);
+            let r = response(&p, &BurstOptions::default()).unwrap();
+            let checked = CHECKED.with(Cell::get) - before;
+            assert!(
+                checked > 1000,
+                "γ = {gamma}, ω = {omega}: {checked} checked"
+            );
+            if gamma < 1.0 {
+                assert!(!r.bursts.is_empty(), "γ = {gamma}, ω = {omega}: no bursts");
+            }
+        }
+    }
     /// Turning back by a small angle agrees with the library's sine and cosine to rounding: a
     /// few units in the last place of the values, plus the rounding of θ − δ itself (an ulp of
     /// θ, which is what the arguments ω·t_mid and ω·t_end − δ differ by in the scanner too).

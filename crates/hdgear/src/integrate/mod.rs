@@ -75,6 +75,14 @@ pub trait DenseOutput<const N: usize> {
     fn abs_bound(&self, _i: usize) -> Option<f64> {
         None
     }
+    /// A lower bound of |y_i| over the whole step as [`DenseOutput::eval`] computes it
+    /// (rounding included), where the dense output gives one cheaply (Taylor's step polynomial:
+    /// |c_0,i| − Σ_{k≥1} |c_k,i|·h^k, less a margin for the rounding of Horner's rule), else
+    /// `None` (the default). Lets a caller that looks for where |y_i| falls below a level skip a
+    /// step where it cannot.
+    fn abs_floor(&self, _i: usize) -> Option<f64> {
+        None
+    }
 }
 
 /// A one-step integrator positioned at (t, y): the seam every driver (simulation, burst
@@ -779,6 +787,12 @@ impl<const N: usize> DenseOutput<N> for AnyDense<N> {
         match self {
             AnyDense::Taylor(d) => d.abs_bound(i),
             AnyDense::Dop853(d) => d.abs_bound(i),
+        }
+    }
+    fn abs_floor(&self, i: usize) -> Option<f64> {
+        match self {
+            AnyDense::Taylor(d) => d.abs_floor(i),
+            AnyDense::Dop853(d) => d.abs_floor(i),
         }
     }
 }

@@ -137,6 +137,31 @@ impl<const N: usize> DenseOutput<N> for TaylorDense<N> {
         let c = self.c.get(..=self.order)?;
         Some(c.iter().rev().fold(0.0, |b, row| b * h + row[i].abs()))
     }
+    /// |c_0,i| − Σ_{k≥1} |c_k,i|·h^k less Horner's rounding (this module's `abs_floor`), h the
+    /// step's length.
+    fn abs_floor(&self, i: usize) -> Option<f64> {
+        if i >= N {
+            return None;
+        }
+        let h = self.t1 - self.t0;
+        let (first, higher) = self.c.get(..=self.order)?.split_first()?;
+        let rest = higher.iter().rev().fold(0.0, |b, row| b * h + row[i].abs()) * h;
+        Some(abs_floor(first[i].abs(), rest))
+    }
+}
+
+/// A bound on the rounding of Horner's rule, as a share of Σ_k |c_k|·|h|^k: at most
+/// 2p·ε/(1 − 2p·ε) of it for order p (Higham, *Accuracy and Stability of Numerical Algorithms*,
+/// §5.1), 9e-15 at [`MAX_ORDER`]; 1e-12 leaves room for the rounding of the bound itself and of
+/// the argument t − t0.
+const HORNER_ROUNDING: f64 = 1e-12;
+
+/// A lower bound of |P(s)| for s in [0, h] as Horner's rule computes it, P(s) = Σ_k c_k·s^k, from
+/// |c_0| and `rest` = Σ_{k≥1} |c_k|·h^k: |c_0| − rest, less [`HORNER_ROUNDING`] of
+/// |c_0| + rest. (Negative, so never a skip, where the step can reach zero.)
+#[inline(always)]
+pub(crate) fn abs_floor(first: f64, rest: f64) -> f64 {
+    first - rest - HORNER_ROUNDING * (first + rest)
 }
 
 /// [`horner`] with fused multiply-adds (half the latency of the chain: dense output is evaluated
