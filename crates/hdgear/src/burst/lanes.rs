@@ -40,6 +40,11 @@ pub(crate) struct LaneScan {
     /// Each lane's equilibrium tracker's warm start, between steps (its scanner's tracker is set
     /// from it whenever the scanner works on the lane).
     trackers: Trackers,
+    /// Lanes whose scan is under way.
+    active: [bool; LANES],
+    /// The latest step's samples.
+    mid: Samples,
+    end: Samples,
     quiet: Quiet,
     steps: Steps,
     simd: Simd,
@@ -73,6 +78,9 @@ impl LaneScan {
             t_end,
             span,
             trackers: Trackers::default(),
+            active: std::array::from_fn(|l| l < n),
+            mid: Samples::default(),
+            end: Samples::default(),
             quiet,
             steps: Steps::new(simd),
             simd,
@@ -81,16 +89,43 @@ impl LaneScan {
 
     /// Scans one step of every shown lane: the lanes without events over all lanes at once
     /// ([`Quiet::absorb`]), the others by their own scanner.
+    #[allow(clippy::needless_range_loop)] // lanes of parallel arrays, indexed together
     pub(crate) fn push(&mut self, step: &StepLanes<'_>) {
-        let shown: [bool; LANES] = std::array::from_fn(|l| {
-            step.shown[l] && self.scanners.get(l).is_some_and(Option::is_some)
-        });
+        let mut shown = [false; LANES];
+        for l in 0..LANES {
+            shown[l] = step.shown[l] & self.active[l];
+        }
         self.steps.push(step, &shown);
-        // a lane's first step: its scanner samples the start (and follows the equilibrium there)
-        for l in (0..LANES).filter(|&l| shown[l]) {
-            if self.quiet.started[l] {
-                continue;
-            }
+        if (0..LANES).any(|l| shown[l] & !self.quiet.started[l]) {
+            self.start(step, &shown);
+        }
+        self.sampled(step, &shown, Point::Mid);
+        self.sampled(step, &shown, Point::End);
+        let (mid, end) = (&self.mid, &self.end);
+        let eventful = absorb(
+            self.simd,
+            &mut self.quiet,
+            &self.params.omega,
+            &shown,
+            mid,
+            end,
+        );
+        // the lanes with an event, and those whose scan is over with this step
+        let mut handed = [false; LANES];
+        for l in 0..LANES {
+            handed[l] = eventful[l] | (shown[l] & (step.t1[l] >= self.t_end[l]));
+        }
+        for l in (0..LANES).filter(|&l| handed[l]) {
+            self.scan_lane(step, l, eventful[l]);
+        }
+        self.steps.forget(&self.span);
+    }
+
+    /// Samples the start of each shown lane not started yet (its first step), by its scanner,
+    /// which follows the equilibrium there.
+    fn start(&mut self, step: &StepLanes<'_>, shown: &[bool; LANES]) {
+        let fresh: [bool; LANES] = std::array::from_fn(|l| shown[l] && !self.quiet.started[l]);
+        for l in (0..LANES).filter(|&l| fresh[l]) {
             if let Some(s) = self.scanners[l].as_mut() {
                 s.start(&LaneDense::new(step, l));
                 self.trackers.set(l, s.follower().state());
@@ -100,42 +135,33 @@ impl LaneScan {
                 self.quiet.started[l] = true;
             }
         }
-        let mid = self.sampled(step, &shown, Point::Mid);
-        let end = self.sampled(step, &shown, Point::End);
-        let eventful = absorb(
-            self.simd,
-            &mut self.quiet,
-            &self.params.omega,
-            &shown,
-            &mid,
-            &end,
-        );
-        for l in (0..LANES).filter(|&l| shown[l]) {
-            let past = LanePast {
-                steps: &self.steps,
-                lane: l,
-                span: self.span[l],
-            };
-            let Some(s) = self.scanners[l].as_mut() else {
-                continue;
-            };
-            let over = step.t1[l] >= self.t_end[l];
-            if eventful[l] || over {
-                self.quiet.hand_over(l, s);
-            }
-            if eventful[l] {
-                s.follower().set_state(self.trackers.get(l));
-                s.push_sampled(&LaneDense::new(step, l), mid.get(l), end.get(l), &past);
-                self.quiet.last.set(l, &end.get(l));
-            }
-            if over {
-                // the lane's scan is over: finished now, while its steps are kept
-                if let Some(s) = self.scanners[l].take() {
-                    self.done[l] = Some(s.finish(&past));
-                }
+    }
+
+    /// Hands lane `l` to its scanner: its quiet steps so far, then this step if it has an event
+    /// (`eventful`); the scan ends here if the step reaches the lane's end.
+    fn scan_lane(&mut self, step: &StepLanes<'_>, l: usize, eventful: bool) {
+        let Some(s) = self.scanners[l].as_mut() else {
+            return;
+        };
+        let past = LanePast {
+            steps: &self.steps,
+            lane: l,
+            span: self.span[l],
+        };
+        self.quiet.hand_over(l, s);
+        if eventful {
+            let (mid, end) = (self.mid.get(l), self.end.get(l));
+            s.follower().set_state(self.trackers.get(l));
+            s.push_sampled(&LaneDense::new(step, l), mid, end, &past);
+            self.quiet.last.set(l, &end);
+        }
+        if step.t1[l] >= self.t_end[l] {
+            // the lane's scan is over: finished now, while its steps are kept
+            if let Some(s) = self.scanners[l].take() {
+                self.done[l] = Some(s.finish(&past));
+                self.active[l] = false;
             }
         }
-        self.steps.forget(&self.span);
     }
 
     /// Each lane's scan (`None` for a lane whose integration failed before its end).
@@ -143,11 +169,23 @@ impl LaneScan {
         self.done
     }
 
-    /// The samples at the midpoint or the end of every lane's step: over all lanes at once, then
-    /// the lanes that need more (see the module) by their own scanner.
-    fn sampled(&mut self, step: &StepLanes<'_>, shown: &[bool; LANES], at: Point) -> Samples {
+    /// The samples at the midpoint or the end of every lane's step (into `mid` or `end`): over all
+    /// lanes at once, then the lanes that need more (see the module) by their own scanner.
+    fn sampled(&mut self, step: &StepLanes<'_>, shown: &[bool; LANES], at: Point) {
         let trackers = &mut self.trackers;
-        let (mut out, ok) = samples_at(self.simd, &self.params, &self.multi, step, trackers, at);
+        let out = match at {
+            Point::Mid => &mut self.mid,
+            Point::End => &mut self.end,
+        };
+        let ok = samples_at(
+            self.simd,
+            &self.params,
+            &self.multi,
+            step,
+            trackers,
+            at,
+            out,
+        );
         for l in (0..LANES).filter(|&l| shown[l] && !ok[l]) {
             let Some(s) = self.scanners[l].as_mut() else {
                 continue;
@@ -166,7 +204,6 @@ impl LaneScan {
             out.set(l, &s.sample_with(t, y, sc.0, sc.1));
             trackers.set(l, s.follower().state());
         }
-        out
     }
 }
 
@@ -418,8 +455,9 @@ dispatched! {
         multi: &[(f64, f64); LANES],
         step: &StepLanes<'_>,
         trackers: &mut Trackers,
-        at: Point
-    ) -> (Samples, [bool; LANES]) = samples::<FMA>(params, multi, step, trackers, at)
+        at: Point,
+        out: &mut Samples
+    ) -> [bool; LANES] = samples::<FMA>(params, multi, step, trackers, at, out)
 }
 
 dispatched! {
@@ -445,8 +483,8 @@ fn samples<const FMA: bool>(
     step: &StepLanes<'_>,
     tr: &mut Trackers,
     at: Point,
-) -> (Samples, [bool; LANES]) {
-    let mut out = Samples::default();
+    out: &mut Samples,
+) -> [bool; LANES] {
     let mut ok = [false; LANES];
     let mut turned = [true; LANES];
     // x and x' (the end: the state the lane ended on) and sin ωt, cos ωt there
@@ -501,7 +539,7 @@ fn samples<const FMA: bool>(
         tr.curvature[l] = pick(n.curvature, tr.curvature[l]);
         out.set(l, &measure(p, t[l], [x[l], v[l]], (s[l], c[l]), n.y));
     }
-    (out, ok)
+    ok
 }
 
 /// Lane `l`'s step as a [`DenseOutput`], its polynomial gathered from the batch's rows only if
