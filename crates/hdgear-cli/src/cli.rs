@@ -64,6 +64,20 @@ pub enum Command {
     Serve(ServeArgs),
 }
 
+impl Command {
+    /// Whether the command may create files, so that Ctrl-C and SIGTERM must be watched (an
+    /// interrupted run removes its temporaries and says so). `simulate` without `--out` writes
+    /// only to stdout: interrupted, it has nothing to remove and ends as the signal's default
+    /// action ends it (status 128 + n in the shell), without the watcher's thread, whose start
+    /// is a tenth of such a run (0.2–0.35 ms of 2.6–3.0 ms). Every other command is watched.
+    pub fn writes_files(&self) -> bool {
+        match self {
+            Command::Simulate(a) => a.out.is_some(),
+            _ => true,
+        }
+    }
+}
+
 /// Arguments of `hdgear serve`.
 #[derive(Args, Debug)]
 pub struct ServeArgs {

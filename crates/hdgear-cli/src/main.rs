@@ -11,7 +11,9 @@ use std::process::ExitCode;
 
 fn main() -> ExitCode {
     let args = cli::Cli::parse();
-    signals::install();
+    if args.command.writes_files() {
+        signals::install();
+    }
     sink::QUIET.store(args.quiet, std::sync::atomic::Ordering::Relaxed);
     match cmd::run(args) {
         Ok(()) => ExitCode::SUCCESS,

@@ -497,6 +497,44 @@ fn signals_remove_every_temporary() {
     }
 }
 
+/// `simulate` writing to stdout only creates no file, so it watches no signal (no thread to start
+/// for a run of a few milliseconds): interrupted, it ends by the signal's default action, says
+/// nothing and leaves nothing.
+#[test]
+fn a_stdout_only_run_ends_by_the_signal_and_leaves_nothing() {
+    use std::os::unix::process::ExitStatusExt;
+    for sig in ["-INT", "-TERM"] {
+        let dir = tempfile::tempdir().unwrap();
+        let child = Command::new(assert_cmd::cargo::cargo_bin("hdgear"))
+            .current_dir(dir.path())
+            .args(["--quiet", "simulate", "--dt", "0.01", "--t-end", "1e6"])
+            .stdout(Stdio::null())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        std::thread::sleep(Duration::from_millis(300));
+        kill(child.id(), sig);
+        let out = child.wait_with_output().unwrap();
+        let expected = if sig == "-INT" { 2 } else { 15 };
+        assert_eq!(
+            out.status.signal(),
+            Some(expected),
+            "{sig}: {:?}",
+            out.status
+        );
+        assert!(
+            out.stderr.is_empty(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        assert!(
+            files_in(dir.path()).is_empty(),
+            "{:?}",
+            files_in(dir.path())
+        );
+    }
+}
+
 /// A sweep long enough (about a second on one thread) to be interrupted part-way.
 /// A sweep long enough (about 1.6 s on one thread here) that the signals and checks the tests
 /// below send at fixed times land inside it, with room for a machine twice as fast.
