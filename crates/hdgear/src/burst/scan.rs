@@ -103,9 +103,9 @@ pub(crate) struct Scan {
     pub max_first_order_lag: f64,
 }
 
-/// The streaming scanner (`Debug` and `Clone` for its tests). Feed it every step's dense output in order with [`Scanner::push`]
-/// (or, with the samples measured elsewhere, [`Scanner::push_sampled`]), keeping the steps in
-/// a [`Past`] for the pulse onsets.
+/// The streaming scanner (`Debug` and `Clone` for its tests). Feed it every step's dense output
+/// in order with [`Scanner::push`] (or, with the samples measured elsewhere,
+/// [`Scanner::push_sampled`]), keeping the steps in a [`Past`] for the pulse onsets.
 #[derive(Clone, Debug)]
 pub(crate) struct Scanner {
     p: Params,
