@@ -111,12 +111,13 @@ impl LaneScan {
             end,
         );
         // the lanes with an event, and those whose scan is over with this step
-        let mut handed = [false; LANES];
+        let (mut over, mut handed) = ([false; LANES], [false; LANES]);
         for l in 0..LANES {
-            handed[l] = eventful[l] | (shown[l] & (step.t1[l] >= self.t_end[l]));
+            over[l] = shown[l] & (step.t1[l] >= self.t_end[l]);
+            handed[l] = eventful[l] | over[l];
         }
         for l in (0..LANES).filter(|&l| handed[l]) {
-            self.scan_lane(step, l, eventful[l]);
+            self.scan_lane(step, l, eventful[l], over[l]);
         }
         self.steps.forget(&self.span);
     }
@@ -138,8 +139,8 @@ impl LaneScan {
     }
 
     /// Hands lane `l` to its scanner: its quiet steps so far, then this step if it has an event
-    /// (`eventful`); the scan ends here if the step reaches the lane's end.
-    fn scan_lane(&mut self, step: &StepLanes<'_>, l: usize, eventful: bool) {
+    /// (`eventful`); the scan ends here if the step reaches the lane's end (`over`).
+    fn scan_lane(&mut self, step: &StepLanes<'_>, l: usize, eventful: bool, over: bool) {
         let Some(s) = self.scanners[l].as_mut() else {
             return;
         };
@@ -155,7 +156,7 @@ impl LaneScan {
             s.push_sampled(&LaneDense::new(step, l), mid, end, &past);
             self.quiet.last.set(l, &end);
         }
-        if step.t1[l] >= self.t_end[l] {
+        if over {
             // the lane's scan is over: finished now, while its steps are kept
             if let Some(s) = self.scanners[l].take() {
                 self.done[l] = Some(s.finish(&past));
@@ -268,21 +269,10 @@ impl Quiet {
             let (lo, hi) = (self.window.0[l], self.window.1[l]);
             for s in [a, m, b] {
                 let counted = quiet & (s.t >= lo) & (s.t <= hi);
-                self.peak[l] = if counted {
-                    self.peak[l].max(s.v.abs())
-                } else {
-                    self.peak[l]
-                };
-                self.lag[l] = if counted {
-                    self.lag[l].max(s.e.abs())
-                } else {
-                    self.lag[l]
-                };
-                self.lag1[l] = if counted {
-                    self.lag1[l].max(s.e1.abs())
-                } else {
-                    self.lag1[l]
-                };
+                let grow = |max: f64, x: f64| if counted { max.max(x.abs()) } else { max };
+                self.peak[l] = grow(self.peak[l], s.v);
+                self.lag[l] = grow(self.lag[l], s.e);
+                self.lag1[l] = grow(self.lag1[l], s.e1);
             }
             let grown = self.lobe[l].max(m.e.abs()).max(b.e.abs());
             self.lobe[l] = if quiet { grown } else { self.lobe[l] };

@@ -133,9 +133,8 @@ impl<const N: usize> DenseOutput<N> for TaylorDense<N> {
         if i >= N {
             return None;
         }
-        let h = self.t1 - self.t0;
         let c = self.c.get(..=self.order)?;
-        Some(c.iter().rev().fold(0.0, |b, row| b * h + row[i].abs()))
+        Some(abs_horner(c, i, self.t1 - self.t0))
     }
     /// |c_0,i| − Σ_{k≥1} |c_k,i|·h^k less Horner's rounding (this module's `abs_floor`), h the
     /// step's length.
@@ -145,9 +144,13 @@ impl<const N: usize> DenseOutput<N> for TaylorDense<N> {
         }
         let h = self.t1 - self.t0;
         let (first, higher) = self.c.get(..=self.order)?.split_first()?;
-        let rest = higher.iter().rev().fold(0.0, |b, row| b * h + row[i].abs()) * h;
-        Some(abs_floor(first[i].abs(), rest))
+        Some(abs_floor(first[i].abs(), abs_horner(higher, i, h) * h))
     }
+}
+
+/// Σ_k |c_k,i|·h^k over the rows `c`, by Horner's rule on the absolute values.
+fn abs_horner<const N: usize>(c: &[[f64; N]], i: usize, h: f64) -> f64 {
+    c.iter().rev().fold(0.0, |b, row| b * h + row[i].abs())
 }
 
 /// A bound on the rounding of Horner's rule, as a share of Σ_k |c_k|·|h|^k: at most
