@@ -11,12 +11,58 @@ use hdgear::simulate::{SimOptions, Start, simulate};
 #[test]
 fn paper_trajectories_reproduced_by_both_methods() {
     for (method, bar) in [(Method::Taylor, 1e-10), (Method::Dop853, 1e-9)] {
-        let worst = reproduce(method, bar);
+        let tol = Options {
+            method,
+            ..Options::default()
+        };
+        let worst = reproduce(tol, bar);
         eprintln!("{method:?}: worst abs error {worst:e} (bar {bar:e})");
     }
 }
 
-fn reproduce(method: Method, bar: f64) -> f64 {
+/// A given Taylor order (`Options::order`) keeps the tolerance: at rtol = atol = 1e-10 every order
+/// from 8 to 20 reproduces the reference trajectories to the same 1e-10 as Jorba–Zou's order 13,
+/// and the step grows with the order (fewer steps over the same span: the rule trades steps for
+/// work per step, it does not loosen the error); an order outside 6…20 is refused by name.
+#[test]
+fn a_given_taylor_order_keeps_the_tolerance_in_fewer_steps() {
+    use hdgear::integrate::{Stepper, stepper};
+    use hdgear::model::Dimensionless;
+    let mut steps = Vec::new();
+    for order in [8, 13, 16, 20] {
+        let tol = Options {
+            order: Some(order),
+            ..Options::default()
+        };
+        let worst = reproduce(tol, 1e-10);
+        let sys = Dimensionless::new(Params::default());
+        let mut s = stepper(&sys, 0.0, [0.0, 0.0], tol).unwrap();
+        while s.t() < 1000.0 {
+            s.step(1000.0).unwrap();
+        }
+        steps.push(s.stats().steps);
+        eprintln!(
+            "order {order}: worst abs error {worst:e}, {} steps",
+            s.stats().steps
+        );
+    }
+    assert!(steps.windows(2).all(|w| w[1] < w[0]), "steps {steps:?}");
+    for bad in [5, 21] {
+        let tol = Options {
+            order: Some(bad),
+            ..Options::default()
+        };
+        let e = tol.validate().unwrap_err();
+        assert!(
+            matches!(e, hdgear::Error::InvalidOption { name: "order", .. }),
+            "{e}"
+        );
+        assert!(e.to_string().contains(&bad.to_string()), "{e}");
+    }
+}
+
+fn reproduce(tol: Options, bar: f64) -> f64 {
+    let method = tol.method;
     let mut overall: f64 = 0.0;
     let rows = reference_rows();
     let mut gammas: Vec<f64> = rows.iter().map(|r| r[0]).collect();
@@ -34,10 +80,7 @@ fn reproduce(method: Method, bar: f64) -> f64 {
             t_end,
             dt: 5.0,
             start: Start::Given { x0, v0 },
-            tol: Options {
-                method,
-                ..Options::default()
-            },
+            tol,
         };
         let mut got = Vec::new();
         simulate(&p, &opts, |t, y| got.push((t, y[0], y[1]))).unwrap();
@@ -119,7 +162,7 @@ fn dense_outputs_end_on_the_integrators_state() {
 
 /// The batch integrator (lanes in lock-step, sine carried as state, approximate logarithm in the
 /// step rule) lands on the reference's final states as closely as the scalar Taylor method, for
-/// the four γ in one batch padded to the lane count.
+/// the four γ in one batch padded to the lane count, at Jorba–Zou's order and at a given one.
 #[test]
 fn batch_lanes_reach_the_reference_final_states() {
     use hdgear::batch::{LANES, integrate_batch};
@@ -138,16 +181,23 @@ fn batch_lanes_reach_the_reference_final_states() {
     let starts: Vec<[f64; 2]> = gammas.iter().map(|&g| [first(g)[1], first(g)[2]]).collect();
     let t_end = last(gammas[0])[3];
     assert!(gammas.len() < LANES, "the batch is padded");
-    let out = integrate_batch(&points, &starts, t_end, Options::default()).unwrap();
-    assert_eq!(out.len(), gammas.len());
-    for (g, r) in gammas.iter().zip(&out) {
-        let want = last(*g);
-        let err = (r.y[0] - want[4]).abs().max((r.y[1] - want[5]).abs());
-        eprintln!(
-            "batch gamma {g}: {} steps, final-state error {err:e}",
-            r.steps
-        );
-        assert!(err <= 1e-10, "gamma {g}: {err:e}");
+    // Jorba–Zou's order, and the highest order with its longer steps (`Options::order`)
+    for order in [None, Some(20)] {
+        let tol = Options {
+            order,
+            ..Options::default()
+        };
+        let out = integrate_batch(&points, &starts, t_end, tol).unwrap();
+        assert_eq!(out.len(), gammas.len());
+        for (g, r) in gammas.iter().zip(&out) {
+            let want = last(*g);
+            let err = (r.y[0] - want[4]).abs().max((r.y[1] - want[5]).abs());
+            eprintln!(
+                "batch gamma {g}, order {order:?}: {} steps, final-state error {err:e}",
+                r.steps
+            );
+            assert!(err <= 1e-10, "gamma {g}, order {order:?}: {err:e}");
+        }
     }
     // bad input is refused by name, as everywhere
     let bad = [Params {

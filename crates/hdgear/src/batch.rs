@@ -27,7 +27,7 @@ use crate::error::Result;
 use crate::error::SolverError;
 use crate::integrate::Options;
 use crate::integrate::taylor::{
-    INV, MAX_ORDER, TaylorDense, exponent, mul_add, order_for, pow2, step_from_norms,
+    INV, MAX_ORDER, TaylorDense, exponent, mul_add, pow2, rule, step_from_norms,
 };
 use crate::model::{LaneParams, Rows, TangentRows, tangent_rows, taylor_rows};
 use crate::params::Params;
@@ -499,6 +499,8 @@ struct Lanes {
     omega_powers: Box<Aligned<[V; MAX_ORDER + 1]>>,
     steps: [u64; LANES],
     order: usize,
+    /// The step rule's exponent ([`rule`]).
+    shift: f64,
     floor: f64,
     h_max: f64,
     /// Taylor coefficients of x, x', sin ωt; row 0 of x and x' is the state between steps.
@@ -536,7 +538,8 @@ impl Lanes {
                 })
             }))),
             steps: [0; LANES],
-            order: order_for(tol.rtol),
+            order: rule(tol).0,
+            shift: rule(tol).1,
             // ≥ 1e-150 so that [`row_norms`]' product of two scales stays normal; a state
             // below that in both components is far under any tolerance the options allow
             floor: (tol.atol / tol.rtol).max(1e-150),
@@ -591,7 +594,7 @@ impl Lanes {
                 norms.1[l] = norms.1[l].max(n2[l]);
             }
         }
-        let h = step_sizes::<FMA>(p, self.h_max, &self.t, &self.t_end, norms);
+        let h = step_sizes::<FMA>((p, self.shift), self.h_max, &self.t, &self.t_end, norms);
         let (nx, nv) = horner_lanes::<FMA>(&r.x[..=p], &r.v[..=p], &h);
         if let Some(tg) = self.tangent.as_deref_mut().filter(|_| TANGENT) {
             let (dx, dv) = horner_lanes::<FMA>(&tg.rows.x[..=p], &tg.rows.v[..=p], &h);
@@ -707,11 +710,17 @@ fn row_norms(p: usize, floor: f64, x: &[V], v: &[V]) -> (V, V) {
 /// division ([`step_from_norms`]).
 #[inline(always)]
 #[allow(clippy::needless_range_loop)] // lanes of parallel arrays, indexed together
-fn step_sizes<const FMA: bool>(p: usize, h_max: f64, t: &V, t_end: &V, n: (V, V)) -> V {
+fn step_sizes<const FMA: bool>(
+    (p, shift): (usize, f64),
+    h_max: f64,
+    t: &V,
+    t_end: &V,
+    n: (V, V),
+) -> V {
     // a loop, not `array::from_fn`: its closure is not inlined into the vector paths
     let mut h = [0.0; LANES];
     for l in 0..LANES {
-        let hl = step_from_norms::<FMA, true>(p, n.0[l], n.1[l]).min(h_max);
+        let hl = step_from_norms::<FMA, true>(p, shift, n.0[l], n.1[l]).min(h_max);
         let remaining = t_end[l] - t[l];
         h[l] = if remaining > 0.0 {
             hl.min(remaining)

@@ -147,9 +147,11 @@ impl<const L: usize> Default for Rows<L> {
 /// computed: from x_k it is one fused step each to (x²)_k, (x³)_k and v_{k+1} (one lane measured
 /// 0.50 → 0.41 ms per 3-period run when the newest terms went last, before fused multiply-adds).
 ///
-/// On several lanes the orders the tolerances 1e-6 … 1e-13 pick (8 … 16) get their own copy with
-/// every order's sums written out (the order a constant), so the compiler unrolls them and drops
-/// the bounds checks (16 lanes: 0.069 → 0.058 ms per trajectory); one lane runs the loop (the
+/// On several lanes the orders the tolerances 1e-6 … 1e-13 pick (8 … 16) and the higher ones a
+/// caller may ask for (17 … 20: the periodic machinery's Lyapunov exponents run at 20) get their
+/// own copy with every order's sums written out (the order a constant), so the compiler unrolls
+/// them and drops the bounds checks (16 lanes: 0.069 → 0.058 ms per trajectory at order 13; the
+/// 640-point Lyapunov map at order 20: 0.57 → 0.23 s); one lane runs the loop (the
 /// unrolled copy measured 0.53 against 0.48 ms per run: a step's code no longer fit the
 /// processor's decoded-instruction cache, by our reading).
 #[inline(always)]
@@ -168,7 +170,7 @@ pub(crate) fn taylor_rows<const L: usize, const FMA: bool>(
             }
         };
     }
-    unrolled!(8 9 10 11 12 13 14 15 16);
+    unrolled!(8 9 10 11 12 13 14 15 16 17 18 19 20);
     for k in 0..order {
         next_order::<L, FMA>(lp, k, r);
     }
@@ -250,7 +252,7 @@ fn unrolled_to<const L: usize, const FMA: bool, const P: usize>(
             })*
         };
     }
-    orders!(0 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15);
+    orders!(0 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 17 18 19);
 }
 
 /// Row k + 1 of x and x' (and row k of x²) from rows 0..=k.

@@ -173,6 +173,12 @@ pub struct Options {
     /// The method ([`stepper`] builds it). Default [`Method::Taylor`].
     #[serde(default)]
     pub method: Method,
+    /// Taylor's order ([`MIN_ORDER`](taylor::MIN_ORDER)…[`MAX_ORDER`](taylor::MAX_ORDER)).
+    /// `None` (the default) takes the Jorba–Zou order for `rtol` ([`taylor::order_for`]); a
+    /// given order keeps the same error per step with a step to match
+    /// ([`taylor`]'s module documentation). Ignored by DOP853.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub order: Option<usize>,
 }
 
 impl Default for Options {
@@ -185,6 +191,7 @@ impl Default for Options {
             max_steps: 100_000_000,
             blowup: 1e100,
             method: Method::default(),
+            order: None,
         }
     }
 }
@@ -236,6 +243,11 @@ impl Options {
         }
         if !(self.blowup.is_finite() && self.blowup > 0.0) {
             return bad("blowup", self.blowup, "must be finite and > 0");
+        }
+        if let Some(p) = self.order
+            && !(taylor::MIN_ORDER..=taylor::MAX_ORDER).contains(&p)
+        {
+            return bad("order", p as f64, "must be 6 to 20");
         }
         Ok(())
     }

@@ -31,7 +31,10 @@ impl Default for DiagramOptions {
         DiagramOptions {
             discard: 200,
             record: 32,
-            tol: Options::default(),
+            tol: Options {
+                order: Some(crate::integrate::taylor::MAX_ORDER),
+                ..Options::default()
+            },
             lyapunov: None,
         }
     }

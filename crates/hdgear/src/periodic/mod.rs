@@ -74,6 +74,7 @@ impl Default for PeriodicOptions {
             tol: Options {
                 rtol: 1e-12,
                 atol: 1e-12,
+                order: Some(crate::integrate::taylor::MAX_ORDER),
                 ..Options::default()
             },
             max_newton: 20,
