@@ -520,6 +520,7 @@ struct Tangent {
 impl Lanes {
     fn new(points: &[Params], starts: &[[f64; 2]], spans: &[(f64, f64)], tol: &Options) -> Lanes {
         let pick = |l: usize| if l < points.len() { l } else { 0 };
+        let (order, shift) = rule(tol);
         let mut rows = Box::<Rows<LANES>>::default();
         rows.x[0] = std::array::from_fn(|l| starts[pick(l)][0]);
         rows.v[0] = std::array::from_fn(|l| starts[pick(l)][1]);
@@ -538,8 +539,8 @@ impl Lanes {
                 })
             }))),
             steps: [0; LANES],
-            order: rule(tol).0,
-            shift: rule(tol).1,
+            order,
+            shift,
             // ≥ 1e-150 so that [`row_norms`]' product of two scales stays normal; a state
             // below that in both components is far under any tolerance the options allow
             floor: (tol.atol / tol.rtol).max(1e-150),
