@@ -20,7 +20,7 @@
 //!   ρ·ε^{1/(p−1)}·e^{−0.7/(p−1)} (which is Jorba–Zou's step when p − 1 = −ln(ε)/2). A higher
 //!   order takes fewer, longer steps for more work per step: it pays where each step carries
 //!   other work (the variational equations of the periodic machinery, whose options ask for
-//!   [`MAX_ORDER`]), not for a plain trajectory (measured: 0.44–0.47 ms per 3-period run at
+//!   [`MAX_ORDER`]), not for a plain trajectory (measured: 0.44–0.49 ms per 3-period run at
 //!   1e-10 for orders 13 to 20).
 
 use super::{DenseOutput, Options, SolverError, Stats, Stepper, System};
@@ -355,11 +355,11 @@ pub(crate) fn mul_add<const FMA: bool>(a: f64, b: f64, c: f64) -> f64 {
 }
 
 /// The Jorba–Zou step for order `p` from the scaled norms of the last two coefficient rows:
-/// h = e^{−s − 0.7/(p−1)}·min(n₁^{−1/(p−1)}, n₂^{−1/p}), `s` from [`rule`] (2 at Jorba–Zou's order). `POLY` takes the logarithms and the
-/// exponential from the short polynomials below (1e-9: a step rule is a heuristic, that changes
-/// nothing measurable), which vectorise over the batch's lanes; one step alone is faster with
-/// the library's `ln` and `exp`, whose table lookups make shorter dependency chains (measured:
-/// 0.46 vs 0.50 ms per 3-period run).
+/// h = e^{−s − 0.7/(p−1)}·min(n₁^{−1/(p−1)}, n₂^{−1/p}), `s` from [`rule`] (2 at Jorba–Zou's
+/// order). `POLY` takes the logarithms and the exponential from the short polynomials below
+/// (1e-9: a step rule is a heuristic, that changes nothing measurable), which vectorise over the
+/// batch's lanes; one step alone is faster with the library's `ln` and `exp`, whose table
+/// lookups make shorter dependency chains (measured: 0.46 vs 0.50 ms per 3-period run).
 #[inline(always)]
 pub(crate) fn step_from_norms<const FMA: bool, const POLY: bool>(
     p: usize,
