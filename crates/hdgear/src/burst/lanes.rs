@@ -91,13 +91,15 @@ impl LaneScan {
     /// ([`Quiet::absorb`]), the others by their own scanner.
     #[allow(clippy::needless_range_loop)] // lanes of parallel arrays, indexed together
     pub(crate) fn push(&mut self, step: &StepLanes<'_>) {
-        let mut shown = [false; LANES];
+        // the lanes shown, and among them those on their first step
+        let (mut shown, mut fresh) = ([false; LANES], [false; LANES]);
         for l in 0..LANES {
             shown[l] = step.shown[l] & self.active[l];
+            fresh[l] = shown[l] & !self.quiet.started[l];
         }
         self.steps.push(step, &shown);
-        if (0..LANES).any(|l| shown[l] & !self.quiet.started[l]) {
-            self.start(step, &shown);
+        if fresh.contains(&true) {
+            self.start(step, &fresh);
         }
         self.sampled(step, &shown, Point::Mid);
         self.sampled(step, &shown, Point::End);
@@ -122,10 +124,9 @@ impl LaneScan {
         self.steps.forget(&self.span);
     }
 
-    /// Samples the start of each shown lane not started yet (its first step), by its scanner,
-    /// which follows the equilibrium there.
-    fn start(&mut self, step: &StepLanes<'_>, shown: &[bool; LANES]) {
-        let fresh: [bool; LANES] = std::array::from_fn(|l| shown[l] && !self.quiet.started[l]);
+    /// Samples the start of each `fresh` lane (shown on its first step), by its scanner, which
+    /// follows the equilibrium there.
+    fn start(&mut self, step: &StepLanes<'_>, fresh: &[bool; LANES]) {
         for l in (0..LANES).filter(|&l| fresh[l]) {
             if let Some(s) = self.scanners[l].as_mut() {
                 s.start(&LaneDense::new(step, l));
