@@ -19,6 +19,11 @@ fn main() -> ExitCode {
         Ok(()) => ExitCode::SUCCESS,
         // A closed pipe (`hdgear simulate | head`) is the reader's choice, not a failure.
         Err(e) if sink::is_broken_pipe(&e) => ExitCode::SUCCESS,
+        // A signal's handler is removing the temporaries and ends the process with 128 + n: an
+        // output it refused meanwhile is not this run's error (nor its exit code 2).
+        Err(_) if hdgear::output::interrupting() => loop {
+            std::thread::park();
+        },
         Err(e) => {
             eprintln!("error: {e:#}");
             ExitCode::from(sink::exit_code(&e))

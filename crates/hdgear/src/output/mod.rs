@@ -51,6 +51,12 @@ pub fn remove_temporaries() -> usize {
     n
 }
 
+/// Whether [`remove_temporaries`] has run: the process is being ended by a signal handler, and
+/// an output refused since then is its doing, not the run's own failure.
+pub fn interrupting() -> bool {
+    registry().1
+}
+
 /// Checks that `path` can be an output file before any work is done: not an existing
 /// directory, not ending in a separator, and its directory exists.
 pub fn check_output_path(path: &Path) -> Result<()> {
