@@ -550,8 +550,9 @@ pub struct AnalyzeArgs {
     /// Skip the simulated response and its classification (fast-subsystem analysis only).
     #[arg(long)]
     pub no_response: bool,
-    /// Also locate the simulated bursting boundaries in gamma and omega through this point, by
-    /// bisection from the predicted ones (a few seconds: small omega is slow to simulate).
+    /// Also locate the simulated bursting boundaries in gamma and omega through this point, where
+    /// the simulated verdict switches, from the predicted ones (under a second at the study's
+    /// point; longer at small omega, which is slow to simulate).
     #[arg(long)]
     pub simulated_boundaries: bool,
     #[command(flatten)]

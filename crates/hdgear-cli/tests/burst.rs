@@ -156,6 +156,76 @@ fn prediction_matches_the_simulated_boundaries() {
 }
 
 #[test]
+fn simulated_boundaries_are_switches_of_the_one_by_one_verdict() {
+    // The search runs its rounds as batches of sixteen (Taylor) or one value at a time
+    // (DOP853). Either way the boundary must be a switch of the simulated verdict: the verdict
+    // of a response computed on its own changes between 2 % below and 2 % above it (the final
+    // bracket is 1 % wide, and a batch may round a verdict differently only within a fraction
+    // of a per cent of the switch), bursting below it in γ and above it in ω.
+    use hdgear::burst::{BOUNDARY_REL_TOL, boundaries};
+    use hdgear::integrate::Method;
+    let o = BurstOptions::default();
+    let f = 2.0 * BOUNDARY_REL_TOL;
+    let bursting = |p: Params| verdict_of(&p, &o).0.bursting;
+    let mut found = Vec::new();
+    for gamma in [0.1, 1.0] {
+        let p = Params {
+            gamma,
+            ..Params::default()
+        };
+        let b = boundaries(&p, &o).unwrap();
+        let (g, w) = (b.simulated_gamma.unwrap(), b.simulated_omega.unwrap());
+        for (below, above, bursts_below) in [
+            (
+                Params {
+                    gamma: g * (1.0 - f),
+                    ..p
+                },
+                Params {
+                    gamma: g * (1.0 + f),
+                    ..p
+                },
+                true,
+            ),
+            (
+                Params {
+                    omega: w * (1.0 - f),
+                    ..p
+                },
+                Params {
+                    omega: w * (1.0 + f),
+                    ..p
+                },
+                false,
+            ),
+        ] {
+            assert_eq!(bursting(below), bursts_below, "{gamma}: {b:?}");
+            assert_eq!(bursting(above), !bursts_below, "{gamma}: {b:?}");
+        }
+        found.push(b);
+    }
+    // one value at a time with DOP853 (γ = 1, where its simulations are short): the same
+    // boundaries to the two brackets' widths
+    let mut od = o;
+    od.tol.method = Method::Dop853;
+    let p1 = Params {
+        gamma: 1.0,
+        ..Params::default()
+    };
+    let d = boundaries(&p1, &od).unwrap();
+    for (t, s) in [
+        (found[1].simulated_gamma, d.simulated_gamma),
+        (found[1].simulated_omega, d.simulated_omega),
+    ] {
+        let (t, s) = (t.unwrap(), s.unwrap());
+        assert!(
+            (t / s).ln().abs() <= 2.0 * BOUNDARY_REL_TOL,
+            "taylor {t}, dop853 {s}"
+        );
+    }
+}
+
+#[test]
 fn the_study_table_under_signatures() {
     // γ = 30 and 10: no signature at ω = 0.01 (adiabatic, x' the smooth slow wave of max 0.0035
     // and 0.013, SPEC §4); γ = 1 and 0.1: two overshooting, ringing pulses per period of

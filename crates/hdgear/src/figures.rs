@@ -970,12 +970,14 @@ pub fn boundary_figure(base: &Params, study: &mut Study) -> Result<Figure> {
         caption: format!(
             "The bursting boundary in the (ω, γ) plane (the other parameters as at the study's \
              point). Bursting lies to the right of and below the predicted curve: faster forcing \
-             or a steeper equilibrium curve. The dots are boundaries located by bisection on \
-             simulations (γ at ω = {}, ω at γ = {} and at γ = 1); they lie within a factor \
+             or a steeper equilibrium curve. The dots are where the simulated verdict switches, to {} % \
+             (γ at ω = {}, ω at γ = {} and at γ = 1); they lie within a factor \
              {factor:.2} of the prediction, which uses the equilibrium curve alone. As ω → 0 the boundary runs \
              down to the fold threshold 1/(3α) = {gc:.4}: without folds every burst vanishes \
              (Fenichel). Right of the domain edge the forcing is too fast for a fast-slow reading.",
-            base.omega, base.gamma
+            100.0 * crate::burst::BOUNDARY_REL_TOL,
+            base.omega,
+            base.gamma
         ),
         size: (1000, 700),
         panels: vec![Panel {

@@ -205,7 +205,7 @@ impl Study {
         Ok(&self.runs[i])
     }
 
-    /// The bursting boundaries through each of `points` (predicted, and simulated by bisection),
+    /// The bursting boundaries through each of `points` (predicted, and where the simulated verdict switches),
     /// the missing ones computed in parallel.
     pub fn boundaries(&mut self, points: &[Params]) -> Result<Vec<Boundaries>> {
         let missing: Vec<Params> = points

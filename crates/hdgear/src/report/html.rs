@@ -384,7 +384,7 @@ fn boundaries(h: &mut String, r: &Report) {
     let opt = |v: Option<f64>| v.map_or("–".to_string(), num);
     let _ = write!(
         h,
-        "<p>The bursting boundary, predicted from the equilibrium curve alone and located by bisection on simulations \
+        "<p>The bursting boundary, predicted from the equilibrium curve alone and located where the simulated verdict switches \
          (to {} %):</p><table id=\"boundaries\"><tr><th>boundary</th><th>predicted</th><th>simulated</th></tr>\
          <tr><td>γ at ω = {} (bursting below)</td><td>{}</td><td>{}</td></tr>\
          <tr><td>ω at γ = {} (bursting above)</td><td>{}</td><td>{}</td></tr>\

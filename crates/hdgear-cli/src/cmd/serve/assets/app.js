@@ -235,7 +235,7 @@ function drawVerdict() {
     ["curve", `${an.regime}, max |dx/da| ${fmt(eq.max_slope.value)}`],
     ["predicted boundary in γ", eq.predicted_gamma_boundary === null ? "none" : fmt(eq.predicted_gamma_boundary)],
     ["predicted boundary in ω", fmt(eq.prediction.omega_boundary)],
-    ["simulated boundaries", `<span id="simulated">–</span> <button type="button" id="simulate-b" title="bisection on simulations (a few seconds)">locate</button>`],
+    ["simulated boundaries", `<span id="simulated">–</span> <button type="button" id="simulate-b" title="where the simulated verdict switches, from the prediction (under a second to a few seconds)">locate</button>`],
   ];
   let s = `<div class="big ${yes ? "yes" : "no"}" id="verdict-word">${yes ? "bursting" : "not bursting"}</div>`;
   s += `<div class="small">verdict: ${esc(c.verdict)}${r.continuous_fast_motion ? " — the fast motion never settles" : ""}</div>`;
