@@ -175,29 +175,10 @@ fn simulated_boundaries_are_switches_of_the_one_by_one_verdict() {
         };
         let b = boundaries(&p, &o).unwrap();
         let (g, w) = (b.simulated_gamma.unwrap(), b.simulated_omega.unwrap());
+        let at = |gamma, omega| Params { gamma, omega, ..p };
         for (below, above, bursts_below) in [
-            (
-                Params {
-                    gamma: g * (1.0 - f),
-                    ..p
-                },
-                Params {
-                    gamma: g * (1.0 + f),
-                    ..p
-                },
-                true,
-            ),
-            (
-                Params {
-                    omega: w * (1.0 - f),
-                    ..p
-                },
-                Params {
-                    omega: w * (1.0 + f),
-                    ..p
-                },
-                false,
-            ),
+            (at(g * (1.0 - f), p.omega), at(g * (1.0 + f), p.omega), true),
+            (at(gamma, w * (1.0 - f)), at(gamma, w * (1.0 + f)), false),
         ] {
             assert_eq!(bursting(below), bursts_below, "{gamma}: {b:?}");
             assert_eq!(bursting(above), !bursts_below, "{gamma}: {b:?}");

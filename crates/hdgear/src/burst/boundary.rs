@@ -56,17 +56,17 @@ pub struct Boundaries {
     pub simulated_omega: Option<f64>,
 }
 
-/// The simulated verdicts (bursting or not) at `points`: as one batch when there are several
-/// and the method is Taylor's, one by one otherwise.
-fn bursting(points: &[Params], opts: &BurstOptions) -> Result<Vec<bool>> {
-    if points.len() == 1 {
+/// The simulated verdicts (bursting or not) at the parameter sets `at(x)` for `xs`: as one batch
+/// when there are several and the method is Taylor's, one by one otherwise.
+fn bursting(xs: &[f64], at: impl Fn(f64) -> Params, opts: &BurstOptions) -> Result<Vec<bool>> {
+    let points: Vec<Params> = xs.iter().map(|&x| at(x)).collect();
+    if let [p] = points[..] {
         // a batch of one lane costs as much as sixteen
-        let p = &points[0];
-        return Ok(vec![classify(p, &response(p, opts)?).bursting]);
+        return Ok(vec![classify(&p, &response(&p, opts)?).bursting]);
     }
-    responses(points, opts)
+    responses(&points, opts)
         .into_iter()
-        .zip(points)
+        .zip(&points)
         .map(|(r, p)| Ok(classify(p, &r?).bursting))
         .collect()
 }
@@ -152,14 +152,7 @@ pub fn boundaries(p: &Params, opts: &BurstOptions) -> Result<Boundaries> {
         (gc * (1.0 + 1e-9), 1e6 * (gc + 1.0)),
         true,
         lanes,
-        |gs| {
-            bursting(
-                &gs.iter()
-                    .map(|&gamma| Params { gamma, ..*p })
-                    .collect::<Vec<_>>(),
-                opts,
-            )
-        },
+        |gs| bursting(gs, |gamma| Params { gamma, ..*p }, opts),
     )?;
     let omega_max = super::turning_point_rate(p) / super::TIME_SCALE_SEPARATION;
     let simulated_omega = if pr.fold_in_range {
@@ -170,14 +163,7 @@ pub fn boundaries(p: &Params, opts: &BurstOptions) -> Result<Boundaries> {
             (OMEGA_SEARCH_MIN, omega_max),
             false,
             lanes,
-            |ws| {
-                bursting(
-                    &ws.iter()
-                        .map(|&omega| Params { omega, ..*p })
-                        .collect::<Vec<_>>(),
-                    opts,
-                )
-            },
+            |ws| bursting(ws, |omega| Params { omega, ..*p }, opts),
         )?
     };
     Ok(Boundaries {
