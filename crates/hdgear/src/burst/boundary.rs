@@ -73,12 +73,12 @@ fn bursting(xs: &[f64], at: impl Fn(f64) -> Params, opts: &BurstOptions) -> Resu
 
 /// Finds where `holds` switches (true below the switch when `below` is true, above it
 /// otherwise) within [lo, hi], starting from `start`, with rounds of `lanes` values in increasing
-/// order (see the module docs).
+/// order, the first spaced by a factor e^`first_step` (see the module docs).
 fn search(
     start: f64,
     (lo, hi): (f64, f64),
     below: bool,
-    lanes: usize,
+    (lanes, first_step): (usize, f64),
     mut holds: impl FnMut(&[f64]) -> Result<Vec<bool>>,
 ) -> Result<Option<f64>> {
     // whether each value is on the lower side of the switch
@@ -89,7 +89,7 @@ fn search(
     // the first round: the prediction, or LANES values around it (those inside [lo, hi])
     let half = (lanes / 2) as f64;
     let xs: Vec<f64> = (0..lanes)
-        .map(|j| start * (FIRST_ROUND_STEP * (j as f64 - half)).exp())
+        .map(|j| start * (first_step * (j as f64 - half)).exp())
         .filter(|x| (lo..=hi).contains(x))
         .collect();
     let sides = lower(&xs)?;
@@ -141,9 +141,14 @@ fn search(
 /// for ω; a round at ω below 1e-4 takes a few hundred milliseconds).
 pub fn boundaries(p: &Params, opts: &BurstOptions) -> Result<Boundaries> {
     let lanes = match opts.tol.method {
-        Method::Taylor => crate::batch::LANES,
-        Method::Dop853 => 1,
+        Method::Taylor => (crate::batch::LANES, FIRST_ROUND_STEP),
+        Method::Dop853 => (1, FIRST_ROUND_STEP),
     };
+    boundaries_with(p, opts, lanes)
+}
+
+/// [`boundaries`] with rounds of `lanes` values, the first spaced by e^`first_step`.
+fn boundaries_with(p: &Params, opts: &BurstOptions, lanes: (usize, f64)) -> Result<Boundaries> {
     let predicted_gamma = predicted_gamma_boundary(p);
     let pr = predict(p);
     let gc = p.critical_gamma();
@@ -188,10 +193,10 @@ mod tests {
         for below in [true, false] {
             for start in [0.01, 1.0, 3.0, 3.7, 4.5, 1e3] {
                 let mut rounds = [0; 2];
-                for (i, lanes) in [1, 16].into_iter().enumerate() {
+                for (i, lanes) in [(1, 0.06), (16, 0.06)].into_iter().enumerate() {
                     let holds = |xs: &[f64]| {
                         assert!(xs.windows(2).all(|w| w[0] < w[1]), "{xs:?}");
-                        assert!(xs.len() == 1 || xs.len() == lanes, "{xs:?}");
+                        assert!(xs.len() == 1 || xs.len() == lanes.0, "{xs:?}");
                         rounds[i] += 1;
                         Ok(xs.iter().map(|&x| (x < switch) == below).collect())
                     };
@@ -200,7 +205,7 @@ mod tests {
                         .unwrap();
                     assert!(
                         (found / switch).ln().abs() <= 0.5 * BOUNDARY_REL_TOL,
-                        "{below} {start} {lanes}: {found}"
+                        "{below} {start} {lanes:?}: {found}"
                     );
                     let outside = |xs: &[f64]| Ok(xs.iter().map(|_| below).collect());
                     assert_eq!(
@@ -209,6 +214,39 @@ mod tests {
                     );
                 }
                 assert!(rounds[1] < rounds[0], "{below} {start}: rounds {rounds:?}");
+            }
+        }
+    }
+
+    /// The first round's spacing only decides where the simulations are made: a tenth and ten
+    /// times [`super::FIRST_ROUND_STEP`] (a first round of ±0.5 % that misses the switch and
+    /// walks, one of a factor 100 either way) find the same boundaries at γ = 1 to the brackets'
+    /// widths, and so does one value a round.
+    #[test]
+    fn the_first_round_spacing_does_not_change_the_boundaries() {
+        use super::{FIRST_ROUND_STEP, boundaries_with};
+        let p = crate::Params {
+            gamma: 1.0,
+            ..crate::Params::default()
+        };
+        let o = crate::burst::BurstOptions::default();
+        let at = |lanes| boundaries_with(&p, &o, lanes).unwrap();
+        let base = at((16, FIRST_ROUND_STEP));
+        for lanes in [
+            (16, 0.1 * FIRST_ROUND_STEP),
+            (16, 10.0 * FIRST_ROUND_STEP),
+            (1, 0.0),
+        ] {
+            let b = at(lanes);
+            for (x, y) in [
+                (base.simulated_gamma, b.simulated_gamma),
+                (base.simulated_omega, b.simulated_omega),
+            ] {
+                let (x, y) = (x.unwrap(), y.unwrap());
+                assert!(
+                    (x / y).ln().abs() <= 2.0 * BOUNDARY_REL_TOL,
+                    "{lanes:?}: {x} vs {y}"
+                );
             }
         }
     }
