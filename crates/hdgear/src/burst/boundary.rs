@@ -9,8 +9,8 @@
 //! values in lock-step cost about as much as two or three one by one), one at a time otherwise:
 //!
 //! 1. **first round**: the prediction alone (one at a time), or [`crate::batch::LANES`] values
-//!    spaced by a factor e^[`FIRST_ROUND_STEP`] around it, 0.61–1.53 times the prediction (the
-//!    prediction's error is 3–21 % at the report's three boundaries and within a factor 1.35 along
+//!    spaced by a factor e^[`FIRST_ROUND_STEP`] around it, 0.62–1.52 times the prediction (the
+//!    prediction's error is 3–20 % at the report's three boundaries and within a factor 1.35 along
 //!    the study's line, 1.9 at its end; see [`crate::fast::FORCING_RATE_THRESHOLD`]);
 //! 2. **bracket**: when every value of the round has the same verdict, doubling or halving from
 //!    the last one toward the switch, one value at a time (each step depends on the last);
