@@ -19,6 +19,7 @@ use super::{DriveParam, PhysicalParams, Reduction};
 use crate::burst::{BurstOptions, Verdict, classify, response, turning_point_rate};
 use crate::error::Result;
 use crate::fast::predict;
+use rayon::prelude::*;
 use serde::Serialize;
 
 /// Parameters a designer can change, in the order reported (the mean load t_m too: it sets
@@ -271,9 +272,13 @@ pub fn design_check(d: &PhysicalParams, opts: &BurstOptions) -> Result<DesignChe
         classification.map(|c| c.mode),
         classification.map(|c| c.mechanism),
     );
+    // the parameters' searches are independent: side by side on the current thread pool (the
+    // margins, and the first error if any, in DESIGN_PARAMETERS order whatever the thread count)
     let margins = DESIGN_PARAMETERS
-        .iter()
+        .par_iter()
         .map(|&name| margin(d, name, judgement, opts))
+        .collect::<Vec<_>>()
+        .into_iter()
         .collect::<Result<Vec<_>>>()?;
     let x0 = 1.0 / (3.0 * p.alpha);
     let steepest_point_a = p.a_at(x0);
