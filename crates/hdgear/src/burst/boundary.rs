@@ -93,12 +93,6 @@ fn search(
         .filter(|x| (lo..=hi).contains(x))
         .collect();
     let sides = lower(&xs)?;
-    // the first switch from the lower side to the upper one, in increasing order
-    let first_switch = |xs: &[f64], sides: &[bool]| {
-        (1..xs.len())
-            .find(|&k| sides[k - 1] && !sides[k])
-            .map(|k| (xs[k - 1], xs[k]))
-    };
     // invariant from here: (a, b) with a < b, a on the lower side, b on the upper one
     let (a, b) = match first_switch(&xs, &sides) {
         Some(pair) => pair,
@@ -120,21 +114,30 @@ fn search(
     };
     let (mut la, mut lb) = (a.ln(), b.ln());
     while lb - la > BOUNDARY_REL_TOL {
+        // the bracket's ends and the round's values between them, in log scale
         let n = lanes as f64;
-        let xs: Vec<f64> = (1..=lanes)
-            .map(|j| (la + (lb - la) * j as f64 / (n + 1.0)).exp())
-            .collect();
-        let sides = lower(&xs)?;
-        // the first value on the upper side (b when there is none); the one before it is lower
-        let k = sides.iter().position(|&s| !s).unwrap_or(lanes);
-        if k > 0 {
-            la = xs[k - 1].ln();
-        }
-        if k < lanes {
-            lb = xs[k].ln();
-        }
+        let mut ls = vec![la];
+        ls.extend((1..=lanes).map(|j| la + (lb - la) * j as f64 / (n + 1.0)));
+        ls.push(lb);
+        let xs: Vec<f64> = ls[1..=lanes].iter().map(|l| l.exp()).collect();
+        let mut sides = vec![true];
+        sides.extend(lower(&xs)?);
+        sides.push(false);
+        // (there is one: the ends are on either side)
+        let Some(part) = first_switch(&ls, &sides) else {
+            break;
+        };
+        (la, lb) = part;
     }
     Ok(Some((0.5 * (la + lb)).exp()))
+}
+
+/// The first pair of neighbours in `xs` (increasing) whose `lower` sides go from the lower side
+/// of the switch to the upper one.
+fn first_switch(xs: &[f64], lower: &[bool]) -> Option<(f64, f64)> {
+    (1..xs.len())
+        .find(|&k| lower[k - 1] && !lower[k])
+        .map(|k| (xs[k - 1], xs[k]))
 }
 
 /// Predicted and simulated boundaries through `p` (simulations: a handful of rounds for γ and
