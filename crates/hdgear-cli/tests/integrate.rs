@@ -4,6 +4,7 @@ use hdgear::Params;
 use hdgear::integrate::events::{Detector, Direction};
 use hdgear::integrate::{DenseOutput, Dop853, Method, Options, Stepper, System, sample};
 use hdgear::model::Dimensionless;
+use std::f64::consts::{FRAC_PI_2, PI};
 
 /// y' = cos(t)·y, y(0) = 1  ⇒  y = exp(sin t). Non-autonomous, so a stage evaluated at the wrong
 /// time shows up as a lost order.
@@ -208,6 +209,74 @@ fn events_locate_zero_crossings() {
         assert!((c.t - t).abs() < 1e-9, "{} vs {t}", c.t);
         assert!(c.y[0].abs() < 1e-9);
     }
+}
+
+#[test]
+fn roots_are_bracketed_to_the_tolerance_in_few_evaluations() {
+    use hdgear::integrate::events::refine_root;
+    // closed-form roots, rising and falling, near 0 and at t ≈ 1000 (the tolerance is relative
+    // there), steep ones, one in a flat stretch and multiple roots (where interpolation converges
+    // slowly and bisection must take over), each with the most evaluations it may take: a few
+    // for a simple root (Brent's method converges superlinearly), more for the multiple ones
+    // (name, f, a, b, the root, the most evaluations)
+    type Case = (&'static str, fn(f64) -> f64, f64, f64, f64, usize);
+    let cases: [Case; 10] = [
+        ("linear", |t| 3.0 * t - 1.0, 0.0, 1.0, 1.0 / 3.0, 1),
+        ("sqrt 2", |t| t * t - 2.0, 1.0, 2.0, 2f64.sqrt(), 8),
+        ("falling", |t| (-t).exp() - 0.5, 0.0, 3.0, 2f64.ln(), 10),
+        (
+            "cos at 1000",
+            |t| (t - 1000.0).cos(),
+            1000.5,
+            1002.5,
+            1000.0 + FRAC_PI_2,
+            8,
+        ),
+        (
+            "steep",
+            |t| (t - 0.3).tanh() * 1e6 - 1.0,
+            0.0,
+            1.0,
+            0.3 + (1e-6f64).atanh(),
+            8,
+        ),
+        (
+            "exponential",
+            |t| (50.0 * (t - 0.6)).exp() - 1.0,
+            0.0,
+            1.0,
+            0.6,
+            20,
+        ),
+        ("sine", |t| t.sin(), 3.0, 3.3, PI, 6),
+        (
+            "flat stretch",
+            |t| (t - 0.7).powi(5) + 1e-12 * (t - 0.7),
+            0.0,
+            1.0,
+            0.7,
+            40,
+        ),
+        ("triple", |t| (t - 0.25).powi(3), 0.0, 1.0, 0.25, 150),
+        ("ninefold", |t| (t - 0.123).powi(9), 0.0, 1.0, 0.123, 150),
+    ];
+    for (name, f, a, b, root, most) in cases {
+        let calls = std::cell::Cell::new(0usize);
+        let g = |t: f64| {
+            calls.set(calls.get() + 1);
+            f(t)
+        };
+        let t = refine_root(g, a, f(a), b, f(b));
+        let tol = 1e-13 * a.abs().max(1.0);
+        // the result is an end of a bracket at most tol wide around the root (f's sign is
+        // right to the last bit in every case, so the bracket holds the true root)
+        assert!((t - root).abs() <= tol, "{name}: {t} vs {root}");
+        assert!(calls.get() <= most, "{name}: {} evaluations", calls.get());
+    }
+    // a root at either end is returned without evaluating f
+    let never = |_: f64| -> f64 { panic!("evaluated") };
+    assert_eq!(refine_root(never, 1.0, 0.0, 2.0, 5.0), 1.0);
+    assert_eq!(refine_root(never, 1.0, -5.0, 2.0, 0.0), 2.0);
 }
 
 #[test]

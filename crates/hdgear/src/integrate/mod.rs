@@ -14,7 +14,7 @@
 //!   `atol + rtol·max(|y_old|, |y_new|)` component-wise, RMS norm.
 //! * Dense output: the 7th-order continuous extension, computed lazily (three extra right-hand-side
 //!   evaluations) only for steps in which output or events are requested.
-//! * Events: sign changes of a user function g(t, y) located on the dense output by the Illinois
+//! * Events: sign changes of a user function g(t, y) located on the dense output by Brent's
 //!   method (see [`events`]).
 //!
 //! ```
