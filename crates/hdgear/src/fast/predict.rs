@@ -97,12 +97,17 @@ pub fn focus_pieces(p: &Params) -> Vec<(f64, f64)> {
 /// best sample (κ is smooth on a focus piece).
 fn max_on(f: impl Fn(f64) -> f64, l: f64, r: f64) -> (f64, f64) {
     const N: usize = 512;
-    let (mut bx, mut bv) = (l, f(l));
-    for j in 1..=N {
-        let x = l + (r - l) * j as f64 / N as f64;
-        let v = f(x);
+    let x = |j: usize| l + (r - l) * j as f64 / N as f64;
+    // every sample first (independent evaluations, which the compiler vectorises), then the
+    // first largest (interleaved, the scan was 3 % of a (γ, δ) map's time)
+    let mut values = [0.0; N + 1];
+    for (j, v) in values.iter_mut().enumerate() {
+        *v = f(x(j));
+    }
+    let (mut bx, mut bv) = (l, values[0]);
+    for (j, &v) in values.iter().enumerate().skip(1) {
         if v > bv {
-            (bx, bv) = (x, v);
+            (bx, bv) = (x(j), v);
         }
     }
     let h = (r - l) / N as f64;
