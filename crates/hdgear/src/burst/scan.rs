@@ -581,12 +581,25 @@ pub(crate) const TURN_BACK_MAX: f64 = 1e-2;
 
 /// sin(θ − δ) and cos(θ − δ) from sin θ, cos θ for |δ| ≤ 1e-2: cos δ and sin δ by their series to
 /// δ⁸ and δ⁹ (remainders below 1e-21), then the addition theorems.
+///
+/// The series' coefficients are constants (1/4!, 1/6!, …, each within half an ulp), so that every
+/// operation is a multiply or an add: written as divisions by 12, 30, 56, … they were seven
+/// divisions per call, 30 % of the batched sampling of a (γ, δ) map (a vector division is
+/// several times slower than a multiplication and is not turned into one, being inexact).
 #[inline(always)]
 pub(crate) fn turn_back(s: f64, c: f64, delta: f64) -> (f64, f64) {
+    // 1/k! for k = 2…9
+    const F2: f64 = 1.0 / 2.0;
+    const F3: f64 = 1.0 / 6.0;
+    const F4: f64 = 1.0 / 24.0;
+    const F5: f64 = 1.0 / 120.0;
+    const F6: f64 = 1.0 / 720.0;
+    const F7: f64 = 1.0 / 5040.0;
+    const F8: f64 = 1.0 / 40320.0;
+    const F9: f64 = 1.0 / 362_880.0;
     let d2 = delta * delta;
-    let cos_d = 1.0 - d2 / 2.0 * (1.0 - d2 / 12.0 * (1.0 - d2 / 30.0 * (1.0 - d2 / 56.0)));
-    let sin_d =
-        delta * (1.0 - d2 / 6.0 * (1.0 - d2 / 20.0 * (1.0 - d2 / 42.0 * (1.0 - d2 / 72.0))));
+    let cos_d = 1.0 - d2 * (F2 - d2 * (F4 - d2 * (F6 - d2 * F8)));
+    let sin_d = delta * (1.0 - d2 * (F3 - d2 * (F5 - d2 * (F7 - d2 * F9))));
     (s * cos_d - c * sin_d, c * cos_d + s * sin_d)
 }
 
