@@ -16,7 +16,7 @@ use super::scan::{
 use crate::batch::{LANES, Simd, StepLanes, horner_lanes};
 use crate::fast::newton;
 use crate::integrate::DenseOutput;
-use crate::integrate::taylor::{MAX_ORDER, TaylorDense, abs_floor, mul_add};
+use crate::integrate::taylor::{MAX_ORDER, TaylorDense, abs_floor, estrin};
 use crate::params::Params;
 use std::cell::OnceCell;
 use std::collections::VecDeque;
@@ -670,21 +670,20 @@ fn floors_of(v: &[V], t0: &V, t1: &V) -> V {
     out
 }
 
-/// Lane `l`'s polynomial with coefficient rows `rows` at `h`, by Horner's rule (as
-/// `TaylorDense::eval`).
+/// Lane `l`'s polynomial with coefficient rows `rows` at `h` (as `TaylorDense::eval`: by
+/// [`estrin`]).
 #[inline(always)]
-fn lane_horner<const FMA: bool>(rows: &[V], l: usize, h: f64) -> f64 {
-    let (last, lower) = rows.split_last().map_or((0.0, rows), |(c, r)| (c[l], r));
-    lower
-        .iter()
-        .rev()
-        .fold(last, |y, c| mul_add::<FMA>(y, h, c[l]))
+fn lane_poly<const FMA: bool>(rows: &[V], l: usize, h: f64) -> f64 {
+    let Some(order) = rows.len().checked_sub(1) else {
+        return 0.0;
+    };
+    estrin::<FMA>(|k| rows[k][l], order, h)
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "fma")]
-fn lane_horner_fma(rows: &[V], l: usize, h: f64) -> f64 {
-    lane_horner::<true>(rows, l, h)
+fn lane_poly_fma(rows: &[V], l: usize, h: f64) -> f64 {
+    lane_poly::<true>(rows, l, h)
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -724,9 +723,9 @@ impl Past for LanePast<'_> {
             #[cfg(target_arch = "x86_64")]
             if fma {
                 // SAFETY: `fma` is set only where the CPU has FMA.
-                return unsafe { lane_horner_fma(rows, l, h) };
+                return unsafe { lane_poly_fma(rows, l, h) };
             }
-            lane_horner::<false>(rows, l, h)
+            lane_poly::<false>(rows, l, h)
         };
         onset_in(own, t, peak, xdot, |k| k.floor[l])
     }

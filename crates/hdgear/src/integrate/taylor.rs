@@ -139,9 +139,9 @@ impl<const N: usize> DenseOutput<N> for TaylorDense<N> {
         #[cfg(target_arch = "x86_64")]
         if std::arch::is_x86_feature_detected!("fma") {
             // SAFETY: the CPU has FMA (checked just above).
-            return unsafe { horner_fma(&self.c, self.order, t - self.t0) };
+            return unsafe { estrin_fma(&self.c, self.order, t - self.t0) };
         }
-        horner::<N, false>(&self.c, self.order, t - self.t0)
+        estrin_rows::<N, false>(&self.c, self.order, t - self.t0)
     }
     fn end_state(&self) -> [f64; N] {
         self.y1
@@ -171,10 +171,10 @@ fn abs_horner<const N: usize>(c: &[[f64; N]], i: usize, h: f64) -> f64 {
     c.iter().rev().fold(0.0, |b, row| b * h + row[i].abs())
 }
 
-/// A bound on the rounding of Horner's rule, as a share of Σ_k |c_k|·|h|^k: at most
-/// 2p·ε/(1 − 2p·ε) of it for order p (Higham, *Accuracy and Stability of Numerical Algorithms*,
-/// §5.1), 9e-15 at [`MAX_ORDER`]; 1e-12 leaves room for the rounding of the bound itself and of
-/// the argument t − t0.
+/// A bound on the rounding of Horner's rule (and of [`estrin`]), as a share of Σ_k |c_k|·|h|^k:
+/// at most 2p·ε/(1 − 2p·ε) of it for order p (Higham, *Accuracy and Stability of Numerical
+/// Algorithms*, §5.1), 9e-15 at [`MAX_ORDER`]; 1e-12 leaves room for the rounding of the bound
+/// itself and of the argument t − t0.
 const HORNER_ROUNDING: f64 = 1e-12;
 
 /// A lower bound of |P(s)| for s in [0, h] as Horner's rule computes it, P(s) = Σ_k c_k·s^k, from
@@ -185,12 +185,70 @@ pub(crate) fn abs_floor(first: f64, rest: f64) -> f64 {
     first - rest - HORNER_ROUNDING * (first + rest)
 }
 
-/// [`horner`] with fused multiply-adds (half the latency of the chain: dense output is evaluated
-/// several times per step by the burst scan).
+/// [`estrin_rows`] with fused multiply-adds.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "fma")]
-fn horner_fma<const N: usize>(c: &Coefficients<N>, order: usize, h: f64) -> [f64; N] {
-    horner::<N, true>(c, order, h)
+fn estrin_fma<const N: usize>(c: &Coefficients<N>, order: usize, h: f64) -> [f64; N] {
+    estrin_rows::<N, true>(c, order, h)
+}
+
+/// Rows 0..=order of `c` at h, each component by [`estrin`].
+#[inline(always)]
+fn estrin_rows<const N: usize, const FMA: bool>(
+    c: &Coefficients<N>,
+    order: usize,
+    h: f64,
+) -> [f64; N] {
+    std::array::from_fn(|i| estrin::<FMA>(|k| c[k][i], order, h))
+}
+
+/// Σ_{k=0..=order} coef(k)·h^k by Estrin's scheme: the pairs c_2i + c_2i+1·h, then pairs of those
+/// with h², h⁴, …: ⌈log₂(order + 1)⌉ dependent fused steps instead of Horner's `order`. Dense
+/// output is evaluated one point after another by the event searches (each point depends on the
+/// last), so the chain's length is what they pay: at order 13, four steps instead of thirteen.
+/// Each order gets its own copy (the order a constant, so the pairs stay in registers). Its
+/// rounding is of the size of Horner's rule's: a term c_k·h^k passes through at most
+/// k + 2⌈log₂(order + 1)⌉ roundings (its power of h, built by squaring, and the pairings), within
+/// the 2·order of Horner's rule for the orders used (≥ 6), so [`HORNER_ROUNDING`] bounds both.
+#[inline(always)]
+pub(crate) fn estrin<const FMA: bool>(coef: impl Fn(usize) -> f64, order: usize, h: f64) -> f64 {
+    macro_rules! fixed {
+        ($($p:literal)*) => {
+            match order {
+                $($p => estrin_to::<FMA, $p>(coef, h),)*
+                _ => (0..order).rev().fold(coef(order), |y, k| mul_add::<FMA>(y, h, coef(k))),
+            }
+        };
+    }
+    fixed!(6 7 8 9 10 11 12 13 14 15 16 17 18 19 20)
+}
+
+/// [`estrin`] at the constant order P.
+#[inline(always)]
+fn estrin_to<const FMA: bool, const P: usize>(coef: impl Fn(usize) -> f64, h: f64) -> f64 {
+    let mut b = [0.0; MAX_ORDER / 2 + 1];
+    let mut m = (P + 1).div_ceil(2);
+    for (i, bi) in b.iter_mut().enumerate().take(m) {
+        *bi = if 2 * i < P {
+            mul_add::<FMA>(coef(2 * i + 1), h, coef(2 * i))
+        } else {
+            coef(2 * i)
+        };
+    }
+    let mut x = h * h;
+    while m > 1 {
+        let half = m.div_ceil(2);
+        for i in 0..half {
+            b[i] = if 2 * i + 1 < m {
+                mul_add::<FMA>(b[2 * i + 1], x, b[2 * i])
+            } else {
+                b[2 * i]
+            };
+        }
+        m = half;
+        x *= x;
+    }
+    b[0]
 }
 
 #[inline(always)]
@@ -458,6 +516,39 @@ pub(crate) fn pow2(k: f64) -> f64 {
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn estrin_equals_horner_to_rounding() {
+        // every order the steppers use (and one past the fixed copies), mixed signs and sizes,
+        // h of either sign, below and above 1: Estrin's scheme and Horner's rule agree to a
+        // few roundings of Σ|c_k|·|h|^k (a term left out or paired wrongly would be far off)
+        for order in super::MIN_ORDER..=super::MAX_ORDER + 2 {
+            let c: Vec<f64> = (0..=order)
+                .map(|k| {
+                    (-1f64).powi(k as i32 * (k as i32 + 1) / 2) * 1.3f64.powi(k as i32)
+                        / (k + 1) as f64
+                })
+                .collect();
+            for h in [0.0, 0.1, -0.7, 1.3, -2.9] {
+                let horner = c.iter().rev().fold(0.0, |y, &ck| y * h + ck);
+                let size: f64 = c
+                    .iter()
+                    .enumerate()
+                    .map(|(k, ck)| (ck * h.powi(k as i32)).abs())
+                    .sum();
+                for e in [
+                    super::estrin::<false>(|k| c[k], order, h),
+                    super::estrin::<true>(|k| c[k], order, h),
+                ] {
+                    let bound = 4.0 * order as f64 * f64::EPSILON * size;
+                    assert!(
+                        (e - horner).abs() <= bound,
+                        "order {order}, h {h}: {e} vs {horner}"
+                    );
+                }
+            }
+        }
+    }
+
     #[test]
     fn fast_ln_and_exp_are_close() {
         let xs = [1e-300, 1e-20, 0.3, 1.0, 1.7, 1.999, 123.0, 1e200];
