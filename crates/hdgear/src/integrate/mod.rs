@@ -77,7 +77,7 @@ pub trait DenseOutput<const N: usize> {
     }
     /// A lower bound of |y_i| over the whole step as [`DenseOutput::eval`] computes it
     /// (rounding included), where the dense output gives one cheaply (Taylor's step polynomial:
-    /// |c_0,i| − Σ_{k≥1} |c_k,i|·h^k, less a margin for the rounding of Horner's rule), else
+    /// |c_0,i| − Σ_{k≥1} |c_k,i|·h^k, less a margin for the rounding of its evaluation), else
     /// `None` (the default). Lets a caller that looks for where |y_i| falls below a level skip a
     /// step where it cannot.
     fn abs_floor(&self, _i: usize) -> Option<f64> {

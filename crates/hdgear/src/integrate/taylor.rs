@@ -177,7 +177,7 @@ fn abs_horner<const N: usize>(c: &[[f64; N]], i: usize, h: f64) -> f64 {
 /// itself and of the argument t − t0.
 const HORNER_ROUNDING: f64 = 1e-12;
 
-/// A lower bound of |P(s)| for s in [0, h] as Horner's rule computes it, P(s) = Σ_k c_k·s^k, from
+/// A lower bound of |P(s)| for s in [0, h] as [`estrin`] computes it, P(s) = Σ_k c_k·s^k, from
 /// |c_0| and `rest` = Σ_{k≥1} |c_k|·h^k: |c_0| − rest, less [`HORNER_ROUNDING`] of
 /// |c_0| + rest. (Negative, so never a skip, where the step can reach zero.)
 #[inline(always)]
