@@ -16,7 +16,7 @@ use super::scan::{
 use crate::batch::{LANES, Simd, StepLanes, horner_lanes};
 use crate::fast::newton;
 use crate::integrate::DenseOutput;
-use crate::integrate::taylor::{MAX_ORDER, abs_floor, estrin};
+use crate::integrate::taylor::{MAX_ORDER, abs_floor, poly};
 use crate::params::Params;
 use std::collections::VecDeque;
 
@@ -128,7 +128,7 @@ impl LaneScan {
     fn start(&mut self, step: &StepLanes<'_>, fresh: &[bool; LANES]) {
         for l in (0..LANES).filter(|&l| fresh[l]) {
             if let Some(s) = self.scanners[l].as_mut() {
-                s.start(&LaneDense::new(step, l, self.steps.fma));
+                s.start(&LaneDense::new(step, l));
                 self.trackers.set(l, s.follower().state());
                 if let Some(last) = s.last() {
                     self.quiet.last.set(l, &last);
@@ -153,7 +153,7 @@ impl LaneScan {
         if eventful {
             let (mid, end) = (self.mid.get(l), self.end.get(l));
             s.follower().set_state(self.trackers.get(l));
-            s.push_sampled(&LaneDense::new(step, l, self.steps.fma), mid, end, &past);
+            s.push_sampled(&LaneDense::new(step, l), mid, end, &past);
             self.quiet.last.set(l, &end);
         }
         if over {
@@ -191,7 +191,7 @@ impl LaneScan {
             let Some(s) = self.scanners[l].as_mut() else {
                 continue;
             };
-            let d = LaneDense::new(step, l, self.steps.fma);
+            let d = LaneDense::new(step, l);
             let (t0, t1) = (step.t0[l], step.t1[l]);
             let end_sc = (step.sin_cos.0[l], step.sin_cos.1[l]);
             let (t, y, sc) = match at {
@@ -539,13 +539,11 @@ fn samples<const FMA: bool>(
 struct LaneDense<'a, 'b> {
     step: &'a StepLanes<'b>,
     lane: usize,
-    /// Whether the CPU has fused multiply-adds.
-    fma: bool,
 }
 
 impl<'a, 'b> LaneDense<'a, 'b> {
-    fn new(step: &'a StepLanes<'b>, lane: usize, fma: bool) -> Self {
-        LaneDense { step, lane, fma }
+    fn new(step: &'a StepLanes<'b>, lane: usize) -> Self {
+        LaneDense { step, lane }
     }
 }
 
@@ -559,10 +557,9 @@ impl DenseOutput<2> for LaneDense<'_, '_> {
     fn eval(&self, t: f64) -> [f64; 2] {
         let (s, l) = (self.step, self.lane);
         let h = t - s.t0[l];
-        let rows = s.order + 1;
         [
-            lane_eval(self.fma, &s.x[..rows], l, h),
-            lane_eval(self.fma, &s.v[..rows], l, h),
+            poly(|k| s.x[k][l], s.order, h),
+            poly(|k| s.v[k][l], s.order, h),
         ]
     }
     fn end_state(&self) -> [f64; 2] {
@@ -591,7 +588,6 @@ struct Steps {
     spare: Vec<Box<Kept>>,
     latest: V,
     live: [bool; LANES],
-    fma: bool,
     simd: Simd,
 }
 
@@ -602,8 +598,6 @@ impl Steps {
             spare: Vec::new(),
             latest: [0.0; LANES],
             live: [false; LANES],
-            // x' evaluated as `TaylorDense::eval` does it (fused where the CPU can)
-            fma: fma(),
             simd,
         }
     }
@@ -678,44 +672,6 @@ fn floors_of(v: &[V], t0: &V, t1: &V) -> V {
     out
 }
 
-/// Lane `l`'s polynomial with coefficient rows `rows` at `h` (as `TaylorDense::eval`: by
-/// [`estrin`]).
-#[inline(always)]
-fn lane_poly<const FMA: bool>(rows: &[V], l: usize, h: f64) -> f64 {
-    let Some(order) = rows.len().checked_sub(1) else {
-        return 0.0;
-    };
-    estrin::<FMA>(|k| rows[k][l], order, h)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "fma")]
-fn lane_poly_fma(rows: &[V], l: usize, h: f64) -> f64 {
-    lane_poly::<true>(rows, l, h)
-}
-
-/// [`lane_poly`] with fused multiply-adds where `fma` says the CPU has them.
-#[inline(always)]
-fn lane_eval(fma: bool, rows: &[V], l: usize, h: f64) -> f64 {
-    #[cfg(target_arch = "x86_64")]
-    if fma {
-        // SAFETY: `fma` is true only where the CPU has FMA (`Steps::fma`).
-        return unsafe { lane_poly_fma(rows, l, h) };
-    }
-    let _ = fma;
-    lane_poly::<false>(rows, l, h)
-}
-
-#[cfg(target_arch = "x86_64")]
-fn fma() -> bool {
-    std::arch::is_x86_feature_detected!("fma")
-}
-
-#[cfg(not(target_arch = "x86_64"))]
-fn fma() -> bool {
-    false
-}
-
 /// Lane `lane`'s kept steps, for [`Scanner`]'s onsets.
 struct LanePast<'a> {
     steps: &'a Steps,
@@ -727,7 +683,6 @@ impl Past for LanePast<'_> {
     fn onset(&self, t: f64, peak: f64) -> f64 {
         let l = self.lane;
         let from = self.steps.latest[l] - self.span;
-        let fma = self.steps.fma;
         // the lane's steps ending within its span of its latest (the ones `History` keeps)
         let own = self
             .steps
@@ -737,7 +692,7 @@ impl Past for LanePast<'_> {
             .filter(|k| k.shown[l])
             .take_while(|k| k.t1[l] >= from)
             .map(|k| (k.t0[l], k.t1[l], &**k));
-        let xdot = |k: &&Kept, s: f64| lane_eval(fma, &k.v[..=k.order], l, s - k.t0[l]);
+        let xdot = |k: &&Kept, s: f64| poly(|j| k.v[j][l], k.order, s - k.t0[l]);
         onset_in(own, t, peak, xdot, |k| k.floor[l])
     }
 }

@@ -115,6 +115,8 @@ pub fn refine_root(mut f: impl FnMut(f64) -> f64, a: f64, fa: f64, b: f64, fb: f
         return a;
     }
     let tol = 1e-13 * a.abs().max(1.0);
+    // half the tolerance: the bracket's half-width to reach, and the shortest step
+    let tol1 = 0.5 * tol;
     // b: the best estimate; c: the end of the bracket across the root from b; a: b's previous
     // value (for the interpolation); d, e: the last two steps
     let (mut a, mut fa, mut b, mut fb) = (a, fa, b, fb);
@@ -131,7 +133,6 @@ pub fn refine_root(mut f: impl FnMut(f64) -> f64, a: f64, fa: f64, b: f64, fb: f
             (b, fb) = (c, fc);
             (c, fc) = (a, fa);
         }
-        let tol1 = 0.5 * tol;
         let xm = 0.5 * (c - b);
         if xm.abs() <= tol1 || fb == 0.0 {
             return b;

@@ -136,12 +136,8 @@ impl<const N: usize> DenseOutput<N> for TaylorDense<N> {
         self.t1
     }
     fn eval(&self, t: f64) -> [f64; N] {
-        #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("fma") {
-            // SAFETY: the CPU has FMA (checked just above).
-            return unsafe { estrin_fma(&self.c, self.order, t - self.t0) };
-        }
-        estrin_rows::<N, false>(&self.c, self.order, t - self.t0)
+        let h = t - self.t0;
+        std::array::from_fn(|i| poly(|k| self.c[k][i], self.order, h))
     }
     fn end_state(&self) -> [f64; N] {
         self.y1
@@ -185,21 +181,24 @@ pub(crate) fn abs_floor(first: f64, rest: f64) -> f64 {
     first - rest - HORNER_ROUNDING * (first + rest)
 }
 
-/// [`estrin_rows`] with fused multiply-adds.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "fma")]
-fn estrin_fma<const N: usize>(c: &Coefficients<N>, order: usize, h: f64) -> [f64; N] {
-    estrin_rows::<N, true>(c, order, h)
+/// Σ_{k=0..=order} coef(k)·h^k by [`estrin`], with fused multiply-adds where the CPU has them:
+/// how every step polynomial is evaluated, by [`TaylorDense::eval`] and by the batch's burst
+/// scan on the batch's own rows (so both give the same values).
+#[inline(always)]
+pub(crate) fn poly(coef: impl Fn(usize) -> f64, order: usize, h: f64) -> f64 {
+    #[cfg(target_arch = "x86_64")]
+    if std::arch::is_x86_feature_detected!("fma") {
+        // SAFETY: the CPU has FMA (checked just above).
+        return unsafe { estrin_fma(coef, order, h) };
+    }
+    estrin::<false>(coef, order, h)
 }
 
-/// Rows 0..=order of `c` at h, each component by [`estrin`].
-#[inline(always)]
-fn estrin_rows<const N: usize, const FMA: bool>(
-    c: &Coefficients<N>,
-    order: usize,
-    h: f64,
-) -> [f64; N] {
-    std::array::from_fn(|i| estrin::<FMA>(|k| c[k][i], order, h))
+/// [`estrin`] with fused multiply-adds.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "fma")]
+fn estrin_fma(coef: impl Fn(usize) -> f64, order: usize, h: f64) -> f64 {
+    estrin::<true>(coef, order, h)
 }
 
 /// Σ_{k=0..=order} coef(k)·h^k by Estrin's scheme: the pairs c_2i + c_2i+1·h, then pairs of those
