@@ -350,20 +350,73 @@ impl Simd {
 /// Every lane's x and x' at its own `h` from their coefficient rows `x` and `v` (lowest order
 /// first, as many of each), by Horner's rule: the two chains interleaved and sixteen lanes at
 /// once, so the chains' length is not what it pays, and Horner's rule takes the fewest
-/// operations (the scalar stepper, bound by latency, takes Estrin's scheme instead).
+/// operations (the scalar stepper, bound by latency, takes Estrin's scheme instead). Each order
+/// the tolerances pick has its rows written out (`countdown!`).
 #[inline(always)]
-#[allow(clippy::needless_range_loop)] // lanes of parallel arrays, indexed together
 pub(crate) fn horner_lanes<const FMA: bool>(x: &[V], v: &[V], h: &V) -> (V, V) {
     let p = x.len().min(v.len()).saturating_sub(1);
+    macro_rules! fixed {
+        ($($p:literal)*) => {
+            match p {
+                $($p => horner_to::<FMA, $p>(x, v, h),)*
+                _ => horner_rows::<FMA>(x, v, h, p),
+            }
+        };
+    }
+    fixed!(6 7 8 9 10 11 12 13 14 15 16 17 18 19 20)
+}
+
+/// [`horner_lanes`] at the constant order P.
+#[inline(always)]
+fn horner_to<const FMA: bool, const P: usize>(x: &[V], v: &[V], h: &V) -> (V, V) {
+    let (mut yx, mut yv) = (x[P], v[P]);
+    countdown!(P, |k| horner_row::<FMA>(
+        (&mut yx, &mut yv),
+        (&x[k], &v[k]),
+        h
+    ));
+    (yx, yv)
+}
+
+/// [`horner_lanes`] at any order, a loop.
+#[inline(always)]
+fn horner_rows<const FMA: bool>(x: &[V], v: &[V], h: &V, p: usize) -> (V, V) {
     let (mut yx, mut yv) = (x[p], v[p]);
     for k in (0..p).rev() {
-        for l in 0..LANES {
-            yx[l] = mul_add::<FMA>(yx[l], h[l], x[k][l]);
-            yv[l] = mul_add::<FMA>(yv[l], h[l], v[k][l]);
-        }
+        horner_row::<FMA>((&mut yx, &mut yv), (&x[k], &v[k]), h);
     }
     (yx, yv)
 }
+
+/// One row of Horner's rule on both sums: y ← y·h + c.
+#[inline(always)]
+#[allow(clippy::needless_range_loop)] // lanes of parallel arrays, indexed together
+fn horner_row<const FMA: bool>((yx, yv): (&mut V, &mut V), (cx, cv): (&V, &V), h: &V) {
+    for l in 0..LANES {
+        yx[l] = mul_add::<FMA>(yx[l], h[l], cx[l]);
+        yv[l] = mul_add::<FMA>(yv[l], h[l], cv[l]);
+    }
+}
+
+/// `$body` for `$k` = `$p` − 1 down to 0 (`$p` a constant ≤ 21), written out: each with its `$k`
+/// a constant. A loop over the rows that carries sums of all lanes from one row to the next gives
+/// the compiler no store to start vectorising from: in the batch step's rotation of sin ωt it
+/// kept the sums lane by lane in scalar registers (and one of them in memory); written out, most
+/// of each row is one vector operation. (A macro, not a function taking a closure: a closure not
+/// inlined is not compiled for the caller's vector unit, and its fused multiply-adds became
+/// library calls, 3.6 times slower.)
+macro_rules! countdown {
+    ($p:expr, |$k:ident| $body:expr) => {
+        countdown!(@each $p, $k, $body, 0 1 2 3 4 5 6 7 8 9 10 11 12 13 14 15 16 17 18 19 20)
+    };
+    (@each $p:expr, $k:ident, $body:expr, $($i:literal)*) => {
+        $(if $i < $p {
+            let $k = $p - 1 - $i;
+            $body;
+        })*
+    };
+}
+pub(crate) use countdown;
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f,fma")]
@@ -479,10 +532,6 @@ fn settle_trouble(
     }
 }
 
-/// `T` aligned to a cache line.
-#[repr(C, align(64))]
-struct Aligned<T>(T);
-
 /// The lanes' parameters, states and coefficients; like [`Rows`], aligned to a cache line.
 #[repr(C, align(64))]
 struct Lanes {
@@ -496,8 +545,8 @@ struct Lanes {
     /// sin ωt and cos ωt, carried as state.
     sin: V,
     cos: V,
-    /// ω^k/k!: sin ω(t + h)'s k-th Taylor coefficient in h is this times ±sin ωt or ±cos ωt.
-    omega_powers: Box<Aligned<[V; MAX_ORDER + 1]>>,
+    /// ±ω^k/k!, the Taylor coefficients of cos ωh and sin ωh ([`Series`]).
+    series: Box<Series>,
     steps: [u64; LANES],
     order: usize,
     /// The step rule's exponent ([`rule`]).
@@ -533,12 +582,7 @@ impl Lanes {
             live: points.len(),
             sin: [0.0; LANES],
             cos: [1.0; LANES],
-            omega_powers: Box::new(Aligned(std::array::from_fn(|k| {
-                std::array::from_fn(|l| {
-                    let omega = points[pick(l)].omega;
-                    (0..k).fold(1.0, |f, j| f * omega * INV[j])
-                })
-            }))),
+            series: Box::new(Series::new(points, order)),
             steps: [0; LANES],
             order,
             shift,
@@ -568,22 +612,7 @@ impl Lanes {
     fn step<const FMA: bool, const TANGENT: bool>(&mut self) -> (V, V, V, V) {
         let p = self.order;
         let r = &mut *self.rows;
-        let f = &self.omega_powers.0;
-        // sin ω(t + h) = Σ ω^k/k!·sin(ωt + kπ/2)·h^k: each row a product, no chain through the
-        // orders (loops over whole rows: written lane by lane in place, they stayed scalar)
-        for k in 0..=p {
-            let (base, sign) = match k % 4 {
-                0 => (&self.sin, 1.0),
-                1 => (&self.cos, 1.0),
-                2 => (&self.sin, -1.0),
-                _ => (&self.cos, -1.0),
-            };
-            let mut row = [0.0; LANES];
-            for l in 0..LANES {
-                row[l] = sign * f[k][l] * base[l];
-            }
-            r.s[k] = row;
-        }
+        self.series.sine_rows(p, (&self.sin, &self.cos), &mut r.s);
         taylor_rows::<LANES, FMA>(&self.params, p, r);
         let mut norms = row_norms(p, self.floor, &r.x[..=p], &r.v[..=p]);
         if let Some(tg) = self.tangent.as_deref_mut().filter(|_| TANGENT) {
@@ -610,23 +639,22 @@ impl Lanes {
                 tg.log2_scale[l] += e;
             }
         }
-        let (ns, nc) = rotate::<FMA>(&f[..=p], &h, (&self.sin, &self.cos));
+        let (ns, nc) = self.series.rotate::<FMA>(&h, (&self.sin, &self.cos));
         let t0 = self.t;
+        // selects, not stores under a branch: those were made lane by lane, and the next step's
+        // vector loads of sin ωt waited on sixteen scalar stores
         for l in 0..LANES {
-            if h[l] > 0.0 {
-                let last = self.t[l] + h[l] >= self.t_end[l];
-                self.t[l] = if last {
-                    self.t_end[l]
-                } else {
-                    self.t[l] + h[l]
-                };
-                self.steps[l] += 1;
-            }
-        }
-        for l in 0..LANES {
-            if h[l] > 0.0 {
-                (self.sin[l], self.cos[l]) = (ns[l], nc[l]);
-            }
+            let moved = h[l] > 0.0;
+            let next = self.t[l] + h[l];
+            let next = if next >= self.t_end[l] {
+                self.t_end[l]
+            } else {
+                next
+            };
+            self.t[l] = if moved { next } else { self.t[l] };
+            self.steps[l] += u64::from(moved);
+            self.sin[l] = if moved { ns[l] } else { self.sin[l] };
+            self.cos[l] = if moved { nc[l] } else { self.cos[l] };
         }
         (t0, h, nx, nv)
     }
@@ -648,45 +676,103 @@ impl Lanes {
     }
 }
 
-/// sin ω(t + h) and cos ω(t + h) of every lane from sin ωt and cos ωt (`sin_cos`) and `f` (rows
-/// 0..=p of ω^k/k!): cos ωh and sin ωh to order p (Horner in h², signs alternating), then the
-/// addition theorems.
-#[inline(always)]
-#[allow(clippy::needless_range_loop)] // lanes of parallel arrays, indexed together
-fn rotate<const FMA: bool>(f: &[V], h: &V, (sin, cos): (&V, &V)) -> (V, V) {
-    let p = f.len() - 1;
-    let mut h2 = [0.0; LANES];
-    for l in 0..LANES {
-        h2[l] = h[l] * h[l];
-    }
-    // both series in one loop over the pairs of orders 2i, 2i + 1 (sign (−1)^i), each in its own
-    // accumulator (one chosen by the order's parity lived in memory: a store and a load in the
-    // chain of every term)
-    let m = p / 2;
-    let top = if m.is_multiple_of(2) { 1.0 } else { -1.0 };
-    let (mut ch, mut sh) = ([0.0; LANES], [0.0; LANES]);
-    for l in 0..LANES {
-        ch[l] = top * f[2 * m][l];
-        sh[l] = if 2 * m < p {
-            top * f[2 * m + 1][l]
-        } else {
-            0.0
+/// The coefficients of cos ωh = Σ_i (−1)^i ω^{2i}/(2i)!·h^{2i} and sin ωh/h =
+/// Σ_i (−1)^i ω^{2i+1}/(2i+1)!·h^{2i} of every lane, to the step's order p (`cos[i]`, `sin[i]` for
+/// i = 0..=p/2; a term past p is 0), with their signs: how each lane's sin ωt and cos ωt move on
+/// by a step ([`Series::rotate`]).
+#[repr(C, align(64))]
+struct Series {
+    cos: [V; MAX_ORDER / 2 + 1],
+    sin: [V; MAX_ORDER / 2 + 1],
+    /// p/2: the highest i.
+    top: usize,
+}
+
+impl Series {
+    fn new(points: &[Params], order: usize) -> Series {
+        let pick = |l: usize| points[if l < points.len() { l } else { 0 }].omega;
+        // ω^k/k! with the sign (−1)^⌊k/2⌋, 0 past the order
+        let term = |k: usize, l: usize| {
+            let f = (0..k).fold(1.0, |f, j| f * pick(l) * INV[j]);
+            let sign = if (k / 2).is_multiple_of(2) { 1.0 } else { -1.0 };
+            if k <= order { sign * f } else { 0.0 }
         };
-    }
-    for i in (0..m).rev() {
-        let sign = if i.is_multiple_of(2) { 1.0 } else { -1.0 };
-        for l in 0..LANES {
-            ch[l] = mul_add::<FMA>(ch[l], h2[l], sign * f[2 * i][l]);
-            sh[l] = mul_add::<FMA>(sh[l], h2[l], sign * f[2 * i + 1][l]);
+        Series {
+            cos: std::array::from_fn(|i| std::array::from_fn(|l| term(2 * i, l))),
+            sin: std::array::from_fn(|i| std::array::from_fn(|l| term(2 * i + 1, l))),
+            top: order / 2,
         }
     }
-    let (mut ns, mut nc) = ([0.0; LANES], [0.0; LANES]);
-    for l in 0..LANES {
-        let s = sh[l] * h[l];
-        ns[l] = mul_add::<FMA>(sin[l], ch[l], cos[l] * s);
-        nc[l] = mul_add::<FMA>(cos[l], ch[l], -(sin[l] * s));
+
+    /// Rows 0..=p of sin ω(t + h)'s Taylor coefficients in h from sin ωt and cos ωt (`sin_cos`):
+    /// by the addition theorem, (−1)^i ω^{2i}/(2i)!·sin ωt for order 2i and
+    /// (−1)^i ω^{2i+1}/(2i+1)!·cos ωt for order 2i + 1: each row a product, no chain through
+    /// the orders.
+    #[inline(always)]
+    #[allow(clippy::needless_range_loop)] // lanes of parallel arrays, indexed together
+    fn sine_rows(&self, p: usize, (sin, cos): (&V, &V), s: &mut [V]) {
+        for i in 0..=p / 2 {
+            let mut row = [0.0; LANES];
+            for l in 0..LANES {
+                row[l] = self.cos[i][l] * sin[l];
+            }
+            s[2 * i] = row;
+            if 2 * i < p {
+                for l in 0..LANES {
+                    row[l] = self.sin[i][l] * cos[l];
+                }
+                s[2 * i + 1] = row;
+            }
+        }
     }
-    (ns, nc)
+
+    /// sin ω(t + h) and cos ω(t + h) of every lane from sin ωt and cos ωt (`sin_cos`): cos ωh and
+    /// sin ωh/h by Horner's rule in h², then the addition theorems. (The series' signs are in
+    /// their coefficients and each order is written out, `countdown!`: with the signs applied in
+    /// a loop, the compiler kept one of the two sums in memory and split the lanes between scalar
+    /// and vector code.)
+    #[inline(always)]
+    #[allow(clippy::needless_range_loop)] // lanes of parallel arrays, indexed together
+    fn rotate<const FMA: bool>(&self, h: &V, (sin, cos): (&V, &V)) -> (V, V) {
+        let mut h2 = [0.0; LANES];
+        for l in 0..LANES {
+            h2[l] = h[l] * h[l];
+        }
+        macro_rules! fixed {
+            ($($top:literal)*) => {
+                match self.top {
+                    $($top => self.sums::<FMA, $top>(&h2),)*
+                    _ => {
+                        let (mut ch, mut sh) = (self.cos[self.top], self.sin[self.top]);
+                        for i in (0..self.top).rev() {
+                            horner_row::<FMA>((&mut ch, &mut sh), (&self.cos[i], &self.sin[i]), &h2);
+                        }
+                        (ch, sh)
+                    }
+                }
+            };
+        }
+        let (ch, sh) = fixed!(3 4 5 6 7 8 9 10);
+        let (mut ns, mut nc) = ([0.0; LANES], [0.0; LANES]);
+        for l in 0..LANES {
+            let s = sh[l] * h[l];
+            ns[l] = mul_add::<FMA>(sin[l], ch[l], cos[l] * s);
+            nc[l] = mul_add::<FMA>(cos[l], ch[l], -(sin[l] * s));
+        }
+        (ns, nc)
+    }
+
+    /// cos ωh and sin ωh/h at the constant p/2 = TOP, from h² (Horner's rule written out).
+    #[inline(always)]
+    fn sums<const FMA: bool, const TOP: usize>(&self, h2: &V) -> (V, V) {
+        let (mut ch, mut sh) = (self.cos[TOP], self.sin[TOP]);
+        countdown!(TOP, |i| horner_row::<FMA>(
+            (&mut ch, &mut sh),
+            (&self.cos[i], &self.sin[i]),
+            h2
+        ));
+        (ch, sh)
+    }
 }
 
 /// The scaled max-norms of rows p − 1 and p of each lane's coefficients (`x`, `v`),

@@ -277,9 +277,11 @@ impl Quiet {
             let grown = self.lobe[l].max(m.e.abs()).max(b.e.abs());
             self.lobe[l] = if quiet { grown } else { self.lobe[l] };
         }
-        for l in (0..LANES).filter(|&l| shown[l] && !eventful[l]) {
-            self.last.set(l, &end.get(l));
+        let mut moved = [false; LANES];
+        for l in 0..LANES {
+            moved[l] = shown[l] & !eventful[l];
         }
+        self.last.select(&moved, end);
         eventful
     }
 
@@ -302,6 +304,8 @@ struct ParamLanes {
     mu: V,
     delta: V,
     omega: V,
+    /// 1/α (the equilibrium Newton step's scale).
+    scale: V,
 }
 
 impl ParamLanes {
@@ -313,6 +317,7 @@ impl ParamLanes {
             mu: p.map(|p| p.mu),
             delta: p.map(|p| p.delta),
             omega: p.map(|p| p.omega),
+            scale: p.map(|p| 1.0 / p.alpha),
         }
     }
 
@@ -396,6 +401,28 @@ impl Samples {
     fn set(&mut self, l: usize, s: &Sample) {
         (self.t[l], self.x[l], self.v[l], self.acc[l]) = (s.t, s.x, s.v, s.acc);
         (self.c[l], self.e[l], self.ed[l], self.e1[l]) = (s.c, s.e, s.ed, s.e1);
+    }
+
+    /// Takes `other`'s sample in the lanes `which`, by selects over all lanes (stores made lane
+    /// by lane under a branch left the next step's vector loads waiting on them).
+    #[inline(always)]
+    #[allow(clippy::needless_range_loop)] // lanes of parallel arrays, indexed together
+    fn select(&mut self, which: &[bool; LANES], other: &Samples) {
+        let pairs = [
+            (&mut self.t, &other.t),
+            (&mut self.x, &other.x),
+            (&mut self.v, &other.v),
+            (&mut self.acc, &other.acc),
+            (&mut self.c, &other.c),
+            (&mut self.e, &other.e),
+            (&mut self.ed, &other.ed),
+            (&mut self.e1, &other.e1),
+        ];
+        for (mine, theirs) in pairs {
+            for l in 0..LANES {
+                mine[l] = if which[l] { theirs[l] } else { mine[l] };
+            }
+        }
     }
 }
 
@@ -515,8 +542,9 @@ fn samples<const FMA: bool>(
         let da = a - tr.last_a[l];
         let y0 = tr.hint[l] + da * (tr.slope[l] + 0.5 * tr.curvature[l] * da);
         // two Newton steps, the first one's result where it is done (as the tracker returns)
-        let n1 = newton(p, y0, rhs);
-        let n2 = newton(p, n1.y, rhs);
+        let scale = params.scale[l];
+        let n1 = newton(p, scale, y0, rhs);
+        let n2 = newton(p, scale, n1.y, rhs);
         let first = n1.on_branch & n1.done;
         let second = n1.on_branch & n2.on_branch & n2.done;
         let n = if first { n1 } else { n2 };

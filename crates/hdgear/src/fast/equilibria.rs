@@ -284,11 +284,11 @@ pub(crate) struct Newton {
 /// but the step itself from the iterate y (one division, computed while g(y) is), since calls
 /// follow each other through the tracker's state and the length of this chain is what a scan
 /// pays per sample. Newton's error after the step is |g''|/(2g')·dy² to leading order: done when
-/// that is at the rounding level of y (no second evaluation to test the residual).
+/// that is at the rounding level of y (no second evaluation to test the residual). `scale` is
+/// 1/α, the x-scale of the cubic's features (its inflection is at 1/(3α)): computed once per
+/// parameter set by the caller (a division per call was a quarter of the batched sampling's).
 #[inline(always)]
-pub(crate) fn newton(p: &Params, y: f64, rhs: f64) -> Newton {
-    // x-scale of the cubic's features (its inflection is at 1/(3α))
-    let scale = 1.0 / p.alpha;
+pub(crate) fn newton(p: &Params, scale: f64, y: f64, rhs: f64) -> Newton {
     let gp = p.g_prime(y);
     let inv_gp = 1.0 / gp;
     let half_g2 = 3.0 * p.alpha * y - 1.0;
@@ -310,6 +310,8 @@ pub(crate) fn newton(p: &Params, y: f64, rhs: f64) -> Newton {
 #[derive(Clone, Debug)]
 pub struct EquilibriumTracker {
     p: Params,
+    /// 1/α ([`newton`]'s scale).
+    scale: f64,
     /// The a-interval with three equilibria (between the fold values), if any.
     multi: Option<(f64, f64)>,
     /// The last equilibrium returned, the a it was for, and dx*/da and d²x*/da² there (0:
@@ -329,6 +331,7 @@ impl EquilibriumTracker {
         };
         EquilibriumTracker {
             p: *p,
+            scale: 1.0 / p.alpha,
             multi,
             hint: x0,
             last_a: 0.0,
@@ -365,7 +368,7 @@ impl EquilibriumTracker {
             let da = a - self.last_a;
             let mut y = self.hint + da * (self.slope + 0.5 * self.curvature * da);
             for _ in 0..8 {
-                let n = newton(p, y, rhs);
+                let n = newton(p, self.scale, y, rhs);
                 if !n.on_branch {
                     break; // not on a stable branch: the exact solve below decides
                 }
