@@ -41,6 +41,11 @@ impl System<2> for Dimensionless {
     fn taylor(&self, t: f64, y: &[f64; 2], order: usize, c: &mut [[f64; 2]]) -> bool {
         #[cfg(target_arch = "x86_64")]
         if std::arch::is_x86_feature_detected!("fma") {
+            if std::arch::is_x86_feature_detected!("avx512f") {
+                // SAFETY: the CPU has AVX-512F and FMA (checked just above).
+                unsafe { taylor_avx512(&self.p, t, y, order, c) };
+                return true;
+            }
             // SAFETY: the CPU has FMA (checked just above).
             unsafe { taylor_fma(&self.p, t, y, order, c) };
             return true;
@@ -48,6 +53,16 @@ impl System<2> for Dimensionless {
         taylor_scalar::<false>(&self.p, t, y, order, c);
         true
     }
+}
+
+/// The recurrence compiled for AVX-512, for its 32 vector registers: on one lane it works on
+/// scalars, and with 16 registers more of its sums are spilled to the stack (one 3-period run
+/// 0.303 → 0.277 ms, AMD EPYC Zen 4, same results to the bit).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,fma")]
+#[inline]
+fn taylor_avx512(p: &Params, t: f64, y: &[f64; 2], order: usize, c: &mut [[f64; 2]]) {
+    taylor_scalar::<true>(p, t, y, order, c);
 }
 
 #[cfg(target_arch = "x86_64")]

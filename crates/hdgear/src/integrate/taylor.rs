@@ -297,17 +297,21 @@ impl<'s, S: System<N> + ?Sized, const N: usize> Taylor<'s, S, N> {
         self.order
     }
 
-    /// The Jorba–Zou step from the coefficients in `self.c`: each component divided by
-    /// max(|y_i|, atol/rtol) (one division per component), the max-norms of rows p − 1 and p.
+    /// Each component's weight in the step rule, 1/max(|y_i|, atol/rtol): relative where
+    /// rtol·|y_i| ≥ atol, absolute (in units of atol/rtol) below. From the state before the
+    /// coefficients are computed, so that its divisions overlap the recurrence (read back from
+    /// row 0 after it, they waited for it: 0.277 → 0.263 ms per 3-period run, AMD EPYC Zen 4).
     #[inline(always)]
-    fn step_size<const FMA: bool>(&self) -> f64 {
-        let p = self.order;
-        // per component: relative where rtol·|y_i| ≥ atol, absolute (in units of atol/rtol) below
+    fn weights(&self) -> [f64; N] {
         let floor = self.opts.atol / self.opts.rtol;
-        let mut scale = [0.0; N];
-        for (s, y) in scale.iter_mut().zip(&self.c[0]) {
-            *s = 1.0 / y.abs().max(floor);
-        }
+        self.y.map(|y| 1.0 / y.abs().max(floor))
+    }
+
+    /// The Jorba–Zou step from the coefficients in `self.c` and the [`Taylor::weights`] of the
+    /// step's start: the weighted max-norms of rows p − 1 and p.
+    #[inline(always)]
+    fn step_size<const FMA: bool>(&self, scale: &[f64; N]) -> f64 {
+        let p = self.order;
         let norm = |row: &[f64; N]| (0..N).fold(0.0f64, |m, i| m.max(row[i].abs() * scale[i]));
         step_from_norms::<FMA, false>(p, self.shift, norm(&self.c[p - 1]), norm(&self.c[p]))
     }
@@ -332,9 +336,10 @@ impl<'s, S: System<N> + ?Sized, const N: usize> Taylor<'s, S, N> {
             }
             .into());
         }
+        let scale = self.weights();
         self.sys.taylor(self.t, &self.y, self.order, &mut self.c);
         self.stats.rhs_evals += 1;
-        let mut h = self.step_size::<FMA>();
+        let mut h = self.step_size::<FMA>(&scale);
         if let Some(hm) = self.opts.h_max {
             h = h.min(hm);
         }
