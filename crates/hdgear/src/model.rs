@@ -84,12 +84,8 @@ fn taylor_scalar<const FMA: bool>(
 ) {
     use crate::integrate::taylor::{MAX_ORDER, sine_coefficients};
     let n = order.min(MAX_ORDER).min(c.len() - 1);
-    let mut sine = [0.0; MAX_ORDER + 1];
-    sine_coefficients(p.omega, t, n, &mut sine);
     let mut rows = Rows::<1>::default();
-    for (r, s) in rows.s.iter_mut().zip(sine) {
-        *r = [s];
-    }
+    sine_coefficients(p.omega, t, n, rows.s.as_flattened_mut());
     rows.x[0] = [y[0]];
     rows.v[0] = [y[1]];
     taylor_rows::<1, FMA>(&LaneParams::new(std::slice::from_ref(p)), n, &mut rows);
@@ -308,19 +304,17 @@ fn next_order<const L: usize, const FMA: bool>(
     let fma = mul_add::<FMA>;
     let inv = INV[k];
     if k == 0 {
-        // row 0 of the acceleration without −v₀: (μ + γε) + δ s₀ − αx₀³ + x₀² − γx₀
+        // row 0 of the acceleration, (μ + γε) − αx₀³ + x₀² − γx₀ − v₀ + δ s₀, the sine last:
+        // after a step it is the latest to arrive (its sine waits for the step's end, the
+        // state's polynomial is shorter), so from it to v₁ is one fused step
         for l in 0..L {
             let x0 = r.x[0][l];
             let sq = x0 * x0;
             r.x2[0][l] = sq;
             let slow = fma(lp.neg_gamma[l], x0, lp.constant[l]);
-            let acc = fma(
-                lp.neg_alpha[l] * x0,
-                sq,
-                fma(lp.delta[l], r.s[0][l], slow) + sq,
-            );
-            r.x[1][l] = r.v[0][l] * inv;
-            r.v[1][l] = fma(r.v[0][l], -inv, acc * inv);
+            let state = fma(lp.neg_alpha[l] * x0, sq, slow + sq) - r.v[0][l];
+            r.x[1][l] = r.v[0][l];
+            r.v[1][l] = fma(lp.delta[l], r.s[0][l], state);
         }
         return;
     }

@@ -58,14 +58,15 @@ pub(crate) fn rule(opts: &Options) -> (usize, f64) {
 pub fn sine_coefficients(omega: f64, t: f64, order: usize, s: &mut [f64]) {
     let (sn, cs) = libm::sincos(omega * t);
     let cycle = [sn, cs, -sn, -cs];
-    let mut f = 1.0;
-    for (k, sk) in s
-        .iter_mut()
-        .enumerate()
-        .take((order + 1).min(MAX_ORDER + 1))
-    {
-        *sk = f * cycle[k % 4];
-        f *= omega * INV[k];
+    // s₀ = sin ωt as it is (a product by 1 is exact, but a step in the chain)
+    let Some((first, rest)) = s.split_first_mut() else {
+        return;
+    };
+    *first = sn;
+    let mut f = omega;
+    for (k, sk) in rest.iter_mut().enumerate().take(order.min(MAX_ORDER)) {
+        *sk = f * cycle[(k + 1) % 4];
+        f *= omega * INV[k + 1];
     }
 }
 
