@@ -351,7 +351,8 @@ impl Simd {
 /// first, as many of each), by Horner's rule: the two chains interleaved and sixteen lanes at
 /// once, so the chains' length is not what it pays, and Horner's rule takes the fewest
 /// operations (the scalar stepper, bound by latency, takes Estrin's scheme instead). Each order
-/// the tolerances pick has its rows written out (`countdown!`).
+/// the tolerances pick (and half of it, for [`Series::rotate`]) has its rows written out
+/// (`countdown!`).
 #[inline(always)]
 pub(crate) fn horner_lanes<const FMA: bool>(x: &[V], v: &[V], h: &V) -> (V, V) {
     let p = x.len().min(v.len()).saturating_sub(1);
@@ -363,7 +364,8 @@ pub(crate) fn horner_lanes<const FMA: bool>(x: &[V], v: &[V], h: &V) -> (V, V) {
             }
         };
     }
-    fixed!(6 7 8 9 10 11 12 13 14 15 16 17 18 19 20)
+    // (3 … 10: the rotation's series in h², to half the order)
+    fixed!(3 4 5 6 7 8 9 10 11 12 13 14 15 16 17 18 19 20)
 }
 
 /// [`horner_lanes`] at the constant order P.
@@ -727,9 +729,9 @@ impl Series {
     }
 
     /// sin ω(t + h) and cos ω(t + h) of every lane from sin ωt and cos ωt (`sin_cos`): cos ωh and
-    /// sin ωh/h by Horner's rule in h², then the addition theorems. (The series' signs are in
-    /// their coefficients and each order is written out, `countdown!`: with the signs applied in
-    /// a loop, the compiler kept one of the two sums in memory and split the lanes between scalar
+    /// sin ωh/h by Horner's rule in h² ([`horner_lanes`]), then the addition theorems. (The series'
+    /// signs are in their coefficients and each order is written out: with the signs applied in a
+    /// loop, the compiler kept one of the two sums in memory and split the lanes between scalar
     /// and vector code.)
     #[inline(always)]
     #[allow(clippy::needless_range_loop)] // lanes of parallel arrays, indexed together
@@ -738,21 +740,8 @@ impl Series {
         for l in 0..LANES {
             h2[l] = h[l] * h[l];
         }
-        macro_rules! fixed {
-            ($($top:literal)*) => {
-                match self.top {
-                    $($top => self.sums::<FMA, $top>(&h2),)*
-                    _ => {
-                        let (mut ch, mut sh) = (self.cos[self.top], self.sin[self.top]);
-                        for i in (0..self.top).rev() {
-                            horner_row::<FMA>((&mut ch, &mut sh), (&self.cos[i], &self.sin[i]), &h2);
-                        }
-                        (ch, sh)
-                    }
-                }
-            };
-        }
-        let (ch, sh) = fixed!(3 4 5 6 7 8 9 10);
+        let top = self.top;
+        let (ch, sh) = horner_lanes::<FMA>(&self.cos[..=top], &self.sin[..=top], &h2);
         let (mut ns, mut nc) = ([0.0; LANES], [0.0; LANES]);
         for l in 0..LANES {
             let s = sh[l] * h[l];
@@ -760,18 +749,6 @@ impl Series {
             nc[l] = mul_add::<FMA>(cos[l], ch[l], -(sin[l] * s));
         }
         (ns, nc)
-    }
-
-    /// cos ωh and sin ωh/h at the constant p/2 = TOP, from h² (Horner's rule written out).
-    #[inline(always)]
-    fn sums<const FMA: bool, const TOP: usize>(&self, h2: &V) -> (V, V) {
-        let (mut ch, mut sh) = (self.cos[TOP], self.sin[TOP]);
-        countdown!(TOP, |i| horner_row::<FMA>(
-            (&mut ch, &mut sh),
-            (&self.cos[i], &self.sin[i]),
-            h2
-        ));
-        (ch, sh)
     }
 }
 
