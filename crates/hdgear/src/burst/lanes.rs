@@ -532,30 +532,52 @@ fn samples<const FMA: bool>(
             (t, x, v, s, c)
         }
     };
+    // the first Newton step of every lane from the tracker's prediction
+    let (mut y, mut slope, mut curvature) = ([0.0; LANES], [0.0; LANES], [0.0; LANES]);
+    let (mut rhs, mut on_branch, mut settled) = ([0.0; LANES], [false; LANES], [false; LANES]);
+    let mut again = false;
+    for l in 0..LANES {
+        let p = &params.get(l);
+        let a = s[l];
+        rhs[l] = p.forcing(a);
+        let da = a - tr.last_a[l];
+        let y0 = tr.hint[l] + da * (tr.slope[l] + 0.5 * tr.curvature[l] * da);
+        let n = newton(p, params.scale[l], y0, rhs[l]);
+        (y[l], slope[l], curvature[l]) = (n.y, n.slope, n.curvature);
+        on_branch[l] = n.on_branch;
+        settled[l] = n.on_branch & n.done;
+        // (`|` and `&`, not `||` and `&&`: no branches, so the loop vectorises)
+        again |= n.on_branch & !n.done;
+    }
+    // the second where a lane on its branch is not done after the first (where none is, as on
+    // most steps, its result would be used nowhere: a lane off its branch is not kept, and its
+    // sample is taken again by its scanner)
+    if again {
+        for l in 0..LANES {
+            let p = &params.get(l);
+            let n = newton(p, params.scale[l], y[l], rhs[l]);
+            let first = settled[l];
+            (y[l], slope[l], curvature[l]) = if first {
+                (y[l], slope[l], curvature[l])
+            } else {
+                (n.y, n.slope, n.curvature)
+            };
+            settled[l] = first | (on_branch[l] & n.on_branch & n.done);
+        }
+    }
     for l in 0..LANES {
         let p = &params.get(l);
         let a = s[l];
         let (lo, hi) = multi[l];
-        // (`|` and `&`, not `||` and `&&`: no branches, so the loop vectorises)
         let unique = (a < lo) | (a > hi);
-        let rhs = p.forcing(a);
-        let da = a - tr.last_a[l];
-        let y0 = tr.hint[l] + da * (tr.slope[l] + 0.5 * tr.curvature[l] * da);
-        // two Newton steps, the first one's result where it is done (as the tracker returns)
-        let scale = params.scale[l];
-        let n1 = newton(p, scale, y0, rhs);
-        let n2 = newton(p, scale, n1.y, rhs);
-        let first = n1.on_branch & n1.done;
-        let second = n1.on_branch & n2.on_branch & n2.done;
-        let n = if first { n1 } else { n2 };
-        let keep = unique & turned[l] & (first | second);
+        let keep = unique & turned[l] & settled[l];
         ok[l] = keep;
         let pick = |new: f64, old: f64| if keep { new } else { old };
-        tr.hint[l] = pick(n.y, tr.hint[l]);
+        tr.hint[l] = pick(y[l], tr.hint[l]);
         tr.last_a[l] = pick(a, tr.last_a[l]);
-        tr.slope[l] = pick(n.slope, tr.slope[l]);
-        tr.curvature[l] = pick(n.curvature, tr.curvature[l]);
-        out.set(l, &measure(p, t[l], [x[l], v[l]], (s[l], c[l]), n.y));
+        tr.slope[l] = pick(slope[l], tr.slope[l]);
+        tr.curvature[l] = pick(curvature[l], tr.curvature[l]);
+        out.set(l, &measure(p, t[l], [x[l], v[l]], (s[l], c[l]), y[l]));
     }
     ok
 }
