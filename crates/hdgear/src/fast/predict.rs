@@ -112,14 +112,20 @@ fn max_on(f: impl Fn(f64) -> f64, l: f64, r: f64) -> (f64, f64) {
     }
     let h = (r - l) / N as f64;
     let (mut lo, mut hi) = ((bx - h).max(l), (bx + h).min(r));
+    // golden section: each round keeps one inner point and its value and evaluates one new one
+    // (the chain of evaluations, a square root and a division each, was most of a call)
     let phi = 0.5 * (5f64.sqrt() - 1.0);
+    let (mut m1, mut m2) = (hi - phi * (hi - lo), lo + phi * (hi - lo));
+    let (mut f1, mut f2) = (f(m1), f(m2));
     for _ in 0..60 {
-        let m1 = hi - phi * (hi - lo);
-        let m2 = lo + phi * (hi - lo);
-        if f(m1) < f(m2) {
-            lo = m1;
+        if f1 < f2 {
+            (lo, m1, f1) = (m1, m2, f2);
+            m2 = lo + phi * (hi - lo);
+            f2 = f(m2);
         } else {
-            hi = m2;
+            (hi, m2, f2) = (m2, m1, f1);
+            m1 = hi - phi * (hi - lo);
+            f1 = f(m1);
         }
     }
     let xm = 0.5 * (lo + hi);
