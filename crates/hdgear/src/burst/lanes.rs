@@ -378,6 +378,7 @@ struct Samples {
     x: V,
     v: V,
     acc: V,
+    s: V,
     c: V,
     e: V,
     ed: V,
@@ -391,6 +392,7 @@ impl Samples {
             x: self.x[l],
             v: self.v[l],
             acc: self.acc[l],
+            s: self.s[l],
             c: self.c[l],
             e: self.e[l],
             ed: self.ed[l],
@@ -400,7 +402,7 @@ impl Samples {
 
     fn set(&mut self, l: usize, s: &Sample) {
         (self.t[l], self.x[l], self.v[l], self.acc[l]) = (s.t, s.x, s.v, s.acc);
-        (self.c[l], self.e[l], self.ed[l], self.e1[l]) = (s.c, s.e, s.ed, s.e1);
+        (self.s[l], self.c[l], self.e[l], self.ed[l], self.e1[l]) = (s.s, s.c, s.e, s.ed, s.e1);
     }
 
     /// Takes `other`'s sample in the lanes `which`, by selects over all lanes (stores made lane
@@ -413,6 +415,7 @@ impl Samples {
             (&mut self.x, &other.x),
             (&mut self.v, &other.v),
             (&mut self.acc, &other.acc),
+            (&mut self.s, &other.s),
             (&mut self.c, &other.c),
             (&mut self.e, &other.e),
             (&mut self.ed, &other.ed),

@@ -24,6 +24,8 @@ pub(crate) struct Sample {
     pub v: f64,
     /// x''.
     pub acc: f64,
+    /// sin(ωt): the slow variable a.
+    pub s: f64,
     /// cos(ωt): the sign of da/dt.
     pub c: f64,
     /// e = x − x*(a).
@@ -293,11 +295,13 @@ impl Scanner {
     /// [`Scanner::interval`] where [`eventful`] found something.
     fn events<D: DenseOutput<2>>(&mut self, d: &D, a: &Sample, b: &Sample, past: &impl Past) {
         let p = self.p;
+        // sin ωt and cos ωt inside the sub-interval from their values at its end
+        let sc = |t: f64| sin_cos_near(p.omega, t, b.t, (b.s, b.c));
         // --- extrema of x': sign changes of x''
         if (a.acc > 0.0) != (b.acc > 0.0) && a.acc != 0.0 {
             let acc = |t: f64| {
                 let y = d.eval(t);
-                p.forcing((p.omega * t).sin()) - y[1] - p.g(y[0])
+                p.forcing(sc(t).0) - y[1] - p.g(y[0])
             };
             let te = refine_root(acc, a.t, a.acc, b.t, b.acc);
             let ve = d.eval(te)[1];
@@ -328,13 +332,14 @@ impl Scanner {
     /// (turning points of a), and the extrema of e (zeros of e'), which measure the lobe.
     fn lobe_marks<D: DenseOutput<2>>(&mut self, d: &D, a: &Sample, b: &Sample) {
         let p = self.p;
+        let sc = |t: f64| sin_cos_near(p.omega, t, b.t, (b.s, b.c));
         // extrema of e (zeros of e') measure the lobe
         let mut marks: Vec<(f64, Mark)> = Vec::new();
         if (a.e > 0.0) != (b.e > 0.0) && a.e != 0.0 {
             let mut f = self.follower.clone();
             let e = |t: f64| {
                 let y = d.eval(t);
-                y[0] - f.at((p.omega * t).sin(), y[0])
+                y[0] - f.at(sc(t).0, y[0])
             };
             marks.push((refine_root(e, a.t, a.e, b.t, b.e), Mark::ZeroOfE));
         }
@@ -350,14 +355,14 @@ impl Scanner {
             let mut f = self.follower.clone();
             let ed = |t: f64| {
                 let y = d.eval(t);
-                let (s, c) = (p.omega * t).sin_cos();
+                let (s, c) = sc(t);
                 let xs = f.at(s, y[0]);
                 y[1] - p.omega * c * p.delta / p.g_prime(xs)
             };
             let t = refine_root(ed, a.t, a.ed, b.t, b.ed);
             let y = d.eval(t);
             let mut f = self.follower.clone();
-            let e = y[0] - f.at((p.omega * t).sin(), y[0]);
+            let e = y[0] - f.at(sc(t).0, y[0]);
             marks.push((t, Mark::ExtremumOfE(e.abs())));
         }
         self.apply_marks(marks, b);
@@ -455,6 +460,7 @@ pub(crate) fn measure(p: &Params, t: f64, y: [f64; 2], (s, c): (f64, f64), xs: f
         x: y[0],
         v: y[1],
         acc,
+        s,
         c,
         e: y[0] - xs,
         ed: y[1] - xs_dot,
@@ -567,13 +573,19 @@ pub(crate) fn onset_in<S>(
 /// to rounding for |δ| ≤ [`TURN_BACK_MAX`]), else by the library's sine.
 pub(crate) fn midpoint(omega: f64, t0: f64, t1: f64, (s1, c1): (f64, f64)) -> (f64, (f64, f64)) {
     let tm = 0.5 * (t0 + t1);
-    let delta = omega * (t1 - tm);
-    let sc = if delta.abs() <= TURN_BACK_MAX {
+    (tm, sin_cos_near(omega, tm, t1, (s1, c1)))
+}
+
+/// sin ωt and cos ωt from their values `(s1, c1)` at a time `t1` near `t` ([`turn_back`] when
+/// ω·|t1 − t| ≤ [`TURN_BACK_MAX`], else the library's): for the points of a step, from its end's.
+#[inline(always)]
+pub(crate) fn sin_cos_near(omega: f64, t: f64, t1: f64, (s1, c1): (f64, f64)) -> (f64, f64) {
+    let delta = omega * (t1 - t);
+    if delta.abs() <= TURN_BACK_MAX {
         turn_back(s1, c1, delta)
     } else {
-        (omega * tm).sin_cos()
-    };
-    (tm, sc)
+        (omega * t).sin_cos()
+    }
 }
 
 /// The largest |δ| [`turn_back`] is used for.
