@@ -421,9 +421,13 @@ impl Samples {
             (&mut self.ed, &other.ed),
             (&mut self.e1, &other.e1),
         ];
+        // from copies: on the references themselves (a table of them, whose targets the
+        // compiler cannot tell apart) it chose lane by lane, a scalar load and store each, a
+        // quarter of `absorb`
         for (mine, theirs) in pairs {
+            let (old, new) = (*mine, *theirs);
             for l in 0..LANES {
-                mine[l] = if which[l] { theirs[l] } else { mine[l] };
+                mine[l] = if which[l] { new[l] } else { old[l] };
             }
         }
     }
