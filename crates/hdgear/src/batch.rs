@@ -356,11 +356,6 @@ impl Simd {
 #[inline(always)]
 pub(crate) fn horner_lanes<const FMA: bool>(x: &[V], v: &[V], h: &V) -> (V, V) {
     let p = x.len().min(v.len()).saturating_sub(1);
-    // h as the compiler cannot see through: read back from memory it is one vector; seen
-    // through, the compiler took each lane's h from where its computation left it, and split
-    // the sums lane by lane (in the batched sampling lanes 0 and 3 scalar, 1–2, 4–7 and 8–15 in
-    // three vector widths)
-    let h = &std::hint::black_box(*h);
     macro_rules! fixed {
         ($($p:literal)*) => {
             match p {

@@ -527,6 +527,10 @@ fn samples<const FMA: bool>(
                 t[l] = 0.5 * (step.t0[l] + step.t1[l]);
                 h[l] = t[l] - step.t0[l];
             }
+            // h as the compiler cannot see through: read back from memory it is one vector;
+            // seen through, the compiler took each lane's h from where its computation left it
+            // and split the sums (lanes 0 and 3 scalar, 1–2, 4–7 and 8–15 in three widths)
+            let h = std::hint::black_box(h);
             let (x, v) = horner_lanes::<FMA>(&step.x[..=p], &step.v[..=p], &h);
             let (mut s, mut c) = ([0.0; LANES], [0.0; LANES]);
             // (`midpoint` without its branch to the library's sine: lanes past the series'
