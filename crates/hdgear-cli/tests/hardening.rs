@@ -411,6 +411,28 @@ fn kill(pid: u32, sig: &str) {
     assert!(ok);
 }
 
+/// Makes the processes this test process starts begin with the default actions of SIGINT and
+/// SIGTERM even when this one was started with them ignored (a background job of a
+/// non-interactive shell starts with SIGINT and SIGQUIT ignored, and an ignored signal stays
+/// ignored across `exec`: `hdgear simulate` to stdout then rightly ran on through SIGINT): an
+/// ignored signal is given a handler that only sets a flag, which `exec` resets to the default in
+/// the child. Where the signal was not ignored nothing changes.
+fn children_start_with_default_signals() {
+    use signal_hook::consts::{SIGINT, SIGTERM};
+    let status = std::fs::read_to_string("/proc/self/status").unwrap_or_default();
+    let ignored = status
+        .lines()
+        .find_map(|l| l.strip_prefix("SigIgn:"))
+        .and_then(|bits| u64::from_str_radix(bits.trim(), 16).ok())
+        .unwrap_or(0);
+    for sig in [SIGINT, SIGTERM] {
+        if ignored & (1 << (sig - 1)) != 0 {
+            let flag = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+            signal_hook::flag::register(sig, flag).unwrap();
+        }
+    }
+}
+
 /// Starts `hdgear ARGS` in `dir`, sends `sig` after `after`, and returns (exit code, stderr).
 fn interrupt(dir: &Path, args: &[&str], sig: &str, after: Duration) -> (i32, String) {
     let child = Command::new(assert_cmd::cargo::cargo_bin("hdgear"))
@@ -503,6 +525,7 @@ fn signals_remove_every_temporary() {
 #[test]
 fn a_stdout_only_run_ends_by_the_signal_and_leaves_nothing() {
     use std::os::unix::process::ExitStatusExt;
+    children_start_with_default_signals();
     for sig in ["-INT", "-TERM"] {
         let dir = tempfile::tempdir().unwrap();
         let child = Command::new(assert_cmd::cargo::cargo_bin("hdgear"))
