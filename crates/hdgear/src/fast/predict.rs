@@ -102,21 +102,21 @@ fn max_on(f: impl Fn(f64) -> f64, l: f64, r: f64) -> (f64, f64) {
     // vector unit, the scan was 2–3 % of a (γ, δ) map's time), then the first largest
     let mut values = [0.0; N + 1];
     #[inline(always)]
-    fn fill<const N: usize>(f: &impl Fn(f64) -> f64, l: f64, r: f64, values: &mut [f64]) {
+    fn fill(f: &impl Fn(f64) -> f64, x: &impl Fn(usize) -> f64, values: &mut [f64]) {
         for (j, v) in values.iter_mut().enumerate() {
-            *v = f(l + (r - l) * j as f64 / N as f64);
+            *v = f(x(j));
         }
     }
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx512f,fma")]
-    fn fill_avx512<const N: usize>(f: &impl Fn(f64) -> f64, l: f64, r: f64, values: &mut [f64]) {
-        fill::<N>(f, l, r, values);
+    fn fill_avx512(f: &impl Fn(f64) -> f64, x: &impl Fn(usize) -> f64, values: &mut [f64]) {
+        fill(f, x, values);
     }
     match crate::batch::Simd::detect() {
         // SAFETY: `Simd::detect` found AVX-512F and FMA on this CPU.
         #[cfg(target_arch = "x86_64")]
-        crate::batch::Simd::Avx512 => unsafe { fill_avx512::<N>(&f, l, r, &mut values) },
-        _ => fill::<N>(&f, l, r, &mut values),
+        crate::batch::Simd::Avx512 => unsafe { fill_avx512(&f, &x, &mut values) },
+        _ => fill(&f, &x, &mut values),
     }
     // the largest by eight running maxima, each started at the first sample (one chain of
     // comparisons was most of a call), then the first sample that equals it: the first largest,
