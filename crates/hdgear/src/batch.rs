@@ -614,7 +614,8 @@ impl Lanes {
     fn step<const FMA: bool, const TANGENT: bool>(&mut self) -> (V, V, V, V) {
         let p = self.order;
         let r = &mut *self.rows;
-        self.series.sine_rows(p, (&self.sin, &self.cos), &mut r.s);
+        self.series
+            .forcing_rows(p, (&self.sin, &self.cos), &mut r.f);
         taylor_rows::<LANES, FMA>(&self.params, p, r);
         let mut norms = row_norms(p, self.floor, &r.x[..=p], &r.v[..=p]);
         if let Some(tg) = self.tangent.as_deref_mut().filter(|_| TANGENT) {
@@ -686,6 +687,9 @@ impl Lanes {
 struct Series {
     cos: [V; MAX_ORDER / 2 + 1],
     sin: [V; MAX_ORDER / 2 + 1],
+    /// δ·`cos` and δ·`sin`: the forcing δ sin ω(t + h)'s ([`Series::forcing_rows`]).
+    forcing_cos: [V; MAX_ORDER / 2 + 1],
+    forcing_sin: [V; MAX_ORDER / 2 + 1],
     /// p/2: the highest i.
     top: usize,
 }
@@ -699,31 +703,38 @@ impl Series {
             let sign = if (k / 2).is_multiple_of(2) { 1.0 } else { -1.0 };
             if k <= order { sign * f } else { 0.0 }
         };
+        let delta = |l: usize| points[if l < points.len() { l } else { 0 }].delta;
         Series {
             cos: std::array::from_fn(|i| std::array::from_fn(|l| term(2 * i, l))),
             sin: std::array::from_fn(|i| std::array::from_fn(|l| term(2 * i + 1, l))),
+            forcing_cos: std::array::from_fn(|i| {
+                std::array::from_fn(|l| delta(l) * term(2 * i, l))
+            }),
+            forcing_sin: std::array::from_fn(|i| {
+                std::array::from_fn(|l| delta(l) * term(2 * i + 1, l))
+            }),
             top: order / 2,
         }
     }
 
-    /// Rows 0..=p of sin ω(t + h)'s Taylor coefficients in h from sin ωt and cos ωt (`sin_cos`):
-    /// by the addition theorem, (−1)^i ω^{2i}/(2i)!·sin ωt for order 2i and
-    /// (−1)^i ω^{2i+1}/(2i+1)!·cos ωt for order 2i + 1: each row a product, no chain through
-    /// the orders.
+    /// Rows 0..=p of the forcing δ sin ω(t + h)'s Taylor coefficients in h from sin ωt and
+    /// cos ωt (`sin_cos`): by the addition theorem, (−1)^i δω^{2i}/(2i)!·sin ωt for order 2i
+    /// and (−1)^i δω^{2i+1}/(2i+1)!·cos ωt for order 2i + 1: each row a product, no chain
+    /// through the orders.
     #[inline(always)]
     #[allow(clippy::needless_range_loop)] // lanes of parallel arrays, indexed together
-    fn sine_rows(&self, p: usize, (sin, cos): (&V, &V), s: &mut [V]) {
+    fn forcing_rows(&self, p: usize, (sin, cos): (&V, &V), f: &mut [V]) {
         for i in 0..=p / 2 {
             let mut row = [0.0; LANES];
             for l in 0..LANES {
-                row[l] = self.cos[i][l] * sin[l];
+                row[l] = self.forcing_cos[i][l] * sin[l];
             }
-            s[2 * i] = row;
+            f[2 * i] = row;
             if 2 * i < p {
                 for l in 0..LANES {
-                    row[l] = self.sin[i][l] * cos[l];
+                    row[l] = self.forcing_sin[i][l] * cos[l];
                 }
-                s[2 * i + 1] = row;
+                f[2 * i + 1] = row;
             }
         }
     }

@@ -56,14 +56,20 @@ pub(crate) fn rule(opts: &Options) -> (usize, f64) {
 /// s_k = ω^k/k!·sin(ωt + kπ/2).
 #[inline(always)]
 pub fn sine_coefficients(omega: f64, t: f64, order: usize, s: &mut [f64]) {
+    forcing_coefficients(1.0, omega, t, order, s);
+}
+
+/// [`sine_coefficients`] of a sine with amplitude `a`: s_k = a·ω^k/k!·sin(ωt + kπ/2) (at
+/// a = 1 the same to the bit: each product by 1 is exact).
+#[inline(always)]
+pub(crate) fn forcing_coefficients(a: f64, omega: f64, t: f64, order: usize, s: &mut [f64]) {
     let (sn, cs) = libm::sincos(omega * t);
     let cycle = [sn, cs, -sn, -cs];
-    // s₀ = sin ωt as it is (a product by 1 is exact, but a step in the chain)
     let Some((first, rest)) = s.split_first_mut() else {
         return;
     };
-    *first = sn;
-    let mut f = omega;
+    *first = a * sn;
+    let mut f = a * omega;
     for (k, sk) in rest.iter_mut().enumerate().take(order.min(MAX_ORDER)) {
         *sk = f * cycle[(k + 1) % 4];
         f *= omega * INV[k + 1];
