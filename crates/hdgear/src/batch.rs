@@ -696,23 +696,23 @@ struct Series {
 
 impl Series {
     fn new(points: &[Params], order: usize) -> Series {
-        let pick = |l: usize| points[if l < points.len() { l } else { 0 }].omega;
+        let point = |l: usize| &points[if l < points.len() { l } else { 0 }];
         // ω^k/k! with the sign (−1)^⌊k/2⌋, 0 past the order
         let term = |k: usize, l: usize| {
-            let f = (0..k).fold(1.0, |f, j| f * pick(l) * INV[j]);
+            let f = (0..k).fold(1.0, |f, j| f * point(l).omega * INV[j]);
             let sign = if (k / 2).is_multiple_of(2) { 1.0 } else { -1.0 };
             if k <= order { sign * f } else { 0.0 }
         };
-        let delta = |l: usize| points[if l < points.len() { l } else { 0 }].delta;
+        let cos = std::array::from_fn(|i| std::array::from_fn(|l| term(2 * i, l)));
+        let sin = std::array::from_fn(|i| std::array::from_fn(|l| term(2 * i + 1, l)));
+        let forcing = |rows: &[V; MAX_ORDER / 2 + 1]| {
+            std::array::from_fn(|i| std::array::from_fn(|l| point(l).delta * rows[i][l]))
+        };
         Series {
-            cos: std::array::from_fn(|i| std::array::from_fn(|l| term(2 * i, l))),
-            sin: std::array::from_fn(|i| std::array::from_fn(|l| term(2 * i + 1, l))),
-            forcing_cos: std::array::from_fn(|i| {
-                std::array::from_fn(|l| delta(l) * term(2 * i, l))
-            }),
-            forcing_sin: std::array::from_fn(|i| {
-                std::array::from_fn(|l| delta(l) * term(2 * i + 1, l))
-            }),
+            forcing_cos: forcing(&cos),
+            forcing_sin: forcing(&sin),
+            cos,
+            sin,
             top: order / 2,
         }
     }
