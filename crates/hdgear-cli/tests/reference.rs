@@ -160,6 +160,37 @@ fn dense_outputs_end_on_the_integrators_state() {
     }
 }
 
+/// Lanes that end at different times: a lane at its end takes steps of 0 while the others go on,
+/// and those leave it exactly as it was. Each lane's final state and step count are the same to
+/// the bit as the same point's integrated alone (its batch padded with copies of itself, which all
+/// end together).
+#[test]
+fn a_lane_at_its_end_waits_unchanged_for_the_others() {
+    use hdgear::batch::integrate_batch_observed;
+    let points: Vec<Params> = [0.1, 1.0, 30.0, 3.0, 0.3]
+        .iter()
+        .map(|&gamma| Params {
+            gamma,
+            ..Params::default()
+        })
+        .collect();
+    // ends from 20 to 320: the first lane waits through most of the others' steps
+    let ends: Vec<f64> = (0..points.len()).map(|i| 20.0 + 75.0 * i as f64).collect();
+    let run = |pts: &[Params], ends: &[f64]| {
+        let spans: Vec<(f64, f64)> = ends.iter().map(|&e| (e, e)).collect();
+        let starts = vec![[0.2, -0.1]; pts.len()];
+        integrate_batch_observed(pts, &starts, &spans, Options::default(), |_, _| {}).unwrap()
+    };
+    let together = run(&points, &ends);
+    for (i, r) in together.iter().enumerate() {
+        let alone = run(&points[i..=i], &ends[i..=i]);
+        assert_eq!(r.as_ref().unwrap(), alone[0].as_ref().unwrap(), "lane {i}");
+    }
+    // and the first lane did wait: it ended after a fraction of the steps of the longest
+    let steps: Vec<u64> = together.iter().map(|r| r.as_ref().unwrap().steps).collect();
+    assert!(3 * steps[0] < *steps.iter().max().unwrap(), "{steps:?}");
+}
+
 /// The batch integrator (lanes in lock-step, sine carried as state, approximate logarithm in the
 /// step rule) lands on the reference's final states as closely as the scalar Taylor method, for
 /// the four γ in one batch padded to the lane count, at Jorba–Zou's order and at a given one.

@@ -445,7 +445,13 @@ fn run<const FMA: bool, const TANGENT: bool>(
 ) -> Outcomes {
     let mut failed: [Option<crate::Error>; LANES] = std::array::from_fn(|_| None);
     while (0..LANES).any(|l| b.t[l] < b.t_end[l]) {
-        let (t0, h, nx, nv) = b.step::<FMA, TANGENT>();
+        b.step::<FMA, TANGENT>();
+        let Step {
+            t0,
+            h,
+            x: nx,
+            v: nv,
+        } = &b.last;
         // the common case checked over all lanes at once: no lane blew up or ran out of steps
         let (mut trouble, mut shown) = (false, false);
         let (mut blown, mut spent) = ([false; LANES], [false; LANES]);
@@ -457,13 +463,13 @@ fn run<const FMA: bool, const TANGENT: bool>(
             shown |= moved & (b.t[l] > b.from[l]);
         }
         if trouble {
-            let (new, failing) = ((t0, h, nx, nv), (blown, spent));
+            let (new, failing) = (b.last, (blown, spent));
             settle_trouble(b, tol, &new, &failing, &mut failed, show);
             continue;
         }
         if shown {
             let lanes = std::array::from_fn(|l| l < b.live && h[l] > 0.0 && b.t[l] > b.from[l]);
-            show(&b.view(&t0, (&nx, &nv), lanes));
+            show(&b.view(t0, (nx, nv), lanes));
         }
         let (x0, v0) = (b.rows.x[0], b.rows.v[0]);
         let (mut x, mut v) = ([0.0; LANES], [0.0; LANES]);
@@ -490,12 +496,17 @@ fn run<const FMA: bool, const TANGENT: bool>(
 fn settle_trouble(
     b: &mut Lanes,
     tol: &Options,
-    new: &(V, V, V, V),
+    new: &Step,
     failing: &([bool; LANES], [bool; LANES]),
     failed: &mut [Option<crate::Error>; LANES],
     show: Show<'_>,
 ) {
-    let (t0, h, nx, nv) = new;
+    let Step {
+        t0,
+        h,
+        x: nx,
+        v: nv,
+    } = new;
     let (blown, spent) = failing;
     let mut lanes = [false; LANES];
     for l in 0..LANES {
@@ -559,6 +570,21 @@ struct Lanes {
     rows: Box<Rows<LANES>>,
     /// The tangent vector's coefficients, when one is carried ([`integrate_batch_tangent`]).
     tangent: Option<Box<Tangent>>,
+    /// The last step ([`Lanes::step`]).
+    last: Step,
+}
+
+/// Every lane's last step: its start, size (0 for a lane at its end) and end state. Kept in
+/// the batch's memory, not returned: returned by value, the sixteen lanes were written piece
+/// by piece (one, eight, four, two and one lanes) and read back as vectors, each read waiting
+/// on the pieces' stores.
+#[derive(Clone, Copy, Default)]
+#[repr(C, align(64))]
+struct Step {
+    t0: V,
+    h: V,
+    x: V,
+    v: V,
 }
 
 /// A tangent vector carried by every lane: its coefficient rows (row 0 the vector between
@@ -594,6 +620,7 @@ impl Lanes {
             h_max: tol.h_max.unwrap_or(f64::INFINITY),
             rows,
             tangent: None,
+            last: Step::default(),
         }
     }
 
@@ -606,12 +633,12 @@ impl Lanes {
         }
     }
 
-    /// One step of every lane still short of its end: returns the lanes' start times, steps (0
-    /// for a lane already at its end) and new x, x', and leaves the step's coefficients in `rows`
-    /// (row 0 still the old state, for [`Lanes::dense`]; `run` writes the new one after).
+    /// One step of every lane still short of its end: leaves the lanes' start times, steps (0
+    /// for a lane already at its end) and new x, x' in `last`, and the step's coefficients in
+    /// `rows` (row 0 still the old state, for [`Lanes::view`]; `run` writes the new one after).
     #[inline(always)]
     #[allow(clippy::needless_range_loop)] // lanes of parallel arrays, indexed together
-    fn step<const FMA: bool, const TANGENT: bool>(&mut self) -> (V, V, V, V) {
+    fn step<const FMA: bool, const TANGENT: bool>(&mut self) {
         let p = self.order;
         let r = &mut *self.rows;
         self.series
@@ -629,7 +656,8 @@ impl Lanes {
             }
         }
         let h = step_sizes::<FMA>((p, self.shift), self.h_max, &self.t, &self.t_end, norms);
-        let (nx, nv) = horner_lanes::<FMA>(&r.x[..=p], &r.v[..=p], &h);
+        self.last.h = h;
+        (self.last.x, self.last.v) = horner_lanes::<FMA>(&r.x[..=p], &r.v[..=p], &h);
         if let Some(tg) = self.tangent.as_deref_mut().filter(|_| TANGENT) {
             let (dx, dv) = horner_lanes::<FMA>(&tg.rows.x[..=p], &tg.rows.v[..=p], &h);
             // rescaled by 2^−e, e the exponent of the larger component: exact, and the
@@ -643,23 +671,17 @@ impl Lanes {
             }
         }
         let (ns, nc) = self.series.rotate::<FMA>(&h, (&self.sin, &self.cos));
-        let t0 = self.t;
-        // selects, not stores under a branch: those were made lane by lane, and the next step's
-        // vector loads of sin ωt waited on sixteen scalar stores
+        self.last.t0 = self.t;
+        // no selects: a lane at its end has h = 0, and a step of 0 leaves the values of t,
+        // sin ωt and cos ωt as they are (cos 0 = 1, sin 0 = 0 in [`Series::rotate`]). Selects there
+        // were compiled into a branch per lane, stores lane by lane that the next step's
+        // vector loads waited on
         for l in 0..LANES {
-            let moved = h[l] > 0.0;
-            let next = self.t[l] + h[l];
-            let next = if next >= self.t_end[l] {
-                self.t_end[l]
-            } else {
-                next
-            };
-            self.t[l] = if moved { next } else { self.t[l] };
-            self.steps[l] += u64::from(moved);
-            self.sin[l] = if moved { ns[l] } else { self.sin[l] };
-            self.cos[l] = if moved { nc[l] } else { self.cos[l] };
+            self.t[l] = (self.t[l] + h[l]).min(self.t_end[l]);
+            self.steps[l] += u64::from(h[l] > 0.0);
+            self.sin[l] = ns[l];
+            self.cos[l] = nc[l];
         }
-        (t0, h, nx, nv)
     }
 
     /// The last step of every lane (started at `t0`, ended on `end`), `shown` the lanes to show:
