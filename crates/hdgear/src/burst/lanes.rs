@@ -267,13 +267,18 @@ impl Quiet {
             eventful[l] = shown[l] & events;
             let quiet = shown[l] & !events;
             let (lo, hi) = (self.window.0[l], self.window.1[l]);
+            // the maxima in registers through the three samples, stored once: updated in place,
+            // each was stored under a mask and read back at once by the next sample's update,
+            // the read waiting on the store
+            let (mut peak, mut lag, mut lag1) = (self.peak[l], self.lag[l], self.lag1[l]);
             for s in [a, m, b] {
                 let counted = quiet & (s.t >= lo) & (s.t <= hi);
                 let grow = |max: f64, x: f64| if counted { max.max(x.abs()) } else { max };
-                self.peak[l] = grow(self.peak[l], s.v);
-                self.lag[l] = grow(self.lag[l], s.e);
-                self.lag1[l] = grow(self.lag1[l], s.e1);
+                peak = grow(peak, s.v);
+                lag = grow(lag, s.e);
+                lag1 = grow(lag1, s.e1);
             }
+            (self.peak[l], self.lag[l], self.lag1[l]) = (peak, lag, lag1);
             let grown = self.lobe[l].max(m.e.abs()).max(b.e.abs());
             self.lobe[l] = if quiet { grown } else { self.lobe[l] };
         }
