@@ -463,8 +463,7 @@ fn run<const FMA: bool, const TANGENT: bool>(
             shown |= moved & (b.t[l] > b.from[l]);
         }
         if trouble {
-            let (new, failing) = (b.last, (blown, spent));
-            settle_trouble(b, tol, &new, &failing, &mut failed, show);
+            settle_trouble(b, tol, &(blown, spent), &mut failed, show);
             continue;
         }
         if shown {
@@ -491,22 +490,22 @@ fn run<const FMA: bool, const TANGENT: bool>(
 
 /// `run`'s step when some lane blew up or ran out of steps (`failing`: which lanes did, as `run`
 /// found them): lane by lane, each failing lane stops with its error, the others are shown and
-/// move on. `new`: the step's start times, sizes and new x, x'.
+/// move on. The step is the one in `b.last`.
 #[cold]
 fn settle_trouble(
     b: &mut Lanes,
     tol: &Options,
-    new: &Step,
     failing: &([bool; LANES], [bool; LANES]),
     failed: &mut [Option<crate::Error>; LANES],
     show: Show<'_>,
 ) {
+    // a copy: the lanes below change `b`
     let Step {
         t0,
         h,
         x: nx,
         v: nv,
-    } = new;
+    } = b.last;
     let (blown, spent) = failing;
     let mut lanes = [false; LANES];
     for l in 0..LANES {
@@ -536,7 +535,7 @@ fn settle_trouble(
         lanes[l] = l < b.live && b.t[l] > b.from[l];
     }
     if lanes.contains(&true) {
-        show(&b.view(t0, (nx, nv), lanes));
+        show(&b.view(&t0, (&nx, &nv), lanes));
     }
     for l in 0..LANES {
         if h[l] > 0.0 && failed[l].is_none() {
