@@ -191,6 +191,54 @@ fn a_lane_at_its_end_waits_unchanged_for_the_others() {
     assert!(3 * steps[0] < *steps.iter().max().unwrap(), "{steps:?}");
 }
 
+/// A lane that blows up and one that runs out of steps stop with their own errors, and the lane
+/// beside them gives, to the bit, what it gives alone (the batch's step that some lane fails
+/// goes lane by lane).
+#[test]
+fn failing_lanes_stop_alone_in_a_batch() {
+    use hdgear::batch::integrate_batch_observed;
+    use hdgear::error::SolverError;
+    let o = Options {
+        max_steps: 300,
+        blowup: 10.0,
+        ..Options::default()
+    };
+    let run = |points: &[Params], starts: &[[f64; 2]], ends: &[f64]| {
+        let spans: Vec<(f64, f64)> = ends.iter().map(|&e| (e, e)).collect();
+        integrate_batch_observed(points, starts, &spans, o, |_, _| {}).unwrap()
+    };
+    let p = Params::default();
+    // lane 1 starts beyond the blow-up bound; lane 2, forced fast (its steps a few hundredths
+    // long), passes the up-front budget estimate of its span (280 steps) but not the 300
+    let fast = Params { omega: 5.0, ..p };
+    let out = run(
+        &[p, p, fast],
+        &[[0.2, -0.1], [50.0, 0.0], [0.2, -0.1]],
+        &[20.0, 20.0, 140.0],
+    );
+    let alone = run(&[p], &[[0.2, -0.1]], &[20.0]);
+    assert_eq!(out[0].as_ref().unwrap(), alone[0].as_ref().unwrap());
+    assert!(
+        matches!(
+            out[1],
+            Err(hdgear::Error::Solver(SolverError::BlowUp { .. }))
+        ),
+        "{:?}",
+        out[1]
+    );
+    assert!(
+        matches!(
+            out[2],
+            Err(hdgear::Error::Solver(SolverError::TooManySteps {
+                max_steps: 300,
+                ..
+            }))
+        ),
+        "{:?}",
+        out[2]
+    );
+}
+
 /// The batch integrator (lanes in lock-step, sine carried as state, approximate logarithm in the
 /// step rule) lands on the reference's final states as closely as the scalar Taylor method, for
 /// the four γ in one batch padded to the lane count, at Jorba–Zou's order and at a given one.
