@@ -7,7 +7,7 @@ Problem: the study's model (alpha 16, eps 0.71, mu 0.07, delta 15, omega 0.01), 
     hdgear's Taylor, DOP853 and Taylor batch of 16 lanes (gamma 30 and 0.1 alternating, time per
     trajectory) from `cargo run --release --example time_simulation`.
   * Error: the largest |x - x_ref|, |x' - x'_ref| on the 5-unit grid of
-    ../shared/reference/paper_trajectories.csv (scipy DOP853 at rtol 1e-13, from rest), heyoka by
+    crates/hdgear/tests/data/paper_trajectories.csv (scipy DOP853 at rtol 1e-13, from rest), heyoka by
     propagate_grid and hdgear by `hdgear simulate --x0 0 --v0 0 --dt 5`.
   * Work-precision: tolerance 1e-6 ... 1e-13 for Taylor, DOP853 and heyoka.
 
@@ -31,7 +31,7 @@ TOLS = (1e-6, 1e-8, 1e-10, 1e-12, 1e-13)
 
 
 def reference():
-    path = ROOT.parent / "shared" / "reference" / "paper_trajectories.csv"
+    path = ROOT / "crates" / "hdgear" / "tests" / "data" / "paper_trajectories.csv"
     rows = {}
     with open(path) as f:
         for r in csv.DictReader(f):

@@ -69,7 +69,7 @@ impl Command {
     /// interrupted run removes its temporaries and says so). `simulate` without `--out` writes
     /// only to stdout: interrupted, it has nothing to remove and ends as the signal's default
     /// action ends it (status 128 + n in the shell), without the watcher's thread, whose start
-    /// is a tenth of such a run (0.2–0.35 ms of 2.6–3.0 ms). Every other command is watched.
+    /// is a noticeable share of such a short run. Every other command is watched.
     pub fn writes_files(&self) -> bool {
         match self {
             Command::Simulate(a) => a.out.is_some(),

@@ -1,5 +1,7 @@
 //! The `hdgear` command: arguments → checked settings → run → export.
 
+#![forbid(unsafe_code)]
+
 mod cli;
 mod cmd;
 mod signals;

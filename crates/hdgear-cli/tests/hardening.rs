@@ -558,8 +558,7 @@ fn a_stdout_only_run_ends_by_the_signal_and_leaves_nothing() {
     }
 }
 
-/// A sweep long enough (about a second on one thread) to be interrupted part-way.
-/// A sweep long enough (about 1.6 s on one thread here) that the signals and checks the tests
+/// A sweep long enough (over a second on one thread) that the signals and checks the tests
 /// below send at fixed times land inside it, with room for a machine twice as fast.
 const SWEEP: [&str; 7] = [
     "sweep",

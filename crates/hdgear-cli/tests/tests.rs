@@ -1,16 +1,13 @@
-//! The one integration-test binary (ripgrep style): one module per capability.
+//! The command's integration tests, one binary (ripgrep style): one module per capability. The
+//! library tests itself in `crates/hdgear/tests/`.
 
 mod common;
 
-mod burst;
 mod cli;
-mod fast;
+mod docs;
 mod hardening;
-mod integrate;
 mod output;
 mod periodic;
-mod physical;
-mod reference;
 mod report;
 mod serve;
 mod shard;

@@ -6,6 +6,8 @@
 //! Errors: the library's input errors become `ValueError` with the CLI's message; a failed
 //! integration (step-size underflow, blow-up, step budget) a `RuntimeError`.
 
+#![forbid(unsafe_code)]
+
 use hdgear::burst::{BurstOptions, Mechanism, Mode};
 use hdgear::integrate::{Method, Options};
 use hdgear::params::{Param, ParamOverrides, Params as LibParams};

@@ -209,7 +209,7 @@ def test_the_gil_is_released_during_a_sweep():
         return n / (time.perf_counter() - t0)
 
     # the same loop beside a thread that only sleeps (sleeping releases the GIL), then beside a
-    # one-thread sweep (~0.1 s): held, the GIL would stop this thread for the whole sweep (a few
+    # one-thread sweep: held, the GIL would stop this thread for the whole sweep (a few
     # percent of the rate at most, from the switch before the sweep starts); released, this thread
     # runs on the other core. Not a comparison of two sweeps' times against one's: on CI two
     # one-thread sweeps side by side took 1.66-1.69x one's time although the GIL is released (the

@@ -24,12 +24,12 @@ use std::hint::black_box;
 
 // Three slow periods of the study's model at rtol = atol = 1e-10, γ ∈ {30, 0.1}.
 //
-// * `plain`: the bare integration to τ = 3·2π/ω (what SPEC §5's "stack-only DOP853" row measures;
+// * `plain`: the bare integration to τ = 3·2π/ω (a stack-only DOP853's bare cost;
 //   this integrator is itself a stack-only DOP853 loop, so it is its own yardstick).
 // * `sampled`: `hdgear simulate`'s work: dense output at dt = 0.05 plus the exact max |x'|.
 //
 // * `differential-equations/dop853`: the same problem with the `differential-equations` 0.7
-//   crate's DOP853 (final state only), the best-kept crate SPEC §5 lists: the reason hdgear
+//   crate's DOP853 (final state only), the best-kept DOP853 crate: the reason hdgear
 //   has its own integrator is measured here.
 //
 // Steps and right-hand-side evaluations are printed once per case.

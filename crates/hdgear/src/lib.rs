@@ -49,10 +49,17 @@ pub mod periodic;
 pub mod physical;
 pub mod report;
 pub mod scenario;
+pub mod simd;
 pub mod simulate;
 pub mod study;
 pub mod sweep;
 pub mod table;
 
 pub use error::{Error, Result};
+
+/// The user guide's library page (`docs/src/library.md`), compiled and run as doc-tests so its
+/// examples cannot drift from the API.
+#[cfg(doctest)]
+#[doc = include_str!("../../../docs/src/library.md")]
+pub struct GuideLibraryPage;
 pub use params::Params;

@@ -7,8 +7,9 @@
 use crate::integrate::System;
 use crate::integrate::taylor::mul_add;
 use crate::params::Params;
+use crate::simd::{Simd, dispatched};
 
-/// The dimensionless harmonic drive model (SPEC §2) as a [`System`] with state [x, x'].
+/// The dimensionless harmonic drive model (guide: the model and its parameters) as a [`System`] with state [x, x'].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Dimensionless {
     /// The parameters.
@@ -23,15 +24,15 @@ impl Dimensionless {
 }
 
 // `libm::sin` (the Rust port of musl's, correctly rounded to within 1 ulp) instead of `f64::sin`:
-// the right-hand side is dominated by the sine, and libm's inlines to about 60 % of the glibc
-// call's time here (measured: 0.66 ms vs 1.13 ms per 127k calls).
+// the right-hand side is dominated by the sine, and libm's inlines where the C library's is a
+// call.
 impl System<2> for Dimensionless {
     #[inline(always)]
     fn rhs(&self, t: f64, y: &[f64; 2]) -> [f64; 2] {
         let p = &self.p;
         [y[1], p.forcing(libm::sin(p.omega * t)) - y[1] - p.g(y[0])]
     }
-    /// ∂f/∂y = [[0, 1], [−g'(x), −1]] (trace −1 everywhere: SPEC §3).
+    /// ∂f/∂y = [[0, 1], [−g'(x), −1]] (trace −1 everywhere).
     fn jacobian(&self, _t: f64, y: &[f64; 2]) -> Option<[[f64; 2]; 2]> {
         Some([[0.0, 1.0], [-self.p.g_prime(y[0]), -1.0]])
     }
@@ -39,37 +40,16 @@ impl System<2> for Dimensionless {
     /// + γε[k=0])/(k+1), with (x²)_k, (x³)_k Cauchy sums and s_k the coefficients of sin ωt.
     #[inline(always)]
     fn taylor(&self, t: f64, y: &[f64; 2], order: usize, c: &mut [[f64; 2]]) -> bool {
-        #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("fma") {
-            if std::arch::is_x86_feature_detected!("avx512f") {
-                // SAFETY: the CPU has AVX-512F and FMA (checked just above).
-                unsafe { taylor_avx512(&self.p, t, y, order, c) };
-                return true;
-            }
-            // SAFETY: the CPU has FMA (checked just above).
-            unsafe { taylor_fma(&self.p, t, y, order, c) };
-            return true;
-        }
-        taylor_scalar::<false>(&self.p, t, y, order, c);
+        taylor_on(Simd::detect(), &self.p, t, y, order, c);
         true
     }
 }
 
-/// The recurrence compiled for AVX-512, for its 32 vector registers: on one lane it works on
-/// scalars, and with 16 registers more of its sums are spilled to the stack (one 3-period run
-/// 0.303 → 0.277 ms, AMD EPYC Zen 4, same results to the bit).
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f,fma")]
-#[inline]
-fn taylor_avx512(p: &Params, t: f64, y: &[f64; 2], order: usize, c: &mut [[f64; 2]]) {
-    taylor_scalar::<true>(p, t, y, order, c);
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "fma")]
-#[inline]
-fn taylor_fma(p: &Params, t: f64, y: &[f64; 2], order: usize, c: &mut [[f64; 2]]) {
-    taylor_scalar::<true>(p, t, y, order, c);
+dispatched! {
+    /// [`taylor_scalar`] on the vector unit `simd` names: on one lane it works on scalars, but
+    /// with AVX-512's 32 vector registers fewer of its sums are spilled to the stack (the same
+    /// results to the bit as AVX2's copy).
+    fn taylor_on(p: &Params, t: f64, y: &[f64; 2], order: usize, c: &mut [[f64; 2]]) -> () = taylor_scalar::<FMA>(p, t, y, order, c)
 }
 
 /// [`System::taylor`] for one parameter set: sin ωt's coefficients in closed form, then the
@@ -149,8 +129,8 @@ pub(crate) struct Linear<const L: usize> {
 
 /// Taylor coefficients of `L` lanes, structure of arrays: row k holds every lane's k-th
 /// coefficient of x, x', the forcing δ sin ωt and −αx². Aligned to a cache line, so that no
-/// row of 8 or 16 lanes straddles two (a batch step measured 0.055 or 0.072 ms per trajectory
-/// depending on where the allocator put it).
+/// row of 8 or 16 lanes straddles two (unaligned, a batch step's speed depended on where the
+/// allocator put the rows).
 #[derive(Clone, Debug)]
 #[repr(C, align(64))]
 pub(crate) struct Rows<const L: usize> {
@@ -192,10 +172,8 @@ impl<const L: usize> Default for Rows<L> {
 /// The orders the tolerances 1e-6 … 1e-13 pick (8 … 16) and the higher ones a caller may ask for
 /// (17 … 20: the periodic machinery's Lyapunov exponents run at 20) get their own copy with
 /// every order's sums written out (the order a constant), so the compiler unrolls them and drops
-/// the bounds checks: 16 lanes 0.069 → 0.058 ms per trajectory at order 13, the 640-point
-/// Lyapunov map at order 20 0.57 → 0.23 s. One lane runs the unrolled copy too: with the linear
-/// split it measured 0.313 against the loop's 0.339 ms per 3-period run (AMD EPYC, Zen 4;
-/// without the split, on an Intel Xeon, the loop had been the faster, 0.48 against 0.53 ms).
+/// the bounds checks. One lane runs the unrolled copy too (with the linear split below it is
+/// the faster one; the history is in CHANGELOG.md).
 #[inline(always)]
 pub(crate) fn taylor_rows<const L: usize, const FMA: bool>(
     lp: &LaneParams<L>,
@@ -302,15 +280,13 @@ fn unrolled_to<const L: usize, const FMA: bool, const P: usize>(
 /// coefficient is −g'(x₀)·x_k plus a part N_k = δ s_k + S_k − α(x₀S_k + C_k) that the older rows
 /// give, computed while the previous orders are: from x_k it is one fused step to v_{k+1}
 /// (the Taylor recurrence is the variational equation's at order ≥ 1, with g'(x₀) as its
-/// stiffness), where the products (x²)_k and (x³)_k had made it three (with one lane on the
-/// unrolled copy: 0.339 → 0.313 ms per 3-period run, AMD EPYC Zen 4).
+/// stiffness), where the products (x²)_k and (x³)_k would make it three.
 ///
 /// Sixteen lanes are bound by the number of operations, not by the chain, so each order takes
 /// as few as it can beside the sums: −αx² kept as the rows (N_k = (1 − αx₀)S_k + (δ s_k − αC_k),
 /// the forcing δ s_k starting the sum of −αC_k), and v_{k+1} = (N_k − g'(x₀)x_k)/(k + 1) − x_{k+1}
-/// from x_{k+1} = v_k/(k + 1), which it needs anyway: 16 lanes 0.0430 → 0.041 ms per trajectory,
-/// one lane 0.246 → 0.237 ms per 3-period run (with the one-lane chain below split in two; AMD
-/// EPYC Zen 4, alternated runs).
+/// from x_{k+1} = v_k/(k + 1), which it needs anyway (with the one-lane chain below split in
+/// two).
 #[inline(always)]
 #[allow(clippy::needless_range_loop)] // lanes of parallel arrays, indexed together
 fn next_order<const L: usize, const FMA: bool>(
@@ -359,8 +335,8 @@ fn next_order<const L: usize, const FMA: bool>(
     // δ s_k − αC_k = f_k + Σ_{j=1..k−1} w_j x_{k−j} in one chain from the forcing (known from
     // the step's start) and the middle out, j = m, m − 1, m + 1, m − 2, …: each term in the
     // order its newer row arrives, w_{k−1}x₁ last. One lane, bound by the chain's latency,
-    // takes the terms into two sums by turns (3-period run 0.251 ms with two, 0.262 ms with
-    // one, AMD EPYC Zen 4); sixteen lanes, bound by throughput, save the sums' addition.
+    // takes the terms into two sums by turns (two shorter chains); sixteen lanes, bound by
+    // throughput, save the sums' addition.
     let mid = k / 2;
     let mut sums = [r.f[k], [0.0; L]];
     let mut turn = 0;

@@ -15,7 +15,7 @@ pub enum Start {
     /// On the stable equilibrium of the fast subsystem at a(0) = 0 with x' = 0 (see
     /// [`stable_equilibrium`]): no start-up transient beyond the slow drift.
     Equilibrium,
-    /// x = x' = 0 (the reference trajectories of SPEC §4 start here).
+    /// x = x' = 0 (the reference trajectories in `tests/data/` start here).
     Rest,
     /// A given (x0, x'0).
     Given {

@@ -33,7 +33,8 @@ use crate::integrate::Method;
 use crate::params::Params;
 use serde::Serialize;
 
-/// The smallest ω the ω search simulates (3 slow periods = 1.9·10⁶ time units, about 3 s).
+/// The smallest ω the ω search simulates (3 slow periods = 1.9·10⁶ time units, the longest
+/// run a boundary search may ask for).
 pub const OMEGA_SEARCH_MIN: f64 = 1e-5;
 
 /// Relative width of the final bracket of a simulated boundary.
@@ -141,7 +142,7 @@ fn first_switch(xs: &[f64], lower: &[bool]) -> Option<(f64, f64)> {
 }
 
 /// Predicted and simulated boundaries through `p` (simulations: a handful of rounds for γ and
-/// for ω; a round at ω below 1e-4 takes a few hundred milliseconds).
+/// for ω; a round at ω below 1e-4 is long: its slow periods span millions of time units).
 pub fn boundaries(p: &Params, opts: &BurstOptions) -> Result<Boundaries> {
     let lanes = match opts.tol.method {
         Method::Taylor => (crate::batch::LANES, FIRST_ROUND_STEP),

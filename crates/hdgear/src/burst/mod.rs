@@ -4,7 +4,7 @@
 //! # What can show the fast mode
 //!
 //! The fast subsystem x'' + x' + g(x) = μ + δa has trace −1 at every equilibrium: no Hopf
-//! bifurcation and no limit cycle exists (SPEC §3). So a passage of the slow variable a = sin ωτ
+//! bifurcation and no limit cycle exists (guide: the fast subsystem). So a passage of the slow variable a = sin ωτ
 //! can show the fast mode in only three ways, and each is measured as an event located on the
 //! dense output (a root of a smooth function of the interpolant, never a step end):
 //!
@@ -45,10 +45,17 @@
 //! (min(T/4, 5G)) so that bursts at the window's edges are seen whole.
 
 mod boundary;
+mod bursts;
+mod classify;
 mod lanes;
 mod scan;
 
 pub use boundary::{BOUNDARY_REL_TOL, Boundaries, OMEGA_SEARCH_MIN, boundaries};
+use bursts::assemble;
+pub use bursts::{NOISE_FACTOR, overshoot_floor, swing_floor};
+pub use classify::{
+    Classification, Mechanism, Mode, Verdict, classify, fast_slow_domain, turning_point_rate,
+};
 
 use scan::{History, Pivot, Scan, Scanner};
 
@@ -64,9 +71,9 @@ use std::f64::consts::{FRAC_PI_2, PI};
 /// `tests/burst.rs` shows that none of them changes from 1e-6 to 1e-12 over the 20 reference
 /// cases and a 200-point γ sweep; 1e-8 keeps two decades of margin. It saves work with
 /// `--method dop853` (1.8 times fewer steps than 1e-10) but not with Taylor's method, whose
-/// order falls with the tolerance faster than its step grows: at the study's point 2628 steps at
-/// 1e-8 against 2277 at 1e-10, and a 100 × 100 (γ, δ) map 1.35–1.40 s against 1.29–1.30 s. So
-/// sweeps, maps and the report's grids run at the default 1e-10 with Taylor.
+/// order falls with the tolerance faster than its step grows (at the study's point 2628 steps at
+/// 1e-8 against 2277 at 1e-10). So sweeps, maps and the report's grids run at the default 1e-10
+/// with Taylor.
 pub const CLASSIFICATION_TOL: f64 = 1e-8;
 
 /// The time-scale separation the fast-slow picture needs: ω at most the slowest relaxation rate
@@ -295,116 +302,6 @@ pub struct Response {
     pub group_gap: f64,
     /// The bursts whose pulse lies in the window.
     pub bursts: Vec<Burst>,
-}
-
-/// The strongest signature of a response (order: fold-jump > overshoot > ringing > no-bursts).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Verdict {
-    /// The state follows the equilibrium adiabatically.
-    NoBursts,
-    /// The fast mode rings about the moving equilibrium; the state never gets ahead.
-    Ringing,
-    /// The state gets ahead of the equilibrium it follows.
-    Overshoot,
-    /// The state jumps across the unstable band between two folds.
-    FoldJump,
-}
-
-/// The oscillation mode: the study's four words, defined from the signatures (each keeps its
-/// meaning as ω changes), plus the two cases the study's words do not cover.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Mode {
-    /// No signature: the state follows the equilibrium (x' is the smooth slow wave).
-    Normal,
-    /// Ringing only: the fast mode is excited, but the state never gets ahead.
-    Transitional,
-    /// Overshoot on a branch whose slowest point is a focus (g' > 1/4): a pulse and ringing.
-    FastSlow,
-    /// Overshoot where the slowest point of the traversed branch is a node (g' ≤ 1/4): the
-    /// state creeps behind the equilibrium, then snaps ahead of it.
-    PronouncedBursting,
-    /// Jumps between two stable branches across the folds: a relaxation (hysteresis) loop, the only
-    /// bursting that survives ω → 0.
-    Relaxation,
-    /// Outside the fast-slow domain: the forcing is not slow against the fast subsystem.
-    NotFastSlow,
-}
-
-/// The mechanism behind the bursts.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Mechanism {
-    /// No signature.
-    None,
-    /// Overshoot or ringing on a single stable branch: no bifurcation, a steep curve.
-    SharpQuantitativeChange,
-    /// A measured jump across the folds.
-    FoldHysteresis,
-}
-
-impl Mode {
-    /// The kebab-case name.
-    pub fn name(self) -> &'static str {
-        match self {
-            Mode::Normal => "normal",
-            Mode::Transitional => "transitional",
-            Mode::FastSlow => "fast-slow",
-            Mode::PronouncedBursting => "pronounced-bursting",
-            Mode::Relaxation => "relaxation",
-            Mode::NotFastSlow => "not-fast-slow",
-        }
-    }
-}
-
-impl Mechanism {
-    /// The kebab-case name.
-    pub fn name(self) -> &'static str {
-        match self {
-            Mechanism::None => "none",
-            Mechanism::SharpQuantitativeChange => "sharp-quantitative-change",
-            Mechanism::FoldHysteresis => "fold-hysteresis",
-        }
-    }
-}
-
-impl Verdict {
-    /// The kebab-case name.
-    pub fn name(self) -> &'static str {
-        match self {
-            Verdict::NoBursts => "no-bursts",
-            Verdict::Ringing => "ringing",
-            Verdict::Overshoot => "overshoot",
-            Verdict::FoldJump => "fold-jump",
-        }
-    }
-}
-
-macro_rules! display_by_name {
-    ($($t:ty),*) => {$(
-        impl std::fmt::Display for $t {
-            fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-                f.pad(self.name())
-            }
-        }
-    )*};
-}
-display_by_name!(Verdict, Mode, Mechanism);
-
-/// Verdict, mode and mechanism.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-pub struct Classification {
-    /// Any signature present.
-    pub bursting: bool,
-    /// The strongest signature.
-    pub verdict: Verdict,
-    /// The oscillation mode.
-    pub mode: Mode,
-    /// The mechanism.
-    pub mechanism: Mechanism,
-    /// Whether the fast-slow picture applies (see [`fast_slow_domain`]).
-    pub fast_slow_domain: bool,
 }
 
 /// The x-extent X of the equilibrium curve over a ∈ [−1, 1].
@@ -652,309 +549,6 @@ impl Plan {
             self.gap,
             self.x_extent,
         )
-    }
-}
-
-/// Integration noise in the state is this many times the tolerance scale atol + rtol·X:
-/// smaller swings of x' and lobes of x − x* are truncation error, not motion (see
-/// [`swing_floor`]). Measured: at ω = 1e-4 the truncation error of a 3-period run creates false
-/// ringing with a factor 10 at rtol = 1e-6 … 1e-8 and none with 100, over the reference cases and
-/// a 200-point γ sweep.
-pub const NOISE_FACTOR: f64 = 100.0;
-
-fn noise_floor(opts: &BurstOptions, x_extent: f64) -> f64 {
-    NOISE_FACTOR * (opts.tol.atol + opts.tol.rtol * x_extent)
-}
-
-/// The swing floor of x' actually used: [`BurstOptions::swing_floor`]·ω·X, but never below
-/// [`NOISE_FACTOR`]·(atol + rtol·X), the level the integration itself resolves. Without the
-/// second term a loose tolerance at small ω turns truncation error into "ringing".
-pub fn swing_floor(p: &Params, opts: &BurstOptions, x_extent: f64) -> f64 {
-    (opts.swing_floor * p.omega * x_extent).max(noise_floor(opts, x_extent))
-}
-
-/// The overshoot floor actually used: [`BurstOptions::overshoot_floor`]·X, never below the
-/// noise level of [`swing_floor`].
-pub fn overshoot_floor(opts: &BurstOptions, x_extent: f64) -> f64 {
-    (opts.overshoot_floor * x_extent).max(noise_floor(opts, x_extent))
-}
-
-/// One group of events while it is being built.
-#[derive(Default)]
-struct Group {
-    start: f64,
-    end: f64,
-    pivots: Vec<Pivot>,
-    lobes: Vec<f64>,
-    jumps: u32,
-}
-
-/// The scanned events (extrema of x', overshoot lobes of at least `floor`, jumps) in groups:
-/// events closer than `gap` belong together.
-fn group_events(scan: &Scan, floor: f64, gap: f64) -> Vec<Group> {
-    // events as (start, end, kind)
-    enum Ev {
-        Pivot(Pivot),
-        Lobe(f64),
-        Jump,
-    }
-    let mut events: Vec<(f64, f64, Ev)> = Vec::new();
-    events.extend(scan.pivots.iter().map(|&q| (q.t, q.t, Ev::Pivot(q))));
-    events.extend(
-        scan.lobes
-            .iter()
-            .filter(|l| l.amp >= floor)
-            .map(|l| (l.start, l.end, Ev::Lobe(l.amp))),
-    );
-    events.extend(scan.jumps.iter().map(|&t| (t, t, Ev::Jump)));
-    events.sort_by(|a, b| a.0.total_cmp(&b.0));
-
-    let mut groups: Vec<Group> = Vec::new();
-    for (s, e, ev) in events {
-        let join = groups.last().is_some_and(|g| s - g.end < gap);
-        if !join {
-            groups.push(Group {
-                start: s,
-                end: e,
-                ..Group::default()
-            });
-        }
-        let g = groups.last_mut().expect("a group was just pushed");
-        g.end = g.end.max(e);
-        match ev {
-            Ev::Pivot(q) => g.pivots.push(q),
-            Ev::Lobe(a) => g.lobes.push(a),
-            Ev::Jump => g.jumps += 1,
-        }
-    }
-
-    groups
-}
-
-/// The bursts of `groups` with their pulse in the window, and whether any group is continuous
-/// fast motion (longer than half a slow period).
-fn bursts_of(
-    p: &Params,
-    opts: &BurstOptions,
-    groups: &[Group],
-    (t_w0, t_w1): (f64, f64),
-    t_scan_end: f64,
-    gap: f64,
-    x_extent: f64,
-) -> (Vec<Burst>, bool) {
-    let period = p.slow_period();
-    let omega_x = p.omega * x_extent;
-    let mut bursts = Vec::new();
-    let mut continuous = false;
-    for g in groups {
-        let ringing = g.pivots.len() >= 3;
-        if !(ringing || g.jumps > 0 || !g.lobes.is_empty()) {
-            continue;
-        }
-        let Some((ip, pulse)) = g
-            .pivots
-            .iter()
-            .enumerate()
-            .max_by(|a, b| a.1.v.abs().total_cmp(&b.1.v.abs()))
-        else {
-            continue; // a signature without any extremum of x' cannot be placed; never seen
-        };
-        if g.end - g.start > 0.5 * period && g.end > t_w0 && g.start < t_w1 {
-            continuous = true;
-        }
-        if !(pulse.t >= t_w0 && pulse.t < t_w1) {
-            continue;
-        }
-        let peak = pulse.v.abs();
-        let swing = g.pivots[ip..]
-            .windows(2)
-            .skip(1)
-            .map(|w| (w[1].v - w[0].v).abs())
-            .fold(0.0, f64::max);
-        let onset = pulse.onset.min(g.start);
-        let end = g.end.max(pulse.t);
-        bursts.push(Burst {
-            onset,
-            end,
-            a_onset: (p.omega * onset).sin(),
-            duration: end - onset,
-            t_peak: pulse.t,
-            a_peak: (p.omega * pulse.t).sin(),
-            peak_abs_xdot: peak,
-            spikes: spikes(&g.pivots, opts.spike_fraction),
-            extrema: g.pivots.len() as u32,
-            ringing_swing: swing / omega_x,
-            overshoot: g.lobes.iter().fold(0.0, |m: f64, &a| m.max(a)) / x_extent,
-            overshoot_lobes: g.lobes.len() as u32,
-            jumps: g.jumps,
-            complete: g.end + gap <= t_scan_end,
-        });
-    }
-    (bursts, continuous)
-}
-
-/// The signatures of the bursts found (and of the scan over the window).
-fn signatures(
-    bursts: &[Burst],
-    scan: &Scan,
-    (t_w0, t_w1): (f64, f64),
-    n_periods: f64,
-    x_extent: f64,
-) -> Signatures {
-    let jumps_in_window = scan
-        .jumps
-        .iter()
-        .filter(|&&t| t >= t_w0 && t < t_w1)
-        .count();
-    let max_overshoot = scan
-        .lobes
-        .iter()
-        .filter(|l| l.end >= t_w0 && l.start < t_w1)
-        .fold(0.0, |m: f64, l| m.max(l.amp))
-        / x_extent;
-    Signatures {
-        jump: bursts.iter().any(|b| b.jumps > 0),
-        overshoot: bursts.iter().any(|b| b.overshoot_lobes > 0),
-        ringing: bursts.iter().any(|b| b.extrema >= 3),
-        jumps_per_period: jumps_in_window as f64 / n_periods,
-        ringing_bursts_per_period: bursts.iter().filter(|b| b.extrema >= 3).count() as f64
-            / n_periods,
-        max_overshoot,
-        max_ringing_swing: bursts.iter().fold(0.0, |m: f64, b| m.max(b.ringing_swing)),
-    }
-}
-
-/// Groups the scanned events into bursts and computes the response's statistics.
-fn assemble(
-    p: &Params,
-    opts: &BurstOptions,
-    scan: Scan,
-    (t_w0, t_w1): (f64, f64),
-    t_scan_end: f64,
-    gap: f64,
-    x_extent: f64,
-) -> Response {
-    let period = p.slow_period();
-    let groups = group_events(&scan, overshoot_floor(opts, x_extent), gap);
-    let (bursts, continuous) = bursts_of(p, opts, &groups, (t_w0, t_w1), t_scan_end, gap, x_extent);
-    let n_periods = f64::from(opts.periods);
-    let window = t_w1 - t_w0;
-    let mean = |f: &dyn Fn(&Burst) -> f64| {
-        if bursts.is_empty() {
-            0.0
-        } else {
-            bursts.iter().map(f).sum::<f64>() / bursts.len() as f64
-        }
-    };
-    let busy: f64 = bursts
-        .iter()
-        .map(|b| (b.end.min(t_w1) - b.onset.max(t_w0)).max(0.0))
-        .sum();
-    let quiescent_duration = if bursts.is_empty() {
-        period
-    } else {
-        (window - busy) / bursts.len() as f64
-    };
-    let signatures = signatures(&bursts, &scan, (t_w0, t_w1), n_periods, x_extent);
-    let measures = Measures {
-        speed_ratio: scan.peak_abs_xdot / fast::max_equilibrium_speed(p),
-        lag_ratio: scan.max_lag / scan.max_first_order_lag,
-        relative_lag: scan.max_lag / x_extent,
-    };
-    Response {
-        window_start: t_w0,
-        window_end: t_w1,
-        rates: Rates {
-            bursts_per_period: (!continuous).then(|| bursts.len() as f64 / n_periods),
-            spikes_per_burst: mean(&|b| f64::from(b.spikes)),
-            burst_amplitude: mean(&|b| b.peak_abs_xdot),
-            peak_abs_xdot: scan.peak_abs_xdot,
-            quiescent_duration,
-            quiescent_fraction: 1.0 - busy / window,
-            max_tracking_error: scan.max_lag,
-        },
-        continuous_fast_motion: continuous,
-        signatures,
-        measures,
-        x_extent,
-        group_gap: gap,
-        bursts,
-    }
-}
-
-/// The spikes of a burst: its swings of x' (between consecutive extrema of the burst) of at least
-/// `fraction` of its largest swing; at least 1 (the pulse) for any burst.
-fn spikes(pivots: &[Pivot], fraction: f64) -> u32 {
-    let swings = || pivots.windows(2).map(|w| (w[1].v - w[0].v).abs());
-    let top = swings().fold(0.0, f64::max);
-    (swings().filter(|&s| s >= fraction * top).count() as u32).max(1)
-}
-
-/// Whether the forcing is slow against the fast subsystem, so that the fast-slow picture (a
-/// frozen, the state settling between passages) applies. Criterion: ω ≤ r_q/10, a decade of
-/// time-scale separation (the usual meaning of "ω ≪ r"), with r_q the slowest relaxation rate at
-/// the turning points a = ±1, where the equilibrium stands still and the state must settle
-/// (r_q = 1/2 on a focus, so ω ≤ 0.05 for the study's stiff branches); and, measured, the fast
-/// motion stops between passages (no continuous fast motion).
-pub fn fast_slow_domain(p: &Params, r: &Response) -> bool {
-    !r.continuous_fast_motion && p.omega <= turning_point_rate(p) / TIME_SCALE_SEPARATION
-}
-
-/// The slowest relaxation rate of the fast subsystem at the equilibria the state rests on at the
-/// turning points a = ±1 (the smaller of the two).
-pub fn turning_point_rate(p: &Params) -> f64 {
-    [-1.0, 1.0]
-        .iter()
-        .flat_map(|&a| fast::equilibria(p, a).roots)
-        .filter(|r| r.kind.is_stable())
-        .map(|r| fast::relaxation_rate(p.g_prime(r.x)))
-        .fold(f64::INFINITY, f64::min)
-}
-
-/// Verdict, mode and mechanism of a measured response.
-///
-/// * verdict: the strongest signature (fold-jump > overshoot > ringing > no-bursts); bursting when
-///   any is present;
-/// * mechanism: `fold-hysteresis` when a jump is measured, `sharp-quantitative-change` for
-///   overshoot or ringing on a single branch, `none` otherwise;
-/// * mode: `not-fast-slow` outside [`fast_slow_domain`]; else `relaxation` (jump),
-///   `pronounced-bursting` (overshoot, slowest traversed point a node: g' ≤ 1/4), `fast-slow`
-///   (overshoot, a focus there), `transitional` (ringing only), `normal` (nothing).
-pub fn classify(p: &Params, r: &Response) -> Classification {
-    let s = &r.signatures;
-    let verdict = if s.jump {
-        Verdict::FoldJump
-    } else if s.overshoot {
-        Verdict::Overshoot
-    } else if s.ringing {
-        Verdict::Ringing
-    } else {
-        Verdict::NoBursts
-    };
-    let domain = fast_slow_domain(p, r);
-    let mode = if !domain {
-        Mode::NotFastSlow
-    } else {
-        match verdict {
-            Verdict::FoldJump => Mode::Relaxation,
-            Verdict::Overshoot if min_traversed_gprime(p) <= fast::FOCUS_GPRIME => {
-                Mode::PronouncedBursting
-            }
-            Verdict::Overshoot => Mode::FastSlow,
-            Verdict::Ringing => Mode::Transitional,
-            Verdict::NoBursts => Mode::Normal,
-        }
-    };
-    Classification {
-        bursting: verdict != Verdict::NoBursts,
-        verdict,
-        mode,
-        mechanism: match verdict {
-            Verdict::FoldJump => Mechanism::FoldHysteresis,
-            Verdict::Overshoot | Verdict::Ringing => Mechanism::SharpQuantitativeChange,
-            Verdict::NoBursts => Mechanism::None,
-        },
-        fast_slow_domain: domain,
     }
 }
 

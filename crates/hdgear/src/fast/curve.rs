@@ -1,6 +1,6 @@
 //! The equilibrium curve {(a, x): F(x, a) = 0} over an a-range, sampled by x.
 //!
-//! The curve is a graph over x: a(x) = (g(x) − μ)/δ (SPEC §3). Every point is therefore computed
+//! The curve is a graph over x: a(x) = (g(x) − μ)/δ (guide: the fast subsystem). Every point is therefore computed
 //! *exactly* from its x, and steep parts (where x changes fast with a) are resolved for free. The
 //! x values are spread uniformly in arc length of the curve drawn in the box a-range × x-extent
 //! (both normalised to 1), so flat and steep parts get points alike.

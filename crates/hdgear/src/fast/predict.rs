@@ -22,6 +22,7 @@
 use super::curve::x_intervals;
 use super::equilibria::fold_abscissae;
 use crate::params::Params;
+use crate::simd::{Simd, dispatched};
 use serde::Serialize;
 
 /// The threshold κ_c on the forcing rate: bursting is predicted where the equilibrium's speed
@@ -33,7 +34,7 @@ use serde::Serialize;
 /// eleven points (γ from 0.05 to 5.3, ω from 6.7e-5 to 0.05); on it max κ is 0.16–0.27 for
 /// γ ≥ 0.1 (0.10 at γ = 0.05, where the prediction is a factor 1.9 early). 0.2 is the middle.
 /// It was then checked, not tuned, on the 20 independent reference cases of
-/// `shared/reference/burst_cases.json` (other α, δ, μ, ε, ω, physical sets with α·ε = 1, fold
+/// `tests/data/burst_cases.json` (other α, δ, μ, ε, ω, physical sets with α·ε = 1, fold
 /// loops): the prediction agrees with the reference on all 20 (`tests/burst.rs`). Unlike the
 /// detection floors this constant *is* the boundary's location, so it cannot be free over a
 /// decade; the nearest reference cases sit at κ = 0.17 (no bursts) and 0.31 (ringing).
@@ -107,17 +108,10 @@ fn max_on(f: impl Fn(f64) -> f64, l: f64, r: f64) -> (f64, f64) {
             *v = f(x(j));
         }
     }
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx512f,fma")]
-    fn fill_avx512(f: &impl Fn(f64) -> f64, x: &impl Fn(usize) -> f64, values: &mut [f64]) {
-        fill(f, x, values);
+    dispatched! {
+        fn fill_on(f: &impl Fn(f64) -> f64, x: &impl Fn(usize) -> f64, values: &mut [f64]) -> () = fill(f, x, values)
     }
-    match crate::batch::Simd::detect() {
-        // SAFETY: `Simd::detect` found AVX-512F and FMA on this CPU.
-        #[cfg(target_arch = "x86_64")]
-        crate::batch::Simd::Avx512 => unsafe { fill_avx512(&f, &x, &mut values) },
-        _ => fill(&f, &x, &mut values),
-    }
+    fill_on(Simd::detect(), &f, &x, &mut values);
     // the largest by eight running maxima, each started at the first sample (one chain of
     // comparisons was most of a call), then the first sample that equals it: the first largest,
     // as comparing them one by one would give (a NaN never compares larger)

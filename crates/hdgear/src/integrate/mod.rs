@@ -1,21 +1,8 @@
-//! An adaptive Dormand–Prince 8(5,3) integrator (`DOP853`) for small fixed-size systems, with a
-//! 7th-order dense output, step statistics and zero-crossing events.
-//!
-//! Why our own: SPEC §5 records that `ode_solvers` 0.6.2's DOP853 evaluates a stage at the wrong
-//! time and aborts on non-autonomous systems, that `differential-equations` 0.7 spends about 25 %
-//! more right-hand-side evaluations than a plain DOP853 (above the 130k-evaluation bar of the
-//! foundation issue), and that the remaining crates are not accurate enough. A stack-only DOP853 is
-//! about 300 lines; this one follows Hairer's `dop853.f` (error norm, step-size controller, initial
-//! step guess) so that its step counts are those of the reference code. `benches/simulate.rs`
-//! measures it.
-//!
-//! * State: `[f64; N]` on the stack; no allocation per step.
-//! * Error control: the mixed 5th/3rd-order estimate of Hairer's code, scaled by
-//!   `atol + rtol·max(|y_old|, |y_new|)` component-wise, RMS norm.
-//! * Dense output: the 7th-order continuous extension, computed lazily (three extra right-hand-side
-//!   evaluations) only for steps in which output or events are requested.
-//! * Events: sign changes of a user function g(t, y) located on the dense output by Brent's
-//!   method (see [`events`]).
+//! Integrators behind one seam: a [`System`] (right-hand side, optionally its Jacobian and Taylor
+//! coefficients) is stepped by a [`Stepper`] — Taylor's method ([`taylor`], the default) or
+//! DOP853 ([`Dop853`], the independent cross-check) — with [`Options`] validated once, [`Stats`],
+//! dense output ([`DenseOutput`]), output grids ([`Grid`], [`sample`]) and zero-crossing events
+//! ([`events`]). States are `[f64; N]` on the stack.
 //!
 //! ```
 //! use hdgear::integrate::{Dop853, Options, System};
@@ -29,9 +16,12 @@
 //! assert!((s.y()[0] - 10f64.sin()).abs() < 1e-9);
 //! ```
 
+mod dop853;
 pub mod events;
 mod stages;
 pub mod taylor;
+
+pub use dop853::{Dense, Dop853};
 
 pub use taylor::{Taylor, TaylorDense};
 
@@ -290,344 +280,6 @@ pub struct Stats {
     pub rhs_evals: u64,
 }
 
-/// The 7th-order continuous extension of one accepted step over [t_old, t_old + h].
-#[derive(Clone, Copy, Debug)]
-pub struct Dense<const N: usize> {
-    t_old: f64,
-    h: f64,
-    y_old: [f64; N],
-    coef: [[f64; N]; 7],
-}
-
-impl<const N: usize> DenseOutput<N> for Dense<N> {
-    fn t_start(&self) -> f64 {
-        self.t_old
-    }
-    fn t_end(&self) -> f64 {
-        self.t_old + self.h
-    }
-    /// The interpolated state at `t` (meant for t in the step; it extrapolates outside).
-    fn eval(&self, t: f64) -> [f64; N] {
-        let s = (t - self.t_old) / self.h;
-        let s1 = 1.0 - s;
-        let mut y = [0.0; N];
-        for (i, yi) in y.iter_mut().enumerate() {
-            // Horner-like scheme of Hairer's contd8:
-            // y = y_old + s(c0 + s1(c1 + s(c2 + s1(c3 + s(c4 + s1(c5 + s c6))))))
-            let c = |r: usize| self.coef[r][i];
-            let mut v = c(6) * s;
-            v = (v + c(5)) * s1;
-            v = (v + c(4)) * s;
-            v = (v + c(3)) * s1;
-            v = (v + c(2)) * s;
-            v = (v + c(1)) * s1;
-            v = (v + c(0)) * s;
-            *yi = self.y_old[i] + v;
-        }
-        y
-    }
-}
-
-impl<'s, S: System<N> + ?Sized, const N: usize> Stepper<N> for Dop853<'s, S, N> {
-    type Dense = Dense<N>;
-    fn t(&self) -> f64 {
-        self.t
-    }
-    fn y(&self) -> &[f64; N] {
-        &self.y
-    }
-    fn step(&mut self, t_bound: f64) -> Result<()> {
-        Dop853::step(self, t_bound)
-    }
-    fn dense(&mut self) -> Dense<N> {
-        Dop853::dense(self)
-    }
-    fn stats(&self) -> Stats {
-        self.stats
-    }
-}
-
-/// A DOP853 integrator positioned at (t, y), advancing one accepted step at a time.
-pub struct Dop853<'s, S: ?Sized, const N: usize> {
-    sys: &'s S,
-    opts: Options,
-    t: f64,
-    y: [f64; N],
-    f: [f64; N],
-    h: f64,
-    stats: Stats,
-    last_rejected: bool,
-    // data of the last accepted step, for dense output
-    t_old: f64,
-    y_old: [f64; N],
-    h_last: f64,
-    k: [[f64; N]; 12],
-    dense: Option<Dense<N>>,
-}
-
-impl<'s, S: System<N> + ?Sized, const N: usize> Dop853<'s, S, N> {
-    /// Starts an integration of `sys` at (t0, y0).
-    pub fn new(sys: &'s S, t0: f64, y0: [f64; N], opts: Options) -> Result<Self> {
-        opts.validate()?;
-        if !t0.is_finite() {
-            return Err(Error::InvalidOption {
-                name: "t0",
-                value: t0,
-                reason: "must be finite",
-            });
-        }
-        if let Some(v) = y0.iter().find(|v| !v.is_finite()) {
-            return Err(Error::InvalidOption {
-                name: "initial state",
-                value: *v,
-                reason: "must be finite",
-            });
-        }
-        let f = sys.rhs(t0, &y0);
-        let mut s = Dop853 {
-            sys,
-            opts,
-            t: t0,
-            y: y0,
-            f,
-            h: 0.0,
-            stats: Stats {
-                rhs_evals: 1,
-                ..Stats::default()
-            },
-            last_rejected: false,
-            t_old: t0,
-            y_old: y0,
-            h_last: 0.0,
-            k: [[0.0; N]; 12],
-            dense: None,
-        };
-        s.h = match opts.h_init {
-            Some(h) => h,
-            None => s.initial_step(),
-        };
-        Ok(s)
-    }
-
-    /// Current time.
-    pub fn t(&self) -> f64 {
-        self.t
-    }
-    /// Current state.
-    pub fn y(&self) -> &[f64; N] {
-        &self.y
-    }
-    /// Derivative f(t, y) at the current point (free: it is the FSAL stage).
-    pub fn dy(&self) -> &[f64; N] {
-        &self.f
-    }
-    /// Work counters so far.
-    pub fn stats(&self) -> Stats {
-        self.stats
-    }
-    /// The step size the controller proposes next.
-    pub fn proposed_step(&self) -> f64 {
-        self.h
-    }
-
-    fn scale(&self, a: f64, b: f64) -> f64 {
-        self.opts.atol + self.opts.rtol * a.abs().max(b.abs())
-    }
-
-    /// Hairer's `hinit`: h such that an explicit Euler step's second-derivative estimate is small.
-    #[allow(clippy::needless_range_loop)] // parallel arrays indexed together
-    fn initial_step(&mut self) -> f64 {
-        let (mut dnf, mut dny) = (0.0, 0.0);
-        for i in 0..N {
-            let sk = self.scale(self.y[i], self.y[i]);
-            dnf += (self.f[i] / sk).powi(2);
-            dny += (self.y[i] / sk).powi(2);
-        }
-        let mut h = if dnf <= 1e-10 || dny <= 1e-10 {
-            1e-6
-        } else {
-            (dny / dnf).sqrt() * 0.01
-        };
-        if let Some(hm) = self.opts.h_max {
-            h = h.min(hm);
-        }
-        let mut y1 = [0.0; N];
-        for i in 0..N {
-            y1[i] = self.y[i] + h * self.f[i];
-        }
-        let f1 = self.sys.rhs(self.t + h, &y1);
-        self.stats.rhs_evals += 1;
-        let mut der2 = 0.0;
-        for i in 0..N {
-            let sk = self.scale(self.y[i], self.y[i]);
-            der2 += ((f1[i] - self.f[i]) / sk).powi(2);
-        }
-        let der2 = der2.sqrt() / h;
-        let der12 = der2.max(dnf.sqrt());
-        let h1 = if der12 <= 1e-15 {
-            (h * 1e-3).max(1e-6)
-        } else {
-            (0.01 / der12).powf(1.0 / 8.0)
-        };
-        let mut h = (100.0 * h).min(h1);
-        if let Some(hm) = self.opts.h_max {
-            h = h.min(hm);
-        }
-        h
-    }
-
-    /// Makes one accepted step, never past `t_bound` (which must lie ahead of t).
-    ///
-    /// Step-size control is Hairer's: error norm `err` of the 5th/3rd-order estimates, new step
-    /// `h·min(6, max(1/3, 0.85·err^(−1/8)))`, and no growth right after a rejection.
-    ///
-    /// The safety factor is 0.85 rather than `dop853.f`'s 0.9: measured on the study's reference
-    /// trajectories (SPEC §4) at rtol = atol = 1e-10, 0.9 leaves a worst global error of 1.01e-9
-    /// (γ = 1, in a burst) and 0.85 one of 5.8e-10, for 7 % more steps (127.6k right-hand-side
-    /// evaluations for three slow periods at γ = 0.1, inside the 130k budget).
-    pub fn step(&mut self, t_bound: f64) -> Result<()> {
-        const SAFE: f64 = 0.85;
-        const FAC_MIN: f64 = 1.0 / 3.0; // largest decrease per attempt
-        const FAC_MAX: f64 = 6.0; // largest increase per step
-        let remaining = t_bound - self.t;
-        if remaining <= 0.0 {
-            return Ok(());
-        }
-        loop {
-            if self.stats.steps + self.stats.rejected >= self.opts.max_steps {
-                return Err(SolverError::TooManySteps {
-                    t: self.t,
-                    max_steps: self.opts.max_steps,
-                }
-                .into());
-            }
-            let mut h = self.h;
-            if let Some(hm) = self.opts.h_max {
-                h = h.min(hm);
-            }
-            let min_step = smallest_step(self.t, remaining);
-            if h < min_step && h < remaining {
-                return Err(SolverError::StepSizeTooSmall { t: self.t, h }.into());
-            }
-            // land exactly on t_bound when close (avoid a sliver step)
-            let last = h >= remaining * (1.0 - 1e-12) || self.t + h >= t_bound;
-            if last {
-                h = remaining;
-            }
-            let mut k = [[0.0; N]; 12];
-            let y_new = stages::main_stages(self.sys, self.t, &self.y, &self.f, h, &mut k);
-            self.stats.rhs_evals += 11;
-            let err = self.error_norm(h, &y_new, &k);
-            if !err.is_finite() || y_new.iter().any(|v| !v.is_finite()) {
-                // An overflowing attempt: reject and shrink hard. If the solution really escapes,
-                // the step size underflows and the error above says at which t.
-                self.stats.rejected += 1;
-                self.h = h * FAC_MIN;
-                self.last_rejected = true;
-                continue;
-            }
-            let fac = (SAFE * err.powf(-1.0 / 8.0)).clamp(FAC_MIN, FAC_MAX);
-            if err <= 1.0 {
-                let t_new = if last { t_bound } else { self.t + h };
-                // no growth right after a rejection; the shortened last step does not shrink the
-                // next proposal
-                let grow = if self.last_rejected {
-                    fac.min(1.0)
-                } else {
-                    fac
-                };
-                let h_next = if last { (h * grow).max(h) } else { h * grow };
-                return self.accept(t_new, y_new, k, h_next);
-            }
-            self.stats.rejected += 1;
-            self.last_rejected = true;
-            self.h = h * fac;
-        }
-    }
-
-    /// The error norm of an attempted step of size `h` (Hairer's combination of the 5th- and
-    /// 3rd-order estimates).
-    fn error_norm(&self, h: f64, y_new: &[f64; N], k: &[[f64; N]; 12]) -> f64 {
-        let (e5, e3) = stages::error_estimates(k);
-        let (mut err5, mut err3) = (0.0, 0.0);
-        for i in 0..N {
-            let sk = self.scale(self.y[i], y_new[i]);
-            err5 += (e5[i] / sk).powi(2);
-            err3 += (e3[i] / sk).powi(2);
-        }
-        let mut deno = err5 + 0.01 * err3;
-        if deno <= 0.0 {
-            deno = 1.0;
-        }
-        h.abs() * err5 / (deno * N as f64).sqrt()
-    }
-
-    /// Takes an accepted step to (`t_new`, `y_new`) with stages `k`, proposing `h_next`.
-    fn accept(
-        &mut self,
-        t_new: f64,
-        y_new: [f64; N],
-        k: [[f64; N]; 12],
-        h_next: f64,
-    ) -> Result<()> {
-        let f_new = self.sys.rhs(t_new, &y_new);
-        self.stats.rhs_evals += 1;
-        self.stats.steps += 1;
-        if let Some(v) = y_new.iter().find(|v| v.abs() > self.opts.blowup) {
-            return Err(SolverError::BlowUp {
-                t: t_new,
-                value: *v,
-            }
-            .into());
-        }
-        self.t_old = self.t;
-        self.y_old = self.y;
-        self.h_last = t_new - self.t;
-        self.k = k;
-        self.dense = None;
-        self.t = t_new;
-        self.y = y_new;
-        self.f = f_new;
-        self.h = h_next;
-        self.last_rejected = false;
-        Ok(())
-    }
-
-    /// Steps until t = `t_end` exactly.
-    pub fn integrate_to(&mut self, t_end: f64) -> Result<()> {
-        while self.t < t_end {
-            self.step(t_end)?;
-        }
-        Ok(())
-    }
-
-    /// The dense output of the last accepted step (3 extra right-hand-side evaluations the first
-    /// time it is asked for in a step, free after that).
-    pub fn dense(&mut self) -> Dense<N> {
-        if let Some(d) = self.dense {
-            return d;
-        }
-        let coef = stages::dense_coefficients(
-            self.sys,
-            self.t_old,
-            &self.y_old,
-            &self.y,
-            &self.f,
-            self.h_last,
-            &self.k,
-        );
-        self.stats.rhs_evals += 3;
-        let d = Dense {
-            t_old: self.t_old,
-            h: self.h_last,
-            y_old: self.y_old,
-            coef,
-        };
-        self.dense = Some(d);
-        d
-    }
-}
-
 /// The most samples an output grid may have (10¹⁰: beyond any file, and hours of callbacks).
 pub const MAX_SAMPLES: f64 = 1e10;
 
@@ -814,13 +466,13 @@ impl<'s, S: System<N> + ?Sized, const N: usize> Stepper<N> for AnyStepper<'s, S,
     fn t(&self) -> f64 {
         match self {
             AnyStepper::Taylor(s) => s.t(),
-            AnyStepper::Dop853(s) => s.t,
+            AnyStepper::Dop853(s) => s.t(),
         }
     }
     fn y(&self) -> &[f64; N] {
         match self {
             AnyStepper::Taylor(s) => s.y(),
-            AnyStepper::Dop853(s) => &s.y,
+            AnyStepper::Dop853(s) => s.y(),
         }
     }
     fn step(&mut self, t_bound: f64) -> Result<()> {
@@ -838,7 +490,7 @@ impl<'s, S: System<N> + ?Sized, const N: usize> Stepper<N> for AnyStepper<'s, S,
     fn stats(&self) -> Stats {
         match self {
             AnyStepper::Taylor(s) => s.stats(),
-            AnyStepper::Dop853(s) => s.stats,
+            AnyStepper::Dop853(s) => s.stats(),
         }
     }
 }

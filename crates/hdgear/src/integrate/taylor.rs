@@ -20,11 +20,11 @@
 //!   ρ·ε^{1/(p−1)}·e^{−0.7/(p−1)} (which is Jorba–Zou's step when p − 1 = −ln(ε)/2). A higher
 //!   order takes fewer, longer steps for more work per step: it pays where each step carries
 //!   other work (the variational equations of the periodic machinery, whose options ask for
-//!   [`MAX_ORDER`]), not for a plain trajectory (measured: 0.44–0.49 ms per 3-period run at
-//!   1e-10 for orders 13 to 20).
+//!   [`MAX_ORDER`]), not for a plain trajectory (orders 13 to 20 cost about the same there).
 
 use super::{DenseOutput, Options, SolverError, Stats, Stepper, System};
 use crate::error::{Error, Result};
+use crate::simd::{Simd, dispatched};
 
 /// Lowest order used.
 pub const MIN_ORDER: usize = 6;
@@ -193,19 +193,12 @@ pub(crate) fn abs_floor(first: f64, rest: f64) -> f64 {
 /// scan on the batch's own rows (so both give the same values).
 #[inline(always)]
 pub(crate) fn poly(coef: impl Fn(usize) -> f64, order: usize, h: f64) -> f64 {
-    #[cfg(target_arch = "x86_64")]
-    if std::arch::is_x86_feature_detected!("fma") {
-        // SAFETY: the CPU has FMA (checked just above).
-        return unsafe { estrin_fma(coef, order, h) };
-    }
-    estrin::<false>(coef, order, h)
+    poly_on(Simd::detect(), coef, order, h)
 }
 
-/// [`estrin`] with fused multiply-adds.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "fma")]
-fn estrin_fma(coef: impl Fn(usize) -> f64, order: usize, h: f64) -> f64 {
-    estrin::<true>(coef, order, h)
+dispatched! {
+    /// [`estrin`] on the vector unit `simd` names.
+    fn poly_on(coef: impl Fn(usize) -> f64, order: usize, h: f64) -> f64 = estrin::<FMA>(coef, order, h)
 }
 
 /// Σ_{k=0..=order} coef(k)·h^k by Estrin's scheme: the pairs c_2i + c_2i+1·h, then pairs of those
@@ -307,7 +300,7 @@ impl<'s, S: System<N> + ?Sized, const N: usize> Taylor<'s, S, N> {
     /// Each component's weight in the step rule, 1/max(|y_i|, atol/rtol): relative where
     /// rtol·|y_i| ≥ atol, absolute (in units of atol/rtol) below. From the state before the
     /// coefficients are computed, so that its divisions overlap the recurrence (read back from
-    /// row 0 after it, they waited for it: 0.277 → 0.263 ms per 3-period run, AMD EPYC Zen 4).
+    /// row 0 after it, they would wait for it).
     #[inline(always)]
     fn weights(&self) -> [f64; N] {
         let floor = self.opts.atol / self.opts.rtol;
@@ -321,13 +314,6 @@ impl<'s, S: System<N> + ?Sized, const N: usize> Taylor<'s, S, N> {
         let p = self.order;
         let norm = |row: &[f64; N]| (0..N).fold(0.0f64, |m, i| m.max(row[i].abs() * scale[i]));
         step_from_norms::<FMA, false>(p, self.shift, norm(&self.c[p - 1]), norm(&self.c[p]))
-    }
-
-    /// [`Stepper::step`] with fused multiply-adds where the CPU has them.
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "fma")]
-    fn step_fma(&mut self, t_bound: f64) -> Result<()> {
-        self.step_with::<true>(t_bound)
     }
 
     #[inline(always)]
@@ -359,8 +345,7 @@ impl<'s, S: System<N> + ?Sized, const N: usize> Taylor<'s, S, N> {
             h = remaining;
         }
         // Estrin's scheme: the new state is on the chain from one step to the next, and its four
-        // fused steps at order 13 wait less than Horner's thirteen (0.313 → 0.304 ms per
-        // 3-period run)
+        // fused steps at order 13 wait less than Horner's thirteen
         let y_new: [f64; N] =
             std::array::from_fn(|i| estrin::<FMA>(|k| self.c[k][i], self.order, h));
         if let Some(v) = y_new
@@ -381,6 +366,12 @@ impl<'s, S: System<N> + ?Sized, const N: usize> Taylor<'s, S, N> {
     }
 }
 
+dispatched! {
+    /// [`Taylor::step_with`] on the vector unit `simd` names (fused multiply-adds where it has
+    /// them).
+    fn step_on['s, S: System<N> + ?Sized, const N: usize](stepper: &mut Taylor<'s, S, N>, t_bound: f64) -> Result<()> = stepper.step_with::<FMA>(t_bound)
+}
+
 impl<'s, S: System<N> + ?Sized, const N: usize> Stepper<N> for Taylor<'s, S, N> {
     type Dense = TaylorDense<N>;
 
@@ -393,12 +384,7 @@ impl<'s, S: System<N> + ?Sized, const N: usize> Stepper<N> for Taylor<'s, S, N> 
     }
 
     fn step(&mut self, t_bound: f64) -> Result<()> {
-        #[cfg(target_arch = "x86_64")]
-        if std::arch::is_x86_feature_detected!("fma") {
-            // SAFETY: the CPU has FMA (checked just above).
-            return unsafe { self.step_fma(t_bound) };
-        }
-        self.step_with::<false>(t_bound)
+        step_on(Simd::detect(), self, t_bound)
     }
 
     fn dense(&mut self) -> TaylorDense<N> {
@@ -421,7 +407,7 @@ pub(crate) fn mul_add<const FMA: bool>(a: f64, b: f64, c: f64) -> f64 {
 /// order). `POLY` takes the logarithms and the exponential from the short polynomials below
 /// (1e-9: a step rule is a heuristic, that changes nothing measurable), which vectorise over the
 /// batch's lanes; one step alone is faster with the library's `ln` and `exp`, whose table
-/// lookups make shorter dependency chains (measured: 0.46 vs 0.50 ms per 3-period run).
+/// lookups make shorter dependency chains.
 #[inline(always)]
 pub(crate) fn step_from_norms<const FMA: bool, const POLY: bool>(
     p: usize,

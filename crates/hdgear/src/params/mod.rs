@@ -110,7 +110,7 @@ pub const PRESETS: [(&str, f64); 5] = [
 #[derive(Clone, Debug, PartialEq, Serialize)]
 #[serde(tag = "kind", rename_all = "kebab-case")]
 pub enum Warning {
-    /// α·ε ≠ 1: no physical drive reduces to this set (SPEC §2: α·ε = C²/(k2φ²J)·k2φ²J/C² = 1).
+    /// α·ε ≠ 1: no physical drive reduces to this set (α·ε = C²/(k2φ²J)·k2φ²J/C² = 1; guide: corrections to the study).
     AlphaEpsNotOne {
         /// The product α·ε.
         alpha_eps: f64,
@@ -123,7 +123,7 @@ impl fmt::Display for Warning {
             Warning::AlphaEpsNotOne { alpha_eps } => write!(
                 f,
                 "alpha*eps = {alpha_eps:.4} is not 1: no physical drive gives this set; studied \
-                 as a dimensionless model (README, \"The physical drive\")"
+                 as a dimensionless model (guide: corrections to the study)"
             ),
         }
     }
@@ -224,7 +224,7 @@ impl Params {
     }
 
     /// The slow variable at which x is an equilibrium: a(x) = (g(x) − μ)/δ (the equilibrium curve
-    /// is a graph over x, SPEC §3; δ > 0).
+    /// is a graph over x; δ > 0).
     #[inline(always)]
     pub fn a_at(&self, x: f64) -> f64 {
         (self.g(x) - self.mu) / self.delta

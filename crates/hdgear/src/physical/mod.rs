@@ -1,5 +1,5 @@
 //! The physical two-inertia drive in SI units, and its reduction to the dimensionless model
-//! (SPEC §1–2). The reduction lives here and nowhere else.
+//! (guide: the model and its parameters). The reduction lives here and nowhere else.
 //!
 //! ```text
 //! J_o θo'' + C (θo' − θi'/N) + K(θ) f(θ)      =  T_m + T_am sin(Ω t)

@@ -2,7 +2,7 @@
 
 use crate::integrate::System;
 
-/// The physical two-inertia drive (SPEC §1), integrated in well-conditioned coordinates.
+/// The physical two-inertia drive (guide: the model and its parameters), integrated in well-conditioned coordinates.
 ///
 /// Internal state z = [θ, T_c·θ', θo, T_c·θo'] with physical time t \[s\], where θ = θo − θi/N is
 /// the relative torsion and T_c = J_eq/C. Integrating θ rather than θi avoids computing the small

@@ -39,11 +39,35 @@ const APP_CSS: &str = include_str!("assets/app.css");
 /// An API error: status and one line.
 struct ApiError(StatusCode, String);
 
+/// The body of an error answer: `{"error": "…"}`.
+#[derive(serde::Serialize)]
+struct ErrorBody<'a> {
+    error: &'a str,
+}
+
 impl IntoResponse for ApiError {
     fn into_response(self) -> Response {
-        let body = serde_json::json!({ "error": self.1 });
-        (self.0, Json(body)).into_response()
+        (self.0, Json(ErrorBody { error: &self.1 })).into_response()
     }
+}
+
+/// The answer of `/api/drives`: the catalogue's drive names and the assumptions every preset
+/// makes (fields in the order the API has always sent them).
+#[derive(serde::Serialize)]
+struct DrivesBody {
+    assumptions: &'static [&'static str],
+    drives: Vec<&'static str>,
+}
+
+/// The answer of `/api/drive`: a catalogue drive, its stiffness fit and its reduction (fields in
+/// the order the API has always sent them).
+#[derive(serde::Serialize)]
+struct DriveBody<'a> {
+    alpha_eps: f64,
+    drive: hdgear::physical::PhysicalParams,
+    fit: hdgear::physical::catalogue::Fit,
+    name: &'a str,
+    reduction: hdgear::physical::Reduction,
 }
 
 impl From<hdgear::Error> for ApiError {
@@ -137,10 +161,10 @@ async fn drives() -> Response {
         .iter()
         .map(|d| d.name)
         .collect();
-    Json(serde_json::json!({
-        "drives": names,
-        "assumptions": hdgear::physical::catalogue::ASSUMPTIONS,
-    }))
+    Json(DrivesBody {
+        drives: names,
+        assumptions: &hdgear::physical::catalogue::ASSUMPTIONS,
+    })
     .into_response()
 }
 
@@ -148,13 +172,14 @@ async fn drive(Query(q): Q) -> Result<Response, ApiError> {
     let name = q.get("name").map_or("CSF-20-50", String::as_str);
     let (d, fit) = hdgear::physical::catalogue::preset(name, None)?;
     let reduction = d.reduce()?;
-    Ok(Json(serde_json::json!({
-        "name": name,
-        "drive": d,
-        "fit": fit,
-        "reduction": reduction,
-        "alpha_eps": reduction.params.alpha * reduction.params.eps,
-    }))
+    let alpha_eps = reduction.params.alpha * reduction.params.eps;
+    Ok(Json(DriveBody {
+        name,
+        drive: d,
+        fit,
+        reduction,
+        alpha_eps,
+    })
     .into_response())
 }
 

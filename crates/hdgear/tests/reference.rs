@@ -1,4 +1,4 @@
-//! Against the independent reference trajectories (scipy DOP853, rtol 1e-13, SPEC §4).
+//! Against the independent reference trajectories (scipy DOP853, rtol 1e-13: `tests/data/README.md`).
 
 use crate::common::reference_rows;
 use hdgear::Params;

@@ -12,9 +12,9 @@ fn paper(gamma: f64) -> Params {
     }
 }
 
-/// The 20 parameter sets of `shared/reference/burst_cases.json` with their reference block.
+/// The 20 parameter sets of `tests/data/burst_cases.json` with their reference block.
 fn reference_cases() -> Vec<(String, Params, serde_json::Value)> {
-    let path = crate::common::shared_dir().join("reference/burst_cases.json");
+    let path = crate::common::data("burst_cases.json");
     let text = std::fs::read_to_string(&path).unwrap();
     let v: serde_json::Value = serde_json::from_str(&text).unwrap();
     v["cases"]
@@ -150,7 +150,7 @@ fn prediction_matches_the_simulated_boundaries() {
         "omega at gamma 1: {pw} vs {sw}"
     );
     // the independent reference loses the bursts between 3e-4 and 1e-4 (γ = 0.1) and between
-    // 3e-3 and 2e-3 (γ = 1) (SPEC §6)
+    // 3e-3 and 2e-3 (γ = 1) (Fenichel: a finite-ω effect)
     assert!(sw > 2e-3 && sw < 3e-3, "{sw}");
     assert!(b.simulated_omega.unwrap() > 1e-4 && b.simulated_omega.unwrap() < 3e-4);
 }
@@ -209,7 +209,7 @@ fn simulated_boundaries_are_switches_of_the_one_by_one_verdict() {
 #[test]
 fn the_study_table_under_signatures() {
     // γ = 30 and 10: no signature at ω = 0.01 (adiabatic, x' the smooth slow wave of max 0.0035
-    // and 0.013, SPEC §4); γ = 1 and 0.1: two overshooting, ringing pulses per period of
+    // and 0.013); γ = 1 and 0.1: two overshooting, ringing pulses per period of
     // max |x'| 0.14 and 0.24; γ = 0.1 creeps over a node first (g' = 0.079 < 1/4)
     for (g, verdict, mode, peak) in [
         (30.0, Verdict::NoBursts, Mode::Normal, 0.0035),
@@ -232,7 +232,7 @@ fn the_study_table_under_signatures() {
             for b in &r.bursts {
                 assert!(b.complete && b.spikes >= 1);
                 assert!(b.a_peak.abs() < 0.1, "pulses near a = 0: {b:?}");
-                // the ringing decays over about ten time units (SPEC §4)
+                // the ringing decays over about ten time units
                 assert!(b.duration > 5.0 && b.duration < 25.0, "{b:?}");
             }
         } else {

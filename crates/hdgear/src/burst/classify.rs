@@ -1,0 +1,181 @@
+//! The verdict, the mode and the mechanism of a measured response, and the fast-slow domain.
+
+use super::*;
+
+/// The strongest signature of a response (order: fold-jump > overshoot > ringing > no-bursts).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Verdict {
+    /// The state follows the equilibrium adiabatically.
+    NoBursts,
+    /// The fast mode rings about the moving equilibrium; the state never gets ahead.
+    Ringing,
+    /// The state gets ahead of the equilibrium it follows.
+    Overshoot,
+    /// The state jumps across the unstable band between two folds.
+    FoldJump,
+}
+
+/// The oscillation mode: the study's four words, defined from the signatures (each keeps its
+/// meaning as ω changes), plus the two cases the study's words do not cover.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Mode {
+    /// No signature: the state follows the equilibrium (x' is the smooth slow wave).
+    Normal,
+    /// Ringing only: the fast mode is excited, but the state never gets ahead.
+    Transitional,
+    /// Overshoot on a branch whose slowest point is a focus (g' > 1/4): a pulse and ringing.
+    FastSlow,
+    /// Overshoot where the slowest point of the traversed branch is a node (g' ≤ 1/4): the
+    /// state creeps behind the equilibrium, then snaps ahead of it.
+    PronouncedBursting,
+    /// Jumps between two stable branches across the folds: a relaxation (hysteresis) loop, the only
+    /// bursting that survives ω → 0.
+    Relaxation,
+    /// Outside the fast-slow domain: the forcing is not slow against the fast subsystem.
+    NotFastSlow,
+}
+
+/// The mechanism behind the bursts.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Mechanism {
+    /// No signature.
+    None,
+    /// Overshoot or ringing on a single stable branch: no bifurcation, a steep curve.
+    SharpQuantitativeChange,
+    /// A measured jump across the folds.
+    FoldHysteresis,
+}
+
+impl Mode {
+    /// The kebab-case name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Mode::Normal => "normal",
+            Mode::Transitional => "transitional",
+            Mode::FastSlow => "fast-slow",
+            Mode::PronouncedBursting => "pronounced-bursting",
+            Mode::Relaxation => "relaxation",
+            Mode::NotFastSlow => "not-fast-slow",
+        }
+    }
+}
+
+impl Mechanism {
+    /// The kebab-case name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Mechanism::None => "none",
+            Mechanism::SharpQuantitativeChange => "sharp-quantitative-change",
+            Mechanism::FoldHysteresis => "fold-hysteresis",
+        }
+    }
+}
+
+impl Verdict {
+    /// The kebab-case name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Verdict::NoBursts => "no-bursts",
+            Verdict::Ringing => "ringing",
+            Verdict::Overshoot => "overshoot",
+            Verdict::FoldJump => "fold-jump",
+        }
+    }
+}
+
+macro_rules! display_by_name {
+    ($($t:ty),*) => {$(
+        impl std::fmt::Display for $t {
+            fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.pad(self.name())
+            }
+        }
+    )*};
+}
+display_by_name!(Verdict, Mode, Mechanism);
+
+/// Verdict, mode and mechanism.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+pub struct Classification {
+    /// Any signature present.
+    pub bursting: bool,
+    /// The strongest signature.
+    pub verdict: Verdict,
+    /// The oscillation mode.
+    pub mode: Mode,
+    /// The mechanism.
+    pub mechanism: Mechanism,
+    /// Whether the fast-slow picture applies (see [`fast_slow_domain`]).
+    pub fast_slow_domain: bool,
+}
+
+/// Whether the forcing is slow against the fast subsystem, so that the fast-slow picture (a
+/// frozen, the state settling between passages) applies. Criterion: ω ≤ r_q/10, a decade of
+/// time-scale separation (the usual meaning of "ω ≪ r"), with r_q the slowest relaxation rate at
+/// the turning points a = ±1, where the equilibrium stands still and the state must settle
+/// (r_q = 1/2 on a focus, so ω ≤ 0.05 for the study's stiff branches); and, measured, the fast
+/// motion stops between passages (no continuous fast motion).
+pub fn fast_slow_domain(p: &Params, r: &Response) -> bool {
+    !r.continuous_fast_motion && p.omega <= turning_point_rate(p) / TIME_SCALE_SEPARATION
+}
+
+/// The slowest relaxation rate of the fast subsystem at the equilibria the state rests on at the
+/// turning points a = ±1 (the smaller of the two).
+pub fn turning_point_rate(p: &Params) -> f64 {
+    [-1.0, 1.0]
+        .iter()
+        .flat_map(|&a| fast::equilibria(p, a).roots)
+        .filter(|r| r.kind.is_stable())
+        .map(|r| fast::relaxation_rate(p.g_prime(r.x)))
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// Verdict, mode and mechanism of a measured response.
+///
+/// * verdict: the strongest signature (fold-jump > overshoot > ringing > no-bursts); bursting when
+///   any is present;
+/// * mechanism: `fold-hysteresis` when a jump is measured, `sharp-quantitative-change` for
+///   overshoot or ringing on a single branch, `none` otherwise;
+/// * mode: `not-fast-slow` outside [`fast_slow_domain`]; else `relaxation` (jump),
+///   `pronounced-bursting` (overshoot, slowest traversed point a node: g' ≤ 1/4), `fast-slow`
+///   (overshoot, a focus there), `transitional` (ringing only), `normal` (nothing).
+pub fn classify(p: &Params, r: &Response) -> Classification {
+    let s = &r.signatures;
+    let verdict = if s.jump {
+        Verdict::FoldJump
+    } else if s.overshoot {
+        Verdict::Overshoot
+    } else if s.ringing {
+        Verdict::Ringing
+    } else {
+        Verdict::NoBursts
+    };
+    let domain = fast_slow_domain(p, r);
+    let mode = if !domain {
+        Mode::NotFastSlow
+    } else {
+        match verdict {
+            Verdict::FoldJump => Mode::Relaxation,
+            Verdict::Overshoot if min_traversed_gprime(p) <= fast::FOCUS_GPRIME => {
+                Mode::PronouncedBursting
+            }
+            Verdict::Overshoot => Mode::FastSlow,
+            Verdict::Ringing => Mode::Transitional,
+            Verdict::NoBursts => Mode::Normal,
+        }
+    };
+    Classification {
+        bursting: verdict != Verdict::NoBursts,
+        verdict,
+        mode,
+        mechanism: match verdict {
+            Verdict::FoldJump => Mechanism::FoldHysteresis,
+            Verdict::Overshoot | Verdict::Ringing => Mechanism::SharpQuantitativeChange,
+            Verdict::NoBursts => Mechanism::None,
+        },
+        fast_slow_domain: domain,
+    }
+}

@@ -1,0 +1,37 @@
+//! Helpers shared by the test modules.
+
+use std::path::{Path, PathBuf};
+
+/// A file of the vendored reference data (`tests/data/`, described in its README).
+pub fn data(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data")
+        .join(name)
+}
+
+/// The reference trajectories of the study's four γ (`tests/data/paper_trajectories.csv`):
+/// rows (gamma, x0, v0, t, x, xdot).
+pub fn reference_rows() -> Vec<[f64; 6]> {
+    let path = data("paper_trajectories.csv");
+    let text = std::fs::read_to_string(&path)
+        .unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
+    let mut lines = text.lines();
+    assert_eq!(lines.next().unwrap().trim(), "gamma,x0,v0,t,x,xdot");
+    lines
+        .filter(|l| !l.trim().is_empty())
+        .map(|l| {
+            let v: Vec<f64> = l.split(',').map(|s| s.trim().parse().unwrap()).collect();
+            [v[0], v[1], v[2], v[3], v[4], v[5]]
+        })
+        .collect()
+}
+
+/// Files in a directory (to check that nothing, not even a temporary, was left behind).
+pub fn files_in(dir: &Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    v.sort();
+    v
+}

@@ -1,0 +1,209 @@
+//! Output encodings: explicit CSV headers equal serde's field names; atomic files; Parquet holds
+//! the CSV's values.
+
+use hdgear::Params;
+use hdgear::output::{AtomicFile, Format, Record, RecordWriter};
+use std::io::Write;
+
+/// The header serde/csv would derive from an instance.
+fn serde_header<T: serde::Serialize>(v: &T) -> String {
+    let mut w = csv::Writer::from_writer(Vec::new());
+    w.serialize(v).unwrap();
+    let text = String::from_utf8(w.into_inner().unwrap()).unwrap();
+    text.lines().next().unwrap().to_string()
+}
+
+fn check<T: Record>(v: &T) {
+    assert_eq!(serde_header(v), T::COLUMNS.join(","));
+}
+
+#[test]
+fn record_columns_match_the_fields() {
+    let p = Params::default();
+    check(&hdgear::fast::curve(&p, (-1.0, 1.0), 2).unwrap()[0]);
+    check(&hdgear::fast::fold_curves(&p, 0.0, 2).unwrap()[0]);
+    let r = hdgear::burst::response(&p, &Default::default()).unwrap();
+    check(&r.bursts[0]);
+}
+
+/// Leaf keys of a JSON object, nested objects opened (sorted: `Value` keeps no order).
+fn leaves(v: &serde_json::Value, out: &mut Vec<String>) {
+    for (k, x) in v.as_object().unwrap() {
+        if x.is_object() {
+            leaves(x, out);
+        } else {
+            out.push(k.clone());
+        }
+    }
+}
+
+#[test]
+fn sweep_rows_are_flat_columns_that_read_back_by_position() {
+    // a sweep row nests its parameters and statistics; csv writes them as flat columns in
+    // field order, and `--resume` reads them back by position: the round trip must be exact,
+    // for a computed row and for a failed one (NaN statistics, no bursts per period)
+    use hdgear::sweep::{SweepRow, run_point};
+    let p = Params::default();
+    let good = run_point(3, &p, &Default::default());
+    let bad = run_point(4, &Params { omega: 1e-9, ..p }, &Default::default());
+    assert!(!bad.error.is_empty());
+    let mut names = Vec::new();
+    leaves(&serde_json::to_value(&good).unwrap(), &mut names);
+    names.sort();
+    let mut columns: Vec<String> = SweepRow::COLUMNS.iter().map(|c| c.to_string()).collect();
+    columns.sort();
+    assert_eq!(names, columns);
+    let mut w = RecordWriter::<_, SweepRow>::new(Vec::new(), Format::Csv, &()).unwrap();
+    w.row(&good).unwrap();
+    w.row(&bad).unwrap();
+    let text = String::from_utf8(w.finish().unwrap()).unwrap();
+    let mut rdr = csv::Reader::from_reader(text.as_bytes());
+    assert_eq!(
+        rdr.headers().unwrap().iter().collect::<Vec<_>>(),
+        SweepRow::COLUMNS
+    );
+    let back: Vec<SweepRow> = rdr
+        .records()
+        .map(|r| r.unwrap().deserialize(None).unwrap())
+        .collect();
+    assert_eq!(back[0], good);
+    assert_eq!(back[1].error, bad.error);
+    assert_eq!(back[1].params, bad.params);
+    assert!(back[1].rates.spikes_per_burst.is_nan() && back[1].rates.bursts_per_period.is_none());
+}
+
+#[test]
+fn json_records_stream_with_meta() {
+    let p = Params::default();
+    let mut w = RecordWriter::new(Vec::new(), Format::Json, &serde_json::json!({"k": 1})).unwrap();
+    for q in hdgear::fast::curve(&p, (-1.0, 1.0), 3).unwrap() {
+        w.row(&q).unwrap();
+    }
+    assert_eq!(w.rows(), 3);
+    let doc: serde_json::Value = serde_json::from_slice(&w.finish().unwrap()).unwrap();
+    assert_eq!(doc["meta"]["k"], 1);
+    assert_eq!(doc["rows"].as_array().unwrap().len(), 3);
+    assert_eq!(doc["rows"][0]["type"], "stable-focus");
+}
+
+#[test]
+fn atomic_files_appear_only_when_committed() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("a.csv");
+    {
+        let mut f = AtomicFile::create(&path).unwrap();
+        f.write_all(b"partial").unwrap();
+        // dropped without commit: nothing, not even the temporary, remains
+    }
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 0);
+    let mut f = AtomicFile::create(&path).unwrap();
+    f.write_all(b"done").unwrap();
+    assert!(!path.exists());
+    f.commit().unwrap();
+    assert_eq!(std::fs::read_to_string(&path).unwrap(), "done");
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
+}
+
+#[test]
+fn a_failed_commit_leaves_no_temporary() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("x.csv");
+    let mut f = AtomicFile::create(&path).unwrap();
+    f.write_all(b"a,b\n1,2\n").unwrap();
+    // the target turns into a directory before the rename
+    std::fs::create_dir(&path).unwrap();
+    assert!(f.commit().is_err());
+    assert_eq!(crate::common::files_in(dir.path()), ["x.csv"]);
+    assert!(path.is_dir());
+    // and a path that is a directory, or in a missing one, is refused before anything is written
+    for bad in [path.clone(), dir.path().join("missing/y.csv")] {
+        assert!(AtomicFile::create(&bad).is_err());
+    }
+    assert_eq!(crate::common::files_in(dir.path()), ["x.csv"]);
+}
+
+/// The library's top-level modules and the ones each names in code (`crate::m`, `record!`).
+fn module_graph() -> std::collections::BTreeMap<String, std::collections::BTreeSet<String>> {
+    let src = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../hdgear/src");
+    let mut graph = std::collections::BTreeMap::new();
+    let mut stack = vec![src.clone()];
+    while let Some(dir) = stack.pop() {
+        for e in std::fs::read_dir(&dir).unwrap().flatten() {
+            let path = e.path();
+            if path.is_dir() {
+                stack.push(path);
+                continue;
+            }
+            let rel = path
+                .strip_prefix(&src)
+                .unwrap()
+                .to_string_lossy()
+                .into_owned();
+            let top = rel
+                .split('/')
+                .next()
+                .unwrap()
+                .trim_end_matches(".rs")
+                .to_string();
+            if top == "lib" {
+                continue;
+            }
+            let text = std::fs::read_to_string(&path).unwrap();
+            let deps: &mut std::collections::BTreeSet<String> =
+                graph.entry(top.clone()).or_default();
+            for line in text.lines().filter(|l| !l.trim_start().starts_with("//")) {
+                for part in line.split("crate::").skip(1) {
+                    let name: String = part
+                        .chars()
+                        .take_while(|c| c.is_ascii_lowercase() || *c == '_')
+                        .collect();
+                    if !name.is_empty() && name != top && name != "record" {
+                        deps.insert(name);
+                    }
+                }
+                if line.contains("crate::record!") {
+                    deps.insert("output".into());
+                }
+            }
+        }
+    }
+    graph
+}
+
+#[test]
+fn the_library_module_graph_has_no_cycle_and_output_is_the_bottom_layer() {
+    let graph = module_graph();
+    assert!(graph.len() > 10, "{graph:?}");
+    // the I/O layer knows nothing above the error type
+    assert_eq!(
+        graph["output"].iter().collect::<Vec<_>>(),
+        ["error"],
+        "output uses {:?}",
+        graph["output"]
+    );
+    // depth-first search for a back edge
+    fn visit<'a>(
+        m: &'a str,
+        graph: &'a std::collections::BTreeMap<String, std::collections::BTreeSet<String>>,
+        state: &mut std::collections::BTreeMap<&'a str, u8>,
+        path: &mut Vec<&'a str>,
+    ) {
+        state.insert(m, 1);
+        path.push(m);
+        for d in graph.get(m).into_iter().flatten() {
+            match state.get(d.as_str()) {
+                Some(1) => panic!("module cycle: {path:?} -> {d}"),
+                Some(_) => {}
+                None => visit(d, graph, state, path),
+            }
+        }
+        path.pop();
+        state.insert(m, 2);
+    }
+    let mut state = std::collections::BTreeMap::new();
+    for m in graph.keys() {
+        if !state.contains_key(m.as_str()) {
+            visit(m, &graph, &mut state, &mut Vec::new());
+        }
+    }
+}

@@ -1,0 +1,14 @@
+//! The library's integration tests, one binary (ripgrep style): one module per capability.
+//! Everything they read is in this crate (`tests/data/`), so `cargo test` needs nothing beside
+//! the checkout.
+
+mod common;
+
+mod burst;
+mod fast;
+mod integrate;
+mod output;
+mod periodic;
+mod physical;
+mod reference;
+mod simd;
