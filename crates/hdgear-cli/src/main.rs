@@ -17,7 +17,10 @@ fn main() -> ExitCode {
         signals::install();
     }
     sink::QUIET.store(args.quiet, std::sync::atomic::Ordering::Relaxed);
-    match cmd::run(args) {
+    // stdout is flushed here so that a full disk or a closed pipe at the last line is reported
+    // like any other failed write (Rust's own flush at exit would drop the error)
+    let flushed = |()| std::io::Write::flush(&mut std::io::stdout()).map_err(sink::stdout_error);
+    match cmd::run(args).and_then(flushed) {
         Ok(()) => ExitCode::SUCCESS,
         // A closed pipe (`hdgear simulate | head`) is the reader's choice, not a failure.
         Err(e) if sink::is_broken_pipe(&e) => ExitCode::SUCCESS,

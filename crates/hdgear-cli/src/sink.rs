@@ -32,6 +32,28 @@ impl std::fmt::Display for ComputationFailed {
 
 impl std::error::Error for ComputationFailed {}
 
+/// `print!` to standard output that returns the write's error (a closed pipe, a full disk) to
+/// the caller's `?` instead of panicking. `outln!` is its `println!`.
+macro_rules! out {
+    ($($arg:tt)*) => {
+        std::io::Write::write_fmt(&mut std::io::stdout().lock(), format_args!($($arg)*))
+            .map_err($crate::sink::stdout_error)?
+    };
+}
+pub(crate) use out;
+
+/// `println!` that returns the write's error instead of panicking (see [`out!`]).
+macro_rules! outln {
+    () => { $crate::sink::out!("\n") };
+    ($($arg:tt)*) => { $crate::sink::out!("{}\n", format_args!($($arg)*)) };
+}
+pub(crate) use outln;
+
+/// A failed write to standard output, with the context the user sees.
+pub fn stdout_error(e: std::io::Error) -> anyhow::Error {
+    anyhow::Error::new(e).context("cannot write to standard output")
+}
+
 /// True when the error is a write to a closed pipe.
 pub fn is_broken_pipe(e: &anyhow::Error) -> bool {
     e.chain().any(|c| {

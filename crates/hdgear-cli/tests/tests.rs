@@ -8,6 +8,7 @@ mod docs;
 mod hardening;
 mod output;
 mod periodic;
+mod pipes;
 mod report;
 mod serve;
 mod shard;

@@ -76,6 +76,13 @@ impl Simd {
             .collect()
     }
 
+    /// This capability lowered to at most `level` (always safe: a CPU with a level has every
+    /// narrower one). For code that runs faster on narrower registers than the widest the CPU
+    /// has.
+    pub fn at_most(self, level: Level) -> Simd {
+        Simd(self.0.min(level))
+    }
+
     /// The level this capability names.
     pub fn level(self) -> Level {
         self.0

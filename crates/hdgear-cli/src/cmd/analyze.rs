@@ -44,17 +44,17 @@ pub fn run(a: AnalyzeArgs) -> Result<()> {
             boundaries: bounds,
             warnings: warnings.iter().map(ToString::to_string).collect(),
         };
-        println!("{}", serde_json::to_string_pretty(&doc)?);
+        crate::sink::outln!("{}", serde_json::to_string_pretty(&doc)?);
     } else {
         warn(&warnings);
-        print!("{}", crate::summary::analysis_text(&an));
+        crate::sink::out!("{}", crate::summary::analysis_text(&an));
         if let Some((r, c)) = &measured {
-            print!("{}", crate::summary::response_text(r, c));
+            crate::sink::out!("{}", crate::summary::response_text(r, c));
         }
         if let Some(b) = &bounds {
             let g = |v: Option<f64>| v.map_or("none".to_string(), |v| format!("{v:.4}"));
             let w = |v: Option<f64>| v.map_or("none".to_string(), |v| format!("{v:.4e}"));
-            println!(
+            crate::sink::outln!(
                 "bursting boundary in gamma: predicted {}, simulated {}; in omega: predicted {}, simulated {}",
                 g(b.predicted_gamma),
                 g(b.simulated_gamma),

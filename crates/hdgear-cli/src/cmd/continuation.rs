@@ -54,14 +54,14 @@ pub fn run(a: ContinueArgs) -> Result<()> {
         write_records(Some(out), &doc, rows)?;
     }
     if a.json {
-        println!("{}", serde_json::to_string_pretty(&doc)?);
+        crate::sink::outln!("{}", serde_json::to_string_pretty(&doc)?);
     } else {
-        print_summary(&branches, range.param);
+        print_summary(&branches, range.param)?;
     }
     Ok(())
 }
 
-fn print_summary(branches: &[Branch<Param>], param: Param) {
+fn print_summary(branches: &[Branch<Param>], param: Param) -> Result<()> {
     for (i, b) in branches.iter().enumerate() {
         let (first, last) = (b.points.first(), b.points.last());
         let span = match (first, last) {
@@ -79,15 +79,15 @@ fn print_summary(branches: &[Branch<Param>], param: Param) {
                 format!("the step fell below its minimum near {param} = {v}")
             }
         };
-        println!(
+        crate::sink::outln!(
             "branch {i}: period {} × 2π/ω, {} points, {span}; {end}",
             b.subharmonic,
             b.points.len()
         );
         let stable = b.points.iter().filter(|q| q.stable).count();
-        println!("  {stable} stable, {} unstable", b.points.len() - stable);
+        crate::sink::outln!("  {stable} stable, {} unstable", b.points.len() - stable);
         for q in b.specials() {
-            println!(
+            crate::sink::outln!(
                 "  {:<16} {param} = {:<14.10} x0 = {:<12.8} peak-to-peak x {:.6}, max |x'| {:.6}",
                 q.special.map_or("", Special::name),
                 q.param,
@@ -97,4 +97,5 @@ fn print_summary(branches: &[Branch<Param>], param: Param) {
             );
         }
     }
+    Ok(())
 }

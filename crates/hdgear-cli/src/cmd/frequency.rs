@@ -28,7 +28,7 @@ pub fn run(a: FrequencyResponseArgs) -> Result<()> {
         hdgear::output::plot::write(&f, plot)?;
     }
     if a.json {
-        println!("{}", serde_json::to_string_pretty(&b)?);
+        crate::sink::outln!("{}", serde_json::to_string_pretty(&b)?);
         return Ok(());
     }
     let peak = b.points.iter().max_by(|x, y| {
@@ -37,12 +37,12 @@ pub fn run(a: FrequencyResponseArgs) -> Result<()> {
             .total_cmp(&y.amplitude.peak_to_peak)
     });
     let (lo, hi) = (b.points[0].param, b.points[b.points.len() - 1].param);
-    println!(
+    crate::sink::outln!(
         "frequency response over omega {lo:.6} … {hi:.6}: {} points",
         b.points.len()
     );
     if let Some(q) = peak {
-        println!(
+        crate::sink::outln!(
             "  largest response: peak-to-peak x {:.6} at omega = {:.6} ({})",
             q.amplitude.peak_to_peak,
             q.param,
@@ -51,10 +51,12 @@ pub fn run(a: FrequencyResponseArgs) -> Result<()> {
     }
     let specials: Vec<_> = b.specials().collect();
     if specials.is_empty() {
-        println!("  no fold, no period doubling: the response is single-valued (no jump)");
+        crate::sink::outln!(
+            "  no fold, no period doubling: the response is single-valued (no jump)"
+        );
     }
     for q in specials {
-        println!(
+        crate::sink::outln!(
             "  {:<16} omega = {:.10}, peak-to-peak x {:.6}",
             q.special.map_or("", Special::name),
             q.param,

@@ -4,7 +4,7 @@
 use crate::cli::PeriodicArgs;
 use crate::sink::{warn, write_records};
 use anyhow::Result;
-use hdgear::periodic::{PeriodicOptions, burst_verdict, lyapunov, shoot};
+use hdgear::periodic::{PeriodicOptions, PeriodicOrbit, burst_verdict, lyapunov, shoot};
 use serde::Serialize;
 
 /// One sample of the orbit: the columns `t,x,xdot`.
@@ -66,39 +66,56 @@ pub fn run(a: PeriodicArgs) -> Result<()> {
             lyapunov_exponent: lyap,
             samples: &orbit.samples,
         };
-        println!("{}", serde_json::to_string_pretty(&doc)?);
+        crate::sink::outln!("{}", serde_json::to_string_pretty(&doc)?);
         return Ok(());
     }
+    print_orbit(&orbit, &bursts, lyap)
+}
+
+/// The readable summary of an orbit, its burst verdict and its Lyapunov exponent.
+fn print_orbit(
+    orbit: &PeriodicOrbit,
+    bursts: &hdgear::burst::Classification,
+    lyap: Option<f64>,
+) -> Result<()> {
     let m = |k: usize| {
         let q = orbit.multipliers[k];
         format!("ln|m{}| = {:.10}, arg {:.4}", k + 1, q.log_abs, q.arg)
     };
-    println!(
+    crate::sink::outln!(
         "periodic orbit of period {} × 2π/ω = {:.6}: starts at (x, x') = ({:.12}, {:.12}) at τ = 0",
-        orbit.subharmonic, orbit.period, orbit.start[0], orbit.start[1]
+        orbit.subharmonic,
+        orbit.period,
+        orbit.start[0],
+        orbit.start[1]
     );
-    println!(
+    crate::sink::outln!(
         "  Newton: {} iterations, residual {:.1e}",
-        orbit.newton_iterations, orbit.residual
+        orbit.newton_iterations,
+        orbit.residual
     );
     if orbit.minimal_subharmonic < orbit.subharmonic {
-        println!(
+        crate::sink::outln!(
             "  its least period is {} × 2π/ω: no subharmonic of order {} here",
-            orbit.minimal_subharmonic, orbit.subharmonic
+            orbit.minimal_subharmonic,
+            orbit.subharmonic
         );
     }
-    println!("  Floquet multipliers: {}; {}", m(0), m(1));
-    println!(
+    crate::sink::outln!("  Floquet multipliers: {}; {}", m(0), m(1));
+    crate::sink::outln!(
         "  Floquet exponents {:.8}, {:.8}: {}",
         orbit.floquet_exponents[0],
         orbit.floquet_exponents[1],
         if orbit.stable { "stable" } else { "unstable" }
     );
-    println!(
+    crate::sink::outln!(
         "  x from {:.6} to {:.6} (peak to peak {:.6}), max |x'| {:.6}",
-        orbit.x_range[0], orbit.x_range[1], orbit.peak_to_peak, orbit.max_abs_xdot
+        orbit.x_range[0],
+        orbit.x_range[1],
+        orbit.peak_to_peak,
+        orbit.max_abs_xdot
     );
-    println!(
+    crate::sink::outln!(
         "  bursts on the orbit itself: {} (verdict {}, mode {}, mechanism {})",
         if bursts.bursting { "yes" } else { "no" },
         bursts.verdict.name(),
@@ -106,7 +123,9 @@ pub fn run(a: PeriodicArgs) -> Result<()> {
         bursts.mechanism.name()
     );
     if let Some(l) = lyap {
-        println!("  largest Lyapunov exponent (Benettin, {LYAPUNOV_PERIODS} periods): {l:.8}");
+        crate::sink::outln!(
+            "  largest Lyapunov exponent (Benettin, {LYAPUNOV_PERIODS} periods): {l:.8}"
+        );
     }
     Ok(())
 }

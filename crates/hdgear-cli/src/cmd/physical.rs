@@ -26,9 +26,9 @@ pub fn run(a: PhysicalArgs) -> Result<()> {
     if a.design {
         let check = hdgear::physical::design::design_check(&d, &opts)?;
         if a.json {
-            println!("{}", serde_json::to_string_pretty(&check)?);
+            crate::sink::outln!("{}", serde_json::to_string_pretty(&check)?);
         } else {
-            print!("{}", crate::summary::design_text(&check));
+            crate::sink::out!("{}", crate::summary::design_text(&check));
         }
         return Ok(());
     }
@@ -39,9 +39,9 @@ pub fn run(a: PhysicalArgs) -> Result<()> {
     };
     let doc = hdgear::physical::design::summarize(&d, origin, &opts)?;
     if a.json {
-        println!("{}", serde_json::to_string_pretty(&doc)?);
+        crate::sink::outln!("{}", serde_json::to_string_pretty(&doc)?);
     } else {
-        print!("{}", crate::summary::physical_text(&doc));
+        crate::sink::out!("{}", crate::summary::physical_text(&doc));
     }
     Ok(())
 }
@@ -99,7 +99,7 @@ fn simulate(
     drop(progress);
     if a.summary {
         let doc = summary.report();
-        println!("{}", serde_json::to_string_pretty(&doc)?);
+        crate::sink::outln!("{}", serde_json::to_string_pretty(&doc)?);
     }
     Ok(())
 }
@@ -152,11 +152,11 @@ fn frequency_response(a: &PhysicalArgs, d: &hdgear::physical::PhysicalParams) ->
         hdgear::output::plot::write(&f, plot)?;
     }
     if a.json {
-        println!("{}", serde_json::to_string_pretty(&r)?);
+        crate::sink::outln!("{}", serde_json::to_string_pretty(&r)?);
         return Ok(());
     }
     let (first, last) = (&r.points[0], &r.points[r.points.len() - 1]);
-    println!(
+    crate::sink::outln!(
         "frequency response of the drive from {:.3} Hz to {:.3} Hz: {} points",
         first.frequency_hz,
         last.frequency_hz,
@@ -167,7 +167,7 @@ fn frequency_response(a: &PhysicalArgs, d: &hdgear::physical::PhysicalParams) ->
         .iter()
         .max_by(|x, y| x.twist_peak_to_peak.total_cmp(&y.twist_peak_to_peak))
     {
-        println!(
+        crate::sink::outln!(
             "  largest response at {:.3} Hz: twist {:.4e} … {:.4e} rad ({:.4e} rad peak to peak), \
              elastic torque {:.3} … {:.3} N m",
             q.frequency_hz,
@@ -180,10 +180,12 @@ fn frequency_response(a: &PhysicalArgs, d: &hdgear::physical::PhysicalParams) ->
     }
     let specials: Vec<_> = r.points.iter().filter(|q| q.special.is_some()).collect();
     if specials.is_empty() {
-        println!("  no fold: the response is single-valued, a frequency sweep does not jump");
+        crate::sink::outln!(
+            "  no fold: the response is single-valued, a frequency sweep does not jump"
+        );
     }
     for q in specials {
-        println!(
+        crate::sink::outln!(
             "  {:<16} {:.6} Hz, twist {:.4e} rad peak to peak",
             q.special.map_or("", Special::name),
             q.frequency_hz,

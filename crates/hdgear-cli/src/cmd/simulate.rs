@@ -58,7 +58,7 @@ pub fn run(run: SimulateRun) -> Result<()> {
         let s = hdgear::simulate::summarize(&run.params, &run.opts, |t| progress.at(t))?;
         drop(progress);
         let doc = s.report(&run.params, &run.warnings);
-        println!("{}", serde_json::to_string_pretty(&doc)?);
+        crate::sink::outln!("{}", serde_json::to_string_pretty(&doc)?);
         return Ok(());
     }
     let (sink, format) = Sink::open(run.out.as_deref())?;

@@ -16,6 +16,6 @@ pub fn run(a: TableArgs) -> Result<()> {
     } else {
         hdgear::table::render::markdown(&t)
     };
-    print!("{text}");
+    crate::sink::out!("{text}");
     Ok(())
 }

@@ -24,7 +24,7 @@
 
 use super::{DenseOutput, Options, SolverError, Stats, Stepper, System};
 use crate::error::{Error, Result};
-use crate::simd::{Simd, dispatched};
+use crate::simd::{Level, Simd, dispatched};
 
 /// Lowest order used.
 pub const MIN_ORDER: usize = 6;
@@ -384,7 +384,10 @@ impl<'s, S: System<N> + ?Sized, const N: usize> Stepper<N> for Taylor<'s, S, N> 
     }
 
     fn step(&mut self, t_bound: f64) -> Result<()> {
-        step_on(Simd::detect(), self, t_bound)
+        // the step's own arithmetic is scalar: AVX-512's copy of it runs slower than AVX2's on the
+        // CPUs measured (bench/results.py), so it stops at AVX2; the model's recurrence it calls
+        // dispatches on its own
+        step_on(Simd::detect().at_most(Level::Avx2), self, t_bound)
     }
 
     fn dense(&mut self) -> TaylorDense<N> {

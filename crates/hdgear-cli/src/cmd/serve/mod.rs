@@ -238,7 +238,7 @@ pub fn run(a: ServeArgs) -> Result<()> {
             .with_context(|| format!("cannot listen on {addr}"))?;
         let local = listener.local_addr()?;
         let url = format!("http://{local}/");
-        println!("hdgear serve: {url}  (Ctrl-C stops it)");
+        crate::sink::outln!("hdgear serve: {url}  (Ctrl-C stops it)");
         std::io::stdout().flush()?;
         if !ip.is_loopback() {
             crate::sink::note(&format!(

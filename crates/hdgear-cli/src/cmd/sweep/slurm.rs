@@ -315,7 +315,7 @@ pub fn write(job: &Job, cluster: &Cluster) -> Result<()> {
         s.job.settings.grid.len(),
         qp(submit)
     );
-    println!(
+    crate::sink::outln!(
         "jid=$(sbatch --parsable {}) && sbatch --dependency=afterok:${{jid%%;*}} {}",
         qp(array),
         qp(merge)
