@@ -17,19 +17,23 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 BENCH = ROOT / "bench"
 
-# (section title, script, arguments, what it measures)
+VENV_PY = ROOT / "target" / "bench-venv" / "bin" / "python"
+PACKAGE_PY = ROOT / "target" / "py-venv" / "bin" / "python"  # made by scripts/python-tests.sh
+
+# (section title, script, arguments, what it measures, the interpreter it needs: None for this
+# one, whose scripts make their own environment)
 RUNS = [
     ("hdgear against heyoka", "compare_heyoka.py", ["100"],
      "Three slow periods of the study's model from the default start, final state only, best of "
-     "5 batches of 100 runs; the batch rows are per trajectory (hdgear 16 lanes, heyoka 8)."),
+     "5 batches of 100 runs; the batch rows are per trajectory (hdgear 16 lanes, heyoka 8).", None),
     ("hdgear against numba", "compare_numba.py", [],
      "A 1000-point γ sweep: numba's Dormand–Prince integration alone against hdgear's whole "
-     "`sweep` process with burst analysis, both on every core."),
+     "`sweep` process with burst analysis, both on every core.", None),
     ("hdgear against scipy", "compare_scipy.py", [],
      "One three-period run of the study's model: scipy's solve_ivp DOP853 against hdgear in "
-     "process."),
+     "process.", VENV_PY),
     ("Python against Rust", "python_overhead.py", [],
-     "The same calls from Python (the hdgear package) and from Rust, in one run."),
+     "The same calls from Python (the hdgear package) and from Rust, in one run.", PACKAGE_PY),
 ]
 
 
@@ -66,11 +70,16 @@ def main():
     ]
     body = []
     failed = []
-    for title, script, args, what in RUNS:
+    subprocess.run([sys.executable, "-m", "venv", str(VENV_PY.parent.parent)], check=True)
+    subprocess.run([str(VENV_PY), "-m", "pip", "install", "-q", "numpy", "scipy"], check=True)
+    for title, script, args, what, python in RUNS:
         print(f"running {script} ...", file=sys.stderr)
-        run = subprocess.run([sys.executable, str(BENCH / script), *args], cwd=ROOT,
-                             capture_output=True, text=True)
         body += [f"## {title}", "", what, "", f"`python3 bench/{script} {' '.join(args)}`".replace(" `", "`"), ""]
+        if python is not None and not python.exists():
+            body += [f"Not run: it needs {python.relative_to(ROOT)} (made by scripts/python-tests.sh).", ""]
+            continue
+        run = subprocess.run([str(python or sys.executable), str(BENCH / script), *args], cwd=ROOT,
+                             capture_output=True, text=True)
         if run.returncode != 0:
             failed.append(script)
             body += ["Failed:", "", "```text", run.stderr.strip()[-2000:], "```", ""]
