@@ -5,7 +5,7 @@ Problem: the study's model (alpha 16, eps 0.71, mu 0.07, delta 15, omega 0.01), 
 three slow periods 3*2*pi/omega, start on the stable equilibrium at a = 0 with x' = 0,
 rtol = atol = 1e-10, no dense output (final state only) on both sides.
 
-Usage: python3 bench/compare_scipy.py            (installs nothing; needs numpy and scipy)
+Usage: python3 bench/compare_scipy.py            (runs in target/bench-venv with numpy and scipy)
 The foundation issue's bar: hdgear at least 150x faster per simulation.
 """
 import json
@@ -15,10 +15,7 @@ import sys
 import time
 from pathlib import Path
 
-import numpy as np
-from scipy.integrate import solve_ivp
-
-from common import ALPHA, DELTA, EPS, MU, OMEGA, equilibrium
+from common import ALPHA, DELTA, EPS, MU, OMEGA, ensure_venv, equilibrium
 
 
 def rhs(gamma):
@@ -32,6 +29,7 @@ def rhs(gamma):
 
 
 def time_scipy(gamma, reps=3):
+    from scipy.integrate import solve_ivp
     t_end = 3 * 2 * math.pi / OMEGA
     y0 = [equilibrium(gamma), 0.0]
     best, sol = float("inf"), None
@@ -43,6 +41,7 @@ def time_scipy(gamma, reps=3):
 
 
 def main():
+    ensure_venv(__file__, ["numpy", "scipy"])
     root = Path(__file__).resolve().parent.parent
     out = subprocess.run(
         ["cargo", "run", "--quiet", "--release", "--example", "time_simulation"],

@@ -17,7 +17,6 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 BENCH = ROOT / "bench"
 
-VENV_PY = ROOT / "target" / "bench-venv" / "bin" / "python"
 PACKAGE_PY = ROOT / "target" / "py-venv" / "bin" / "python"  # made by scripts/python-tests.sh
 
 # (section title, script, arguments, what it measures, the interpreter it needs: None for this
@@ -31,7 +30,7 @@ RUNS = [
      "`sweep` process with burst analysis, both on every core.", None),
     ("hdgear against scipy", "compare_scipy.py", [],
      "One three-period run of the study's model: scipy's solve_ivp DOP853 against hdgear in "
-     "process.", VENV_PY),
+     "process.", None),
     ("Python against Rust", "python_overhead.py", [],
      "The same calls from Python (the hdgear package) and from Rust, in one run.", PACKAGE_PY),
 ]
@@ -70,8 +69,6 @@ def main():
     ]
     body = []
     failed = []
-    subprocess.run([sys.executable, "-m", "venv", str(VENV_PY.parent.parent)], check=True)
-    subprocess.run([str(VENV_PY), "-m", "pip", "install", "-q", "numpy", "scipy"], check=True)
     for title, script, args, what, python in RUNS:
         print(f"running {script} ...", file=sys.stderr)
         body += [f"## {title}", "", what, "", f"`python3 bench/{script} {' '.join(args)}`".replace(" `", "`"), ""]
