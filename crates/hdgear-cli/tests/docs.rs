@@ -204,8 +204,9 @@ fn output_matches(expected: &[String], actual: &[&str]) -> bool {
     }
 }
 
-/// Command lines outside console blocks, which would run nowhere.
-fn unchecked_commands(doc: &Path, text: &str) -> Vec<String> {
+/// Command lines outside console blocks, which would run nowhere: in the other fenced `blocks`
+/// of `text`, or in indented code outside them.
+fn unchecked_commands(doc: &Path, text: &str, blocks: &[Block]) -> Vec<String> {
     let runs = |l: &str| {
         let l = l.trim_start().trim_start_matches("$ ");
         (l.starts_with("hdgear ") || l.starts_with("cargo run --release -- "))
@@ -214,21 +215,24 @@ fn unchecked_commands(doc: &Path, text: &str) -> Vec<String> {
             && !l.contains("…")
             && !l.contains('|')
     };
-    let mut out = Vec::new();
-    let mut in_console = false;
-    let mut fenced = false;
-    for (i, l) in text.lines().enumerate() {
-        if let Some(info) = l.trim_start().strip_prefix("```") {
-            fenced = !fenced;
-            in_console = fenced && info.trim() == "console";
-            continue;
-        }
-        let indented = !fenced && l.starts_with("    ");
-        if (fenced && !in_console || indented) && runs(l) {
-            out.push(format!("{}:{}: {}", doc.display(), i + 1, l.trim()));
-        }
-    }
-    out
+    // (line number, text) of every line to look at
+    let fenced = blocks
+        .iter()
+        .filter(|b| b.info != "console")
+        .flat_map(|b| (b.line + 1..).zip(b.lines.iter().map(String::as_str)));
+    let in_a_block = |n: usize| {
+        blocks
+            .iter()
+            .any(|b| (b.line..=b.line + b.lines.len() + 1).contains(&n))
+    };
+    let indented = (1..)
+        .zip(text.lines())
+        .filter(|&(n, l)| l.starts_with("    ") && !in_a_block(n));
+    fenced
+        .chain(indented)
+        .filter(|&(_, l)| runs(l))
+        .map(|(n, l)| format!("{}:{n}: {}", doc.display(), l.trim()))
+        .collect()
 }
 
 #[test]
@@ -239,8 +243,9 @@ fn every_shown_command_runs_and_prints_what_is_shown() {
     let mut unchecked = Vec::new();
     for doc in documents() {
         let text = std::fs::read_to_string(&doc).unwrap();
-        unchecked.extend(unchecked_commands(&doc, &text));
-        for b in blocks(&text).iter().filter(|b| b.info == "console") {
+        let blocks = blocks(&text);
+        unchecked.extend(unchecked_commands(&doc, &text, &blocks));
+        for b in blocks.iter().filter(|b| b.info == "console") {
             let dir = tempfile::tempdir().unwrap();
             for s in steps(&doc, b) {
                 let out = std::process::Command::new(bin)
