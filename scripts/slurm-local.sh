@@ -107,7 +107,9 @@ if [ -z "$up" ]; then
 fi
 echo "slurm-local: one-node cluster up ($host, $cpus CPUs): $(sinfo -h -o '%P %D %t')"
 
-cd "$state/work"
+# a directory whose name a shell and sbatch would both mangle unquoted (a space, a `%x`)
+mkdir -p "$state/work/sweep dir %x"
+cd "$state/work/sweep dir %x"
 grid=(--param gamma=0.1:30:200:log --param delta=8:16:3 --rtol 1e-8)
 "$hdgear" sweep "${grid[@]}" --out map.csv --slurm 4 --time 10:00 --quiet
 t0=$(date +%s.%N)

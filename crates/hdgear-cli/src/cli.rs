@@ -779,12 +779,27 @@ pub fn check_rows(rows: f64) -> Result<()> {
     Ok(())
 }
 
-/// Refuses point counts too large to be meant (more than 10⁷).
+/// Refuses point counts too large to be meant (more than [`hdgear::fast::MAX_CURVE_POINTS`]).
 pub fn check_points(points: usize) -> Result<()> {
-    if points > 10_000_000 {
-        anyhow::bail!("invalid option --points = {points}: at most 10000000");
+    let max = hdgear::fast::MAX_CURVE_POINTS;
+    if points > max {
+        anyhow::bail!("invalid option --points = {points}: at most {max}");
     }
     Ok(())
+}
+
+/// The worker-thread count of `--threads` (none: 0, one per core or `RAYON_NUM_THREADS`),
+/// refusing 0 and more than [`hdgear::sweep::MAX_THREADS`].
+pub fn threads(given: Option<usize>) -> Result<usize> {
+    let max = hdgear::sweep::MAX_THREADS;
+    match given {
+        Some(0) => anyhow::bail!("invalid option --threads = 0: must be ≥ 1"),
+        Some(n) if n > max => anyhow::bail!("invalid option --threads = {n}: at most {max}"),
+        _ => {}
+    }
+    let n = given.unwrap_or(0);
+    hdgear::sweep::check_threads(n)?;
+    Ok(n)
 }
 
 fn check_finite(name: &str, v: f64) -> Result<f64> {

@@ -123,6 +123,17 @@ pub fn note(text: &str) {
     }
 }
 
+/// Says when the tolerance, not the physics, decided what counted as motion in a response
+/// (unless `--quiet`).
+pub fn tolerance_note(r: &hdgear::burst::Response, tol: &hdgear::integrate::Options) {
+    if let Some(limit) = &r.tolerance_limited {
+        note(&format!(
+            "at --rtol {:e} --atol {:e} {limit}",
+            tol.rtol, tol.atol
+        ));
+    }
+}
+
 /// Prints each warning once per process (a command that resolves its parameters twice does not
 /// repeat them), unless `--quiet`.
 pub fn warn(warnings: &[Warning]) {

@@ -88,9 +88,16 @@ fn prediction_text(s: &mut String, e: &hdgear::fast::EquilibriaSummary) {
     if c.fold_in_range {
         let _ = writeln!(
             *s,
-            "prediction: bursting (a fold lies in a in [-1, 1]: jumps at every omega)"
+            "prediction: bursting (both folds lie in a in [-1, 1]: jumps at every omega)"
         );
     } else {
+        if c.folds_in_range == 1 {
+            let _ = writeln!(
+                *s,
+                "one fold lies in a in [-1, 1]: the state jumps at most once, in the transient, \
+                 onto the branch that spans the range, and stays there"
+            );
+        }
         let _ = writeln!(
             *s,
             "prediction: {} (kappa = rate of change of the equilibrium's speed on the focus part = {:.4} at a = {:.6}; \

@@ -884,3 +884,134 @@ fn small_fixes_from_the_hardening_issue() {
     let o = run(&["equilibria", "--points", "5", "--a-range=-2:2"]);
     assert!(String::from_utf8_lossy(&o.stderr).contains("beyond [-1, 1]"));
 }
+
+/// One run in `dir`, with a minute's timeout.
+fn run_in(dir: &Path, args: &[&str]) -> std::process::Output {
+    hdgear()
+        .current_dir(dir)
+        .args(args)
+        .timeout(Duration::from_secs(60))
+        .output()
+        .unwrap()
+}
+
+/// A run's standard error as text.
+fn err(o: &std::process::Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+#[test]
+fn defects_of_the_edges_issue() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = |args: &[&str]| run_in(dir.path(), args);
+    // --threads is bounded, on every command that has it, and so is RAYON_NUM_THREADS
+    for cmd in [
+        &["sweep", "--param", "gamma=1:2:3", "--out", "t.csv"][..],
+        &["report", "--out", "r"],
+    ] {
+        let o = run(&[cmd, &["--threads", "100000"]].concat());
+        assert_eq!(o.status.code(), Some(2), "{cmd:?}: {}", err(&o));
+        assert!(
+            err(&o).contains("--threads = 100000: at most 1024"),
+            "{}",
+            err(&o)
+        );
+    }
+    let o = hdgear()
+        .current_dir(dir.path())
+        .args(["sweep", "--param", "gamma=1:2:3", "--out", "t.csv"])
+        .env("RAYON_NUM_THREADS", "100000")
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2), "{}", err(&o));
+    assert!(
+        err(&o).contains("RAYON_NUM_THREADS '100000': at most 1024"),
+        "{}",
+        err(&o)
+    );
+    assert!(!dir.path().join("t.csv").exists());
+    // merge refuses to write over one of its inputs, which stays as it was
+    let o = run(&[
+        "sweep",
+        "--param",
+        "gamma=1:2:4",
+        "--shard",
+        "0/2",
+        "--out",
+        "m.csv",
+        "--quiet",
+    ]);
+    assert!(o.status.success(), "{}", err(&o));
+    let o = run(&[
+        "sweep",
+        "--param",
+        "gamma=1:2:4",
+        "--shard",
+        "1/2",
+        "--out",
+        "m.csv",
+        "--quiet",
+    ]);
+    assert!(o.status.success(), "{}", err(&o));
+    let shard = dir.path().join("m.shard-0-of-2.csv");
+    let before = std::fs::read(&shard).unwrap();
+    let o = run(&[
+        "merge",
+        "m.shard-0-of-2.csv",
+        "m.shard-1-of-2.csv",
+        "--out",
+        "m.shard-0-of-2.csv",
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{}", err(&o));
+    assert!(err(&o).contains("is the input shard"), "{}", err(&o));
+    assert_eq!(std::fs::read(&shard).unwrap(), before);
+}
+
+#[test]
+fn fifos_are_refused_as_inputs() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = |args: &[&str]| run_in(dir.path(), args);
+    // a FIFO as a scenario or a merge input is refused at once instead of blocking
+    let fifo = dir.path().join("f.toml");
+    assert!(
+        Command::new("mkfifo")
+            .arg(&fifo)
+            .status()
+            .unwrap()
+            .success()
+    );
+    let o = run(&["simulate", "--config", "f.toml", "--summary"]);
+    assert_eq!(o.status.code(), Some(2), "{}", err(&o));
+    assert!(err(&o).contains("not a regular file"), "{}", err(&o));
+    let o = run(&["merge", "f.toml", "--out", "x.csv"]);
+    assert_eq!(o.status.code(), Some(2), "{}", err(&o));
+    assert!(err(&o).contains("not a regular file"), "{}", err(&o));
+}
+
+#[test]
+fn blow_ups_and_tolerance_limited_verdicts_say_so() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = |args: &[&str]| run_in(dir.path(), args);
+    // a blow-up is reported where it happened, not at the end time
+    let o = run(&["simulate", "--x0", "1e50", "--t-end", "100", "--summary"]);
+    assert_ne!(o.status.code(), Some(0));
+    assert!(err(&o).contains("blew up at t = 0.0"), "{}", err(&o));
+    // a verdict decided by the tolerance's noise says so, with the rtol to use
+    let near = [
+        "analyze",
+        "--alpha=7.277",
+        "--gamma=0.9367",
+        "--eps=0.8274",
+        "--mu=0.1801",
+        "--delta=25.84",
+        "--omega=0.001949",
+    ];
+    let o = run(&[&near[..], &["--rtol", "1e-6", "--atol", "1e-6"]].concat());
+    assert!(o.status.success(), "{}", err(&o));
+    let text = err(&o);
+    assert!(
+        text.contains("noise floor") && text.contains("rerun with --rtol"),
+        "{text}"
+    );
+    assert!(!err(&run(&near)).contains("noise floor"));
+}

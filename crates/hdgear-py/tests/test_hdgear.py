@@ -82,6 +82,39 @@ def test_other_bad_input():
         hdgear.Drive(k3=1.0)
 
 
+
+def test_limits_raise_valueerror_before_any_work():
+    # each of these would otherwise ask for more memory than the machine has, or run for hours
+    with pytest.raises(ValueError, match=r"invalid option points = 1000000000000\.0: must be ≥ 2 and at most 1e7"):
+        hdgear.curve(hdgear.Params(), points=10**12)
+    with pytest.raises(ValueError, match=r"invalid option points = 1\.0: must be ≥ 2"):
+        hdgear.curve(hdgear.Params(), points=1)
+    with pytest.raises(ValueError, match=r"more than 1e8 samples to hold in memory"):
+        hdgear.simulate(t_end=1e6, dt=1e-3)
+    with pytest.raises(ValueError, match=r"invalid option t_end = NaN"):
+        hdgear.simulate(periods=float("nan"))
+    with pytest.raises(ValueError, match=r"invalid thread count '100000': at most 1024"):
+        hdgear.sweep({"gamma": [1.0]}, threads=100000)
+    with pytest.raises(ValueError, match=r"more than 1e8 samples to hold in memory"):
+        hdgear.Drive.catalogue("CSF-20-50").simulate(1e3, dt=1e-6)
+
+
+def test_ctrl_c_stops_a_long_sweep_with_keyboardinterrupt():
+    import signal
+    # a sweep of minutes (slow forcing near the cusp), interrupted after half a second
+    axes = {"gamma": np.geomspace(0.01, 0.1, 4000)}
+    timer = threading.Timer(0.5, lambda: os.kill(os.getpid(), signal.SIGINT))
+    t0 = time.perf_counter()
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        hdgear.sweep(axes, base=hdgear.Params(omega=0.001), threads=2)
+    elapsed = time.perf_counter() - t0
+    timer.cancel()
+    # the sweep stops at its next chunk of 16 points: seconds, not the minutes of the whole sweep
+    assert elapsed < 20, f"returned after {elapsed:.1f} s"
+    # and the next call works
+    assert len(hdgear.sweep({"gamma": [30.0]})["gamma"]) == 1
+
 # ---- simulate --------------------------------------------------------------------------------
 
 def test_simulate_shapes_dtypes_and_the_cli_to_the_last_bit(tmp_path):

@@ -48,6 +48,7 @@ pub mod params;
 pub mod periodic;
 pub mod physical;
 pub mod report;
+pub mod roots;
 pub mod scenario;
 pub mod simd;
 pub mod simulate;

@@ -43,7 +43,7 @@ impl Scenario {
             path: path.to_path_buf(),
             message,
         };
-        let file = std::fs::File::open(path).map_err(|e| err(e.to_string()))?;
+        let file = crate::output::open_input(path).map_err(|e| err(e.to_string()))?;
         let mut bytes = Vec::new();
         file.take(SCENARIO_MAX_BYTES + 1)
             .read_to_end(&mut bytes)

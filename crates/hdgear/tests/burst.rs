@@ -662,3 +662,27 @@ fn a_batched_point_does_not_depend_on_its_neighbours() {
     );
     assert!(among.iter().enumerate().all(|(i, r)| i == 4 || r.is_ok()));
 }
+
+#[test]
+fn a_single_fold_in_range_means_one_transient_jump_not_bursting() {
+    // one fold inside a ∈ [−1, 1]: a branch spans the whole range, and the state that is on it
+    // (or jumps onto it once, in the transient) stays there
+    let p = Params {
+        alpha: 0.5435,
+        gamma: 0.2945,
+        eps: 0.2397,
+        mu: -0.2234,
+        delta: 0.09737,
+        omega: 0.003897,
+    };
+    let branch = hdgear::fast::settled_branch(&p);
+    assert_eq!((branch.folds_in_range, branch.must_jump), (1, false));
+    let pr = predict(&p);
+    assert!(!pr.fold_in_range && !pr.bursting, "{pr:?}");
+    let (c, r) = verdict_of(&p, &BurstOptions::default());
+    assert!(!c.bursting && !r.signatures.jump, "{c:?}");
+    // the upper branch starts at a(x+) inside the range; the lower one ends at a(x−) above it,
+    // so it spans the range and the state, started on it, never leaves it
+    let (xm, xp) = hdgear::fast::fold_abscissae(&p).unwrap();
+    assert!(p.a_at(xm) > 1.0 && p.a_at(xp).abs() <= 1.0);
+}

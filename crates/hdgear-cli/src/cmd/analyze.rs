@@ -15,6 +15,7 @@ pub fn run(a: AnalyzeArgs) -> Result<()> {
     } else {
         let r = hdgear::burst::response(&p, &opts)?;
         let c = hdgear::burst::classify(&p, &r);
+        crate::sink::tolerance_note(&r, &opts.tol);
         if !c.fast_slow_domain {
             note(&format!(
                 "omega = {:?} is not slow against the fast subsystem (omega > r/10, r = {:.3} the \

@@ -10,6 +10,7 @@ pub fn run(a: BurstsArgs) -> Result<()> {
     check_out(&a.out)?;
     warn(&warnings);
     let r = hdgear::burst::response(&p, &opts)?;
+    crate::sink::tolerance_note(&r, &opts.tol);
     let meta = hdgear::burst::BurstsSetup::new(&p, &opts, &r);
     write_records(a.out.as_deref(), &meta, r.bursts)
 }

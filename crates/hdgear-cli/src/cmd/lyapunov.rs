@@ -26,9 +26,7 @@ pub fn run(a: LyapunovMapArgs) -> Result<()> {
             anyhow::bail!("--{0} does not apply: an axis varies {0}", ax.param);
         }
     }
-    if a.threads == Some(0) {
-        anyhow::bail!("invalid option --threads = 0: must be ≥ 1");
-    }
+    let threads = crate::cli::threads(a.threads)?;
     let (p, warnings) = a.params.resolve()?;
     let grid = Grid::new(p, axes).context("--param")?;
     crate::cli::check_out(&Some(a.out.clone()))?;
@@ -43,7 +41,7 @@ pub fn run(a: LyapunovMapArgs) -> Result<()> {
     };
     warn(&warnings);
     // rows come in grid order, so the file is the same whatever the thread count
-    let rows = lyapunov_map(&grid, &opts, a.threads.unwrap_or(0))?;
+    let rows = lyapunov_map(&grid, &opts, threads)?;
     let failed = rows.iter().filter(|r| !r.error.is_empty()).count();
     if failed == rows.len() {
         return Err(crate::sink::ComputationFailed(format!(

@@ -35,6 +35,17 @@ pub fn run(a: MergeArgs) -> Result<()> {
     };
     let format = Format::from_path(&out).context("--out")?;
     hdgear::output::check_output_path(&out)?;
+    let same = |p: &Path| match (std::fs::canonicalize(&out), std::fs::canonicalize(p)) {
+        (Ok(o), Ok(p)) => o == p,
+        _ => false,
+    };
+    if let Some(shard) = a.shards.iter().find(|p| same(p)) {
+        bail!(
+            "invalid option --out '{}': it is the input shard {}; write the merged file elsewhere",
+            out.display(),
+            shard.display()
+        );
+    }
     let mut headers = Vec::with_capacity(a.shards.len());
     let mut readers = Vec::with_capacity(a.shards.len());
     for path in &a.shards {

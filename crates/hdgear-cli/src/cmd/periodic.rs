@@ -4,7 +4,9 @@
 use crate::cli::PeriodicArgs;
 use crate::sink::{warn, write_records};
 use anyhow::Result;
-use hdgear::periodic::{PeriodicOptions, PeriodicOrbit, burst_verdict, lyapunov, shoot};
+use hdgear::periodic::{
+    LyapunovEstimate, PeriodicOptions, PeriodicOrbit, burst_verdict, lyapunov_converged, shoot,
+};
 use serde::Serialize;
 
 /// One sample of the orbit: the columns `t,x,xdot`.
@@ -24,12 +26,15 @@ struct Doc<'a> {
     /// The burst verdict on the orbit itself.
     bursts: hdgear::burst::Classification,
     lyapunov_exponent: Option<f64>,
+    /// The exponent with its standard error and the span it was averaged over.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    lyapunov: Option<LyapunovEstimate>,
     /// (τ, x, x') every 0.05 over one period.
     samples: &'a [[f64; 3]],
 }
 
-/// Forcing periods over which the Lyapunov exponent is averaged (after one to align).
-const LYAPUNOV_PERIODS: f64 = 50.0;
+/// The relative standard error the Lyapunov exponent is averaged to.
+const LYAPUNOV_REL_TOL: f64 = 1e-3;
 
 pub fn run(a: PeriodicArgs) -> Result<()> {
     let (p, warnings) = a.params.resolve()?;
@@ -40,12 +45,10 @@ pub fn run(a: PeriodicArgs) -> Result<()> {
     let orbit = shoot(&p, a.subharmonic, &opts)?;
     let bursts = burst_verdict(&orbit, &burst_opts)?;
     let lyap = if a.lyapunov {
-        let t = p.slow_period();
-        Some(lyapunov(
+        Some(lyapunov_converged(
             &p,
             orbit.start,
-            t,
-            LYAPUNOV_PERIODS * t,
+            LYAPUNOV_REL_TOL,
             opts.tol,
         )?)
     } else {
@@ -63,7 +66,8 @@ pub fn run(a: PeriodicArgs) -> Result<()> {
         let doc = Doc {
             orbit: &orbit,
             bursts,
-            lyapunov_exponent: lyap,
+            lyapunov_exponent: lyap.map(|l| l.exponent),
+            lyapunov: lyap,
             samples: &orbit.samples,
         };
         crate::sink::outln!("{}", serde_json::to_string_pretty(&doc)?);
@@ -76,7 +80,7 @@ pub fn run(a: PeriodicArgs) -> Result<()> {
 fn print_orbit(
     orbit: &PeriodicOrbit,
     bursts: &hdgear::burst::Classification,
-    lyap: Option<f64>,
+    lyap: Option<LyapunovEstimate>,
 ) -> Result<()> {
     let m = |k: usize| {
         let q = orbit.multipliers[k];
@@ -124,7 +128,15 @@ fn print_orbit(
     );
     if let Some(l) = lyap {
         crate::sink::outln!(
-            "  largest Lyapunov exponent (Benettin, {LYAPUNOV_PERIODS} periods): {l:.8}"
+            "  largest Lyapunov exponent (Benettin, over {:.0} time units): {:.8} ± {:.1e}{}",
+            l.span,
+            l.exponent,
+            l.standard_error,
+            if l.converged {
+                ""
+            } else {
+                " (not converged to the requested 1e-3 within the span limit)"
+            }
         );
     }
     Ok(())

@@ -16,11 +16,9 @@ pub fn run(a: crate::cli::PlotArgs) -> Result<()> {
             );
         }
     }
-    if a.threads == Some(0) {
-        anyhow::bail!("invalid option --threads = 0: must be ≥ 1");
-    }
+    let threads = crate::cli::threads(a.threads)?;
     warn(&warnings);
-    let f = hdgear::figures::by_kind(kind, &p, &opts, a.threads.unwrap_or(0))?;
+    let f = hdgear::figures::by_kind(kind, &p, &opts, threads)?;
     hdgear::output::plot::write(&f, &a.out)?;
     Ok(())
 }

@@ -4,11 +4,9 @@ use anyhow::{Context, Result};
 use hdgear::report::Stage;
 
 pub fn run(a: crate::cli::ReportArgs) -> Result<()> {
-    if a.threads == Some(0) {
-        anyhow::bail!("invalid option --threads = 0: must be ≥ 1");
-    }
+    let threads = crate::cli::threads(a.threads)?;
     let opts = hdgear::report::ReportOptions {
-        threads: a.threads.unwrap_or(0),
+        threads,
         force: a.force,
         ..Default::default()
     };

@@ -13,9 +13,8 @@ pandas DataFrames when pandas is installed.
     False
 
 Errors: bad values raise ``ValueError`` with the command-line tool's message; a failed
-integration raises ``RuntimeError``.
+integration raises ``RuntimeError``; Ctrl-C during a sweep raises ``KeyboardInterrupt``.
 """
-import json as _json
 import math as _math
 
 import numpy as _np
@@ -97,14 +96,13 @@ def simulate(params=None, t_end=None, periods=3.0, dt=0.05, x0=None, v0=None, fr
         t_end = periods * 2 * _math.pi / p.omega
     t, a, x, xdot, summary = _hdgear.simulate(p, float(t_end), float(dt), x0, v0, bool(from_rest),
                                               float(rtol), float(atol), method)
-    return Trajectory(t, a, x, xdot, _json.loads(summary))
+    return Trajectory(t, a, x, xdot, summary)
 
 
 def equilibria(params, a):
     """The equilibria of the fast subsystem at the slow value ``a``: a Result with ``x`` (array),
     their ``types`` and ``stable`` flags."""
-    data = _json.loads(_hdgear.equilibria(_params(params), float(a)))
-    return Result(data)
+    return Result(_hdgear.equilibria(_params(params), float(a)))
 
 
 def curve(params=None, points=401, a_range=(-1.0, 1.0)):
@@ -117,17 +115,17 @@ def analyze(params=None, response=True, simulated_boundaries=False, discard=1.0,
             window_periods=2, rtol=1e-10, atol=1e-10, method="taylor"):
     """The fast-subsystem analysis, the measured response and its classification (what
     ``hdgear analyze --json`` prints), as a :class:`Result`."""
-    text = _hdgear.analyze(_params(params), bool(response), bool(simulated_boundaries),
+    data = _hdgear.analyze(_params(params), bool(response), bool(simulated_boundaries),
                            float(discard), int(window_periods), float(rtol), float(atol), method)
-    return Result(_json.loads(text))
+    return Result(data)
 
 
 def bursts(params=None, discard=1.0, window_periods=2, rtol=1e-10, atol=1e-10, method="taylor"):
     """The bursts of the response, one row each (onset, end, a_onset, duration, t_peak, a_peak,
     peak_abs_xdot, spikes, extrema, ringing_swing, overshoot, overshoot_lobes, jumps, complete):
     a DataFrame, or a dict of arrays without pandas."""
-    rows = _json.loads(_hdgear.bursts(_params(params), float(discard), int(window_periods),
-                                      float(rtol), float(atol), method))
+    rows = _hdgear.bursts(_params(params), float(discard), int(window_periods), float(rtol),
+                          float(atol), method)
     keys = ["onset", "end", "a_onset", "duration", "t_peak", "a_peak", "peak_abs_xdot", "spikes",
             "extrema", "ringing_swing", "overshoot", "overshoot_lobes", "jumps", "complete"]
     cols = {k: _np.array([r[k] for r in rows]) for k in keys}
@@ -165,7 +163,7 @@ def periodic(params=None, subharmonic=1):
     map, monodromy from the variational equations): ``start``, ``period``, ``multipliers``
     (``log_abs``, ``arg``), ``floquet_exponents``, ``stable``, the amplitudes, ``bursts`` (the
     burst verdict on the orbit itself) and ``samples`` ((τ, x, x') every 0.05) as a Result."""
-    return Result(_json.loads(_hdgear.periodic(_params(params), int(subharmonic))))
+    return Result(_hdgear.periodic(_params(params), int(subharmonic)))
 
 
 def _branch_frame(cols):
@@ -207,12 +205,12 @@ class Drive:
     assumptions for the rest; ``Drive(**values)`` starts from CSF-20-50 and replaces values."""
 
     def __init__(self, **values):
-        base = _json.loads(_hdgear.Drive.catalogue("CSF-20-50")[0].to_json())
+        base = _hdgear.Drive.catalogue("CSF-20-50")[0].to_dict()
         unknown = set(values) - set(base)
         if unknown:
             raise ValueError(f"unknown drive value(s) {sorted(unknown)}: expected {sorted(base)}")
         base.update({k: float(v) for k, v in values.items()})
-        self._native = _hdgear.Drive.from_json(_json.dumps(base))
+        self._native = _hdgear.Drive.from_dict(base)
         self.fit = None
 
     @classmethod
@@ -222,15 +220,15 @@ class Drive:
         native, fit = _hdgear.Drive.catalogue(name, fit_torque)
         d = cls.__new__(cls)
         d._native = native
-        d.fit = _json.loads(fit)
+        d.fit = fit
         return d
 
     def to_dict(self):
         """The ten values."""
-        return _json.loads(self._native.to_json())
+        return self._native.to_dict()
 
     def __getattr__(self, name):
-        values = _json.loads(object.__getattribute__(self, "_native").to_json())
+        values = object.__getattribute__(self, "_native").to_dict()
         if name in values:
             return values[name]
         raise AttributeError(name)
@@ -238,8 +236,8 @@ class Drive:
     def reduce(self):
         """The reduction to the dimensionless model: a Result with ``params`` (an
         :class:`hdgear.Params`), ``time_scale`` [s], ``length_scale`` [rad] and ``j_eq``."""
-        params, text = self._native.reduce()
-        r = Result(_json.loads(text))
+        params, data = self._native.reduce()
+        r = Result(data)
         r.params = params
         return r
 
@@ -251,7 +249,7 @@ class Drive:
             r = self.reduce()
             dt = r.time_scale / 20
         cols, summary = self._native.simulate(float(t_end), float(dt), float(rtol), float(atol))
-        out = Result({"summary": _json.loads(summary)})
+        out = Result({"summary": summary})
         for k, c in zip(["t", "theta_in", "theta_out", "theta", "theta_dot"], cols):
             setattr(out, k, c)
         return out
@@ -259,8 +257,8 @@ class Drive:
     def design_check(self, discard=1.0, window_periods=2, rtol=1e-10, atol=1e-10):
         """The distance to the bursting regime and the single changes that cross it (what
         ``hdgear physical --design --json`` prints), as a Result."""
-        return Result(_json.loads(self._native.design_check(float(discard), int(window_periods),
-                                                            float(rtol), float(atol))))
+        return Result(self._native.design_check(float(discard), int(window_periods), float(rtol),
+                                                float(atol)))
 
     def __repr__(self):
         return "Drive(" + ", ".join(f"{k}={v!r}" for k, v in self.to_dict().items()) + ")"

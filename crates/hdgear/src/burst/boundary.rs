@@ -31,6 +31,7 @@ use crate::error::Result;
 use crate::fast::{predict, predicted_gamma_boundary};
 use crate::integrate::Method;
 use crate::params::Params;
+use crate::roots::{first_switch, multisect_log};
 use serde::Serialize;
 
 /// The smallest ω the ω search simulates (3 slow periods = 1.9·10⁶ time units, the longest
@@ -113,32 +114,7 @@ fn search(
             }
         }
     };
-    let (mut la, mut lb) = (a.ln(), b.ln());
-    while lb - la > BOUNDARY_REL_TOL {
-        // the bracket's ends and the round's values between them, in log scale
-        let n = lanes as f64;
-        let mut ls = vec![la];
-        ls.extend((1..=lanes).map(|j| la + (lb - la) * j as f64 / (n + 1.0)));
-        ls.push(lb);
-        let xs: Vec<f64> = ls[1..=lanes].iter().map(|l| l.exp()).collect();
-        let mut sides = vec![true];
-        sides.extend(lower(&xs)?);
-        sides.push(false);
-        // (there is one: the ends are on either side)
-        let Some(part) = first_switch(&ls, &sides) else {
-            break;
-        };
-        (la, lb) = part;
-    }
-    Ok(Some((0.5 * (la + lb)).exp()))
-}
-
-/// The first pair of neighbours in `xs` (increasing) whose `lower` sides go from the lower side
-/// of the switch to the upper one.
-fn first_switch(xs: &[f64], lower: &[bool]) -> Option<(f64, f64)> {
-    (1..xs.len())
-        .find(|&k| lower[k - 1] && !lower[k])
-        .map(|k| (xs[k - 1], xs[k]))
+    multisect_log((a, b), lanes, BOUNDARY_REL_TOL, lower).map(Some)
 }
 
 /// Predicted and simulated boundaries through `p` (simulations: a handful of rounds for γ and

@@ -27,6 +27,49 @@ pub fn overshoot_floor(opts: &BurstOptions, x_extent: f64) -> f64 {
     (opts.overshoot_floor * x_extent).max(noise_floor(opts, x_extent))
 }
 
+/// Where the integration's tolerance, not the physics, decides what counts as motion: its noise
+/// floor [`NOISE_FACTOR`]·(atol + rtol·X) lies above the ringing floor
+/// [`BurstOptions::swing_floor`]·ω·X or the overshoot floor [`BurstOptions::overshoot_floor`]·X,
+/// so swings or lobes between the two are not counted and the verdict may differ from a tighter
+/// run's.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct ToleranceLimit {
+    /// The noise floor in effect.
+    pub noise_floor: f64,
+    /// The smaller of the ringing and overshoot floors the physics sets.
+    pub physical_floor: f64,
+    /// The largest rtol (= atol) that puts the noise floor below the physical one: a power of ten.
+    pub rtol_needed: f64,
+}
+
+impl std::fmt::Display for ToleranceLimit {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "the integration's noise floor {:.2e} is above the ringing/overshoot floor {:.2e}: \
+             smaller swings are not counted and the verdict may differ at a tighter tolerance; \
+             rerun with --rtol {:e} --atol {:e} or smaller",
+            self.noise_floor, self.physical_floor, self.rtol_needed, self.rtol_needed
+        )
+    }
+}
+
+/// The [`ToleranceLimit`] of a run with `opts` on `p`, if any.
+pub fn tolerance_limit(p: &Params, opts: &BurstOptions, x_extent: f64) -> Option<ToleranceLimit> {
+    let physical = (opts.swing_floor * p.omega * x_extent).min(opts.overshoot_floor * x_extent);
+    let noise = noise_floor(opts, x_extent);
+    (noise > physical).then(|| ToleranceLimit {
+        noise_floor: noise,
+        physical_floor: physical,
+        // NOISE_FACTOR·r·(1 + X) ≤ physical, rounded down to a power of ten
+        rtol_needed: 10f64.powf(
+            (physical / (NOISE_FACTOR * (1.0 + x_extent)))
+                .log10()
+                .floor(),
+        ),
+    })
+}
+
 /// One group of events while it is being built.
 #[derive(Default)]
 struct Group {
@@ -222,6 +265,7 @@ pub(super) fn assemble(
             max_tracking_error: scan.max_lag,
         },
         continuous_fast_motion: continuous,
+        tolerance_limited: tolerance_limit(p, opts, x_extent),
         signatures,
         measures,
         x_extent,

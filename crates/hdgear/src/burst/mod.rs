@@ -52,7 +52,7 @@ mod scan;
 
 pub use boundary::{BOUNDARY_REL_TOL, Boundaries, OMEGA_SEARCH_MIN, boundaries};
 use bursts::assemble;
-pub use bursts::{NOISE_FACTOR, overshoot_floor, swing_floor};
+pub use bursts::{NOISE_FACTOR, ToleranceLimit, overshoot_floor, swing_floor, tolerance_limit};
 pub use classify::{
     Classification, Mechanism, Mode, Verdict, classify, fast_slow_domain, turning_point_rate,
 };
@@ -292,6 +292,10 @@ pub struct Response {
     pub rates: Rates,
     /// A burst lasts longer than half a slow period: the fast motion never settles.
     pub continuous_fast_motion: bool,
+    /// Set when the tolerance, not the physics, decided what counts as motion (absent from the
+    /// JSON otherwise).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tolerance_limited: Option<ToleranceLimit>,
     /// The signatures.
     pub signatures: Signatures,
     /// The continuous measures.

@@ -193,20 +193,12 @@ pub fn cusp(p: &Params) -> Cusp {
     }
 }
 
-/// Bisection for the boundary where `inside(x)` changes between xa (inside = ia) and xb.
-fn boundary(mut xa: f64, mut xb: f64, inside: impl Fn(f64) -> bool) -> f64 {
+/// Bisection for the boundary where `inside(x)` changes between xa (inside = ia) and xb, to a
+/// relative 1e-12 (absolute 1e-15 near x = 0).
+fn boundary(xa: f64, xb: f64, inside: impl Fn(f64) -> bool) -> f64 {
     let ia = inside(xa);
-    for _ in 0..200 {
-        let xm = 0.5 * (xa + xb);
-        if (xb - xa).abs() <= 1e-12 * xm.abs().max(1e-3) {
-            break;
-        }
-        if inside(xm) == ia {
-            xa = xm;
-        } else {
-            xb = xm;
-        }
-    }
+    let close = |a: f64, b: f64| (b - a).abs() <= 1e-12 * (0.5 * (a + b)).abs().max(1e-3);
+    let (xa, xb) = crate::roots::bisect(xa, xb, 200, close, |m| inside(m) == ia);
     0.5 * (xa + xb)
 }
 

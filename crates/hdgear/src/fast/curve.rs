@@ -141,6 +141,10 @@ pub fn x_intervals(p: &Params, a_range: (f64, f64)) -> Vec<(f64, f64)> {
         .collect()
 }
 
+/// The most points a curve may have (10⁷: far beyond any figure's resolution; the points take
+/// 0.5 GB).
+pub const MAX_CURVE_POINTS: usize = 10_000_000;
+
 /// Samples the curve over `a_range` with `points` points (≥ 2), uniformly in normalised arc
 /// length. With δ = 0 the equilibria do not depend on a: the curve is horizontal lines, sampled
 /// uniformly in a.
@@ -154,11 +158,11 @@ pub fn x_intervals(p: &Params, a_range: (f64, f64)) -> Vec<(f64, f64)> {
 pub fn curve(p: &Params, a_range: (f64, f64), points: usize) -> Result<Vec<CurvePoint>> {
     p.validate()?;
     check_a_range(a_range)?;
-    if points < 2 {
+    if !(2..=MAX_CURVE_POINTS).contains(&points) {
         return Err(Error::InvalidOption {
             name: "points",
             value: points as f64,
-            reason: "must be ≥ 2",
+            reason: "must be ≥ 2 and at most 1e7",
         });
     }
     let (a0, a1) = a_range;

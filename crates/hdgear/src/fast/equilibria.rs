@@ -146,48 +146,10 @@ fn f_and_scale(p: &Params, x: f64, rhs: f64) -> (f64, f64) {
     (f, scale)
 }
 
-/// A root of the monotone F on [lo, hi] with F(lo), F(hi) of opposite signs (or zero).
-fn bracketed_root(p: &Params, rhs: f64, mut lo: f64, mut hi: f64) -> f64 {
-    let f = |x: f64| p.g(x) - rhs;
-    let (flo, fhi) = (f(lo), f(hi));
-    if flo == 0.0 {
-        return lo;
-    }
-    if fhi == 0.0 {
-        return hi;
-    }
-    let increasing = fhi > flo;
-    let mut x = 0.5 * (lo + hi);
-    for _ in 0..300 {
-        let fx = f(x);
-        if fx == 0.0 {
-            return x;
-        }
-        // shrink the bracket
-        if (fx < 0.0) == increasing {
-            lo = x;
-        } else {
-            hi = x;
-        }
-        let d = p.g_prime(x);
-        let newton = x - fx / d;
-        let next = if d != 0.0 && newton > lo && newton < hi {
-            newton
-        } else {
-            0.5 * (lo + hi)
-        };
-        if next == x || (hi - lo) <= 2.0 * f64::EPSILON * x.abs().max(f64::MIN_POSITIVE) {
-            return next;
-        }
-        if (next - x).abs() <= f64::EPSILON * x.abs() {
-            // one more Newton step polishes to the last bit
-            let fx2 = f(next);
-            let d2 = p.g_prime(next);
-            return if d2 != 0.0 { next - fx2 / d2 } else { next };
-        }
-        x = next;
-    }
-    x
+/// The root of the monotone F(x) = g(x) − `rhs` on [lo, hi] with F(lo), F(hi) of opposite signs
+/// (or zero), to the last bit.
+fn bracketed_root(p: &Params, rhs: f64, lo: f64, hi: f64) -> f64 {
+    crate::roots::newton_bracketed(|x| p.g(x) - rhs, |x| p.g_prime(x), lo, hi)
 }
 
 /// All real equilibria at slow variable `a`, with their stability.

@@ -32,14 +32,16 @@ pub use analysis::{
     Analysis, Cusp, EquilibriaSummary, Fold, FoldRow, Interval, NO_HOPF_REASON, Point, Regime,
     Slope, analyze, cusp, fold_curves, folds, max_slope, relaxation_rate,
 };
-pub use curve::{A_RANGE_LIMIT, Branch, CurvePoint, check_a_range, curve, x_intervals};
+pub use curve::{
+    A_RANGE_LIMIT, Branch, CurvePoint, MAX_CURVE_POINTS, check_a_range, curve, x_intervals,
+};
 pub use equilibria::{
     EqType, Equilibria, Equilibrium, EquilibriumTracker, eigenvalues, equilibria, fold_abscissae,
     nearest_stable_equilibrium, stable_equilibrium,
 };
 pub use predict::{
-    FORCING_RATE_THRESHOLD, Prediction, bisect_log, focus_pieces, forcing_rate,
-    max_equilibrium_speed, predict, predicted_gamma_boundary,
+    FORCING_RATE_THRESHOLD, Prediction, SettledBranch, focus_pieces, forcing_rate,
+    max_equilibrium_speed, predict, predicted_gamma_boundary, settled_branch,
 };
 
 /// What produced an equilibrium curve: the `meta` of `hdgear equilibria`'s JSON output.

@@ -12,9 +12,12 @@
 //! ring where it is oscillatory, a focus (g' > 1/4): on a node part the state creeps after the
 //! equilibrium without ringing and only the following focus part can ring. So the prediction is
 //!
-//! * with a fold in the traversed range: bursting (a jump is unavoidable, at every ω);
-//! * otherwise bursting iff max κ over the focus part of the traversed curve exceeds
-//!   [`FORCING_RATE_THRESHOLD`].
+//! * with both folds in the traversed range: bursting (the state must leave each branch at its
+//!   fold, a jump every half period, at every ω);
+//! * otherwise bursting iff max κ over the focus part of the branch the response settles on
+//!   ([`settled_branch`]) exceeds [`FORCING_RATE_THRESHOLD`]. With one fold in range the state
+//!   jumps at most once, in the transient, onto the stable branch that spans all of a ∈ [−1, 1],
+//!   and stays there.
 //!
 //! κ is proportional to ω, so the predicted ω boundary is a closed form, ω_b = ω·κ_c/max κ,
 //! and bursts vanish as ω → 0 on a normally hyperbolic branch, as Fenichel's theorem requires.
@@ -45,8 +48,12 @@ pub const FORCING_RATE_THRESHOLD: f64 = 0.2;
 pub struct Prediction {
     /// Bursting predicted.
     pub bursting: bool,
-    /// A fold lies in the traversed range a ∈ [−1, 1] (a jump is predicted).
+    /// Both folds lie in the traversed range a ∈ [−1, 1]: the state must leave each branch at
+    /// its fold (a jump every half period is predicted).
     pub fold_in_range: bool,
+    /// How many folds lie in a ∈ [−1, 1] (0, 1 or 2; with one the state jumps at most once, in
+    /// the transient, onto the branch that spans the range).
+    pub folds_in_range: usize,
     /// max κ over the focus part of the traversed stable curve (0 when it has none; infinite with
     /// a fold in range).
     pub forcing_rate: f64,
@@ -69,9 +76,70 @@ pub fn forcing_rate(p: &Params, x: f64) -> f64 {
     gpp.abs() * p.omega * p.delta * (1.0 - a * a).max(0.0).sqrt() / (gp * gp)
 }
 
-/// The x-pieces of the traversed curve (a ∈ [−1, 1]) on which the fast subsystem is a stable
+/// The stable branch a response settles on while a sweeps [−1, 1], as x-intervals (increasing),
+/// the number of folds in that range, and whether the state must leave its branch there.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SettledBranch {
+    /// The x-intervals of the branch (all of the traversed stable curve when it must jump).
+    pub intervals: Vec<(f64, f64)>,
+    /// Folds with a ∈ [−1, 1].
+    pub folds_in_range: usize,
+    /// Both folds are in range: no stable branch spans [−1, 1], the state jumps every half period.
+    pub must_jump: bool,
+}
+
+/// Which stable branch the response settles on over a ∈ [−1, 1] (δ > 0). Without folds, the one
+/// curve. With folds at x− < x+ (the lower branch ends at a(x−), the upper one starts at a(x+)):
+/// a branch that spans [−1, 1] keeps the state once it is on it; the response starts on the lower
+/// branch (the default start), so it stays there when the lower branch spans the range, and
+/// otherwise, when the upper one does, jumps once onto it and stays. When neither spans the
+/// range (both folds in it) the state must jump at each fold.
+pub fn settled_branch(p: &Params) -> SettledBranch {
+    let all = x_intervals(p, crate::fast::A_RANGE);
+    let Some((xm, xp)) = fold_abscissae(p) else {
+        return SettledBranch {
+            intervals: all,
+            folds_in_range: 0,
+            must_jump: false,
+        };
+    };
+    let (am, ap) = (p.a_at(xm), p.a_at(xp));
+    let folds_in_range = usize::from(am.abs() <= 1.0) + usize::from(ap.abs() <= 1.0);
+    let keep = |f: &dyn Fn(f64) -> bool| -> Vec<(f64, f64)> {
+        all.iter()
+            .copied()
+            .filter(|&(l, r)| f(0.5 * (l + r)))
+            .collect()
+    };
+    if am > 1.0 {
+        SettledBranch {
+            intervals: keep(&|x| x < xm),
+            folds_in_range,
+            must_jump: false,
+        }
+    } else if ap < -1.0 {
+        SettledBranch {
+            intervals: keep(&|x| x > xp),
+            folds_in_range,
+            must_jump: false,
+        }
+    } else {
+        SettledBranch {
+            intervals: keep(&|x| x < xm || x > xp),
+            folds_in_range,
+            must_jump: true,
+        }
+    }
+}
+
+/// The x-pieces of the settled branch ([`settled_branch`]) on which the fast subsystem is a stable
 /// focus (g' > 1/4), in increasing x.
 pub fn focus_pieces(p: &Params) -> Vec<(f64, f64)> {
+    focus_pieces_of(p, &settled_branch(p))
+}
+
+/// [`focus_pieces`] of a branch already found.
+fn focus_pieces_of(p: &Params, branch: &SettledBranch) -> Vec<(f64, f64)> {
     // g' = 1/4 at the roots of 3αx² − 2x + γ − 1/4
     let disc = 1.0 - 3.0 * p.alpha * (p.gamma - 0.25);
     let cuts: Vec<f64> = if disc > 0.0 {
@@ -81,7 +149,7 @@ pub fn focus_pieces(p: &Params) -> Vec<(f64, f64)> {
         Vec::new()
     };
     let mut out = Vec::new();
-    for (l, r) in x_intervals(p, crate::fast::A_RANGE) {
+    for &(l, r) in &branch.intervals {
         let mut pts = vec![l, r];
         pts.extend(cuts.iter().copied().filter(|&c| c > l && c < r));
         pts.sort_by(f64::total_cmp);
@@ -147,19 +215,19 @@ fn max_on(f: impl Fn(f64) -> f64, l: f64, r: f64) -> (f64, f64) {
     if f(xm) > bv { (xm, f(xm)) } else { (bx, bv) }
 }
 
-/// The largest speed of the equilibrium, max |dx*/dτ| = max ω·δ·√(1 − a²)/g'(x) over the stable
-/// traversed curve (a ∈ [−1, 1]): the quasi-static bound on |x'| (infinite with a fold in range).
+/// The largest speed of the equilibrium, max |dx*/dτ| = max ω·δ·√(1 − a²)/g'(x) over the settled
+/// branch (a ∈ [−1, 1]): the quasi-static bound on |x'| (infinite when the state must jump).
 pub fn max_equilibrium_speed(p: &Params) -> f64 {
     let speed = |x: f64| {
         let a = p.a_at(x);
         p.omega * p.delta * (1.0 - a * a).max(0.0).sqrt() / p.g_prime(x)
     };
-    let folds = fold_abscissae(p);
+    let branch = settled_branch(p);
+    if branch.must_jump {
+        return f64::INFINITY;
+    }
     let mut best = 0.0f64;
-    for (l, r) in x_intervals(p, crate::fast::A_RANGE) {
-        if folds.is_some_and(|(xm, xp)| (l..=r).contains(&xm) || (l..=r).contains(&xp)) {
-            return f64::INFINITY;
-        }
+    for (l, r) in branch.intervals {
         best = best.max(max_on(speed, l, r).1);
     }
     best
@@ -175,12 +243,13 @@ pub fn max_equilibrium_speed(p: &Params) -> f64 {
 /// assert!(!predict(&Params { gamma: 0.1, omega: 1e-5, ..Params::default() }).bursting);
 /// ```
 pub fn predict(p: &Params) -> Prediction {
-    let fold_in_range = fold_abscissae(p)
-        .is_some_and(|(xm, xp)| [xm, xp].iter().any(|&x| (p.a_at(x)).abs() <= 1.0));
+    let branch = settled_branch(p);
+    let (fold_in_range, folds_in_range) = (branch.must_jump, branch.folds_in_range);
     if fold_in_range {
         return Prediction {
             bursting: true,
             fold_in_range,
+            folds_in_range,
             forcing_rate: f64::INFINITY,
             threshold: FORCING_RATE_THRESHOLD,
             at_a: f64::NAN,
@@ -189,7 +258,7 @@ pub fn predict(p: &Params) -> Prediction {
         };
     }
     let (mut bx, mut bv) = (f64::NAN, 0.0f64);
-    for (l, r) in focus_pieces(p) {
+    for (l, r) in focus_pieces_of(p, &branch) {
         let (x, v) = max_on(|x| forcing_rate(p, x), l, r);
         if v > bv {
             (bx, bv) = (x, v);
@@ -198,6 +267,7 @@ pub fn predict(p: &Params) -> Prediction {
     Prediction {
         bursting: bv > FORCING_RATE_THRESHOLD,
         fold_in_range,
+        folds_in_range,
         forcing_rate: bv,
         threshold: FORCING_RATE_THRESHOLD,
         at_a: if bx.is_nan() { f64::NAN } else { p.a_at(bx) },
@@ -217,23 +287,5 @@ pub fn predicted_gamma_boundary(p: &Params) -> Option<f64> {
     let at = |g: f64| predict(&Params { gamma: g, ..*p }).bursting;
     let lo = p.critical_gamma() * (1.0 + 1e-9);
     let hi = 1e6 * (p.critical_gamma() + 1.0);
-    bisect_log(lo, hi, at)
-}
-
-/// Bisection in log scale for the switch of a predicate that holds at `lo` and not at `hi`
-/// (`None` otherwise), to a relative 1e-6.
-pub fn bisect_log(lo: f64, hi: f64, holds: impl Fn(f64) -> bool) -> Option<f64> {
-    if !holds(lo) || holds(hi) {
-        return None;
-    }
-    let (mut l, mut h) = (lo.ln(), hi.ln());
-    while h - l > 1e-6 {
-        let m = 0.5 * (l + h);
-        if holds(m.exp()) {
-            l = m;
-        } else {
-            h = m;
-        }
-    }
-    Some((0.5 * (l + h)).exp())
+    crate::roots::bisect_log(lo, hi, at)
 }

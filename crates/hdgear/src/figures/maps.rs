@@ -146,7 +146,7 @@ fn predicted_delta_boundary(base: &Params, xr: (f64, f64), yr: (f64, f64)) -> Ve
                 })
                 .bursting
             };
-            fast::bisect_log(yr.0, yr.1, quiet).map(|d| (g, d))
+            crate::roots::bisect_log(yr.0, yr.1, quiet).map(|d| (g, d))
         })
         .collect()
 }

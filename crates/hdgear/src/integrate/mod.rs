@@ -249,8 +249,16 @@ impl Options {
 pub const OPTIMISTIC_STEP: f64 = 0.5;
 
 /// Refuses, before any work, a run over `span` dimensionless time units that would need more
-/// steps than `opts.max_steps` even at [`OPTIMISTIC_STEP`].
+/// steps than `opts.max_steps` even at [`OPTIMISTIC_STEP`], or whose span is not a finite
+/// length ≥ 0.
 pub fn check_budget(span: f64, opts: &Options) -> Result<()> {
+    if !(span.is_finite() && span >= 0.0) {
+        return Err(Error::InvalidOption {
+            name: "t_end",
+            value: span,
+            reason: "the run's length must be finite and ≥ 0",
+        });
+    }
     let estimated_steps = span / OPTIMISTIC_STEP;
     if estimated_steps.is_nan() || estimated_steps > opts.max_steps as f64 {
         return Err(Error::RunTooLong {

@@ -312,7 +312,14 @@ impl<'s, S: System<N> + ?Sized, const N: usize> Taylor<'s, S, N> {
     #[inline(always)]
     fn step_size<const FMA: bool>(&self, scale: &[f64; N]) -> f64 {
         let p = self.order;
-        let norm = |row: &[f64; N]| (0..N).fold(0.0f64, |m, i| m.max(row[i].abs() * scale[i]));
+        // (a NaN coefficient, from an overflow in the recurrences, makes the norm NaN: f64::max
+        // would drop it and take an infinite step)
+        let norm = |row: &[f64; N]| {
+            (0..N).fold(0.0f64, |m, i| {
+                let v = row[i].abs() * scale[i];
+                if v <= m { m } else { v }
+            })
+        };
         step_from_norms::<FMA, false>(p, self.shift, norm(&self.c[p - 1]), norm(&self.c[p]))
     }
 
@@ -335,6 +342,14 @@ impl<'s, S: System<N> + ?Sized, const N: usize> Taylor<'s, S, N> {
         let mut h = self.step_size::<FMA>(&scale);
         if let Some(hm) = self.opts.h_max {
             h = h.min(hm);
+        }
+        if h.is_nan() {
+            // the coefficients overflowed: the solution leaves every bound within this step
+            return Err(SolverError::BlowUp {
+                t: self.t,
+                value: f64::INFINITY,
+            }
+            .into());
         }
         let min_step = super::smallest_step(self.t, remaining);
         if !(h >= min_step || h >= remaining) {

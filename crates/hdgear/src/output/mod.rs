@@ -89,6 +89,25 @@ pub fn check_output_path(path: &Path) -> Result<()> {
     Ok(())
 }
 
+/// Opens an input file for reading, refusing anything but a regular file (or a link to one)
+/// before opening it: a FIFO would block the open until some writer appears, a device could be
+/// endless. The error is the system's, or "not a regular file".
+pub fn open_input(path: &Path) -> std::io::Result<std::fs::File> {
+    let meta = std::fs::metadata(path)?;
+    if !meta.is_file() {
+        let kind = if meta.is_dir() {
+            "a directory"
+        } else {
+            "not a regular file (a FIFO, socket or device)"
+        };
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            format!("is {kind}"),
+        ));
+    }
+    std::fs::File::open(path)
+}
+
 /// A file that appears at its path only when [`AtomicFile::commit`] is called; dropped
 /// uncommitted, it removes its temporary.
 pub struct AtomicFile {

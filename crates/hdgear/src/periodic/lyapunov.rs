@@ -23,25 +23,117 @@ pub fn lyapunov<O: Oscillator>(
         inv_omega: 1.0 / omega,
     };
     let mut z = [y0[0], y0[1], 1.0, 1.0, 0.0, 0.0, 0.0, 0.0];
-    let (mut t, mut sum) = (0.0, 0.0);
-    let end = discard + span;
-    while t < end {
-        // pieces end at `discard`, so the growth counted is exactly that over the span
-        let b = (t + PIECE).min(if t < discard { discard } else { end });
-        let mut s = stepper(&sys, t * omega, z, method_for::<O>(tol))?;
+    advance(&sys, &mut z, (0.0, discard), tol)?;
+    let sum = advance(&sys, &mut z, (discard, discard + span), tol)?;
+    Ok(sum / span)
+}
+
+/// Integrates the state and tangent `z` from τ = t0 to t1 (phase ωτ), renormalising the tangent
+/// every [`PIECE`] time units; returns the sum of the logarithms of the growth factors.
+fn advance<O: Oscillator>(
+    sys: &Phase<'_, O>,
+    z: &mut [f64; 8],
+    (t0, t1): (f64, f64),
+    tol: Options,
+) -> Result<f64> {
+    let omega = sys.o.omega();
+    let (mut t, mut sum) = (t0, 0.0);
+    while t < t1 {
+        let b = (t + PIECE).min(t1);
+        let mut s = stepper(sys, t * omega, *z, method_for::<O>(tol))?;
         while s.t() < b * omega {
             s.step(b * omega)?;
         }
-        z = *s.y();
+        *z = *s.y();
         let n = z[2].hypot(z[3]);
-        if t >= discard {
-            sum += n.ln();
-        }
+        sum += n.ln();
         z[2] /= n;
         z[3] /= n;
         t = b;
     }
-    Ok(sum / span)
+    Ok(sum)
+}
+
+/// A Lyapunov exponent averaged until it converged, with its uncertainty.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct LyapunovEstimate {
+    /// The largest exponent (per unit τ): the mean growth rate over `span`.
+    pub exponent: f64,
+    /// Its standard error, from the spread of the rates of the blocks the span is made of (batch
+    /// means: blocks of whole forcing periods, at least [`LYAPUNOV_BLOCK`] time units each).
+    pub standard_error: f64,
+    /// The time units averaged over (after the alignment, two blocks).
+    pub span: f64,
+    /// Whether the standard error reached the requested relative accuracy before the limit of
+    /// [`LYAPUNOV_MAX_SPAN`] time units.
+    pub converged: bool,
+}
+
+/// The shortest block of a [`lyapunov_converged`] estimate, in time units: twenty times the
+/// slowest decay time 1/r = 2 of the fast subsystem's unit damping, so that one block aligns the
+/// tangent vector to e⁻²⁰ of its start whatever the forcing period.
+pub const LYAPUNOV_BLOCK: f64 = 40.0;
+
+/// The longest span a [`lyapunov_converged`] estimate averages over, in time units.
+pub const LYAPUNOV_MAX_SPAN: f64 = 1e5;
+
+/// The largest Lyapunov exponent by Benettin's method (as [`lyapunov`]), averaged until its
+/// standard error is at most `rel_tol`·|λ| (or `rel_tol`·10⁻³ near λ = 0), with at least eight
+/// blocks, or until [`LYAPUNOV_MAX_SPAN`]. Blocks are whole forcing periods of at least
+/// [`LYAPUNOV_BLOCK`] time units; the first two align the tangent vector and are not counted.
+///
+/// ```
+/// use hdgear::{Params, periodic::lyapunov_converged, integrate::Options};
+/// // a periodic response on a focus: both exponents −1/2 (Liouville: they sum to −1)
+/// let p = Params { gamma: 10.0, omega: 6.0, delta: 8.0, ..Params::default() };
+/// let e = lyapunov_converged(&p, [0.0, 0.0], 1e-3, Options::default()).unwrap();
+/// assert!(e.converged && (e.exponent + 0.5).abs() < 3.0 * e.standard_error.max(1e-6));
+/// ```
+pub fn lyapunov_converged<O: Oscillator>(
+    o: &O,
+    y0: [f64; 2],
+    rel_tol: f64,
+    tol: Options,
+) -> Result<LyapunovEstimate> {
+    o.check()?;
+    if !(rel_tol > 0.0 && rel_tol < 1.0) {
+        return Err(Error::InvalidOption {
+            name: "rel_tol",
+            value: rel_tol,
+            reason: "must be in (0, 1)",
+        });
+    }
+    let omega = o.omega();
+    let period = std::f64::consts::TAU / omega;
+    let block = period * (LYAPUNOV_BLOCK / period).ceil();
+    crate::integrate::check_budget(LYAPUNOV_MAX_SPAN + 2.0 * block, &tol)?;
+    let sys = Phase {
+        o,
+        param: None,
+        inv_omega: 1.0 / omega,
+    };
+    let mut z = [y0[0], y0[1], 1.0, 1.0, 0.0, 0.0, 0.0, 0.0];
+    advance(&sys, &mut z, (0.0, 2.0 * block), tol)?;
+    let mut rates: Vec<f64> = Vec::new();
+    let mut t = 2.0 * block;
+    loop {
+        rates.push(advance(&sys, &mut z, (t, t + block), tol)? / block);
+        t += block;
+        let n = rates.len() as f64;
+        let mean = rates.iter().sum::<f64>() / n;
+        let var = rates.iter().map(|r| (r - mean).powi(2)).sum::<f64>() / (n - 1.0).max(1.0);
+        let standard_error = (var / n).sqrt();
+        let converged = rates.len() >= 8 && standard_error <= rel_tol * mean.abs().max(1e-3);
+        let span = n * block;
+        if converged || span >= LYAPUNOV_MAX_SPAN {
+            return Ok(LyapunovEstimate {
+                exponent: mean,
+                standard_error,
+                span,
+                converged,
+            });
+        }
+    }
 }
 
 /// [`lyapunov`] for many parameter sets of the dimensionless model at once, [`LANES`] at a time

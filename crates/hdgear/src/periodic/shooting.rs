@@ -172,19 +172,11 @@ pub fn amplitude<O: Oscillator>(o: &O, y0: [f64; 2], k: u32, tol: Options) -> Re
 }
 
 /// A sign change of `f` on [a, b], by bisection to the resolution of f64.
-fn bisect(mut a: f64, mut b: f64, f: impl Fn(f64) -> f64) -> f64 {
+fn bisect(a: f64, b: f64, f: impl Fn(f64) -> f64) -> f64 {
     let fa = f(a) > 0.0;
-    for _ in 0..60 {
-        let m = 0.5 * (a + b);
-        if m <= a || m >= b {
-            break;
-        }
-        if (f(m) > 0.0) == fa {
-            a = m;
-        } else {
-            b = m;
-        }
-    }
+    let (a, b) = crate::roots::bisect(a, b, 60, crate::roots::at_resolution, |m| {
+        (f(m) > 0.0) == fa
+    });
     0.5 * (a + b)
 }
 

@@ -129,15 +129,7 @@ pub fn cubic_twist(k1: f64, k2: f64, t: f64) -> f64 {
     while f(hi) < 0.0 && hi < 1e6 {
         hi *= 2.0;
     }
-    let mut lo = 0.0;
-    for _ in 0..200 {
-        let mid = 0.5 * (lo + hi);
-        if f(mid) < 0.0 {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
+    let (lo, hi) = crate::roots::bisect(0.0, hi, 200, crate::roots::all_rounds, |m| f(m) < 0.0);
     0.5 * (lo + hi)
 }
 

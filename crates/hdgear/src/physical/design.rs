@@ -233,20 +233,22 @@ fn margin(
         outside: None,
         refused: None,
     };
-    let Some((mut a, mut b)) = found else {
+    let Some((a, b)) = found else {
         margin.refused = refused;
         return Ok(margin);
     };
     let (mut ja, mut jb) = (if a == 0.0 { now } else { at(a)? }, at(b)?);
-    for _ in 0..12 {
-        let m = 0.5 * (a + b);
+    // twelve halvings in log2 of the factor: the bracket's ends are simulated and kept
+    let (a, b) = crate::roots::try_bisect(a, b, 12, crate::roots::all_rounds, |m| {
         let j = at(m)?;
-        if j.bursting != now.bursting {
-            (b, jb) = (m, j);
+        let same = j.bursting == now.bursting;
+        if same {
+            ja = j
         } else {
-            (a, ja) = (m, j);
+            jb = j
         }
-    }
+        Ok::<_, crate::Error>(same)
+    })?;
     let f = (0.5 * (a + b)).exp2();
     margin.factor = Some(f);
     margin.boundary_value = Some(f * current);

@@ -279,8 +279,32 @@ pub fn run_with<R: Send>(
     run_chunked(grid, todo, 1, threads, each, on_row)
 }
 
-/// A pool of `threads` worker threads (0: one per core); the error names the count.
+/// The most worker threads a pool may have: beyond the cores of any single node, more threads
+/// only add memory (a stack each) and scheduling, never speed.
+pub const MAX_THREADS: usize = 1024;
+
+/// Checks a thread count (0: one per core, or `RAYON_NUM_THREADS` when set), refusing more than
+/// [`MAX_THREADS`], from the argument or from the environment.
+pub fn check_threads(threads: usize) -> Result<()> {
+    let from_env = std::env::var("RAYON_NUM_THREADS").ok();
+    let (what, text) = match (threads, from_env) {
+        (0, Some(env)) => ("RAYON_NUM_THREADS", env),
+        _ => ("thread count", threads.to_string()),
+    };
+    match text.trim().parse::<usize>() {
+        Ok(n) if n > MAX_THREADS => Err(Error::InvalidInput {
+            what,
+            text,
+            reason: format!("at most {MAX_THREADS}"),
+        }),
+        _ => Ok(()),
+    }
+}
+
+/// A pool of `threads` worker threads (0: one per core), at most [`MAX_THREADS`]; the error names
+/// the count.
 pub(crate) fn pool(threads: usize) -> Result<rayon::ThreadPool> {
+    check_threads(threads)?;
     rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
@@ -461,7 +485,7 @@ pub enum RowError {
         shard: Shard,
     },
     /// The row's parameters are not the grid's at its index.
-    #[error("row {index} has parameters {found:?}, the grid has {grid:?} there")]
+    #[error("row {index} has {}", differing(found, grid))]
     OtherParameters {
         /// The row's index.
         index: usize,
@@ -470,6 +494,23 @@ pub enum RowError {
         /// The grid's parameters at that index.
         grid: Box<Params>,
     },
+}
+
+/// "gamma = 0.2 (the grid has 0.1 there)" for each parameter in which `found` differs from
+/// `grid`.
+fn differing(found: &Params, grid: &Params) -> String {
+    Param::ALL
+        .iter()
+        .filter(|&&q| found.value(q).to_bits() != grid.value(q).to_bits())
+        .map(|&q| {
+            format!(
+                "{q} = {:?} (the grid has {:?} there)",
+                found.value(q),
+                grid.value(q)
+            )
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 /// Flattens a JSON value into `path → scalar text`.

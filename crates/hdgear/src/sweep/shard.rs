@@ -148,8 +148,7 @@ pub enum MergeError {
     Row {
         /// The file.
         file: String,
-        /// What is wrong with the row.
-        #[source]
+        /// What is wrong with the row (in the message, so not also a source).
         error: RowError,
     },
     /// A shard file that ends before its last grid point (an unfinished shard).

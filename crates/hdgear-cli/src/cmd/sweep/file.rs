@@ -78,7 +78,8 @@ pub type Rows = Box<dyn Iterator<Item = Result<SweepRow>>>;
 
 /// Opens a row file: its settings, and its rows as they are read.
 pub fn open(path: &Path) -> Result<(Settings, Rows)> {
-    let file = File::open(path).with_context(|| format!("cannot read {}", path.display()))?;
+    let file = hdgear::output::open_input(path)
+        .with_context(|| format!("cannot read {}", path.display()))?;
     let mut first = String::new();
     std::io::BufReader::new(&file)
         .take(1 << 20)

@@ -119,9 +119,7 @@ pub fn check(a: &SweepArgs) -> Result<Job> {
         .collect::<hdgear::Result<Vec<_>>>()
         .context("--param")?;
     let grid = Grid::new(base, axes)?;
-    if a.threads == Some(0) {
-        bail!("invalid option --threads = 0: must be ≥ 1");
-    }
+    let threads = crate::cli::threads(a.threads)?;
     let shard = a.shard.as_deref().map(Shard::parse).transpose()?;
     if let Some(s) = shard.filter(|s| s.count > grid.len()) {
         bail!(
@@ -137,7 +135,7 @@ pub fn check(a: &SweepArgs) -> Result<Job> {
         settings: Settings::new(&grid, &opts).with_shard(shard),
         out: a.out.clone(),
         file,
-        threads: a.threads.unwrap_or(0),
+        threads,
         resume: a.resume,
     })
 }
@@ -276,23 +274,31 @@ fn written(job: &Job, n: usize, failed: usize) -> Result<()> {
     let settings = &job.settings;
     match settings.shard {
         None => eprintln!("wrote {}: {n} rows, {failed} failed", job.file.display()),
-        Some(s) => eprintln!(
-            "wrote {}: shard {s}, {n} rows, {failed} failed; when all {} shards are done: \
-             hdgear merge {} --out {}",
-            job.file.display(),
-            s.count,
-            shard_path(
+        Some(s) => {
+            // the shard files as a glob, each part quoted for a shell (a pasted path with a space
+            // or a `$(…)` stays a path)
+            let first = shard_path(
                 &job.out,
                 Shard {
                     index: 0,
-                    count: s.count
-                }
+                    count: s.count,
+                },
+            );
+            let text = first.display().to_string();
+            let (head, tail) = text.split_once(".shard-0-of-").unwrap_or((&text, ""));
+            let glob = format!(
+                "{}*{}",
+                slurm::shell_word(&format!("{head}.shard-")),
+                slurm::shell_word(&format!("-of-{tail}"))
+            );
+            eprintln!(
+                "wrote {}: shard {s}, {n} rows, {failed} failed; when all {} shards are done: \
+                 hdgear merge {glob} --out {}",
+                job.file.display(),
+                s.count,
+                slurm::shell_word(&job.out.display().to_string())
             )
-            .display()
-            .to_string()
-            .replace(".shard-0-of-", ".shard-*-of-"),
-            job.out.display()
-        ),
+        }
     }
     // a shard whose points all failed is still a complete shard: the merge judges the sweep
     if settings.shard.is_none() {

@@ -79,6 +79,37 @@ impl Cluster {
     }
 }
 
+/// A path as the value of an `#SBATCH` line: in double quotes (sbatch reads them, so a space is
+/// kept), with `%` doubled (sbatch expands `%j`, `%a`, … in file names; `%%` is a `%`). Paths
+/// with a double quote or a line break are refused before anything is written ([`check_path`]).
+fn sbatch_path(p: &Path) -> String {
+    format!("\"{}\"", p.display().to_string().replace('%', "%%"))
+}
+
+/// Refuses a path that cannot be written into an `#SBATCH` line.
+fn check_path(p: &Path) -> Result<()> {
+    let text = p.display().to_string();
+    if text.contains(['"', '\n', '\r']) {
+        bail!(
+            "invalid option --out '{}': with --slurm the path may not hold a double quote or a \
+             line break (it goes into an #SBATCH line)",
+            text.escape_debug()
+        );
+    }
+    Ok(())
+}
+
+/// `text` as one word of a POSIX shell: as it is when it holds only characters no shell
+/// interprets, quoted otherwise (for messages a user pastes).
+pub(crate) fn shell_word(text: &str) -> String {
+    let plain = |c: char| c.is_ascii_alphanumeric() || "._/-+=:,@".contains(c);
+    if !text.is_empty() && text.chars().all(plain) {
+        text.to_string()
+    } else {
+        quote(text)
+    }
+}
+
 /// `text` quoted for a POSIX shell.
 fn quote(text: &str) -> String {
     format!("'{}'", text.replace('\'', r"'\''"))
@@ -189,7 +220,7 @@ impl Scripts<'_> {
             format!("#SBATCH --job-name={name}"),
             "#SBATCH --ntasks=1".into(),
             format!("#SBATCH --cpus-per-task={cpus}"),
-            format!("#SBATCH --output={}", log.display()),
+            format!("#SBATCH --output={}", sbatch_path(&log)),
         ];
         h.extend(self.cluster.extra.iter().cloned());
         h.push("set -euo pipefail".into());
@@ -294,6 +325,7 @@ pub fn write(job: &Job, cluster: &Cluster) -> Result<()> {
     };
     for p in &s.paths {
         hdgear::output::check_output_path(p)?;
+        check_path(p)?;
     }
     // all three or none
     let mut files = Vec::new();

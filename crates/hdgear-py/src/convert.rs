@@ -1,0 +1,157 @@
+//! What every entry point shares: the library's errors as Python exceptions, results as Python
+//! objects, options checked once, the limits that keep a call within memory, a bounded thread
+//! pool, and Ctrl-C during long computations.
+
+use hdgear::burst::BurstOptions;
+use hdgear::integrate::{Method, Options};
+use pyo3::exceptions::{PyRuntimeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::time::Duration;
+
+/// The most samples a simulation may return to Python: four arrays of 10⁸ values are 3.2 GB; a
+/// longer record belongs in a file (`hdgear simulate --out`), which streams.
+pub(crate) const MAX_SAMPLES_IN_MEMORY: f64 = 1e8;
+
+/// The library's error as a Python exception: a failed integration is a `RuntimeError`, every
+/// other error (a value or option out of its domain) a `ValueError`, with the CLI's message.
+pub(crate) fn err(e: hdgear::Error) -> PyErr {
+    match e {
+        hdgear::Error::Solver(_) => PyRuntimeError::new_err(e.to_string()),
+        other => PyValueError::new_err(other.to_string()),
+    }
+}
+
+/// A `ValueError` naming the argument and the value given.
+pub(crate) fn invalid(name: &str, value: impl std::fmt::Display, reason: &str) -> PyErr {
+    PyValueError::new_err(format!("invalid {name} = {value}: {reason}"))
+}
+
+/// A serialisable result as Python objects (dicts, lists, floats, ints, strings, None), with the
+/// same mapping as the JSON the CLI prints (a NaN is None there and here).
+pub(crate) fn to_py<'py, T: serde::Serialize>(
+    py: Python<'py>,
+    v: &T,
+) -> PyResult<Bound<'py, PyAny>> {
+    let value = serde_json::to_value(v).map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+    value_to_py(py, &value)
+}
+
+fn value_to_py<'py>(py: Python<'py>, v: &serde_json::Value) -> PyResult<Bound<'py, PyAny>> {
+    use serde_json::Value;
+    Ok(match v {
+        Value::Null => py.None().into_bound(py),
+        Value::Bool(b) => b.into_pyobject(py)?.to_owned().into_any(),
+        Value::Number(n) => match (n.as_i64(), n.as_u64()) {
+            (Some(i), _) => i.into_pyobject(py)?.into_any(),
+            (None, Some(u)) => u.into_pyobject(py)?.into_any(),
+            _ => n.as_f64().unwrap_or(f64::NAN).into_pyobject(py)?.into_any(),
+        },
+        Value::String(s) => s.into_pyobject(py)?.into_any(),
+        Value::Array(items) => {
+            let list = PyList::empty(py);
+            for item in items {
+                list.append(value_to_py(py, item)?)?;
+            }
+            list.into_any()
+        }
+        Value::Object(map) => {
+            let dict = PyDict::new(py);
+            for (k, item) in map {
+                dict.set_item(k, value_to_py(py, item)?)?;
+            }
+            dict.into_any()
+        }
+    })
+}
+
+/// Detection options and tolerances from keyword values, validated.
+pub(crate) fn burst_options(
+    discard: f64,
+    window_periods: u32,
+    rtol: f64,
+    atol: f64,
+    method: &str,
+) -> PyResult<BurstOptions> {
+    let o = BurstOptions {
+        discard_periods: discard,
+        periods: window_periods,
+        tol: tol(rtol, atol, method)?,
+        ..BurstOptions::default()
+    };
+    o.validate().map_err(err)?;
+    Ok(o)
+}
+
+/// Integration tolerances and method from keyword values, validated.
+pub(crate) fn tol(rtol: f64, atol: f64, method: &str) -> PyResult<Options> {
+    let method: Method = method.parse().map_err(err)?;
+    let o = Options {
+        rtol,
+        atol,
+        method,
+        ..Options::default()
+    };
+    o.validate().map_err(err)?;
+    Ok(o)
+}
+
+/// Refuses a record of more than [`MAX_SAMPLES_IN_MEMORY`] samples before any work.
+pub(crate) fn check_samples(t_end: f64, dt: f64) -> PyResult<()> {
+    let n = t_end / dt;
+    if n > MAX_SAMPLES_IN_MEMORY {
+        return Err(invalid(
+            "dt",
+            dt,
+            "more than 1e8 samples to hold in memory; write them to a file with `hdgear simulate --out`",
+        ));
+    }
+    Ok(())
+}
+
+/// A worker pool of `threads` threads (0: one per core), bounded as the CLI's `--threads` is.
+pub(crate) fn pool(threads: usize) -> PyResult<rayon::ThreadPool> {
+    hdgear::sweep::check_threads(threads).map_err(err)?;
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map_err(|e| invalid("threads", threads, &e.to_string()))
+}
+
+/// Runs `work` on its own thread with the GIL released, checking for Python signals every 50
+/// ms: on Ctrl-C (or any signal handler that raises) the stop flag given to `work` is set, its
+/// thread is waited for, and the exception is raised. `work` checks the flag between pieces of
+/// work and may return early once it is set (its result is then dropped).
+pub(crate) fn interruptible<R: Send>(
+    py: Python<'_>,
+    work: impl FnOnce(&AtomicBool) -> R + Send,
+) -> PyResult<R> {
+    let stop = AtomicBool::new(false);
+    std::thread::scope(|s| {
+        let handle = s.spawn(|| work(&stop));
+        loop {
+            py.detach(|| {
+                for _ in 0..10 {
+                    if handle.is_finished() {
+                        break;
+                    }
+                    std::thread::sleep(Duration::from_millis(5));
+                }
+            });
+            if handle.is_finished() {
+                return Ok(handle
+                    .join()
+                    .unwrap_or_else(|panic| std::panic::resume_unwind(panic)));
+            }
+            if let Err(e) = py.check_signals() {
+                stop.store(true, Ordering::Relaxed);
+                // the result of the abandoned work is dropped; a panic in it is not hidden
+                if let Err(panic) = handle.join() {
+                    std::panic::resume_unwind(panic);
+                }
+                return Err(e);
+            }
+        }
+    })
+}

@@ -1,0 +1,100 @@
+//! The fast subsystem (equilibria, the equilibrium curve) and the point analysis.
+
+use crate::convert::{burst_options, err, invalid, to_py};
+use crate::params::Params;
+use numpy::IntoPyArray;
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+/// The equilibria at `a`, as a dict.
+#[pyfunction]
+pub(crate) fn equilibria<'py>(
+    py: Python<'py>,
+    params: &Params,
+    a: f64,
+) -> PyResult<Bound<'py, PyAny>> {
+    if !a.is_finite() {
+        return Err(invalid("a", format!("{a:?}"), "must be finite"));
+    }
+    to_py(py, &hdgear::fast::equilibria(&params.inner, a))
+}
+
+/// The equilibrium curve as a dict of arrays.
+#[pyfunction]
+pub(crate) fn curve<'py>(
+    py: Python<'py>,
+    params: &Params,
+    points: usize,
+    a0: f64,
+    a1: f64,
+) -> PyResult<Bound<'py, PyDict>> {
+    let p = params.inner;
+    let c = py
+        .detach(|| hdgear::fast::curve(&p, (a0, a1), points))
+        .map_err(err)?;
+    let d = PyDict::new(py);
+    let col = |f: fn(&hdgear::fast::CurvePoint) -> f64| c.iter().map(f).collect::<Vec<f64>>();
+    d.set_item("a", col(|c| c.a).into_pyarray(py))?;
+    d.set_item("x", col(|c| c.x).into_pyarray(py))?;
+    d.set_item("slope", col(|c| c.slope).into_pyarray(py))?;
+    d.set_item("gprime", col(|c| c.gprime).into_pyarray(py))?;
+    let stable: Vec<bool> = c.iter().map(|c| c.kind.is_stable()).collect();
+    d.set_item("stable", stable.into_pyarray(py))?;
+    let kind: Vec<&str> = c.iter().map(|c| c.kind.name()).collect();
+    d.set_item("type", kind)?;
+    let branch: Vec<String> = c
+        .iter()
+        .map(|c| {
+            serde_json::to_value(c.branch)
+                .ok()
+                .and_then(|v| v.as_str().map(String::from))
+                .unwrap_or_default()
+        })
+        .collect();
+    d.set_item("branch", branch)?;
+    Ok(d)
+}
+
+/// What `hdgear analyze --json` prints, as a dict.
+#[pyfunction]
+#[pyo3(signature = (params, response, simulated_boundaries, discard, window_periods, rtol, atol, method))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn analyze<'py>(
+    py: Python<'py>,
+    params: &Params,
+    response: bool,
+    simulated_boundaries: bool,
+    discard: f64,
+    window_periods: u32,
+    rtol: f64,
+    atol: f64,
+    method: &str,
+) -> PyResult<Bound<'py, PyAny>> {
+    let p = params.inner;
+    let opts = burst_options(discard, window_periods, rtol, atol, method)?;
+    let doc = py
+        .detach(|| -> hdgear::Result<_> {
+            let analysis = hdgear::fast::analyze(&p, hdgear::fast::A_RANGE)?;
+            let (response, classification) = if response {
+                let r = hdgear::burst::response(&p, &opts)?;
+                let c = hdgear::burst::classify(&p, &r);
+                (Some(r), Some(c))
+            } else {
+                (None, None)
+            };
+            let boundaries = if simulated_boundaries {
+                Some(hdgear::burst::boundaries(&p, &opts)?)
+            } else {
+                None
+            };
+            Ok(hdgear::study::PointAnalysis {
+                analysis,
+                response,
+                classification,
+                boundaries,
+                warnings: p.validate()?.iter().map(ToString::to_string).collect(),
+            })
+        })
+        .map_err(err)?;
+    to_py(py, &doc)
+}
