@@ -797,9 +797,11 @@ pub fn threads(given: Option<usize>) -> Result<usize> {
         Some(n) if n > max => anyhow::bail!("invalid option --threads = {n}: at most {max}"),
         _ => {}
     }
-    let n = given.unwrap_or(0);
-    hdgear::sweep::check_threads(n)?;
-    Ok(n)
+    if given.is_none() {
+        // no flag: RAYON_NUM_THREADS, when set, decides the count
+        hdgear::sweep::check_threads(0)?;
+    }
+    Ok(given.unwrap_or(0))
 }
 
 fn check_finite(name: &str, v: f64) -> Result<f64> {

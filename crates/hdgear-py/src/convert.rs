@@ -1,6 +1,6 @@
 //! What every entry point shares: the library's errors as Python exceptions, results as Python
-//! objects, options checked once, the limits that keep a call within memory, a bounded thread
-//! pool, and Ctrl-C during long computations.
+//! objects, options checked once, the limits that keep a call within memory, and Ctrl-C during
+//! long computations.
 
 use hdgear::burst::BurstOptions;
 use hdgear::integrate::{Method, Options};
@@ -108,15 +108,6 @@ pub(crate) fn check_samples(t_end: f64, dt: f64) -> PyResult<()> {
         ));
     }
     Ok(())
-}
-
-/// A worker pool of `threads` threads (0: one per core), bounded as the CLI's `--threads` is.
-pub(crate) fn pool(threads: usize) -> PyResult<rayon::ThreadPool> {
-    hdgear::sweep::check_threads(threads).map_err(err)?;
-    rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .map_err(|e| invalid("threads", threads, &e.to_string()))
 }
 
 /// Runs `work` on its own thread with the GIL released, checking for Python signals every 50

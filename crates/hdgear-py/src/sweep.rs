@@ -1,6 +1,6 @@
 //! Sweeps of explicit parameter sets on all cores, and the bursts of one response.
 
-use crate::convert::{burst_options, err, interruptible, pool, to_py};
+use crate::convert::{burst_options, err, interruptible, to_py};
 use crate::params::Params;
 use hdgear::burst::{Mechanism, Mode};
 use hdgear::params::{Param, Params as LibParams};
@@ -50,7 +50,7 @@ pub(crate) fn sweep<'py>(
     for p in &points {
         p.validate().map_err(err)?;
     }
-    let pool = pool(threads)?;
+    let pool = hdgear::sweep::pool(threads).map_err(err)?;
     // Ctrl-C stops the sweep between chunks of points
     let rows: Vec<hdgear::sweep::SweepRow> = interruptible(py, |stop| {
         pool.install(|| {

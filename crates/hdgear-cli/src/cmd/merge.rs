@@ -35,10 +35,9 @@ pub fn run(a: MergeArgs) -> Result<()> {
     };
     let format = Format::from_path(&out).context("--out")?;
     hdgear::output::check_output_path(&out)?;
-    let same = |p: &Path| match (std::fs::canonicalize(&out), std::fs::canonicalize(p)) {
-        (Ok(o), Ok(p)) => o == p,
-        _ => false,
-    };
+    // (an --out that does not exist yet cannot be an input)
+    let target = std::fs::canonicalize(&out).ok();
+    let same = |p: &Path| target.is_some() && std::fs::canonicalize(p).ok() == target;
     if let Some(shard) = a.shards.iter().find(|p| same(p)) {
         bail!(
             "invalid option --out '{}': it is the input shard {}; write the merged file elsewhere",

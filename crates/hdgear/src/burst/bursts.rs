@@ -18,13 +18,23 @@ fn noise_floor(opts: &BurstOptions, x_extent: f64) -> f64 {
 /// [`NOISE_FACTOR`]·(atol + rtol·X), the level the integration itself resolves. Without the
 /// second term a loose tolerance at small ω turns truncation error into "ringing".
 pub fn swing_floor(p: &Params, opts: &BurstOptions, x_extent: f64) -> f64 {
-    (opts.swing_floor * p.omega * x_extent).max(noise_floor(opts, x_extent))
+    physical_swing_floor(p, opts, x_extent).max(noise_floor(opts, x_extent))
+}
+
+/// The ringing floor the physics sets: [`BurstOptions::swing_floor`]·ω·X.
+fn physical_swing_floor(p: &Params, opts: &BurstOptions, x_extent: f64) -> f64 {
+    opts.swing_floor * p.omega * x_extent
+}
+
+/// The overshoot floor the physics sets: [`BurstOptions::overshoot_floor`]·X.
+fn physical_overshoot_floor(opts: &BurstOptions, x_extent: f64) -> f64 {
+    opts.overshoot_floor * x_extent
 }
 
 /// The overshoot floor actually used: [`BurstOptions::overshoot_floor`]·X, never below the
 /// noise level of [`swing_floor`].
 pub fn overshoot_floor(opts: &BurstOptions, x_extent: f64) -> f64 {
-    (opts.overshoot_floor * x_extent).max(noise_floor(opts, x_extent))
+    physical_overshoot_floor(opts, x_extent).max(noise_floor(opts, x_extent))
 }
 
 /// Where the integration's tolerance, not the physics, decides what counts as motion: its noise
@@ -56,7 +66,8 @@ impl std::fmt::Display for ToleranceLimit {
 
 /// The [`ToleranceLimit`] of a run with `opts` on `p`, if any.
 pub fn tolerance_limit(p: &Params, opts: &BurstOptions, x_extent: f64) -> Option<ToleranceLimit> {
-    let physical = (opts.swing_floor * p.omega * x_extent).min(opts.overshoot_floor * x_extent);
+    let physical =
+        physical_swing_floor(p, opts, x_extent).min(physical_overshoot_floor(opts, x_extent));
     let noise = noise_floor(opts, x_extent);
     (noise > physical).then(|| ToleranceLimit {
         noise_floor: noise,

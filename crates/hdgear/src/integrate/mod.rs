@@ -260,7 +260,7 @@ pub fn check_budget(span: f64, opts: &Options) -> Result<()> {
         });
     }
     let estimated_steps = span / OPTIMISTIC_STEP;
-    if estimated_steps.is_nan() || estimated_steps > opts.max_steps as f64 {
+    if estimated_steps > opts.max_steps as f64 {
         return Err(Error::RunTooLong {
             span,
             estimated_steps,

@@ -303,7 +303,7 @@ pub fn check_threads(threads: usize) -> Result<()> {
 
 /// A pool of `threads` worker threads (0: one per core), at most [`MAX_THREADS`]; the error names
 /// the count.
-pub(crate) fn pool(threads: usize) -> Result<rayon::ThreadPool> {
+pub fn pool(threads: usize) -> Result<rayon::ThreadPool> {
     check_threads(threads)?;
     rayon::ThreadPoolBuilder::new()
         .num_threads(threads)

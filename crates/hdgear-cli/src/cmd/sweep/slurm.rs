@@ -323,9 +323,10 @@ pub fn write(job: &Job, cluster: &Cluster) -> Result<()> {
         paths: script_paths(&out),
         out,
     };
+    // the logs named in the #SBATCH lines are siblings of --out, with its stem
+    check_path(&s.out)?;
     for p in &s.paths {
         hdgear::output::check_output_path(p)?;
-        check_path(p)?;
     }
     // all three or none
     let mut files = Vec::new();
