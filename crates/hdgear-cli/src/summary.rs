@@ -111,6 +111,14 @@ fn prediction_text(s: &mut String, e: &hdgear::fast::EquilibriaSummary) {
                 .map_or(String::new(), |g| format!(", gamma = {g:.4}"))
         );
     }
+    if let Some(g) = c.node_min_gprime {
+        let _ = writeln!(
+            *s,
+            "caveat: the branch passes a node part (g' down to {g:.4} < 1/4), whose excitation kappa \
+             does not see: near the cusp the predicted omega boundary can be up to ~3 times too high \
+             (simulate to be sure: analyze --simulated-boundaries)"
+        );
+    }
     if e.spiking_areas.is_empty() {
         let _ = writeln!(
             *s,

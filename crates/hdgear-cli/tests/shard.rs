@@ -232,7 +232,7 @@ fn merge_refuses_edited_and_unfinished_shard_files() {
             let last = r.last().unwrap().clone();
             r.push(last);
         }),
-        ("row 1 has parameters", |r| {
+        ("row 1 has alpha = 17.0 (the grid has 16.0 there)", |r| {
             r[0] = r[0].replacen(",16.0,", ",17.0,", 1);
         }),
         ("row 1 is unreadable", |r| r[0] = "1,x".into()),

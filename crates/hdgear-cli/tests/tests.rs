@@ -6,6 +6,7 @@ mod common;
 mod cli;
 mod docs;
 mod hardening;
+mod interrupted;
 mod output;
 mod periodic;
 mod pipes;

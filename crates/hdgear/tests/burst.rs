@@ -686,3 +686,92 @@ fn a_single_fold_in_range_means_one_transient_jump_not_bursting() {
     let (xm, xp) = hdgear::fast::fold_abscissae(&p).unwrap();
     assert!(p.a_at(xm) > 1.0 && p.a_at(xp).abs() <= 1.0);
 }
+
+#[test]
+fn single_fold_sets_far_from_the_study_never_jump_after_the_transient() {
+    // sets built to have exactly one fold in a ∈ [−1, 1], lower- or upper-branch fold, over
+    // decades of α and ω (none of them used to write the rule): (α, γ·3α, ε, a(x−), a(x+), ω)
+    let cases = [
+        (0.4, 0.2, 0.1, 2.1, -0.2, 2e-3),
+        (3.0, 0.6, 0.7, 1.3, 0.5, 0.05),
+        (25.0, 0.3, 0.04, 1.2, -0.8, 0.01),
+        (1.0, 0.8, 0.5, 0.3, -2.2, 0.2),
+        (8.0, 0.1, 0.9, -0.7, -1.5, 5e-3),
+        (0.7, 0.5, 0.3, 0.8, -2.9, 0.03),
+    ];
+    for (alpha, f, eps, am, ap, omega) in cases {
+        let gamma = f / (3.0 * alpha);
+        let s = (1.0f64 - f).sqrt();
+        let (xm, xp) = (gamma / (1.0 + s), (1.0 + s) / (3.0 * alpha));
+        let g = |x: f64| alpha * x * x * x - x * x + gamma * (x - eps);
+        // place the folds at a(x−) = am, a(x+) = ap: g(x) = μ + δa at both
+        let delta = (g(xm) - g(xp)) / (am - ap);
+        let p = Params {
+            alpha,
+            gamma,
+            eps,
+            mu: g(xm) - delta * am,
+            delta,
+            omega,
+        };
+        let branch = hdgear::fast::settled_branch(&p);
+        assert_eq!(
+            (branch.folds_in_range, branch.must_jump),
+            (1, false),
+            "{p:?}"
+        );
+        let pr = predict(&p);
+        let (c, r) = verdict_of(&p, &BurstOptions::default());
+        assert!(!r.signatures.jump, "{p:?}: {c:?}");
+        assert_eq!(pr.bursting, c.bursting, "{p:?}: {pr:?} {c:?}");
+    }
+}
+
+#[test]
+fn near_the_cusp_the_prediction_flags_its_node_part_and_its_known_bias() {
+    // two sets of the near-cusp survey behind `Prediction::node_min_gprime` (γ − 1/(3α) = 0.008
+    // and 0.016): the branch passes a node part, the prediction says so, and its ω boundary lies
+    // above the simulated one by the factor the survey measured (1.7–2.7); κ at the simulated
+    // boundary is far below the threshold 0.2 (0.07–0.12 in the survey)
+    let sets = [
+        Params {
+            alpha: 17.160360176341943,
+            gamma: 0.027478625978180037,
+            eps: 0.762280082457942,
+            mu: 0.005805436482133226,
+            delta: 0.3029237757738744,
+            omega: 0.01,
+        },
+        Params {
+            alpha: 1.579327802826648,
+            gamma: 0.24165815084984313,
+            eps: 0.763774618976614,
+            mu: -0.1561728489163236,
+            delta: 0.9710896071104531,
+            omega: 0.01,
+        },
+    ];
+    for p in sets {
+        let pr = predict(&p);
+        let g = pr.node_min_gprime.expect("a node part");
+        assert!((g - (p.gamma - p.critical_gamma())).abs() < 1e-12, "{pr:?}");
+        let b = hdgear::burst::boundaries(&p, &BurstOptions::default()).unwrap();
+        let sw = b.simulated_omega.unwrap();
+        let ratio = b.predicted_omega / sw;
+        assert!(
+            (1.5..3.0).contains(&ratio),
+            "{p:?}: predicted/simulated ω {ratio}"
+        );
+        let kappa_at_boundary = pr.forcing_rate * sw / p.omega;
+        assert!(
+            (0.06..0.13).contains(&kappa_at_boundary),
+            "{kappa_at_boundary}"
+        );
+    }
+    // a curve that is a focus all along has no caveat
+    let pr = predict(&Params {
+        gamma: 1.0,
+        ..Params::default()
+    });
+    assert_eq!(pr.node_min_gprime, None);
+}

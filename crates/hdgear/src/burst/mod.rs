@@ -316,19 +316,7 @@ pub fn curve_extent(p: &Params) -> f64 {
 /// The smallest g' over the stable part of the curve traversed by a ∈ [−1, 1] (0 with a fold
 /// in range): its slowest, steepest point.
 pub fn min_traversed_gprime(p: &Params) -> f64 {
-    let xc = p.critical_gamma(); // g'' = 0 at x = 1/(3α)
-    fast::x_intervals(p, crate::fast::A_RANGE)
-        .iter()
-        .map(|&(lo, hi)| {
-            let m = p.g_prime(lo).min(p.g_prime(hi));
-            if xc > lo && xc < hi {
-                m.min(p.g_prime(xc))
-            } else {
-                m
-            }
-        })
-        .fold(f64::INFINITY, f64::min)
-        .max(0.0)
+    fast::min_gprime(p, &fast::x_intervals(p, crate::fast::A_RANGE))
 }
 
 /// The window [t_w0, t_w1): whole slow periods from the first turning point of a after the

@@ -39,6 +39,7 @@ pub use equilibria::{
     EqType, Equilibria, Equilibrium, EquilibriumTracker, eigenvalues, equilibria, fold_abscissae,
     nearest_stable_equilibrium, stable_equilibrium,
 };
+pub(crate) use predict::min_gprime;
 pub use predict::{
     FORCING_RATE_THRESHOLD, Prediction, SettledBranch, focus_pieces, forcing_rate,
     max_equilibrium_speed, predict, predicted_gamma_boundary, settled_branch,

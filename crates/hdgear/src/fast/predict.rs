@@ -66,6 +66,13 @@ pub struct Prediction {
     /// The predicted ω boundary: bursting predicted for ω above it (0 with a fold in range: at
     /// every ω).
     pub omega_boundary: f64,
+    /// The least g' on the settled branch when it is below 1/4 there (the branch passes a node
+    /// part, near the cusp), else `None`. κ sees the focus part only, so the excitation the state
+    /// carries out of the node part is missed and the ω boundary comes out too high: measured on
+    /// 24 sets near the cusp (γ − 1/(3α) from 0.002 to 0.04, α 1–30, δ 0.3–30), κ at the
+    /// simulated boundary was 0.07–0.12 instead of [`FORCING_RATE_THRESHOLD`], the predicted ω
+    /// boundary 1.7–2.7 times the simulated one.
+    pub node_min_gprime: Option<f64>,
 }
 
 /// κ(x) at abscissa x (see the module docs).
@@ -162,6 +169,24 @@ fn focus_pieces_of(p: &Params, branch: &SettledBranch) -> Vec<(f64, f64)> {
     out
 }
 
+/// The least g' over x-intervals: at an end or at the inflection x = 1/(3α), where g'' = 0
+/// (0 where it is negative).
+pub(crate) fn min_gprime(p: &Params, intervals: &[(f64, f64)]) -> f64 {
+    let xc = p.critical_gamma(); // g'' = 0 at x = 1/(3α)
+    intervals
+        .iter()
+        .map(|&(lo, hi)| {
+            let m = p.g_prime(lo).min(p.g_prime(hi));
+            if xc > lo && xc < hi {
+                m.min(p.g_prime(xc))
+            } else {
+                m
+            }
+        })
+        .fold(f64::INFINITY, f64::min)
+        .max(0.0)
+}
+
 /// The largest κ on [l, r], with its x: a dense scan, then golden-section refinement around the
 /// best sample (κ is smooth on a focus piece).
 fn max_on(f: impl Fn(f64) -> f64, l: f64, r: f64) -> (f64, f64) {
@@ -255,6 +280,7 @@ pub fn predict(p: &Params) -> Prediction {
             at_a: f64::NAN,
             at_x: f64::NAN,
             omega_boundary: 0.0,
+            node_min_gprime: None,
         };
     }
     let (mut bx, mut bv) = (f64::NAN, 0.0f64);
@@ -277,6 +303,8 @@ pub fn predict(p: &Params) -> Prediction {
         } else {
             f64::INFINITY
         },
+        node_min_gprime: Some(min_gprime(p, &branch.intervals))
+            .filter(|&g| g < super::FOCUS_GPRIME),
     }
 }
 
