@@ -3,10 +3,12 @@
 use anyhow::{Context, Result};
 use clap::{Args, Parser, Subcommand};
 use hdgear::integrate::Options;
-use hdgear::params::{self, ParamOverrides, Params, Warning};
+use hdgear::params::{Params, Warning};
 use hdgear::scenario::Scenario;
 use hdgear::simulate::{SimOptions, Start};
 use std::path::PathBuf;
+
+pub use crate::sources::ParamArgs;
 
 /// hdgear: fast-slow dynamics of harmonic drive gears.
 #[derive(Parser, Debug)]
@@ -25,6 +27,9 @@ pub struct Cli {
 pub enum Command {
     /// Simulate the dimensionless model and write its trajectory (t,a,x,xdot).
     Simulate(SimulateArgs),
+    /// The assembled model: its equation (text and LaTeX), states, parameters with values and
+    /// domains, and the facts of its fast subsystem derived from its terms.
+    Model(ModelArgs),
     /// Sample the fast subsystem's equilibrium curve (a,x,slope,gprime,re1,im1,re2,im2,type,branch).
     Equilibria(EquilibriaArgs),
     /// Analyse the fast subsystem: folds, cusp, steepest point, Hopf, spiking areas.
@@ -76,6 +81,16 @@ impl Command {
             _ => true,
         }
     }
+}
+
+/// Arguments of `hdgear model`.
+#[derive(Args, Debug)]
+pub struct ModelArgs {
+    #[command(flatten)]
+    pub params: ParamArgs,
+    /// Print JSON (for programs) instead of text.
+    #[arg(long)]
+    pub json: bool,
 }
 
 /// Arguments of `hdgear serve`.
@@ -219,6 +234,13 @@ impl PhysicalArgs {
             .context("--drive / --fit-torque")?;
         if let Some(path) = &self.config {
             let s = Scenario::load(path)?;
+            if let Some(name) = s.terms.keys().next() {
+                anyhow::bail!(
+                    "scenario file {}: its [{name}] table is a term of the dimensionless model \
+                     (hdgear model, hdgear simulate), not of the physical drive",
+                    path.display()
+                );
+            }
             match s.physical {
                 Some(ph) => ph.apply(&mut d),
                 None => anyhow::bail!(
@@ -606,85 +628,6 @@ pub fn check_figure_path(flag: &'static str, path: &std::path::Path) -> Result<(
     hdgear::output::check_output_path(path).context(flag)
 }
 
-/// Model parameters shared by every command: preset, then file, then flags.
-#[derive(Args, Debug, Clone)]
-pub struct ParamArgs {
-    /// Named parameter set: paper (= paper-g0.1), paper-g30, paper-g10, paper-g1, paper-g0.1.
-    #[arg(long, default_value = "paper")]
-    pub preset: String,
-    /// TOML scenario file with a [params] table (keys alpha, gamma, eps, mu, delta, omega).
-    #[arg(long, value_name = "FILE")]
-    pub config: Option<PathBuf>,
-    /// α > 0, cubic stiffness.
-    #[arg(long, allow_negative_numbers = true)]
-    pub alpha: Option<f64>,
-    /// γ, linear stiffness.
-    #[arg(long, allow_negative_numbers = true)]
-    pub gamma: Option<f64>,
-    /// ε, backlash offset.
-    #[arg(long, allow_negative_numbers = true)]
-    pub eps: Option<f64>,
-    /// μ, mean load.
-    #[arg(long, allow_negative_numbers = true)]
-    pub mu: Option<f64>,
-    /// δ ≥ 0, amplitude of the slow disturbance.
-    #[arg(long, allow_negative_numbers = true)]
-    pub delta: Option<f64>,
-    /// ω > 0, frequency of the slow disturbance.
-    #[arg(long, allow_negative_numbers = true)]
-    pub omega: Option<f64>,
-}
-
-impl ParamArgs {
-    /// Whether the flag of parameter `name` was given.
-    pub fn given(&self, name: &str) -> bool {
-        match name {
-            "alpha" => self.alpha.is_some(),
-            "gamma" => self.gamma.is_some(),
-            "eps" => self.eps.is_some(),
-            "mu" => self.mu.is_some(),
-            "delta" => self.delta.is_some(),
-            "omega" => self.omega.is_some(),
-            _ => false,
-        }
-    }
-
-    /// The parameter set these sources give, validated, with its warnings.
-    pub fn resolve(&self) -> Result<(Params, Vec<Warning>)> {
-        let file = match &self.config {
-            Some(path) => {
-                let s = Scenario::load(path)?;
-                if s.params.is_none() {
-                    anyhow::bail!(
-                        "scenario file {} has no [params] table{}",
-                        path.display(),
-                        if s.physical.is_some() {
-                            " (its [physical] table is for hdgear physical)"
-                        } else {
-                            ""
-                        }
-                    );
-                }
-                Some(s)
-            }
-            None => None,
-        };
-        let flags = ParamOverrides {
-            alpha: self.alpha,
-            gamma: self.gamma,
-            eps: self.eps,
-            mu: self.mu,
-            delta: self.delta,
-            omega: self.omega,
-        };
-        Ok(params::resolve(
-            &self.preset,
-            file.as_ref().and_then(|s| s.params.as_ref()),
-            &flags,
-        )?)
-    }
-}
-
 /// Integrator tolerances.
 #[derive(Args, Debug, Clone)]
 pub struct TolArgs {
@@ -755,6 +698,8 @@ pub struct SimulateArgs {
 /// `hdgear simulate`, checked.
 pub struct SimulateRun {
     pub params: Params,
+    /// The assembled model when the scenario adds terms to the study's (`[friction]`, …).
+    pub model: Option<hdgear::model::Model>,
     pub warnings: Vec<Warning>,
     pub opts: SimOptions,
     pub out: Option<PathBuf>,
@@ -815,7 +760,8 @@ fn check_finite(name: &str, v: f64) -> Result<f64> {
 impl SimulateArgs {
     /// Checks every value and resolves the parameters.
     pub fn check(&self) -> Result<SimulateRun> {
-        let (params, warnings) = self.params.resolve()?;
+        let (params, model, warnings) = self.params.resolve_model()?;
+        let model = model.has_extra_terms().then_some(model);
         let tol = self.tol.options()?;
         let t_end = match self.t_end {
             Some(t) => check_positive("t-end", t)?,
@@ -836,7 +782,10 @@ impl SimulateArgs {
                 (x0, v0) => {
                     let x0 = match x0 {
                         Some(x) => check_finite("x0", x)?,
-                        None => hdgear::fast::stable_equilibrium(&params, 0.0),
+                        None => match &model {
+                            Some(m) => m.stable_equilibrium(0.0)?,
+                            None => hdgear::fast::stable_equilibrium(&params, 0.0),
+                        },
                     };
                     let v0 = check_finite("v0", v0.unwrap_or(0.0))?;
                     Start::Given { x0, v0 }
@@ -846,6 +795,7 @@ impl SimulateArgs {
         check_out(&self.out)?;
         Ok(SimulateRun {
             params,
+            model,
             warnings,
             opts: SimOptions {
                 t_end,

@@ -6,6 +6,7 @@ mod cli;
 mod cmd;
 mod signals;
 mod sink;
+mod sources;
 mod summary;
 
 use clap::Parser;

@@ -7,7 +7,9 @@
 //! `...` stands for any number of lines and `[..]` for any part of a line, so numbers that vary by
 //! machine (timings) are never compared. A line `? N` right after a command expects exit code N
 //! (0 otherwise). The commands of one block run one after the other in one fresh directory, so a
-//! block may write a file and read it back. Command lines anywhere else (a `sh` block, an indented
+//! block may write a file and read it back; a block whose info string names `file=NAME` (a
+//! ` ```toml file=friction.toml ` scenario) is written as NAME into the next console block's
+//! directory. Command lines anywhere else (a `sh` block, an indented
 //! block) are refused, except `hdgear serve`, which runs until stopped and has its own tests.
 
 use std::path::{Path, PathBuf};
@@ -245,8 +247,22 @@ fn every_shown_command_runs_and_prints_what_is_shown() {
         let text = std::fs::read_to_string(&doc).unwrap();
         let blocks = blocks(&text);
         unchecked.extend(unchecked_commands(&doc, &text, &blocks));
-        for b in blocks.iter().filter(|b| b.info == "console") {
+        let mut files: Vec<(&str, String)> = Vec::new();
+        for b in &blocks {
+            if let Some(name) = b
+                .info
+                .split_whitespace()
+                .find_map(|w| w.strip_prefix("file="))
+            {
+                files.push((name, b.lines.join("\n") + "\n"));
+            }
+            if b.info != "console" {
+                continue;
+            }
             let dir = tempfile::tempdir().unwrap();
+            for (name, text) in files.drain(..) {
+                std::fs::write(dir.path().join(name), text).unwrap();
+            }
             for s in steps(&doc, b) {
                 let out = std::process::Command::new(bin)
                     .args(&s.args)

@@ -7,6 +7,7 @@ mod cli;
 mod docs;
 mod hardening;
 mod interrupted;
+mod model;
 mod output;
 mod periodic;
 mod pipes;

@@ -1,8 +1,18 @@
-//! Right-hand sides of the models.
+//! The drive's models.
 //!
-//! The dimensionless model in first-order form, with state (x, v = x'):
-//!
-//! x' = v,  v' = μ + δ sin(ω τ) − v − g(x),  g(x) = α x³ − x² + γ (x − ε).
+//! * [`Model`]: a model assembled from terms ([`terms`]): x'' + Σ T_i(x, x') = μ + δ sin ωτ, each
+//!   term defined once with its value, derivatives, Taylor recurrence ([`jet`]) and parameters,
+//!   every method of the model derived from them; [`Model::facts`] derives what the fast
+//!   subsystem's analysis needs (damping at rest, focus/node threshold, decay time).
+//! * [`Dimensionless`]: the study's model x'' + x' + αx³ − x² + γ(x − ε) = μ + δ sin ωτ with its
+//!   hand-scheduled Taylor recurrence on 1 and 16 lanes, the fast path every command of the
+//!   study runs on; the tests hold it to [`Model::study`]'s coefficients.
+
+pub mod jet;
+pub mod terms;
+
+mod assembled;
+pub use assembled::{Description, FORCING, Facts, MAX_TERMS, Model, ModelParam, ParamValue};
 
 use crate::integrate::System;
 use crate::integrate::taylor::mul_add;

@@ -6,12 +6,14 @@ use crate::error::{Error, Result};
 use crate::params::ParamOverrides;
 use crate::physical::PhysicalOverrides;
 use serde::Deserialize;
+use std::collections::BTreeMap;
 use std::path::Path;
 
-/// A scenario file. Tables: `[params]` (dimensionless) and `[physical]` (a drive in SI units; read
-/// by the physical-model commands). Unknown tables or keys are errors that name them.
+/// A scenario file. Tables: `[params]` (dimensionless), `[physical]` (a drive in SI units; read
+/// by the physical-model commands) and one table per extra term of the model, named by the
+/// term's kind (`[friction]`, `[stribeck]`: [`crate::model::terms::AnyTerm::KINDS`]; read by
+/// [`Scenario::model`]). Unknown tables or keys are errors that name them.
 #[derive(Clone, Debug, Default, Deserialize)]
-#[serde(deny_unknown_fields)]
 pub struct Scenario {
     /// Dimensionless parameters (the `[params]` table), if the file has one.
     #[serde(default)]
@@ -19,12 +21,15 @@ pub struct Scenario {
     /// Physical drive parameters in SI units (the `[physical]` table), if the file has one.
     #[serde(default)]
     pub physical: Option<PhysicalOverrides>,
+    /// Every other table: a term of the model each (checked by [`Scenario::parse`]).
+    #[serde(flatten)]
+    pub terms: BTreeMap<String, toml::Value>,
 }
 
 impl Scenario {
     /// Parses a scenario from TOML text; `path` is used in error messages.
     pub fn parse(text: &str, path: &Path) -> Result<Scenario> {
-        toml::from_str(text).map_err(|e| Error::Config {
+        let s: Scenario = toml::from_str(text).map_err(|e| Error::Config {
             path: path.to_path_buf(),
             message: e.message().to_string()
                 + &e.span()
@@ -33,7 +38,9 @@ impl Scenario {
                         format!(" (line {line})")
                     })
                     .unwrap_or_default(),
-        })
+        })?;
+        s.term_tables(path)?;
+        Ok(s)
     }
 
     /// Reads and parses a scenario file (at most [`SCENARIO_MAX_BYTES`]).
@@ -55,6 +62,83 @@ impl Scenario {
         }
         let text = String::from_utf8(bytes).map_err(|_| err("not UTF-8 text".into()))?;
         Scenario::parse(&text, path)
+    }
+}
+
+/// A term's table from a scenario file: its kind and (parameter index, value) per key.
+type TermTable = (&'static str, Vec<(usize, f64)>);
+
+impl Scenario {
+    /// The extra terms' tables as (kind, keys), each checked: a known kind, a table, and known
+    /// keys with numbers (errors name the table and the key).
+    fn term_tables(&self, path: &Path) -> Result<Vec<TermTable>> {
+        use crate::model::terms::AnyTerm;
+        let err = |message: String| Error::Config {
+            path: path.to_path_buf(),
+            message,
+        };
+        let mut out = Vec::new();
+        for (name, value) in &self.terms {
+            // the study's own terms (damping, stiffness) take their values from [params]
+            let study = crate::model::Model::study(&crate::Params::default());
+            let extra = |kind: &str| study.terms().all(|t| t.kind() != kind);
+            let found = AnyTerm::KINDS.iter().find(|k| k.0 == name && extra(k.0));
+            let Some(&(kind, _, params)) = found else {
+                let known: Vec<&str> = ["params", "physical"]
+                    .into_iter()
+                    .chain(AnyTerm::KINDS.iter().map(|k| k.0).filter(|k| extra(k)))
+                    .collect();
+                return Err(err(format!(
+                    "unknown table [{name}] (known: {})",
+                    known.join(", ")
+                )));
+            };
+            let table = value
+                .as_table()
+                .ok_or_else(|| err(format!("[{name}] must be a table of numbers")))?;
+            let mut keys = Vec::new();
+            for (key, v) in table {
+                let Some(i) = params.iter().position(|p| p.name == key) else {
+                    let known: Vec<&str> = params.iter().map(|p| p.name).collect();
+                    return Err(err(format!(
+                        "unknown key {key} in [{name}] (known: {})",
+                        known.join(", ")
+                    )));
+                };
+                let x = v
+                    .as_float()
+                    .or_else(|| v.as_integer().map(|n| n as f64))
+                    .ok_or_else(|| err(format!("[{name}] {key} must be a number")))?;
+                keys.push((i, x));
+            }
+            out.push((kind, keys));
+        }
+        Ok(out)
+    }
+
+    /// Whether the file has tables of extra terms (which only the commands that run an
+    /// assembled model read).
+    pub fn has_terms(&self) -> bool {
+        !self.terms.is_empty()
+    }
+
+    /// The model these tables give on top of the study's with `p`: each term's table, its
+    /// missing keys at their defaults, checked against the parameters' domains.
+    pub fn model(&self, p: &crate::Params, path: &Path) -> Result<crate::model::Model> {
+        use crate::model::terms::AnyTerm;
+        let mut m = crate::model::Model::study(p);
+        for (kind, keys) in self.term_tables(path)? {
+            let params = AnyTerm::KINDS
+                .iter()
+                .find(|k| k.0 == kind)
+                .map_or(&[][..], |k| k.2);
+            let mut values: Vec<f64> = params.iter().map(|q| q.default).collect();
+            for (i, x) in keys {
+                values[i] = x;
+            }
+            m = m.with_term(AnyTerm::new(kind, &values)?)?;
+        }
+        Ok(m)
     }
 }
 

@@ -4,7 +4,7 @@ use crate::error::Result;
 use crate::fast::stable_equilibrium;
 use crate::integrate::events::{Detector, Direction};
 use crate::integrate::{AnyDense, DenseOutput, Grid, Options, Stats, Stepper, System, stepper};
-use crate::model::Dimensionless;
+use crate::model::{Description, Dimensionless, Model};
 use crate::params::Params;
 use serde::Serialize;
 
@@ -87,7 +87,9 @@ pub fn simulate(
     let y0 = checked_start(p, opts)?;
     let mut grid = Grid::new(0.0, opts.t_end, opts.dt)?;
     grid.start(&y0, &mut out);
-    let summary = run(p, opts, y0, |d, y_end| grid.fill(d, y_end, &mut out))?;
+    let summary = run(&Dimensionless::new(*p), opts, y0, |d, y_end| {
+        grid.fill(d, y_end, &mut out)
+    })?;
     grid.finish(&summary.final_state, &mut out);
     Ok(summary)
 }
@@ -103,7 +105,44 @@ pub fn simulate(
 /// assert_eq!(alone, simulate(&p, &opts, |_, _| {}).unwrap());
 /// ```
 pub fn summarize(p: &Params, opts: &SimOptions, mut at: impl FnMut(f64)) -> Result<SimSummary> {
-    run(p, opts, checked_start(p, opts)?, |d, _| at(d.t_end()))
+    run(
+        &Dimensionless::new(*p),
+        opts,
+        checked_start(p, opts)?,
+        |d, _| at(d.t_end()),
+    )
+}
+
+/// [`simulate`] for a model assembled from terms ([`Model`]): the same grid, start rules and
+/// summary, every method derived from the model's terms. The equilibrium start is the model's
+/// ([`Model::stable_equilibrium`] at a = 0).
+///
+/// ```
+/// use hdgear::{Params, model::{Model, terms::AnyTerm}, simulate::{SimOptions, simulate_model}};
+/// let m = Model::study(&Params::default())
+///     .with_term(AnyTerm::new("friction", &[0.05, 0.01]).unwrap())
+///     .unwrap();
+/// let opts = SimOptions { t_end: 100.0, ..SimOptions::default() };
+/// let s = simulate_model(&m, &opts, |_, _| {}).unwrap();
+/// assert_eq!(s.t_end, 100.0);
+/// ```
+pub fn simulate_model(
+    m: &Model,
+    opts: &SimOptions,
+    mut out: impl FnMut(f64, &[f64; 2]),
+) -> Result<SimSummary> {
+    m.check()?;
+    crate::integrate::check_budget(opts.t_end, &opts.tol)?;
+    let y0 = match opts.start {
+        Start::Equilibrium => [m.stable_equilibrium(0.0)?, 0.0],
+        Start::Rest => [0.0, 0.0],
+        Start::Given { x0, v0 } => [x0, v0],
+    };
+    let mut grid = Grid::new(0.0, opts.t_end, opts.dt)?;
+    grid.start(&y0, &mut out);
+    let summary = run(m, opts, y0, |d, y_end| grid.fill(d, y_end, &mut out))?;
+    grid.finish(&summary.final_state, &mut out);
+    Ok(summary)
 }
 
 /// The checks both entry points make first (usable parameters, a run the step budget can reach),
@@ -120,14 +159,13 @@ fn checked_start(p: &Params, opts: &SimOptions) -> Result<[f64; 2]> {
 /// far ([`crate::integrate::DenseOutput::abs_bound`]) cannot hold a larger one and is not searched
 /// (the bound is a sum of positive terms, rounded by at most (order + 1)·2⁻⁵³ relative: 1e-14 of
 /// margin covers it). That saves four evaluations of the polynomial and four sines on most steps.
-fn run(
-    p: &Params,
+fn run<S: System<2>>(
+    sys: &S,
     opts: &SimOptions,
     y0: [f64; 2],
     mut each: impl FnMut(&AnyDense<2>, &[f64; 2]),
 ) -> Result<SimSummary> {
-    let sys = Dimensionless::new(*p);
-    let mut solver = stepper(&sys, 0.0, y0, opts.tol)?;
+    let mut solver = stepper(sys, 0.0, y0, opts.tol)?;
     let mut extrema = Detector::new(|t, y: &[f64; 2]| sys.rhs(t, y)[1], Direction::Either);
     let mut max_v = y0[1].abs();
     while solver.t() < opts.t_end {
@@ -173,6 +211,9 @@ pub struct SummaryReport {
     pub max_abs_xdot: f64,
     /// Remarks on the parameter set, as text.
     pub warnings: Vec<String>,
+    /// The assembled model, when it has terms beyond the study's.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub model: Option<Description>,
 }
 
 impl SimSummary {
@@ -188,17 +229,21 @@ impl SimSummary {
             stats: self.stats,
             max_abs_xdot: self.max_abs_xdot,
             warnings: warnings.iter().map(ToString::to_string).collect(),
+            model: None,
         }
     }
 }
 
 /// What produced a trajectory: the `meta` of its JSON output.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Setup {
     /// The parameters.
     pub params: Params,
     /// The run's options.
     pub options: SimOptions,
+    /// The assembled model, when it has terms beyond the study's.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub model: Option<Description>,
 }
 
 /// Integrates `periods` slow periods from the default start (the stable equilibrium at a = 0, at

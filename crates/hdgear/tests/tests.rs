@@ -7,6 +7,7 @@ mod common;
 mod burst;
 mod fast;
 mod integrate;
+mod model;
 mod output;
 mod periodic;
 mod physical;

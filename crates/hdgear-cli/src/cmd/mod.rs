@@ -10,6 +10,7 @@ mod equilibria;
 mod frequency;
 mod lyapunov;
 mod merge;
+mod model;
 mod periodic;
 mod physical;
 mod plot;
@@ -26,6 +27,7 @@ use anyhow::Result;
 pub fn run(cli: Cli) -> Result<()> {
     match cli.command {
         Command::Simulate(a) => simulate::run(a.check()?),
+        Command::Model(a) => model::run(a),
         Command::Equilibria(a) => equilibria::run(a),
         Command::Analyze(a) => analyze::run(a),
         Command::Bifurcation(a) => bifurcation::run(a),

@@ -27,11 +27,12 @@ fn simulate_into<W: Write + Send>(
     let meta = hdgear::simulate::Setup {
         params: p,
         options: run.opts,
+        model: run.model.map(|m| m.describe()),
     };
     let mut table = RecordWriter::<_, Sample>::new(sink, format, &meta)?;
     let mut io_err: Option<std::io::Error> = None;
     let mut progress = RunProgress::new(run.opts.t_end, run.opts.t_end);
-    let summary = hdgear::simulate::simulate(&p, &run.opts, |t, y| {
+    let each = |t: f64, y: &[f64; 2]| {
         progress.at(t);
         if io_err.is_none()
             && let Err(e) = table.row(&Sample {
@@ -43,7 +44,11 @@ fn simulate_into<W: Write + Send>(
         {
             io_err = Some(e);
         }
-    })?;
+    };
+    let summary = match &run.model {
+        Some(m) => hdgear::simulate::simulate_model(m, &run.opts, each)?,
+        None => hdgear::simulate::simulate(&p, &run.opts, each)?,
+    };
     if let Some(e) = io_err {
         return Err(e).context("writing the trajectory");
     }
@@ -55,9 +60,13 @@ pub fn run(run: SimulateRun) -> Result<()> {
     warn(&run.warnings);
     if run.summary {
         let mut progress = RunProgress::new(run.opts.t_end, run.opts.t_end);
-        let s = hdgear::simulate::summarize(&run.params, &run.opts, |t| progress.at(t))?;
+        let s = match &run.model {
+            Some(m) => hdgear::simulate::simulate_model(m, &run.opts, |t, _| progress.at(t))?,
+            None => hdgear::simulate::summarize(&run.params, &run.opts, |t| progress.at(t))?,
+        };
         drop(progress);
-        let doc = s.report(&run.params, &run.warnings);
+        let mut doc = s.report(&run.params, &run.warnings);
+        doc.model = run.model.map(|m| m.describe());
         crate::sink::outln!("{}", serde_json::to_string_pretty(&doc)?);
         return Ok(());
     }

@@ -5,6 +5,7 @@
 
 use crate::error::Result;
 use crate::integrate::Options;
+use crate::model::{Model, ModelParam};
 use crate::params::{Param, Params};
 use std::fmt;
 
@@ -222,5 +223,34 @@ impl Oscillator for Params {
             }
         }
         true
+    }
+}
+
+/// A model assembled from terms, through the same seam: every derivative from its terms.
+impl Oscillator for Model {
+    type Param = ModelParam;
+    fn omega(&self) -> f64 {
+        self.forcing()[2]
+    }
+    fn accel(&self, phase: f64, x: f64, v: f64) -> f64 {
+        Model::accel(self, phase, x, v)
+    }
+    fn accel_gradient(&self, _phase: f64, x: f64, v: f64) -> [f64; 2] {
+        Model::accel_gradient(self, x, v)
+    }
+    fn accel_derivative(&self, param: ModelParam, phase: f64, x: f64, v: f64) -> f64 {
+        Model::accel_derivative(self, param, phase, x, v)
+    }
+    fn get(&self, param: ModelParam) -> f64 {
+        Model::get(self, param)
+    }
+    fn with(&self, param: ModelParam, value: f64) -> Result<Model> {
+        Model::with(self, param, value)
+    }
+    fn is_frequency(param: ModelParam) -> bool {
+        param.is_frequency()
+    }
+    fn check(&self) -> Result<()> {
+        Model::check(self)
     }
 }

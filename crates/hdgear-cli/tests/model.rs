@@ -1,0 +1,121 @@
+//! `hdgear model` and the scenario's term tables: the assembled model printed, simulated, and
+//! refused where a command runs the study's model only.
+
+use crate::common::{hdgear, json_of};
+use predicates::prelude::*;
+
+fn scenario(dir: &std::path::Path, name: &str, text: &str) -> String {
+    let path = dir.join(name);
+    std::fs::write(&path, text).unwrap();
+    path.to_str().unwrap().to_string()
+}
+
+#[test]
+fn model_prints_the_study_and_its_derived_facts() {
+    let d = json_of(&["model", "--json"]);
+    assert_eq!(
+        d["equation"],
+        "x'' + x' + αx³ − x² + γ(x − ε) = μ + δ sin ωτ"
+    );
+    let f = &d["facts"];
+    assert_eq!(f["damping_at_rest"], 1.0);
+    assert_eq!(f["focus_node_threshold"], 0.25);
+    assert_eq!(f["decay_time"], 2.0);
+    assert_eq!(f["hopf_possible"], false);
+    let names: Vec<&str> = d["parameters"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| p["name"].as_str().unwrap())
+        .collect();
+    assert_eq!(names, ["mu", "delta", "omega", "alpha", "gamma", "eps"]);
+    hdgear()
+        .args(["model"])
+        .assert()
+        .success()
+        .stdout(predicate::str::contains("focus above g' = c²/4 = 0.25"));
+}
+
+#[test]
+fn a_friction_table_adds_the_term_to_model_and_simulate() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = scenario(
+        dir.path(),
+        "f.toml",
+        "[params]\ngamma = 1\n[friction]\nfc = 0.1\nvs = 0.05\n",
+    );
+    let d = json_of(&["model", "--json", "--config", &f]);
+    assert_eq!(d["facts"]["damping_at_rest"], 3.0);
+    assert!(d["equation"].as_str().unwrap().contains("f_c·tanh(x'/v_s)"));
+    // a missing key takes its default
+    let g = scenario(dir.path(), "g.toml", "[friction]\nfc = 0.2\n");
+    let d = json_of(&["model", "--json", "--config", &g]);
+    assert_eq!(d["parameters"][7]["value"], 0.01);
+    // simulate runs the assembled model; with f_c = 0 it is the study's to the tolerance
+    let zero = scenario(
+        dir.path(),
+        "z.toml",
+        "[params]\ngamma = 1\n[friction]\nfc = 0\n",
+    );
+    let run = |cfg: Option<&str>| {
+        let mut args = vec!["simulate", "--summary", "--gamma", "1", "--t-end", "500"];
+        if let Some(c) = cfg {
+            args.extend(["--config", c]);
+        }
+        json_of(&args)
+    };
+    let (a, b, c) = (run(None), run(Some(&zero)), run(Some(&f)));
+    assert!(a.get("model").is_none() && b["model"]["terms"][2]["kind"] == "friction");
+    for key in ["x", "xdot"] {
+        let (x, y) = (
+            a["final"][key].as_f64().unwrap(),
+            b["final"][key].as_f64().unwrap(),
+        );
+        assert!((x - y).abs() < 1e-8, "{key}: {x} vs {y}");
+    }
+    // friction lowers the largest rate
+    assert!(c["max_abs_xdot"].as_f64().unwrap() < a["max_abs_xdot"].as_f64().unwrap());
+}
+
+#[test]
+fn term_tables_are_refused_where_they_would_be_ignored_and_bad_ones_named() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = scenario(dir.path(), "f.toml", "[friction]\nfc = 0.1\n");
+    for (args, needle) in [
+        (
+            vec!["analyze", "--config", &f],
+            "[friction] table is a term of the model",
+        ),
+        (
+            vec!["physical", "--config", &f],
+            "[friction] table is a term of the dimensionless model",
+        ),
+    ] {
+        hdgear()
+            .args(&args)
+            .assert()
+            .code(2)
+            .stderr(predicate::str::contains(needle));
+    }
+    for (text, needle) in [
+        (
+            "[frction]\nfc = 1\n",
+            "unknown table [frction] (known: params, physical, friction, stribeck)",
+        ),
+        (
+            "[friction]\nv = 1\n",
+            "unknown key v in [friction] (known: fc, vs)",
+        ),
+        ("[friction]\nfc = \"x\"\n", "[friction] fc must be a number"),
+        ("[friction]\nfc = -1\n", "fc = -1.0"),
+        ("[stiffness]\nalpha = 1\n", "unknown table [stiffness]"),
+        ("friction = 3\n", "[friction] must be a table"),
+    ] {
+        let s = scenario(dir.path(), "s.toml", text);
+        hdgear()
+            .args(["model", "--config", &s])
+            .assert()
+            .code(2)
+            .stderr(predicate::str::contains(needle));
+    }
+}

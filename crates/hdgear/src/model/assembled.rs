@@ -1,0 +1,462 @@
+//! A drive model assembled from terms ([`Model`]): x'' + Σ T_i(x, x') = μ + δ sin ωτ, unit
+//! inertia. Its right-hand side, Jacobian, Taylor coefficients, parameter derivatives and the
+//! facts of its fast subsystem are derived from the terms' own definitions
+//! ([`super::terms::Term`]); nothing here restates a term.
+
+use super::terms::{AnyTerm, Damping, Domain, MAX_ROWS, ParamInfo, Scratch, Stiffness};
+use crate::error::{Error, Result};
+use crate::integrate::System;
+use crate::params::Params;
+use serde::Serialize;
+use std::fmt;
+
+/// The most terms one model holds.
+pub const MAX_TERMS: usize = 6;
+
+/// The forcing's parameters: μ, δ, ω of μ + δ sin ωτ.
+pub const FORCING: [ParamInfo; 3] = [
+    ParamInfo {
+        name: "mu",
+        symbol: "μ",
+        latex: r"\mu",
+        meaning: "mean load",
+        domain: Domain::Any,
+        default: 0.07,
+        si: "k2·φ·J_eq²·T_m/C⁴",
+    },
+    ParamInfo {
+        name: "delta",
+        symbol: "δ",
+        latex: r"\delta",
+        meaning: "amplitude of the slow disturbance",
+        domain: Domain::NonNegative,
+        default: 15.0,
+        si: "k2·φ·J_eq³·T_am/(J_o·C⁴)",
+    },
+    ParamInfo {
+        name: "omega",
+        symbol: "ω",
+        latex: r"\omega",
+        meaning: "frequency of the slow disturbance",
+        domain: Domain::Positive,
+        default: 0.01,
+        si: "Ω·J_eq/C",
+    },
+];
+
+/// A drive model: unit inertia, a list of terms (torques on the left-hand side) and the forcing
+/// μ + δ sin ωτ on the right. `Copy` and stack-only, like [`Params`].
+///
+/// ```
+/// use hdgear::model::{Model, terms::AnyTerm};
+/// use hdgear::Params;
+/// let m = Model::study(&Params::default())
+///     .with_term(AnyTerm::new("friction", &[0.05, 0.01]).unwrap())
+///     .unwrap();
+/// assert_eq!(m.equation(), "x'' + x' + αx³ − x² + γ(x − ε) + f_c·tanh(x'/v_s) = μ + δ sin ωτ");
+/// // the friction's slope at rest adds to the unit damping: the focus/node threshold moves
+/// let facts = m.facts();
+/// assert!((facts.damping_at_rest - 6.0).abs() < 1e-12);
+/// assert!((facts.focus_node_threshold - 9.0).abs() < 1e-12);
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Model {
+    /// μ, δ, ω.
+    forcing: [f64; 3],
+    terms: [Option<AnyTerm>; MAX_TERMS],
+}
+
+/// One parameter of a [`Model`]: the forcing's (`term` = None) or term `term`'s `index`-th.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ModelParam {
+    term: Option<u8>,
+    index: u8,
+    name: &'static str,
+}
+
+impl ModelParam {
+    /// The name users write.
+    pub fn name(self) -> &'static str {
+        self.name
+    }
+
+    /// Whether it is the forcing frequency ω (which enters only through the phase ωτ).
+    pub fn is_frequency(self) -> bool {
+        self.term.is_none() && self.index == 2
+    }
+}
+
+impl fmt::Display for ModelParam {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.pad(self.name)
+    }
+}
+
+/// A parameter of a model with its value, as `hdgear model` lists it.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct ParamValue {
+    /// The term it belongs to (`forcing` for μ, δ, ω).
+    pub term: &'static str,
+    /// Its definition.
+    #[serde(flatten)]
+    pub info: ParamInfo,
+    /// Its value in this model.
+    pub value: f64,
+}
+
+/// What follows from a model's terms for its fast subsystem x'' + Σ T(x, x') = a (the forcing
+/// frozen at a): its equilibria have x' = 0 and Jacobian [[0, 1], [−g'(x), −c(x)]] with
+/// g'(x) = Σ ∂T/∂x and c(x) = Σ ∂T/∂x' at x' = 0.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Facts {
+    /// c, the damping at rest (−trace of the fast Jacobian at an equilibrium); the smallest over
+    /// the sampled x where it varies.
+    pub damping_at_rest: f64,
+    /// Whether c is the same at every sampled x (to 1e-12 relative): then the values below hold
+    /// at every equilibrium.
+    pub damping_uniform: bool,
+    /// Whether a Hopf bifurcation of the fast subsystem is possible: only where c ≤ 0 can the
+    /// trace of its Jacobian cross zero.
+    pub hopf_possible: bool,
+    /// The slope g' above which an equilibrium is a focus (complex eigenvalues): c²/4.
+    pub focus_node_threshold: f64,
+    /// 2/c: the e-folding time of an oscillation about a focus (its amplitude decays as
+    /// e^{−cτ/2}).
+    pub decay_time: f64,
+    /// ω times the decay time: how far the forcing's phase moves while a focus's ringing decays
+    /// (the fast-slow picture needs it small).
+    pub omega_decay: f64,
+}
+
+/// A model described for people and programs: what `hdgear model` prints.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Description {
+    /// The equation as text.
+    pub equation: String,
+    /// The equation in LaTeX.
+    pub latex: String,
+    /// The states, in the order the integrators hold them.
+    pub states: [&'static str; 2],
+    /// The terms, in order, each with its kind and parameter values.
+    pub terms: Vec<AnyTerm>,
+    /// Every parameter with its definition and value.
+    pub parameters: Vec<ParamValue>,
+    /// The facts of the fast subsystem derived from the terms.
+    pub facts: Facts,
+}
+
+impl Model {
+    /// The model's [`Description`].
+    pub fn describe(&self) -> Description {
+        Description {
+            equation: self.equation(),
+            latex: self.latex(),
+            states: ["x", "x'"],
+            terms: self.terms().copied().collect(),
+            parameters: self.param_values(),
+            facts: self.facts(),
+        }
+    }
+
+    /// The study's model x'' + x' + αx³ − x² + γ(x − ε) = μ + δ sin ωτ with `p`'s values.
+    pub fn study(p: &Params) -> Model {
+        let mut terms = [None; MAX_TERMS];
+        terms[0] = Some(AnyTerm::Damping(Damping::default()));
+        terms[1] = Some(AnyTerm::Stiffness(Stiffness([p.alpha, p.gamma, p.eps])));
+        Model {
+            forcing: [p.mu, p.delta, p.omega],
+            terms,
+        }
+    }
+
+    /// The model with one more term; refused when a term of its kind is already there, when a
+    /// parameter name would be taken twice, or when the model is full ([`MAX_TERMS`]).
+    pub fn with_term(mut self, term: AnyTerm) -> Result<Model> {
+        let refuse = |reason: String| Error::InvalidInput {
+            what: "model term",
+            text: term.kind().to_string(),
+            reason,
+        };
+        for p in term.params() {
+            if let Ok(q) = self.param(p.name) {
+                return Err(refuse(format!(
+                    "its parameter {} is taken by the model's {}",
+                    p.name,
+                    self.owner(q)
+                )));
+            }
+        }
+        if self.terms().any(|t| t.kind() == term.kind()) {
+            return Err(refuse("the model has one already".into()));
+        }
+        let slot = self.terms.iter_mut().find(|t| t.is_none());
+        *slot.ok_or_else(|| refuse(format!("a model holds at most {MAX_TERMS} terms")))? =
+            Some(term);
+        Ok(self)
+    }
+
+    /// The model's terms, in order.
+    pub fn terms(&self) -> impl Iterator<Item = &AnyTerm> {
+        self.terms.iter().flatten()
+    }
+
+    /// μ, δ, ω.
+    pub fn forcing(&self) -> [f64; 3] {
+        self.forcing
+    }
+
+    /// The parameter called `name` (an error lists the model's).
+    pub fn param(&self, name: &str) -> Result<ModelParam> {
+        self.params()
+            .find(|q| q.name == name)
+            .ok_or_else(|| Error::InvalidInput {
+                what: "parameter name",
+                text: name.to_string(),
+                reason: format!(
+                    "this model's are {}",
+                    self.params().map(|q| q.name).collect::<Vec<_>>().join(", ")
+                ),
+            })
+    }
+
+    /// Every parameter, the forcing's first.
+    pub fn params(&self) -> impl Iterator<Item = ModelParam> + '_ {
+        let forcing = FORCING.iter().enumerate().map(|(i, p)| ModelParam {
+            term: None,
+            index: i as u8,
+            name: p.name,
+        });
+        let terms = self.terms.iter().enumerate().flat_map(|(t, term)| {
+            term.iter().flat_map(move |term| {
+                term.params()
+                    .iter()
+                    .enumerate()
+                    .map(move |(i, p)| ModelParam {
+                        term: Some(t as u8),
+                        index: i as u8,
+                        name: p.name,
+                    })
+            })
+        });
+        forcing.chain(terms)
+    }
+
+    /// Every parameter with its definition and value.
+    pub fn param_values(&self) -> Vec<ParamValue> {
+        self.params()
+            .map(|q| ParamValue {
+                term: self.owner(q),
+                info: self.info(q),
+                value: self.get(q),
+            })
+            .collect()
+    }
+
+    fn owner(&self, q: ModelParam) -> &'static str {
+        q.term.map_or("forcing", |t| self.term(t).kind())
+    }
+
+    fn term(&self, t: u8) -> &AnyTerm {
+        self.terms[t as usize]
+            .as_ref()
+            .expect("a ModelParam names a present term")
+    }
+
+    fn info(&self, q: ModelParam) -> ParamInfo {
+        match q.term {
+            None => FORCING[q.index as usize],
+            Some(t) => self.term(t).params()[q.index as usize],
+        }
+    }
+
+    /// A parameter's value.
+    pub fn get(&self, q: ModelParam) -> f64 {
+        match q.term {
+            None => self.forcing[q.index as usize],
+            Some(t) => self.term(t).values()[q.index as usize],
+        }
+    }
+
+    /// The model with one parameter changed, checked against its domain.
+    pub fn with(&self, q: ModelParam, value: f64) -> Result<Model> {
+        self.info(q).domain.check(q.name, value)?;
+        let mut m = *self;
+        match q.term {
+            None => m.forcing[q.index as usize] = value,
+            Some(t) => {
+                let term = self.term(t);
+                let mut values = term.values().to_vec();
+                values[q.index as usize] = value;
+                m.terms[t as usize] = Some(AnyTerm::new(term.kind(), &values)?);
+            }
+        }
+        Ok(m)
+    }
+
+    /// Checks every parameter against its domain.
+    pub fn check(&self) -> Result<()> {
+        self.params()
+            .try_for_each(|q| self.info(q).domain.check(q.name, self.get(q)))
+    }
+
+    /// x'' = μ + δ sin(phase) − Σ T(x, v).
+    #[inline]
+    pub fn accel(&self, phase: f64, x: f64, v: f64) -> f64 {
+        let [mu, delta, _] = self.forcing;
+        let torque: f64 = self.terms().map(|t| t.torque(x, v)).sum();
+        mu + delta * libm::sin(phase) - torque
+    }
+
+    /// (∂x''/∂x, ∂x''/∂v) = −Σ ∇T.
+    #[inline]
+    pub fn accel_gradient(&self, x: f64, v: f64) -> [f64; 2] {
+        self.terms().fold([0.0, 0.0], |[a, b], t| {
+            let [gx, gv] = t.gradient(x, v);
+            [a - gx, b - gv]
+        })
+    }
+
+    /// ∂x''/∂λ at fixed phase, x, v (0 for ω, which enters only through the phase).
+    pub fn accel_derivative(&self, q: ModelParam, phase: f64, x: f64, v: f64) -> f64 {
+        match (q.term, q.index) {
+            (None, 0) => 1.0,
+            (None, 1) => libm::sin(phase),
+            (None, _) => 0.0,
+            (Some(t), i) => -self.term(t).param_derivative(i as usize, x, v),
+        }
+    }
+
+    /// The static torque g(x) = Σ T(x, 0): the fast subsystem's equilibria solve g(x) = a.
+    pub fn static_torque(&self, x: f64) -> f64 {
+        self.terms().map(|t| t.torque(x, 0.0)).sum()
+    }
+
+    /// Whether the model has terms beyond the study's (damping and stiffness).
+    pub fn has_extra_terms(&self) -> bool {
+        let study = Model::study(&Params::default());
+        self.terms()
+            .any(|t| study.terms().all(|s| s.kind() != t.kind()))
+    }
+
+    /// The lowest stable equilibrium of the fast subsystem at slow variable a: the lowest root of
+    /// g(x) = μ + δa with g'(x) > 0 and damping c(x) > 0 (g = [`Model::static_torque`]). Found
+    /// without the cubic's closed forms, so for any terms: the range [−R, R] doubled until g
+    /// brackets the level there (the confining stiffness makes it), 4096 samples across it, each
+    /// sign change refined by Brent's method to the resolution of f64.
+    pub fn stable_equilibrium(&self, a: f64) -> Result<f64> {
+        let [mu, delta, _] = self.forcing;
+        let level = mu + delta * a;
+        let f = |x: f64| self.static_torque(x) - level;
+        let mut r = 1.0_f64;
+        while !(f(-r) < 0.0 && f(r) > 0.0) {
+            r *= 2.0;
+            if r > 1e150 {
+                return Err(Error::InvalidInput {
+                    what: "model",
+                    text: self.equation(),
+                    reason: format!(
+                        "its static torque does not confine x: no equilibrium at a = {a}"
+                    ),
+                });
+            }
+        }
+        const SAMPLES: usize = 4096;
+        let x = |i: usize| -r + 2.0 * r * i as f64 / SAMPLES as f64;
+        let mut lo = (x(0), f(x(0)));
+        let mut roots = Vec::new();
+        for i in 1..=SAMPLES {
+            let hi = (x(i), f(x(i)));
+            if lo.1 == 0.0 {
+                roots.push(lo.0);
+            } else if lo.1 * hi.1 < 0.0 {
+                let tol = 4.0 * f64::EPSILON * lo.0.abs().max(hi.0.abs());
+                roots.push(crate::roots::brent(f, lo.0, lo.1, hi.0, hi.1, tol));
+            }
+            lo = hi;
+        }
+        let stable = |x: f64| {
+            let [ax, av] = self.accel_gradient(x, 0.0);
+            -ax > 0.0 && -av > 0.0
+        };
+        Ok(roots
+            .iter()
+            .copied()
+            .find(|&x| stable(x))
+            .or(roots.first().copied())
+            .expect("g − level changes sign on [−R, R]"))
+    }
+
+    /// The fast subsystem's facts ([`Facts`]), from the terms' gradients at rest.
+    pub fn facts(&self) -> Facts {
+        // c(x) over x ∈ [−10, 10] (every equilibrium of the study's sets lies in |x| < 2; a term
+        // whose damping at rest varies with x shows it here)
+        let cs: Vec<f64> = (0..=40)
+            .map(|i| -self.accel_gradient(-10.0 + 0.5 * i as f64, 0.0)[1])
+            .collect();
+        let (lo, hi) = cs
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &c| {
+                (l.min(c), h.max(c))
+            });
+        let c = lo;
+        Facts {
+            damping_at_rest: c,
+            damping_uniform: hi - lo <= 1e-12 * hi.abs().max(1.0),
+            hopf_possible: c <= 0.0,
+            focus_node_threshold: c * c / 4.0,
+            decay_time: 2.0 / c,
+            omega_decay: self.forcing[2] * 2.0 / c,
+        }
+    }
+
+    /// The equation as text: x'' + terms = μ + δ sin ωτ.
+    pub fn equation(&self) -> String {
+        let lhs: String = self.terms().map(|t| t.text()).collect();
+        format!("x''{lhs} = μ + δ sin ωτ")
+    }
+
+    /// The equation in LaTeX.
+    pub fn latex(&self) -> String {
+        let lhs: String = self.terms().map(|t| t.latex()).collect();
+        format!(r"\ddot x{lhs} = \mu + \delta \sin \omega\tau")
+    }
+}
+
+/// The model as a first-order system in (x, v = x'), every method derived from the terms.
+impl System<2> for Model {
+    #[inline]
+    fn rhs(&self, t: f64, y: &[f64; 2]) -> [f64; 2] {
+        [y[1], self.accel(self.forcing[2] * t, y[0], y[1])]
+    }
+    fn jacobian(&self, _t: f64, y: &[f64; 2]) -> Option<[[f64; 2]; 2]> {
+        let [ax, av] = self.accel_gradient(y[0], y[1]);
+        Some([[0.0, 1.0], [ax, av]])
+    }
+    /// x_{k+1} = v_k/(k+1), v_{k+1} = (μ[k=0] + δ s_k − Σ_i T_{i,k})/(k+1), each term's T_k by
+    /// its own recurrence ([`super::terms::Term::taylor`]), s_k sin ωt's in closed form.
+    fn taylor(&self, t: f64, y: &[f64; 2], order: usize, c: &mut [[f64; 2]]) -> bool {
+        use crate::integrate::taylor::{INV, MAX_ORDER, forcing_coefficients};
+        let n = order.min(MAX_ORDER).min(c.len() - 1);
+        let [mu, delta, omega] = self.forcing;
+        let mut f = [0.0; MAX_ROWS];
+        forcing_coefficients(delta, omega, t, n, &mut f);
+        f[0] += mu;
+        let (mut x, mut v) = ([0.0; MAX_ROWS], [0.0; MAX_ROWS]);
+        let mut rows = [Scratch::default(); MAX_TERMS];
+        (x[0], v[0]) = (y[0], y[1]);
+        for k in 0..n {
+            let mut acc = f[k];
+            for (term, r) in self.terms.iter().zip(rows.iter_mut()) {
+                if let Some(term) = term {
+                    acc -= term.taylor(k, &x, &v, r);
+                }
+            }
+            x[k + 1] = v[k] * INV[k];
+            v[k + 1] = acc * INV[k];
+        }
+        for (k, ck) in c.iter_mut().enumerate().take(n + 1) {
+            *ck = [x[k], v[k]];
+        }
+        true
+    }
+}

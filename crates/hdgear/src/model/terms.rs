@@ -1,0 +1,495 @@
+//! The terms a drive model is assembled from: each a torque T(x, x') on the left-hand side of
+//! x'' + Σ T = μ + δ sin ωτ, with its parameters and, in one place, everything the machines
+//! need of it ([`Term`]).
+
+use super::jet::{exp_coefficient, square_coefficient, tanh_coefficient};
+use crate::error::{Error, Result};
+use serde::Serialize;
+
+/// Rows kept per Taylor coefficient row: orders 0..=[`crate::integrate::taylor::MAX_ORDER`].
+pub const MAX_ROWS: usize = crate::integrate::taylor::MAX_ORDER + 1;
+
+/// A term's own Taylor rows (the coefficients of its intermediate functions, kept from order to
+/// order by [`Term::taylor`]).
+#[derive(Clone, Copy, Debug)]
+pub struct Scratch(pub [[f64; MAX_ROWS]; 5]);
+
+impl Default for Scratch {
+    fn default() -> Self {
+        Scratch([[0.0; MAX_ROWS]; 5])
+    }
+}
+
+/// Where a parameter may lie.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Domain {
+    /// Any finite value.
+    Any,
+    /// A finite value > 0.
+    Positive,
+    /// A finite value ≥ 0.
+    NonNegative,
+}
+
+impl Domain {
+    /// The rule in words, as error messages and `hdgear model` show it.
+    pub fn text(self) -> &'static str {
+        match self {
+            Domain::Any => "finite",
+            Domain::Positive => "> 0",
+            Domain::NonNegative => "≥ 0",
+        }
+    }
+
+    /// Checks `value` of the parameter `name` (an error names both).
+    pub fn check(self, name: &str, value: f64) -> Result<()> {
+        let ok = value.is_finite()
+            && match self {
+                Domain::Any => true,
+                Domain::Positive => value > 0.0,
+                Domain::NonNegative => value >= 0.0,
+            };
+        if ok {
+            Ok(())
+        } else {
+            Err(Error::InvalidParameter {
+                name: name.to_string(),
+                value,
+                reason: match self {
+                    Domain::Any => "must be finite",
+                    Domain::Positive => "must be finite and > 0",
+                    Domain::NonNegative => "must be finite and ≥ 0",
+                },
+            })
+        }
+    }
+}
+
+/// One parameter of a term: the one definition its name, symbol, meaning, domain and default are
+/// read from.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct ParamInfo {
+    /// The name users write (flag, TOML key, keyword argument).
+    pub name: &'static str,
+    /// Its symbol in the equation's text.
+    pub symbol: &'static str,
+    /// Its symbol in LaTeX.
+    pub latex: &'static str,
+    /// What it is.
+    pub meaning: &'static str,
+    /// Where it may lie.
+    pub domain: Domain,
+    /// Its default value.
+    pub default: f64,
+    /// What it is in SI terms (the scale it is measured on).
+    pub si: &'static str,
+}
+
+/// A torque contribution T(x, x') to the left-hand side of the drive's equation: the one place
+/// its value, derivatives, Taylor recurrence, parameters and text are defined; every machine
+/// ([`super::Model`]) is derived from these.
+pub trait Term: Copy {
+    /// The term's kind: its table name in scenario files (`[friction]`).
+    const KIND: &'static str;
+    /// What the term models, in a line.
+    const ABOUT: &'static str;
+    /// Its parameters, in the order of [`Term::values`].
+    const PARAMS: &'static [ParamInfo];
+    /// The term with these parameter values (in [`Term::PARAMS`] order; the caller checks
+    /// their count and domains).
+    fn from_values(values: &[f64]) -> Self;
+    /// Its parameter values, in [`Term::PARAMS`] order.
+    fn values(&self) -> &[f64];
+    /// T(x, v).
+    fn torque(&self, x: f64, v: f64) -> f64;
+    /// (∂T/∂x, ∂T/∂v).
+    fn gradient(&self, x: f64, v: f64) -> [f64; 2];
+    /// ∂T/∂p for parameter `i` of [`Term::PARAMS`].
+    fn param_derivative(&self, i: usize, x: f64, v: f64) -> f64;
+    /// Row k of T's normalised Taylor coefficients along a solution whose x and v rows 0..=k are
+    /// given; `rows` keeps the term's own intermediate rows from order to order (called for
+    /// k = 0, 1, 2, … in turn with the same `rows`).
+    fn taylor(&self, k: usize, x: &[f64], v: &[f64], rows: &mut Scratch) -> f64;
+    /// The term in the equation's text (`x'` the velocity), with a leading sign.
+    fn text(&self) -> String;
+    /// The term in LaTeX, with a leading sign.
+    fn latex(&self) -> String;
+}
+
+/// Unit linear damping x' (the dimensionless time scale makes its coefficient 1).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct Damping([f64; 0]);
+
+impl Term for Damping {
+    const KIND: &'static str = "damping";
+    const ABOUT: &'static str = "unit linear damping x' (the time scale makes it 1)";
+    const PARAMS: &'static [ParamInfo] = &[];
+    fn from_values(_: &[f64]) -> Self {
+        Damping([])
+    }
+    fn values(&self) -> &[f64] {
+        &self.0
+    }
+    fn torque(&self, _x: f64, v: f64) -> f64 {
+        v
+    }
+    fn gradient(&self, _x: f64, _v: f64) -> [f64; 2] {
+        [0.0, 1.0]
+    }
+    fn param_derivative(&self, _i: usize, _x: f64, _v: f64) -> f64 {
+        0.0
+    }
+    fn taylor(&self, k: usize, _x: &[f64], v: &[f64], _rows: &mut Scratch) -> f64 {
+        v[k]
+    }
+    fn text(&self) -> String {
+        " + x'".into()
+    }
+    fn latex(&self) -> String {
+        r" + \dot x".into()
+    }
+}
+
+/// The study's stiffness g(x) = αx³ − x² + γ(x − ε): the flexspline's cubic hardening, the
+/// quadratic of the tooth contact and the linear stiffness with its backlash offset.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Stiffness(pub [f64; 3]);
+
+impl Term for Stiffness {
+    const KIND: &'static str = "stiffness";
+    const ABOUT: &'static str = "cubic stiffness with backlash offset, αx³ − x² + γ(x − ε)";
+    const PARAMS: &'static [ParamInfo] = &[
+        ParamInfo {
+            name: "alpha",
+            symbol: "α",
+            latex: r"\alpha",
+            meaning: "cubic stiffness (what confines the motion)",
+            domain: Domain::Positive,
+            default: 16.0,
+            si: "C²/(k2·φ²·J_eq)",
+        },
+        ParamInfo {
+            name: "gamma",
+            symbol: "γ",
+            latex: r"\gamma",
+            meaning: "linear stiffness",
+            domain: Domain::Any,
+            default: 0.1,
+            si: "k1·J_eq/C²",
+        },
+        ParamInfo {
+            name: "eps",
+            symbol: "ε",
+            latex: r"\varepsilon",
+            meaning: "backlash offset of the linear term",
+            domain: Domain::Any,
+            default: 0.71,
+            si: "k2·φ²·J_eq/C²",
+        },
+    ];
+    fn from_values(v: &[f64]) -> Self {
+        Stiffness([v[0], v[1], v[2]])
+    }
+    fn values(&self) -> &[f64] {
+        &self.0
+    }
+    fn torque(&self, x: f64, _v: f64) -> f64 {
+        let [alpha, gamma, eps] = self.0;
+        (alpha * x - 1.0) * x * x + gamma * (x - eps)
+    }
+    fn gradient(&self, x: f64, _v: f64) -> [f64; 2] {
+        let [alpha, gamma, _] = self.0;
+        [(3.0 * alpha * x - 2.0) * x + gamma, 0.0]
+    }
+    fn param_derivative(&self, i: usize, x: f64, _v: f64) -> f64 {
+        let [_, gamma, eps] = self.0;
+        [x * x * x, x - eps, -gamma][i]
+    }
+    /// (x²)_k by its symmetric Cauchy sum into row 0, (x³)_k = Σ (x²)_j x_{k−j}.
+    fn taylor(&self, k: usize, x: &[f64], _v: &[f64], rows: &mut Scratch) -> f64 {
+        let [alpha, gamma, eps] = self.0;
+        let sq = &mut rows.0[0];
+        sq[k] = square_coefficient(x, k);
+        let cube = super::jet::cauchy(sq, x, k);
+        let linear = gamma * x[k] - if k == 0 { gamma * eps } else { 0.0 };
+        alpha * cube - sq[k] + linear
+    }
+    fn text(&self) -> String {
+        " + αx³ − x² + γ(x − ε)".into()
+    }
+    fn latex(&self) -> String {
+        r" + \alpha x^3 - x^2 + \gamma (x - \varepsilon)".into()
+    }
+}
+
+/// Smooth Coulomb friction f_c·tanh(x'/v_s): a regularised sign with velocity scale v_s.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Friction(pub [f64; 2]);
+
+impl Term for Friction {
+    const KIND: &'static str = "friction";
+    const ABOUT: &'static str = "smooth Coulomb friction f_c·tanh(x'/v_s)";
+    const PARAMS: &'static [ParamInfo] = &[
+        ParamInfo {
+            name: "fc",
+            symbol: "f_c",
+            latex: "f_c",
+            meaning: "Coulomb friction torque",
+            domain: Domain::NonNegative,
+            default: 0.05,
+            si: "T_c·k2·φ·J_eq²/C⁴ (a torque on μ's scale)",
+        },
+        ParamInfo {
+            name: "vs",
+            symbol: "v_s",
+            latex: "v_s",
+            meaning: "velocity scale of the regularisation",
+            domain: Domain::Positive,
+            default: 0.01,
+            si: "θ'·k2·φ·J_eq²/C³ (a velocity on x's scale)",
+        },
+    ];
+    fn from_values(v: &[f64]) -> Self {
+        Friction([v[0], v[1]])
+    }
+    fn values(&self) -> &[f64] {
+        &self.0
+    }
+    fn torque(&self, _x: f64, v: f64) -> f64 {
+        let [fc, vs] = self.0;
+        fc * (v / vs).tanh()
+    }
+    fn gradient(&self, _x: f64, v: f64) -> [f64; 2] {
+        let [fc, vs] = self.0;
+        let t = (v / vs).tanh();
+        [0.0, fc * (1.0 - t * t) / vs]
+    }
+    fn param_derivative(&self, i: usize, _x: f64, v: f64) -> f64 {
+        let [fc, vs] = self.0;
+        let t = (v / vs).tanh();
+        [t, -fc * (1.0 - t * t) * v / (vs * vs)][i]
+    }
+    /// u = v/v_s (row 0), tanh u (row 1) and its square (row 2).
+    fn taylor(&self, k: usize, _x: &[f64], v: &[f64], rows: &mut Scratch) -> f64 {
+        let [fc, vs] = self.0;
+        let [u, t, sq, ..] = &mut rows.0;
+        u[k] = v[k] / vs;
+        t[k] = tanh_coefficient(u, sq, k);
+        sq[k] = square_coefficient(t, k);
+        fc * t[k]
+    }
+    fn text(&self) -> String {
+        " + f_c·tanh(x'/v_s)".into()
+    }
+    fn latex(&self) -> String {
+        r" + f_c \tanh(\dot x / v_s)".into()
+    }
+}
+
+/// Coulomb–Stribeck–viscous friction (f_c + (f_s − f_c)·e^{−(x'/v_s)²})·tanh(x'/v_r) + c_v·x',
+/// regularised at the velocity scale v_r.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Stribeck(pub [f64; 5]);
+
+impl Term for Stribeck {
+    const KIND: &'static str = "stribeck";
+    const ABOUT: &'static str = "Coulomb–Stribeck–viscous friction, regularised by tanh(x'/v_r)";
+    const PARAMS: &'static [ParamInfo] = &[
+        ParamInfo {
+            name: "fc",
+            symbol: "f_c",
+            latex: "f_c",
+            meaning: "Coulomb (sliding) friction torque",
+            domain: Domain::NonNegative,
+            default: 0.05,
+            si: "T·k2·φ·J_eq²/C⁴ (a torque on μ's scale)",
+        },
+        ParamInfo {
+            name: "fs",
+            symbol: "f_s",
+            latex: "f_s",
+            meaning: "static (breakaway) friction torque",
+            domain: Domain::NonNegative,
+            default: 0.08,
+            si: "T·k2·φ·J_eq²/C⁴ (a torque on μ's scale)",
+        },
+        ParamInfo {
+            name: "vst",
+            symbol: "v_st",
+            latex: r"v_{st}",
+            meaning: "Stribeck velocity",
+            domain: Domain::Positive,
+            default: 0.1,
+            si: "θ'·k2·φ·J_eq²/C³ (a velocity on x's scale)",
+        },
+        ParamInfo {
+            name: "cv",
+            symbol: "c_v",
+            latex: "c_v",
+            meaning: "viscous friction coefficient (added to the unit damping)",
+            domain: Domain::NonNegative,
+            default: 0.0,
+            si: "c_v/C (over the damping C)",
+        },
+        ParamInfo {
+            name: "vr",
+            symbol: "v_r",
+            latex: "v_r",
+            meaning: "velocity scale of the regularisation",
+            domain: Domain::Positive,
+            default: 0.01,
+            si: "θ'·k2·φ·J_eq²/C³ (a velocity on x's scale)",
+        },
+    ];
+    fn from_values(v: &[f64]) -> Self {
+        Stribeck([v[0], v[1], v[2], v[3], v[4]])
+    }
+    fn values(&self) -> &[f64] {
+        &self.0
+    }
+    fn torque(&self, _x: f64, v: f64) -> f64 {
+        let [fc, fs, vst, cv, vr] = self.0;
+        let level = fc + (fs - fc) * (-(v / vst).powi(2)).exp();
+        level * (v / vr).tanh() + cv * v
+    }
+    fn gradient(&self, _x: f64, v: f64) -> [f64; 2] {
+        let [fc, fs, vst, cv, vr] = self.0;
+        let e = (-(v / vst).powi(2)).exp();
+        let t = (v / vr).tanh();
+        let level = fc + (fs - fc) * e;
+        let dlevel = (fs - fc) * e * (-2.0 * v / (vst * vst));
+        [0.0, dlevel * t + level * (1.0 - t * t) / vr + cv]
+    }
+    fn param_derivative(&self, i: usize, _x: f64, v: f64) -> f64 {
+        let [fc, fs, vst, _, vr] = self.0;
+        let e = (-(v / vst).powi(2)).exp();
+        let t = (v / vr).tanh();
+        let level = fc + (fs - fc) * e;
+        match i {
+            0 => (1.0 - e) * t,
+            1 => e * t,
+            2 => (fs - fc) * e * 2.0 * v * v / (vst * vst * vst) * t,
+            3 => v,
+            _ => -level * (1.0 - t * t) * v / (vr * vr),
+        }
+    }
+    /// q = −(v/v_st)² (row 0), e^q (row 1), u = v/v_r (row 2), tanh u (row 3) and its square
+    /// (row 4); T_k = Σ_j (f_c[j = 0] + (f_s − f_c)e_j)·tanh_{k−j} + c_v v_k.
+    fn taylor(&self, k: usize, _x: &[f64], v: &[f64], rows: &mut Scratch) -> f64 {
+        let [fc, fs, vst, cv, vr] = self.0;
+        let [q, e, u, t, sq] = &mut rows.0;
+        q[k] = -square_coefficient(v, k) / (vst * vst);
+        e[k] = exp_coefficient(q, e, k);
+        u[k] = v[k] / vr;
+        t[k] = tanh_coefficient(u, sq, k);
+        sq[k] = square_coefficient(t, k);
+        fc * t[k] + (fs - fc) * super::jet::cauchy(e, t, k) + cv * v[k]
+    }
+    fn text(&self) -> String {
+        " + (f_c + (f_s − f_c)·exp(−(x'/v_st)²))·tanh(x'/v_r) + c_v·x'".into()
+    }
+    fn latex(&self) -> String {
+        r" + \left(f_c + (f_s - f_c) e^{-(\dot x / v_{st})^2}\right) \tanh(\dot x / v_r) + c_v \dot x"
+            .into()
+    }
+}
+
+/// Declares [`AnyTerm`] over the term types and forwards [`Term`]'s methods to them: the one
+/// list of terms hdgear has (a new term is one line here).
+macro_rules! any_term {
+    ($($variant:ident),* $(,)?) => {
+        /// Any of hdgear's terms: what a [`super::Model`] holds (stack-only, `Copy`).
+        #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+        #[serde(tag = "kind", content = "values", rename_all = "lowercase")]
+        pub enum AnyTerm {
+            $(
+                #[doc = concat!("[`", stringify!($variant), "`].")]
+                $variant($variant),
+            )*
+        }
+
+        impl AnyTerm {
+            /// The kinds of term, each with its line and parameters.
+            pub const KINDS: &'static [(&'static str, &'static str, &'static [ParamInfo])] =
+                &[$(($variant::KIND, $variant::ABOUT, $variant::PARAMS)),*];
+
+            /// The term of kind `kind` with these values (checked: their count and domains).
+            pub fn new(kind: &str, values: &[f64]) -> Result<AnyTerm> {
+                $(
+                    if kind == $variant::KIND {
+                        check_values($variant::PARAMS, values)?;
+                        return Ok(AnyTerm::$variant($variant::from_values(values)));
+                    }
+                )*
+                Err(unknown_kind(kind))
+            }
+
+            /// The term's kind.
+            pub fn kind(&self) -> &'static str {
+                match self { $(AnyTerm::$variant(_) => $variant::KIND,)* }
+            }
+            /// Its parameters.
+            pub fn params(&self) -> &'static [ParamInfo] {
+                match self { $(AnyTerm::$variant(_) => $variant::PARAMS,)* }
+            }
+            /// Its parameter values.
+            pub fn values(&self) -> &[f64] {
+                match self { $(AnyTerm::$variant(t) => t.values(),)* }
+            }
+            /// T(x, v).
+            #[inline]
+            pub fn torque(&self, x: f64, v: f64) -> f64 {
+                match self { $(AnyTerm::$variant(t) => t.torque(x, v),)* }
+            }
+            /// (∂T/∂x, ∂T/∂v).
+            #[inline]
+            pub fn gradient(&self, x: f64, v: f64) -> [f64; 2] {
+                match self { $(AnyTerm::$variant(t) => t.gradient(x, v),)* }
+            }
+            /// ∂T/∂p for its parameter `i`.
+            pub fn param_derivative(&self, i: usize, x: f64, v: f64) -> f64 {
+                match self { $(AnyTerm::$variant(t) => t.param_derivative(i, x, v),)* }
+            }
+            /// Row k of T's Taylor coefficients ([`Term::taylor`]).
+            #[inline]
+            pub fn taylor(&self, k: usize, x: &[f64], v: &[f64], rows: &mut Scratch) -> f64 {
+                match self { $(AnyTerm::$variant(t) => t.taylor(k, x, v, rows),)* }
+            }
+            /// The term's text.
+            pub fn text(&self) -> String {
+                match self { $(AnyTerm::$variant(t) => t.text(),)* }
+            }
+            /// The term's LaTeX.
+            pub fn latex(&self) -> String {
+                match self { $(AnyTerm::$variant(t) => t.latex(),)* }
+            }
+        }
+    };
+}
+
+any_term!(Damping, Stiffness, Friction, Stribeck);
+
+/// Checks a term's values against its parameter list.
+fn check_values(params: &[ParamInfo], values: &[f64]) -> Result<()> {
+    if params.len() != values.len() {
+        return Err(Error::InvalidInput {
+            what: "term values",
+            text: format!("{values:?}"),
+            reason: format!("{} values expected", params.len()),
+        });
+    }
+    params
+        .iter()
+        .zip(values)
+        .try_for_each(|(p, &v)| p.domain.check(p.name, v))
+}
+
+fn unknown_kind(kind: &str) -> Error {
+    let known: Vec<&str> = AnyTerm::KINDS.iter().map(|k| k.0).collect();
+    Error::InvalidInput {
+        what: "term kind",
+        text: kind.to_string(),
+        reason: format!("known: {}", known.join(", ")),
+    }
+}
