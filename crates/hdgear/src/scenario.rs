@@ -65,14 +65,15 @@ impl Scenario {
     }
 }
 
-/// A term's table from a scenario file: its kind and (parameter index, value) per key.
-type TermTable = (&'static str, Vec<(usize, f64)>);
+/// A term's table from a scenario file: its kind and its parameter values (the keys it sets,
+/// its defaults for the others).
+type TermTable = (&'static str, Vec<f64>);
 
 impl Scenario {
-    /// The extra terms' tables as (kind, keys), each checked: a known kind, a table, and known
+    /// The extra terms' tables as (kind, values), each checked: a known kind, a table, and known
     /// keys with numbers (errors name the table and the key).
     fn term_tables(&self, path: &Path) -> Result<Vec<TermTable>> {
-        use crate::model::terms::AnyTerm;
+        use crate::model::{Model, terms::AnyTerm};
         let err = |message: String| Error::Config {
             path: path.to_path_buf(),
             message,
@@ -80,13 +81,18 @@ impl Scenario {
         let mut out = Vec::new();
         for (name, value) in &self.terms {
             // the study's own terms (damping, stiffness) take their values from [params]
-            let study = crate::model::Model::study(&crate::Params::default());
-            let extra = |kind: &str| study.terms().all(|t| t.kind() != kind);
-            let found = AnyTerm::KINDS.iter().find(|k| k.0 == name && extra(k.0));
+            let found = AnyTerm::KINDS
+                .iter()
+                .find(|k| k.0 == name && Model::is_extra_kind(k.0));
             let Some(&(kind, _, params)) = found else {
                 let known: Vec<&str> = ["params", "physical"]
                     .into_iter()
-                    .chain(AnyTerm::KINDS.iter().map(|k| k.0).filter(|k| extra(k)))
+                    .chain(
+                        AnyTerm::KINDS
+                            .iter()
+                            .map(|k| k.0)
+                            .filter(|k| Model::is_extra_kind(k)),
+                    )
                     .collect();
                 return Err(err(format!(
                     "unknown table [{name}] (known: {})",
@@ -96,7 +102,7 @@ impl Scenario {
             let table = value
                 .as_table()
                 .ok_or_else(|| err(format!("[{name}] must be a table of numbers")))?;
-            let mut keys = Vec::new();
+            let mut values: Vec<f64> = params.iter().map(|q| q.default).collect();
             for (key, v) in table {
                 let Some(i) = params.iter().position(|p| p.name == key) else {
                     let known: Vec<&str> = params.iter().map(|p| p.name).collect();
@@ -105,13 +111,12 @@ impl Scenario {
                         known.join(", ")
                     )));
                 };
-                let x = v
+                values[i] = v
                     .as_float()
                     .or_else(|| v.as_integer().map(|n| n as f64))
                     .ok_or_else(|| err(format!("[{name}] {key} must be a number")))?;
-                keys.push((i, x));
             }
-            out.push((kind, keys));
+            out.push((kind, values));
         }
         Ok(out)
     }
@@ -125,20 +130,11 @@ impl Scenario {
     /// The model these tables give on top of the study's with `p`: each term's table, its
     /// missing keys at their defaults, checked against the parameters' domains.
     pub fn model(&self, p: &crate::Params, path: &Path) -> Result<crate::model::Model> {
-        use crate::model::terms::AnyTerm;
-        let mut m = crate::model::Model::study(p);
-        for (kind, keys) in self.term_tables(path)? {
-            let params = AnyTerm::KINDS
-                .iter()
-                .find(|k| k.0 == kind)
-                .map_or(&[][..], |k| k.2);
-            let mut values: Vec<f64> = params.iter().map(|q| q.default).collect();
-            for (i, x) in keys {
-                values[i] = x;
-            }
-            m = m.with_term(AnyTerm::new(kind, &values)?)?;
-        }
-        Ok(m)
+        self.term_tables(path)?
+            .into_iter()
+            .try_fold(crate::model::Model::study(p), |m, (kind, values)| {
+                m.with_term(crate::model::terms::AnyTerm::new(kind, &values)?)
+            })
     }
 }
 

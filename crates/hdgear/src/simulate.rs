@@ -82,16 +82,9 @@ pub fn initial_state(p: &Params, start: Start) -> [f64; 2] {
 pub fn simulate(
     p: &Params,
     opts: &SimOptions,
-    mut out: impl FnMut(f64, &[f64; 2]),
+    out: impl FnMut(f64, &[f64; 2]),
 ) -> Result<SimSummary> {
-    let y0 = checked_start(p, opts)?;
-    let mut grid = Grid::new(0.0, opts.t_end, opts.dt)?;
-    grid.start(&y0, &mut out);
-    let summary = run(&Dimensionless::new(*p), opts, y0, |d, y_end| {
-        grid.fill(d, y_end, &mut out)
-    })?;
-    grid.finish(&summary.final_state, &mut out);
-    Ok(summary)
+    sampled(&Dimensionless::new(*p), opts, checked_start(p, opts)?, out)
 }
 
 /// [`simulate`] without the samples: the summary alone, `at(τ)` called after every step (for
@@ -129,7 +122,7 @@ pub fn summarize(p: &Params, opts: &SimOptions, mut at: impl FnMut(f64)) -> Resu
 pub fn simulate_model(
     m: &Model,
     opts: &SimOptions,
-    mut out: impl FnMut(f64, &[f64; 2]),
+    out: impl FnMut(f64, &[f64; 2]),
 ) -> Result<SimSummary> {
     m.check()?;
     crate::integrate::check_budget(opts.t_end, &opts.tol)?;
@@ -138,9 +131,19 @@ pub fn simulate_model(
         Start::Rest => [0.0, 0.0],
         Start::Given { x0, v0 } => [x0, v0],
     };
+    sampled(m, opts, y0, out)
+}
+
+/// [`run`] with `out(τ, [x, x'])` called at every time of the output grid, the ends included.
+fn sampled<S: System<2>>(
+    sys: &S,
+    opts: &SimOptions,
+    y0: [f64; 2],
+    mut out: impl FnMut(f64, &[f64; 2]),
+) -> Result<SimSummary> {
     let mut grid = Grid::new(0.0, opts.t_end, opts.dt)?;
     grid.start(&y0, &mut out);
-    let summary = run(m, opts, y0, |d, y_end| grid.fill(d, y_end, &mut out))?;
+    let summary = run(sys, opts, y0, |d, y_end| grid.fill(d, y_end, &mut out))?;
     grid.finish(&summary.final_state, &mut out);
     Ok(summary)
 }

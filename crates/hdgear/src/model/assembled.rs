@@ -333,9 +333,15 @@ impl Model {
 
     /// Whether the model has terms beyond the study's (damping and stiffness).
     pub fn has_extra_terms(&self) -> bool {
-        let study = Model::study(&Params::default());
-        self.terms()
-            .any(|t| study.terms().all(|s| s.kind() != t.kind()))
+        self.terms().any(|t| Model::is_extra_kind(t.kind()))
+    }
+
+    /// Whether a term of `kind` is not one of the study's own (whose values come from
+    /// [`Params`]): the kinds a scenario file gives a table of their own.
+    pub fn is_extra_kind(kind: &str) -> bool {
+        Model::study(&Params::default())
+            .terms()
+            .all(|t| t.kind() != kind)
     }
 
     /// The lowest stable equilibrium of the fast subsystem at slow variable a: the lowest root of
@@ -399,13 +405,14 @@ impl Model {
                 (l.min(c), h.max(c))
             });
         let c = lo;
+        let decay_time = 2.0 / c;
         Facts {
             damping_at_rest: c,
             damping_uniform: hi - lo <= 1e-12 * hi.abs().max(1.0),
             hopf_possible: c <= 0.0,
             focus_node_threshold: c * c / 4.0,
-            decay_time: 2.0 / c,
-            omega_decay: self.forcing[2] * 2.0 / c,
+            decay_time,
+            omega_decay: self.forcing[2] * decay_time,
         }
     }
 
