@@ -362,10 +362,21 @@ fn slurm_scripts_run_as_slurm_would_run_them() {
         "#SBATCH --partition=short",
         "--shard \"${SLURM_ARRAY_TASK_ID}/3\"",
         "--threads \"${SLURM_CPUS_PER_TASK:-2}\"",
+        // sbatch expands the task's %a; the user's path is not expanded
+        "map.shard-%a-of-3.log\"",
     ] {
         assert!(array.contains(line), "{line} not in {array}");
     }
     let submit = std::fs::read_to_string(d.join("map.slurm-submit.sh")).unwrap();
+    // a `%` in the user's directory is doubled for sbatch, the task pattern is not
+    let pct = d.join("at %x");
+    std::fs::create_dir(&pct).unwrap();
+    let o = sweep(&pct, &["--out", "map.json", "--slurm", "2"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = std::fs::read_to_string(pct.join("map.slurm-array.sh")).unwrap();
+    assert!(text.contains("at %%x/map.shard-%a-of-2.log\""), "{text}");
+    let text = std::fs::read_to_string(pct.join("map.slurm-merge.sh")).unwrap();
+    assert!(text.contains("at %%x/map.merge.log\""), "{text}");
     assert!(
         submit.contains("--dependency=afterok:\"$array\""),
         "{submit}"

@@ -79,11 +79,16 @@ impl Cluster {
     }
 }
 
-/// A path as the value of an `#SBATCH` line: in double quotes (sbatch reads them, so a space is
-/// kept), with `%` doubled (sbatch expands `%j`, `%a`, … in file names; `%%` is a `%`). Paths
-/// with a double quote or a line break are refused before anything is written ([`check_path`]).
-fn sbatch_path(p: &Path) -> String {
-    format!("\"{}\"", p.display().to_string().replace('%', "%%"))
+/// A log path as the value of an `#SBATCH --output` line: in double quotes (sbatch reads them, so
+/// a space is kept), the user's path `p` with `%` doubled (sbatch expands `%j`, `%a`, … in file
+/// names; `%%` is a `%`), then `pattern`, which hdgear writes and sbatch is meant to expand (such
+/// as `%a` for the array task). Paths with a double quote or a line break are refused before
+/// anything is written ([`check_path`]).
+fn sbatch_log(p: &Path, pattern: &str) -> String {
+    format!(
+        "\"{}{pattern}\"",
+        p.display().to_string().replace('%', "%%")
+    )
 }
 
 /// Refuses a path that cannot be written into an `#SBATCH` line.
@@ -208,7 +213,7 @@ impl Scripts<'_> {
     }
 
     /// The lines every job script starts with.
-    fn head(&self, name: String, log: PathBuf, cpus: usize) -> Vec<String> {
+    fn head(&self, name: String, log: String, cpus: usize) -> Vec<String> {
         let mut h = vec![
             "#!/bin/bash".to_string(),
             format!(
@@ -220,7 +225,7 @@ impl Scripts<'_> {
             format!("#SBATCH --job-name={name}"),
             "#SBATCH --ntasks=1".into(),
             format!("#SBATCH --cpus-per-task={cpus}"),
-            format!("#SBATCH --output={}", sbatch_path(&log)),
+            format!("#SBATCH --output={log}"),
         ];
         h.extend(self.cluster.extra.iter().cloned());
         h.push("set -euo pipefail".into());
@@ -239,9 +244,8 @@ impl Scripts<'_> {
     /// The job array: task K computes shard K.
     fn array(&self, args: &[String]) -> Vec<String> {
         let (n, cpus) = (self.n(), self.cluster.cpus);
-        let log = self
-            .out
-            .with_file_name(format!("{}.shard-%a-of-{n}.log", self.stem()));
+        let prefix = self.out.with_file_name(format!("{}.shard-", self.stem()));
+        let log = sbatch_log(&prefix, &format!("%a-of-{n}.log"));
         let mut a = self.head(self.job_name(), log, cpus);
         a.insert(3, format!("#SBATCH --array=0-{}", n - 1));
         a.push(format!(
@@ -257,9 +261,12 @@ impl Scripts<'_> {
     /// The merge job.
     fn merge(&self) -> Vec<String> {
         let n = self.n();
-        let log = self
-            .out
-            .with_file_name(format!("{}.merge.log", self.stem()));
+        let log = sbatch_log(
+            &self
+                .out
+                .with_file_name(format!("{}.merge.log", self.stem())),
+            "",
+        );
         let mut m = self.head(format!("{}-merge", self.job_name()), log, 1);
         let shards: Vec<String> = (0..n)
             .map(|index| qp(&shard_path(&self.out, Shard { index, count: n })))
