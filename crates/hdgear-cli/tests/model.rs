@@ -100,7 +100,7 @@ fn term_tables_are_refused_where_they_would_be_ignored_and_bad_ones_named() {
     for (text, needle) in [
         (
             "[frction]\nfc = 1\n",
-            "unknown table [frction] (known: params, physical, friction, stribeck)",
+            "unknown table [frction] (known: params, physical, friction, stribeck, coulomb)",
         ),
         (
             "[friction]\nv = 1\n",

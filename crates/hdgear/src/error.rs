@@ -124,6 +124,17 @@ pub enum SolverError {
         /// The offending value.
         value: f64,
     },
+    /// Switches of a non-smooth model accumulate: the time no longer advances between them.
+    #[error(
+        "{switches} switches of the friction's mode at t = {t:?} without the time advancing: the \
+         motion chatters at rest (raise the static friction or regularise the term)"
+    )]
+    Chattering {
+        /// Time reached.
+        t: f64,
+        /// Switches in a row at that time.
+        switches: u32,
+    },
     /// The step budget ran out.
     #[error("more than {max_steps} steps were needed before t = {t:?}")]
     TooManySteps {

@@ -9,6 +9,7 @@
 //!   study runs on; the tests hold it to [`Model::study`]'s coefficients.
 
 pub mod jet;
+pub mod switching;
 pub mod terms;
 
 mod assembled;

@@ -3,7 +3,8 @@
 use crate::error::Result;
 use crate::fast::stable_equilibrium;
 use crate::integrate::events::{Detector, Direction};
-use crate::integrate::{AnyDense, DenseOutput, Grid, Options, Stats, Stepper, System, stepper};
+use crate::integrate::{DenseOutput, Grid, Options, Stats, Stepper, System, stepper};
+use crate::model::switching::{Mode, Pieces, Switching, SwitchingDense};
 use crate::model::{Description, Dimensionless, Model};
 use crate::params::Params;
 use serde::Serialize;
@@ -66,6 +67,9 @@ pub struct SimSummary {
     /// max |x'| over the run, located exactly: over step ends and at every extremum of x'
     /// (zeros of x'' found on the dense output), not just at the samples.
     pub max_abs_xdot: f64,
+    /// For a model with a switching term: its switches and time at rest.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sticking: Option<Sticking>,
 }
 
 /// The initial state for a start rule.
@@ -98,17 +102,18 @@ pub fn simulate(
 /// assert_eq!(alone, simulate(&p, &opts, |_, _| {}).unwrap());
 /// ```
 pub fn summarize(p: &Params, opts: &SimOptions, mut at: impl FnMut(f64)) -> Result<SimSummary> {
-    run(
-        &Dimensionless::new(*p),
-        opts,
-        checked_start(p, opts)?,
-        |d, _| at(d.t_end()),
-    )
+    let sys = Dimensionless::new(*p);
+    let y0 = checked_start(p, opts)?;
+    let mut solver = stepper(&sys, 0.0, y0, opts.tol)?;
+    let accel = |t: f64, y: &[f64; 2]| sys.rhs(t, y)[1];
+    run(&mut solver, accel, opts, y0, |d, _| at(d.t_end()))
 }
 
 /// [`simulate`] for a model assembled from terms ([`Model`]): the same grid, start rules and
 /// summary, every method derived from the model's terms. The equilibrium start is the model's
-/// ([`Model::stable_equilibrium`] at a = 0).
+/// ([`Model::stable_equilibrium`] at a = 0). A model with a switching term (Coulomb friction with
+/// sticking) is integrated piece by piece ([`crate::model::switching`]) and its summary counts
+/// the switches and the time spent stuck ([`Sticking`]).
 ///
 /// ```
 /// use hdgear::{Params, model::{Model, terms::AnyTerm}, simulate::{SimOptions, simulate_model}};
@@ -118,11 +123,12 @@ pub fn summarize(p: &Params, opts: &SimOptions, mut at: impl FnMut(f64)) -> Resu
 /// let opts = SimOptions { t_end: 100.0, ..SimOptions::default() };
 /// let s = simulate_model(&m, &opts, |_, _| {}).unwrap();
 /// assert_eq!(s.t_end, 100.0);
+/// assert!(s.sticking.is_none());
 /// ```
 pub fn simulate_model(
     m: &Model,
     opts: &SimOptions,
-    out: impl FnMut(f64, &[f64; 2]),
+    mut out: impl FnMut(f64, &[f64; 2]),
 ) -> Result<SimSummary> {
     m.check()?;
     crate::integrate::check_budget(opts.t_end, &opts.tol)?;
@@ -131,10 +137,42 @@ pub fn simulate_model(
         Start::Rest => [0.0, 0.0],
         Start::Given { x0, v0 } => [x0, v0],
     };
-    sampled(m, opts, y0, out)
+    let Some(pieces) = Pieces::new(m) else {
+        return sampled(m, opts, y0, out);
+    };
+    let mut grid = Grid::new(0.0, opts.t_end, opts.dt)?;
+    grid.start(&y0, &mut out);
+    let mut sticking = Sticking::default();
+    let mut solver = Switching::new(&pieces, 0.0, y0, opts.tol)?;
+    let accel = |t: f64, y: &[f64; 2]| pieces.model().rhs(t, y)[1];
+    let mut summary = run(&mut solver, accel, opts, y0, |d, s| {
+        if let SwitchingDense::Stuck { t0, t1, .. } = d {
+            sticking.time_stuck += t1 - t0;
+        }
+        if let Some(w) = s.last_switch() {
+            sticking.switches += 1;
+            sticking.sticks += u64::from(w.to == Mode::Stuck);
+        }
+        grid.fill(d, s.y(), &mut out);
+    })?;
+    grid.finish(&summary.final_state, &mut out);
+    summary.sticking = Some(sticking);
+    Ok(summary)
 }
 
-/// [`run`] with `out(τ, [x, x'])` called at every time of the output grid, the ends included.
+/// How a model with a switching term moved: its switches and its time at rest.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct Sticking {
+    /// Changes of mode (slip → stick, stick → slip, reversals at rest).
+    pub switches: u64,
+    /// How many times the motion stuck.
+    pub sticks: u64,
+    /// The time spent stuck.
+    pub time_stuck: f64,
+}
+
+/// [`run`] on the method of `opts` for `sys`, with `out(τ, [x, x'])` called at every time of the
+/// output grid, the ends included.
 fn sampled<S: System<2>>(
     sys: &S,
     opts: &SimOptions,
@@ -143,7 +181,11 @@ fn sampled<S: System<2>>(
 ) -> Result<SimSummary> {
     let mut grid = Grid::new(0.0, opts.t_end, opts.dt)?;
     grid.start(&y0, &mut out);
-    let summary = run(sys, opts, y0, |d, y_end| grid.fill(d, y_end, &mut out))?;
+    let mut solver = stepper(sys, 0.0, y0, opts.tol)?;
+    let accel = |t: f64, y: &[f64; 2]| sys.rhs(t, y)[1];
+    let summary = run(&mut solver, accel, opts, y0, |d, s| {
+        grid.fill(d, s.y(), &mut out)
+    })?;
     grid.finish(&summary.final_state, &mut out);
     Ok(summary)
 }
@@ -156,20 +198,21 @@ fn checked_start(p: &Params, opts: &SimOptions) -> Result<[f64; 2]> {
     Ok(initial_state(p, opts.start))
 }
 
-/// The integration both [`simulate`] and [`summarize`] run from `y0` ([`checked_start`]), showing
-/// each step's dense output and end state to `each`. max |x'| comes from the step ends and the extrema of x' (zeros of x''
-/// located on the dense output); a step whose polynomial bounds |x'| below the largest value so
-/// far ([`crate::integrate::DenseOutput::abs_bound`]) cannot hold a larger one and is not searched
+/// The integration every entry point runs from `y0` to `opts.t_end` on `solver`, showing each
+/// step's dense output and the stepper after it to `each`. max |x'| comes from the step ends and
+/// the extrema of x' (zeros of x'' = `accel`, located on the dense output); a step whose
+/// polynomial bounds |x'| below the largest value so far
+/// ([`crate::integrate::DenseOutput::abs_bound`]) cannot hold a larger one and is not searched
 /// (the bound is a sum of positive terms, rounded by at most (order + 1)·2⁻⁵³ relative: 1e-14 of
 /// margin covers it). That saves four evaluations of the polynomial and four sines on most steps.
-fn run<S: System<2>>(
-    sys: &S,
+fn run<St: Stepper<2>>(
+    solver: &mut St,
+    accel: impl FnMut(f64, &[f64; 2]) -> f64,
     opts: &SimOptions,
     y0: [f64; 2],
-    mut each: impl FnMut(&AnyDense<2>, &[f64; 2]),
+    mut each: impl FnMut(&St::Dense, &St),
 ) -> Result<SimSummary> {
-    let mut solver = stepper(sys, 0.0, y0, opts.tol)?;
-    let mut extrema = Detector::new(|t, y: &[f64; 2]| sys.rhs(t, y)[1], Direction::Either);
+    let mut extrema = Detector::new(accel, Direction::Either);
     let mut max_v = y0[1].abs();
     while solver.t() < opts.t_end {
         solver.step(opts.t_end)?;
@@ -178,7 +221,7 @@ fn run<S: System<2>>(
         if d.abs_bound(1).is_none_or(|b| b * (1.0 + 1e-14) > max_v) {
             extrema.scan(&d, |c| max_v = max_v.max(c.y[1].abs()));
         }
-        each(&d, solver.y());
+        each(&d, solver);
     }
     Ok(SimSummary {
         t_end: opts.t_end,
@@ -186,6 +229,7 @@ fn run<S: System<2>>(
         final_state: *solver.y(),
         stats: solver.stats(),
         max_abs_xdot: max_v,
+        sticking: None,
     })
 }
 
@@ -214,6 +258,9 @@ pub struct SummaryReport {
     pub max_abs_xdot: f64,
     /// Remarks on the parameter set, as text.
     pub warnings: Vec<String>,
+    /// For a model with a switching term: its switches and time at rest.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sticking: Option<Sticking>,
     /// The assembled model, when it has terms beyond the study's.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub model: Option<Description>,
@@ -232,6 +279,7 @@ impl SimSummary {
             stats: self.stats,
             max_abs_xdot: self.max_abs_xdot,
             warnings: warnings.iter().map(ToString::to_string).collect(),
+            sticking: self.sticking,
             model: None,
         }
     }

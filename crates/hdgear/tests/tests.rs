@@ -6,6 +6,7 @@ mod common;
 
 mod burst;
 mod fast;
+mod friction;
 mod integrate;
 mod model;
 mod output;

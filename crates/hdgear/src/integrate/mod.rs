@@ -43,6 +43,14 @@ pub trait System<const N: usize> {
     fn taylor(&self, _t: f64, _y: &[f64; N], _order: usize, _c: &mut [[f64; N]]) -> bool {
         false
     }
+    /// The longest step, at most `h` (Jorba–Zou's from the state's rows), on which the Taylor
+    /// polynomial through (t, y) of order `order` stays accurate to `atol` by what the system
+    /// knows beyond the state's rows (a factor of its right-hand side whose own series converges
+    /// later than the state's shows, [`crate::model::jet::exp_step_limit`]); `h`, the default,
+    /// where the state's rows tell all.
+    fn taylor_step_limit(&self, _t: f64, _y: &[f64; N], _order: usize, h: f64, _atol: f64) -> f64 {
+        h
+    }
 }
 
 /// The solution over one accepted step, as a continuous function of t: what events, output

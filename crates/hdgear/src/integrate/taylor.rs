@@ -343,6 +343,9 @@ impl<'s, S: System<N> + ?Sized, const N: usize> Taylor<'s, S, N> {
         if let Some(hm) = self.opts.h_max {
             h = h.min(hm);
         }
+        h = self
+            .sys
+            .taylor_step_limit(self.t, &self.y, self.order, h, self.opts.atol);
         if h.is_nan() {
             // the coefficients overflowed: the solution leaves every bound within this step
             return Err(SolverError::BlowUp {

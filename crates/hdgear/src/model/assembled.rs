@@ -331,6 +331,25 @@ impl Model {
         self.terms().map(|t| t.torque(x, 0.0)).sum()
     }
 
+    /// The static band of the model's switching terms (the sum of their [`AnyTerm::breakaway`]):
+    /// x' stays 0 while |x''| at x' = 0 without them is within it. `None` when every term is
+    /// smooth (then no switching integration is needed).
+    pub fn breakaway(&self) -> Option<f64> {
+        self.terms()
+            .filter_map(|t| t.breakaway())
+            .reduce(|a, b| a + b)
+    }
+
+    /// The model on one side of its switch x' = 0: `side` = +1 or −1 fixes sgn x' in every
+    /// switching term (0: read from x'), which makes it analytic on the piece.
+    pub fn directed(&self, side: f64) -> Model {
+        let mut m = *self;
+        for t in m.terms.iter_mut().flatten() {
+            *t = t.directed(side);
+        }
+        m
+    }
+
     /// Whether the model has terms beyond the study's (damping and stiffness).
     pub fn has_extra_terms(&self) -> bool {
         self.terms().any(|t| Model::is_extra_kind(t.kind()))
@@ -442,6 +461,39 @@ impl System<2> for Model {
     /// x_{k+1} = v_k/(k+1), v_{k+1} = (μ[k=0] + δ s_k − Σ_i T_{i,k})/(k+1), each term's T_k by
     /// its own recurrence ([`super::terms::Term::taylor`]), s_k sin ωt's in closed form.
     fn taylor(&self, t: f64, y: &[f64; 2], order: usize, c: &mut [[f64; 2]]) -> bool {
+        self.taylor_rows(t, y, order, c, &mut [Scratch::default(); MAX_TERMS]);
+        true
+    }
+    /// The terms' own limits ([`super::terms::Term::step_limit`]) on their rows, recomputed
+    /// (only for models with a term that has one), a contribution of 1e-3·atol negligible.
+    fn taylor_step_limit(&self, t: f64, y: &[f64; 2], order: usize, h: f64, atol: f64) -> f64 {
+        if !self.terms().any(|t| t.limits_steps()) {
+            return h;
+        }
+        let mut c = [[0.0; 2]; MAX_ROWS];
+        let mut rows = [Scratch::default(); MAX_TERMS];
+        let n = self.taylor_rows(t, y, order, &mut c, &mut rows);
+        self.terms
+            .iter()
+            .zip(&rows)
+            .fold(h, |h, (term, r)| match term {
+                Some(term) => term.step_limit(r, n, h, 1e-3 * atol),
+                None => h,
+            })
+    }
+}
+
+impl Model {
+    /// Rows 0..=order (capped at the integrator's) of the Taylor coefficients through (t, y)
+    /// into `c`, the terms' own rows into `rows`; returns the order reached.
+    fn taylor_rows(
+        &self,
+        t: f64,
+        y: &[f64; 2],
+        order: usize,
+        c: &mut [[f64; 2]],
+        rows: &mut [Scratch; MAX_TERMS],
+    ) -> usize {
         use crate::integrate::taylor::{INV, MAX_ORDER, forcing_coefficients};
         let n = order.min(MAX_ORDER).min(c.len() - 1);
         let [mu, delta, omega] = self.forcing;
@@ -449,7 +501,6 @@ impl System<2> for Model {
         forcing_coefficients(delta, omega, t, n, &mut f);
         f[0] += mu;
         let (mut x, mut v) = ([0.0; MAX_ROWS], [0.0; MAX_ROWS]);
-        let mut rows = [Scratch::default(); MAX_TERMS];
         (x[0], v[0]) = (y[0], y[1]);
         for k in 0..n {
             let mut acc = f[k];
@@ -461,9 +512,15 @@ impl System<2> for Model {
             x[k + 1] = v[k] * INV[k];
             v[k + 1] = acc * INV[k];
         }
+        // the terms' rows at order n too (the step limits read them)
+        for (term, r) in self.terms.iter().zip(rows.iter_mut()) {
+            if let Some(term) = term {
+                term.taylor(n, &x, &v, r);
+            }
+        }
         for (k, ck) in c.iter_mut().enumerate().take(n + 1) {
             *ck = [x[k], v[k]];
         }
-        true
+        n
     }
 }

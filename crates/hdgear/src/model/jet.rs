@@ -46,6 +46,80 @@ pub fn exp_coefficient(u: &[f64], e: &[f64], k: usize) -> f64 {
     }
 }
 
+/// The longest step, at most `h`, on which a term `amplitude`·e^{u(t)} either changes
+/// negligibly (by less than `negligible`: e^u is bounded by e^{u₀ + Σ_{k≥1}|u_k|h^k}) or its
+/// series, rows 0..=`order` of `e`, has converged (the Jorba–Zou step of the row scaled by its
+/// own e₀). Jorba–Zou's rule on the state alone misses a factor e^u that is tiny where the step
+/// starts and grows within it: its coefficients still grow at the truncation order (e_k ≈
+/// e^{u₀}u₁^k/k! peaks at k ≈ u₁h), yet are too small to show in the state's last rows.
+pub fn exp_step_limit(
+    u: &[f64],
+    e: &[f64],
+    order: usize,
+    h: f64,
+    amplitude: f64,
+    negligible: f64,
+) -> f64 {
+    let converged = own_step(e[0].abs(), e[order - 1].abs(), e[order].abs(), order);
+    let start = u[0].exp();
+    shorten(h, converged, |h| {
+        amplitude * ((u[0] + tail_bound(u, order, h)).exp() - start) > negligible
+    })
+}
+
+/// [`exp_step_limit`] for a term `amplitude`·tanh(u(t)), rows 0..=`order` of u and of `sq` =
+/// tanh², where |u| is large: tanh is ±1 up to sech²(u) ≤ 4e^{−2|u|}, a factor of the same kind.
+/// Its series (rows of sech² = 1 − tanh²) is judged against sech²(u₀) itself; where that is
+/// below 1e-14 the rows, from 1 − tanh² in rounded arithmetic, hold nothing, and only the change
+/// of the bound 4e^{−2|u|} over the step counts.
+pub fn tanh_step_limit(
+    u: &[f64],
+    sq: &[f64],
+    order: usize,
+    h: f64,
+    amplitude: f64,
+    negligible: f64,
+) -> f64 {
+    let sech2 = 1.0 / (u[0].cosh() * u[0].cosh());
+    let converged = if sech2 > 1e-14 {
+        own_step(sech2, sq[order - 1].abs(), sq[order].abs(), order)
+    } else {
+        0.0
+    };
+    let bound = |least: f64| 4.0 * (-2.0 * least.max(0.0)).exp();
+    let start = bound(u[0].abs());
+    shorten(h, converged, |h| {
+        amplitude * (bound(u[0].abs() - tail_bound(u, order, h)) - start) > negligible
+    })
+}
+
+/// Σ_{k=1}^{order} |u_k|·h^k, by Horner's rule.
+fn tail_bound(u: &[f64], order: usize, h: f64) -> f64 {
+    u[1..=order]
+        .iter()
+        .rev()
+        .fold(0.0, |b, c| (b + c.abs()) * h)
+}
+
+/// The Jorba–Zou step of a series whose row 0 is `scale` and rows p − 1, p are `n1`, `n2` (in
+/// magnitude), each scaled by `scale`: the radius the series shows, whatever its size.
+/// 0 (no step is known good) when `scale` underflowed.
+fn own_step(scale: f64, n1: f64, n2: f64, p: usize) -> f64 {
+    if scale.is_nan() || scale <= f64::MIN_POSITIVE {
+        return 0.0;
+    }
+    crate::integrate::taylor::step_from_norms::<false, false>(p, 2.0, n1 / scale, n2 / scale)
+}
+
+/// `h` halved until it is at most `converged` or `relevant(h)` is false (which it is as h → 0:
+/// each test is of a change over the step).
+fn shorten(mut h: f64, converged: f64, relevant: impl Fn(f64) -> bool) -> f64 {
+    while h > converged && relevant(h) {
+        h = (0.5 * h).max(converged);
+    }
+    h
+}
+
 /// Row k of tanh(u) from u's rows 0..=k, tanh(u)'s rows 0..k and `sq` = tanh(u)²'s rows 0..k
 /// (the caller keeps `sq` with [`square_coefficient`] once row k is known).
 #[inline(always)]

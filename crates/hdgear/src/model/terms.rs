@@ -2,7 +2,9 @@
 //! x'' + Σ T = μ + δ sin ωτ, with its parameters and, in one place, everything the machines
 //! need of it ([`Term`]).
 
-use super::jet::{exp_coefficient, square_coefficient, tanh_coefficient};
+use super::jet::{
+    exp_coefficient, exp_step_limit, square_coefficient, tanh_coefficient, tanh_step_limit,
+};
 use crate::error::{Error, Result};
 use serde::Serialize;
 
@@ -115,6 +117,25 @@ pub trait Term: Copy {
     fn text(&self) -> String;
     /// The term in LaTeX, with a leading sign.
     fn latex(&self) -> String;
+    /// Whether [`Term::step_limit`] may shorten a step (the model skips the check otherwise).
+    const LIMITS_STEPS: bool = false;
+    /// The longest step, at most `h`, on which the term's own intermediate series (its `rows`
+    /// after row `order`) are accurate or the term negligible (below `negligible`); `h`, the
+    /// default, for terms whose series the state's rows already show.
+    fn step_limit(&self, _rows: &Scratch, _order: usize, h: f64, _negligible: f64) -> f64 {
+        h
+    }
+    /// The static band of a term that switches at x' = 0 (Coulomb friction: sgn x' is not
+    /// analytic there): x' stays 0 while the rest of the torque is within ± this value. `None`
+    /// (the default) for a smooth term.
+    fn breakaway(&self) -> Option<f64> {
+        None
+    }
+    /// The term on one side of its switch, `side` = sgn x' there (+1 or −1), or 0 to read the
+    /// sign from x' itself (0 at x' = 0). A smooth term ignores it (the default).
+    fn directed(self, _side: f64) -> Self {
+        self
+    }
 }
 
 /// Unit linear damping x' (the dimensionless time scale makes its coefficient 1).
@@ -279,6 +300,12 @@ impl Term for Friction {
         sq[k] = square_coefficient(t, k);
         fc * t[k]
     }
+    const LIMITS_STEPS: bool = true;
+    /// tanh(x'/v_s) far from x' = 0 ([`tanh_step_limit`]).
+    fn step_limit(&self, rows: &Scratch, order: usize, h: f64, negligible: f64) -> f64 {
+        let [u, _, sq, ..] = &rows.0;
+        tanh_step_limit(u, sq, order, h, self.0[0], negligible)
+    }
     fn text(&self) -> String {
         " + f_c·tanh(x'/v_s)".into()
     }
@@ -386,12 +413,159 @@ impl Term for Stribeck {
         sq[k] = square_coefficient(t, k);
         fc * t[k] + (fs - fc) * super::jet::cauchy(e, t, k) + cv * v[k]
     }
+    const LIMITS_STEPS: bool = true;
+    /// The Stribeck factor e^q ([`exp_step_limit`]) and tanh(x'/v_r) far from x' = 0
+    /// ([`tanh_step_limit`]).
+    fn step_limit(&self, rows: &Scratch, order: usize, h: f64, negligible: f64) -> f64 {
+        let [fc, fs, ..] = self.0;
+        let [q, e, u, _, sq] = &rows.0;
+        let h = exp_step_limit(q, e, order, h, (fs - fc).abs(), negligible);
+        tanh_step_limit(u, sq, order, h, fc.max(fs), negligible)
+    }
     fn text(&self) -> String {
         " + (f_c + (f_s − f_c)·exp(−(x'/v_st)²))·tanh(x'/v_r) + c_v·x'".into()
     }
     fn latex(&self) -> String {
         r" + \left(f_c + (f_s - f_c) e^{-(\dot x / v_{st})^2}\right) \tanh(\dot x / v_r) + c_v \dot x"
             .into()
+    }
+}
+
+/// Coulomb–Stribeck–viscous friction with sticking, not regularised:
+/// (f_c + (f_s − f_c)·e^{−(x'/v_st)²})·sgn x' + c_v·x'. At x' = 0 it is the static band: the
+/// motion sticks while the rest of the torque stays within ±f_s ([`super::Model::breakaway`]);
+/// a [`super::switching::Switching`] integration steps it piece by piece, each piece with sgn x'
+/// fixed ([`Term::directed`]), so its Taylor rows are analytic on the piece.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Coulomb {
+    values: [f64; 4],
+    /// sgn x' on the current piece (0: read it from x').
+    side: f64,
+}
+
+impl Serialize for Coulomb {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        self.values.serialize(s)
+    }
+}
+
+impl Coulomb {
+    /// sgn x' on this piece: the side it is directed to, else the sign of `v` (0 at rest).
+    fn sign(&self, v: f64) -> f64 {
+        if self.side != 0.0 {
+            self.side
+        } else if v == 0.0 {
+            0.0
+        } else {
+            v.signum()
+        }
+    }
+}
+
+impl Term for Coulomb {
+    const KIND: &'static str = "coulomb";
+    const ABOUT: &'static str =
+        "Coulomb–Stribeck–viscous friction with sticking (sgn x', integrated piece by piece)";
+    const PARAMS: &'static [ParamInfo] = &[
+        ParamInfo {
+            name: "fc",
+            symbol: "f_c",
+            latex: "f_c",
+            meaning: "Coulomb (sliding) friction torque",
+            domain: Domain::NonNegative,
+            default: 0.05,
+            si: "T·k2·φ·J_eq²/C⁴ (a torque on μ's scale)",
+        },
+        ParamInfo {
+            name: "fs",
+            symbol: "f_s",
+            latex: "f_s",
+            meaning: "static (breakaway) friction torque: the sticking band",
+            domain: Domain::NonNegative,
+            default: 0.08,
+            si: "T·k2·φ·J_eq²/C⁴ (a torque on μ's scale)",
+        },
+        ParamInfo {
+            name: "vst",
+            symbol: "v_st",
+            latex: r"v_{st}",
+            meaning: "Stribeck velocity",
+            domain: Domain::Positive,
+            default: 0.1,
+            si: "θ'·k2·φ·J_eq²/C³ (a velocity on x's scale)",
+        },
+        ParamInfo {
+            name: "cv",
+            symbol: "c_v",
+            latex: "c_v",
+            meaning: "viscous friction coefficient (added to the unit damping)",
+            domain: Domain::NonNegative,
+            default: 0.0,
+            si: "c_v/C (over the damping C)",
+        },
+    ];
+    fn from_values(v: &[f64]) -> Self {
+        Coulomb {
+            values: [v[0], v[1], v[2], v[3]],
+            side: 0.0,
+        }
+    }
+    fn values(&self) -> &[f64] {
+        &self.values
+    }
+    fn torque(&self, _x: f64, v: f64) -> f64 {
+        let [fc, fs, vst, cv] = self.values;
+        (fc + (fs - fc) * (-(v / vst).powi(2)).exp()) * self.sign(v) + cv * v
+    }
+    /// On the piece (the switch's Dirac at x' = 0 is the events' business, not the gradient's).
+    fn gradient(&self, _x: f64, v: f64) -> [f64; 2] {
+        let [fc, fs, vst, cv] = self.values;
+        let e = (-(v / vst).powi(2)).exp();
+        [
+            0.0,
+            (fs - fc) * e * (-2.0 * v / (vst * vst)) * self.sign(v) + cv,
+        ]
+    }
+    fn param_derivative(&self, i: usize, _x: f64, v: f64) -> f64 {
+        let [fc, fs, vst, _] = self.values;
+        let e = (-(v / vst).powi(2)).exp();
+        let s = self.sign(v);
+        match i {
+            0 => (1.0 - e) * s,
+            1 => e * s,
+            2 => (fs - fc) * e * 2.0 * v * v / (vst * vst * vst) * s,
+            _ => v,
+        }
+    }
+    /// q = −(v/v_st)² (row 0) and e^q (row 1); T_k = s·(f_c[k = 0] + (f_s − f_c)e_k) + c_v v_k
+    /// with s the piece's constant sgn x'.
+    fn taylor(&self, k: usize, _x: &[f64], v: &[f64], rows: &mut Scratch) -> f64 {
+        let [fc, fs, vst, cv] = self.values;
+        let [q, e, ..] = &mut rows.0;
+        q[k] = -square_coefficient(v, k) / (vst * vst);
+        e[k] = exp_coefficient(q, e, k);
+        let level = (fs - fc) * e[k] + if k == 0 { fc } else { 0.0 };
+        self.sign(v[0]) * level + cv * v[k]
+    }
+    const LIMITS_STEPS: bool = true;
+    /// The Stribeck factor e^q ([`exp_step_limit`]).
+    fn step_limit(&self, rows: &Scratch, order: usize, h: f64, negligible: f64) -> f64 {
+        let [fc, fs, ..] = self.values;
+        let [q, e, ..] = &rows.0;
+        exp_step_limit(q, e, order, h, (fs - fc).abs(), negligible)
+    }
+    fn text(&self) -> String {
+        " + (f_c + (f_s − f_c)·exp(−(x'/v_st)²))·sgn x' + c_v·x'".into()
+    }
+    fn latex(&self) -> String {
+        r" + \left(f_c + (f_s - f_c) e^{-(\dot x / v_{st})^2}\right) \operatorname{sgn} \dot x + c_v \dot x"
+            .into()
+    }
+    fn breakaway(&self) -> Option<f64> {
+        Some(self.values[1])
+    }
+    fn directed(self, side: f64) -> Self {
+        Coulomb { side, ..self }
     }
 }
 
@@ -464,11 +638,27 @@ macro_rules! any_term {
             pub fn latex(&self) -> String {
                 match self { $(AnyTerm::$variant(t) => t.latex(),)* }
             }
+            /// Whether it may shorten a Taylor step ([`Term::LIMITS_STEPS`]).
+            pub fn limits_steps(&self) -> bool {
+                match self { $(AnyTerm::$variant(_) => $variant::LIMITS_STEPS,)* }
+            }
+            /// The longest step its own series allow ([`Term::step_limit`]).
+            pub fn step_limit(&self, rows: &Scratch, order: usize, h: f64, negligible: f64) -> f64 {
+                match self { $(AnyTerm::$variant(t) => t.step_limit(rows, order, h, negligible),)* }
+            }
+            /// Its static band if it switches at x' = 0 ([`Term::breakaway`]).
+            pub fn breakaway(&self) -> Option<f64> {
+                match self { $(AnyTerm::$variant(t) => t.breakaway(),)* }
+            }
+            /// The term on one side of its switch ([`Term::directed`]).
+            pub fn directed(self, side: f64) -> AnyTerm {
+                match self { $(AnyTerm::$variant(t) => AnyTerm::$variant(t.directed(side)),)* }
+            }
         }
     };
 }
 
-any_term!(Damping, Stiffness, Friction, Stribeck);
+any_term!(Damping, Stiffness, Friction, Stribeck, Coulomb);
 
 /// Checks a term's values against its parameter list.
 fn check_values(params: &[ParamInfo], values: &[f64]) -> Result<()> {
