@@ -1,6 +1,7 @@
 //! The drive's models.
 //!
-//! * [`Model`]: a model assembled from terms ([`terms`]): x'' + Σ T_i(x, x') = μ + δ sin ωτ, each
+//! * [`Model`]: a model assembled from terms ([`terms`], [`memory`] for those with an internal
+//!   state z of their own): x'' + Σ T_i(x, x', z_i) = μ + δ sin ωτ, z_i' = r_i(x, x', z_i), each
 //!   term defined once with its value, derivatives, Taylor recurrence ([`jet`]) and parameters,
 //!   every method of the model derived from them; [`Model::facts`] derives what the fast
 //!   subsystem's analysis needs (damping at rest, focus/node threshold, decay time).
@@ -9,11 +10,14 @@
 //!   study runs on; the tests hold it to [`Model::study`]'s coefficients.
 
 pub mod jet;
+pub mod memory;
 pub mod switching;
 pub mod terms;
 
 mod assembled;
-pub use assembled::{Description, FORCING, Facts, MAX_TERMS, Model, ModelParam, ParamValue};
+pub use assembled::{
+    Description, FORCING, Facts, MAX_STATES, MAX_TERMS, Model, ModelParam, ParamValue,
+};
 
 use crate::integrate::System;
 use crate::integrate::taylor::mul_add;

@@ -128,15 +128,31 @@ pub fn summarize(p: &Params, opts: &SimOptions, mut at: impl FnMut(f64)) -> Resu
 pub fn simulate_model(
     m: &Model,
     opts: &SimOptions,
-    mut out: impl FnMut(f64, &[f64; 2]),
+    out: impl FnMut(f64, &[f64]),
 ) -> Result<SimSummary> {
     m.check()?;
     crate::integrate::check_budget(opts.t_end, &opts.tol)?;
-    let y0 = match opts.start {
-        Start::Equilibrium => [m.stable_equilibrium(0.0)?, 0.0],
-        Start::Rest => [0.0, 0.0],
-        Start::Given { x0, v0 } => [x0, v0],
+    let (x0, v0) = match opts.start {
+        Start::Equilibrium => (m.stable_equilibrium(0.0)?, 0.0),
+        Start::Rest => (0.0, 0.0),
+        Start::Given { x0, v0 } => (x0, v0),
     };
+    match m.dim() {
+        2 => model_run::<2>(m, opts, [x0, v0], out),
+        3 => model_run::<3>(m, opts, [x0, v0, 0.0], out),
+        _ => model_run::<4>(m, opts, [x0, v0, 0.0, 0.0], out),
+    }
+}
+
+/// [`simulate_model`] on a state of N = [`Model::dim`] components (the internal states start
+/// at 0, the virgin state).
+fn model_run<const N: usize>(
+    m: &Model,
+    opts: &SimOptions,
+    y0: [f64; N],
+    mut out: impl FnMut(f64, &[f64]),
+) -> Result<SimSummary> {
+    let mut out = |t: f64, y: &[f64; N]| out(t, y);
     let Some(pieces) = Pieces::new(m) else {
         return sampled(m, opts, y0, out);
     };
@@ -144,7 +160,7 @@ pub fn simulate_model(
     grid.start(&y0, &mut out);
     let mut sticking = Sticking::default();
     let mut solver = Switching::new(&pieces, 0.0, y0, opts.tol)?;
-    let accel = |t: f64, y: &[f64; 2]| pieces.model().rhs(t, y)[1];
+    let accel = |t: f64, y: &[f64; N]| pieces.model().rhs(t, y)[1];
     let mut summary = run(&mut solver, accel, opts, y0, |d, s| {
         if let SwitchingDense::Stuck { t0, t1, .. } = d {
             sticking.time_stuck += t1 - t0;
@@ -155,7 +171,7 @@ pub fn simulate_model(
         }
         grid.fill(d, s.y(), &mut out);
     })?;
-    grid.finish(&summary.final_state, &mut out);
+    grid.finish(solver.y(), &mut out);
     summary.sticking = Some(sticking);
     Ok(summary)
 }
@@ -173,20 +189,20 @@ pub struct Sticking {
 
 /// [`run`] on the method of `opts` for `sys`, with `out(τ, [x, x'])` called at every time of the
 /// output grid, the ends included.
-fn sampled<S: System<2>>(
+fn sampled<S: System<N>, const N: usize>(
     sys: &S,
     opts: &SimOptions,
-    y0: [f64; 2],
-    mut out: impl FnMut(f64, &[f64; 2]),
+    y0: [f64; N],
+    mut out: impl FnMut(f64, &[f64; N]),
 ) -> Result<SimSummary> {
     let mut grid = Grid::new(0.0, opts.t_end, opts.dt)?;
     grid.start(&y0, &mut out);
     let mut solver = stepper(sys, 0.0, y0, opts.tol)?;
-    let accel = |t: f64, y: &[f64; 2]| sys.rhs(t, y)[1];
+    let accel = |t: f64, y: &[f64; N]| sys.rhs(t, y)[1];
     let summary = run(&mut solver, accel, opts, y0, |d, s| {
         grid.fill(d, s.y(), &mut out)
     })?;
-    grid.finish(&summary.final_state, &mut out);
+    grid.finish(solver.y(), &mut out);
     Ok(summary)
 }
 
@@ -205,11 +221,11 @@ fn checked_start(p: &Params, opts: &SimOptions) -> Result<[f64; 2]> {
 /// ([`crate::integrate::DenseOutput::abs_bound`]) cannot hold a larger one and is not searched
 /// (the bound is a sum of positive terms, rounded by at most (order + 1)·2⁻⁵³ relative: 1e-14 of
 /// margin covers it). That saves four evaluations of the polynomial and four sines on most steps.
-fn run<St: Stepper<2>>(
+fn run<St: Stepper<N>, const N: usize>(
     solver: &mut St,
-    accel: impl FnMut(f64, &[f64; 2]) -> f64,
+    accel: impl FnMut(f64, &[f64; N]) -> f64,
     opts: &SimOptions,
-    y0: [f64; 2],
+    y0: [f64; N],
     mut each: impl FnMut(&St::Dense, &St),
 ) -> Result<SimSummary> {
     let mut extrema = Detector::new(accel, Direction::Either);
@@ -225,8 +241,8 @@ fn run<St: Stepper<2>>(
     }
     Ok(SimSummary {
         t_end: opts.t_end,
-        initial: y0,
-        final_state: *solver.y(),
+        initial: [y0[0], y0[1]],
+        final_state: [solver.y()[0], solver.y()[1]],
         stats: solver.stats(),
         max_abs_xdot: max_v,
         sticking: None,

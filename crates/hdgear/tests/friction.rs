@@ -177,7 +177,7 @@ fn hdgear_run(p: &Params, f: Law, method: Method, t_end: f64, dt: f64) -> Run {
         tol,
     };
     let mut samples = vec![];
-    let summary = simulate_model(&m, &opts, |t, y| samples.push((t, *y))).unwrap();
+    let summary = simulate_model(&m, &opts, |t, y| samples.push((t, [y[0], y[1]]))).unwrap();
     let pieces = Pieces::new(&m).unwrap();
     let mut s = Switching::new(&pieces, 0.0, [0.0, 0.0], tol).unwrap();
     let mut switches = vec![];
@@ -343,7 +343,7 @@ fn regularised_terms_taylor_agrees_with_dop853() {
                 },
             };
             let mut xs = vec![];
-            simulate_model(&m, &opts, |_, y| xs.push(*y)).unwrap();
+            simulate_model(&m, &opts, |_, y| xs.push([y[0], y[1]])).unwrap();
             xs
         };
         let (a, b) = (run(Method::Taylor), run(Method::Dop853));

@@ -289,12 +289,23 @@ fn models_refuse_bad_assemblies_and_values_naming_them() {
     );
     let e = AnyTerm::new("friction", &[0.1, 0.0]).unwrap_err();
     assert!(e.to_string().contains("vs = 0.0"), "{e}");
-    let e = AnyTerm::new("lugre", &[]).unwrap_err();
+    let e = AnyTerm::new("dahl", &[]).unwrap_err();
     assert!(
         e.to_string()
-            .contains("known: damping, stiffness, friction, stribeck"),
+            .contains("known: damping, stiffness, friction, stribeck, coulomb, lugre, boucwen"),
         "{e}"
     );
+    let e = AnyTerm::new("boucwen", &[1.0, 0.5, 1.0, 0.5, 0.5, 1.5]).unwrap_err();
+    assert!(e.to_string().contains("nh = 1.5"), "{e}");
+    assert!(e.to_string().contains("whole number from 1 to 4"), "{e}");
+    let e = AnyTerm::new("boucwen", &[1.0, 1.5, 1.0, 0.5, 0.5, 1.0]).unwrap_err();
+    assert!(e.to_string().contains("rho = 1.5"), "{e}");
+    // at most two terms with a state of their own
+    let lugre = AnyTerm::new("lugre", &[0.05, 0.08, 0.1, 100.0, 10.0, 0.0]).unwrap();
+    let bw = AnyTerm::new("boucwen", &[1.0, 0.5, 1.0, 0.5, 0.5, 1.0]).unwrap();
+    let both = m.with_term(lugre).unwrap().with_term(bw).unwrap();
+    assert_eq!(both.dim(), 4);
+    assert_eq!(both.states(), ["x", "x'", "s", "z"]);
     let e = f.with(f.param("omega").unwrap(), -1.0).unwrap_err();
     assert!(e.to_string().contains("omega = -1.0"), "{e}");
     assert!(

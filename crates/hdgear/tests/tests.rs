@@ -8,6 +8,7 @@ mod burst;
 mod fast;
 mod friction;
 mod integrate;
+mod memory;
 mod model;
 mod output;
 mod periodic;

@@ -32,7 +32,7 @@ fn simulate_into<W: Write + Send>(
     let mut table = RecordWriter::<_, Sample>::new(sink, format, &meta)?;
     let mut io_err: Option<std::io::Error> = None;
     let mut progress = RunProgress::new(run.opts.t_end, run.opts.t_end);
-    let each = |t: f64, y: &[f64; 2]| {
+    let mut each = |t: f64, y: &[f64]| {
         progress.at(t);
         if io_err.is_none()
             && let Err(e) = table.row(&Sample {
@@ -46,8 +46,8 @@ fn simulate_into<W: Write + Send>(
         }
     };
     let summary = match &run.model {
-        Some(m) => hdgear::simulate::simulate_model(m, &run.opts, each)?,
-        None => hdgear::simulate::simulate(&p, &run.opts, each)?,
+        Some(m) => hdgear::simulate::simulate_model(m, &run.opts, &mut each)?,
+        None => hdgear::simulate::simulate(&p, &run.opts, |t, y| each(t, y))?,
     };
     if let Some(e) = io_err {
         return Err(e).context("writing the trajectory");

@@ -3,7 +3,7 @@
 //! facts of its fast subsystem are derived from the terms' own definitions
 //! ([`super::terms::Term`]); nothing here restates a term.
 
-use super::terms::{AnyTerm, Damping, Domain, MAX_ROWS, ParamInfo, Scratch, Stiffness};
+use super::terms::{AnyTerm, Damping, Domain, MAX_ROWS, ParamInfo, Scratch, Side, Stiffness};
 use crate::error::{Error, Result};
 use crate::integrate::System;
 use crate::params::Params;
@@ -12,6 +12,10 @@ use std::fmt;
 
 /// The most terms one model holds.
 pub const MAX_TERMS: usize = 6;
+
+/// The most internal states (of its terms) one model holds beside x and x': its state has at
+/// most 2 + MAX_STATES components.
+pub const MAX_STATES: usize = 2;
 
 /// The forcing's parameters: μ, δ, ω of μ + δ sin ωτ.
 pub const FORCING: [ParamInfo; 3] = [
@@ -135,8 +139,8 @@ pub struct Description {
     pub equation: String,
     /// The equation in LaTeX.
     pub latex: String,
-    /// The states, in the order the integrators hold them.
-    pub states: [&'static str; 2],
+    /// The states, in the order the integrators hold them: x, x', then the terms' own.
+    pub states: Vec<&'static str>,
     /// The terms, in order, each with its kind and parameter values.
     pub terms: Vec<AnyTerm>,
     /// Every parameter with its definition and value.
@@ -151,7 +155,7 @@ impl Model {
         Description {
             equation: self.equation(),
             latex: self.latex(),
-            states: ["x", "x'"],
+            states: self.states(),
             terms: self.terms().copied().collect(),
             parameters: self.param_values(),
             facts: self.facts(),
@@ -189,6 +193,11 @@ impl Model {
         if self.terms().any(|t| t.kind() == term.kind()) {
             return Err(refuse("the model has one already".into()));
         }
+        if term.state().is_some() && self.dim() - 2 == MAX_STATES {
+            return Err(refuse(format!(
+                "a model holds at most {MAX_STATES} terms with a state of their own"
+            )));
+        }
         let slot = self.terms.iter_mut().find(|t| t.is_none());
         *slot.ok_or_else(|| refuse(format!("a model holds at most {MAX_TERMS} terms")))? =
             Some(term);
@@ -198,6 +207,30 @@ impl Model {
     /// The model's terms, in order.
     pub fn terms(&self) -> impl Iterator<Item = &AnyTerm> {
         self.terms.iter().flatten()
+    }
+
+    /// The terms, each with the index of its internal state in the model's state (2, 3, …) if
+    /// it has one.
+    fn slots(&self) -> impl Iterator<Item = (&AnyTerm, Option<usize>)> {
+        let mut next = 2;
+        self.terms().map(move |t| {
+            let at = t.state().map(|_| {
+                next += 1;
+                next - 1
+            });
+            (t, at)
+        })
+    }
+
+    /// The dimension of the model's state: x, x' and one per term with a state of its own.
+    pub fn dim(&self) -> usize {
+        2 + self.terms().filter(|t| t.state().is_some()).count()
+    }
+
+    /// The names of the state's components, in order.
+    pub fn states(&self) -> Vec<&'static str> {
+        let own = self.terms().filter_map(|t| t.state().map(|s| s.name));
+        ["x", "x'"].into_iter().chain(own).collect()
     }
 
     /// μ, δ, ω.
@@ -299,52 +332,89 @@ impl Model {
             .try_for_each(|q| self.info(q).domain.check(q.name, self.get(q)))
     }
 
-    /// x'' = μ + δ sin(phase) − Σ T(x, v).
+    /// x'' = μ + δ sin(phase) − Σ T(x, v) with the terms' internal states at 0 (the model's
+    /// own for a model without them).
     #[inline]
     pub fn accel(&self, phase: f64, x: f64, v: f64) -> f64 {
+        self.accel_at(phase, &[x, v])
+    }
+
+    /// x'' = μ + δ sin(phase) − Σ T(x, v, z) at the state `y` = [x, v, z…] (a state `y` does not
+    /// hold is 0).
+    #[inline]
+    pub fn accel_at(&self, phase: f64, y: &[f64]) -> f64 {
         let [mu, delta, _] = self.forcing;
-        let torque: f64 = self.terms().map(|t| t.torque(x, v)).sum();
+        let torque: f64 = self
+            .slots()
+            .map(|(t, at)| t.torque(y[0], y[1], state(y, at)))
+            .sum();
         mu + delta * libm::sin(phase) - torque
     }
 
-    /// (∂x''/∂x, ∂x''/∂v) = −Σ ∇T.
+    /// (∂x''/∂x, ∂x''/∂v) = −Σ ∇T, the internal states at 0.
     #[inline]
     pub fn accel_gradient(&self, x: f64, v: f64) -> [f64; 2] {
         self.terms().fold([0.0, 0.0], |[a, b], t| {
-            let [gx, gv] = t.gradient(x, v);
+            let [gx, gv, _] = t.gradient(x, v, 0.0);
             [a - gx, b - gv]
         })
     }
 
-    /// ∂x''/∂λ at fixed phase, x, v (0 for ω, which enters only through the phase).
+    /// ∂x''/∂λ at fixed phase, x, v, the internal states at 0 (0 for ω, which enters only
+    /// through the phase).
     pub fn accel_derivative(&self, q: ModelParam, phase: f64, x: f64, v: f64) -> f64 {
         match (q.term, q.index) {
             (None, 0) => 1.0,
             (None, 1) => libm::sin(phase),
             (None, _) => 0.0,
-            (Some(t), i) => -self.term(t).param_derivative(i as usize, x, v),
+            (Some(t), i) => -self.term(t).param_derivative(i as usize, x, v, 0.0),
         }
     }
 
-    /// The static torque g(x) = Σ T(x, 0): the fast subsystem's equilibria solve g(x) = a.
+    /// The static torque g(x) = Σ T(x, 0, 0): the fast subsystem's equilibria solve g(x) = a
+    /// (with the internal states at 0 for a model with memory).
     pub fn static_torque(&self, x: f64) -> f64 {
-        self.terms().map(|t| t.torque(x, 0.0)).sum()
+        self.terms().map(|t| t.torque(x, 0.0, 0.0)).sum()
     }
 
-    /// The static band of the model's switching terms (the sum of their [`AnyTerm::breakaway`]):
-    /// x' stays 0 while |x''| at x' = 0 without them is within it. `None` when every term is
-    /// smooth (then no switching integration is needed).
+    /// The static band of the model's sticking terms (the sum of their [`AnyTerm::breakaway`]):
+    /// x' stays 0 while |x''| at x' = 0 without them is within it. `None` when no term sticks.
     pub fn breakaway(&self) -> Option<f64> {
         self.terms()
             .filter_map(|t| t.breakaway())
             .reduce(|a, b| a + b)
     }
 
-    /// The model on one side of its switch x' = 0: `side` = +1 or −1 fixes sgn x' in every
-    /// switching term (0: read from x'), which makes it analytic on the piece.
-    pub fn directed(&self, side: f64) -> Model {
+    /// Whether a term's law is not analytic across x' = 0 or across its state's 0: then the
+    /// model is integrated piece by piece ([`super::switching`]).
+    pub fn switches(&self) -> bool {
+        self.terms()
+            .any(|t| t.switches_at_rest() || t.switches_at_zero_state())
+    }
+
+    /// The state indices (2, 3, …) of the internal states whose law is not analytic across 0.
+    pub fn switching_states(&self) -> impl Iterator<Item = usize> + '_ {
+        self.slots()
+            .filter(|(t, _)| t.switches_at_zero_state())
+            .filter_map(|(_, at)| at)
+    }
+
+    /// The model on one piece of its switches: `v` = +1 or −1 fixes sgn x' in every switching
+    /// term, `z[j]` sgn of internal state j (0: read from the state), which makes it analytic on
+    /// the piece.
+    pub fn directed(&self, v: f64, z: [f64; MAX_STATES]) -> Model {
         let mut m = *self;
+        let mut next = 0;
         for t in m.terms.iter_mut().flatten() {
+            let side = Side {
+                v,
+                z: if t.state().is_some() {
+                    next += 1;
+                    z[next - 1]
+                } else {
+                    0.0
+                },
+            };
             *t = t.directed(side);
         }
         m
@@ -435,42 +505,81 @@ impl Model {
         }
     }
 
-    /// The equation as text: x'' + terms = μ + δ sin ωτ.
+    /// The equation as text: x'' + terms = μ + δ sin ωτ, then each internal state's equation.
     pub fn equation(&self) -> String {
         let lhs: String = self.terms().map(|t| t.text()).collect();
-        format!("x''{lhs} = μ + δ sin ωτ")
+        let rates: String = self
+            .terms()
+            .filter_map(|t| t.rate_text())
+            .map(|r| format!("; {r}"))
+            .collect();
+        format!("x''{lhs} = μ + δ sin ωτ{rates}")
     }
 
-    /// The equation in LaTeX.
+    /// The equation in LaTeX, then each internal state's equation.
     pub fn latex(&self) -> String {
         let lhs: String = self.terms().map(|t| t.latex()).collect();
-        format!(r"\ddot x{lhs} = \mu + \delta \sin \omega\tau")
+        let rates: String = self
+            .terms()
+            .filter_map(|t| t.rate_latex())
+            .map(|r| format!(", \\quad {r}"))
+            .collect();
+        format!(r"\ddot x{lhs} = \mu + \delta \sin \omega\tau{rates}")
     }
 }
 
-/// The model as a first-order system in (x, v = x'), every method derived from the terms.
-impl System<2> for Model {
+/// Component `at` of the state `y`, 0 where there is none.
+#[inline(always)]
+fn state(y: &[f64], at: Option<usize>) -> f64 {
+    at.and_then(|i| y.get(i).copied()).unwrap_or(0.0)
+}
+
+/// The model as a first-order system in (x, v = x', z…), N = [`Model::dim`] (the caller
+/// chooses N by it), every method derived from the terms.
+impl<const N: usize> System<N> for Model {
     #[inline]
-    fn rhs(&self, t: f64, y: &[f64; 2]) -> [f64; 2] {
-        [y[1], self.accel(self.forcing[2] * t, y[0], y[1])]
+    fn rhs(&self, t: f64, y: &[f64; N]) -> [f64; N] {
+        debug_assert_eq!(N, self.dim());
+        let mut f = [0.0; N];
+        f[0] = y[1];
+        f[1] = self.accel_at(self.forcing[2] * t, y);
+        for (term, at) in self.slots() {
+            if let Some(i) = at {
+                f[i] = term.rate(y[0], y[1], y[i]);
+            }
+        }
+        f
     }
-    fn jacobian(&self, _t: f64, y: &[f64; 2]) -> Option<[[f64; 2]; 2]> {
-        let [ax, av] = self.accel_gradient(y[0], y[1]);
-        Some([[0.0, 1.0], [ax, av]])
+    fn jacobian(&self, _t: f64, y: &[f64; N]) -> Option<[[f64; N]; N]> {
+        let mut j = [[0.0; N]; N];
+        j[0][1] = 1.0;
+        for (term, at) in self.slots() {
+            let z = state(y, at);
+            let [tx, tv, tz] = term.gradient(y[0], y[1], z);
+            j[1][0] -= tx;
+            j[1][1] -= tv;
+            if let Some(i) = at {
+                j[1][i] -= tz;
+                let [rx, rv, rz] = term.rate_gradient(y[0], y[1], z);
+                (j[i][0], j[i][1], j[i][i]) = (rx, rv, rz);
+            }
+        }
+        Some(j)
     }
-    /// x_{k+1} = v_k/(k+1), v_{k+1} = (μ[k=0] + δ s_k − Σ_i T_{i,k})/(k+1), each term's T_k by
-    /// its own recurrence ([`super::terms::Term::taylor`]), s_k sin ωt's in closed form.
-    fn taylor(&self, t: f64, y: &[f64; 2], order: usize, c: &mut [[f64; 2]]) -> bool {
+    /// x_{k+1} = v_k/(k+1), v_{k+1} = (μ[k=0] + δ s_k − Σ_i T_{i,k})/(k+1),
+    /// z_{k+1} = r_k/(k+1), each term's T_k and r_k by its own recurrences
+    /// ([`super::terms::Term::taylor`]), s_k sin ωt's in closed form.
+    fn taylor(&self, t: f64, y: &[f64; N], order: usize, c: &mut [[f64; N]]) -> bool {
         self.taylor_rows(t, y, order, c, &mut [Scratch::default(); MAX_TERMS]);
         true
     }
     /// The terms' own limits ([`super::terms::Term::step_limit`]) on their rows, recomputed
     /// (only for models with a term that has one), a contribution of 1e-3·atol negligible.
-    fn taylor_step_limit(&self, t: f64, y: &[f64; 2], order: usize, h: f64, atol: f64) -> f64 {
+    fn taylor_step_limit(&self, t: f64, y: &[f64; N], order: usize, h: f64, atol: f64) -> f64 {
         if !self.terms().any(|t| t.limits_steps()) {
             return h;
         }
-        let mut c = [[0.0; 2]; MAX_ROWS];
+        let mut c = [[0.0; N]; MAX_ROWS];
         let mut rows = [Scratch::default(); MAX_TERMS];
         let n = self.taylor_rows(t, y, order, &mut c, &mut rows);
         self.terms
@@ -486,12 +595,12 @@ impl System<2> for Model {
 impl Model {
     /// Rows 0..=order (capped at the integrator's) of the Taylor coefficients through (t, y)
     /// into `c`, the terms' own rows into `rows`; returns the order reached.
-    fn taylor_rows(
+    fn taylor_rows<const N: usize>(
         &self,
         t: f64,
-        y: &[f64; 2],
+        y: &[f64; N],
         order: usize,
-        c: &mut [[f64; 2]],
+        c: &mut [[f64; N]],
         rows: &mut [Scratch; MAX_TERMS],
     ) -> usize {
         use crate::integrate::taylor::{INV, MAX_ORDER, forcing_coefficients};
@@ -500,26 +609,53 @@ impl Model {
         let mut f = [0.0; MAX_ROWS];
         forcing_coefficients(delta, omega, t, n, &mut f);
         f[0] += mu;
-        let (mut x, mut v) = ([0.0; MAX_ROWS], [0.0; MAX_ROWS]);
-        (x[0], v[0]) = (y[0], y[1]);
-        for k in 0..n {
-            let mut acc = f[k];
-            for (term, r) in self.terms.iter().zip(rows.iter_mut()) {
-                if let Some(term) = term {
-                    acc -= term.taylor(k, &x, &v, r);
+        // rows of x, v and the internal states (a state's absent rows stay 0)
+        let mut s = [[0.0; MAX_ROWS]; 2 + MAX_STATES];
+        for (row, &y) in s.iter_mut().zip(y) {
+            row[0] = y;
+        }
+        let at: [Option<usize>; MAX_TERMS] = {
+            let mut at = [None; MAX_TERMS];
+            let mut next = 2;
+            for (a, term) in at.iter_mut().zip(&self.terms) {
+                if term.is_some_and(|t| t.state().is_some()) {
+                    *a = Some(next);
+                    next += 1;
                 }
             }
-            x[k + 1] = v[k] * INV[k];
-            v[k + 1] = acc * INV[k];
-        }
-        // the terms' rows at order n too (the step limits read them)
-        for (term, r) in self.terms.iter().zip(rows.iter_mut()) {
-            if let Some(term) = term {
-                term.taylor(n, &x, &v, r);
+            at
+        };
+        // the zero rows a stateless term reads as its z
+        const NONE: [f64; MAX_ROWS] = [0.0; MAX_ROWS];
+        // row k of the acceleration and of the states' rates, the terms' rows kept in `rows`
+        let mut row = |k: usize, s: &[[f64; MAX_ROWS]; 2 + MAX_STATES]| {
+            let mut acc = f[k];
+            let mut rates = [0.0; 2 + MAX_STATES];
+            let [x, v, ..] = s;
+            for ((term, r), at) in self.terms.iter().zip(rows.iter_mut()).zip(at) {
+                let Some(term) = term else { continue };
+                let z = at.map_or(&NONE, |i| &s[i]);
+                if let Some(i) = at {
+                    rates[i] = term.rate_taylor(k, x, v, z, r);
+                }
+                acc -= term.taylor(k, x, v, z, r);
+            }
+            (acc, rates)
+        };
+        for k in 0..n {
+            let (acc, rates) = row(k, &s);
+            s[0][k + 1] = s[1][k] * INV[k];
+            s[1][k + 1] = acc * INV[k];
+            for i in 2..N {
+                s[i][k + 1] = rates[i] * INV[k];
             }
         }
+        // the terms' rows at order n too (the step limits read them)
+        row(n, &s);
         for (k, ck) in c.iter_mut().enumerate().take(n + 1) {
-            *ck = [x[k], v[k]];
+            for (i, v) in ck.iter_mut().enumerate() {
+                *v = s[i][k];
+            }
         }
         n
     }

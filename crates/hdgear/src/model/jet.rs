@@ -10,7 +10,8 @@
 //! * t = tanh(u): t' = (1 − t²)u', so k·t_k = Σ_{j=1..k} j·u_j·(1 − t²)_{k−j};
 //! * s = sin u, c = cos u: s' = c·u', c' = −s·u', so k·s_k = Σ j·u_j·c_{k−j} and
 //!   k·c_k = −Σ j·u_j·s_{k−j};
-//! * p = u^a (u₀ > 0): u·p' = a·p·u', so k·u₀·p_k = Σ_{j=1..k} (a·j − k + j)·u_j·p_{k−j}.
+//! * p = u^a (u₀ > 0): u·p' = a·p·u', so k·u₀·p_k = Σ_{j=1..k} (a·j − k + j)·u_j·p_{k−j};
+//! * q = n/d: n = q·d, so d₀·q_k = n_k − Σ_{j=1..k} d_j·q_{k−j}.
 //!
 //! Each function takes the argument's rows 0..=k and the result's rows 0..k (computed at the
 //! earlier orders) and returns row k, so a recurrence runs order by order beside the state's.
@@ -146,6 +147,17 @@ pub fn sin_cos_coefficients(u: &[f64], s: &[f64], c: &[f64], k: usize) -> (f64, 
     }
 }
 
+/// Row k of q = n/d from n's and d's rows 0..=k and q's rows 0..k (d₀ ≠ 0): n = q·d, so
+/// q_k = (n_k − Σ_{j=1..k} d_j·q_{k−j})/d₀.
+#[inline(always)]
+pub fn quotient_coefficient(n: &[f64], d: &[f64], q: &[f64], k: usize) -> f64 {
+    let mut s = n[k];
+    for j in 1..=k {
+        s -= d[j] * q[k - j];
+    }
+    s / d[0]
+}
+
 /// Row k of u^a (u₀ > 0) from u's rows 0..=k and u^a's rows 0..k.
 #[inline(always)]
 pub fn pow_coefficient(u: &[f64], a: f64, p: &[f64], k: usize) -> f64 {
@@ -203,6 +215,16 @@ mod tests {
                 (s[k], c[k]) = sin_cos_coefficients(u, &s, &c, k);
             }
             s
+        });
+        check(|x| x.sin() / x.exp(), &|u| {
+            let (mut s, mut c, mut e, mut q) =
+                (vec![0.0; 5], vec![0.0; 5], vec![0.0; 5], vec![0.0; 5]);
+            for k in 0..5 {
+                (s[k], c[k]) = sin_cos_coefficients(u, &s, &c, k);
+                e[k] = exp_coefficient(u, &e, k);
+                q[k] = quotient_coefficient(&s, &e, &q, k);
+            }
+            q
         });
         check(|x| x.powf(2.5), &|u| {
             let mut p = vec![0.0; 5];

@@ -1,14 +1,18 @@
-//! Models with a switching term (Coulomb friction's sgn x') integrated piece by piece, sticking
-//! included ([`Switching`]).
+//! Models with switching terms (Coulomb friction's sgn x', the |x'| of LuGre and Bouc–Wen, the
+//! |z| of Bouc–Wen's state) integrated piece by piece, sticking included ([`Switching`]).
 //!
 //! sgn x' is not analytic across x' = 0, so neither a Taylor series nor a Runge–Kutta step may
-//! straddle it. A slipping piece fixes sgn x' = s in every switching term ([`Model::directed`]),
-//! which makes the right-hand side analytic on the piece; each step's dense output is watched for
-//! s·x' falling through 0, and the step is cut at the located root. There the motion is at rest
-//! and the rest of the torque, A(t, x) = μ + δ sin ωt − Σ T(x, 0) (the switching terms' sign part
-//! left out), decides what follows: |A| ≤ the static band ([`Model::breakaway`]) sticks — x held,
-//! x' = 0, until |A(t, x)| reaches the band, an event located on A itself — and |A| > band slips
-//! again in the direction of A (at x' = 0 the acceleration is A − sgn(A)·band, of A's sign).
+//! straddle it. A slipping piece fixes sgn x' = s in every switching term, and sgn z of every
+//! internal state whose law holds |z| ([`Model::directed`]), which makes the right-hand side
+//! analytic on the piece; each step's dense output is watched for s·x' (and each such sgn z·z)
+//! falling through 0, and the step is cut at the located root. Where z reaches 0 the next piece
+//! takes z's new sign from the direction z leaves 0 in (its first nonzero Taylor row). Where x'
+//! reaches 0 the motion is at rest and the rest of the torque, A(t, y) = μ + δ sin ωt −
+//! Σ T(x, 0, z) (the sticking terms' sign part left out), decides what follows: |A| ≤ the static
+//! band ([`Model::breakaway`], 0 without a sticking term) sticks — x and the internal states held
+//! (their rates vanish at x' = 0), x' = 0, until |A| reaches the band, an event located on A
+//! itself — and |A| > band slips again in the direction of A (at x' = 0 the acceleration is
+//! A − sgn(A)·band, of A's sign).
 //!
 //! No regularisation constant enters: the events are located to a bracket of 1e-13·max(1, |t|)
 //! ([`refine_root`]). A tangency of x' with 0 inside one eighth of a step, or of |A| with the band
@@ -22,7 +26,7 @@
 //! let p = Params { delta: 1.0, omega: 0.5, ..Params::default() };
 //! let m = Model::study(&p).with_term(AnyTerm::new("coulomb", &[0.3, 0.4, 0.1, 0.0]).unwrap()).unwrap();
 //! let pieces = Pieces::new(&m).unwrap();
-//! let mut s = Switching::new(&pieces, 0.0, [0.0, 0.0], Options::default()).unwrap();
+//! let mut s = Switching::<2>::new(&pieces, 0.0, [0.0, 0.0], Options::default()).unwrap();
 //! let mut stuck = 0.0;
 //! while s.t() < 40.0 {
 //!     let (t0, was) = (s.t(), s.mode());
@@ -33,58 +37,77 @@
 //! ```
 
 use super::Model;
+use super::assembled::MAX_STATES;
 use crate::error::{Result, SolverError};
 use crate::integrate::events::{Detector, Direction, refine_root};
-use crate::integrate::{AnyDense, AnyStepper, DenseOutput, Options, Stats, Stepper, stepper};
+use crate::integrate::{
+    AnyDense, AnyStepper, DenseOutput, Options, Stats, Stepper, System, stepper,
+};
 use serde::Serialize;
 
-/// Sub-intervals per step in which s·x' is sampled for its fall through 0.
+/// Sub-intervals per step in which s·x' (and sgn z·z) is sampled for its fall through 0.
 const SUBDIVISIONS: usize = 8;
-/// Samples of |A(t, x)| − band per forcing period while stuck.
+/// Samples of |A(t, y)| − band per forcing period while stuck.
 const STICK_SAMPLES: f64 = 64.0;
 /// Switches in a row without the time advancing before the run is refused as chattering.
 const MAX_STALLS: u32 = 8;
+/// Combinations of the internal states' signs.
+const SIGNS: usize = 1 << MAX_STATES;
 
-/// A model with switching terms on its three pieces: x' > 0, x' < 0 and at rest.
+/// A model with switching terms on its pieces: x' > 0 and x' < 0, each for every combination
+/// of the switching internal states' signs, and at rest.
 #[derive(Clone, Copy, Debug)]
 pub struct Pieces {
     free: Model,
-    forward: Model,
-    backward: Model,
+    /// [x' > 0, x' < 0][bit j set: sgn z_j = −1].
+    slipping: [[Model; SIGNS]; 2],
     band: f64,
 }
 
 impl Pieces {
-    /// The pieces of `model`; `None` when it has no switching term (every term smooth).
+    /// The pieces of `model`; `None` when no term switches (every term smooth).
     pub fn new(model: &Model) -> Option<Pieces> {
-        let band = model.breakaway()?;
+        if !model.switches() {
+            return None;
+        }
+        let piece = |v: f64, bits: usize| {
+            let z = std::array::from_fn(|j| if bits >> j & 1 == 1 { -1.0 } else { 1.0 });
+            model.directed(v, z)
+        };
         Some(Pieces {
-            free: model.directed(0.0),
-            forward: model.directed(1.0),
-            backward: model.directed(-1.0),
-            band,
+            free: model.directed(0.0, [0.0; MAX_STATES]),
+            slipping: [
+                std::array::from_fn(|b| piece(1.0, b)),
+                std::array::from_fn(|b| piece(-1.0, b)),
+            ],
+            band: model.breakaway().unwrap_or(0.0),
         })
     }
 
-    /// The model, sgn x' read from x' (0 at rest): right wherever x' ≠ 0.
+    /// The model, every sign read from the state (0 at 0): right wherever no switching
+    /// quantity is 0.
     pub fn model(&self) -> &Model {
         &self.free
     }
 
-    /// The static band: the sum of the switching terms' breakaway torques.
+    /// The static band: the sum of the sticking terms' breakaway torques (0 without one).
     pub fn band(&self) -> f64 {
         self.band
     }
 
-    /// A(t, x): x'' at rest without the switching terms' sign part, the torque the static band
-    /// holds.
-    pub fn applied(&self, t: f64, x: f64) -> f64 {
-        self.free.accel(self.free.forcing()[2] * t, x, 0.0)
+    /// A(t, y): x'' at rest (y's x' taken as 0) without the sticking terms' sign part, the
+    /// torque the static band holds.
+    pub fn applied(&self, t: f64, y: &[f64]) -> f64 {
+        let mut at_rest = [0.0; 2 + MAX_STATES];
+        at_rest[..y.len()].copy_from_slice(y);
+        at_rest[1] = 0.0;
+        self.free
+            .accel_at(self.free.forcing()[2] * t, &at_rest[..y.len()])
     }
 
-    /// What the motion does from rest at (t, x): sticks while |A| ≤ band, else slips along A.
-    pub fn mode_at_rest(&self, t: f64, x: f64) -> Mode {
-        let a = self.applied(t, x);
+    /// What the motion does from rest at (t, y): sticks while |A| ≤ band, else slips along A.
+    pub fn mode_at_rest(&self, t: f64, y: &[f64]) -> Mode {
+        let a = self.applied(t, y);
         if a.abs() <= self.band {
             Mode::Stuck
         } else {
@@ -92,12 +115,36 @@ impl Pieces {
         }
     }
 
-    fn piece(&self, mode: Mode) -> &Model {
+    /// The piece of a slipping `mode` with the internal states' signs `bits`.
+    fn piece(&self, mode: Mode, bits: usize) -> &Model {
         match mode {
-            Mode::Forward => &self.forward,
-            Mode::Backward => &self.backward,
+            Mode::Forward => &self.slipping[0][bits],
+            Mode::Backward => &self.slipping[1][bits],
             Mode::Stuck => &self.free,
         }
+    }
+
+    /// The signs of the switching internal states at (t, y) for a slipping `mode`: each z's own
+    /// sign, or where z = 0 the sign of its first nonzero Taylor row on the piece (the direction
+    /// it leaves 0 in; the rows below it do not depend on that sign, the |z| parts vanishing at
+    /// z = 0 to the order of z's exponent).
+    fn signs<const N: usize>(&self, mode: Mode, t: f64, y: &[f64; N]) -> usize {
+        let mut bits = 0;
+        let mut rows = None;
+        for i in self.free.switching_states() {
+            let negative = if y[i] != 0.0 {
+                y[i] < 0.0
+            } else {
+                let c = rows.get_or_insert_with(|| {
+                    let mut c = [[0.0; N]; 9];
+                    self.piece(mode, 0).taylor(t, y, 8, &mut c);
+                    c
+                });
+                c.iter().map(|r| r[i]).find(|&r| r != 0.0).unwrap_or(0.0) < 0.0
+            };
+            bits |= usize::from(negative) << (i - 2);
+        }
+        bits
     }
 }
 
@@ -151,28 +198,28 @@ pub struct Switch {
 // stack, a box would allocate on every step
 #[allow(clippy::large_enum_variant)]
 #[derive(Clone, Copy, Debug)]
-pub enum SwitchingDense {
+pub enum SwitchingDense<const N: usize> {
     /// A slipping step, cut at `t_end` where it ended on a switch.
     Slip {
         /// The piece's step.
-        inner: AnyDense<2>,
+        inner: AnyDense<N>,
         /// Where the step ends (the switch, or the inner step's end).
         t_end: f64,
         /// The state there.
-        y_end: [f64; 2],
+        y_end: [f64; N],
     },
-    /// At rest: x held, x' = 0.
+    /// At rest: the state held (x' = 0).
     Stuck {
         /// Start.
         t0: f64,
         /// End.
         t1: f64,
-        /// The held x.
-        x: f64,
+        /// The held state.
+        y: [f64; N],
     },
 }
 
-impl DenseOutput<2> for SwitchingDense {
+impl<const N: usize> DenseOutput<N> for SwitchingDense<N> {
     fn t_start(&self) -> f64 {
         match self {
             SwitchingDense::Slip { inner, .. } => inner.t_start(),
@@ -185,57 +232,59 @@ impl DenseOutput<2> for SwitchingDense {
             SwitchingDense::Stuck { t1, .. } => *t1,
         }
     }
-    fn eval(&self, t: f64) -> [f64; 2] {
+    fn eval(&self, t: f64) -> [f64; N] {
         match self {
             SwitchingDense::Slip { inner, .. } => inner.eval(t),
-            SwitchingDense::Stuck { x, .. } => [*x, 0.0],
+            SwitchingDense::Stuck { y, .. } => *y,
         }
     }
-    fn end_state(&self) -> [f64; 2] {
+    fn end_state(&self) -> [f64; N] {
         match self {
             SwitchingDense::Slip { y_end, .. } => *y_end,
-            SwitchingDense::Stuck { x, .. } => [*x, 0.0],
+            SwitchingDense::Stuck { y, .. } => *y,
         }
     }
     /// The inner step's bound (over its whole step, so over the cut one too).
     fn abs_bound(&self, i: usize) -> Option<f64> {
         match self {
             SwitchingDense::Slip { inner, .. } => inner.abs_bound(i),
-            SwitchingDense::Stuck { x, .. } => Some([x.abs(), 0.0].get(i).copied()?),
+            SwitchingDense::Stuck { y, .. } => Some(y.get(i)?.abs()),
         }
     }
     /// The inner step's floor (over its whole step, so over the cut one too).
     fn abs_floor(&self, i: usize) -> Option<f64> {
         match self {
             SwitchingDense::Slip { inner, .. } => inner.abs_floor(i),
-            SwitchingDense::Stuck { x, .. } => Some([x.abs(), 0.0].get(i).copied()?),
+            SwitchingDense::Stuck { y, .. } => Some(y.get(i)?.abs()),
         }
     }
 }
 
-/// A [`Stepper`] for a model with switching terms: each slipping piece by the method of
-/// `opts` on the piece's analytic model, steps cut at the located switch, sticking held exactly
-/// (module docs).
-pub struct Switching<'p> {
+/// A [`Stepper`] for a model with switching terms, N = [`Model::dim`]: each slipping piece by
+/// the method of `opts` on the piece's analytic model, steps cut at the located switch,
+/// sticking held exactly (module docs).
+pub struct Switching<'p, const N: usize> {
     pieces: &'p Pieces,
     opts: Options,
-    inner: Option<AnyStepper<'p, Model, 2>>,
+    inner: Option<AnyStepper<'p, Model, N>>,
     mode: Mode,
+    /// The switching internal states' signs on the current piece.
+    bits: usize,
     t: f64,
-    y: [f64; 2],
-    dense: SwitchingDense,
+    y: [f64; N],
+    dense: SwitchingDense<N>,
     /// Work of the finished pieces and the held intervals.
     done: Stats,
     last: Option<Switch>,
     stalls: u32,
 }
 
-impl<'p> Switching<'p> {
+impl<'p, const N: usize> Switching<'p, N> {
     /// Starts at (t0, y0): slipping along x' if it is ≠ 0, else as [`Pieces::mode_at_rest`].
-    pub fn new(pieces: &'p Pieces, t0: f64, y0: [f64; 2], opts: Options) -> Result<Self> {
+    pub fn new(pieces: &'p Pieces, t0: f64, y0: [f64; N], opts: Options) -> Result<Self> {
         opts.validate()?;
         let mode = if y0[1] == 0.0 {
-            pieces.mode_at_rest(t0, y0[0])
+            pieces.mode_at_rest(t0, &y0)
         } else {
             Mode::slipping(y0[1])
         };
@@ -244,13 +293,10 @@ impl<'p> Switching<'p> {
             opts,
             inner: None,
             mode,
+            bits: 0,
             t: t0,
             y: y0,
-            dense: SwitchingDense::Stuck {
-                t0,
-                t1: t0,
-                x: y0[0],
-            },
+            dense: SwitchingDense::Stuck { t0, t1: t0, y: y0 },
             done: Stats::default(),
             last: None,
             stalls: 0,
@@ -272,18 +318,29 @@ impl<'p> Switching<'p> {
     /// Enters `mode` at the current (t, y): a fresh stepper on its piece when it slips.
     fn enter(&mut self, mode: Mode) -> Result<()> {
         self.mode = mode;
+        if let Some(inner) = self.inner.take() {
+            let s = inner.stats();
+            self.done.steps += s.steps;
+            self.done.rejected += s.rejected;
+            self.done.rhs_evals += s.rhs_evals;
+        }
         self.inner = match mode {
             Mode::Stuck => {
                 self.y[1] = 0.0;
                 None
             }
-            _ => Some(stepper(self.pieces.piece(mode), self.t, self.y, self.opts)?),
+            _ => {
+                self.bits = self.pieces.signs(mode, self.t, &self.y);
+                let piece = self.pieces.piece(mode, self.bits);
+                Some(stepper(piece, self.t, self.y, self.opts)?)
+            }
         };
         Ok(())
     }
 
-    /// Ends the current mode at (t, x) at rest and enters `to`.
-    fn switch(&mut self, t: f64, x: f64, to: Mode) -> Result<()> {
+    /// Counts a cut at `t` (refused as chattering after [`MAX_STALLS`] without progress) and
+    /// moves to (t, y).
+    fn cut(&mut self, t: f64, y: [f64; N]) -> Result<()> {
         self.stalls = if t > self.t { 0 } else { self.stalls + 1 };
         if self.stalls > MAX_STALLS {
             return Err(SolverError::Chattering {
@@ -292,28 +349,29 @@ impl<'p> Switching<'p> {
             }
             .into());
         }
-        if let Some(inner) = self.inner.take() {
-            let s = inner.stats();
-            self.done.steps += s.steps;
-            self.done.rejected += s.rejected;
-            self.done.rhs_evals += s.rhs_evals;
-        }
+        (self.t, self.y) = (t, y);
+        Ok(())
+    }
+
+    /// Ends the current mode at (t, y) at rest and enters `to`.
+    fn switch(&mut self, t: f64, mut y: [f64; N], to: Mode) -> Result<()> {
+        y[1] = 0.0;
+        self.cut(t, y)?;
         self.last = Some(Switch {
             t,
-            x,
+            x: y[0],
             from: self.mode,
             to,
         });
-        (self.t, self.y) = (t, [x, 0.0]);
         self.enter(to)
     }
 
-    /// Held at rest from the current t: until |A(t, x)| reaches the band (then slipping along
+    /// Held at rest from the current t: until |A(t, y)| reaches the band (then slipping along
     /// A) or `t_bound`.
     fn hold(&mut self, t_bound: f64) -> Result<()> {
-        let (p, x) = (self.pieces, self.y[0]);
+        let (p, y) = (self.pieces, self.y);
         let [_, delta, omega] = p.free.forcing();
-        let g = |t: f64| p.applied(t, x).abs() - p.band;
+        let g = |t: f64| p.applied(t, &y).abs() - p.band;
         let spacing = std::f64::consts::TAU / omega / STICK_SAMPLES;
         let (mut ta, mut ga) = (self.t, g(self.t));
         let mut unstick = (ga > 0.0).then_some(ta);
@@ -329,10 +387,10 @@ impl<'p> Switching<'p> {
         }
         let t1 = unstick.unwrap_or(t_bound);
         self.done.steps += 1;
-        self.dense = SwitchingDense::Stuck { t0: self.t, t1, x };
+        self.dense = SwitchingDense::Stuck { t0: self.t, t1, y };
         self.last = None;
         match unstick {
-            Some(t) => self.switch(t, x, Mode::slipping(p.applied(t, x))),
+            Some(t) => self.switch(t, y, Mode::slipping(p.applied(t, &y))),
             None => {
                 self.t = t_bound;
                 Ok(())
@@ -341,12 +399,12 @@ impl<'p> Switching<'p> {
     }
 }
 
-impl Stepper<2> for Switching<'_> {
-    type Dense = SwitchingDense;
+impl<const N: usize> Stepper<N> for Switching<'_, N> {
+    type Dense = SwitchingDense<N>;
     fn t(&self) -> f64 {
         self.t
     }
-    fn y(&self) -> &[f64; 2] {
+    fn y(&self) -> &[f64; N] {
         &self.y
     }
     fn step(&mut self, t_bound: f64) -> Result<()> {
@@ -358,48 +416,62 @@ impl Stepper<2> for Switching<'_> {
             }
             .into());
         }
-        let side = self.mode.side();
         let Some(inner) = self.inner.as_mut() else {
             return self.hold(t_bound);
         };
         inner.step(t_bound)?;
         let d = inner.dense();
-        // s·x' > 0 across the whole step: no switch in it
-        let cut = if d.abs_floor(1).is_some_and(|f| f > 0.0) {
-            None
-        } else {
-            let mut falls = Detector::new(|_, y: &[f64; 2]| side * y[1], Direction::Falling);
-            falls.subdivisions = SUBDIVISIONS;
-            let mut first = None;
-            falls.scan(&d, |c| {
-                first.get_or_insert(c);
-            });
-            first
-        };
-        match cut {
-            None => {
-                (self.t, self.y) = (inner.t(), *inner.y());
-                self.dense = SwitchingDense::Slip {
-                    inner: d,
-                    t_end: self.t,
-                    y_end: self.y,
-                };
-                self.last = None;
-                Ok(())
+        // the first fall through 0 of s·x' (i = 1) or of a switching state's sgn z·z
+        let mut first: Option<(usize, crate::integrate::events::Crossing<N>)> = None;
+        let watched = std::iter::once((1, self.mode.side())).chain(
+            self.pieces.free.switching_states().map(|i| {
+                let negative = self.bits >> (i - 2) & 1 == 1;
+                (i, if negative { -1.0 } else { 1.0 })
+            }),
+        );
+        for (i, sign) in watched {
+            // |y_i| > 0 across the whole step: no switch of it in the step
+            if d.abs_floor(i).is_some_and(|f| f > 0.0) {
+                continue;
             }
-            Some(c) => {
-                let (t, x) = (c.t, c.y[0]);
-                self.dense = SwitchingDense::Slip {
-                    inner: d,
-                    t_end: t,
-                    y_end: [x, 0.0],
-                };
-                let to = self.pieces.mode_at_rest(t, x);
-                self.switch(t, x, to)
+            let mut falls = Detector::new(|_, y: &[f64; N]| sign * y[i], Direction::Falling);
+            falls.subdivisions = SUBDIVISIONS;
+            let mut found = None;
+            falls.scan(&d, |c| {
+                found.get_or_insert(c);
+            });
+            if let Some(c) = found.filter(|c| first.is_none_or(|(_, f)| c.t < f.t)) {
+                first = Some((i, c));
             }
         }
+        let Some((i, c)) = first else {
+            (self.t, self.y) = (inner.t(), *inner.y());
+            self.dense = SwitchingDense::Slip {
+                inner: d,
+                t_end: self.t,
+                y_end: self.y,
+            };
+            self.last = None;
+            return Ok(());
+        };
+        let mut y = c.y;
+        y[i] = 0.0;
+        self.dense = SwitchingDense::Slip {
+            inner: d,
+            t_end: c.t,
+            y_end: y,
+        };
+        if i == 1 {
+            let to = self.pieces.mode_at_rest(c.t, &y);
+            self.switch(c.t, y, to)
+        } else {
+            // an internal state through 0: the same motion on the piece of z's new sign
+            self.cut(c.t, y)?;
+            self.last = None;
+            self.enter(self.mode)
+        }
     }
-    fn dense(&mut self) -> SwitchingDense {
+    fn dense(&mut self) -> SwitchingDense<N> {
         self.dense
     }
     fn stats(&self) -> Stats {

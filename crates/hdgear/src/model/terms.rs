@@ -1,10 +1,12 @@
-//! The terms a drive model is assembled from: each a torque T(x, x') on the left-hand side of
-//! x'' + Σ T = μ + δ sin ωτ, with its parameters and, in one place, everything the machines
-//! need of it ([`Term`]).
+//! The terms a drive model is assembled from: each a torque T(x, x', z) on the left-hand side of
+//! x'' + Σ T = μ + δ sin ωτ (z the term's own internal state, where it has one:
+//! [`super::memory`]), with its parameters and, in one place, everything the machines need of it
+//! ([`Term`]).
 
 use super::jet::{
     exp_coefficient, exp_step_limit, square_coefficient, tanh_coefficient, tanh_step_limit,
 };
+pub use super::memory::{BoucWen, LuGre};
 use crate::error::{Error, Result};
 use serde::Serialize;
 
@@ -32,6 +34,10 @@ pub enum Domain {
     Positive,
     /// A finite value ≥ 0.
     NonNegative,
+    /// A value in [0, 1].
+    Fraction,
+    /// A whole number from 1 to 4 (an exponent a Taylor recurrence takes as repeated products).
+    Exponent,
 }
 
 impl Domain {
@@ -41,6 +47,8 @@ impl Domain {
             Domain::Any => "finite",
             Domain::Positive => "> 0",
             Domain::NonNegative => "≥ 0",
+            Domain::Fraction => "[0, 1]",
+            Domain::Exponent => "1,2,3,4",
         }
     }
 
@@ -51,6 +59,8 @@ impl Domain {
                 Domain::Any => true,
                 Domain::Positive => value > 0.0,
                 Domain::NonNegative => value >= 0.0,
+                Domain::Fraction => (0.0..=1.0).contains(&value),
+                Domain::Exponent => (1.0..=4.0).contains(&value) && value.fract() == 0.0,
             };
         if ok {
             Ok(())
@@ -62,6 +72,8 @@ impl Domain {
                     Domain::Any => "must be finite",
                     Domain::Positive => "must be finite and > 0",
                     Domain::NonNegative => "must be finite and ≥ 0",
+                    Domain::Fraction => "must lie in [0, 1]",
+                    Domain::Exponent => "must be a whole number from 1 to 4",
                 },
             })
         }
@@ -88,9 +100,40 @@ pub struct ParamInfo {
     pub si: &'static str,
 }
 
-/// A torque contribution T(x, x') to the left-hand side of the drive's equation: the one place
-/// its value, derivatives, Taylor recurrence, parameters and text are defined; every machine
-/// ([`super::Model`]) is derived from these.
+/// A term's internal state: its name (a state of the model beside x and x') and what it is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+pub struct StateInfo {
+    /// The state's name in output columns and `hdgear model`.
+    pub name: &'static str,
+    /// What it is.
+    pub meaning: &'static str,
+}
+
+/// The piece of a switching term's law: sgn x' (`v`) and sgn z of its internal state (`z`)
+/// fixed to +1 or −1, or 0 to read each sign from the state itself.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Side {
+    /// sgn x' on the piece (0: read from x').
+    pub v: f64,
+    /// sgn z on the piece (0: read from z).
+    pub z: f64,
+}
+
+/// The sign on a piece: `side` where it is fixed (±1), else the sign of `value` (0 at 0).
+pub fn piece_sign(side: f64, value: f64) -> f64 {
+    if side != 0.0 {
+        side
+    } else if value == 0.0 {
+        0.0
+    } else {
+        value.signum()
+    }
+}
+
+/// A torque contribution T(x, x', z) to the left-hand side of the drive's equation, z the
+/// term's own internal state where it has one ([`Term::STATE`], with z' = [`Term::rate`]): the
+/// one place its value, derivatives, Taylor recurrences, parameters and text are defined; every
+/// machine ([`super::Model`]) is derived from these. A stateless term ignores z (0).
 pub trait Term: Copy {
     /// The term's kind: its table name in scenario files (`[friction]`).
     const KIND: &'static str;
@@ -98,25 +141,58 @@ pub trait Term: Copy {
     const ABOUT: &'static str;
     /// Its parameters, in the order of [`Term::values`].
     const PARAMS: &'static [ParamInfo];
+    /// Its internal state, if it has one (`None`, the default: T depends on x and x' only).
+    const STATE: Option<StateInfo> = None;
+    /// Whether its law is not analytic across x' = 0 (sgn x', |x'|): a switching integration
+    /// ([`super::switching`]) then cuts steps there.
+    const SWITCHES_AT_REST: bool = false;
+    /// Whether its law is not analytic across z = 0 (|z|): steps are cut there too.
+    const SWITCHES_AT_ZERO_STATE: bool = false;
     /// The term with these parameter values (in [`Term::PARAMS`] order; the caller checks
     /// their count and domains).
     fn from_values(values: &[f64]) -> Self;
     /// Its parameter values, in [`Term::PARAMS`] order.
     fn values(&self) -> &[f64];
-    /// T(x, v).
-    fn torque(&self, x: f64, v: f64) -> f64;
-    /// (∂T/∂x, ∂T/∂v).
-    fn gradient(&self, x: f64, v: f64) -> [f64; 2];
+    /// T(x, v, z).
+    fn torque(&self, x: f64, v: f64, z: f64) -> f64;
+    /// (∂T/∂x, ∂T/∂v, ∂T/∂z).
+    fn gradient(&self, x: f64, v: f64, z: f64) -> [f64; 3];
     /// ∂T/∂p for parameter `i` of [`Term::PARAMS`].
-    fn param_derivative(&self, i: usize, x: f64, v: f64) -> f64;
-    /// Row k of T's normalised Taylor coefficients along a solution whose x and v rows 0..=k are
-    /// given; `rows` keeps the term's own intermediate rows from order to order (called for
-    /// k = 0, 1, 2, … in turn with the same `rows`).
-    fn taylor(&self, k: usize, x: &[f64], v: &[f64], rows: &mut Scratch) -> f64;
+    fn param_derivative(&self, i: usize, x: f64, v: f64, z: f64) -> f64;
+    /// Row k of T's normalised Taylor coefficients along a solution whose x, v and z rows
+    /// 0..=k are given; `rows` keeps the term's own intermediate rows from order to order
+    /// (called for k = 0, 1, 2, … in turn with the same `rows`, each after
+    /// [`Term::rate_taylor`] of the same k).
+    fn taylor(&self, k: usize, x: &[f64], v: &[f64], z: &[f64], rows: &mut Scratch) -> f64;
+    /// z' = r(x, v, z), the internal state's equation (0 for a stateless term).
+    fn rate(&self, _x: f64, _v: f64, _z: f64) -> f64 {
+        0.0
+    }
+    /// (∂r/∂x, ∂r/∂v, ∂r/∂z).
+    fn rate_gradient(&self, _x: f64, _v: f64, _z: f64) -> [f64; 3] {
+        [0.0; 3]
+    }
+    /// ∂r/∂p for parameter `i`.
+    fn rate_param_derivative(&self, _i: usize, _x: f64, _v: f64, _z: f64) -> f64 {
+        0.0
+    }
+    /// Row k of r's Taylor coefficients (called before [`Term::taylor`] of the same k, with
+    /// the same `rows`).
+    fn rate_taylor(&self, _k: usize, _x: &[f64], _v: &[f64], _z: &[f64], _r: &mut Scratch) -> f64 {
+        0.0
+    }
     /// The term in the equation's text (`x'` the velocity), with a leading sign.
     fn text(&self) -> String;
     /// The term in LaTeX, with a leading sign.
     fn latex(&self) -> String;
+    /// Its state's equation as text (`z' = …`), for a term with a state.
+    fn rate_text(&self) -> Option<String> {
+        None
+    }
+    /// Its state's equation in LaTeX, for a term with a state.
+    fn rate_latex(&self) -> Option<String> {
+        None
+    }
     /// Whether [`Term::step_limit`] may shorten a step (the model skips the check otherwise).
     const LIMITS_STEPS: bool = false;
     /// The longest step, at most `h`, on which the term's own intermediate series (its `rows`
@@ -125,15 +201,14 @@ pub trait Term: Copy {
     fn step_limit(&self, _rows: &Scratch, _order: usize, h: f64, _negligible: f64) -> f64 {
         h
     }
-    /// The static band of a term that switches at x' = 0 (Coulomb friction: sgn x' is not
-    /// analytic there): x' stays 0 while the rest of the torque is within ± this value. `None`
-    /// (the default) for a smooth term.
+    /// The static band of a term that sticks at x' = 0 (Coulomb friction): x' stays 0 while the
+    /// rest of the torque is within ± this value. `None` (the default) for a term without
+    /// sticking.
     fn breakaway(&self) -> Option<f64> {
         None
     }
-    /// The term on one side of its switch, `side` = sgn x' there (+1 or −1), or 0 to read the
-    /// sign from x' itself (0 at x' = 0). A smooth term ignores it (the default).
-    fn directed(self, _side: f64) -> Self {
+    /// The term on one piece of its law ([`Side`]). A smooth term ignores it (the default).
+    fn directed(self, _side: Side) -> Self {
         self
     }
 }
@@ -152,16 +227,16 @@ impl Term for Damping {
     fn values(&self) -> &[f64] {
         &self.0
     }
-    fn torque(&self, _x: f64, v: f64) -> f64 {
+    fn torque(&self, _x: f64, v: f64, _z: f64) -> f64 {
         v
     }
-    fn gradient(&self, _x: f64, _v: f64) -> [f64; 2] {
-        [0.0, 1.0]
+    fn gradient(&self, _x: f64, _v: f64, _z: f64) -> [f64; 3] {
+        [0.0, 1.0, 0.0]
     }
-    fn param_derivative(&self, _i: usize, _x: f64, _v: f64) -> f64 {
+    fn param_derivative(&self, _i: usize, _x: f64, _v: f64, _z: f64) -> f64 {
         0.0
     }
-    fn taylor(&self, k: usize, _x: &[f64], v: &[f64], _rows: &mut Scratch) -> f64 {
+    fn taylor(&self, k: usize, _x: &[f64], v: &[f64], _z: &[f64], _rows: &mut Scratch) -> f64 {
         v[k]
     }
     fn text(&self) -> String {
@@ -215,20 +290,20 @@ impl Term for Stiffness {
     fn values(&self) -> &[f64] {
         &self.0
     }
-    fn torque(&self, x: f64, _v: f64) -> f64 {
+    fn torque(&self, x: f64, _v: f64, _z: f64) -> f64 {
         let [alpha, gamma, eps] = self.0;
         (alpha * x - 1.0) * x * x + gamma * (x - eps)
     }
-    fn gradient(&self, x: f64, _v: f64) -> [f64; 2] {
+    fn gradient(&self, x: f64, _v: f64, _z: f64) -> [f64; 3] {
         let [alpha, gamma, _] = self.0;
-        [(3.0 * alpha * x - 2.0) * x + gamma, 0.0]
+        [(3.0 * alpha * x - 2.0) * x + gamma, 0.0, 0.0]
     }
-    fn param_derivative(&self, i: usize, x: f64, _v: f64) -> f64 {
+    fn param_derivative(&self, i: usize, x: f64, _v: f64, _z: f64) -> f64 {
         let [_, gamma, eps] = self.0;
         [x * x * x, x - eps, -gamma][i]
     }
     /// (x²)_k by its symmetric Cauchy sum into row 0, (x³)_k = Σ (x²)_j x_{k−j}.
-    fn taylor(&self, k: usize, x: &[f64], _v: &[f64], rows: &mut Scratch) -> f64 {
+    fn taylor(&self, k: usize, x: &[f64], _v: &[f64], _z: &[f64], rows: &mut Scratch) -> f64 {
         let [alpha, gamma, eps] = self.0;
         let sq = &mut rows.0[0];
         sq[k] = square_coefficient(x, k);
@@ -277,22 +352,22 @@ impl Term for Friction {
     fn values(&self) -> &[f64] {
         &self.0
     }
-    fn torque(&self, _x: f64, v: f64) -> f64 {
+    fn torque(&self, _x: f64, v: f64, _z: f64) -> f64 {
         let [fc, vs] = self.0;
         fc * (v / vs).tanh()
     }
-    fn gradient(&self, _x: f64, v: f64) -> [f64; 2] {
+    fn gradient(&self, _x: f64, v: f64, _z: f64) -> [f64; 3] {
         let [fc, vs] = self.0;
         let t = (v / vs).tanh();
-        [0.0, fc * (1.0 - t * t) / vs]
+        [0.0, fc * (1.0 - t * t) / vs, 0.0]
     }
-    fn param_derivative(&self, i: usize, _x: f64, v: f64) -> f64 {
+    fn param_derivative(&self, i: usize, _x: f64, v: f64, _z: f64) -> f64 {
         let [fc, vs] = self.0;
         let t = (v / vs).tanh();
         [t, -fc * (1.0 - t * t) * v / (vs * vs)][i]
     }
     /// u = v/v_s (row 0), tanh u (row 1) and its square (row 2).
-    fn taylor(&self, k: usize, _x: &[f64], v: &[f64], rows: &mut Scratch) -> f64 {
+    fn taylor(&self, k: usize, _x: &[f64], v: &[f64], _z: &[f64], rows: &mut Scratch) -> f64 {
         let [fc, vs] = self.0;
         let [u, t, sq, ..] = &mut rows.0;
         u[k] = v[k] / vs;
@@ -375,20 +450,20 @@ impl Term for Stribeck {
     fn values(&self) -> &[f64] {
         &self.0
     }
-    fn torque(&self, _x: f64, v: f64) -> f64 {
+    fn torque(&self, _x: f64, v: f64, _z: f64) -> f64 {
         let [fc, fs, vst, cv, vr] = self.0;
         let level = fc + (fs - fc) * (-(v / vst).powi(2)).exp();
         level * (v / vr).tanh() + cv * v
     }
-    fn gradient(&self, _x: f64, v: f64) -> [f64; 2] {
+    fn gradient(&self, _x: f64, v: f64, _z: f64) -> [f64; 3] {
         let [fc, fs, vst, cv, vr] = self.0;
         let e = (-(v / vst).powi(2)).exp();
         let t = (v / vr).tanh();
         let level = fc + (fs - fc) * e;
         let dlevel = (fs - fc) * e * (-2.0 * v / (vst * vst));
-        [0.0, dlevel * t + level * (1.0 - t * t) / vr + cv]
+        [0.0, dlevel * t + level * (1.0 - t * t) / vr + cv, 0.0]
     }
-    fn param_derivative(&self, i: usize, _x: f64, v: f64) -> f64 {
+    fn param_derivative(&self, i: usize, _x: f64, v: f64, _z: f64) -> f64 {
         let [fc, fs, vst, _, vr] = self.0;
         let e = (-(v / vst).powi(2)).exp();
         let t = (v / vr).tanh();
@@ -403,7 +478,7 @@ impl Term for Stribeck {
     }
     /// q = −(v/v_st)² (row 0), e^q (row 1), u = v/v_r (row 2), tanh u (row 3) and its square
     /// (row 4); T_k = Σ_j (f_c[j = 0] + (f_s − f_c)e_j)·tanh_{k−j} + c_v v_k.
-    fn taylor(&self, k: usize, _x: &[f64], v: &[f64], rows: &mut Scratch) -> f64 {
+    fn taylor(&self, k: usize, _x: &[f64], v: &[f64], _z: &[f64], rows: &mut Scratch) -> f64 {
         let [fc, fs, vst, cv, vr] = self.0;
         let [q, e, u, t, sq] = &mut rows.0;
         q[k] = -square_coefficient(v, k) / (vst * vst);
@@ -452,18 +527,13 @@ impl Serialize for Coulomb {
 impl Coulomb {
     /// sgn x' on this piece: the side it is directed to, else the sign of `v` (0 at rest).
     fn sign(&self, v: f64) -> f64 {
-        if self.side != 0.0 {
-            self.side
-        } else if v == 0.0 {
-            0.0
-        } else {
-            v.signum()
-        }
+        piece_sign(self.side, v)
     }
 }
 
 impl Term for Coulomb {
     const KIND: &'static str = "coulomb";
+    const SWITCHES_AT_REST: bool = true;
     const ABOUT: &'static str =
         "Coulomb–Stribeck–viscous friction with sticking (sgn x', integrated piece by piece)";
     const PARAMS: &'static [ParamInfo] = &[
@@ -513,20 +583,21 @@ impl Term for Coulomb {
     fn values(&self) -> &[f64] {
         &self.values
     }
-    fn torque(&self, _x: f64, v: f64) -> f64 {
+    fn torque(&self, _x: f64, v: f64, _z: f64) -> f64 {
         let [fc, fs, vst, cv] = self.values;
         (fc + (fs - fc) * (-(v / vst).powi(2)).exp()) * self.sign(v) + cv * v
     }
     /// On the piece (the switch's Dirac at x' = 0 is the events' business, not the gradient's).
-    fn gradient(&self, _x: f64, v: f64) -> [f64; 2] {
+    fn gradient(&self, _x: f64, v: f64, _z: f64) -> [f64; 3] {
         let [fc, fs, vst, cv] = self.values;
         let e = (-(v / vst).powi(2)).exp();
         [
             0.0,
             (fs - fc) * e * (-2.0 * v / (vst * vst)) * self.sign(v) + cv,
+            0.0,
         ]
     }
-    fn param_derivative(&self, i: usize, _x: f64, v: f64) -> f64 {
+    fn param_derivative(&self, i: usize, _x: f64, v: f64, _z: f64) -> f64 {
         let [fc, fs, vst, _] = self.values;
         let e = (-(v / vst).powi(2)).exp();
         let s = self.sign(v);
@@ -539,7 +610,7 @@ impl Term for Coulomb {
     }
     /// q = −(v/v_st)² (row 0) and e^q (row 1); T_k = s·(f_c[k = 0] + (f_s − f_c)e_k) + c_v v_k
     /// with s the piece's constant sgn x'.
-    fn taylor(&self, k: usize, _x: &[f64], v: &[f64], rows: &mut Scratch) -> f64 {
+    fn taylor(&self, k: usize, _x: &[f64], v: &[f64], _z: &[f64], rows: &mut Scratch) -> f64 {
         let [fc, fs, vst, cv] = self.values;
         let [q, e, ..] = &mut rows.0;
         q[k] = -square_coefficient(v, k) / (vst * vst);
@@ -564,8 +635,11 @@ impl Term for Coulomb {
     fn breakaway(&self) -> Option<f64> {
         Some(self.values[1])
     }
-    fn directed(self, side: f64) -> Self {
-        Coulomb { side, ..self }
+    fn directed(self, side: Side) -> Self {
+        Coulomb {
+            side: side.v,
+            ..self
+        }
     }
 }
 
@@ -611,24 +685,64 @@ macro_rules! any_term {
             pub fn values(&self) -> &[f64] {
                 match self { $(AnyTerm::$variant(t) => t.values(),)* }
             }
-            /// T(x, v).
-            #[inline]
-            pub fn torque(&self, x: f64, v: f64) -> f64 {
-                match self { $(AnyTerm::$variant(t) => t.torque(x, v),)* }
+            /// Its internal state, if it has one.
+            pub fn state(&self) -> Option<StateInfo> {
+                match self { $(AnyTerm::$variant(_) => $variant::STATE,)* }
             }
-            /// (∂T/∂x, ∂T/∂v).
+            /// Whether its law is not analytic across x' = 0 ([`Term::SWITCHES_AT_REST`]).
+            pub fn switches_at_rest(&self) -> bool {
+                match self { $(AnyTerm::$variant(_) => $variant::SWITCHES_AT_REST,)* }
+            }
+            /// Whether its law is not analytic across z = 0
+            /// ([`Term::SWITCHES_AT_ZERO_STATE`]).
+            pub fn switches_at_zero_state(&self) -> bool {
+                match self { $(AnyTerm::$variant(_) => $variant::SWITCHES_AT_ZERO_STATE,)* }
+            }
+            /// T(x, v, z).
             #[inline]
-            pub fn gradient(&self, x: f64, v: f64) -> [f64; 2] {
-                match self { $(AnyTerm::$variant(t) => t.gradient(x, v),)* }
+            pub fn torque(&self, x: f64, v: f64, z: f64) -> f64 {
+                match self { $(AnyTerm::$variant(t) => t.torque(x, v, z),)* }
+            }
+            /// (∂T/∂x, ∂T/∂v, ∂T/∂z).
+            #[inline]
+            pub fn gradient(&self, x: f64, v: f64, z: f64) -> [f64; 3] {
+                match self { $(AnyTerm::$variant(t) => t.gradient(x, v, z),)* }
             }
             /// ∂T/∂p for its parameter `i`.
-            pub fn param_derivative(&self, i: usize, x: f64, v: f64) -> f64 {
-                match self { $(AnyTerm::$variant(t) => t.param_derivative(i, x, v),)* }
+            pub fn param_derivative(&self, i: usize, x: f64, v: f64, z: f64) -> f64 {
+                match self { $(AnyTerm::$variant(t) => t.param_derivative(i, x, v, z),)* }
             }
             /// Row k of T's Taylor coefficients ([`Term::taylor`]).
             #[inline]
-            pub fn taylor(&self, k: usize, x: &[f64], v: &[f64], rows: &mut Scratch) -> f64 {
-                match self { $(AnyTerm::$variant(t) => t.taylor(k, x, v, rows),)* }
+            pub fn taylor(&self, k: usize, x: &[f64], v: &[f64], z: &[f64], rows: &mut Scratch) -> f64 {
+                match self { $(AnyTerm::$variant(t) => t.taylor(k, x, v, z, rows),)* }
+            }
+            /// z' of its internal state ([`Term::rate`]).
+            #[inline]
+            pub fn rate(&self, x: f64, v: f64, z: f64) -> f64 {
+                match self { $(AnyTerm::$variant(t) => t.rate(x, v, z),)* }
+            }
+            /// (∂r/∂x, ∂r/∂v, ∂r/∂z) ([`Term::rate_gradient`]).
+            #[inline]
+            pub fn rate_gradient(&self, x: f64, v: f64, z: f64) -> [f64; 3] {
+                match self { $(AnyTerm::$variant(t) => t.rate_gradient(x, v, z),)* }
+            }
+            /// ∂r/∂p for its parameter `i`.
+            pub fn rate_param_derivative(&self, i: usize, x: f64, v: f64, z: f64) -> f64 {
+                match self { $(AnyTerm::$variant(t) => t.rate_param_derivative(i, x, v, z),)* }
+            }
+            /// Row k of r's Taylor coefficients ([`Term::rate_taylor`]).
+            #[inline]
+            pub fn rate_taylor(&self, k: usize, x: &[f64], v: &[f64], z: &[f64], rows: &mut Scratch) -> f64 {
+                match self { $(AnyTerm::$variant(t) => t.rate_taylor(k, x, v, z, rows),)* }
+            }
+            /// Its state's equation as text ([`Term::rate_text`]).
+            pub fn rate_text(&self) -> Option<String> {
+                match self { $(AnyTerm::$variant(t) => t.rate_text(),)* }
+            }
+            /// Its state's equation in LaTeX ([`Term::rate_latex`]).
+            pub fn rate_latex(&self) -> Option<String> {
+                match self { $(AnyTerm::$variant(t) => t.rate_latex(),)* }
             }
             /// The term's text.
             pub fn text(&self) -> String {
@@ -646,19 +760,21 @@ macro_rules! any_term {
             pub fn step_limit(&self, rows: &Scratch, order: usize, h: f64, negligible: f64) -> f64 {
                 match self { $(AnyTerm::$variant(t) => t.step_limit(rows, order, h, negligible),)* }
             }
-            /// Its static band if it switches at x' = 0 ([`Term::breakaway`]).
+            /// Its static band if it sticks at x' = 0 ([`Term::breakaway`]).
             pub fn breakaway(&self) -> Option<f64> {
                 match self { $(AnyTerm::$variant(t) => t.breakaway(),)* }
             }
             /// The term on one side of its switch ([`Term::directed`]).
-            pub fn directed(self, side: f64) -> AnyTerm {
+            pub fn directed(self, side: Side) -> AnyTerm {
                 match self { $(AnyTerm::$variant(t) => AnyTerm::$variant(t.directed(side)),)* }
             }
         }
     };
 }
 
-any_term!(Damping, Stiffness, Friction, Stribeck, Coulomb);
+any_term!(
+    Damping, Stiffness, Friction, Stribeck, Coulomb, LuGre, BoucWen
+);
 
 /// Checks a term's values against its parameter list.
 fn check_values(params: &[ParamInfo], values: &[f64]) -> Result<()> {

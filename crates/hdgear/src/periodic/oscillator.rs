@@ -226,7 +226,9 @@ impl Oscillator for Params {
     }
 }
 
-/// A model assembled from terms, through the same seam: every derivative from its terms.
+/// A model assembled from terms, through the same seam: every derivative from its terms. A
+/// model with internal states (memory) is refused by [`Oscillator::check`]: its orbits live in
+/// more than the plane (x, x') this seam shoots in.
 impl Oscillator for Model {
     type Param = ModelParam;
     fn omega(&self) -> f64 {
@@ -251,6 +253,14 @@ impl Oscillator for Model {
         param.is_frequency()
     }
     fn check(&self) -> Result<()> {
+        if self.dim() > 2 {
+            return Err(crate::error::Error::InvalidInput {
+                what: "model",
+                text: self.equation(),
+                reason: "periodic orbits of a model with internal states are not computed yet"
+                    .into(),
+            });
+        }
         Model::check(self)
     }
 }

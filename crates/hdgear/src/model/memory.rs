@@ -1,0 +1,404 @@
+//! Terms with an internal state (memory): LuGre friction, whose bristle deflection s carries the
+//! presliding and the friction's lag, and Bouc–Wen hysteresis of the flexspline, whose state z
+//! carries the loop. Each is one [`Term`] with [`Term::STATE`]; the model gives it a state of its
+//! own beside x and x' ([`super::Model::dim`]).
+//!
+//! Both laws hold |x'| (and Bouc–Wen |z|): on a piece where the signs are fixed ([`Side`]) they are
+//! analytic, and a switching integration ([`super::switching`]) cuts steps where a sign changes.
+//! Both states' rates vanish at x' = 0, so a state is held while the motion rests.
+
+use super::jet::{
+    cauchy, exp_coefficient, exp_step_limit, quotient_coefficient, square_coefficient,
+};
+use super::terms::{Domain, ParamInfo, Scratch, Side, StateInfo, Term, piece_sign};
+use serde::Serialize;
+
+/// LuGre friction on x': F = σ₀s + σ₁s' + σ₂x' with the bristle state
+/// s' = x' − σ₀|x'|·s/g(x') and g(v) = f_c + (f_s − f_c)·e^{−(v/v_st)²} (Canudas de Wit et al.
+/// 1995). At a constant sliding speed s settles at sgn(v)·g(v)/σ₀ and F at sgn(v)·g(v) + σ₂v; at
+/// rest a small displacement meets the presliding stiffness σ₀.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LuGre {
+    values: [f64; 6],
+    /// sgn x' on the current piece (0: read from x').
+    side: f64,
+}
+
+impl Serialize for LuGre {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        self.values.serialize(s)
+    }
+}
+
+impl LuGre {
+    /// (g, ∂g/∂v, e^{−(v/v_st)²}).
+    fn level(&self, v: f64) -> (f64, f64, f64) {
+        let [fc, fs, vst, ..] = self.values;
+        let e = (-(v / vst).powi(2)).exp();
+        (
+            fc + (fs - fc) * e,
+            (fs - fc) * e * (-2.0 * v / (vst * vst)),
+            e,
+        )
+    }
+}
+
+impl Term for LuGre {
+    const KIND: &'static str = "lugre";
+    const ABOUT: &'static str = "LuGre friction σ₀s + σ₁s' + σ₂x' with a bristle state s";
+    const STATE: Option<StateInfo> = Some(StateInfo {
+        name: "s",
+        meaning: "LuGre bristle deflection",
+    });
+    const SWITCHES_AT_REST: bool = true;
+    const PARAMS: &'static [ParamInfo] = &[
+        ParamInfo {
+            name: "fc",
+            symbol: "f_c",
+            latex: "f_c",
+            meaning: "Coulomb (sliding) friction torque",
+            domain: Domain::Positive,
+            default: 0.05,
+            si: "T·k2·φ·J_eq²/C⁴ (a torque on μ's scale)",
+        },
+        ParamInfo {
+            name: "fs",
+            symbol: "f_s",
+            latex: "f_s",
+            meaning: "static (breakaway) friction torque",
+            domain: Domain::Positive,
+            default: 0.08,
+            si: "T·k2·φ·J_eq²/C⁴ (a torque on μ's scale)",
+        },
+        ParamInfo {
+            name: "vst",
+            symbol: "v_st",
+            latex: r"v_{st}",
+            meaning: "Stribeck velocity",
+            domain: Domain::Positive,
+            default: 0.1,
+            si: "θ'·k2·φ·J_eq²/C³ (a velocity on x's scale)",
+        },
+        ParamInfo {
+            name: "sigma0",
+            symbol: "σ₀",
+            latex: r"\sigma_0",
+            meaning: "bristle (presliding) stiffness",
+            domain: Domain::Positive,
+            default: 100.0,
+            si: "σ₀·J_eq/C² (a stiffness on γ's scale)",
+        },
+        ParamInfo {
+            name: "sigma1",
+            symbol: "σ₁",
+            latex: r"\sigma_1",
+            meaning: "bristle damping",
+            domain: Domain::NonNegative,
+            default: 10.0,
+            si: "σ₁/C (over the damping C)",
+        },
+        ParamInfo {
+            name: "sigma2",
+            symbol: "σ₂",
+            latex: r"\sigma_2",
+            meaning: "viscous friction (added to the unit damping)",
+            domain: Domain::NonNegative,
+            default: 0.0,
+            si: "σ₂/C (over the damping C)",
+        },
+    ];
+    fn from_values(v: &[f64]) -> Self {
+        LuGre {
+            values: [v[0], v[1], v[2], v[3], v[4], v[5]],
+            side: 0.0,
+        }
+    }
+    fn values(&self) -> &[f64] {
+        &self.values
+    }
+    fn rate(&self, _x: f64, v: f64, s: f64) -> f64 {
+        let sigma0 = self.values[3];
+        let (g, ..) = self.level(v);
+        v - sigma0 * piece_sign(self.side, v) * v * s / g
+    }
+    fn rate_gradient(&self, _x: f64, v: f64, s: f64) -> [f64; 3] {
+        let sigma0 = self.values[3];
+        let (g, dg, _) = self.level(v);
+        let sv = piece_sign(self.side, v);
+        // r = v − σ₀·sv·v·s/g: ∂r/∂v = 1 − σ₀·sv·s·(g − v·g')/g²
+        [
+            0.0,
+            1.0 - sigma0 * sv * s * (g - v * dg) / (g * g),
+            -sigma0 * sv * v / g,
+        ]
+    }
+    fn rate_param_derivative(&self, i: usize, _x: f64, v: f64, s: f64) -> f64 {
+        let [fc, fs, vst, sigma0, ..] = self.values;
+        let (g, _, e) = self.level(v);
+        let abs_v = piece_sign(self.side, v) * v;
+        // ∂r/∂g = σ₀|v|s/g², then ∂g/∂p
+        let by_g = sigma0 * abs_v * s / (g * g);
+        match i {
+            0 => by_g * (1.0 - e),
+            1 => by_g * e,
+            2 => by_g * (fs - fc) * e * 2.0 * v * v / (vst * vst * vst),
+            3 => -abs_v * s / g,
+            _ => 0.0,
+        }
+    }
+    fn torque(&self, x: f64, v: f64, s: f64) -> f64 {
+        let [.., sigma0, sigma1, sigma2] = self.values;
+        sigma0 * s + sigma1 * self.rate(x, v, s) + sigma2 * v
+    }
+    fn gradient(&self, x: f64, v: f64, s: f64) -> [f64; 3] {
+        let [.., sigma0, sigma1, sigma2] = self.values;
+        let [_, rv, rs] = self.rate_gradient(x, v, s);
+        [0.0, sigma1 * rv + sigma2, sigma0 + sigma1 * rs]
+    }
+    fn param_derivative(&self, i: usize, x: f64, v: f64, s: f64) -> f64 {
+        let sigma1 = self.values[4];
+        let own = match i {
+            3 => s,
+            4 => self.rate(x, v, s),
+            5 => v,
+            _ => 0.0,
+        };
+        own + sigma1 * self.rate_param_derivative(i, x, v, s)
+    }
+    /// q = −(v/v_st)² (row 0), e^q (row 1), g (row 2), w = s/g (row 3) and
+    /// r = v − σ₀·sv·(v·w) (row 4), sv the piece's constant sgn x'.
+    fn rate_taylor(&self, k: usize, _x: &[f64], v: &[f64], s: &[f64], rows: &mut Scratch) -> f64 {
+        let [fc, fs, vst, sigma0, ..] = self.values;
+        let [q, e, g, w, r] = &mut rows.0;
+        q[k] = -square_coefficient(v, k) / (vst * vst);
+        e[k] = exp_coefficient(q, e, k);
+        g[k] = (fs - fc) * e[k] + if k == 0 { fc } else { 0.0 };
+        w[k] = quotient_coefficient(s, g, w, k);
+        r[k] = v[k] - sigma0 * piece_sign(self.side, v[0]) * cauchy(v, w, k);
+        r[k]
+    }
+    fn taylor(&self, k: usize, _x: &[f64], v: &[f64], s: &[f64], rows: &mut Scratch) -> f64 {
+        let [.., sigma0, sigma1, sigma2] = self.values;
+        sigma0 * s[k] + sigma1 * rows.0[4][k] + sigma2 * v[k]
+    }
+    const LIMITS_STEPS: bool = true;
+    /// The Stribeck factor e^q ([`exp_step_limit`]), weighed by what it moves: σ₀|v·w|·|f_s −
+    /// f_c|/g in the rate, times (1 + σ₁) in the torque.
+    fn step_limit(&self, rows: &Scratch, order: usize, h: f64, negligible: f64) -> f64 {
+        let [fc, fs, _, sigma0, sigma1, _] = self.values;
+        let [q, e, g, w, _] = &rows.0;
+        let amplitude = (1.0 + sigma1) * sigma0 * w[0].abs() * (fs - fc).abs() / g[0];
+        exp_step_limit(q, e, order, h, amplitude, negligible)
+    }
+    fn text(&self) -> String {
+        " + σ₀·s + σ₁·s' + σ₂·x'".into()
+    }
+    fn latex(&self) -> String {
+        r" + \sigma_0 s + \sigma_1 \dot s + \sigma_2 \dot x".into()
+    }
+    fn rate_text(&self) -> Option<String> {
+        Some("s' = x' − σ₀·|x'|·s/(f_c + (f_s − f_c)·exp(−(x'/v_st)²))".into())
+    }
+    fn rate_latex(&self) -> Option<String> {
+        Some(
+            r"\dot s = \dot x - \sigma_0 |\dot x| s / \left(f_c + (f_s - f_c) e^{-(\dot x / v_{st})^2}\right)"
+                .into(),
+        )
+    }
+    fn directed(self, side: Side) -> Self {
+        LuGre {
+            side: side.v,
+            ..self
+        }
+    }
+}
+
+/// Bouc–Wen hysteresis of the flexspline on the twist x: T = k_h·(ρ·x + (1 − ρ)·z) with
+/// z' = A·x' − β·|x'|·|z|ⁿ⁻¹·z − γ_h·x'·|z|ⁿ (Wen 1976). Rate-independent: z depends on the
+/// path of x, not on its speed; its loops' area is the energy the term dissipates per cycle. The
+/// exponent n is a whole number (1 to 4), so that on a piece of fixed signs the law is a
+/// polynomial.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BoucWen {
+    values: [f64; 6],
+    side: Side,
+}
+
+impl Serialize for BoucWen {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        self.values.serialize(s)
+    }
+}
+
+impl BoucWen {
+    /// (sv, sz, n): the piece's signs and the exponent.
+    fn signs(&self, v: f64, z: f64) -> (f64, f64, i32) {
+        (
+            piece_sign(self.side.v, v),
+            piece_sign(self.side.z, z),
+            self.values[5] as i32,
+        )
+    }
+
+    /// c with β·|v|·|z|ⁿ⁻¹·z + γ_h·v·|z|ⁿ = c·v·zⁿ on the piece.
+    fn coefficient(&self, sv: f64, sz: f64, n: i32) -> f64 {
+        let [_, _, _, beta, gamma, _] = self.values;
+        beta * sv * sz.powi(n - 1) + gamma * sz.powi(n)
+    }
+}
+
+impl Term for BoucWen {
+    const KIND: &'static str = "boucwen";
+    const ABOUT: &'static str = "Bouc–Wen hysteresis k_h·(ρx + (1 − ρ)z) with a hysteretic state z";
+    const STATE: Option<StateInfo> = Some(StateInfo {
+        name: "z",
+        meaning: "Bouc–Wen hysteretic twist",
+    });
+    const SWITCHES_AT_REST: bool = true;
+    const SWITCHES_AT_ZERO_STATE: bool = true;
+    const PARAMS: &'static [ParamInfo] = &[
+        ParamInfo {
+            name: "kh",
+            symbol: "k_h",
+            latex: "k_h",
+            meaning: "stiffness of the hysteretic element",
+            domain: Domain::NonNegative,
+            default: 0.5,
+            si: "k·J_eq/C² (a stiffness on γ's scale)",
+        },
+        ParamInfo {
+            name: "rho",
+            symbol: "ρ",
+            latex: r"\rho",
+            meaning: "elastic share of the element",
+            domain: Domain::Fraction,
+            default: 0.0,
+            si: "ρ (a ratio)",
+        },
+        ParamInfo {
+            name: "ah",
+            symbol: "A",
+            latex: "A",
+            meaning: "initial slope of z against x",
+            domain: Domain::Positive,
+            default: 1.0,
+            si: "A (a ratio)",
+        },
+        ParamInfo {
+            name: "betah",
+            symbol: "β",
+            latex: r"\beta",
+            meaning: "loop shape (with γ_h)",
+            domain: Domain::Any,
+            default: 0.5,
+            si: "β·x_scaleⁿ",
+        },
+        ParamInfo {
+            name: "gammah",
+            symbol: "γ_h",
+            latex: r"\gamma_h",
+            meaning: "loop shape (with β)",
+            domain: Domain::Any,
+            default: 0.5,
+            si: "γ_h·x_scaleⁿ",
+        },
+        ParamInfo {
+            name: "nh",
+            symbol: "n",
+            latex: "n",
+            meaning: "sharpness of the transition to the plastic branch",
+            domain: Domain::Exponent,
+            default: 1.0,
+            si: "n",
+        },
+    ];
+    fn from_values(v: &[f64]) -> Self {
+        BoucWen {
+            values: [v[0], v[1], v[2], v[3], v[4], v[5]],
+            side: Side::default(),
+        }
+    }
+    fn values(&self) -> &[f64] {
+        &self.values
+    }
+    fn rate(&self, _x: f64, v: f64, z: f64) -> f64 {
+        let a = self.values[2];
+        let (sv, sz, n) = self.signs(v, z);
+        a * v - self.coefficient(sv, sz, n) * v * z.powi(n)
+    }
+    fn rate_gradient(&self, _x: f64, v: f64, z: f64) -> [f64; 3] {
+        let a = self.values[2];
+        let (sv, sz, n) = self.signs(v, z);
+        let c = self.coefficient(sv, sz, n);
+        [
+            0.0,
+            a - c * z.powi(n),
+            -c * v * f64::from(n) * z.powi(n - 1),
+        ]
+    }
+    fn rate_param_derivative(&self, i: usize, _x: f64, v: f64, z: f64) -> f64 {
+        let [_, _, _, beta, gamma, _] = self.values;
+        let (sv, sz, n) = self.signs(v, z);
+        let abs_z = sz * z;
+        match i {
+            2 => v,
+            3 => -sv * sz.powi(n - 1) * v * z.powi(n),
+            4 => -sz.powi(n) * v * z.powi(n),
+            5 if abs_z > 0.0 => {
+                -(beta * sv * sz.powi(n - 1) + gamma * sz.powi(n)) * v * z.powi(n) * abs_z.ln()
+            }
+            _ => 0.0,
+        }
+    }
+    fn torque(&self, x: f64, _v: f64, z: f64) -> f64 {
+        let [kh, rho, ..] = self.values;
+        kh * (rho * x + (1.0 - rho) * z)
+    }
+    fn gradient(&self, _x: f64, _v: f64, _z: f64) -> [f64; 3] {
+        let [kh, rho, ..] = self.values;
+        [kh * rho, 0.0, kh * (1.0 - rho)]
+    }
+    fn param_derivative(&self, i: usize, x: f64, _v: f64, z: f64) -> f64 {
+        let [kh, rho, ..] = self.values;
+        match i {
+            0 => rho * x + (1.0 - rho) * z,
+            1 => kh * (x - z),
+            _ => 0.0,
+        }
+    }
+    /// zⁿ by repeated products (rows 0..n − 2 hold z², z³, z⁴), then
+    /// r = A·v − c·(v·zⁿ) with the piece's constant c.
+    fn rate_taylor(&self, k: usize, _x: &[f64], v: &[f64], z: &[f64], rows: &mut Scratch) -> f64 {
+        let a = self.values[2];
+        let (sv, sz, n) = self.signs(v[0], z[0]);
+        let p = &mut rows.0;
+        for m in 0..(n as usize).saturating_sub(1) {
+            let (done, next) = p.split_at_mut(m);
+            next[0][k] = match done.last() {
+                None => square_coefficient(z, k),
+                Some(lower) => cauchy(lower, z, k),
+            };
+        }
+        let zn: &[f64] = if n == 1 { z } else { &p[n as usize - 2] };
+        a * v[k] - self.coefficient(sv, sz, n) * cauchy(v, zn, k)
+    }
+    fn taylor(&self, k: usize, x: &[f64], _v: &[f64], z: &[f64], _rows: &mut Scratch) -> f64 {
+        let [kh, rho, ..] = self.values;
+        kh * (rho * x[k] + (1.0 - rho) * z[k])
+    }
+    fn text(&self) -> String {
+        " + k_h·(ρ·x + (1 − ρ)·z)".into()
+    }
+    fn latex(&self) -> String {
+        r" + k_h \left(\rho x + (1 - \rho) z\right)".into()
+    }
+    fn rate_text(&self) -> Option<String> {
+        Some("z' = A·x' − β·|x'|·|z|ⁿ⁻¹·z − γ_h·x'·|z|ⁿ".into())
+    }
+    fn rate_latex(&self) -> Option<String> {
+        Some(r"\dot z = A \dot x - \beta |\dot x| |z|^{n-1} z - \gamma_h \dot x |z|^n".into())
+    }
+    fn directed(self, side: Side) -> Self {
+        BoucWen { side, ..self }
+    }
+}
