@@ -97,11 +97,15 @@ fn term_tables_are_refused_where_they_would_be_ignored_and_bad_ones_named() {
             .code(2)
             .stderr(predicate::str::contains(needle));
     }
+    // the tables a scenario knows: its own two, then every term kind beyond the study's
+    let kinds = hdgear::model::terms::AnyTerm::KINDS
+        .iter()
+        .map(|k| k.0)
+        .filter(|k| hdgear::model::Model::is_extra_kind(k));
+    let known: Vec<&str> = ["params", "physical"].into_iter().chain(kinds).collect();
+    let unknown = format!("unknown table [frction] (known: {})", known.join(", "));
     for (text, needle) in [
-        (
-            "[frction]\nfc = 1\n",
-            "unknown table [frction] (known: params, physical, friction, stribeck, coulomb)",
-        ),
+        ("[frction]\nfc = 1\n", unknown.as_str()),
         (
             "[friction]\nv = 1\n",
             "unknown key v in [friction] (known: fc, vs)",
