@@ -209,17 +209,26 @@ impl Model {
         self.terms.iter().flatten()
     }
 
-    /// The terms, each with the index of its internal state in the model's state (2, 3, …) if
-    /// it has one.
-    fn slots(&self) -> impl Iterator<Item = (&AnyTerm, Option<usize>)> {
+    /// For each term slot, the index of its internal state in the model's state (2, 3, …) if
+    /// it has one: the one place the states are laid out.
+    fn state_slots(&self) -> [Option<usize>; MAX_TERMS] {
+        let mut at = [None; MAX_TERMS];
         let mut next = 2;
-        self.terms().map(move |t| {
-            let at = t.state().map(|_| {
+        for (a, term) in at.iter_mut().zip(&self.terms) {
+            if term.is_some_and(|t| t.state().is_some()) {
+                *a = Some(next);
                 next += 1;
-                next - 1
-            });
-            (t, at)
-        })
+            }
+        }
+        at
+    }
+
+    /// The terms, each with the index of its internal state ([`Model::state_slots`]).
+    fn slots(&self) -> impl Iterator<Item = (&AnyTerm, Option<usize>)> {
+        self.terms
+            .iter()
+            .zip(self.state_slots())
+            .filter_map(|(t, at)| t.as_ref().map(|t| (t, at)))
     }
 
     /// The dimension of the model's state: x, x' and one per term with a state of its own.
@@ -404,18 +413,13 @@ impl Model {
     /// the piece.
     pub fn directed(&self, v: f64, z: [f64; MAX_STATES]) -> Model {
         let mut m = *self;
-        let mut next = 0;
-        for t in m.terms.iter_mut().flatten() {
-            let side = Side {
-                v,
-                z: if t.state().is_some() {
-                    next += 1;
-                    z[next - 1]
-                } else {
-                    0.0
-                },
-            };
-            *t = t.directed(side);
+        for (t, at) in m.terms.iter_mut().zip(self.state_slots()) {
+            if let Some(t) = t {
+                *t = t.directed(Side {
+                    v,
+                    z: at.map_or(0.0, |i| z[i - 2]),
+                });
+            }
         }
         m
     }
@@ -614,17 +618,7 @@ impl Model {
         for (row, &y) in s.iter_mut().zip(y) {
             row[0] = y;
         }
-        let at: [Option<usize>; MAX_TERMS] = {
-            let mut at = [None; MAX_TERMS];
-            let mut next = 2;
-            for (a, term) in at.iter_mut().zip(&self.terms) {
-                if term.is_some_and(|t| t.state().is_some()) {
-                    *a = Some(next);
-                    next += 1;
-                }
-            }
-            at
-        };
+        let at = self.state_slots();
         // the zero rows a stateless term reads as its z
         const NONE: [f64; MAX_ROWS] = [0.0; MAX_ROWS];
         // row k of the acceleration and of the states' rates, the terms' rows kept in `rows`
