@@ -7,39 +7,29 @@
 //! analytic, and a switching integration ([`super::switching`]) cuts steps where a sign changes.
 //! Both states' rates vanish at x' = 0, so a state is held while the motion rests.
 
-use super::jet::{
-    cauchy, exp_coefficient, exp_step_limit, quotient_coefficient, square_coefficient,
-};
-use super::terms::{Domain, ParamInfo, Scratch, Side, StateInfo, Term, piece_sign};
+use super::jet::{cauchy, exp_step_limit, quotient_coefficient, square_coefficient};
+use super::terms::{Domain, Level, ParamInfo, Scratch, Side, StateInfo, Term, piece_sign};
 use serde::Serialize;
 
 /// LuGre friction on x': F = σ₀s + σ₁s' + σ₂x' with the bristle state
 /// s' = x' − σ₀|x'|·s/g(x') and g(v) = f_c + (f_s − f_c)·e^{−(v/v_st)²} (Canudas de Wit et al.
 /// 1995). At a constant sliding speed s settles at sgn(v)·g(v)/σ₀ and F at sgn(v)·g(v) + σ₂v; at
 /// rest a small displacement meets the presliding stiffness σ₀.
-#[derive(Clone, Copy, Debug, PartialEq)]
+// serialised as its values alone: the piece is integration state, not a parameter
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[serde(transparent)]
 pub struct LuGre {
     values: [f64; 6],
     /// sgn x' on the current piece (0: read from x').
+    #[serde(skip)]
     side: f64,
 }
 
-impl Serialize for LuGre {
-    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
-        self.values.serialize(s)
-    }
-}
-
 impl LuGre {
-    /// (g, ∂g/∂v, e^{−(v/v_st)²}).
+    /// g(v) and its slope ([`Level`]).
     fn level(&self, v: f64) -> (f64, f64, f64) {
         let [fc, fs, vst, ..] = self.values;
-        let e = (-(v / vst).powi(2)).exp();
-        (
-            fc + (fs - fc) * e,
-            (fs - fc) * e * (-2.0 * v / (vst * vst)),
-            e,
-        )
+        Level { fc, fs, vst }.at(v)
     }
 }
 
@@ -134,14 +124,13 @@ impl Term for LuGre {
     }
     fn rate_param_derivative(&self, i: usize, _x: f64, v: f64, s: f64) -> f64 {
         let [fc, fs, vst, sigma0, ..] = self.values;
-        let (g, _, e) = self.level(v);
+        let level = Level { fc, fs, vst };
+        let (g, ..) = level.at(v);
         let abs_v = piece_sign(self.side, v) * v;
         // ∂r/∂g = σ₀|v|s/g², then ∂g/∂p
         let by_g = sigma0 * abs_v * s / (g * g);
         match i {
-            0 => by_g * (1.0 - e),
-            1 => by_g * e,
-            2 => by_g * (fs - fc) * e * 2.0 * v * v / (vst * vst * vst),
+            0..=2 => by_g * level.param_derivatives(v)[i],
             3 => -abs_v * s / g,
             _ => 0.0,
         }
@@ -170,9 +159,7 @@ impl Term for LuGre {
     fn rate_taylor(&self, k: usize, _x: &[f64], v: &[f64], s: &[f64], rows: &mut Scratch) -> f64 {
         let [fc, fs, vst, sigma0, ..] = self.values;
         let [q, e, g, w, r] = &mut rows.0;
-        q[k] = -square_coefficient(v, k) / (vst * vst);
-        e[k] = exp_coefficient(q, e, k);
-        g[k] = (fs - fc) * e[k] + if k == 0 { fc } else { 0.0 };
+        g[k] = Level { fc, fs, vst }.row(v, q, e, k);
         w[k] = quotient_coefficient(s, g, w, k);
         r[k] = v[k] - sigma0 * piece_sign(self.side, v[0]) * cauchy(v, w, k);
         r[k]
@@ -218,16 +205,13 @@ impl Term for LuGre {
 /// path of x, not on its speed; its loops' area is the energy the term dissipates per cycle. The
 /// exponent n is a whole number (1 to 4), so that on a piece of fixed signs the law is a
 /// polynomial.
-#[derive(Clone, Copy, Debug, PartialEq)]
+// serialised as its values alone: the piece is integration state, not a parameter
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[serde(transparent)]
 pub struct BoucWen {
     values: [f64; 6],
+    #[serde(skip)]
     side: Side,
-}
-
-impl Serialize for BoucWen {
-    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
-        self.values.serialize(s)
-    }
 }
 
 impl BoucWen {

@@ -130,6 +130,44 @@ pub fn piece_sign(side: f64, value: f64) -> f64 {
     }
 }
 
+/// The Stribeck curve g(v) = f_c + (f_s − f_c)·e^{−(v/v_st)²} the friction laws share
+/// ([`Stribeck`], [`Coulomb`], [`LuGre`]): its value, slope, parameter derivatives and Taylor
+/// rows, defined once.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Level {
+    pub(crate) fc: f64,
+    pub(crate) fs: f64,
+    pub(crate) vst: f64,
+}
+
+impl Level {
+    /// (g, ∂g/∂v, e = e^{−(v/v_st)²}).
+    pub(crate) fn at(self, v: f64) -> (f64, f64, f64) {
+        let Level { fc, fs, vst } = self;
+        let e = (-(v / vst).powi(2)).exp();
+        (
+            fc + (fs - fc) * e,
+            (fs - fc) * e * (-2.0 * v / (vst * vst)),
+            e,
+        )
+    }
+
+    /// (∂g/∂f_c, ∂g/∂f_s, ∂g/∂v_st) at v.
+    pub(crate) fn param_derivatives(self, v: f64) -> [f64; 3] {
+        let Level { fc, fs, vst } = self;
+        let (.., e) = self.at(v);
+        [1.0 - e, e, (fs - fc) * e * 2.0 * v * v / (vst * vst * vst)]
+    }
+
+    /// Row k of g from v's rows 0..=k, keeping q = −(v/v_st)² and e^q in `q` and `e`.
+    pub(crate) fn row(self, v: &[f64], q: &mut [f64], e: &mut [f64], k: usize) -> f64 {
+        let Level { fc, fs, vst } = self;
+        q[k] = -square_coefficient(v, k) / (vst * vst);
+        e[k] = exp_coefficient(q, e, k);
+        (fs - fc) * e[k] + if k == 0 { fc } else { 0.0 }
+    }
+}
+
 /// A torque contribution T(x, x', z) to the left-hand side of the drive's equation, z the
 /// term's own internal state where it has one ([`Term::STATE`], with z' = [`Term::rate`]): the
 /// one place its value, derivatives, Taylor recurrences, parameters and text are defined; every
@@ -394,6 +432,13 @@ impl Term for Friction {
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct Stribeck(pub [f64; 5]);
 
+impl Stribeck {
+    fn level(&self) -> Level {
+        let [fc, fs, vst, ..] = self.0;
+        Level { fc, fs, vst }
+    }
+}
+
 impl Term for Stribeck {
     const KIND: &'static str = "stribeck";
     const ABOUT: &'static str = "Coulomb–Stribeck–viscous friction, regularised by tanh(x'/v_r)";
@@ -451,38 +496,30 @@ impl Term for Stribeck {
         &self.0
     }
     fn torque(&self, _x: f64, v: f64, _z: f64) -> f64 {
-        let [fc, fs, vst, cv, vr] = self.0;
-        let level = fc + (fs - fc) * (-(v / vst).powi(2)).exp();
-        level * (v / vr).tanh() + cv * v
+        let [.., cv, vr] = self.0;
+        self.level().at(v).0 * (v / vr).tanh() + cv * v
     }
     fn gradient(&self, _x: f64, v: f64, _z: f64) -> [f64; 3] {
-        let [fc, fs, vst, cv, vr] = self.0;
-        let e = (-(v / vst).powi(2)).exp();
+        let [.., cv, vr] = self.0;
         let t = (v / vr).tanh();
-        let level = fc + (fs - fc) * e;
-        let dlevel = (fs - fc) * e * (-2.0 * v / (vst * vst));
+        let (level, dlevel, _) = self.level().at(v);
         [0.0, dlevel * t + level * (1.0 - t * t) / vr + cv, 0.0]
     }
     fn param_derivative(&self, i: usize, _x: f64, v: f64, _z: f64) -> f64 {
-        let [fc, fs, vst, _, vr] = self.0;
-        let e = (-(v / vst).powi(2)).exp();
+        let vr = self.0[4];
         let t = (v / vr).tanh();
-        let level = fc + (fs - fc) * e;
         match i {
-            0 => (1.0 - e) * t,
-            1 => e * t,
-            2 => (fs - fc) * e * 2.0 * v * v / (vst * vst * vst) * t,
+            0..=2 => self.level().param_derivatives(v)[i] * t,
             3 => v,
-            _ => -level * (1.0 - t * t) * v / (vr * vr),
+            _ => -self.level().at(v).0 * (1.0 - t * t) * v / (vr * vr),
         }
     }
     /// q = −(v/v_st)² (row 0), e^q (row 1), u = v/v_r (row 2), tanh u (row 3) and its square
     /// (row 4); T_k = Σ_j (f_c[j = 0] + (f_s − f_c)e_j)·tanh_{k−j} + c_v v_k.
     fn taylor(&self, k: usize, _x: &[f64], v: &[f64], _z: &[f64], rows: &mut Scratch) -> f64 {
-        let [fc, fs, vst, cv, vr] = self.0;
+        let [fc, fs, _, cv, vr] = self.0;
         let [q, e, u, t, sq] = &mut rows.0;
-        q[k] = -square_coefficient(v, k) / (vst * vst);
-        e[k] = exp_coefficient(q, e, k);
+        self.level().row(v, q, e, k);
         u[k] = v[k] / vr;
         t[k] = tanh_coefficient(u, sq, k);
         sq[k] = square_coefficient(t, k);
@@ -511,23 +548,25 @@ impl Term for Stribeck {
 /// motion sticks while the rest of the torque stays within ±f_s ([`super::Model::breakaway`]);
 /// a [`super::switching::Switching`] integration steps it piece by piece, each piece with sgn x'
 /// fixed ([`Term::directed`]), so its Taylor rows are analytic on the piece.
-#[derive(Clone, Copy, Debug, PartialEq)]
+// serialised as its values alone: the piece is integration state, not a parameter
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[serde(transparent)]
 pub struct Coulomb {
     values: [f64; 4],
     /// sgn x' on the current piece (0: read it from x').
+    #[serde(skip)]
     side: f64,
-}
-
-impl Serialize for Coulomb {
-    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
-        self.values.serialize(s)
-    }
 }
 
 impl Coulomb {
     /// sgn x' on this piece: the side it is directed to, else the sign of `v` (0 at rest).
     fn sign(&self, v: f64) -> f64 {
         piece_sign(self.side, v)
+    }
+
+    fn level(&self) -> Level {
+        let [fc, fs, vst, _] = self.values;
+        Level { fc, fs, vst }
     }
 }
 
@@ -584,39 +623,25 @@ impl Term for Coulomb {
         &self.values
     }
     fn torque(&self, _x: f64, v: f64, _z: f64) -> f64 {
-        let [fc, fs, vst, cv] = self.values;
-        (fc + (fs - fc) * (-(v / vst).powi(2)).exp()) * self.sign(v) + cv * v
+        self.level().at(v).0 * self.sign(v) + self.values[3] * v
     }
     /// On the piece (the switch's Dirac at x' = 0 is the events' business, not the gradient's).
     fn gradient(&self, _x: f64, v: f64, _z: f64) -> [f64; 3] {
-        let [fc, fs, vst, cv] = self.values;
-        let e = (-(v / vst).powi(2)).exp();
-        [
-            0.0,
-            (fs - fc) * e * (-2.0 * v / (vst * vst)) * self.sign(v) + cv,
-            0.0,
-        ]
+        let (_, dlevel, _) = self.level().at(v);
+        [0.0, dlevel * self.sign(v) + self.values[3], 0.0]
     }
     fn param_derivative(&self, i: usize, _x: f64, v: f64, _z: f64) -> f64 {
-        let [fc, fs, vst, _] = self.values;
-        let e = (-(v / vst).powi(2)).exp();
-        let s = self.sign(v);
         match i {
-            0 => (1.0 - e) * s,
-            1 => e * s,
-            2 => (fs - fc) * e * 2.0 * v * v / (vst * vst * vst) * s,
+            0..=2 => self.level().param_derivatives(v)[i] * self.sign(v),
             _ => v,
         }
     }
     /// q = −(v/v_st)² (row 0) and e^q (row 1); T_k = s·(f_c[k = 0] + (f_s − f_c)e_k) + c_v v_k
     /// with s the piece's constant sgn x'.
     fn taylor(&self, k: usize, _x: &[f64], v: &[f64], _z: &[f64], rows: &mut Scratch) -> f64 {
-        let [fc, fs, vst, cv] = self.values;
         let [q, e, ..] = &mut rows.0;
-        q[k] = -square_coefficient(v, k) / (vst * vst);
-        e[k] = exp_coefficient(q, e, k);
-        let level = (fs - fc) * e[k] + if k == 0 { fc } else { 0.0 };
-        self.sign(v[0]) * level + cv * v[k]
+        let level = self.level().row(v, q, e, k);
+        self.sign(v[0]) * level + self.values[3] * v[k]
     }
     const LIMITS_STEPS: bool = true;
     /// The Stribeck factor e^q ([`exp_step_limit`]).
