@@ -59,6 +59,8 @@ pub enum Command {
     Merge(MergeArgs),
     /// A physical drive in SI units: reduction, two-inertia simulation, design check.
     Physical(PhysicalArgs),
+    /// Drive cards: a drive's catalogue numbers with their sources (list, show, check, new).
+    Card(CardArgs),
     /// Draw one figure: xdot-gamma, x-equilibrium, transformed-phase, phase-plane, slope, sweep,
     /// map, boundary, frequency-response, orbit-diagram, lyapunov-map.
     Plot(PlotArgs),
@@ -123,6 +125,60 @@ pub struct ReportArgs {
     pub force: bool,
 }
 
+/// Arguments of `hdgear card`.
+#[derive(Args, Debug)]
+pub struct CardArgs {
+    /// What to do with cards.
+    #[command(subcommand)]
+    pub action: CardAction,
+}
+
+/// The `hdgear card` actions. CARD is a built-in card's name (hdgear card list) or a card file
+/// (FILE.toml, or FILE.toml#NAME when it holds several cards).
+#[derive(Subcommand, Debug)]
+pub enum CardAction {
+    /// The built-in cards: name, ratio, rated torque, K1..K3 and how many values are missing.
+    List {
+        /// Print JSON instead of text.
+        #[arg(long)]
+        json: bool,
+    },
+    /// One card: every value with its unit and source, and what is missing.
+    Show {
+        /// The card.
+        card: String,
+        /// Print JSON instead of text.
+        #[arg(long)]
+        json: bool,
+    },
+    /// What a card implies: its curve and cubic fit, damping from the hysteresis loss, natural
+    /// frequency and critical input speed, distance from the folds, and the verdict.
+    Check {
+        /// The card.
+        card: String,
+        /// Damping of the torsional mode: loss (from the card's hysteresis loss) or assumed
+        /// (the card's application zeta, else 10 %).
+        #[arg(long, default_value = "loss")]
+        damping: String,
+        /// Print JSON instead of text.
+        #[arg(long)]
+        json: bool,
+        #[command(flatten)]
+        burst: BurstArgs,
+    },
+    /// Write a new card file: a commented template, or a copy of --from under a new name.
+    New {
+        /// The new card's name.
+        name: String,
+        /// The card to start from (its values and sources are copied).
+        #[arg(long, value_name = "CARD")]
+        from: Option<String>,
+        /// The file to write (.toml; standard output without it). Never overwrites.
+        #[arg(long, value_name = "FILE")]
+        out: Option<PathBuf>,
+    },
+}
+
 /// Arguments of `hdgear plot`.
 #[derive(Args, Debug)]
 pub struct PlotArgs {
@@ -144,9 +200,10 @@ pub struct PlotArgs {
 /// Arguments of `hdgear physical`.
 #[derive(Args, Debug)]
 pub struct PhysicalArgs {
-    /// Catalogue drive for the stiffness (k1, k2 fitted to its curve) with documented assumptions
-    /// for the rest: CSF-14-50, CSF-20-50, CSF-32-50, CSF-32-30.
-    #[arg(long, default_value = "CSF-20-50")]
+    /// The drive's card for the stiffness (k1, k2 fitted to its curve) with documented
+    /// assumptions for the rest: a built-in card (hdgear card list) or a card file
+    /// (FILE.toml, or FILE.toml#NAME when it holds several).
+    #[arg(long, default_value = "CSF-20-50", value_name = "CARD")]
     pub drive: String,
     /// Torque up to which the catalogue curve is fitted [N m] (default T2).
     #[arg(long, allow_negative_numbers = true)]
@@ -223,15 +280,23 @@ pub struct PhysicalArgs {
 }
 
 impl PhysicalArgs {
-    /// The drive: catalogue preset, then file, then flags; validated.
+    /// The drive: its card, then file, then flags; validated. With it, the card's name, the
+    /// stiffness fit and what was assumed.
     pub fn drive(
         &self,
     ) -> Result<(
         hdgear::physical::PhysicalParams,
-        hdgear::physical::catalogue::Fit,
+        hdgear::physical::design::CatalogueOrigin,
     )> {
-        let (mut d, fit) = hdgear::physical::catalogue::preset(&self.drive, self.fit_torque)
+        let card = crate::cmd::card::load(&self.drive).context("--drive")?;
+        let built = hdgear::physical::catalogue::assemble(&card.card, self.fit_torque, None)
             .context("--drive / --fit-torque")?;
+        let mut d = built.drive;
+        let origin = hdgear::physical::design::CatalogueOrigin {
+            name: card.card.name,
+            fit: built.fit,
+            assumptions: built.assumptions,
+        };
         if let Some(path) = &self.config {
             let s = Scenario::load(path)?;
             if let Some(name) = s.terms.keys().next() {
@@ -268,7 +333,7 @@ impl PhysicalArgs {
         }
         .apply(&mut d);
         d.validate()?;
-        Ok((d, fit))
+        Ok((d, origin))
     }
 }
 

@@ -213,7 +213,7 @@ pub fn physical_text(doc: &hdgear::physical::design::DriveSummary) -> String {
         100.0 * c.fit.twist_error_t1,
         100.0 * c.fit.twist_error_t2
     );
-    for x in c.assumptions {
+    for x in &c.assumptions {
         let _ = writeln!(s, "  assumed: {x}");
     }
     let r = &doc.reduced;

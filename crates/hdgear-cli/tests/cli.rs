@@ -699,3 +699,80 @@ fn plot_writes_svg_and_png_and_rejects_bad_input() {
         .stderr(predicate::str::contains("spectrum"));
     assert_eq!(files_in(dir.path()), ["p.png", "s.svg"]);
 }
+
+#[test]
+fn card_new_show_check_round_trip() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("mine.toml");
+    let p = path.to_str().unwrap();
+    hdgear()
+        .args([
+            "card",
+            "new",
+            "MINE-20-50",
+            "--from",
+            "CSG-20-50",
+            "--out",
+            p,
+        ])
+        .assert()
+        .success();
+    // the copy is the catalogue card under a new name, with the sources it uses
+    let shown = json_of(&["card", "show", p, "--json"]);
+    assert_eq!(shown["card"]["name"], "MINE-20-50");
+    assert_eq!(shown["card"]["stiffness"]["k3"], 23000.0);
+    assert_eq!(shown["sources"]["hysteresis"]["kind"], "assumption");
+    let a = json_of(&["card", "check", p, "--json"]);
+    let b = json_of(&["card", "check", "CSG-20-50", "--json"]);
+    assert_eq!(a["damping"], b["damping"]);
+    assert_eq!(a["summary"]["reduced"], b["summary"]["reduced"]);
+    // the physical command takes the same card
+    let ph = json_of(&["physical", "--json", "--drive", p]);
+    assert_eq!(ph["catalogue"]["name"], "MINE-20-50");
+    // never overwrites
+    hdgear()
+        .args(["card", "new", "X", "--out", p])
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("exists"));
+    // the template lists every section and needs its stiffness filled in
+    let t = stdout_of(&["card", "new", "TEMPLATE-1"]);
+    assert!(t.contains("[card.stiffness]") && t.contains("# [card.friction]"));
+    let tpl = dir.path().join("t.toml");
+    std::fs::write(&tpl, &t).unwrap();
+    hdgear()
+        .args(["card", "check", tpl.to_str().unwrap()])
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("stiffness.t1 = missing"));
+}
+
+#[test]
+fn card_bad_input_exits_2() {
+    let fail = |args: &[&str], needle: &str| {
+        hdgear()
+            .args(args)
+            .assert()
+            .code(2)
+            .stderr(predicate::str::contains(needle))
+            .stderr(predicate::str::contains("panicked").not());
+    };
+    fail(&["card", "show", "CSG-99-50"], "'CSG-99-50'");
+    fail(&["card", "check", "CSG-20-50", "--damping", "wet"], "'wet'");
+    fail(
+        &["card", "show", "/nonexistent/c.toml"],
+        "/nonexistent/c.toml",
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let f = dir.path().join("bad.toml");
+    std::fs::write(&f, "format = 1\n[[card]]\nname = \"A\"\nratio = 50\n").unwrap();
+    fail(&["card", "show", f.to_str().unwrap()], "stiffness");
+    fail(&["card", "new", "A#B"], "A#B");
+    let out = dir.path().join("c.txt");
+    fail(
+        &["card", "new", "A", "--out", out.to_str().unwrap()],
+        ".toml",
+    );
+    assert!(!out.exists());
+    assert_eq!(crate::common::files_in(dir.path()), ["bad.toml"]);
+}

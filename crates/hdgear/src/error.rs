@@ -44,6 +44,26 @@ pub enum Error {
         /// Comma-separated list of valid names.
         known: String,
     },
+    /// A drive card name that is not in the file (or among the built-in cards).
+    #[error("unknown drive card '{name}' (known: {known})")]
+    UnknownCard {
+        /// The name asked for.
+        name: String,
+        /// The names, or the first of them and how to list all.
+        known: String,
+    },
+    /// A drive card with a missing, out-of-range or inconsistent value.
+    #[error("card {card}: {field} = {value}: {reason}")]
+    Card {
+        /// The card's name (empty for the file's own fields).
+        card: String,
+        /// The quantity, as `section.key`.
+        field: String,
+        /// The offending value as written.
+        value: String,
+        /// What it must satisfy.
+        reason: &'static str,
+    },
     /// A scenario file that cannot be read or parsed, or that has an unknown key.
     #[error("scenario file {}: {message}", path.display())]
     Config {

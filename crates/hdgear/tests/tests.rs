@@ -5,6 +5,7 @@
 mod common;
 
 mod burst;
+mod cards;
 mod fast;
 mod friction;
 mod integrate;

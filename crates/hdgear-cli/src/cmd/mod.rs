@@ -4,6 +4,7 @@
 mod analyze;
 mod bifurcation;
 mod bursts;
+pub mod card;
 mod continuation;
 mod diagram;
 mod equilibria;
@@ -41,6 +42,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::LyapunovMap(a) => lyapunov::run(a),
         Command::Periodic(a) => periodic::run(a),
         Command::Physical(a) => physical::run(a),
+        Command::Card(a) => card::run(a),
         Command::Plot(a) => plot::run(a),
         Command::Report(a) => report::run(a),
         Command::Serve(a) => serve::run(a),

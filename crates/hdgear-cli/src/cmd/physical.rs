@@ -4,12 +4,11 @@ use crate::cli::{PhysicalArgs, check_out};
 use crate::sink::Sink;
 use anyhow::{Context, Result, bail};
 use hdgear::output::RecordWriter;
-use hdgear::physical::catalogue::ASSUMPTIONS;
 use hdgear::physical::simulate::{PhysicalSample, simulate_physical};
 
 /// Runs the physical command.
 pub fn run(a: PhysicalArgs) -> Result<()> {
-    let (d, fit) = a.drive()?;
+    let (d, origin) = a.drive()?;
     let opts = a.burst.options()?;
     if a.simulate {
         return simulate(&a, &d, opts.tol);
@@ -32,11 +31,6 @@ pub fn run(a: PhysicalArgs) -> Result<()> {
         }
         return Ok(());
     }
-    let origin = hdgear::physical::design::CatalogueOrigin {
-        name: a.drive.clone(),
-        fit,
-        assumptions: &ASSUMPTIONS,
-    };
     let doc = hdgear::physical::design::summarize(&d, origin, &opts)?;
     if a.json {
         crate::sink::outln!("{}", serde_json::to_string_pretty(&doc)?);

@@ -215,8 +215,8 @@ class Drive:
 
     @classmethod
     def catalogue(cls, name, fit_torque=None):
-        """A catalogue drive: CSF-14-50, CSF-20-50, CSF-32-50, CSF-32-30; ``fit`` holds the
-        stiffness fit."""
+        """A drive from a built-in card (``hdgear card list``: Harmonic Drive CSG, HFUC, SHG,
+        HFUS and CSF drives); ``fit`` holds the stiffness fit."""
         native, fit = _hdgear.Drive.catalogue(name, fit_torque)
         d = cls.__new__(cls)
         d._native = native

@@ -1,21 +1,21 @@
-//! Catalogue drives and the fit of the cubic torque-twist law to their piecewise-linear curves.
+//! Catalogue stiffness curves and the fit of the cubic torque-twist law to them; a drive built
+//! from a card ([`super::card`]) and the documented assumptions for what a card leaves out.
 //!
-//! Source of the stiffness data: Harmonic Drive CSF series component-set catalogue, table
-//! "Torsional stiffness" (T1, T2 \[N m\] and K1, K2, K3 \[N m/rad\]; the torque-twist curve is
-//! linear with slope K1 up to T1, K2 from T1 to T2 and K3 above T2), with the values quoted in
-//! hdgear's physical-model issue. Only the stiffness comes from the catalogue: inertias,
-//! damping, load, disturbance and backlash are the user's, and the defaults below are stated
-//! assumptions.
+//! The catalogue's torque-twist curve is linear with slope K1 up to T1, K2 from T1 to T2 and K3
+//! above T2. Only the card's numbers come from a catalogue: inertias of the application,
+//! damping (unless derived from the hysteresis loss), load, disturbance and backlash are the
+//! user's, and the defaults below ([`ASSUMPTIONS`]) are stated assumptions.
 
 use super::PhysicalParams;
+use super::card::{Card, builtin_card};
 use crate::error::{Error, Result};
 use serde::Serialize;
 
-/// A drive's catalogue stiffness data.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+/// A drive's piecewise-linear stiffness curve, from its card ([`Card::curve`]).
+#[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct CatalogueDrive {
     /// Model name, e.g. `CSF-14-50`.
-    pub name: &'static str,
+    pub name: String,
     /// Reduction ratio.
     pub ratio: f64,
     /// T1 \[N m\]: end of the first linear segment.
@@ -28,68 +28,64 @@ pub struct CatalogueDrive {
     pub k2: f64,
     /// K3 \[N m/rad\]: stiffness above T2, where the catalogue gives it.
     pub k3: Option<f64>,
+    /// The largest torque the curve is used to \[N m\]: the momentary peak torque where the
+    /// card rates it, else T2 (2·T2 with a K3 segment).
+    pub t_max: f64,
 }
 
-/// The catalogue drives: CSF-14-50, CSF-20-50, CSF-32-50, CSF-32-30.
-pub const DRIVES: [CatalogueDrive; 4] = [
-    CatalogueDrive {
-        name: "CSF-14-50",
-        ratio: 50.0,
-        t1: 2.0,
-        t2: 6.9,
-        k1: 0.34e4,
-        k2: 0.47e4,
-        k3: None,
-    },
-    CatalogueDrive {
-        name: "CSF-20-50",
-        ratio: 50.0,
-        t1: 7.0,
-        t2: 25.0,
-        k1: 1.3e4,
-        k2: 1.8e4,
-        k3: None,
-    },
-    CatalogueDrive {
-        name: "CSF-32-50",
-        ratio: 50.0,
-        t1: 29.0,
-        t2: 108.0,
-        k1: 5.4e4,
-        k2: 7.8e4,
-        k3: None,
-    },
-    CatalogueDrive {
-        name: "CSF-32-30",
-        ratio: 30.0,
-        t1: 29.0,
-        t2: 108.0,
-        k1: 2.4e4,
-        k2: 3.0e4,
-        k3: Some(4.9e4),
-    },
-];
-
 impl CatalogueDrive {
-    /// The drive by name (case-insensitive).
+    /// The built-in drive's curve by name (case-insensitive).
     pub fn by_name(name: &str) -> Result<CatalogueDrive> {
-        DRIVES
-            .iter()
-            .find(|d| d.name.eq_ignore_ascii_case(name))
-            .copied()
-            .ok_or_else(|| Error::UnknownPreset {
-                name: name.into(),
-                known: DRIVES.map(|d| d.name).join(", "),
-            })
+        Ok(builtin_card(name)?.curve())
     }
 
-    /// Largest torque the piecewise-linear curve is defined to: T2, or 2·T2 with a K3 segment.
+    /// Largest torque the curve is used to ([`Self::t_max`]).
     pub fn max_torque(&self) -> f64 {
-        if self.k3.is_some() {
-            2.0 * self.t2
+        self.t_max
+    }
+
+    /// Torque T(θ) \[N m\] of the curve at twist θ ≥ 0 (the inverse of [`Self::twist`]).
+    pub fn torque(&self, th: f64) -> f64 {
+        let (th1, th2) = (self.twist(self.t1), self.twist(self.t2));
+        if th <= th1 {
+            self.k1 * th
+        } else if th <= th2 {
+            self.t1 + self.k2 * (th - th1)
         } else {
-            self.t2
+            self.t2 + self.k3.unwrap_or(self.k2) * (th - th2)
         }
+    }
+
+    /// Elastic energy ∫₀^θ(T) T dθ \[J\] stored at torque T ≥ 0 (exact: the curve is linear on
+    /// each segment, so each contributes the mean of its end torques times its twist).
+    pub fn energy(&self, t: f64) -> f64 {
+        let mut e = 0.0;
+        let mut lo = 0.0;
+        for knee in [self.t1, self.t2, f64::INFINITY] {
+            let hi = t.min(knee);
+            if hi > lo {
+                e += 0.5 * (lo + hi) * (self.twist(hi) - self.twist(lo));
+            }
+            lo = knee;
+            if t <= knee {
+                break;
+            }
+        }
+        e
+    }
+
+    /// The equivalent damping ratio ζ = E_d/(4π E_s) of a ±`amplitude` torque cycle whose
+    /// loop has the constant twist width `loss` (the catalogue's hysteresis loss): the loop is
+    /// a parallelogram of width `loss` and height 2·amplitude, E_d = 2·loss·amplitude, and E_s
+    /// is the elastic energy at the amplitude ([`Self::energy`]).
+    ///
+    /// ```
+    /// let d = hdgear::physical::catalogue::CatalogueDrive::by_name("CSG-20-50").unwrap();
+    /// let zeta = d.equivalent_damping(1f64.to_radians() / 60.0, 33.0);
+    /// assert!((zeta - 0.0546).abs() < 1e-3);
+    /// ```
+    pub fn equivalent_damping(&self, loss: f64, amplitude: f64) -> f64 {
+        2.0 * loss * amplitude / (4.0 * std::f64::consts::PI * self.energy(amplitude))
     }
 
     /// Catalogue twist θ(T) \[rad\] of the piecewise-linear curve, for 0 ≤ T ≤ max_torque.
@@ -148,21 +144,13 @@ pub fn fit(d: &CatalogueDrive, t_fit: f64) -> Result<Fit> {
         return Err(Error::InvalidOption {
             name: "fit_torque",
             value: t_fit,
-            reason: "must be > 0 and within the catalogue curve (T2, or 2·T2 where K3 is given)",
+            reason: "must be > 0 and within the catalogue curve (up to its momentary peak torque, T2 \
+                     without K3, 2·T2 with K3 but no rating)",
         });
     }
     // sample the curve uniformly in twist: θ from 0 to θ(t_fit), T(θ) by inverting the segments
     let th_max = d.twist(t_fit);
-    let torque = |th: f64| {
-        let (th1, th2) = (d.twist(d.t1), d.twist(d.t2));
-        if th <= th1 {
-            d.k1 * th
-        } else if th <= th2 {
-            d.t1 + d.k2 * (th - th1)
-        } else {
-            d.t2 + d.k3.unwrap_or(d.k2) * (th - th2)
-        }
-    };
+    let torque = |th: f64| d.torque(th);
     let m = 2001;
     let pts: Vec<(f64, f64)> = (0..m)
         .map(|i| {
@@ -199,22 +187,94 @@ pub fn fit(d: &CatalogueDrive, t_fit: f64) -> Result<Fit> {
     })
 }
 
-/// The assumptions behind a catalogue preset's non-catalogue values.
-pub const ASSUMPTIONS: [&str; 6] = [
-    "backlash = 1 arc-min (2.909e-4 rad): the order of the CSF catalogue's lost motion, used as phi",
-    "j_in = 5e-5 kg m^2 (motor rotor + wave generator), j_out = 0.05 kg m^2 (load): typical, not catalogue values",
-    "c_eq = 2 * 0.1 * sqrt(k1 * J_eq): 10 % damping ratio of the linear torsional mode",
-    "t_m = T1 (mean load at the first knee of the torque-twist curve)",
-    "t_am = 0.25 * T1 (slow output-torque disturbance)",
-    "omega = 2 pi * 0.5 rad/s (a 0.5 Hz disturbance)",
+/// One value hdgear assumes when a card's `[application]` leaves it out.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Assumed {
+    /// The application key it stands for.
+    pub key: &'static str,
+    /// What is assumed, and why.
+    pub text: &'static str,
+}
+
+/// The assumptions behind a drive built from a card without an `[application]` section.
+pub const ASSUMPTIONS: [Assumed; 7] = [
+    Assumed {
+        key: "backlash",
+        text: "backlash = 1 arc-min (2.909e-4 rad): the order of the CSF catalogue's lost motion, used as phi",
+    },
+    Assumed {
+        key: "j_motor",
+        text: "j_in = 5e-5 kg m^2 (motor rotor, typical) plus the card's wave-generator inertia where it gives one",
+    },
+    Assumed {
+        key: "j_load",
+        text: "j_out = 0.05 kg m^2 (load): typical, not a catalogue value",
+    },
+    Assumed {
+        key: "zeta",
+        text: "c_eq = 2 * 0.1 * sqrt(k1 * J_eq): 10 % damping ratio of the linear torsional mode",
+    },
+    Assumed {
+        key: "t_mean",
+        text: "t_m = T1 (mean load at the first knee of the torque-twist curve)",
+    },
+    Assumed {
+        key: "t_amp",
+        text: "t_am = 0.25 * T1 (slow output-torque disturbance)",
+    },
+    Assumed {
+        key: "frequency",
+        text: "omega = 2 pi * 0.5 rad/s (a 0.5 Hz disturbance)",
+    },
 ];
 
-/// A complete drive from catalogue stiffness (fitted up to `t_fit`, default T2) and the
-/// documented assumptions ([`ASSUMPTIONS`]) for everything else.
-pub fn preset(name: &str, t_fit: Option<f64>) -> Result<(PhysicalParams, Fit)> {
-    let d = CatalogueDrive::by_name(name)?;
+/// The texts of [`ASSUMPTIONS`].
+pub fn assumption_texts() -> Vec<&'static str> {
+    ASSUMPTIONS.iter().map(|a| a.text).collect()
+}
+
+/// A drive built from a card: the physical parameters, the stiffness fit and what was assumed.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Assembled {
+    /// The drive.
+    pub drive: PhysicalParams,
+    /// The cubic fit of the card's curve.
+    pub fit: Fit,
+    /// The damping ratio of the linear torsional mode the drive was given.
+    pub zeta: f64,
+    /// The assumptions standing in for the application values the card leaves out.
+    pub assumptions: Vec<&'static str>,
+}
+
+/// A complete drive from a card: its stiffness fitted up to `t_fit` (default T2), the card's
+/// `[application]` values, and the documented assumptions ([`ASSUMPTIONS`]) for the rest. The
+/// damping is `zeta` when given, else the application's, else the assumed 10 %.
+pub fn assemble(card: &Card, t_fit: Option<f64>, zeta: Option<f64>) -> Result<Assembled> {
+    let d = card.curve();
     let f = fit(&d, t_fit.unwrap_or(d.t2))?;
-    let (j_in, j_out) = (5e-5, 0.05);
+    let app = card.application.clone().unwrap_or_default();
+    let mut assumptions = Vec::new();
+    let mut pick = |key: &str, given: Option<f64>, default: f64| {
+        given.unwrap_or_else(|| {
+            let a = ASSUMPTIONS
+                .iter()
+                .find(|a| a.key == key)
+                .expect("every key has a text");
+            assumptions.push(a.text);
+            default
+        })
+    };
+    let backlash = pick("backlash", app.backlash, (1.0f64 / 60.0).to_radians());
+    let wave_generator = card.inertia.as_ref().and_then(|i| i.input).unwrap_or(0.0);
+    let j_in = pick("j_motor", app.j_motor, 5e-5) + wave_generator;
+    let j_out = pick("j_load", app.j_load, 0.05);
+    let zeta = match zeta {
+        Some(z) => z,
+        None => pick("zeta", app.zeta, 0.1),
+    };
+    let t_m = pick("t_mean", app.t_mean, d.t1);
+    let t_am = pick("t_amp", app.t_amp, 0.25 * d.t1);
+    let hz = pick("frequency", app.frequency, 0.5);
     let n2ji = d.ratio * d.ratio * j_in;
     let j_eq = n2ji * j_out / (n2ji + j_out);
     let p = PhysicalParams {
@@ -223,12 +283,24 @@ pub fn preset(name: &str, t_fit: Option<f64>) -> Result<(PhysicalParams, Fit)> {
         ratio: d.ratio,
         k1: f.k1,
         k2: f.k2,
-        backlash: (1.0f64 / 60.0).to_radians(),
-        c_eq: 2.0 * 0.1 * (f.k1 * j_eq).sqrt(),
-        t_m: d.t1,
-        t_am: 0.25 * d.t1,
-        omega: std::f64::consts::TAU * 0.5,
+        backlash,
+        c_eq: 2.0 * zeta * (f.k1 * j_eq).sqrt(),
+        t_m,
+        t_am,
+        omega: std::f64::consts::TAU * hz,
     };
     p.validate()?;
-    Ok((p, f))
+    Ok(Assembled {
+        drive: p,
+        fit: f,
+        zeta,
+        assumptions,
+    })
+}
+
+/// A complete built-in drive by name, fitted up to `t_fit` (default T2), with the documented
+/// assumptions ([`ASSUMPTIONS`]) for everything the card does not give.
+pub fn preset(name: &str, t_fit: Option<f64>) -> Result<(PhysicalParams, Fit)> {
+    let a = assemble(builtin_card(name)?, t_fit, None)?;
+    Ok((a.drive, a.fit))
 }

@@ -305,7 +305,7 @@ pub struct CatalogueOrigin {
     /// The stiffness fit.
     pub fit: super::catalogue::Fit,
     /// What the preset assumes beyond the catalogue.
-    pub assumptions: &'static [&'static str],
+    pub assumptions: Vec<&'static str>,
 }
 
 /// The verdict on a drive as it is, with the mode and mechanism when it was simulated.

@@ -17,7 +17,9 @@
 //!
 //! (δ with C⁴, not the C² the study prints; α·ε = 1 identically.)
 
+pub mod card;
 pub mod catalogue;
+pub mod check;
 pub mod design;
 pub mod model;
 pub mod simulate;

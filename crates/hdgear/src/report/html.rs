@@ -427,7 +427,7 @@ fn physical(h: &mut String, r: &Report) {
         num(d.k2),
         100.0 * ph.fit.twist_error_t1,
         100.0 * ph.fit.twist_error_t2,
-        esc(&crate::physical::catalogue::ASSUMPTIONS.join("; ")),
+        esc(&crate::physical::catalogue::assumption_texts().join("; ")),
         cell("j_eq", ph.check.reduced.j_eq),
         cell("time_scale", ph.check.reduced.time_scale),
         cell("length_scale", ph.check.reduced.length_scale),

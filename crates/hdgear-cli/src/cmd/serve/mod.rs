@@ -55,7 +55,7 @@ impl IntoResponse for ApiError {
 /// makes (fields in the order the API has always sent them).
 #[derive(serde::Serialize)]
 struct DrivesBody {
-    assumptions: &'static [&'static str],
+    assumptions: Vec<&'static str>,
     drives: Vec<&'static str>,
 }
 
@@ -157,13 +157,14 @@ async fn boundaries(State(permits): State<Permits>, Query(q): Q) -> Result<Respo
 }
 
 async fn drives() -> Response {
-    let names: Vec<&str> = hdgear::physical::catalogue::DRIVES
+    let names: Vec<&str> = hdgear::physical::card::builtin()
+        .card
         .iter()
-        .map(|d| d.name)
+        .map(|c| c.name.as_str())
         .collect();
     Json(DrivesBody {
         drives: names,
-        assumptions: &hdgear::physical::catalogue::ASSUMPTIONS,
+        assumptions: hdgear::physical::catalogue::assumption_texts(),
     })
     .into_response()
 }

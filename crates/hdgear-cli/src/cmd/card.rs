@@ -1,0 +1,334 @@
+//! `hdgear card`: list, show, check and write drive cards.
+
+use crate::cli::{CardAction, CardArgs};
+use anyhow::{Context, Result, bail};
+use hdgear::physical::card::{self, Card, CardFile, Source};
+use hdgear::physical::check::{CardCheck, DampingChoice, check_card};
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use std::io::{Read, Write};
+use std::path::Path;
+
+/// A card with the sources of the file it came from.
+pub struct Loaded {
+    /// The card.
+    pub card: Card,
+    /// Its file's sources.
+    pub sources: BTreeMap<String, Source>,
+}
+
+/// Limit on a card file's size: a card is a few kilobytes; more is not a card.
+const MAX_CARD_FILE: u64 = 4 << 20;
+
+/// The card `spec` names: a built-in card, `FILE.toml` (with one card) or `FILE.toml#NAME`.
+pub fn load(spec: &str) -> Result<Loaded> {
+    let (path, name) = match spec.split_once('#') {
+        Some((p, n)) => (p, Some(n)),
+        None => (spec, None),
+    };
+    if !path.ends_with(".toml") {
+        let c = card::builtin_card(spec)?;
+        return Ok(Loaded {
+            card: c.clone(),
+            sources: card::builtin().sources.clone(),
+        });
+    }
+    let mut text = String::new();
+    hdgear::output::open_input(Path::new(path))
+        .and_then(|f| f.take(MAX_CARD_FILE + 1).read_to_string(&mut text))
+        .with_context(|| format!("cannot read card file {path}"))?;
+    if text.len() as u64 > MAX_CARD_FILE {
+        bail!("card file {path} is larger than {MAX_CARD_FILE} bytes: not a card file");
+    }
+    let file = CardFile::parse(&text).with_context(|| format!("card file {path}"))?;
+    let card = match (name, file.card.len()) {
+        (Some(n), _) => file
+            .get(n)
+            .with_context(|| format!("card file {path}"))?
+            .clone(),
+        (None, 1) => file.card[0].clone(),
+        (None, 0) => bail!("card file {path} holds no [[card]]"),
+        (None, n) => bail!("card file {path} holds {n} cards: name one as {path}#NAME"),
+    };
+    Ok(Loaded {
+        card,
+        sources: file.sources,
+    })
+}
+
+/// Runs `hdgear card`.
+pub fn run(a: CardArgs) -> Result<()> {
+    match a.action {
+        CardAction::List { json } => list(json),
+        CardAction::Show { card, json } => show(&card, json),
+        CardAction::Check {
+            card,
+            damping,
+            json,
+            burst,
+        } => {
+            let choice = DampingChoice::parse(&damping).context("--damping")?;
+            let opts = burst.options()?;
+            let l = load(&card)?;
+            let r = check_card(&l.card, &l.sources, choice, &opts)?;
+            if json {
+                crate::sink::outln!("{}", serde_json::to_string_pretty(&r)?);
+            } else {
+                crate::sink::out!("{}", check_text(&r));
+            }
+            Ok(())
+        }
+        CardAction::New { name, from, out } => new(&name, from.as_deref(), out.as_deref()),
+    }
+}
+
+fn list(json: bool) -> Result<()> {
+    let cards = &card::builtin().card;
+    if json {
+        crate::sink::outln!("{}", serde_json::to_string_pretty(cards)?);
+        return Ok(());
+    }
+    crate::sink::outln!("name            ratio   rated[N m]     K1       K2       K3   missing");
+    for c in cards {
+        let s = &c.stiffness;
+        let k = |v: Option<f64>| v.map_or("-".into(), |v| format!("{v:.2e}"));
+        crate::sink::outln!(
+            "{:<14} {:>6} {:>11} {:>8} {:>8} {:>8}   {}",
+            c.name,
+            c.ratio,
+            c.rated_torque().map_or("-".into(), |t| t.to_string()),
+            k(s.k1),
+            k(s.k2),
+            k(s.k3),
+            c.missing().len()
+        );
+    }
+    Ok(())
+}
+
+fn show(spec: &str, json: bool) -> Result<()> {
+    let l = load(spec)?;
+    if json {
+        let doc = serde_json::json!({
+            "card": l.card,
+            "sources": l.card.sections().iter()
+                .map(|s| (s.key(), &l.sources[s.source()]))
+                .collect::<BTreeMap<_, _>>(),
+            "missing": l.card.missing(),
+        });
+        crate::sink::outln!("{}", serde_json::to_string_pretty(&doc)?);
+        return Ok(());
+    }
+    let c = &l.card;
+    let mut s = format!("{} (ratio {})\n", c.name, c.ratio);
+    for sec in c.sections() {
+        let src = &l.sources[sec.source()];
+        let _ = writeln!(s, "[{}] {}: {}", sec.key(), src.kind.name(), src.cite);
+        if let Some(n) = sec.note() {
+            let _ = writeln!(s, "  note: {n}");
+        }
+        for (f, v) in sec.fields().iter().zip(sec.values()) {
+            if let Some(v) = v {
+                let _ = writeln!(s, "  {:<16} {:>12} {:<10} {}", f.key, v, f.unit, f.meaning);
+            }
+        }
+    }
+    let missing = c.missing();
+    if !missing.is_empty() {
+        let _ = writeln!(s, "missing: {}", missing.join(", "));
+    }
+    crate::sink::out!("{s}");
+    Ok(())
+}
+
+/// The card file `hdgear card new` writes.
+fn new(name: &str, from: Option<&str>, out: Option<&Path>) -> Result<()> {
+    if name.trim().is_empty() || name.contains(['#', '"', '\n']) {
+        bail!("invalid card name '{name}': must be non-empty, without #, \" or line breaks");
+    }
+    let text = match from {
+        Some(spec) => {
+            let l = load(spec).context("--from")?;
+            let mut c = l.card;
+            c.name = name.to_string();
+            let used: BTreeMap<String, Source> = c
+                .sections()
+                .iter()
+                .map(|s| (s.source().to_string(), l.sources[s.source()].clone()))
+                .collect();
+            let f = CardFile {
+                format: card::FORMAT,
+                sources: used,
+                card: vec![c],
+            };
+            format!(
+                "# hdgear drive card, copied from {spec}: change the values and their sources\n{}",
+                f.to_toml()
+            )
+        }
+        None => template(name),
+    };
+    match out {
+        None => crate::sink::out!("{text}"),
+        Some(path) => {
+            if path.extension().is_none_or(|e| e != "toml") {
+                bail!("--out {}: a card file ends in .toml", path.display());
+            }
+            if path.exists() {
+                bail!(
+                    "--out {}: the file exists (card new never overwrites)",
+                    path.display()
+                );
+            }
+            let mut f = hdgear::output::AtomicFile::create(path).context("--out")?;
+            f.write_all(text.as_bytes())
+                .with_context(|| format!("cannot write {}", path.display()))?;
+            f.commit()?;
+        }
+    }
+    Ok(())
+}
+
+/// A commented template: every section and quantity (from the sections' own field tables),
+/// with the four the curve needs to be filled in.
+fn template(name: &str) -> String {
+    use hdgear::physical::card::{
+        Application, Friction, Hysteresis, Inertia, Speed, Stiffness, Torque,
+    };
+    let mut s = format!(
+        "# hdgear drive card (format {}). Fill in stiffness t1, t2, k1, k2 at least; every section\n\
+         # names the [sources] entry its numbers come from (kind: catalogue, fit, measured,\n\
+         # assumption). Leave out what you have no source for.\n\
+         format = {}\n\n[sources]\nmine = {{ kind = \"catalogue\", cite = \"document, table, page\" }}\n\n\
+         [[card]]\nname = \"{name}\"\nratio = 50.0\n",
+        card::FORMAT,
+        card::FORMAT
+    );
+    let sections: [(&str, &[card::Field]); 7] = [
+        (Stiffness::KEY, Stiffness::FIELDS),
+        (Torque::KEY, Torque::FIELDS),
+        (Speed::KEY, Speed::FIELDS),
+        (Inertia::KEY, Inertia::FIELDS),
+        (Hysteresis::KEY, Hysteresis::FIELDS),
+        (Friction::KEY, Friction::FIELDS),
+        (Application::KEY, Application::FIELDS),
+    ];
+    for (i, (key, fields)) in sections.iter().enumerate() {
+        let c = if i == 0 { "" } else { "# " };
+        let _ = write!(s, "\n{c}[card.{key}]\n{c}source = \"mine\"\n");
+        for f in *fields {
+            let _ = writeln!(s, "# {} = ...   # [{}] {}", f.key, f.unit, f.meaning);
+        }
+    }
+    s
+}
+
+/// The text of `hdgear card check`.
+fn check_text(r: &CardCheck) -> String {
+    let mut s = String::new();
+    let deg = |rad: f64| rad.to_degrees() * 60.0;
+    let _ = writeln!(s, "card {}", r.name);
+    let kinds: Vec<String> = r
+        .sources
+        .iter()
+        .map(|(sec, src)| format!("{sec} {}", src.kind.name()))
+        .collect();
+    let _ = writeln!(
+        s,
+        "  sources: {} (hdgear card show cites them)",
+        kinds.join(", ")
+    );
+    if !r.missing.is_empty() {
+        let _ = writeln!(s, "  missing: {}", r.missing.join(", "));
+    }
+    let c = &r.curve;
+    let _ = writeln!(
+        s,
+        "curve: twist {:.3}' at T1, {:.3}' at T2{}; used up to {} N m",
+        deg(c.twist_t1),
+        deg(c.twist_t2),
+        c.twist_rated.map_or(String::new(), |t| format!(
+            ", {:.3}' at the rated torque",
+            deg(t)
+        )),
+        c.t_max
+    );
+    let fit_line = |f: &hdgear::physical::catalogue::Fit| {
+        format!(
+            "k1 = {:.4e} N m/rad, k2 = {:.4e} N m/rad^3 fitted up to {} N m: twist error {:.2} % at T1, \
+             {:.2} % at T2, largest torque error {:.2} % of the fitted range",
+            f.k1,
+            f.k2,
+            f.t_fit,
+            100.0 * f.twist_error_t1,
+            100.0 * f.twist_error_t2,
+            100.0 * f.max_torque_error
+        )
+    };
+    let _ = writeln!(s, "cubic fit (the drive's): {}", fit_line(&r.fit));
+    if let Some(f) = &r.fit_to_rated {
+        let _ = writeln!(s, "cubic fit to the rated torque: {}", fit_line(f));
+    }
+    mode_lines(&mut s, r);
+    s.push_str(&crate::summary::physical_text(&r.summary));
+    s
+}
+
+/// The damping, torsional-mode and fold lines of `card check`.
+fn mode_lines(s: &mut String, r: &CardCheck) {
+    let deg = |rad: f64| rad.to_degrees() * 60.0;
+    let d = &r.damping;
+    if let Some(l) = &d.from_loss {
+        let _ = writeln!(
+            s,
+            "hysteresis loss {:.3}' ({}) → zeta_eq = {:.4} of a ±{} N m cycle",
+            deg(l.loss),
+            l.source.name(),
+            l.zeta,
+            l.amplitude
+        );
+    }
+    let _ = writeln!(
+        s,
+        "damping used ({}): zeta = {:.4}, gamma = 1/(4 zeta^2) = {:.4}",
+        d.choice.name(),
+        d.zeta,
+        d.gamma
+    );
+    let f = &r.frequencies;
+    let _ = writeln!(
+        s,
+        "torsional mode: f_n = {:.2} Hz{}; a twice-per-revolution kinematic error meets it at {:.0} rpm input{}",
+        f.natural_hz,
+        f.required_hz.map_or(String::new(), |req| format!(
+            " ({} the {req} Hz the application needs)",
+            if f.natural_hz >= req {
+                "meets"
+            } else {
+                "BELOW"
+            }
+        )),
+        f.critical_input_rpm,
+        f.max_input_rpm.map_or(String::new(), |m| format!(
+            " ({} the {m} rpm maximum input speed)",
+            if f.critical_input_rpm <= m {
+                "within"
+            } else {
+                "above"
+            }
+        ))
+    );
+    let fo = &r.folds;
+    let _ = writeln!(
+        s,
+        "folds: 3*alpha*gamma = {:.4} ({}); folds need a backlash above {:.3}' against {:.3}' here",
+        fo.three_alpha_gamma,
+        if fo.three_alpha_gamma < 1.0 {
+            "folds"
+        } else {
+            "no folds, whatever the damping"
+        },
+        deg(fo.fold_backlash),
+        deg(fo.backlash)
+    );
+}

@@ -1,0 +1,214 @@
+//! The check of a drive card: what its catalogue numbers imply before any simulation (the curve
+//! and its cubic fit, the damping from the hysteresis loss, the torsional natural frequency and
+//! the critical input speed, the distance from the folds) and the verdict on the drive built
+//! from it.
+//!
+//! ```
+//! use hdgear::physical::{card, check};
+//! let c = card::builtin_card("CSG-20-50").unwrap();
+//! let r = check::check_card(c, &card::builtin().sources, check::DampingChoice::HysteresisLoss,
+//!     &hdgear::burst::BurstOptions::default()).unwrap();
+//! assert!(r.folds.three_alpha_gamma > 1.0); // no folds with a catalogue law
+//! ```
+
+use super::card::{Card, Source, SourceKind};
+use super::catalogue::{Fit, assemble, fit};
+use super::design::{CatalogueOrigin, DriveSummary, summarize};
+use crate::burst::BurstOptions;
+use crate::error::Result;
+use serde::Serialize;
+use std::collections::BTreeMap;
+
+/// Where the drive's damping comes from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum DampingChoice {
+    /// From the card's hysteresis loss (ζ_eq of a ±rated-torque cycle), when it has one;
+    /// otherwise as [`DampingChoice::Assumed`].
+    HysteresisLoss,
+    /// The application's ζ, or the assumed 10 %.
+    Assumed,
+}
+
+impl DampingChoice {
+    /// Every choice, in the order of the command-line's values.
+    pub const ALL: [DampingChoice; 2] = [DampingChoice::HysteresisLoss, DampingChoice::Assumed];
+
+    /// Its name on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            DampingChoice::HysteresisLoss => "loss",
+            DampingChoice::Assumed => "assumed",
+        }
+    }
+
+    /// The choice called `text`.
+    pub fn parse(text: &str) -> Result<DampingChoice> {
+        crate::error::by_name(&Self::ALL, Self::name, "damping", text)
+    }
+}
+
+/// The card's piecewise-linear curve at its knees and at the rated torque.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct CurveFacts {
+    /// Twist at T1 \[rad\] (T1/K1).
+    pub twist_t1: f64,
+    /// Twist at T2 \[rad\].
+    pub twist_t2: f64,
+    /// Twist at the rated torque \[rad\], when the card rates it.
+    pub twist_rated: Option<f64>,
+    /// The largest torque the curve is used to \[N m\].
+    pub t_max: f64,
+    /// |T(θ(T1)) − T1| / T1 and the same at T2: the curve's inverse reproduces its knees.
+    pub knee_residual: f64,
+}
+
+/// The damping ratio the hysteresis loss implies.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct LossDamping {
+    /// The loss \[rad\].
+    pub loss: f64,
+    /// The kind of its source (an assumption on the built-in cards).
+    pub source: SourceKind,
+    /// The torque amplitude of the cycle \[N m\]: the rated torque, or T2 without a rating.
+    pub amplitude: f64,
+    /// ζ_eq = E_d/(4π E_s) of the cycle.
+    pub zeta: f64,
+}
+
+/// The damping the drive was given, and the alternative.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct DampingFacts {
+    /// ζ from the hysteresis loss, when the card has a loss.
+    pub from_loss: Option<LossDamping>,
+    /// What was chosen.
+    pub choice: DampingChoice,
+    /// ζ the drive was given.
+    pub zeta: f64,
+    /// γ = k1 J/C² = 1/(4ζ²) with that ζ.
+    pub gamma: f64,
+}
+
+/// Frequencies of the linear torsional mode.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Frequencies {
+    /// f_n = √(K1/J_eq)/2π \[Hz\] with the catalogue K1.
+    pub natural_hz: f64,
+    /// The application's required f_n \[Hz\], when given.
+    pub required_hz: Option<f64>,
+    /// The input speed \[rpm\] whose twice-per-revolution kinematic error meets f_n: 30·f_n.
+    pub critical_input_rpm: f64,
+    /// The card's maximum input speed \[rpm\], when given.
+    pub max_input_rpm: Option<f64>,
+}
+
+/// How far the fitted law is from having folds (the study's bursting needs them or a steep
+/// curve): with K(θ) = k1 + k2θ², 3αγ = 3k1/(k2 φ²), folds exist iff 3αγ < 1, i.e. φ > √(3k1/k2).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Folds {
+    /// 3αγ of the drive.
+    pub three_alpha_gamma: f64,
+    /// The drive's backlash φ \[rad\].
+    pub backlash: f64,
+    /// The backlash at which folds appear \[rad\].
+    pub fold_backlash: f64,
+}
+
+/// Everything `hdgear card check` reports on a card.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct CardCheck {
+    /// The card's name.
+    pub name: String,
+    /// The quantities the card has no value for.
+    pub missing: Vec<String>,
+    /// The sources of the card's sections, by section.
+    pub sources: BTreeMap<&'static str, Source>,
+    /// The piecewise curve.
+    pub curve: CurveFacts,
+    /// The cubic fit used for the drive (up to T2).
+    pub fit: Fit,
+    /// The cubic fit up to the rated torque, when the card rates one within its curve.
+    pub fit_to_rated: Option<Fit>,
+    /// The damping.
+    pub damping: DampingFacts,
+    /// The torsional mode's frequencies.
+    pub frequencies: Frequencies,
+    /// Distance from the folds.
+    pub folds: Folds,
+    /// The drive built from the card and the verdict on it.
+    pub summary: DriveSummary,
+}
+
+/// Checks `card` (whose file has `sources`) and judges the drive built from it with `damping`.
+pub fn check_card(
+    card: &Card,
+    sources: &BTreeMap<String, Source>,
+    damping: DampingChoice,
+    opts: &BurstOptions,
+) -> Result<CardCheck> {
+    card.validate(sources)?;
+    let c = card.curve();
+    let rated = card.rated_torque().filter(|&t| t <= c.t_max);
+    let knee = |t: f64| (c.torque(c.twist(t)) - t).abs() / t;
+    let curve = CurveFacts {
+        twist_t1: c.twist(c.t1),
+        twist_t2: c.twist(c.t2),
+        twist_rated: rated.map(|t| c.twist(t)),
+        t_max: c.t_max,
+        knee_residual: knee(c.t1).max(knee(c.t2)),
+    };
+    let from_loss = card.hysteresis.as_ref().and_then(|h| {
+        let loss = h.loss?;
+        let amplitude = rated.unwrap_or(c.t2);
+        Some(LossDamping {
+            loss,
+            source: sources[&h.source].kind,
+            amplitude,
+            zeta: c.equivalent_damping(loss, amplitude),
+        })
+    });
+    let zeta = match (damping, &from_loss) {
+        (DampingChoice::HysteresisLoss, Some(l)) => Some(l.zeta),
+        _ => None,
+    };
+    let a = assemble(card, None, zeta)?;
+    let d = a.drive;
+    let j_eq = d.j_eq();
+    let app = card.application.as_ref();
+    let natural_hz = (c.k1 / j_eq).sqrt() / std::f64::consts::TAU;
+    let origin = CatalogueOrigin {
+        name: card.name.clone(),
+        fit: a.fit,
+        assumptions: a.assumptions,
+    };
+    let mut by_section = BTreeMap::new();
+    for s in card.sections() {
+        by_section.insert(s.key(), sources[s.source()].clone());
+    }
+    Ok(CardCheck {
+        name: card.name.clone(),
+        missing: card.missing(),
+        sources: by_section,
+        curve,
+        fit: a.fit,
+        fit_to_rated: rated.map(|t| fit(&c, t)).transpose()?,
+        damping: DampingFacts {
+            from_loss,
+            choice: damping,
+            zeta: a.zeta,
+            gamma: 1.0 / (4.0 * a.zeta * a.zeta),
+        },
+        frequencies: Frequencies {
+            natural_hz,
+            required_hz: app.and_then(|a| a.resonance_required),
+            critical_input_rpm: 30.0 * natural_hz,
+            max_input_rpm: card.speed.as_ref().and_then(|s| s.max_input_rpm),
+        },
+        folds: Folds {
+            three_alpha_gamma: 3.0 * d.k1 / (d.k2 * d.backlash * d.backlash),
+            backlash: d.backlash,
+            fold_backlash: (3.0 * d.k1 / d.k2).sqrt(),
+        },
+        summary: summarize(&d, origin, opts)?,
+    })
+}
