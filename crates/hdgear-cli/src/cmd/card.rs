@@ -106,16 +106,22 @@ fn list(json: bool) -> Result<()> {
     Ok(())
 }
 
+/// The document of `hdgear card show --json`.
+#[derive(serde::Serialize)]
+struct Shown<'a> {
+    card: &'a Card,
+    sources: BTreeMap<&'static str, Source>,
+    missing: Vec<String>,
+}
+
 fn show(spec: &str, json: bool) -> Result<()> {
     let l = load(spec)?;
     if json {
-        let doc = serde_json::json!({
-            "card": l.card,
-            "sources": l.card.sections().iter()
-                .map(|s| (s.key(), &l.sources[s.source()]))
-                .collect::<BTreeMap<_, _>>(),
-            "missing": l.card.missing(),
-        });
+        let doc = Shown {
+            sources: l.card.cited(&l.sources),
+            missing: l.card.missing(),
+            card: &l.card,
+        };
         crate::sink::outln!("{}", serde_json::to_string_pretty(&doc)?);
         return Ok(());
     }

@@ -312,6 +312,15 @@ impl Card {
         }
     }
 
+    /// The source of each of its sections, by section key (`sources` is its file's table; the
+    /// card is assumed valid against it, see [`Card::validate`]).
+    pub fn cited(&self, sources: &BTreeMap<String, Source>) -> BTreeMap<&'static str, Source> {
+        self.sections()
+            .iter()
+            .filter_map(|s| Some((s.key(), sources.get(s.source())?.clone())))
+            .collect()
+    }
+
     /// The rated torque, when the card has it.
     pub fn rated_torque(&self) -> Option<f64> {
         self.torque.as_ref().and_then(|t| t.rated)

@@ -181,14 +181,10 @@ pub fn check_card(
         fit: a.fit,
         assumptions: a.assumptions,
     };
-    let mut by_section = BTreeMap::new();
-    for s in card.sections() {
-        by_section.insert(s.key(), sources[s.source()].clone());
-    }
     Ok(CardCheck {
         name: card.name.clone(),
         missing: card.missing(),
-        sources: by_section,
+        sources: card.cited(sources),
         curve,
         fit: a.fit,
         fit_to_rated: rated.map(|t| fit(&c, t)).transpose()?,
