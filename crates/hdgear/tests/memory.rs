@@ -524,3 +524,33 @@ fn random_models_with_memory_agree_across_methods() {
         }
     }
 }
+
+/// LuGre's steady sliding: at a constant speed v the bristle state, integrated from rest with
+/// the term's own rate (RK4 in the test, over 60 of its time constants g(v)/(σ₀|v|)), settles
+/// where the term's torque is the Stribeck curve g(v)·sgn v + σ₂v written out here, to 1e-9.
+#[test]
+fn lugre_steady_sliding_friction_is_the_stribeck_curve() {
+    let (fc, fs, vst, s0, s1, s2) = (0.3, 0.5, 0.1, 50.0, 3.0, 0.2);
+    let t = AnyTerm::new("lugre", &[fc, fs, vst, s0, s1, s2]).unwrap();
+    for v in [1e-4, 1e-3, 0.05, 0.1, 0.3, 2.0, -1e-3, -0.1, -2.0] {
+        let g = fc + (fs - fc) * (-(v / vst) * (v / vst)).exp();
+        let tau = g / (s0 * f64::abs(v));
+        let n = 6000;
+        let h = 60.0 * tau / n as f64;
+        let mut s = 0.0;
+        for _ in 0..n {
+            let r = |s: f64| t.rate(0.0, v, s);
+            let k1 = r(s);
+            let k2 = r(s + 0.5 * h * k1);
+            let k3 = r(s + 0.5 * h * k2);
+            let k4 = r(s + h * k3);
+            s += h / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
+        }
+        let steady = g * v.signum() + s2 * v;
+        let got = t.torque(0.0, v, s);
+        assert!(
+            ((got - steady) / steady).abs() < 1e-9,
+            "v = {v}: {got} against {steady}"
+        );
+    }
+}
