@@ -232,6 +232,18 @@ pub fn physical_text(doc: &hdgear::physical::design::DriveSummary) -> String {
         "critical gamma 1/(3 alpha) = {:.6}, gamma margin = {:.6}",
         doc.critical_gamma, doc.gamma_margin
     );
+    let _ = writeln!(
+        s,
+        "damping ratio zeta = C/(2 sqrt(k1 J_eq)) = {:.4} (gamma = 1/(4 zeta^2)); 3*alpha*gamma = \
+         3 k1/(k2 phi^2) = {:.4}: {}",
+        doc.zeta,
+        doc.three_alpha_gamma,
+        if doc.three_alpha_gamma < 1.0 {
+            "the fast subsystem has folds"
+        } else {
+            "no folds, whatever the damping"
+        }
+    );
     let pr = &doc.predicted;
     let _ = writeln!(
         s,

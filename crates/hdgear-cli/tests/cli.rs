@@ -556,9 +556,17 @@ fn physical_json_has_the_documented_keys() {
         "alpha_eps",
         "critical_gamma",
         "gamma_margin",
+        "zeta",
+        "three_alpha_gamma",
     ] {
         assert!(doc[k].is_f64(), "{k}");
     }
+    // the preset's assumed 10 % damping, and the fold distance its stiffness law implies
+    let (zeta, g) = (
+        doc["zeta"].as_f64().unwrap(),
+        doc["reduced"]["gamma"].as_f64().unwrap(),
+    );
+    assert!((zeta - 0.1).abs() < 1e-12 && (4.0 * zeta * zeta * g - 1.0).abs() < 1e-12);
     assert!((doc["alpha_eps"].as_f64().unwrap() - 1.0).abs() < 1e-12);
     assert!(doc["predicted"]["mode"].is_string());
     assert!(doc["predicted"]["mechanism"].is_string());

@@ -327,13 +327,7 @@ fn mode_lines(s: &mut String, r: &CardCheck) {
     let fo = &r.folds;
     let _ = writeln!(
         s,
-        "folds: 3*alpha*gamma = {:.4} ({}); folds need a backlash above {:.3}' against {:.3}' here",
-        fo.three_alpha_gamma,
-        if fo.three_alpha_gamma < 1.0 {
-            "folds"
-        } else {
-            "no folds, whatever the damping"
-        },
+        "folds: they need a backlash above sqrt(3 k1/k2) = {:.3}' against {:.3}' here",
         deg(fo.fold_backlash),
         deg(fo.backlash)
     );

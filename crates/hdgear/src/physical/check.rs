@@ -181,6 +181,7 @@ pub fn check_card(
         fit: a.fit,
         assumptions: a.assumptions,
     };
+    let summary = summarize(&d, origin, opts)?;
     Ok(CardCheck {
         name: card.name.clone(),
         missing: card.missing(),
@@ -201,10 +202,10 @@ pub fn check_card(
             max_input_rpm: card.speed.as_ref().and_then(|s| s.max_input_rpm),
         },
         folds: Folds {
-            three_alpha_gamma: 3.0 * d.k1 / (d.k2 * d.backlash * d.backlash),
+            three_alpha_gamma: summary.three_alpha_gamma,
             backlash: d.backlash,
             fold_backlash: (3.0 * d.k1 / d.k2).sqrt(),
         },
-        summary: summarize(&d, origin, opts)?,
+        summary,
     })
 }

@@ -342,6 +342,10 @@ pub struct DriveSummary {
     pub critical_gamma: f64,
     /// γ − 1/(3α).
     pub gamma_margin: f64,
+    /// ζ = C/(2√(k1 J_eq)): the damping ratio of the linear torsional mode (γ = 1/(4ζ²)).
+    pub zeta: f64,
+    /// 3αγ = 3k1/(k2φ²): the fast subsystem has folds iff it is below 1, whatever the damping.
+    pub three_alpha_gamma: f64,
     /// The verdict.
     pub predicted: Outcome,
 }
@@ -366,6 +370,8 @@ pub fn summarize(
         alpha_eps: p.alpha * p.eps,
         critical_gamma: p.critical_gamma(),
         gamma_margin: p.gamma - p.critical_gamma(),
+        zeta: d.c_eq / (2.0 * (d.k1 * r.j_eq).sqrt()),
+        three_alpha_gamma: 3.0 * p.alpha * p.gamma,
         predicted: Outcome {
             judgement,
             mode: c.map(|c| c.mode),
