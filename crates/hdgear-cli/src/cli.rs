@@ -166,6 +166,30 @@ pub enum CardAction {
         #[command(flatten)]
         burst: BurstArgs,
     },
+    /// The verdict over slow output-torque amplitudes up to the rated torque (T2 without a
+    /// rating) and frequencies from 0.01 to 10 Hz (log-spaced): one row per point
+    /// (t_am_nm,frequency_hz,bursting,verdict,basis,fast_slow_domain).
+    Map {
+        /// The card.
+        card: String,
+        /// Points per axis.
+        #[arg(long, default_value_t = 20)]
+        points: usize,
+        /// LO:HI, the frequency range in Hz.
+        #[arg(long, value_name = "LO:HI")]
+        hz: Option<String>,
+        /// Largest amplitude [N m] (default: the rated torque, T2 without a rating).
+        #[arg(long, allow_negative_numbers = true)]
+        t_am_max: Option<f64>,
+        /// Damping of the torsional mode: loss or assumed (as for check).
+        #[arg(long, default_value = "loss")]
+        damping: String,
+        /// The table (.csv, .json or .parquet; CSV on standard output without it).
+        #[arg(long, value_name = "FILE")]
+        out: Option<PathBuf>,
+        #[command(flatten)]
+        burst: BurstArgs,
+    },
     /// Write a new card file: a commented template, or a copy of --from under a new name.
     New {
         /// The new card's name.

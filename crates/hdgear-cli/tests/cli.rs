@@ -784,3 +784,29 @@ fn card_bad_input_exits_2() {
     assert!(!out.exists());
     assert_eq!(crate::common::files_in(dir.path()), ["bad.toml"]);
 }
+
+#[test]
+fn card_map_writes_one_row_per_load() {
+    let text = stdout_of(&["card", "map", "CSG-20-50", "--points", "3", "--hz", "0.1:1"]);
+    let mut lines = text.lines();
+    assert_eq!(
+        lines.next(),
+        Some("t_am_nm,frequency_hz,bursting,verdict,basis,fast_slow_domain")
+    );
+    let rows: Vec<&str> = lines.collect();
+    assert_eq!(rows.len(), 9);
+    assert!(
+        rows[0].starts_with("11.0,0.1,") && rows[8].starts_with("33.0,1.0,"),
+        "{rows:?}"
+    );
+    let fail = |args: &[&str], needle: &str| {
+        hdgear()
+            .args(args)
+            .assert()
+            .code(2)
+            .stderr(predicate::str::contains(needle));
+    };
+    fail(&["card", "map", "CSG-20-50", "--points", "0"], "amplitudes");
+    fail(&["card", "map", "CSG-20-50", "--hz", "0:1"], "0:1");
+    fail(&["card", "map", "CSG-20-50", "--t-am-max=-1"], "t_am_max");
+}

@@ -243,3 +243,52 @@ fn card_check_derives_damping_frequency_and_folds() {
     assert_eq!(a.damping.zeta, 0.1);
     assert!((a.damping.gamma - 25.0).abs() < 1e-12);
 }
+
+/// A card's load map: its grid (amplitudes up to the rating, log-spaced frequencies with the
+/// range's ends), each point's verdict the one `judge` gives the card's drive with that load,
+/// and bad grids refused.
+#[test]
+fn load_map_judges_the_cards_drive_at_every_load() {
+    use hdgear::physical::check::{MapGrid, load_map};
+    let c = builtin_card("CSG-20-50").unwrap();
+    let sources = &builtin().sources;
+    let mut grid = MapGrid::for_card(c, 4);
+    assert_eq!(grid.t_am_max, 33.0);
+    grid.hz = (0.1, 10.0);
+    let f = grid.frequency_values();
+    assert_eq!(f.len(), 4);
+    assert!((f[0] - 0.1).abs() < 1e-15 && (f[3] - 10.0).abs() < 1e-12);
+    assert!(((f[1] / f[0]) - (f[2] / f[1])).abs() < 1e-12);
+    assert_eq!(grid.amplitude_values(), [8.25, 16.5, 24.75, 33.0]);
+    let opts = hdgear::burst::BurstOptions::default();
+    let map = load_map(c, sources, DampingChoice::HysteresisLoss, &grid, &opts).unwrap();
+    assert_eq!(map.len(), 16);
+    let check = check_card(c, sources, DampingChoice::HysteresisLoss, &opts).unwrap();
+    for p in map.iter().step_by(5) {
+        let d = hdgear::physical::PhysicalParams {
+            t_am: p.t_am,
+            omega: std::f64::consts::TAU * p.frequency_hz,
+            ..check.summary.drive
+        };
+        assert_eq!(
+            hdgear::physical::design::judge(&d, &opts).unwrap(),
+            p.judgement
+        );
+    }
+    for bad in [
+        MapGrid {
+            amplitudes: 0,
+            ..grid
+        },
+        MapGrid {
+            hz: (10.0, 0.1),
+            ..grid
+        },
+        MapGrid {
+            t_am_max: f64::NAN,
+            ..grid
+        },
+    ] {
+        assert!(load_map(c, sources, DampingChoice::Assumed, &bad, &opts).is_err());
+    }
+}

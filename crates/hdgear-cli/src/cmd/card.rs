@@ -3,7 +3,7 @@
 use crate::cli::{CardAction, CardArgs};
 use anyhow::{Context, Result, bail};
 use hdgear::physical::card::{self, Card, CardFile, Source};
-use hdgear::physical::check::{CardCheck, DampingChoice, check_card};
+use hdgear::physical::check::{CardCheck, DampingChoice, MapGrid, check_card, load_map};
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::io::{Read, Write};
@@ -56,6 +56,28 @@ pub fn load(spec: &str) -> Result<Loaded> {
     })
 }
 
+/// One row of `hdgear card map`.
+#[derive(serde::Serialize)]
+struct MapRow {
+    t_am_nm: f64,
+    frequency_hz: f64,
+    bursting: bool,
+    verdict: &'static str,
+    basis: &'static str,
+    fast_slow_domain: bool,
+}
+hdgear::record!(
+    MapRow: "t_am_nm", "frequency_hz", "bursting", "verdict", "basis", "fast_slow_domain"
+);
+
+/// The metadata of `hdgear card map`'s table.
+#[derive(serde::Serialize)]
+struct MapMeta<'a> {
+    card: &'a str,
+    grid: MapGrid,
+    damping: DampingChoice,
+}
+
 /// Runs `hdgear card`.
 pub fn run(a: CardArgs) -> Result<()> {
     match a.action {
@@ -79,6 +101,61 @@ pub fn run(a: CardArgs) -> Result<()> {
             Ok(())
         }
         CardAction::New { name, from, out } => new(&name, from.as_deref(), out.as_deref()),
+        CardAction::Map {
+            card,
+            points,
+            hz,
+            t_am_max,
+            damping,
+            out,
+            burst,
+        } => {
+            let choice = DampingChoice::parse(&damping).context("--damping")?;
+            let opts = burst.options()?;
+            crate::cli::check_out(&out)?;
+            let l = load(&card)?;
+            let mut grid = MapGrid::for_card(&l.card, points);
+            if let Some(range) = crate::cli::parse_frequency_range("--hz", hz.as_deref())? {
+                grid.hz = range;
+            }
+            if let Some(t) = t_am_max {
+                grid.t_am_max = t;
+            }
+            let map = load_map(&l.card, &l.sources, choice, &grid, &opts)?;
+            let rows = map.iter().map(|p| MapRow {
+                t_am_nm: p.t_am,
+                frequency_hz: p.frequency_hz,
+                bursting: p.judgement.bursting,
+                verdict: p.judgement.label(),
+                basis: match p.judgement.basis {
+                    hdgear::physical::design::Basis::Simulation => "simulation",
+                    hdgear::physical::design::Basis::Prediction => "prediction",
+                },
+                fast_slow_domain: p.judgement.fast_slow_domain,
+            });
+            let meta = MapMeta {
+                card: &l.card.name,
+                grid,
+                damping: choice,
+            };
+            crate::sink::write_records(out.as_deref(), &meta, rows)?;
+            if out.is_some() {
+                let burst = |p: &&hdgear::physical::check::MapPoint| p.judgement.bursting;
+                let n = map.iter().filter(burst).count();
+                let outside = map
+                    .iter()
+                    .filter(burst)
+                    .filter(|p| !p.judgement.fast_slow_domain)
+                    .count();
+                crate::sink::outln!(
+                    "{}: {n} of {} points burst, {outside} of them outside the fast-slow domain \
+                     (the slow variation not slow against the drive's relaxation)",
+                    l.card.name,
+                    map.len()
+                );
+            }
+            Ok(())
+        }
     }
 }
 

@@ -139,6 +139,35 @@ pub struct CardCheck {
     pub summary: DriveSummary,
 }
 
+/// The damping ratio the card's hysteresis loss implies for a ±rated-torque cycle (±T2 without
+/// a rating), when it has a loss.
+pub fn loss_damping(card: &Card, sources: &BTreeMap<String, Source>) -> Option<LossDamping> {
+    let c = card.curve();
+    let h = card.hysteresis.as_ref()?;
+    let loss = h.loss?;
+    let amplitude = card
+        .rated_torque()
+        .filter(|&t| t <= c.t_max)
+        .unwrap_or(c.t2);
+    Some(LossDamping {
+        loss,
+        source: sources
+            .get(&h.source)
+            .map_or(SourceKind::Assumption, |s| s.kind),
+        amplitude,
+        zeta: c.equivalent_damping(loss, amplitude),
+    })
+}
+
+/// The ζ a drive gets under `choice`: the loss's when chosen and known, else none (the
+/// application's or the assumed 10 %, see [`assemble`]).
+fn chosen_zeta(choice: DampingChoice, from_loss: &Option<LossDamping>) -> Option<f64> {
+    match (choice, from_loss) {
+        (DampingChoice::HysteresisLoss, Some(l)) => Some(l.zeta),
+        _ => None,
+    }
+}
+
 /// Checks `card` (whose file has `sources`) and judges the drive built from it with `damping`.
 pub fn check_card(
     card: &Card,
@@ -157,21 +186,8 @@ pub fn check_card(
         t_max: c.t_max,
         knee_residual: knee(c.t1).max(knee(c.t2)),
     };
-    let from_loss = card.hysteresis.as_ref().and_then(|h| {
-        let loss = h.loss?;
-        let amplitude = rated.unwrap_or(c.t2);
-        Some(LossDamping {
-            loss,
-            source: sources[&h.source].kind,
-            amplitude,
-            zeta: c.equivalent_damping(loss, amplitude),
-        })
-    });
-    let zeta = match (damping, &from_loss) {
-        (DampingChoice::HysteresisLoss, Some(l)) => Some(l.zeta),
-        _ => None,
-    };
-    let a = assemble(card, None, zeta)?;
+    let from_loss = loss_damping(card, sources);
+    let a = assemble(card, None, chosen_zeta(damping, &from_loss))?;
     let d = a.drive;
     let j_eq = d.j_eq();
     let app = card.application.as_ref();
@@ -208,4 +224,126 @@ pub fn check_card(
         },
         summary,
     })
+}
+
+/// The grid of a card's load map: slow output-torque amplitudes (up to the rated torque) and
+/// frequencies, log-spaced.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct MapGrid {
+    /// Amplitudes: `amplitudes` points from `t_am_max`/`amplitudes` to `t_am_max` \[N m\].
+    pub t_am_max: f64,
+    /// Number of amplitudes (≥ 1).
+    pub amplitudes: usize,
+    /// Lowest and highest frequency \[Hz\].
+    pub hz: (f64, f64),
+    /// Number of frequencies (≥ 1), log-spaced.
+    pub frequencies: usize,
+}
+
+impl MapGrid {
+    /// The default grid of `card`: amplitudes up to its rated torque (T2 without a rating),
+    /// 0.01–10 Hz, `n` points per axis.
+    pub fn for_card(card: &Card, n: usize) -> MapGrid {
+        let c = card.curve();
+        MapGrid {
+            t_am_max: card.rated_torque().unwrap_or(c.t2),
+            amplitudes: n,
+            hz: (0.01, 10.0),
+            frequencies: n,
+        }
+    }
+
+    /// Checks the grid.
+    pub fn validate(&self) -> Result<()> {
+        let bad = |name, value: f64, reason| {
+            Err(crate::Error::InvalidOption {
+                name,
+                value,
+                reason,
+            })
+        };
+        if !(self.t_am_max.is_finite() && self.t_am_max > 0.0) {
+            return bad("t_am_max", self.t_am_max, "must be finite and > 0");
+        }
+        let (lo, hi) = self.hz;
+        if !(lo.is_finite() && hi.is_finite() && lo > 0.0 && lo <= hi) {
+            return bad("hz", lo, "must be a range 0 < LO <= HI");
+        }
+        for (name, n) in [
+            ("amplitudes", self.amplitudes),
+            ("frequencies", self.frequencies),
+        ] {
+            if !(1..=1000).contains(&n) {
+                return bad(name, n as f64, "must be 1 to 1000");
+            }
+        }
+        Ok(())
+    }
+
+    /// The amplitudes \[N m\].
+    pub fn amplitude_values(&self) -> Vec<f64> {
+        let n = self.amplitudes;
+        (1..=n)
+            .map(|i| self.t_am_max * i as f64 / n as f64)
+            .collect()
+    }
+
+    /// The frequencies \[Hz\].
+    pub fn frequency_values(&self) -> Vec<f64> {
+        let (lo, hi, n) = (self.hz.0, self.hz.1, self.frequencies);
+        if n == 1 {
+            return vec![lo];
+        }
+        (0..n)
+            .map(|i| lo * (hi / lo).powf(i as f64 / (n - 1) as f64))
+            .collect()
+    }
+}
+
+/// One point of a card's load map.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct MapPoint {
+    /// Slow output-torque amplitude \[N m\].
+    pub t_am: f64,
+    /// Its frequency \[Hz\].
+    pub frequency_hz: f64,
+    /// The verdict there ([`super::design::judge`]).
+    pub judgement: super::design::Judgement,
+}
+
+/// The verdict on the drive built from `card` (as [`check_card`] builds it, with `damping`) for
+/// every amplitude and frequency of `grid`, amplitude-major, computed on all cores.
+pub fn load_map(
+    card: &Card,
+    sources: &BTreeMap<String, Source>,
+    damping: DampingChoice,
+    grid: &MapGrid,
+    opts: &BurstOptions,
+) -> Result<Vec<MapPoint>> {
+    use rayon::prelude::*;
+    card.validate(sources)?;
+    grid.validate()?;
+    let zeta = chosen_zeta(damping, &loss_damping(card, sources));
+    let d = assemble(card, None, zeta)?.drive;
+    let freqs = grid.frequency_values();
+    let points: Vec<(f64, f64)> = grid
+        .amplitude_values()
+        .into_iter()
+        .flat_map(|a| freqs.iter().map(move |&f| (a, f)))
+        .collect();
+    points
+        .par_iter()
+        .map(|&(t_am, f)| {
+            let dd = super::PhysicalParams {
+                t_am,
+                omega: std::f64::consts::TAU * f,
+                ..d
+            };
+            Ok(MapPoint {
+                t_am,
+                frequency_hz: f,
+                judgement: super::design::judge(&dd, opts)?,
+            })
+        })
+        .collect()
 }
