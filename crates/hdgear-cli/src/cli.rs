@@ -59,7 +59,7 @@ pub enum Command {
     Merge(MergeArgs),
     /// A physical drive in SI units: reduction, two-inertia simulation, design check.
     Physical(PhysicalArgs),
-    /// Drive cards: a drive's catalogue numbers with their sources (list, show, check, new).
+    /// Drive cards: a drive's catalogue numbers with their sources (list, show, check, map, new).
     Card(CardArgs),
     /// Draw one figure: xdot-gamma, x-equilibrium, transformed-phase, phase-plane, slope, sweep,
     /// map, boundary, frequency-response, orbit-diagram, lyapunov-map.
@@ -145,7 +145,7 @@ pub enum CardAction {
     },
     /// One card: every value with its unit and source, and what is missing.
     Show {
-        /// The card.
+        /// The card: a built-in card's name (hdgear card list), FILE.toml or FILE.toml#NAME.
         card: String,
         /// Print JSON instead of text.
         #[arg(long)]
@@ -154,7 +154,7 @@ pub enum CardAction {
     /// What a card implies: its curve and cubic fit, damping from the hysteresis loss, natural
     /// frequency and critical input speed, distance from the folds, and the verdict.
     Check {
-        /// The card.
+        /// The card: a built-in card's name (hdgear card list), FILE.toml or FILE.toml#NAME.
         card: String,
         /// Damping of the torsional mode: loss (from the card's hysteresis loss) or assumed
         /// (the card's application zeta, else 10 %).
@@ -170,7 +170,7 @@ pub enum CardAction {
     /// rating) and frequencies from 0.01 to 10 Hz (log-spaced): one row per point
     /// (t_am_nm,frequency_hz,bursting,verdict,basis,fast_slow_domain).
     Map {
-        /// The card.
+        /// The card: a built-in card's name (hdgear card list), FILE.toml or FILE.toml#NAME.
         card: String,
         /// Points per axis.
         #[arg(long, default_value_t = 20)]
