@@ -8,6 +8,7 @@ use hdgear::scenario::Scenario;
 use hdgear::simulate::{SimOptions, Start};
 use std::path::PathBuf;
 
+pub use crate::cmd::card::CardArgs;
 pub use crate::sources::ParamArgs;
 
 /// hdgear: fast-slow dynamics of harmonic drive gears.
@@ -123,84 +124,6 @@ pub struct ReportArgs {
     /// Overwrite files in DIR that hdgear did not write.
     #[arg(long)]
     pub force: bool,
-}
-
-/// Arguments of `hdgear card`.
-#[derive(Args, Debug)]
-pub struct CardArgs {
-    /// What to do with cards.
-    #[command(subcommand)]
-    pub action: CardAction,
-}
-
-/// The `hdgear card` actions. CARD is a built-in card's name (hdgear card list) or a card file
-/// (FILE.toml, or FILE.toml#NAME when it holds several cards).
-#[derive(Subcommand, Debug)]
-pub enum CardAction {
-    /// The built-in cards: name, ratio, rated torque, K1..K3 and how many values are missing.
-    List {
-        /// Print JSON instead of text.
-        #[arg(long)]
-        json: bool,
-    },
-    /// One card: every value with its unit and source, and what is missing.
-    Show {
-        /// The card: a built-in card's name (hdgear card list), FILE.toml or FILE.toml#NAME.
-        card: String,
-        /// Print JSON instead of text.
-        #[arg(long)]
-        json: bool,
-    },
-    /// What a card implies: its curve and cubic fit, damping from the hysteresis loss, natural
-    /// frequency and critical input speed, distance from the folds, and the verdict.
-    Check {
-        /// The card: a built-in card's name (hdgear card list), FILE.toml or FILE.toml#NAME.
-        card: String,
-        /// Damping of the torsional mode: loss (from the card's hysteresis loss) or assumed
-        /// (the card's application zeta, else 10 %).
-        #[arg(long, default_value = "loss")]
-        damping: String,
-        /// Print JSON instead of text.
-        #[arg(long)]
-        json: bool,
-        #[command(flatten)]
-        burst: BurstArgs,
-    },
-    /// The verdict over slow output-torque amplitudes up to the rated torque (T2 without a
-    /// rating) and frequencies from 0.01 to 10 Hz (log-spaced): one row per point
-    /// (t_am_nm,frequency_hz,bursting,verdict,basis,fast_slow_domain).
-    Map {
-        /// The card: a built-in card's name (hdgear card list), FILE.toml or FILE.toml#NAME.
-        card: String,
-        /// Points per axis.
-        #[arg(long, default_value_t = 20)]
-        points: usize,
-        /// LO:HI, the frequency range in Hz.
-        #[arg(long, value_name = "LO:HI")]
-        hz: Option<String>,
-        /// Largest amplitude [N m] (default: the rated torque, T2 without a rating).
-        #[arg(long, allow_negative_numbers = true)]
-        t_am_max: Option<f64>,
-        /// Damping of the torsional mode: loss or assumed (as for check).
-        #[arg(long, default_value = "loss")]
-        damping: String,
-        /// The table (.csv, .json or .parquet; CSV on standard output without it).
-        #[arg(long, value_name = "FILE")]
-        out: Option<PathBuf>,
-        #[command(flatten)]
-        burst: BurstArgs,
-    },
-    /// Write a new card file: a commented template, or a copy of --from under a new name.
-    New {
-        /// The new card's name.
-        name: String,
-        /// The card to start from (its values and sources are copied).
-        #[arg(long, value_name = "CARD")]
-        from: Option<String>,
-        /// The file to write (.toml; standard output without it). Never overwrites.
-        #[arg(long, value_name = "FILE")]
-        out: Option<PathBuf>,
-    },
 }
 
 /// Arguments of `hdgear plot`.

@@ -731,6 +731,12 @@ fn card_new_show_check_round_trip() {
     assert_eq!(shown["card"]["stiffness"]["k3"], 23000.0);
     assert_eq!(shown["sources"]["hysteresis"]["kind"], "assumption");
     let a = json_of(&["card", "check", p, "--json"]);
+    assert!(a.get("design").is_none());
+    // with --design, the margins of the six parameters (the same as physical --design gives)
+    let d = json_of(&["card", "check", p, "--json", "--design"]);
+    let margins = d["design"]["margins"].as_array().unwrap();
+    assert_eq!(margins.len(), 6);
+    assert_eq!(d["summary"], a["summary"]);
     let b = json_of(&["card", "check", "CSG-20-50", "--json"]);
     assert_eq!(a["damping"], b["damping"]);
     assert_eq!(a["summary"]["reduced"], b["summary"]["reduced"]);

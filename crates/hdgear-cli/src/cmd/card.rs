@@ -1,13 +1,101 @@
 //! `hdgear card`: list, show, check and write drive cards.
 
-use crate::cli::{CardAction, CardArgs};
+use crate::cli::BurstArgs;
 use anyhow::{Context, Result, bail};
+use clap::{Args, Subcommand};
 use hdgear::physical::card::{self, Card, CardFile, Source};
 use hdgear::physical::check::{CardCheck, DampingChoice, MapGrid, check_card, load_map};
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::io::{Read, Write};
 use std::path::Path;
+use std::path::PathBuf;
+
+/// Arguments of `hdgear card`.
+#[derive(Args, Debug)]
+pub struct CardArgs {
+    /// What to do with cards.
+    #[command(subcommand)]
+    pub action: CardAction,
+}
+
+/// The `hdgear card` actions. CARD is a built-in card's name (hdgear card list) or a card file
+/// (FILE.toml, or FILE.toml#NAME when it holds several cards).
+#[derive(Subcommand, Debug)]
+pub enum CardAction {
+    /// The built-in cards: name, ratio, rated torque, K1..K3 and how many values are missing.
+    List {
+        /// Print JSON instead of text.
+        #[arg(long)]
+        json: bool,
+    },
+    /// One card: every value with its unit and source, and what is missing.
+    Show {
+        /// The card: a built-in card's name (hdgear card list), FILE.toml or FILE.toml#NAME.
+        card: String,
+        /// Print JSON instead of text.
+        #[arg(long)]
+        json: bool,
+    },
+    /// What a card implies: its curve and cubic fit, damping from the hysteresis loss, natural
+    /// frequency and critical input speed, distance from the folds, and the verdict.
+    Check {
+        /// The card: a built-in card's name (hdgear card list), FILE.toml or FILE.toml#NAME.
+        card: String,
+        /// Damping of the torsional mode: loss (from the card's hysteresis loss) or assumed
+        /// (the card's application zeta, else 10 %).
+        #[arg(long, default_value = "loss")]
+        damping: String,
+        /// Also the design check: for each of k1, k2, C, T_am, backlash and T_m, the single
+        /// change that would make the drive burst or stop it bursting.
+        #[arg(long)]
+        design: bool,
+        /// Print JSON instead of text.
+        #[arg(long)]
+        json: bool,
+        #[command(flatten)]
+        burst: BurstArgs,
+    },
+    /// The verdict over slow output-torque amplitudes up to the rated torque (T2 without a
+    /// rating) and frequencies from 0.01 to 10 Hz (log-spaced): one row per point
+    /// (t_am_nm,frequency_hz,bursting,verdict,basis,fast_slow_domain).
+    Map(CardMapArgs),
+    /// Write a new card file: a commented template, or a copy of --from under a new name.
+    New {
+        /// The new card's name.
+        name: String,
+        /// The card to start from (its values and sources are copied).
+        #[arg(long, value_name = "CARD")]
+        from: Option<String>,
+        /// The file to write (.toml; standard output without it). Never overwrites.
+        #[arg(long, value_name = "FILE")]
+        out: Option<PathBuf>,
+    },
+}
+
+/// Arguments of `hdgear card map`.
+#[derive(Args, Debug)]
+pub struct CardMapArgs {
+    /// The card: a built-in card's name (hdgear card list), FILE.toml or FILE.toml#NAME.
+    pub card: String,
+    /// Points per axis.
+    #[arg(long, default_value_t = 20)]
+    pub points: usize,
+    /// LO:HI, the frequency range in Hz.
+    #[arg(long, value_name = "LO:HI")]
+    pub hz: Option<String>,
+    /// Largest amplitude [N m] (default: the rated torque, T2 without a rating).
+    #[arg(long, allow_negative_numbers = true)]
+    pub t_am_max: Option<f64>,
+    /// Damping of the torsional mode: loss or assumed (as for check).
+    #[arg(long, default_value = "loss")]
+    pub damping: String,
+    /// The table (.csv, .json or .parquet; CSV on standard output without it).
+    #[arg(long, value_name = "FILE")]
+    pub out: Option<PathBuf>,
+    #[command(flatten)]
+    pub burst: BurstArgs,
+}
 
 /// A card with the sources of the file it came from.
 pub struct Loaded {
@@ -56,6 +144,15 @@ pub fn load(spec: &str) -> Result<Loaded> {
     })
 }
 
+/// The document of `hdgear card check --json`: the check, and the design check when asked for.
+#[derive(serde::Serialize)]
+struct Checked {
+    #[serde(flatten)]
+    check: CardCheck,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    design: Option<hdgear::physical::design::DesignCheck>,
+}
+
 /// One row of `hdgear card map`.
 #[derive(serde::Serialize)]
 struct MapRow {
@@ -86,77 +183,89 @@ pub fn run(a: CardArgs) -> Result<()> {
         CardAction::Check {
             card,
             damping,
+            design,
             json,
             burst,
         } => {
             let choice = DampingChoice::parse(&damping).context("--damping")?;
             let opts = burst.options()?;
             let l = load(&card)?;
-            let r = check_card(&l.card, &l.sources, choice, &opts)?;
+            let check = check_card(&l.card, &l.sources, choice, &opts)?;
+            let design = design
+                .then(|| hdgear::physical::design::design_check(&check.summary.drive, &opts))
+                .transpose()?;
             if json {
-                crate::sink::outln!("{}", serde_json::to_string_pretty(&r)?);
+                let doc = Checked { check, design };
+                crate::sink::outln!("{}", serde_json::to_string_pretty(&doc)?);
             } else {
-                crate::sink::out!("{}", check_text(&r));
+                crate::sink::out!("{}", check_text(&check));
+                if let Some(d) = &design {
+                    crate::sink::out!("{}", crate::summary::design_text(d));
+                }
             }
             Ok(())
         }
         CardAction::New { name, from, out } => new(&name, from.as_deref(), out.as_deref()),
-        CardAction::Map {
-            card,
-            points,
-            hz,
-            t_am_max,
-            damping,
-            out,
-            burst,
-        } => {
-            let choice = DampingChoice::parse(&damping).context("--damping")?;
-            let opts = burst.options()?;
-            crate::cli::check_out(&out)?;
-            let l = load(&card)?;
-            let mut grid = MapGrid::for_card(&l.card, points);
-            if let Some(range) = crate::cli::parse_frequency_range("--hz", hz.as_deref())? {
-                grid.hz = range;
-            }
-            if let Some(t) = t_am_max {
-                grid.t_am_max = t;
-            }
-            let map = load_map(&l.card, &l.sources, choice, &grid, &opts)?;
-            let rows = map.iter().map(|p| MapRow {
-                t_am_nm: p.t_am,
-                frequency_hz: p.frequency_hz,
-                bursting: p.judgement.bursting,
-                verdict: p.judgement.label(),
-                basis: match p.judgement.basis {
-                    hdgear::physical::design::Basis::Simulation => "simulation",
-                    hdgear::physical::design::Basis::Prediction => "prediction",
-                },
-                fast_slow_domain: p.judgement.fast_slow_domain,
-            });
-            let meta = MapMeta {
-                card: &l.card.name,
-                grid,
-                damping: choice,
-            };
-            crate::sink::write_records(out.as_deref(), &meta, rows)?;
-            if out.is_some() {
-                let burst = |p: &&hdgear::physical::check::MapPoint| p.judgement.bursting;
-                let n = map.iter().filter(burst).count();
-                let outside = map
-                    .iter()
-                    .filter(burst)
-                    .filter(|p| !p.judgement.fast_slow_domain)
-                    .count();
-                crate::sink::outln!(
-                    "{}: {n} of {} points burst, {outside} of them outside the fast-slow domain \
-                     (the slow variation not slow against the drive's relaxation)",
-                    l.card.name,
-                    map.len()
-                );
-            }
-            Ok(())
-        }
+        CardAction::Map(a) => map(a),
     }
+}
+
+/// Runs `hdgear card map`.
+fn map(a: CardMapArgs) -> Result<()> {
+    let CardMapArgs {
+        card,
+        points,
+        hz,
+        t_am_max,
+        damping,
+        out,
+        burst,
+    } = a;
+    let choice = DampingChoice::parse(&damping).context("--damping")?;
+    let opts = burst.options()?;
+    crate::cli::check_out(&out)?;
+    let l = load(&card)?;
+    let mut grid = MapGrid::for_card(&l.card, points);
+    if let Some(range) = crate::cli::parse_frequency_range("--hz", hz.as_deref())? {
+        grid.hz = range;
+    }
+    if let Some(t) = t_am_max {
+        grid.t_am_max = t;
+    }
+    let map = load_map(&l.card, &l.sources, choice, &grid, &opts)?;
+    let rows = map.iter().map(|p| MapRow {
+        t_am_nm: p.t_am,
+        frequency_hz: p.frequency_hz,
+        bursting: p.judgement.bursting,
+        verdict: p.judgement.label(),
+        basis: match p.judgement.basis {
+            hdgear::physical::design::Basis::Simulation => "simulation",
+            hdgear::physical::design::Basis::Prediction => "prediction",
+        },
+        fast_slow_domain: p.judgement.fast_slow_domain,
+    });
+    let meta = MapMeta {
+        card: &l.card.name,
+        grid,
+        damping: choice,
+    };
+    crate::sink::write_records(out.as_deref(), &meta, rows)?;
+    if out.is_some() {
+        let burst = |p: &&hdgear::physical::check::MapPoint| p.judgement.bursting;
+        let n = map.iter().filter(burst).count();
+        let outside = map
+            .iter()
+            .filter(burst)
+            .filter(|p| !p.judgement.fast_slow_domain)
+            .count();
+        crate::sink::outln!(
+            "{}: {n} of {} points burst, {outside} of them outside the fast-slow domain \
+                     (the slow variation not slow against the drive's relaxation)",
+            l.card.name,
+            map.len()
+        );
+    }
+    Ok(())
 }
 
 fn list(json: bool) -> Result<()> {
