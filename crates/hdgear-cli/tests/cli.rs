@@ -1,6 +1,6 @@
 //! The command line: formats, row counts, summary keys, and every bad input.
 
-use crate::common::{files_in, hdgear, json_of, stdout_of};
+use crate::common::{fails_with, files_in, hdgear, json_of, stdout_of};
 use predicates::prelude::*;
 
 #[test]
@@ -640,29 +640,21 @@ fn physical_design_check_names_the_changes() {
 
 #[test]
 fn physical_bad_input_exits_2() {
-    let fail = |args: &[&str], needle: &str| {
-        hdgear()
-            .args(args)
-            .assert()
-            .code(2)
-            .stderr(predicate::str::contains(needle))
-            .stderr(predicate::str::contains("panicked").not());
-    };
-    fail(&["physical", "--j-in", "0"], "j_in = 0");
-    fail(&["physical", "--c-eq=-1"], "c_eq = -1");
-    fail(&["physical", "--k2=-5"], "k2 = -5");
-    fail(&["physical", "--omega", "nan"], "omega = NaN");
-    fail(&["physical", "--backlash", "0"], "backlash = 0");
-    fail(
+    fails_with(&["physical", "--j-in", "0"], "j_in = 0");
+    fails_with(&["physical", "--c-eq=-1"], "c_eq = -1");
+    fails_with(&["physical", "--k2=-5"], "k2 = -5");
+    fails_with(&["physical", "--omega", "nan"], "omega = NaN");
+    fails_with(&["physical", "--backlash", "0"], "backlash = 0");
+    fails_with(
         &["physical", "--backlash", "0", "--design"],
         "simulate the physical model",
     );
-    fail(&["physical", "--drive", "CSF-99"], "CSF-99");
-    fail(&["physical", "--simulate"], "--t-end");
+    fails_with(&["physical", "--drive", "CSF-99"], "CSF-99");
+    fails_with(&["physical", "--simulate"], "--t-end");
     let dir = tempfile::tempdir().unwrap();
     let cfg = dir.path().join("d.toml");
     std::fs::write(&cfg, "[physical]\nj_in = 1e-4\ninertia = 2\n").unwrap();
-    fail(&["physical", "--config", cfg.to_str().unwrap()], "inertia");
+    fails_with(&["physical", "--config", cfg.to_str().unwrap()], "inertia");
     // φ = 0 still simulates
     hdgear()
         .args([
@@ -763,27 +755,19 @@ fn card_new_show_check_round_trip() {
 
 #[test]
 fn card_bad_input_exits_2() {
-    let fail = |args: &[&str], needle: &str| {
-        hdgear()
-            .args(args)
-            .assert()
-            .code(2)
-            .stderr(predicate::str::contains(needle))
-            .stderr(predicate::str::contains("panicked").not());
-    };
-    fail(&["card", "show", "CSG-99-50"], "'CSG-99-50'");
-    fail(&["card", "check", "CSG-20-50", "--damping", "wet"], "'wet'");
-    fail(
+    fails_with(&["card", "show", "CSG-99-50"], "'CSG-99-50'");
+    fails_with(&["card", "check", "CSG-20-50", "--damping", "wet"], "'wet'");
+    fails_with(
         &["card", "show", "/nonexistent/c.toml"],
         "/nonexistent/c.toml",
     );
     let dir = tempfile::tempdir().unwrap();
     let f = dir.path().join("bad.toml");
     std::fs::write(&f, "format = 1\n[[card]]\nname = \"A\"\nratio = 50\n").unwrap();
-    fail(&["card", "show", f.to_str().unwrap()], "stiffness");
-    fail(&["card", "new", "A#B"], "A#B");
+    fails_with(&["card", "show", f.to_str().unwrap()], "stiffness");
+    fails_with(&["card", "new", "A#B"], "A#B");
     let out = dir.path().join("c.txt");
-    fail(
+    fails_with(
         &["card", "new", "A", "--out", out.to_str().unwrap()],
         ".toml",
     );
@@ -805,14 +789,7 @@ fn card_map_writes_one_row_per_load() {
         rows[0].starts_with("11.0,0.1,") && rows[8].starts_with("33.0,1.0,"),
         "{rows:?}"
     );
-    let fail = |args: &[&str], needle: &str| {
-        hdgear()
-            .args(args)
-            .assert()
-            .code(2)
-            .stderr(predicate::str::contains(needle));
-    };
-    fail(&["card", "map", "CSG-20-50", "--points", "0"], "amplitudes");
-    fail(&["card", "map", "CSG-20-50", "--hz", "0:1"], "0:1");
-    fail(&["card", "map", "CSG-20-50", "--t-am-max=-1"], "t_am_max");
+    fails_with(&["card", "map", "CSG-20-50", "--points", "0"], "amplitudes");
+    fails_with(&["card", "map", "CSG-20-50", "--hz", "0:1"], "0:1");
+    fails_with(&["card", "map", "CSG-20-50", "--t-am-max=-1"], "t_am_max");
 }

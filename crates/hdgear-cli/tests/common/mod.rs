@@ -26,6 +26,18 @@ pub fn json_of(args: &[&str]) -> serde_json::Value {
     serde_json::from_str(&stdout_of(args)).unwrap()
 }
 
+/// Runs `hdgear ARGS` and expects the exit status 2 of bad input, `needle` in its message and
+/// no panic.
+pub fn fails_with(args: &[&str], needle: &str) {
+    use predicates::prelude::*;
+    hdgear()
+        .args(args)
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains(needle))
+        .stderr(predicate::str::contains("panicked").not());
+}
+
 /// A Chromium to drive: `HDGEAR_CHROMIUM`, or the first of chromium, chromium-browser,
 /// google-chrome that answers `--version`.
 pub fn chromium() -> Option<String> {

@@ -326,6 +326,12 @@ impl Card {
         self.torque.as_ref().and_then(|t| t.rated)
     }
 
+    /// The rated torque when it lies on the card's curve (up to [`Card::curve`]'s t_max).
+    pub fn rated_on_curve(&self) -> Option<f64> {
+        let t_max = self.curve().t_max;
+        self.rated_torque().filter(|&t| t <= t_max)
+    }
+
     /// Checks the card against its file's `sources`: every section names a known source, every
     /// number is finite and positive, the curve's quantities are there, T1 < T2 and
     /// K1 ≤ K2 ≤ K3 (a transcription typo shows up as a broken order).

@@ -145,10 +145,7 @@ pub fn loss_damping(card: &Card, sources: &BTreeMap<String, Source>) -> Option<L
     let c = card.curve();
     let h = card.hysteresis.as_ref()?;
     let loss = h.loss?;
-    let amplitude = card
-        .rated_torque()
-        .filter(|&t| t <= c.t_max)
-        .unwrap_or(c.t2);
+    let amplitude = card.rated_on_curve().unwrap_or(c.t2);
     Some(LossDamping {
         loss,
         source: sources
@@ -177,7 +174,7 @@ pub fn check_card(
 ) -> Result<CardCheck> {
     card.validate(sources)?;
     let c = card.curve();
-    let rated = card.rated_torque().filter(|&t| t <= c.t_max);
+    let rated = card.rated_on_curve();
     let knee = |t: f64| (c.torque(c.twist(t)) - t).abs() / t;
     let curve = CurveFacts {
         twist_t1: c.twist(c.t1),
