@@ -37,6 +37,7 @@
 
 pub mod batch;
 pub mod burst;
+pub mod control;
 pub mod error;
 pub mod explore;
 pub mod fast;

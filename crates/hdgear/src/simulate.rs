@@ -137,15 +137,16 @@ pub fn simulate_model(
         Start::Rest => (0.0, 0.0),
         Start::Given { x0, v0 } => (x0, v0),
     };
+    let [z0, z1] = m.rest_states(x0);
     match m.dim() {
         2 => model_run::<2>(m, opts, [x0, v0], out),
-        3 => model_run::<3>(m, opts, [x0, v0, 0.0], out),
-        _ => model_run::<4>(m, opts, [x0, v0, 0.0, 0.0], out),
+        3 => model_run::<3>(m, opts, [x0, v0, z0], out),
+        _ => model_run::<4>(m, opts, [x0, v0, z0, z1], out),
     }
 }
 
 /// [`simulate_model`] on a state of N = [`Model::dim`] components (the internal states start
-/// at 0, the virgin state).
+/// at rest at x0: [`Model::rest_states`]).
 fn model_run<const N: usize>(
     m: &Model,
     opts: &SimOptions,

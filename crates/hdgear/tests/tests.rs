@@ -6,6 +6,7 @@ mod common;
 
 mod burst;
 mod cards;
+mod control;
 mod fast;
 mod friction;
 mod integrate;

@@ -48,6 +48,7 @@ mod boundary;
 mod bursts;
 mod classify;
 mod lanes;
+mod model;
 mod scan;
 
 pub use boundary::{BOUNDARY_REL_TOL, Boundaries, OMEGA_SEARCH_MIN, boundaries};
@@ -56,6 +57,7 @@ pub use bursts::{NOISE_FACTOR, ToleranceLimit, overshoot_floor, swing_floor, tol
 pub use classify::{
     Classification, Mechanism, Mode, Verdict, classify, fast_slow_domain, turning_point_rate,
 };
+pub use model::response_model;
 
 use scan::{History, Pivot, Scan, Scanner};
 

@@ -16,6 +16,22 @@ use std::f64::consts::{FRAC_PI_2, PI};
 /// [`Scanner::push`] samples the midpoint and the end; the onset search uses the same split.
 const SUBDIVISIONS: usize = 2;
 
+/// A step's dense output as the scan reads it: x and x' ([`DenseOutput<2>`]) and the torque
+/// of the model's terms beyond those of the study's parameter set it is scanned against (0, the
+/// default, for the study's model), which enters x''.
+pub(crate) trait ScanStep: DenseOutput<2> {
+    /// The extra torque at t in the step.
+    fn extra(&self, _t: f64) -> f64 {
+        0.0
+    }
+    /// The extra torque at the state the step ended on ([`DenseOutput::end_state`]).
+    fn extra_end(&self) -> f64 {
+        self.extra(self.t_end())
+    }
+}
+
+impl ScanStep for crate::integrate::AnyDense<2> {}
+
 /// What the scan measures at one time.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Sample {
@@ -150,15 +166,22 @@ impl Scanner {
         }
     }
 
-    fn sample(&mut self, t: f64, y: [f64; 2]) -> Sample {
+    fn sample(&mut self, t: f64, y: [f64; 2], extra: f64) -> Sample {
         let (s, c) = (self.p.omega * t).sin_cos();
-        self.sample_with(t, y, s, c)
+        self.sample_with(t, y, s, c, extra)
     }
 
-    /// [`Scanner::sample`] with sin ωt and cos ωt given.
-    pub(crate) fn sample_with(&mut self, t: f64, y: [f64; 2], s: f64, c: f64) -> Sample {
+    /// [`Scanner::sample`] with sin ωt and cos ωt given (`extra`: [`ScanStep::extra`] there).
+    pub(crate) fn sample_with(
+        &mut self,
+        t: f64,
+        y: [f64; 2],
+        s: f64,
+        c: f64,
+        extra: f64,
+    ) -> Sample {
         let xs = self.follower.at(s, y[0]);
-        measure(&self.p, t, y, (s, c), xs)
+        measure(&self.p, t, y, (s, c), xs, extra)
     }
 
     /// The tracker of the equilibrium (for scanners that follow it elsewhere and hand it back).
@@ -176,27 +199,27 @@ impl Scanner {
     }
 
     /// Scans one step; `past` holds the steps so far, this one included.
-    pub(crate) fn push<D: DenseOutput<2>>(&mut self, d: &D, past: &impl Past) {
+    pub(crate) fn push<D: ScanStep>(&mut self, d: &D, past: &impl Past) {
         let (t0, t1) = (d.t_start(), d.t_end());
         self.start(d);
         // sin and cos of ωt at the step's end, the midpoint's from them: one sine per step
         let (s1, c1) = (self.p.omega * t1).sin_cos();
         let (tm, (sm, cm)) = midpoint(self.p.omega, t0, t1, (s1, c1));
         // the step's end: the state the integrator ended on (and starts the next step from)
-        let mid = self.sample_with(tm, d.eval(tm), sm, cm);
-        let end = self.sample_with(t1, d.end_state(), s1, c1);
+        let mid = self.sample_with(tm, d.eval(tm), sm, cm, d.extra(tm));
+        let end = self.sample_with(t1, d.end_state(), s1, c1, d.extra_end());
         self.push_sampled(d, mid, end, past);
     }
 
     /// Samples the step's start when the step does not continue the last one (the first step):
     /// a caller that samples the midpoint and end itself ([`Scanner::push_sampled`]) calls this
     /// first, since the samples follow the equilibrium from the start's.
-    pub(crate) fn start<D: DenseOutput<2>>(&mut self, d: &D) {
+    pub(crate) fn start<D: ScanStep>(&mut self, d: &D) {
         let t0 = d.t_start();
         if self.last.is_some_and(|s| s.t == t0) {
             return;
         }
-        let s = self.sample(t0, d.eval(t0));
+        let s = self.sample(t0, d.eval(t0), d.extra(t0));
         if s.e * s.c > 0.0 {
             // a leading lobe already under way: its start is unknown, so it cannot count
             self.lobe = Some((t0, true, s.e.abs()));
@@ -207,7 +230,7 @@ impl Scanner {
 
     /// [`Scanner::push`] with the step's midpoint and end sampled by the caller (the samples
     /// [`Scanner::sample_with`] gives there, in order, after [`Scanner::start`]).
-    pub(crate) fn push_sampled<D: DenseOutput<2>>(
+    pub(crate) fn push_sampled<D: ScanStep>(
         &mut self,
         d: &D,
         mid: Sample,
@@ -283,7 +306,7 @@ impl Scanner {
     }
 
     /// Processes the sub-interval between two samples.
-    fn interval<D: DenseOutput<2>>(&mut self, d: &D, a: &Sample, b: &Sample, past: &impl Past) {
+    fn interval<D: ScanStep>(&mut self, d: &D, a: &Sample, b: &Sample, past: &impl Past) {
         if !eventful(self.p.omega, self.band(), a, b) {
             #[cfg(test)]
             tests::check_quiet(self, d, a, b, past);
@@ -293,7 +316,7 @@ impl Scanner {
     }
 
     /// [`Scanner::interval`] where [`eventful`] found something.
-    fn events<D: DenseOutput<2>>(&mut self, d: &D, a: &Sample, b: &Sample, past: &impl Past) {
+    fn events<D: ScanStep>(&mut self, d: &D, a: &Sample, b: &Sample, past: &impl Past) {
         let p = self.p;
         // sin ωt and cos ωt inside the sub-interval from their values at its end
         let sc = |t: f64| sin_cos_near(p.omega, t, b.t, (b.s, b.c));
@@ -301,7 +324,7 @@ impl Scanner {
         if (a.acc > 0.0) != (b.acc > 0.0) && a.acc != 0.0 {
             let acc = |t: f64| {
                 let y = d.eval(t);
-                p.forcing(sc(t).0) - y[1] - p.g(y[0])
+                p.forcing(sc(t).0) - y[1] - p.g(y[0]) - d.extra(t)
             };
             let te = refine_root(acc, a.t, a.acc, b.t, b.acc);
             let ve = d.eval(te)[1];
@@ -448,11 +471,18 @@ pub(crate) fn eventful(omega: f64, (xm, xp): (f64, f64), a: &Sample, b: &Sample)
 }
 
 /// The measures of a sample at time `t`, state `y`, (sin ωt, cos ωt) = `(s, c)`, from the
-/// equilibrium `xs` the state follows there (one function for the scanners of one step and of
-/// many).
+/// equilibrium `xs` the state follows there and the extra torque `extra` ([`ScanStep::extra`])
+/// (one function for the scanners of one step and of many).
 #[inline(always)]
-pub(crate) fn measure(p: &Params, t: f64, y: [f64; 2], (s, c): (f64, f64), xs: f64) -> Sample {
-    let acc = p.forcing(s) - y[1] - p.g(y[0]);
+pub(crate) fn measure(
+    p: &Params,
+    t: f64,
+    y: [f64; 2],
+    (s, c): (f64, f64),
+    xs: f64,
+    extra: f64,
+) -> Sample {
+    let acc = p.forcing(s) - y[1] - p.g(y[0]) - extra;
     let inv_gp = 1.0 / p.g_prime(xs);
     let xs_dot = p.omega * c * p.delta * inv_gp;
     Sample {
@@ -624,7 +654,7 @@ enum Mark {
 
 #[cfg(test)]
 mod tests {
-    use super::{DenseOutput, Past, Sample, Scanner};
+    use super::{Past, Sample, ScanStep, Scanner};
     use crate::Params;
     use std::cell::Cell;
 
@@ -635,7 +665,7 @@ mod tests {
 
     /// Called by [`Scanner::interval`] (in this crate's unit tests) on each sub-interval it
     /// treats as quiet: the full treatment changes the scanner exactly as the quiet one does.
-    pub(super) fn check_quiet<D: DenseOutput<2>>(
+    pub(super) fn check_quiet<D: ScanStep>(
         s: &Scanner,
         d: &D,
         a: &Sample,

@@ -3,7 +3,7 @@
 //! facts of its fast subsystem are derived from the terms' own definitions
 //! ([`super::terms::Term`]); nothing here restates a term.
 
-use super::terms::{AnyTerm, Damping, Domain, MAX_ROWS, ParamInfo, Scratch, Side, Stiffness};
+use super::terms::{AnyTerm, Damping, Domain, MAX_ROWS, ParamInfo, Scratch, Side, Stiffness, Term};
 use crate::error::{Error, Result};
 use crate::integrate::System;
 use crate::params::Params;
@@ -353,11 +353,16 @@ impl Model {
     #[inline]
     pub fn accel_at(&self, phase: f64, y: &[f64]) -> f64 {
         let [mu, delta, _] = self.forcing;
-        let torque: f64 = self
-            .slots()
+        mu + delta * libm::sin(phase) - self.torque_at(y)
+    }
+
+    /// Σ T(x, v, z), the terms' torque at the state `y` = [x, v, z…] (a state `y` does not hold
+    /// is 0).
+    #[inline]
+    pub fn torque_at(&self, y: &[f64]) -> f64 {
+        self.slots()
             .map(|(t, at)| t.torque(y[0], y[1], state(y, at)))
-            .sum();
-        mu + delta * libm::sin(phase) - torque
+            .sum()
     }
 
     /// (∂x''/∂x, ∂x''/∂v) = −Σ ∇T, the internal states at 0.
@@ -380,10 +385,67 @@ impl Model {
         }
     }
 
-    /// The static torque g(x) = Σ T(x, 0, 0): the fast subsystem's equilibria solve g(x) = a
-    /// (with the internal states at 0 for a model with memory).
+    /// The static torque g(x) = Σ T(x, 0, z_rest(x)): the fast subsystem's equilibria solve
+    /// g(x) = a, each internal state at rest ([`AnyTerm::state_at_rest`]: 0, the virgin state, for
+    /// a model with memory; x for a washout filter).
     pub fn static_torque(&self, x: f64) -> f64 {
-        self.terms().map(|t| t.torque(x, 0.0, 0.0)).sum()
+        self.terms()
+            .map(|t| t.torque(x, 0.0, t.state_at_rest(x)))
+            .sum()
+    }
+
+    /// The study's parameter set whose stiffness g(x) = αx³ − x² + γ(x − ε) is this model's
+    /// static torque ([`Model::static_torque`]) and whose forcing is the model's: what the fast
+    /// subsystem's analysis of this model's equilibria is. The study's stiffness term gives α, γ
+    /// and ε; the other terms' static torque must be affine in x, a₁x + a₀ (to 1e-12 of its size
+    /// at six points), and folds in: γ' = γ + a₁, ε' = (γε − a₀)/γ'. With no static torque of
+    /// their own (friction, damping, a washout) the set is the stiffness term's exactly; with
+    /// virtual stiffness k_p it is γ + k_p, γε/(γ + k_p). `None` otherwise (a static torque not
+    /// affine in x, or γ' = 0 with a₀ ≠ γε).
+    pub fn equivalent_params(&self) -> Option<Params> {
+        let [alpha, gamma, eps] = self.terms().find_map(|t| match t {
+            AnyTerm::Stiffness(s) => Some(s.0),
+            _ => None,
+        })?;
+        let [mu, delta, omega] = self.forcing;
+        let study = Stiffness([alpha, gamma, eps]);
+        let rest = |x: f64| self.static_torque(x) - study.torque(x, 0.0, 0.0);
+        let (a0, a1) = (rest(0.0), rest(1.0) - rest(0.0));
+        let affine = [-2.7, -0.61, 0.37, 1.3, 3.1, 0.0_f64].iter().all(|&x| {
+            let size = a1.abs() * x.abs() + a0.abs() + study.torque(x, 0.0, 0.0).abs();
+            (rest(x) - (a1 * x + a0)).abs() <= 1e-12 * size.max(1.0)
+        });
+        if !affine {
+            return None;
+        }
+        let (gamma, eps) = if a0 == 0.0 && a1 == 0.0 {
+            (gamma, eps)
+        } else if gamma + a1 != 0.0 {
+            (gamma + a1, (gamma * eps - a0) / (gamma + a1))
+        } else if gamma * eps == a0 {
+            (0.0, 0.0)
+        } else {
+            return None;
+        };
+        Some(Params {
+            alpha,
+            gamma,
+            eps,
+            mu,
+            delta,
+            omega,
+        })
+    }
+
+    /// The internal states at rest at twist x, in state order ([`AnyTerm::state_at_rest`]).
+    pub fn rest_states(&self, x: f64) -> [f64; MAX_STATES] {
+        let mut z = [0.0; MAX_STATES];
+        for (t, at) in self.slots() {
+            if let Some(i) = at {
+                z[i - 2] = t.state_at_rest(x);
+            }
+        }
+        z
     }
 
     /// The static band of the model's sticking terms (the sum of their [`AnyTerm::breakaway`]):

@@ -3,6 +3,7 @@
 //! [`super::memory`]), with its parameters and, in one place, everything the machines need of it
 //! ([`Term`]).
 
+pub use super::control::{VirtualDamping, VirtualStiffness, Washout};
 use super::jet::{
     exp_coefficient, exp_step_limit, square_coefficient, tanh_coefficient, tanh_step_limit,
 };
@@ -248,6 +249,11 @@ pub trait Term: Copy {
     /// The term on one piece of its law ([`Side`]). A smooth term ignores it (the default).
     fn directed(self, _side: Side) -> Self {
         self
+    }
+    /// Its internal state in a rest at twist x that the term has reached at rest (0, the
+    /// default: the virgin state of a memory term; x for a washout filter, which follows x).
+    fn state_at_rest(&self, _x: f64) -> f64 {
+        0.0
     }
 }
 
@@ -672,14 +678,24 @@ impl Term for Coulomb {
 /// list of terms hdgear has (a new term is one line here).
 macro_rules! any_term {
     ($($variant:ident),* $(,)?) => {
-        /// Any of hdgear's terms: what a [`super::Model`] holds (stack-only, `Copy`).
-        #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-        #[serde(tag = "kind", content = "values", rename_all = "lowercase")]
+        /// Any of hdgear's terms: what a [`super::Model`] holds (stack-only, `Copy`). Serialised
+        /// as `{"kind": KIND, "values": [...]}`, the kind its [`Term::KIND`].
+        #[derive(Clone, Copy, Debug, PartialEq)]
         pub enum AnyTerm {
             $(
                 #[doc = concat!("[`", stringify!($variant), "`].")]
                 $variant($variant),
             )*
+        }
+
+        impl Serialize for AnyTerm {
+            fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+                use serde::ser::SerializeStruct;
+                let mut st = s.serialize_struct("AnyTerm", 2)?;
+                st.serialize_field("kind", self.kind())?;
+                st.serialize_field("values", self.values())?;
+                st.end()
+            }
         }
 
         impl AnyTerm {
@@ -789,6 +805,10 @@ macro_rules! any_term {
             pub fn breakaway(&self) -> Option<f64> {
                 match self { $(AnyTerm::$variant(t) => t.breakaway(),)* }
             }
+            /// Its internal state at rest at twist x ([`Term::state_at_rest`]).
+            pub fn state_at_rest(&self, x: f64) -> f64 {
+                match self { $(AnyTerm::$variant(t) => t.state_at_rest(x),)* }
+            }
             /// The term on one side of its switch ([`Term::directed`]).
             pub fn directed(self, side: Side) -> AnyTerm {
                 match self { $(AnyTerm::$variant(t) => AnyTerm::$variant(t.directed(side)),)* }
@@ -798,7 +818,16 @@ macro_rules! any_term {
 }
 
 any_term!(
-    Damping, Stiffness, Friction, Stribeck, Coulomb, LuGre, BoucWen
+    Damping,
+    Stiffness,
+    Friction,
+    Stribeck,
+    Coulomb,
+    LuGre,
+    BoucWen,
+    VirtualStiffness,
+    VirtualDamping,
+    Washout,
 );
 
 /// Checks a term's values against its parameter list.

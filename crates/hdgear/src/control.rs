@@ -1,0 +1,285 @@
+//! Burst control, quantified: a feedback law is a term of the model ([`crate::model::control`]);
+//! [`assess`] measures what it does against the open loop, [`tune`] finds the least gain that
+//! removes the bursts.
+//!
+//! Each law's gain is its term's first parameter; the others (the washout's ω_w) are fixed by
+//! the caller. The verdict is the burst scan's on the closed loop ([`response_model`]), whose
+//! equilibria are a study parameter set's; the measures come from a second pass sampled every
+//! [`SAMPLE_DT`] over the same window.
+
+use crate::Params;
+use crate::burst::{BurstOptions, Verdict, classify, response_model, window};
+use crate::error::{Error, Result};
+use crate::fast::EquilibriumTracker;
+use crate::model::Model;
+use crate::model::control::{VirtualDamping, VirtualStiffness, Washout};
+use crate::model::terms::{AnyTerm, Term};
+use crate::simulate::{SimOptions, Start, simulate_model};
+use serde::Serialize;
+
+/// The control laws, by their terms' kinds: the one list `hdgear control` and [`tune`] offer.
+pub const LAWS: [&str; 3] = [VirtualStiffness::KIND, VirtualDamping::KIND, Washout::KIND];
+
+/// Spacing of the samples the measures are taken from (the fast mode's period at the study's
+/// sets is ≥ 2π/√(g'max) ≈ 1: 20 samples or more per oscillation; the peaks of x' are the
+/// scan's own, located exactly).
+pub const SAMPLE_DT: f64 = 0.05;
+
+/// A law with its parameter values: the term of kind `law` (one of [`LAWS`]) with gain `gain`
+/// (its first parameter) and its other parameters `rest`, checked against its domains.
+pub fn law_term(law: &str, gain: f64, rest: &[f64]) -> Result<AnyTerm> {
+    if !LAWS.contains(&law) {
+        return Err(Error::InvalidInput {
+            what: "control law",
+            text: law.to_string(),
+            reason: format!("known: {}", LAWS.join(", ")),
+        });
+    }
+    let values: Vec<f64> = std::iter::once(gain).chain(rest.iter().copied()).collect();
+    AnyTerm::new(law, &values)
+}
+
+/// What a law at one gain does, against the open loop over the same window.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Assessment {
+    /// The law's term with its values.
+    pub term: AnyTerm,
+    /// The gain (the term's first parameter).
+    pub gain: f64,
+    /// The closed loop's verdict.
+    pub verdict: Verdict,
+    /// The open loop's verdict.
+    pub open_verdict: Verdict,
+    /// Largest |x'| in the window, closed loop.
+    pub peak_xdot: f64,
+    /// Largest |x'| in the window, open loop.
+    pub open_peak_xdot: f64,
+    /// Energy of the fast mode about the moving equilibrium, closed over open in dB (each about
+    /// its own curve): (x' − ẋ*)² averaged over the window, twice the kinetic part (an
+    /// oscillation's mean kinetic and potential energies are equal, while a slow lag of x behind
+    /// x*, which a law may lengthen, has no kinetic part to first order in ω and is not fast
+    /// motion: it is [`Assessment::static_shift`]'s business).
+    pub fast_energy_db: f64,
+    /// Largest |ũ| in the window (the control torque on μ's scale).
+    pub effort_peak: f64,
+    /// RMS of ũ over the window.
+    pub effort_rms: f64,
+    /// Mean of ũ over the window: what the control torque does to the rigid-body mode (a
+    /// non-zero mean accelerates it; its speed drifts by the mean's integral).
+    pub effort_mean: f64,
+    /// Invasiveness: the largest change of x at the load's extremes a = ±1 (the turning points
+    /// in the window, where the state sits quasi-statically on the curve), over the open loop's
+    /// curve extent X.
+    pub static_shift: f64,
+    /// The largest change of x anywhere in the window, over X: with the load's extremes' shift,
+    /// the lag a law adds while the load moves (a washout acts as a damper k_w/ω_w below its
+    /// corner, and the state lags the curve by that much more).
+    pub max_shift: f64,
+}
+
+impl Assessment {
+    /// Whether the closed loop shows no burst signature.
+    pub fn removes_bursts(&self) -> bool {
+        self.verdict == Verdict::NoBursts
+    }
+
+    /// Closed-loop peak |x'| over the open loop's.
+    pub fn peak_ratio(&self) -> f64 {
+        self.peak_xdot / self.open_peak_xdot
+    }
+}
+
+/// The closed loop: `p`'s model with the law's term.
+pub fn closed_loop(p: &Params, term: AnyTerm) -> Result<Model> {
+    Model::study(p).with_term(term)
+}
+
+/// Measures the law `term` on the study model with `p` (see [`Assessment`]).
+///
+/// ```
+/// use hdgear::{Params, burst::{BurstOptions, Verdict}, control::{assess, law_term}};
+/// let p = Params::default(); // γ = 0.1: bursts
+/// let washout = law_term("washout", 10.0, &[0.03]).unwrap();
+/// let a = assess(&p, washout, &BurstOptions::default()).unwrap();
+/// assert_eq!(a.open_verdict, Verdict::Overshoot);
+/// assert!(a.removes_bursts() && a.peak_ratio() < 0.2);
+/// ```
+pub fn assess(p: &Params, term: AnyTerm, opts: &BurstOptions) -> Result<Assessment> {
+    let open = Model::study(p);
+    let closed = closed_loop(p, term)?;
+    let (o, c) = (Run::of(&open, &open, opts)?, Run::of(&closed, &open, opts)?);
+    let x_extent = crate::burst::curve_extent(p);
+    let largest = |a: &[f64], b: &[f64]| {
+        a.iter()
+            .zip(b)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max)
+    };
+    let shift = largest(&o.turning_x, &c.turning_x);
+    let max_shift = largest(&o.xs, &c.xs);
+    Ok(Assessment {
+        term,
+        gain: term.values()[0],
+        verdict: c.verdict,
+        open_verdict: o.verdict,
+        peak_xdot: c.peak_xdot,
+        open_peak_xdot: o.peak_xdot,
+        fast_energy_db: 10.0 * (c.fast_energy / o.fast_energy).log10(),
+        effort_peak: c.effort[0],
+        effort_rms: c.effort[1],
+        effort_mean: c.effort[2],
+        static_shift: shift / x_extent,
+        max_shift: max_shift / x_extent,
+    })
+}
+
+/// One loop's verdict and measures.
+struct Run {
+    verdict: Verdict,
+    peak_xdot: f64,
+    fast_energy: f64,
+    /// Peak |ũ|, RMS and mean of ũ.
+    effort: [f64; 3],
+    /// x at the turning points of a in the window, in order.
+    turning_x: Vec<f64>,
+    /// x at every sample in the window.
+    xs: Vec<f64>,
+}
+
+impl Run {
+    /// The loop `m` (the open loop `open` with a law's term, or `open` itself).
+    fn of(m: &Model, open: &Model, opts: &BurstOptions) -> Result<Run> {
+        let r = response_model(m, opts)?;
+        let p = m.equivalent_params().expect("response_model checked it");
+        let verdict = classify(&p, &r).verdict;
+        let (w0, w1) = window(&p, opts);
+        // a grid on which every turning point of a, τ = (2k + 1)·π/(2ω), is a sample
+        let quarter = std::f64::consts::FRAC_PI_2 / p.omega;
+        let per_quarter = (quarter / SAMPLE_DT).ceil();
+        let dt = quarter / per_quarter;
+        // ũ = −(the law's torque): the loop's terms' torque less the open loop's
+        let control = |y: &[f64]| open.torque_at(y) - m.torque_at(y);
+        let mut tracker = EquilibriumTracker::new(&p, crate::fast::stable_equilibrium(&p, 0.0));
+        let (mut energy, mut n) = (0.0, 0.0);
+        let (mut peak, mut sq, mut sum) = (0.0_f64, 0.0, 0.0);
+        let (mut turning_x, mut window_x) = (Vec::new(), Vec::new());
+        let sim = SimOptions {
+            t_end: w1,
+            dt,
+            start: Start::Equilibrium,
+            tol: opts.tol,
+        };
+        simulate_model(m, &sim, |t, y| {
+            let (s, c) = (p.omega * t).sin_cos();
+            let xs = tracker.at(s, y[0]);
+            if t < w0 - 0.5 * dt {
+                return;
+            }
+            let gp = p.g_prime(xs);
+            let xs_dot = p.omega * c * p.delta / gp;
+            energy += (y[1] - xs_dot).powi(2);
+            let u = control(y);
+            (peak, sq, sum, n) = (peak.max(u.abs()), sq + u * u, sum + u, n + 1.0);
+            window_x.push(y[0]);
+            if (t / dt).round() as i64 % (2 * per_quarter as i64) == per_quarter as i64 {
+                turning_x.push(y[0]);
+            }
+        })?;
+        Ok(Run {
+            verdict,
+            peak_xdot: r.rates.peak_abs_xdot,
+            fast_energy: energy / n,
+            effort: [peak, (sq / n).sqrt(), sum / n],
+            turning_x,
+            xs: window_x,
+        })
+    }
+}
+
+/// The least gain of a law that removes the bursts: the final bracket's two ends, each assessed.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Tuning {
+    /// The law's kind.
+    pub law: &'static str,
+    /// The largest gain found bursting (0: the open loop, when even the smallest gain tried
+    /// removes them).
+    pub below: Assessment,
+    /// The least gain found without bursts: the tuned law.
+    pub tuned: Assessment,
+    /// The bracket's relative width, tuned/below − 1.
+    pub relative_width: f64,
+}
+
+/// The gains tried upward from, doubling: 1/64 (far below the study's boundaries, which lie at
+/// gains of order γ-boundary − γ ~ 1) to 2^16 (beyond it a law that has not removed the bursts is
+/// reported as unable to).
+const GAIN_START: f64 = 1.0 / 64.0;
+const GAIN_MAX: f64 = 65536.0;
+
+/// The least gain of law `law` (other parameters `rest`) that removes the bursts of `p`: gains
+/// doubled from [`GAIN_START`] until the verdict is no-bursts, then the bracket bisected
+/// geometrically to `rel_tol`; both ends assessed. An error when the open loop does not burst (no
+/// control is needed) or no gain up to [`GAIN_MAX`] removes the bursts.
+pub fn tune(
+    p: &Params,
+    law: &str,
+    rest: &[f64],
+    opts: &BurstOptions,
+    rel_tol: f64,
+) -> Result<Tuning> {
+    if !(rel_tol > 0.0 && rel_tol < 1.0) {
+        return Err(Error::InvalidOption {
+            name: "rel_tol",
+            value: rel_tol,
+            reason: "must lie in (0, 1)",
+        });
+    }
+    let bursts = |gain: f64| -> Result<bool> {
+        let m = closed_loop(p, law_term(law, gain, rest)?)?;
+        let r = response_model(&m, opts)?;
+        Ok(classify(&m.equivalent_params().expect("checked"), &r).bursting)
+    };
+    let refuse = |reason: String| Error::InvalidInput {
+        what: "control law",
+        text: law.to_string(),
+        reason,
+    };
+    if !bursts(0.0)? {
+        return Err(refuse(format!(
+            "the open loop does not burst at γ = {}, δ = {}, ω = {}: no control is needed",
+            p.gamma, p.delta, p.omega
+        )));
+    }
+    let mut lo = 0.0;
+    let mut hi = GAIN_START;
+    while bursts(hi)? {
+        lo = hi;
+        hi *= 2.0;
+        if hi > GAIN_MAX {
+            return Err(refuse(format!(
+                "no gain up to {GAIN_MAX} removes the bursts"
+            )));
+        }
+    }
+    while lo > 0.0 && hi / lo - 1.0 > rel_tol {
+        let mid = (lo * hi).sqrt();
+        if bursts(mid)? {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    Ok(Tuning {
+        law: LAWS
+            .into_iter()
+            .find(|l| *l == law)
+            .expect("law_term checked it"),
+        below: assess(p, law_term(law, lo, rest)?, opts)?,
+        tuned: assess(p, law_term(law, hi, rest)?, opts)?,
+        relative_width: if lo > 0.0 {
+            hi / lo - 1.0
+        } else {
+            f64::INFINITY
+        },
+    })
+}
