@@ -9,6 +9,7 @@ use hdgear::simulate::{SimOptions, Start};
 use std::path::PathBuf;
 
 pub use crate::cmd::card::CardArgs;
+pub use crate::cmd::control::ControlArgs;
 pub use crate::sources::ParamArgs;
 
 /// hdgear: fast-slow dynamics of harmonic drive gears.
@@ -62,6 +63,9 @@ pub enum Command {
     Physical(PhysicalArgs),
     /// Drive cards: a drive's catalogue numbers with their sources (list, show, check, map, new).
     Card(CardArgs),
+    /// Feedback laws against the bursts (virtual stiffness, virtual damping, washout): each
+    /// tuned to its least gain that removes them, or assessed at --gain, with what it costs.
+    Control(ControlArgs),
     /// Draw one figure: xdot-gamma, x-equilibrium, transformed-phase, phase-plane, slope, sweep,
     /// map, boundary, frequency-response, orbit-diagram, lyapunov-map.
     Plot(PlotArgs),

@@ -4,6 +4,7 @@
 mod common;
 
 mod cli;
+mod control;
 mod docs;
 mod hardening;
 mod interrupted;

@@ -210,14 +210,18 @@ pub struct Tuning {
     pub relative_width: f64,
 }
 
-/// The gains tried upward from, doubling: 1/64 (far below the study's boundaries, which lie at
-/// gains of order γ-boundary − γ ~ 1) to 2^16 (beyond it a law that has not removed the bursts is
-/// reported as unable to).
-const GAIN_START: f64 = 1.0 / 64.0;
-const GAIN_MAX: f64 = 65536.0;
+/// The first gain tried: 1/64, below the study's least gains (of order 1). The bracket the
+/// search ends on does not depend on it: gains double upward from it while the closed loop
+/// bursts, or halve downward while half the gain still removes the bursts.
+pub const GAIN_START: f64 = 1.0 / 64.0;
+/// The largest gain tried (2^16): a law that has not removed the bursts by then is reported as
+/// unable to.
+pub const GAIN_MAX: f64 = 65536.0;
+/// The smallest gain tried (2^-40): bursts removed by less are at the verdict's own threshold.
+pub const GAIN_MIN: f64 = 1.0 / 1_099_511_627_776.0;
 
 /// The least gain of law `law` (other parameters `rest`) that removes the bursts of `p`: gains
-/// doubled from [`GAIN_START`] until the verdict is no-bursts, then the bracket bisected
+/// doubled from [`GAIN_START`] until the verdict is no-bursts (or halved while half still removes them), then the bracket bisected
 /// geometrically to `rel_tol`; both ends assessed. An error when the open loop does not burst (no
 /// control is needed) or no gain up to [`GAIN_MAX`] removes the bursts.
 pub fn tune(
@@ -252,6 +256,12 @@ pub fn tune(
     }
     let mut lo = 0.0;
     let mut hi = GAIN_START;
+    if !bursts(hi)? {
+        while hi > GAIN_MIN && !bursts(0.5 * hi)? {
+            hi *= 0.5;
+        }
+        lo = if hi > GAIN_MIN { 0.5 * hi } else { 0.0 };
+    }
     while bursts(hi)? {
         lo = hi;
         hi *= 2.0;

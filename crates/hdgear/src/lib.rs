@@ -22,7 +22,10 @@
 //! * [`fast`]: equilibria and stability of the fast subsystem, and [`fast::predict`], bursting
 //!   predicted from the equilibrium curve alone.
 //! * [`burst::response`] and [`burst::classify`]: bursts judged by their signatures (jump,
-//!   overshoot, ringing), modes and mechanisms.
+//!   overshoot, ringing), modes and mechanisms; [`burst::response_model`] for a model assembled
+//!   from terms.
+//! * [`control`]: feedback laws as terms, each measured against the open loop and tuned to the
+//!   least gain that removes the bursts.
 //! * [`physical`]: the drive in SI units, its reduction, simulation and design check.
 //! * [`study::Study`] and [`report::Report`]: computations done once, then rendered.
 //!

@@ -6,6 +6,7 @@ mod bifurcation;
 mod bursts;
 pub mod card;
 mod continuation;
+pub mod control;
 mod diagram;
 mod equilibria;
 mod frequency;
@@ -43,6 +44,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Periodic(a) => periodic::run(a),
         Command::Physical(a) => physical::run(a),
         Command::Card(a) => card::run(a),
+        Command::Control(a) => control::run(a),
         Command::Plot(a) => plot::run(a),
         Command::Report(a) => report::run(a),
         Command::Serve(a) => serve::run(a),

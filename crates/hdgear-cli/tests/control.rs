@@ -1,0 +1,55 @@
+//! `hdgear control`: the laws tuned side by side (text and JSON agree), a law at a given gain,
+//! and bad requests refused with the value named.
+
+use crate::common::{fails_with, json_of, stdout_of};
+
+/// Each law's tuned gain removes the bursts and the one below it does not; the JSON holds the
+/// numbers the text prints; virtual stiffness's least gain is where γ + k_p crosses the study's
+/// boundary (about 2.11 at γ = 0.1, the library test holds it to an independent bisection).
+#[test]
+fn control_tunes_each_law_to_its_least_gain() {
+    let doc = json_of(&["control", "--json", "--rel-tol", "1e-2"]);
+    let tunings = doc["tunings"].as_array().unwrap();
+    let kinds: Vec<&str> = tunings.iter().map(|t| t["law"].as_str().unwrap()).collect();
+    assert_eq!(kinds, ["vstiffness", "vdamping", "washout"]);
+    for t in tunings {
+        assert_eq!(t["tuned"]["verdict"], "no-bursts", "{t}");
+        assert_ne!(t["below"]["verdict"], "no-bursts", "{t}");
+        let (lo, hi) = (
+            t["below"]["gain"].as_f64().unwrap(),
+            t["tuned"]["gain"].as_f64().unwrap(),
+        );
+        assert!(hi > lo && hi / lo - 1.0 <= 1e-2, "{lo} {hi}");
+    }
+    let kp = tunings[0]["tuned"]["gain"].as_f64().unwrap();
+    assert!((kp - 2.11).abs() < 0.03, "{kp}");
+    let text = stdout_of(&["control", "--rel-tol", "1e-2"]);
+    assert!(text.contains("open loop: overshoot"), "{text}");
+    let row = text.lines().find(|l| l.starts_with("vstiffness")).unwrap();
+    assert!(row.contains(&format!("{kp:.5}")), "{row}");
+}
+
+/// `--gain` assesses instead of tuning; the washout's ω_w is taken from `--ww`.
+#[test]
+fn control_assesses_a_law_at_a_given_gain() {
+    let doc = json_of(&[
+        "control", "washout", "--gain", "10", "--ww", "0.03", "--json",
+    ]);
+    let a = &doc["assessments"][0];
+    assert_eq!(a["term"]["kind"], "washout");
+    assert_eq!(a["term"]["values"], serde_json::json!([10.0, 0.03]));
+    assert_eq!(a["verdict"], "no-bursts");
+    let ratio = a["peak_xdot"].as_f64().unwrap() / a["open_peak_xdot"].as_f64().unwrap();
+    assert!(ratio < 0.2, "{ratio}");
+    assert!(doc.get("tunings").is_none());
+}
+
+#[test]
+fn control_bad_input_exits_2() {
+    fails_with(&["control", "pid"], "'pid'");
+    fails_with(&["control", "vstiffness", "--gain", "-1"], "-1");
+    fails_with(&["control", "washout", "--ww", "0"], "ww");
+    fails_with(&["control", "vdamping", "--ww", "0.3"], "'0.3'");
+    fails_with(&["control", "--gamma", "30"], "does not burst");
+    fails_with(&["control", "--rel-tol", "2"], "rel_tol");
+}
