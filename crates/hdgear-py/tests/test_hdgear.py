@@ -176,6 +176,24 @@ def test_bursts_equal_the_cli(tmp_path):
     assert [int(r["spikes"]) for r in rows] == [int(v) for v in b["spikes"]]
 
 
+def test_control_equals_the_cli_and_refuses_bad_laws():
+    r = hdgear.control(["vstiffness", "washout"], hdgear.Params(gamma=0.1), rel_tol=1e-2, ww=0.1)
+    out = cli("control", "vstiffness", "washout", "--gamma", "0.1", "--rel-tol", "1e-2",
+              "--ww", "0.1", "--json")
+    assert out.returncode == 0
+    doc = json.loads(out.stdout)
+    assert [t.law for t in map(hdgear.Result, r.tunings)] == ["vstiffness", "washout"]
+    for py, c in zip(r.tunings, doc["tunings"]):
+        assert py["tuned"]["gain"] == c["tuned"]["gain"]
+        assert py["tuned"]["verdict"] == "no-bursts" and py["below"]["verdict"] != "no-bursts"
+    a = hdgear.control("washout", gain=10, ww=0.03)
+    assert a.assessments[0]["verdict"] == "no-bursts"
+    with pytest.raises(ValueError, match="pid"):
+        hdgear.control("pid")
+    with pytest.raises(ValueError, match="ww"):
+        hdgear.control("vdamping", ww=0.3)
+
+
 # ---- sweeps ----------------------------------------------------------------------------------
 
 def columns_equal(py, rows):

@@ -293,3 +293,84 @@ pub fn tune(
         },
     })
 }
+
+/// The parameters of `law` after its gain: its term's defaults, with `ww` for a washout's corner
+/// frequency where given.
+pub fn law_rest(law: &str, ww: Option<f64>) -> Vec<f64> {
+    let params = AnyTerm::KINDS
+        .iter()
+        .find(|k| k.0 == law)
+        .map_or(&[][..], |k| k.2);
+    params
+        .iter()
+        .skip(1)
+        .map(|p| match (p.name, ww) {
+            ("ww", Some(w)) => w,
+            _ => p.default,
+        })
+        .collect()
+}
+
+/// Several laws side by side on one parameter set: each tuned ([`tune`]) or each assessed at one
+/// gain ([`assess`]); what `hdgear control --json` writes and Python's `hdgear.control` returns.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Comparison {
+    /// The parameters.
+    pub params: Params,
+    /// The laws tuned (empty when assessed at a gain).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub tunings: Vec<Tuning>,
+    /// The laws assessed at the given gain (empty when tuned).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub assessments: Vec<Assessment>,
+}
+
+/// The laws `laws` ([`LAWS`] when empty) on `p`: tuned to `rel_tol`, or assessed at `gain` when
+/// given; `ww` the washout's corner frequency (its default without it). Every law and value is
+/// checked before anything runs; `ww` without the washout among the laws is refused.
+pub fn compare(
+    p: &Params,
+    laws: &[&str],
+    gain: Option<f64>,
+    ww: Option<f64>,
+    opts: &BurstOptions,
+    rel_tol: f64,
+) -> Result<Comparison> {
+    let laws: Vec<&str> = if laws.is_empty() {
+        LAWS.to_vec()
+    } else {
+        laws.to_vec()
+    };
+    let terms = laws
+        .iter()
+        .map(|l| law_term(l, gain.unwrap_or(0.0), &law_rest(l, ww)))
+        .collect::<Result<Vec<_>>>()?;
+    if let Some(w) = ww
+        && !laws.contains(&Washout::KIND)
+    {
+        return Err(Error::InvalidInput {
+            what: "ww",
+            text: w.to_string(),
+            reason: "only the washout law has a corner frequency".into(),
+        });
+    }
+    let mut out = Comparison {
+        params: *p,
+        tunings: Vec::new(),
+        assessments: Vec::new(),
+    };
+    match gain {
+        Some(_) => {
+            for term in terms {
+                out.assessments.push(assess(p, term, opts)?);
+            }
+        }
+        None => {
+            for law in &laws {
+                out.tunings
+                    .push(tune(p, law, &law_rest(law, ww), opts, rel_tol)?);
+            }
+        }
+    }
+    Ok(out)
+}

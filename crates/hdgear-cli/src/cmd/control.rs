@@ -3,11 +3,9 @@
 
 use crate::cli::{BurstArgs, ParamArgs};
 use crate::sink::{out, outln, warn};
-use anyhow::{Context, Result};
+use anyhow::Result;
 use clap::Args;
-use hdgear::control::{Assessment, LAWS, Tuning, assess, law_term, tune};
-use hdgear::model::terms::AnyTerm;
-use serde::Serialize;
+use hdgear::control::{Comparison, compare};
 
 /// Arguments of `hdgear control`.
 #[derive(Args, Debug)]
@@ -35,73 +33,13 @@ pub struct ControlArgs {
     pub burst: BurstArgs,
 }
 
-/// The parameters of `law` after its gain: each term's defaults, `ww` given for a washout.
-fn rest(law: &str, ww: Option<f64>) -> Vec<f64> {
-    let params = AnyTerm::KINDS
-        .iter()
-        .find(|k| k.0 == law)
-        .map_or(&[][..], |k| k.2);
-    params
-        .iter()
-        .skip(1)
-        .map(|p| match (p.name, ww) {
-            ("ww", Some(w)) => w,
-            _ => p.default,
-        })
-        .collect()
-}
-
-/// What `--json` writes: the parameters and, per law, its tuning or its assessment.
-#[derive(Serialize)]
-struct Document {
-    params: hdgear::Params,
-    #[serde(skip_serializing_if = "Vec::is_empty")]
-    tunings: Vec<Tuning>,
-    #[serde(skip_serializing_if = "Vec::is_empty")]
-    assessments: Vec<Assessment>,
-}
-
 /// Runs `hdgear control`.
 pub fn run(a: ControlArgs) -> Result<()> {
     let (p, warnings) = a.params.resolve()?;
     let opts = a.burst.options()?;
-    let laws: Vec<&str> = if a.laws.is_empty() {
-        LAWS.to_vec()
-    } else {
-        a.laws.iter().map(String::as_str).collect()
-    };
-    // every law and value checked before anything runs
-    let terms = laws
-        .iter()
-        .map(|l| law_term(l, a.gain.unwrap_or(0.0), &rest(l, a.ww)))
-        .collect::<hdgear::error::Result<Vec<_>>>()?;
-    if a.ww.is_some() && !laws.contains(&"washout") {
-        anyhow::bail!(hdgear::Error::InvalidInput {
-            what: "--ww",
-            text: format!("{}", a.ww.unwrap_or_default()),
-            reason: "only the washout law has a corner frequency".into(),
-        });
-    }
     warn(&warnings);
-    let mut doc = Document {
-        params: p,
-        tunings: Vec::new(),
-        assessments: Vec::new(),
-    };
-    if a.gain.is_some() {
-        for term in terms {
-            let kind = term.kind();
-            doc.assessments
-                .push(assess(&p, term, &opts).with_context(|| format!("law {kind}"))?);
-        }
-    } else {
-        for law in &laws {
-            doc.tunings.push(
-                tune(&p, law, &rest(law, a.ww), &opts, a.rel_tol)
-                    .with_context(|| format!("tuning {law}"))?,
-            );
-        }
-    }
+    let laws: Vec<&str> = a.laws.iter().map(String::as_str).collect();
+    let doc = compare(&p, &laws, a.gain, a.ww, &opts, a.rel_tol)?;
     if a.json {
         outln!("{}", serde_json::to_string_pretty(&doc)?);
     } else {
@@ -111,7 +49,7 @@ pub fn run(a: ControlArgs) -> Result<()> {
 }
 
 /// The side-by-side table.
-fn text(doc: &Document) -> String {
+fn text(doc: &Comparison) -> String {
     use std::fmt::Write;
     let mut s = String::new();
     let p = &doc.params;

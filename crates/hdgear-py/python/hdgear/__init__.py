@@ -24,7 +24,8 @@ from ._hdgear import Params
 
 __version__ = _hdgear.__version__
 __all__ = ["Params", "Trajectory", "Result", "Drive", "simulate", "equilibria", "curve",
-           "analyze", "bursts", "sweep", "periodic", "continuation", "frequency_response"]
+           "analyze", "bursts", "sweep", "periodic", "continuation", "frequency_response",
+           "control"]
 
 
 class Result:
@@ -130,6 +131,20 @@ def bursts(params=None, discard=1.0, window_periods=2, rtol=1e-10, atol=1e-10, m
             "extrema", "ringing_swing", "overshoot", "overshoot_lobes", "jumps", "complete"]
     cols = {k: _np.array([r[k] for r in rows]) for k in keys}
     return _frame(cols)
+
+
+def control(laws=None, params=None, gain=None, ww=None, rel_tol=1e-3, discard=1.0,
+            window_periods=2, rtol=1e-10, atol=1e-10, method="taylor"):
+    """Feedback laws against the bursts (what ``hdgear control --json`` prints), as a
+    :class:`Result`: each of ``laws`` ("vstiffness", "vdamping", "washout"; all three by default)
+    tuned to its least gain that removes the bursts (``tunings``: the tuned gain and the one below
+    it, each assessed), or assessed at ``gain`` (``assessments``); ``ww`` is the washout's corner
+    frequency."""
+    laws = [] if laws is None else ([laws] if isinstance(laws, str) else list(laws))
+    data = _hdgear.control(_params(params), laws, None if gain is None else float(gain),
+                           None if ww is None else float(ww), float(rel_tol), float(discard),
+                           int(window_periods), float(rtol), float(atol), method)
+    return Result(data)
 
 
 def sweep(axes, base=None, grid=True, threads=0, discard=1.0, window_periods=2, rtol=1e-10,

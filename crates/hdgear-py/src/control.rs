@@ -1,0 +1,33 @@
+//! Burst control: the laws tuned or assessed side by side ([`hdgear::control::compare`]).
+
+use crate::convert::{burst_options, err, to_py};
+use crate::params::Params;
+use pyo3::prelude::*;
+
+/// What `hdgear control --json` prints, as a dict.
+#[pyfunction]
+#[pyo3(signature = (params, laws, gain, ww, rel_tol, discard, window_periods, rtol, atol, method))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn control<'py>(
+    py: Python<'py>,
+    params: &Params,
+    laws: Vec<String>,
+    gain: Option<f64>,
+    ww: Option<f64>,
+    rel_tol: f64,
+    discard: f64,
+    window_periods: u32,
+    rtol: f64,
+    atol: f64,
+    method: &str,
+) -> PyResult<Bound<'py, PyAny>> {
+    let p = params.inner;
+    let opts = burst_options(discard, window_periods, rtol, atol, method)?;
+    let doc = py
+        .detach(|| {
+            let laws: Vec<&str> = laws.iter().map(String::as_str).collect();
+            hdgear::control::compare(&p, &laws, gain, ww, &opts, rel_tol)
+        })
+        .map_err(err)?;
+    to_py(py, &doc)
+}
