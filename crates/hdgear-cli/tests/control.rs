@@ -23,8 +23,11 @@ fn control_tunes_each_law_to_its_least_gain() {
     }
     let kp = tunings[0]["tuned"]["gain"].as_f64().unwrap();
     assert!((kp - 2.11).abs() < 0.03, "{kp}");
+    let rho = doc["feedforward"]["residual_limit"].as_f64().unwrap();
+    assert!(rho > 0.0 && rho < 0.1, "{rho}");
     let text = stdout_of(&["control", "--rel-tol", "1e-2"]);
     assert!(text.contains("open loop: overshoot"), "{text}");
+    assert!(text.contains("feed-forward of the load"), "{text}");
     let row = text.lines().find(|l| l.starts_with("vstiffness")).unwrap();
     assert!(row.contains(&format!("{kp:.5}")), "{row}");
 }

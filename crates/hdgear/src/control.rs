@@ -220,6 +220,43 @@ pub const GAIN_MAX: f64 = 65536.0;
 /// The smallest gain tried (2^-40): bursts removed by less are at the verdict's own threshold.
 pub const GAIN_MIN: f64 = 1.0 / 1_099_511_627_776.0;
 
+/// Where `bursts` (true for small values of a suppressing variable, false for large ones) turns
+/// false: from `start`, doubled while it bursts (up to `max`: `None` beyond) or halved while half
+/// of it does not (down to `min`: the lower end 0 below), then the bracket bisected geometrically
+/// to `rel_tol`. Returns (largest value found bursting, least found not).
+fn crossing(
+    mut bursts: impl FnMut(f64) -> Result<bool>,
+    start: f64,
+    min: f64,
+    max: f64,
+    rel_tol: f64,
+) -> Result<Option<(f64, f64)>> {
+    let mut lo = 0.0;
+    let mut hi = start;
+    if !bursts(hi)? {
+        while hi > min && !bursts(0.5 * hi)? {
+            hi *= 0.5;
+        }
+        lo = if hi > min { 0.5 * hi } else { 0.0 };
+    }
+    while bursts(hi)? {
+        lo = hi;
+        hi *= 2.0;
+        if hi > max {
+            return Ok(None);
+        }
+    }
+    while lo > 0.0 && hi / lo - 1.0 > rel_tol {
+        let mid = (lo * hi).sqrt();
+        if bursts(mid)? {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    Ok(Some((lo, hi)))
+}
+
 /// The least gain of law `law` (other parameters `rest`) that removes the bursts of `p`: gains
 /// doubled from [`GAIN_START`] until the verdict is no-bursts (or halved while half still removes them), then the bracket bisected
 /// geometrically to `rel_tol`; both ends assessed. An error when the open loop does not burst (no
@@ -254,31 +291,8 @@ pub fn tune(
             p.gamma, p.delta, p.omega
         )));
     }
-    let mut lo = 0.0;
-    let mut hi = GAIN_START;
-    if !bursts(hi)? {
-        while hi > GAIN_MIN && !bursts(0.5 * hi)? {
-            hi *= 0.5;
-        }
-        lo = if hi > GAIN_MIN { 0.5 * hi } else { 0.0 };
-    }
-    while bursts(hi)? {
-        lo = hi;
-        hi *= 2.0;
-        if hi > GAIN_MAX {
-            return Err(refuse(format!(
-                "no gain up to {GAIN_MAX} removes the bursts"
-            )));
-        }
-    }
-    while lo > 0.0 && hi / lo - 1.0 > rel_tol {
-        let mid = (lo * hi).sqrt();
-        if bursts(mid)? {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
+    let (lo, hi) = crossing(bursts, GAIN_START, GAIN_MIN, GAIN_MAX, rel_tol)?
+        .ok_or_else(|| refuse(format!("no gain up to {GAIN_MAX} removes the bursts")))?;
     Ok(Tuning {
         law: LAWS
             .into_iter()
@@ -323,10 +337,13 @@ pub struct Comparison {
     /// The laws assessed at the given gain (empty when tuned).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub assessments: Vec<Assessment>,
+    /// Feed-forward of the load and the tolerance it needs, when every law is tuned.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub feedforward: Option<FeedForward>,
 }
 
 /// The laws `laws` ([`LAWS`] when empty) on `p`: tuned to `rel_tol`, or assessed at `gain` when
-/// given; `ww` the washout's corner frequency (its default without it). Every law and value is
+/// given; with every law tuned, feed-forward's tolerance too ([`feedforward`]); `ww` the washout's corner frequency (its default without it). Every law and value is
 /// checked before anything runs; `ww` without the washout among the laws is refused.
 pub fn compare(
     p: &Params,
@@ -336,11 +353,8 @@ pub fn compare(
     opts: &BurstOptions,
     rel_tol: f64,
 ) -> Result<Comparison> {
-    let laws: Vec<&str> = if laws.is_empty() {
-        LAWS.to_vec()
-    } else {
-        laws.to_vec()
-    };
+    let all = laws.is_empty();
+    let laws: Vec<&str> = if all { LAWS.to_vec() } else { laws.to_vec() };
     let terms = laws
         .iter()
         .map(|l| law_term(l, gain.unwrap_or(0.0), &law_rest(l, ww)))
@@ -358,6 +372,7 @@ pub fn compare(
         params: *p,
         tunings: Vec::new(),
         assessments: Vec::new(),
+        feedforward: None,
     };
     match gain {
         Some(_) => {
@@ -370,7 +385,86 @@ pub fn compare(
                 out.tunings
                     .push(tune(p, law, &law_rest(law, ww), opts, rel_tol)?);
             }
+            if all {
+                out.feedforward = Some(feedforward(p, opts, rel_tol)?);
+            }
         }
     }
     Ok(out)
+}
+
+/// What feed-forward of the slow load, ũ = −κδ·sin(ωτ + Δφ), leaves: the residual forcing is
+/// δ·sin ωτ − κδ·sin(ωτ + Δφ) = δ_r·sin(ωτ + ψ) with δ_r = δ·|1 − κe^{iΔφ}| (exactly the open
+/// loop with δ → δ_r, shifted in phase, which only the discarded transient sees), so the bursts
+/// are gone where δ_r stays below the δ-boundary, and the tolerance on the load's estimate is the
+/// disc |1 − κe^{iΔφ}| ≤ ρ = δ_boundary/δ.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct FeedForward {
+    /// ρ: the largest residual δ_r/δ without bursts (the least of the final bracket's
+    /// non-bursting end).
+    pub residual_limit: f64,
+    /// The smallest residual found bursting (the bracket's other end).
+    pub residual_bursting: f64,
+    /// With the exact phase, the largest amplitude error |1 − κ|: ρ.
+    pub max_amplitude_error: f64,
+    /// With the exact amplitude (κ = 1), the largest phase error 2·asin(ρ/2) in rad (π when
+    /// ρ ≥ 2: any phase).
+    pub max_phase_error: f64,
+    /// Peak |ũ| at κ = 1, Δφ = 0: δ.
+    pub effort_peak: f64,
+}
+
+/// The residual δ_r/δ = |1 − κe^{iΔφ}| = √(1 − 2κ·cos Δφ + κ²) of feed-forward with amplitude
+/// ratio κ and phase error Δφ (rad).
+pub fn feedforward_residual(kappa: f64, phase_error: f64) -> f64 {
+    (1.0 - 2.0 * kappa * phase_error.cos() + kappa * kappa)
+        .max(0.0)
+        .sqrt()
+}
+
+/// How well the load must be known for feed-forward to remove the bursts of `p` ([`FeedForward`]):
+/// the δ-boundary found by bisection of the verdict in δ_r/δ, to `rel_tol`.
+pub fn feedforward(p: &Params, opts: &BurstOptions, rel_tol: f64) -> Result<FeedForward> {
+    if !(rel_tol > 0.0 && rel_tol < 1.0) {
+        return Err(Error::InvalidOption {
+            name: "rel_tol",
+            value: rel_tol,
+            reason: "must lie in (0, 1)",
+        });
+    }
+    // s = δ/δ_r, the suppression: bursting at s = 1 (the open loop) unless nothing is needed
+    let bursts = |s: f64| -> Result<bool> {
+        let q = Params {
+            delta: p.delta / s,
+            ..*p
+        };
+        Ok(classify(&q, &crate::burst::response(&q, opts)?).bursting)
+    };
+    if !bursts(1.0)? {
+        return Err(Error::InvalidInput {
+            what: "control law",
+            text: "feed-forward".into(),
+            reason: format!(
+                "the open loop does not burst at γ = {}, δ = {}, ω = {}: no control is needed",
+                p.gamma, p.delta, p.omega
+            ),
+        });
+    }
+    let (lo, hi) = crossing(bursts, 1.0, 1.0, 1e12, rel_tol)?.ok_or(Error::InvalidInput {
+        what: "control law",
+        text: "feed-forward".into(),
+        reason: "the bursts remain down to δ_r = 1e-12·δ".into(),
+    })?;
+    let rho = 1.0 / hi;
+    Ok(FeedForward {
+        residual_limit: rho,
+        residual_bursting: 1.0 / lo,
+        max_amplitude_error: rho,
+        max_phase_error: if rho >= 2.0 {
+            std::f64::consts::PI
+        } else {
+            2.0 * (0.5 * rho).asin()
+        },
+        effort_peak: p.delta,
+    })
 }

@@ -297,3 +297,45 @@ fn bad_control_requests_are_refused() {
         .to_string();
     assert!(e.contains("does not burst"), "{e}");
 }
+
+/// Feed-forward's residual: δ sin ωτ − κδ sin(ωτ + Δφ) is a sine of amplitude
+/// δ·√(1 − 2κ cos Δφ + κ²) (checked by its samples' largest value over a period), and the
+/// tolerance's ends are what they say: the study model with δ·ρ has no bursts, with δ times the
+/// bursting end it bursts; ρ shrinks as the drive softens (γ = 1 → 0.1).
+#[test]
+fn feedforward_tolerance_is_the_delta_boundary() {
+    use hdgear::control::{feedforward, feedforward_residual};
+    for (kappa, dphi) in [(1.0, 0.0), (0.9, 0.1), (1.2, -0.3), (0.0, 1.0), (1.0, 3.0)] {
+        let peak = (0..20_000)
+            .map(|i| {
+                let t = std::f64::consts::TAU * f64::from(i) / 20_000.0;
+                (t.sin() - kappa * (t + dphi).sin()).abs()
+            })
+            .fold(0.0, f64::max);
+        let r = feedforward_residual(kappa, dphi);
+        assert!(
+            (peak - r).abs() < 1e-6 * r.max(1e-3),
+            "{kappa} {dphi}: {peak} vs {r}"
+        );
+    }
+    let opts = BurstOptions::default();
+    let mut limits = Vec::new();
+    for gamma in [1.0, 0.1] {
+        let p = at(gamma);
+        let f = feedforward(&p, &opts, 1e-3).unwrap();
+        let bursts = |ratio: f64| {
+            let q = Params {
+                delta: p.delta * ratio,
+                ..p
+            };
+            classify(&q, &response(&q, &opts).unwrap()).bursting
+        };
+        assert!(!bursts(f.residual_limit), "γ = {gamma}");
+        assert!(bursts(f.residual_bursting), "γ = {gamma}");
+        assert!(f.residual_bursting / f.residual_limit - 1.0 <= 1e-3);
+        let phase = f.max_phase_error;
+        assert!((feedforward_residual(1.0, phase) - f.residual_limit).abs() < 1e-12);
+        limits.push(f.residual_limit);
+    }
+    assert!(limits[1] < limits[0], "{limits:?}");
+}

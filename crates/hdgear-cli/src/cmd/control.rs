@@ -109,6 +109,18 @@ fn text(doc: &Comparison) -> String {
             100.0 * a.max_shift
         );
     }
+    if let Some(f) = &doc.feedforward {
+        let _ = writeln!(
+            s,
+            "feed-forward of the load, ũ = −κδ sin(ωτ + Δφ): no bursts while |1 − κ e^(iΔφ)| ≤ {:.4} \
+             (amplitude error ≤ {:.1} % at the exact phase, phase error ≤ {:.1}° at the exact \
+             amplitude), peak |ũ| = δ = {}",
+            f.residual_limit,
+            100.0 * f.max_amplitude_error,
+            f.max_phase_error.to_degrees(),
+            f.effort_peak
+        );
+    }
     s.push_str(
         "peak: closed-loop peak |x'| over the open loop's; energy: the fast mode's about the moving \
          equilibrium, closed over open; ũ: the control torque on μ's scale (a non-zero mean drives \
