@@ -220,6 +220,31 @@ pub const GAIN_MAX: f64 = 65536.0;
 /// The smallest gain tried (2^-40): bursts removed by less are at the verdict's own threshold.
 pub const GAIN_MIN: f64 = 1.0 / 1_099_511_627_776.0;
 
+/// The bracket width a search stops at must lie in (0, 1).
+fn check_rel_tol(rel_tol: f64) -> Result<()> {
+    if rel_tol > 0.0 && rel_tol < 1.0 {
+        Ok(())
+    } else {
+        Err(Error::InvalidOption {
+            name: "rel_tol",
+            value: rel_tol,
+            reason: "must lie in (0, 1)",
+        })
+    }
+}
+
+/// The refusal of a search for the least control at a point whose open loop does not burst.
+fn no_control_needed(p: &Params, law: &str) -> Error {
+    Error::InvalidInput {
+        what: "control law",
+        text: law.to_string(),
+        reason: format!(
+            "the open loop does not burst at γ = {}, δ = {}, ω = {}: no control is needed",
+            p.gamma, p.delta, p.omega
+        ),
+    }
+}
+
 /// Where `bursts` (true for small values of a suppressing variable, false for large ones) turns
 /// false: from `start`, doubled while it bursts (up to `max`: `None` beyond) or halved while half
 /// of it does not (down to `min`: the lower end 0 below), then the bracket bisected geometrically
@@ -268,13 +293,7 @@ pub fn tune(
     opts: &BurstOptions,
     rel_tol: f64,
 ) -> Result<Tuning> {
-    if !(rel_tol > 0.0 && rel_tol < 1.0) {
-        return Err(Error::InvalidOption {
-            name: "rel_tol",
-            value: rel_tol,
-            reason: "must lie in (0, 1)",
-        });
-    }
+    check_rel_tol(rel_tol)?;
     let bursts = |gain: f64| -> Result<bool> {
         let m = closed_loop(p, law_term(law, gain, rest)?)?;
         let r = response_model(&m, opts)?;
@@ -286,10 +305,7 @@ pub fn tune(
         reason,
     };
     if !bursts(0.0)? {
-        return Err(refuse(format!(
-            "the open loop does not burst at γ = {}, δ = {}, ω = {}: no control is needed",
-            p.gamma, p.delta, p.omega
-        )));
+        return Err(no_control_needed(p, law));
     }
     let (lo, hi) = crossing(bursts, GAIN_START, GAIN_MIN, GAIN_MAX, rel_tol)?
         .ok_or_else(|| refuse(format!("no gain up to {GAIN_MAX} removes the bursts")))?;
@@ -425,13 +441,7 @@ pub fn feedforward_residual(kappa: f64, phase_error: f64) -> f64 {
 /// How well the load must be known for feed-forward to remove the bursts of `p` ([`FeedForward`]):
 /// the δ-boundary found by bisection of the verdict in δ_r/δ, to `rel_tol`.
 pub fn feedforward(p: &Params, opts: &BurstOptions, rel_tol: f64) -> Result<FeedForward> {
-    if !(rel_tol > 0.0 && rel_tol < 1.0) {
-        return Err(Error::InvalidOption {
-            name: "rel_tol",
-            value: rel_tol,
-            reason: "must lie in (0, 1)",
-        });
-    }
+    check_rel_tol(rel_tol)?;
     // s = δ/δ_r, the suppression: bursting at s = 1 (the open loop) unless nothing is needed
     let bursts = |s: f64| -> Result<bool> {
         let q = Params {
@@ -441,14 +451,7 @@ pub fn feedforward(p: &Params, opts: &BurstOptions, rel_tol: f64) -> Result<Feed
         Ok(classify(&q, &crate::burst::response(&q, opts)?).bursting)
     };
     if !bursts(1.0)? {
-        return Err(Error::InvalidInput {
-            what: "control law",
-            text: "feed-forward".into(),
-            reason: format!(
-                "the open loop does not burst at γ = {}, δ = {}, ω = {}: no control is needed",
-                p.gamma, p.delta, p.omega
-            ),
-        });
+        return Err(no_control_needed(p, "feed-forward"));
     }
     let (lo, hi) = crossing(bursts, 1.0, 1.0, 1e12, rel_tol)?.ok_or(Error::InvalidInput {
         what: "control law",
