@@ -226,6 +226,10 @@ pub struct PhysicalArgs {
     /// Design check: distance to the bursting regime and the single changes that cross it.
     #[arg(long, conflicts_with = "simulate")]
     pub design: bool,
+    /// Burst control: the laws of hdgear control tuned on the drive (±20 % robustness), each
+    /// law's torque in N m against the card's ratings.
+    #[arg(long, conflicts_with_all = ["simulate", "design", "frequency_response"])]
+    pub control: bool,
     #[command(flatten)]
     pub burst: BurstArgs,
 }

@@ -55,4 +55,48 @@ fn control_bad_input_exits_2() {
     fails_with(&["control", "vdamping", "--ww", "0.3"], "'0.3'");
     fails_with(&["control", "--gamma", "30"], "does not burst");
     fails_with(&["control", "--rel-tol", "2"], "rel_tol");
+    fails_with(&["control", "--spread", "1.5"], "spread");
+    fails_with(
+        &["control", "--card", "SHG-20-50", "--gamma", "1"],
+        "--gamma",
+    );
+    fails_with(&["control", "--card", "NOPE-1"], "NOPE-1");
+    // a catalogue drive with its own assumptions has no folds: nothing to control
+    fails_with(&["control", "--card", "SHG-20-50"], "does not burst");
+}
+
+/// On a drive: each row's torque in N m is the reduced effort times L·N²·J_in/T² (from the
+/// printed reduction's scales), the motor's is that over N, and the robustness search ran.
+#[test]
+fn control_on_a_drive_reads_the_effort_in_newton_metres() {
+    let doc = json_of(&[
+        "physical",
+        "--k1",
+        "2000",
+        "--t-am",
+        "112",
+        "--control",
+        "--json",
+        "--discard",
+        "1",
+    ]);
+    let r = &doc["reduction"];
+    let d = &doc["drive"];
+    let f = |v: &serde_json::Value| v.as_f64().unwrap();
+    let (n, j_in) = (f(&d["ratio"]), f(&d["j_in"]));
+    let scale = f(&r["length_scale"]) * n * n * j_in / f(&r["time_scale"]).powi(2);
+    assert!((f(&doc["torque_scale"]) / scale - 1.0).abs() < 1e-12);
+    let tunings = doc["comparison"]["tunings"].as_array().unwrap();
+    let efforts = doc["efforts"].as_array().unwrap();
+    assert_eq!(efforts.len(), 3);
+    assert_eq!(doc["comparison"]["robustness"].as_array().unwrap().len(), 3);
+    for (t, e) in tunings.iter().zip(efforts) {
+        let out = scale * f(&t["tuned"]["effort_peak"]);
+        assert!((f(&e["output_peak"]) / out - 1.0).abs() < 1e-12, "{e}");
+        assert!((f(&e["motor_peak"]) * n / out - 1.0).abs() < 1e-12, "{e}");
+        // the report's drive's card has no ratings: no fractions
+        assert!(e["of_repeated_peak"].is_null());
+    }
+    let text = stdout_of(&["physical", "--k1", "2000", "--t-am", "112", "--control"]);
+    assert!(text.contains("no ratings to check"), "{text}");
 }

@@ -6,7 +6,7 @@ use pyo3::prelude::*;
 
 /// What `hdgear control --json` prints, as a dict.
 #[pyfunction]
-#[pyo3(signature = (params, laws, gain, ww, rel_tol, discard, window_periods, rtol, atol, method))]
+#[pyo3(signature = (params, laws, gain, ww, rel_tol, spread, discard, window_periods, rtol, atol, method))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn control<'py>(
     py: Python<'py>,
@@ -15,6 +15,7 @@ pub(crate) fn control<'py>(
     gain: Option<f64>,
     ww: Option<f64>,
     rel_tol: f64,
+    spread: Option<f64>,
     discard: f64,
     window_periods: u32,
     rtol: f64,
@@ -26,7 +27,13 @@ pub(crate) fn control<'py>(
     let doc = py
         .detach(|| {
             let laws: Vec<&str> = laws.iter().map(String::as_str).collect();
-            hdgear::control::compare(&p, &laws, gain, ww, &opts, rel_tol)
+            let c = hdgear::control::ControlOptions {
+                gain,
+                ww,
+                rel_tol,
+                spread,
+            };
+            hdgear::control::compare(&p, &laws, &c, &opts)
         })
         .map_err(err)?;
     to_py(py, &doc)

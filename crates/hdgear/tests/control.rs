@@ -339,3 +339,91 @@ fn feedforward_tolerance_is_the_delta_boundary() {
     }
     assert!(limits[1] < limits[0], "{limits:?}");
 }
+
+/// The least gain for every plant within ±20 % is the largest of the plants' own least gains
+/// (each tuned alone here): the robust search over all plants at once and the 33 separate
+/// tunings bracket the same gain.
+#[test]
+fn robust_gain_is_the_largest_plant_least_gain() {
+    use hdgear::control::{model_error_plants, robustness};
+    let p = at(0.1);
+    let opts = BurstOptions::default();
+    let rel = 1e-3;
+    let plants = model_error_plants(&p, 0.2);
+    assert_eq!(plants.len(), 33);
+    // the nominal set first, then every corner a distinct ±20 % box corner
+    assert_eq!(plants[0], p);
+    for q in &plants[1..] {
+        for (v, v0) in [
+            (q.alpha, p.alpha),
+            (q.gamma, p.gamma),
+            (q.eps, p.eps),
+            (q.mu, p.mu),
+            (q.delta, p.delta),
+        ] {
+            assert!(((v / v0 - 1.0).abs() - 0.2).abs() < 1e-12);
+        }
+        assert_eq!(q.omega, p.omega);
+    }
+    let tuned = tune(&p, "vstiffness", &[], &opts, rel).unwrap();
+    let r = robustness(&p, &tuned, 0.2, &opts, rel).unwrap();
+    let worst_alone = plants
+        .iter()
+        .map(|q| match tune(q, "vstiffness", &[], &opts, rel) {
+            Ok(t) => t.tuned.gain,
+            Err(_) => 0.0, // this plant does not burst open loop
+        })
+        .fold(0.0, f64::max);
+    assert!(r.ratio >= 1.0);
+    // both searches stop on brackets of relative width 1e-3 around the same crossing
+    assert!(
+        (r.gain / worst_alone - 1.0).abs() <= 2.5 * rel,
+        "robust {} vs largest single {}",
+        r.gain,
+        worst_alone
+    );
+    // the worst plant named bursts just below the robust gain
+    let below = assess(
+        &r.worst,
+        law_term("vstiffness", r.gain / (1.0 + 2.0 * rel), &[]).unwrap(),
+        &opts,
+    )
+    .unwrap();
+    assert!(!below.removes_bursts());
+}
+
+/// The effort in N m: the output-referred control torque of virtual stiffness k_p is a stiffness
+/// K = k_p·N²·J_i/T² on the twist, entering through the input inertia as K·θ/(N²J_i); adding the
+/// equivalent K·J_eq/(N²J_i) to the drive's k1 and reducing it (an independent path through
+/// `reduce`) gives γ + k_p exactly.
+#[test]
+fn drive_effort_scale_is_the_reductions() {
+    use hdgear::control::drive::torque_scale;
+    use hdgear::physical::PhysicalParams;
+    let d = PhysicalParams {
+        j_in: 5e-5,
+        j_out: 0.05,
+        ratio: 50.0,
+        k1: 2000.0,
+        k2: 1.7e9,
+        backlash: 2.9e-4,
+        c_eq: 4.3,
+        t_m: 7.0,
+        t_am: 112.0,
+        omega: std::f64::consts::PI,
+    };
+    let r = d.reduce().unwrap();
+    let kp = 1.7;
+    // u = s·ũ = s·k_p·x = (s·k_p/L)·θ
+    let k_out = torque_scale(&d, &r) * kp / r.length_scale;
+    let stiffer = PhysicalParams {
+        k1: d.k1 + k_out * d.j_eq() / (d.ratio * d.ratio * d.j_in),
+        ..d
+    };
+    let g = stiffer.reduce().unwrap().params.gamma;
+    assert!(
+        (g - (r.params.gamma + kp)).abs() < 1e-12 * g,
+        "{g} vs {}",
+        r.params.gamma + kp
+    );
+}

@@ -3,9 +3,9 @@
 
 use crate::cli::{BurstArgs, ParamArgs};
 use crate::sink::{out, outln, warn};
-use anyhow::Result;
+use anyhow::{Context, Result};
 use clap::Args;
-use hdgear::control::{Comparison, compare};
+use hdgear::control::{Comparison, ControlOptions, DriveControl, Ratings, compare, compare_drive};
 
 /// Arguments of `hdgear control`.
 #[derive(Args, Debug)]
@@ -24,6 +24,15 @@ pub struct ControlArgs {
     /// Relative width of a tuned gain's final bracket.
     #[arg(long, default_value_t = 1e-3)]
     pub rel_tol: f64,
+    /// Relative model error each tuned law must stand: the least gain that keeps every plant
+    /// with α, γ, ε, μ, δ within ±SPREAD burst-free (0.2: ±20 %; 0: not checked).
+    #[arg(long, default_value_t = 0.2, allow_negative_numbers = true)]
+    pub spread: f64,
+    /// A drive instead of a parameter set: its card (built-in name, FILE.toml or FILE.toml#NAME)
+    /// with the documented assumptions for the rest (hdgear physical --control changes them);
+    /// the efforts in N m against its torque ratings.
+    #[arg(long, value_name = "CARD", conflicts_with_all = ["preset", "config", "alpha", "gamma", "eps", "mu", "delta", "omega"])]
+    pub card: Option<String>,
     /// JSON instead of text.
     #[arg(long)]
     pub json: bool,
@@ -33,23 +42,132 @@ pub struct ControlArgs {
     pub burst: BurstArgs,
 }
 
+impl ControlArgs {
+    /// The checked options of the comparison.
+    fn options(&self) -> ControlOptions {
+        ControlOptions {
+            gain: self.gain,
+            ww: self.ww,
+            rel_tol: self.rel_tol,
+            spread: (self.spread != 0.0).then_some(self.spread),
+        }
+    }
+}
+
 /// Runs `hdgear control`.
 pub fn run(a: ControlArgs) -> Result<()> {
-    let (p, warnings) = a.params.resolve()?;
     let opts = a.burst.options()?;
-    warn(&warnings);
     let laws: Vec<&str> = a.laws.iter().map(String::as_str).collect();
-    let doc = compare(&p, &laws, a.gain, a.ww, &opts, a.rel_tol)?;
-    if a.json {
-        outln!("{}", serde_json::to_string_pretty(&doc)?);
+    if let Some(card) = &a.card {
+        let loaded = crate::cmd::card::load(card).context("--card")?;
+        let built =
+            hdgear::physical::catalogue::assemble(&loaded.card, None, None).context("--card")?;
+        let doc = drive_control(&built.drive, &loaded, &laws, &a.options(), &opts)?;
+        return print(&doc, a.json, drive_text);
+    }
+    let (p, warnings) = a.params.resolve()?;
+    warn(&warnings);
+    let doc = compare(&p, &laws, &a.options(), &opts)?;
+    print(&doc, a.json, text)
+}
+
+/// The laws compared on the drive `d` (built from `card`), against the card's ratings.
+pub fn drive_control(
+    d: &hdgear::physical::PhysicalParams,
+    card: &crate::cmd::card::Loaded,
+    laws: &[&str],
+    c: &ControlOptions,
+    opts: &hdgear::burst::BurstOptions,
+) -> Result<DriveControl> {
+    let origin = match &card.card.torque {
+        Some(t) => format!("card {} (source: {})", card.card.name, t.source),
+        None => format!("card {} has no [torque] ratings", card.card.name),
+    };
+    let ratings = Ratings::of(card.card.torque.as_ref(), origin);
+    compare_drive(d, ratings, laws, c, opts).context("cannot compare the laws on the drive")
+}
+
+/// `doc` as JSON or as `text` says.
+pub fn print<T: serde::Serialize>(doc: &T, json: bool, text: fn(&T) -> String) -> Result<()> {
+    if json {
+        outln!("{}", serde_json::to_string_pretty(doc)?);
     } else {
-        out!("{}", text(&doc));
+        out!("{}", text(doc));
     }
     Ok(())
 }
 
+/// The drive's comparison: the reduced model's table, then each law's torque in N m.
+pub fn drive_text(doc: &DriveControl) -> String {
+    use std::fmt::Write;
+    let d = &doc.drive;
+    let mut s = format!(
+        "drive: J_in = {:e} kg m^2, J_out = {:e} kg m^2, N = {}, k1 = {:e} N m/rad, k2 = {:e} N m/rad^3, \
+         backlash = {:e} rad, C = {:e} N m s/rad, T_m = {} N m, T_am = {} N m, Omega = {} rad/s\n\
+         control torque at the output per unit ũ: L·N²·J_in/T² = {:.4e} N m (at the motor: /N)\n",
+        d.j_in,
+        d.j_out,
+        d.ratio,
+        d.k1,
+        d.k2,
+        d.backlash,
+        d.c_eq,
+        d.t_m,
+        d.t_am,
+        d.omega,
+        doc.torque_scale
+    );
+    s.push_str(&text(&doc.comparison));
+    let r = &doc.ratings;
+    let rating = |v: Option<f64>| v.map_or("-".to_string(), |t| format!("{t} N m"));
+    let _ = writeln!(
+        s,
+        "on the drive (ratings at the output: rated {}, repeated peak {}; {}):",
+        rating(r.rated),
+        rating(r.repeated_peak),
+        r.origin
+    );
+    let _ = writeln!(
+        s,
+        "{:<11} {:>10} {:>11} {:>11} {:>12} {:>9} {:>9} {:>12}  flag",
+        "law", "gain", "peak |u|/N", "rms u/N", "peak |u|", "/rep.pk", "/rated", "drift"
+    );
+    let _ = writeln!(
+        s,
+        "{:<11} {:>10} {:>11} {:>11} {:>12} {:>9} {:>9} {:>12}",
+        "", "", "motor N m", "motor N m", "output N m", "", "", "rad/s/period"
+    );
+    let pct = |f: Option<f64>| f.map_or("-".to_string(), |f| format!("{:.1}%", 100.0 * f));
+    for e in &doc.efforts {
+        let flag = match (e.exceeds_repeated_peak(), e.exceeds_rated()) {
+            (Some(true), _) => "ABOVE THE REPEATED PEAK TORQUE",
+            (_, Some(true)) => "above the rated torque",
+            (None, None) => "no ratings to check",
+            _ => "within the ratings",
+        };
+        let _ = writeln!(
+            s,
+            "{:<11} {:>10.5} {:>11.4e} {:>11.4e} {:>12.4e} {:>9} {:>9} {:>12.3e}  {flag}",
+            e.law,
+            e.gain,
+            e.motor_peak,
+            e.motor_rms,
+            e.output_peak,
+            pct(e.of_repeated_peak),
+            pct(e.of_rated),
+            e.rigid_drift
+        );
+    }
+    s.push_str(
+        "u: the control torque referred to the output, set against the ratings; u/N: what the \
+         motor delivers; drift: the output speed the mean of u gives the rigid-body mode per slow \
+         period\n",
+    );
+    s
+}
+
 /// The side-by-side table.
-fn text(doc: &Comparison) -> String {
+pub fn text(doc: &Comparison) -> String {
     use std::fmt::Write;
     let mut s = String::new();
     let p = &doc.params;
@@ -79,23 +197,35 @@ fn text(doc: &Comparison) -> String {
     }
     let _ = writeln!(
         s,
-        "{:<11} {:>10} {:>10} {:<10} {:>7} {:>8} {:>9} {:>9} {:>10} {:>7} {:>7}",
-        "law", "gain", "below", "verdict", "peak", "energy", "effort", "rms", "mean", "a=±1", "max"
+        "{:<11} {:>10} {:>10} {:<10} {:>7} {:>8} {:>9} {:>9} {:>10} {:>7} {:>7} {:>8}",
+        "law",
+        "gain",
+        "below",
+        "verdict",
+        "peak",
+        "energy",
+        "effort",
+        "rms",
+        "mean",
+        "a=±1",
+        "max",
+        "robust"
     );
     let _ = writeln!(
         s,
-        "{:<11} {:>10} {:>10} {:<10} {:>7} {:>8} {:>9} {:>9} {:>10} {:>7} {:>7}",
-        "", "", "", "", "/open", "dB", "peak |ũ|", "ũ", "ũ", "shift", "shift"
+        "{:<11} {:>10} {:>10} {:<10} {:>7} {:>8} {:>9} {:>9} {:>10} {:>7} {:>7} {:>8}",
+        "", "", "", "", "/open", "dB", "peak |ũ|", "ũ", "ũ", "shift", "shift", "gain ×"
     );
+    let below = doc.tunings.iter().map(|t| Some(t.below.gain));
+    let robust = doc.robustness.iter().map(|r| Some(r.ratio));
     let rows = doc
-        .tunings
-        .iter()
-        .map(|t| (&t.tuned, Some(t.below.gain)))
-        .chain(doc.assessments.iter().map(|a| (a, None)));
-    for (a, below) in rows {
+        .rows()
+        .zip(below.chain(std::iter::repeat(None)))
+        .zip(robust.chain(std::iter::repeat(None)));
+    for ((a, below), robust) in rows {
         let _ = writeln!(
             s,
-            "{:<11} {:>10.5} {:>10} {:<10} {:>7.3} {:>8.1} {:>9.4} {:>9.4} {:>10.2e} {:>6.2}% {:>6.2}%",
+            "{:<11} {:>10.5} {:>10} {:<10} {:>7.3} {:>8.1} {:>9.4} {:>9.4} {:>10.2e} {:>6.2}% {:>6.2}% {:>8}",
             a.term.kind(),
             a.gain,
             below.map_or("-".into(), |b| format!("{b:.5}")),
@@ -106,12 +236,20 @@ fn text(doc: &Comparison) -> String {
             a.effort_rms,
             a.effort_mean,
             100.0 * a.static_shift,
-            100.0 * a.max_shift
+            100.0 * a.max_shift,
+            robust.map_or("-".into(), |r| format!("{r:.3}"))
         );
     }
+    notes(&mut s, doc);
+    s
+}
+
+/// The table's closing lines: feed-forward's tolerance, the model error checked, the key.
+fn notes(s: &mut String, doc: &Comparison) {
+    use std::fmt::Write;
     if let Some(f) = &doc.feedforward {
         let _ = writeln!(
-            s,
+            *s,
             "feed-forward of the load, ũ = −κδ sin(ωτ + Δφ): no bursts while |1 − κ e^(iΔφ)| ≤ {:.4} \
              (amplitude error ≤ {:.1} % at the exact phase, phase error ≤ {:.1}° at the exact \
              amplitude), peak |ũ| = δ = {}",
@@ -121,11 +259,20 @@ fn text(doc: &Comparison) -> String {
             f.effort_peak
         );
     }
+    if let Some(r) = doc.robustness.first() {
+        let _ = writeln!(
+            *s,
+            "robust: every plant with α, γ, ε, μ, δ within ±{} % ({} plants: the box's corners and \
+             the nominal set) burst-free",
+            100.0 * r.spread,
+            r.plants
+        );
+    }
     s.push_str(
         "peak: closed-loop peak |x'| over the open loop's; energy: the fast mode's about the moving \
          equilibrium, closed over open; ũ: the control torque on μ's scale (a non-zero mean drives \
          the rigid-body mode); shift: the change of x over the curve's extent X at the load's \
-         extremes and anywhere\n",
+         extremes and anywhere; robust gain ×: the gain that keeps every plant within the model \
+         error burst-free, over the least gain\n",
     );
-    s
 }

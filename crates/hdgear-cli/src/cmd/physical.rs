@@ -22,6 +22,15 @@ pub fn run(a: PhysicalArgs) -> Result<()> {
     if a.frequency_response {
         return frequency_response(&a, &d);
     }
+    if a.control {
+        let card = crate::cmd::card::load(&a.drive).context("--drive")?;
+        let c = hdgear::control::ControlOptions {
+            spread: Some(0.2),
+            ..Default::default()
+        };
+        let doc = crate::cmd::control::drive_control(&d, &card, &[], &c, &opts)?;
+        return crate::cmd::control::print(&doc, a.json, crate::cmd::control::drive_text);
+    }
     if a.design {
         let check = hdgear::physical::design::design_check(&d, &opts)?;
         if a.json {

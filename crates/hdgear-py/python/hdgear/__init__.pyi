@@ -68,7 +68,7 @@ def bursts(params: Optional[Params] = ..., discard: float = ..., window_periods:
            rtol: float = ..., atol: float = ..., method: str = ...) -> Any: ...
 def control(laws: Union[str, Sequence[str], None] = ..., params: Optional[Params] = ...,
             gain: Optional[float] = ..., ww: Optional[float] = ..., rel_tol: float = ...,
-            discard: float = ..., window_periods: int = ..., rtol: float = ...,
+            spread: Optional[float] = ..., discard: float = ..., window_periods: int = ..., rtol: float = ...,
             atol: float = ..., method: str = ...) -> Result: ...
 def sweep(axes: Mapping[str, Union[Sequence[float], Array]], base: Optional[Params] = ...,
           grid: bool = ..., threads: int = ..., discard: float = ..., window_periods: int = ...,

@@ -1,21 +1,25 @@
 //! Burst control, quantified: a feedback law is a term of the model ([`crate::model::control`]);
 //! [`assess`] measures what it does against the open loop, [`tune`] finds the least gain that
-//! removes the bursts.
+//! removes the bursts, [`robustness`] how much more it needs under a model error, and
+//! [`drive`] reads it all back in N m on a physical drive.
 //!
 //! Each law's gain is its term's first parameter; the others (the washout's ω_w) are fixed by
 //! the caller. The verdict is the burst scan's on the closed loop ([`response_model`]), whose
 //! equilibria are a study parameter set's; the measures come from a second pass sampled every
 //! [`SAMPLE_DT`] over the same window.
 
-use crate::Params;
 use crate::burst::{BurstOptions, Verdict, classify, response_model, window};
 use crate::error::{Error, Result};
 use crate::fast::EquilibriumTracker;
 use crate::model::Model;
 use crate::model::control::{VirtualDamping, VirtualStiffness, Washout};
 use crate::model::terms::{AnyTerm, Term};
+use crate::params::{Param, Params};
 use crate::simulate::{SimOptions, Start, simulate_model};
 use serde::Serialize;
+
+pub mod drive;
+pub use drive::{DriveControl, DriveEffort, Ratings, compare_drive};
 
 /// The control laws, by their terms' kinds: the one list `hdgear control` and [`tune`] offer.
 pub const LAWS: [&str; 3] = [VirtualStiffness::KIND, VirtualDamping::KIND, Washout::KIND];
@@ -220,14 +224,15 @@ pub const GAIN_MAX: f64 = 65536.0;
 /// The smallest gain tried (2^-40): bursts removed by less are at the verdict's own threshold.
 pub const GAIN_MIN: f64 = 1.0 / 1_099_511_627_776.0;
 
-/// The bracket width a search stops at must lie in (0, 1).
-fn check_rel_tol(rel_tol: f64) -> Result<()> {
-    if rel_tol > 0.0 && rel_tol < 1.0 {
+/// A bracket's relative width (`rel_tol`) or a relative model error (`spread`) must lie in
+/// (0, 1).
+fn check_fraction(name: &'static str, value: f64) -> Result<()> {
+    if value > 0.0 && value < 1.0 {
         Ok(())
     } else {
         Err(Error::InvalidOption {
-            name: "rel_tol",
-            value: rel_tol,
+            name,
+            value,
             reason: "must lie in (0, 1)",
         })
     }
@@ -293,7 +298,7 @@ pub fn tune(
     opts: &BurstOptions,
     rel_tol: f64,
 ) -> Result<Tuning> {
-    check_rel_tol(rel_tol)?;
+    check_fraction("rel_tol", rel_tol)?;
     let bursts = |gain: f64| -> Result<bool> {
         let m = closed_loop(p, law_term(law, gain, rest)?)?;
         let r = response_model(&m, opts)?;
@@ -324,6 +329,106 @@ pub fn tune(
     })
 }
 
+/// The parameters a model error moves in [`robustness`]: the plant's stiffness law (α, γ, ε) and
+/// the load it carries (μ, δ); ω, the load's frequency, is taken as known.
+pub const MODEL_ERROR_PARAMS: [Param; 5] = [
+    Param::Alpha,
+    Param::Gamma,
+    Param::Eps,
+    Param::Mu,
+    Param::Delta,
+];
+
+/// How much gain a law needs to keep the bursts away from every plant within a relative model
+/// error: each of [`MODEL_ERROR_PARAMS`] scaled by 1 − spread or 1 + spread, all 2⁵ corners of
+/// that box (where a verdict monotone in each parameter has its worst case) with the nominal set.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Robustness {
+    /// The relative model error (0.2: ±20 %).
+    pub spread: f64,
+    /// The plants checked: the box's corners and the nominal set.
+    pub plants: usize,
+    /// The least gain without bursts on every plant (the final bracket's upper end).
+    pub gain: f64,
+    /// That gain over the nominal plant's least gain: the margin a design at the nominal least
+    /// gain lacks (1: none needed).
+    pub ratio: f64,
+    /// A plant that still bursts at the bracket's lower end: the worst case found.
+    pub worst: Params,
+}
+
+/// The plants within ±`spread` of `p` ([`Robustness`]): the nominal set first, then the box's
+/// corners.
+pub fn model_error_plants(p: &Params, spread: f64) -> Vec<Params> {
+    let n = MODEL_ERROR_PARAMS.len();
+    std::iter::once(*p)
+        .chain((0..1usize << n).map(|corner| {
+            MODEL_ERROR_PARAMS
+                .iter()
+                .enumerate()
+                .fold(*p, |q, (i, &param)| {
+                    let sign = if corner >> i & 1 == 1 { 1.0 } else { -1.0 };
+                    q.with(param, q.value(param) * (1.0 + sign * spread))
+                })
+        }))
+        .collect()
+}
+
+/// The least gain of `tuned`'s law (its other parameters kept) without bursts on every plant
+/// within ±`spread` of `p` ([`Robustness`]), bisected to `rel_tol` from the nominal least gain
+/// upward (the plants checked in parallel).
+pub fn robustness(
+    p: &Params,
+    tuned: &Tuning,
+    spread: f64,
+    opts: &BurstOptions,
+    rel_tol: f64,
+) -> Result<Robustness> {
+    use rayon::prelude::*;
+    check_fraction("rel_tol", rel_tol)?;
+    check_fraction("spread", spread)?;
+    let plants = model_error_plants(p, spread);
+    let rest = &tuned.tuned.term.values()[1..];
+    let law = tuned.law;
+    // the first plant that bursts at `gain`, if any
+    let bursting = |gain: f64| -> Result<Option<Params>> {
+        let found = plants
+            .par_iter()
+            .map(|q| -> Result<Option<Params>> {
+                let m = closed_loop(q, law_term(law, gain, rest)?)?;
+                let r = response_model(&m, opts)?;
+                let e = m.equivalent_params().expect("checked");
+                Ok(classify(&e, &r).bursting.then_some(*q))
+            })
+            .collect::<Result<Vec<_>>>()?;
+        Ok(found.into_iter().flatten().next())
+    };
+    let start = tuned.tuned.gain;
+    let (lo, hi) = crossing(
+        |g| Ok(bursting(g)?.is_some()),
+        start,
+        start,
+        GAIN_MAX,
+        rel_tol,
+    )?
+    .ok_or_else(|| Error::InvalidInput {
+        what: "control law",
+        text: law.to_string(),
+        reason: format!(
+            "no gain up to {GAIN_MAX} removes the bursts of every plant within ±{} %",
+            100.0 * spread
+        ),
+    })?;
+    let worst = if lo > 0.0 { bursting(lo)? } else { None };
+    Ok(Robustness {
+        spread,
+        plants: plants.len(),
+        gain: hi,
+        ratio: hi / start,
+        worst: worst.unwrap_or(*p),
+    })
+}
+
 /// The parameters of `law` after its gain: its term's defaults, with `ww` for a washout's corner
 /// frequency where given.
 pub fn law_rest(law: &str, ww: Option<f64>) -> Vec<f64> {
@@ -341,6 +446,31 @@ pub fn law_rest(law: &str, ww: Option<f64>) -> Vec<f64> {
         .collect()
 }
 
+/// What [`compare`] runs: tune each law, or assess each at one gain.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct ControlOptions {
+    /// Assess each law at this gain instead of tuning it.
+    pub gain: Option<f64>,
+    /// The washout's corner frequency ω_w (its term's default without it).
+    pub ww: Option<f64>,
+    /// The relative width a tuned gain's final bracket stops at, in (0, 1).
+    pub rel_tol: f64,
+    /// With it, each tuned law's [`robustness`] to this relative model error.
+    pub spread: Option<f64>,
+}
+
+impl Default for ControlOptions {
+    /// Tuned to 1e-3, no robustness.
+    fn default() -> Self {
+        ControlOptions {
+            gain: None,
+            ww: None,
+            rel_tol: 1e-3,
+            spread: None,
+        }
+    }
+}
+
 /// Several laws side by side on one parameter set: each tuned ([`tune`]) or each assessed at one
 /// gain ([`assess`]); what `hdgear control --json` writes and Python's `hdgear.control` returns.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -350,6 +480,9 @@ pub struct Comparison {
     /// The laws tuned (empty when assessed at a gain).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub tunings: Vec<Tuning>,
+    /// Each tuned law's robustness, in [`Comparison::tunings`]' order (empty without a spread).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub robustness: Vec<Robustness>,
     /// The laws assessed at the given gain (empty when tuned).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub assessments: Vec<Assessment>,
@@ -358,24 +491,33 @@ pub struct Comparison {
     pub feedforward: Option<FeedForward>,
 }
 
-/// The laws `laws` ([`LAWS`] when empty) on `p`: tuned to `rel_tol`, or assessed at `gain` when
-/// given; with every law tuned, feed-forward's tolerance too ([`feedforward`]); `ww` the washout's corner frequency (its default without it). Every law and value is
-/// checked before anything runs; `ww` without the washout among the laws is refused.
+impl Comparison {
+    /// Each law's row: at its least gain when tuned, else at the given gain.
+    pub fn rows(&self) -> impl Iterator<Item = &Assessment> {
+        self.tunings
+            .iter()
+            .map(|t| &t.tuned)
+            .chain(&self.assessments)
+    }
+}
+
+/// The laws `laws` ([`LAWS`] when empty) on `p` as `c` says: tuned to `c.rel_tol` (with every
+/// law tuned, feed-forward's tolerance too, [`feedforward`]; with `c.spread`, each law's
+/// [`robustness`]), or assessed at `c.gain`. Every law and value is checked before anything
+/// runs; `c.ww` without the washout among the laws is refused.
 pub fn compare(
     p: &Params,
     laws: &[&str],
-    gain: Option<f64>,
-    ww: Option<f64>,
+    c: &ControlOptions,
     opts: &BurstOptions,
-    rel_tol: f64,
 ) -> Result<Comparison> {
     let all = laws.is_empty();
     let laws: Vec<&str> = if all { LAWS.to_vec() } else { laws.to_vec() };
     let terms = laws
         .iter()
-        .map(|l| law_term(l, gain.unwrap_or(0.0), &law_rest(l, ww)))
+        .map(|l| law_term(l, c.gain.unwrap_or(0.0), &law_rest(l, c.ww)))
         .collect::<Result<Vec<_>>>()?;
-    if let Some(w) = ww
+    if let Some(w) = c.ww
         && !laws.contains(&Washout::KIND)
     {
         return Err(Error::InvalidInput {
@@ -384,13 +526,18 @@ pub fn compare(
             reason: "only the washout law has a corner frequency".into(),
         });
     }
+    check_fraction("rel_tol", c.rel_tol)?;
+    if let Some(s) = c.spread {
+        check_fraction("spread", s)?;
+    }
     let mut out = Comparison {
         params: *p,
         tunings: Vec::new(),
+        robustness: Vec::new(),
         assessments: Vec::new(),
         feedforward: None,
     };
-    match gain {
+    match c.gain {
         Some(_) => {
             for term in terms {
                 out.assessments.push(assess(p, term, opts)?);
@@ -398,11 +545,14 @@ pub fn compare(
         }
         None => {
             for law in &laws {
-                out.tunings
-                    .push(tune(p, law, &law_rest(law, ww), opts, rel_tol)?);
+                let t = tune(p, law, &law_rest(law, c.ww), opts, c.rel_tol)?;
+                if let Some(s) = c.spread {
+                    out.robustness.push(robustness(p, &t, s, opts, c.rel_tol)?);
+                }
+                out.tunings.push(t);
             }
             if all {
-                out.feedforward = Some(feedforward(p, opts, rel_tol)?);
+                out.feedforward = Some(feedforward(p, opts, c.rel_tol)?);
             }
         }
     }
@@ -441,7 +591,7 @@ pub fn feedforward_residual(kappa: f64, phase_error: f64) -> f64 {
 /// How well the load must be known for feed-forward to remove the bursts of `p` ([`FeedForward`]):
 /// the δ-boundary found by bisection of the verdict in δ_r/δ, to `rel_tol`.
 pub fn feedforward(p: &Params, opts: &BurstOptions, rel_tol: f64) -> Result<FeedForward> {
-    check_rel_tol(rel_tol)?;
+    check_fraction("rel_tol", rel_tol)?;
     // s = δ/δ_r, the suppression: bursting at s = 1 (the open loop) unless nothing is needed
     let bursts = |s: f64| -> Result<bool> {
         let q = Params {
