@@ -11,6 +11,7 @@ fn figures() -> Vec<&'static str> {
         .iter()
         .map(|f| f.2)
         .chain(hdgear::report::PERIODIC_FIGURES.iter().map(|f| f.1))
+        .chain([hdgear::report::control::CONTROL_FIGURE])
         .collect()
 }
 
@@ -70,6 +71,7 @@ fn report_has_every_section_and_figure_inline() {
         "mechanism",
         "physical",
         "periodic",
+        "control",
         "methods",
     ] {
         assert!(
@@ -386,5 +388,49 @@ fn decimation_keeps_the_points_the_direct_check_keeps() {
                 .zip(&slow)
                 .all(|(a, b)| a.0.to_bits() == b.0.to_bits() && a.1.to_bits() == b.1.to_bits());
         assert!(same, "{name}: {} vs {} points", fast.len(), slow.len());
+    }
+}
+
+/// The control section's numbers are the data file's: each law's least gain at γ = 1 and 0.1
+/// removes the bursts, and on the drive each torque is the reduced effort times the printed
+/// scale, flagged against the stand-in ratings as its fraction says.
+#[test]
+fn report_control_section_is_its_data() {
+    let h = html();
+    let doc: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(report_dir().join("data/control.json")).unwrap(),
+    )
+    .unwrap();
+    let f = |v: &serde_json::Value| v.as_f64().unwrap();
+    let study = doc["study"].as_array().unwrap();
+    assert_eq!(study.len(), 2);
+    for cmp in study {
+        for t in cmp["tunings"].as_array().unwrap() {
+            assert_eq!(t["tuned"]["verdict"], "no-bursts");
+            let law = t["law"].as_str().unwrap();
+            let row = h.find(&format!("<tr data-law=\"{law}\">")).unwrap();
+            assert!(h[row..].contains(&format!("data-value=\"{}\"", f(&t["tuned"]["gain"]))));
+        }
+    }
+    let d = &doc["drive"];
+    let scale = f(&d["torque_scale"]);
+    let rows = d["comparison"]["tunings"].as_array().unwrap();
+    let efforts = d["efforts"].as_array().unwrap();
+    assert_eq!(efforts.len(), 3);
+    for (t, e) in rows.iter().zip(efforts) {
+        let u = scale * f(&t["tuned"]["effort_peak"]);
+        assert!((f(&e["output_peak"]) / u - 1.0).abs() < 1e-12);
+        let of_rated = f(&e["of_rated"]);
+        let rated = f(&d["ratings"]["rated"]);
+        assert!((of_rated * rated / u - 1.0).abs() < 1e-12);
+        // the drive's table is the section's last: its row of this law
+        let law = e["law"].as_str().unwrap();
+        let at = h.rfind(&format!("<tr data-law=\"{law}\">")).unwrap();
+        let row = &h[at..at + h[at..].find("</tr>").unwrap()];
+        assert!(
+            row.contains(&format!("data-value=\"{}\"", f(&e["output_peak"]))),
+            "{row}"
+        );
+        assert_eq!(row.contains("above"), of_rated > 1.0, "{row}");
     }
 }

@@ -186,6 +186,8 @@ def test_control_equals_the_cli_and_refuses_bad_laws():
     for py, c in zip(r.tunings, doc["tunings"]):
         assert py["tuned"]["gain"] == c["tuned"]["gain"]
         assert py["tuned"]["verdict"] == "no-bursts" and py["below"]["verdict"] != "no-bursts"
+    assert [x["ratio"] for x in r.robustness] == [x["ratio"] for x in doc["robustness"]]
+    assert all(x["ratio"] >= 1.0 and x["plants"] == 33 for x in r.robustness)
     a = hdgear.control("washout", gain=10, ww=0.03)
     assert a.assessments[0]["verdict"] == "no-bursts"
     with pytest.raises(ValueError, match="pid"):

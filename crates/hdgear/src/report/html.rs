@@ -27,6 +27,7 @@ pub fn render(r: &Report, svgs: &[String]) -> String {
     boundaries(&mut h, r);
     physical(&mut h, r);
     periodic(&mut h, r);
+    control(&mut h, r);
     methods(&mut h, r);
     h
 }
@@ -466,6 +467,107 @@ fn physical(h: &mut String, r: &Report) {
         vc.mechanism.map_or("-", |m| m.name())
     );
     h.push_str(&margin_rows(vc));
+    h.push_str("</table></section>\n");
+}
+
+/// The burst-control section: each law at its least gain at γ = 1 and 0.1, then on the
+/// bursting drive in N m.
+fn control(h: &mut String, r: &Report) {
+    let ce = &r.control;
+    h.push_str(
+        "<section id=\"control\"><h2>Burst control</h2><p>Three feedback laws, each a term of \
+         the model, tuned to the least gain that removes the bursts (the gain below it still \
+         bursts): virtual stiffness ũ = −k<sub>p</sub>x, virtual damping ũ = −k<sub>d</sub>x', \
+         washout ũ = −k<sub>w</sub>(x − ξ), ξ' = ω<sub>w</sub>(x − ξ) with ω<sub>w</sub> = 0.1. \
+         Peak: closed-loop peak |x'| over the open loop's; energy: the fast mode's about the \
+         moving equilibrium, closed over open; shift: the change of x over the curve's extent at \
+         the load's extremes and anywhere; robust: the gain that keeps every plant with α, γ, ε, \
+         μ, δ within ±20 % burst-free, over the least gain (figure <a href=\"#fig-control-xdot\">\
+         control-xdot</a>).</p>\n",
+    );
+    for cmp in &ce.study {
+        let _ = write!(
+            h,
+            "<h3>γ = {}</h3><table><tr><th>law</th><th>least gain</th><th>below</th>\
+             <th>verdict</th><th>peak</th><th>energy [dB]</th><th>peak |ũ|</th><th>RMS ũ</th>\
+             <th>shift a = ±1</th><th>max shift</th><th>robust gain ×</th></tr>\n",
+            cmp.params.gamma
+        );
+        for (t, rb) in cmp.tunings.iter().zip(&cmp.robustness) {
+            let a = &t.tuned;
+            let _ = writeln!(
+                h,
+                "<tr data-law=\"{}\"><td>{}</td>{}<td>{}</td><td>{}</td><td>{:.3}</td><td>{:.1}</td>\
+                 <td>{:.4}</td><td>{:.4}</td><td>{:.2} %</td><td>{:.2} %</td>{}</tr>",
+                t.law,
+                t.law,
+                cell("gain", a.gain),
+                num(t.below.gain),
+                a.verdict.name(),
+                a.peak_ratio(),
+                a.fast_energy_db,
+                a.effort_peak,
+                a.effort_rms,
+                100.0 * a.static_shift,
+                100.0 * a.max_shift,
+                cell("robust", rb.ratio)
+            );
+        }
+        h.push_str("</table>\n");
+        if let Some(f) = &cmp.feedforward {
+            let _ = writeln!(
+                h,
+                "<p>Feed-forward of the load, ũ = −κδ sin(ωτ + Δφ), leaves the open loop with \
+                 δ<sub>r</sub> = δ|1 − κe<sup>iΔφ</sup>|: no bursts while that stays below \
+                 {:.4}·δ, an amplitude error of {:.1} % at the exact phase or a phase error of \
+                 {:.1}° at the exact amplitude.</p>",
+                f.residual_limit,
+                100.0 * f.max_amplitude_error,
+                f.max_phase_error.to_degrees()
+            );
+        }
+    }
+    control_drive(h, &ce.drive);
+}
+
+/// The control section's drive table: each law's torque in N m against the ratings.
+fn control_drive(h: &mut String, dc: &crate::control::DriveControl) {
+    let rp = &dc.reduction.params;
+    let _ = write!(
+        h,
+        "<h3>On the bursting drive, in N m</h3><p>The physical section's bursting variant of \
+         {PHYSICAL_DRIVE} (reduced γ = {:.3}, δ = {:.2}). A control torque u referred to the \
+         output enters the twist as u/(N²J<sub>i</sub>), so u = ũ·L·N²J<sub>i</sub>/T² = {} N m \
+         per unit ũ; the motor delivers u/N. Ratings: {}. Drift: the output speed the mean of u \
+         gives the rigid-body mode per slow period.</p><table><tr><th>law</th><th>gain</th>\
+         <th>peak |u| [N m]</th><th>peak |u|/N at the motor [N m]</th><th>of the repeated peak \
+         torque</th><th>of the rated torque</th><th>drift [rad/s]</th><th></th></tr>\n",
+        rp.gamma,
+        rp.delta,
+        num(dc.torque_scale),
+        esc(&dc.ratings.origin)
+    );
+    let pct = |f: Option<f64>| f.map_or("-".to_string(), |f| format!("{:.1} %", 100.0 * f));
+    for e in &dc.efforts {
+        let flag = match (e.exceeds_repeated_peak(), e.exceeds_rated()) {
+            (Some(true), _) => "<b>above the repeated peak torque</b>",
+            (_, Some(true)) => "above the rated torque",
+            (None, None) => "no ratings",
+            _ => "within the ratings",
+        };
+        let _ = writeln!(
+            h,
+            "<tr data-law=\"{}\"><td>{}</td><td>{}</td>{}<td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{flag}</td></tr>",
+            e.law,
+            e.law,
+            num(e.gain),
+            cell("output_peak", e.output_peak),
+            num(e.motor_peak),
+            pct(e.of_repeated_peak),
+            pct(e.of_rated),
+            num(e.rigid_drift)
+        );
+    }
     h.push_str("</table></section>\n");
 }
 

@@ -7,6 +7,7 @@
 //! figure as CSV/JSON into a directory. Table cells carry their exact values in `data-value`
 //! attributes so tests (and scripts) can check them against `hdgear table --json`.
 
+pub mod control;
 mod files;
 pub mod html;
 pub mod periodic;
@@ -161,9 +162,9 @@ impl Stage {
                 "physical drive ({PHYSICAL_DRIVE}): reduction, two-inertia check, design check; \
                  bursting boundaries; and together with them periodic orbits, frequency \
                  response, period-doubling bubble, orbit diagram, Lyapunov map, the drive's \
-                 frequency response"
+                 frequency response; burst control at γ = 1 and 0.1 and on the bursting drive"
             ),
-            Stage::Figures => format!("{} figures", FIGURES.len() + PERIODIC_FIGURES.len()),
+            Stage::Figures => format!("{} figures", FIGURES.len() + PERIODIC_FIGURES.len() + 1),
             Stage::Writing => "writing SVG, PNG, data and index.html".into(),
         }
     }
@@ -257,7 +258,10 @@ pub struct Report {
     pub boundaries: [Boundaries; 2],
     /// The periodic section.
     pub periodic: periodic::PeriodicEvidence,
-    /// The figures, in [`FIGURES`] order, then the periodic section's.
+    /// The burst-control section.
+    pub control: control::ControlEvidence,
+    /// The figures, in [`FIGURES`] order, then the periodic section's, then the control
+    /// section's ([`control::CONTROL_FIGURE`]).
     #[serde(skip)]
     pub figures: Vec<Figure>,
 }
@@ -302,36 +306,34 @@ impl Report {
         observer.stage(Stage::PhysicalAndPeriodic);
         let (drive, variant) = PhysicalEvidence::drives()?;
         let gammas: Vec<f64> = STUDY_GAMMAS.iter().map(|g| g.0).collect();
-        let ((physical, bounds), periodic) = rayon::join(
+        let (((physical, bounds), periodic), control) = rayon::join(
             || {
                 rayon::join(
-                    || PhysicalEvidence::compute(&opts.burst),
-                    || study.boundaries(&[base, at(1.0)]),
+                    || {
+                        rayon::join(
+                            || PhysicalEvidence::compute(&opts.burst),
+                            || study.boundaries(&[base, at(1.0)]),
+                        )
+                    },
+                    || {
+                        periodic::PeriodicEvidence::compute(
+                            &base,
+                            &gammas,
+                            &opts.burst,
+                            (&drive, &variant),
+                            opts.threads,
+                        )
+                    },
                 )
             },
-            || {
-                periodic::PeriodicEvidence::compute(
-                    &base,
-                    &gammas,
-                    &opts.burst,
-                    (&drive, &variant),
-                    opts.threads,
-                )
-            },
+            || control::ControlEvidence::compute(&base, &variant, &opts.burst),
         );
-        let (physical, bounds, periodic) = (physical?, bounds?, periodic?);
+        let (physical, bounds, periodic, control) = (physical?, bounds?, periodic?, control?);
 
         observer.stage(Stage::Figures);
-        let figures = FIGURES
-            .iter()
-            .map(|&(kind, gamma, name)| {
-                let mut f = kind.build(&gamma.map_or(base, at), &mut study)?;
-                f.name = name.to_string();
-                Ok(f)
-            })
-            .collect::<Result<Vec<_>>>()?;
-        let mut figures = figures;
+        let mut figures = study_figures(&base, &mut study)?;
         figures.extend(periodic.figures(&base));
+        figures.push(control.figure());
         Ok(Report {
             version: env!("CARGO_PKG_VERSION"),
             options: *opts,
@@ -343,6 +345,7 @@ impl Report {
             physical,
             boundaries: [bounds[0], bounds[1]],
             periodic,
+            control,
             figures,
         })
     }
@@ -389,6 +392,7 @@ impl Report {
         out.csv("data/period-doubling-bubble.csv", &rows(&bubble))?;
         out.csv("data/lyapunov-map.csv", &pe.lyapunov)?;
         out.json("data/periodic.json", pe)?;
+        out.json("data/control.json", &self.control)?;
         // every figure's two files listed first (see `Files::claim`), then the figures drawn
         // and written on all cores: drawing is most of this stage's time, and one figure's
         // files do not depend on another's
@@ -423,6 +427,19 @@ impl Report {
             tables: self.tables.clone(),
         })
     }
+}
+
+/// The study's figures, in [`FIGURES`] order, each at its γ (the base set's without one).
+fn study_figures(base: &Params, study: &mut Study) -> Result<Vec<Figure>> {
+    FIGURES
+        .iter()
+        .map(|&(kind, gamma, name)| {
+            let p = gamma.map_or(*base, |gamma| Params { gamma, ..*base });
+            let mut f = kind.build(&p, study)?;
+            f.name = name.to_string();
+            Ok(f)
+        })
+        .collect()
 }
 
 /// Builds the report into `dir`: checks the directory, computes ([`Report::compute`]) and writes
