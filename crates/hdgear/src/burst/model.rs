@@ -49,11 +49,13 @@ impl<const N: usize> DenseOutput<2> for Projected<'_, N> {
 }
 
 impl<const N: usize> ScanStep for Projected<'_, N> {
-    fn extra(&self, t: f64) -> f64 {
-        self.extra_at(&self.inner.eval(t))
+    fn state_at(&self, t: f64) -> ([f64; 2], f64) {
+        let y = self.inner.eval(t);
+        ([y[0], y[1]], self.extra_at(&y))
     }
-    fn extra_end(&self) -> f64 {
-        self.extra_at(&self.inner.end_state())
+    fn end(&self) -> ([f64; 2], f64) {
+        let y = self.inner.end_state();
+        ([y[0], y[1]], self.extra_at(&y))
     }
 }
 

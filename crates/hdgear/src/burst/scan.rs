@@ -18,15 +18,15 @@ const SUBDIVISIONS: usize = 2;
 
 /// A step's dense output as the scan reads it: x and x' ([`DenseOutput<2>`]) and the torque
 /// of the model's terms beyond those of the study's parameter set it is scanned against (0, the
-/// default, for the study's model), which enters x''.
+/// default, for the study's model), which enters x''. Both come from one evaluation.
 pub(crate) trait ScanStep: DenseOutput<2> {
-    /// The extra torque at t in the step.
-    fn extra(&self, _t: f64) -> f64 {
-        0.0
+    /// (x, x') at t in the step and the extra torque there.
+    fn state_at(&self, t: f64) -> ([f64; 2], f64) {
+        (self.eval(t), 0.0)
     }
-    /// The extra torque at the state the step ended on ([`DenseOutput::end_state`]).
-    fn extra_end(&self) -> f64 {
-        self.extra(self.t_end())
+    /// The state the step ended on ([`DenseOutput::end_state`]) and the extra torque there.
+    fn end(&self) -> ([f64; 2], f64) {
+        (self.end_state(), 0.0)
     }
 }
 
@@ -171,7 +171,7 @@ impl Scanner {
         self.sample_with(t, y, s, c, extra)
     }
 
-    /// [`Scanner::sample`] with sin ωt and cos ωt given (`extra`: [`ScanStep::extra`] there).
+    /// [`Scanner::sample`] with sin ωt and cos ωt given (`extra`: [`ScanStep::state_at`]'s there).
     pub(crate) fn sample_with(
         &mut self,
         t: f64,
@@ -206,8 +206,10 @@ impl Scanner {
         let (s1, c1) = (self.p.omega * t1).sin_cos();
         let (tm, (sm, cm)) = midpoint(self.p.omega, t0, t1, (s1, c1));
         // the step's end: the state the integrator ended on (and starts the next step from)
-        let mid = self.sample_with(tm, d.eval(tm), sm, cm, d.extra(tm));
-        let end = self.sample_with(t1, d.end_state(), s1, c1, d.extra_end());
+        let (ym, em) = d.state_at(tm);
+        let (y1, e1) = d.end();
+        let mid = self.sample_with(tm, ym, sm, cm, em);
+        let end = self.sample_with(t1, y1, s1, c1, e1);
         self.push_sampled(d, mid, end, past);
     }
 
@@ -219,7 +221,8 @@ impl Scanner {
         if self.last.is_some_and(|s| s.t == t0) {
             return;
         }
-        let s = self.sample(t0, d.eval(t0), d.extra(t0));
+        let (y0, e0) = d.state_at(t0);
+        let s = self.sample(t0, y0, e0);
         if s.e * s.c > 0.0 {
             // a leading lobe already under way: its start is unknown, so it cannot count
             self.lobe = Some((t0, true, s.e.abs()));
@@ -323,8 +326,8 @@ impl Scanner {
         // --- extrema of x': sign changes of x''
         if (a.acc > 0.0) != (b.acc > 0.0) && a.acc != 0.0 {
             let acc = |t: f64| {
-                let y = d.eval(t);
-                p.forcing(sc(t).0) - y[1] - p.g(y[0]) - d.extra(t)
+                let (y, extra) = d.state_at(t);
+                accel(&p, sc(t).0, y, extra)
             };
             let te = refine_root(acc, a.t, a.acc, b.t, b.acc);
             let ve = d.eval(te)[1];
@@ -470,8 +473,15 @@ pub(crate) fn eventful(omega: f64, (xm, xp): (f64, f64), a: &Sample, b: &Sample)
     acc | side | e | turn | ed
 }
 
+/// x'' at the state `y` = (x, x') with sin ωt = `s` and the extra torque `extra`
+/// ([`ScanStep::state_at`]).
+#[inline(always)]
+fn accel(p: &Params, s: f64, y: [f64; 2], extra: f64) -> f64 {
+    p.forcing(s) - y[1] - p.g(y[0]) - extra
+}
+
 /// The measures of a sample at time `t`, state `y`, (sin ωt, cos ωt) = `(s, c)`, from the
-/// equilibrium `xs` the state follows there and the extra torque `extra` ([`ScanStep::extra`])
+/// equilibrium `xs` the state follows there and the extra torque `extra` ([`ScanStep::state_at`])
 /// (one function for the scanners of one step and of many).
 #[inline(always)]
 pub(crate) fn measure(
@@ -482,7 +492,7 @@ pub(crate) fn measure(
     xs: f64,
     extra: f64,
 ) -> Sample {
-    let acc = p.forcing(s) - y[1] - p.g(y[0]) - extra;
+    let acc = accel(p, s, y, extra);
     let inv_gp = 1.0 / p.g_prime(xs);
     let xs_dot = p.omega * c * p.delta * inv_gp;
     Sample {
