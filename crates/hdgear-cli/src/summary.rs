@@ -194,16 +194,19 @@ pub fn response_text(r: &hdgear::burst::Response, c: &hdgear::burst::Classificat
     s
 }
 
+/// A drive's values on one line (with its newline), as `hdgear physical` and `hdgear control`
+/// print them.
+pub fn drive_line(d: &hdgear::physical::PhysicalParams) -> String {
+    format!(
+        "drive: J_in = {:e} kg m^2, J_out = {:e} kg m^2, N = {}, k1 = {:e} N m/rad, k2 = {:e} N m/rad^3, \
+         backlash = {:e} rad, C = {:e} N m s/rad, T_m = {} N m, T_am = {} N m, Omega = {} rad/s\n",
+        d.j_in, d.j_out, d.ratio, d.k1, d.k2, d.backlash, d.c_eq, d.t_m, d.t_am, d.omega
+    )
+}
+
 /// The readable form of `hdgear physical` (from its JSON document).
 pub fn physical_text(doc: &hdgear::physical::design::DriveSummary) -> String {
-    let mut s = String::new();
-    let d = &doc.drive;
-    let _ = writeln!(
-        s,
-        "drive: J_in = {:e} kg m^2, J_out = {:e} kg m^2, N = {}, k1 = {:e} N m/rad, k2 = {:e} N m/rad^3, \
-         backlash = {:e} rad, C = {:e} N m s/rad, T_m = {} N m, T_am = {} N m, Omega = {} rad/s",
-        d.j_in, d.j_out, d.ratio, d.k1, d.k2, d.backlash, d.c_eq, d.t_m, d.t_am, d.omega
-    );
+    let mut s = drive_line(&doc.drive);
     let c = &doc.catalogue;
     let _ = writeln!(
         s,

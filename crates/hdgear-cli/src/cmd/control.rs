@@ -100,23 +100,11 @@ pub fn print<T: serde::Serialize>(doc: &T, json: bool, text: fn(&T) -> String) -
 /// The drive's comparison: the reduced model's table, then each law's torque in N m.
 pub fn drive_text(doc: &DriveControl) -> String {
     use std::fmt::Write;
-    let d = &doc.drive;
-    let mut s = format!(
-        "drive: J_in = {:e} kg m^2, J_out = {:e} kg m^2, N = {}, k1 = {:e} N m/rad, k2 = {:e} N m/rad^3, \
-         backlash = {:e} rad, C = {:e} N m s/rad, T_m = {} N m, T_am = {} N m, Omega = {} rad/s\n\
-         control torque at the output per unit ũ: L·N²·J_in/T² = {:.4e} N m (at the motor: /N)\n",
-        d.j_in,
-        d.j_out,
-        d.ratio,
-        d.k1,
-        d.k2,
-        d.backlash,
-        d.c_eq,
-        d.t_m,
-        d.t_am,
-        d.omega,
+    let mut s = crate::summary::drive_line(&doc.drive);
+    s.push_str(&format!(
+        "control torque at the output per unit ũ: L·N²·J_in/T² = {:.4e} N m (at the motor: /N)\n",
         doc.torque_scale
-    );
+    ));
     s.push_str(&text(&doc.comparison));
     let r = &doc.ratings;
     let rating = |v: Option<f64>| v.map_or("-".to_string(), |t| format!("{t} N m"));
@@ -139,11 +127,10 @@ pub fn drive_text(doc: &DriveControl) -> String {
     );
     let pct = |f: Option<f64>| f.map_or("-".to_string(), |f| format!("{:.1}%", 100.0 * f));
     for e in &doc.efforts {
-        let flag = match (e.exceeds_repeated_peak(), e.exceeds_rated()) {
-            (Some(true), _) => "ABOVE THE REPEATED PEAK TORQUE",
-            (_, Some(true)) => "above the rated torque",
-            (None, None) => "no ratings to check",
-            _ => "within the ratings",
+        let check = e.check();
+        let flag = match check {
+            hdgear::control::RatingCheck::AboveRepeatedPeak => check.text().to_uppercase(),
+            _ => check.text().to_string(),
         };
         let _ = writeln!(
             s,

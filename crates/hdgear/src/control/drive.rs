@@ -83,15 +83,41 @@ impl DriveEffort {
         }
     }
 
-    /// Whether the law needs more than the drive's repeated peak torque (None without the
-    /// rating).
-    pub fn exceeds_repeated_peak(&self) -> Option<bool> {
-        self.of_repeated_peak.map(|f| f > 1.0)
+    /// The effort against the ratings: the first limit it exceeds, the repeated peak torque
+    /// before the rated one.
+    pub fn check(&self) -> RatingCheck {
+        match (self.of_repeated_peak, self.of_rated) {
+            (Some(f), _) if f > 1.0 => RatingCheck::AboveRepeatedPeak,
+            (_, Some(f)) if f > 1.0 => RatingCheck::AboveRated,
+            (None, None) => RatingCheck::NoRatings,
+            _ => RatingCheck::Within,
+        }
     }
+}
 
-    /// Whether the law needs more than the drive's rated torque (None without the rating).
-    pub fn exceeds_rated(&self) -> Option<bool> {
-        self.of_rated.map(|f| f > 1.0)
+/// A law's peak torque against the drive's ratings ([`DriveEffort::check`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum RatingCheck {
+    /// Above the limit for repeated peak torque.
+    AboveRepeatedPeak,
+    /// Above the rated torque (within the repeated peak, or without that rating).
+    AboveRated,
+    /// Within every rating given.
+    Within,
+    /// The drive has no ratings to check against.
+    NoRatings,
+}
+
+impl RatingCheck {
+    /// In words.
+    pub fn text(self) -> &'static str {
+        match self {
+            RatingCheck::AboveRepeatedPeak => "above the repeated peak torque",
+            RatingCheck::AboveRated => "above the rated torque",
+            RatingCheck::Within => "within the ratings",
+            RatingCheck::NoRatings => "no ratings to check",
+        }
     }
 }
 

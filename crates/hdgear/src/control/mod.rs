@@ -19,7 +19,7 @@ use crate::simulate::{SimOptions, Start, simulate_model};
 use serde::Serialize;
 
 pub mod drive;
-pub use drive::{DriveControl, DriveEffort, Ratings, compare_drive};
+pub use drive::{DriveControl, DriveEffort, RatingCheck, Ratings, compare_drive};
 
 /// The control laws, by their terms' kinds: the one list `hdgear control` and [`tune`] offer.
 pub const LAWS: [&str; 3] = [VirtualStiffness::KIND, VirtualDamping::KIND, Washout::KIND];
@@ -109,9 +109,29 @@ pub fn closed_loop(p: &Params, term: AnyTerm) -> Result<Model> {
 /// assert!(a.removes_bursts() && a.peak_ratio() < 0.2);
 /// ```
 pub fn assess(p: &Params, term: AnyTerm, opts: &BurstOptions) -> Result<Assessment> {
-    let open = Model::study(p);
+    assess_against(p, term, opts, &OpenLoop::of(p, opts)?)
+}
+
+/// The open loop's measures, which every assessment on the same set compares against.
+struct OpenLoop(Run);
+
+impl OpenLoop {
+    fn of(p: &Params, opts: &BurstOptions) -> Result<OpenLoop> {
+        let open = Model::study(p);
+        Ok(OpenLoop(Run::of(&open, &open, opts)?))
+    }
+}
+
+/// [`assess`] against the open loop's measures `open` (of the same `p` and `opts`).
+fn assess_against(
+    p: &Params,
+    term: AnyTerm,
+    opts: &BurstOptions,
+    open: &OpenLoop,
+) -> Result<Assessment> {
     let closed = closed_loop(p, term)?;
-    let (o, c) = (Run::of(&open, &open, opts)?, Run::of(&closed, &open, opts)?);
+    let o = &open.0;
+    let c = Run::of(&closed, &Model::study(p), opts)?;
     let x_extent = crate::burst::curve_extent(p);
     let largest = |a: &[f64], b: &[f64]| {
         a.iter()
@@ -287,6 +307,14 @@ fn crossing(
     Ok(Some((lo, hi)))
 }
 
+/// Whether `p`'s closed loop with law `law` at `gain` (other parameters `rest`) bursts: the
+/// verdict every search here bisects.
+fn bursts_at(p: &Params, law: &str, gain: f64, rest: &[f64], opts: &BurstOptions) -> Result<bool> {
+    let m = closed_loop(p, law_term(law, gain, rest)?)?;
+    let r = response_model(&m, opts)?;
+    Ok(classify(&m.equivalent_params().expect("checked"), &r).bursting)
+}
+
 /// The least gain of law `law` (other parameters `rest`) that removes the bursts of `p`: gains
 /// doubled from [`GAIN_START`] until the verdict is no-bursts (or halved while half still removes them), then the bracket bisected
 /// geometrically to `rel_tol`; both ends assessed. An error when the open loop does not burst (no
@@ -299,11 +327,19 @@ pub fn tune(
     rel_tol: f64,
 ) -> Result<Tuning> {
     check_fraction("rel_tol", rel_tol)?;
-    let bursts = |gain: f64| -> Result<bool> {
-        let m = closed_loop(p, law_term(law, gain, rest)?)?;
-        let r = response_model(&m, opts)?;
-        Ok(classify(&m.equivalent_params().expect("checked"), &r).bursting)
-    };
+    tune_against(p, law, rest, opts, rel_tol, &OpenLoop::of(p, opts)?)
+}
+
+/// [`tune`] with the open loop's measures given (computed once for several laws).
+fn tune_against(
+    p: &Params,
+    law: &str,
+    rest: &[f64],
+    opts: &BurstOptions,
+    rel_tol: f64,
+    open: &OpenLoop,
+) -> Result<Tuning> {
+    let bursts = |gain: f64| bursts_at(p, law, gain, rest, opts);
     let refuse = |reason: String| Error::InvalidInput {
         what: "control law",
         text: law.to_string(),
@@ -319,8 +355,8 @@ pub fn tune(
             .into_iter()
             .find(|l| *l == law)
             .expect("law_term checked it"),
-        below: assess(p, law_term(law, lo, rest)?, opts)?,
-        tuned: assess(p, law_term(law, hi, rest)?, opts)?,
+        below: assess_against(p, law_term(law, lo, rest)?, opts, open)?,
+        tuned: assess_against(p, law_term(law, hi, rest)?, opts, open)?,
         relative_width: if lo > 0.0 {
             hi / lo - 1.0
         } else {
@@ -394,12 +430,7 @@ pub fn robustness(
     let bursting = |gain: f64| -> Result<Option<Params>> {
         let found = plants
             .par_iter()
-            .map(|q| -> Result<Option<Params>> {
-                let m = closed_loop(q, law_term(law, gain, rest)?)?;
-                let r = response_model(&m, opts)?;
-                let e = m.equivalent_params().expect("checked");
-                Ok(classify(&e, &r).bursting.then_some(*q))
-            })
+            .map(|q| Ok(bursts_at(q, law, gain, rest, opts)?.then_some(*q)))
             .collect::<Result<Vec<_>>>()?;
         Ok(found.into_iter().flatten().next())
     };
@@ -537,15 +568,16 @@ pub fn compare(
         assessments: Vec::new(),
         feedforward: None,
     };
+    let open = OpenLoop::of(p, opts)?;
     match c.gain {
         Some(_) => {
             for term in terms {
-                out.assessments.push(assess(p, term, opts)?);
+                out.assessments.push(assess_against(p, term, opts, &open)?);
             }
         }
         None => {
             for law in &laws {
-                let t = tune(p, law, &law_rest(law, c.ww), opts, c.rel_tol)?;
+                let t = tune_against(p, law, &law_rest(law, c.ww), opts, c.rel_tol, &open)?;
                 if let Some(s) = c.spread {
                     out.robustness.push(robustness(p, &t, s, opts, c.rel_tol)?);
                 }

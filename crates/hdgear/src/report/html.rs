@@ -549,11 +549,10 @@ fn control_drive(h: &mut String, dc: &crate::control::DriveControl) {
     );
     let pct = |f: Option<f64>| f.map_or("-".to_string(), |f| format!("{:.1} %", 100.0 * f));
     for e in &dc.efforts {
-        let flag = match (e.exceeds_repeated_peak(), e.exceeds_rated()) {
-            (Some(true), _) => "<b>above the repeated peak torque</b>",
-            (_, Some(true)) => "above the rated torque",
-            (None, None) => "no ratings",
-            _ => "within the ratings",
+        let check = e.check();
+        let flag = match check {
+            crate::control::RatingCheck::AboveRepeatedPeak => format!("<b>{}</b>", check.text()),
+            _ => check.text().to_string(),
         };
         let _ = writeln!(
             h,
