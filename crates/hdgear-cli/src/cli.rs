@@ -10,6 +10,7 @@ use std::path::PathBuf;
 
 pub use crate::cmd::card::CardArgs;
 pub use crate::cmd::control::ControlArgs;
+pub use crate::cmd::robust::{RobustArgs, RobustOpts};
 pub use crate::sources::ParamArgs;
 
 /// hdgear: fast-slow dynamics of harmonic drive gears.
@@ -66,6 +67,9 @@ pub enum Command {
     /// Feedback laws against the bursts (virtual stiffness, virtual damping, washout): each
     /// tuned to its least gain that removes them, or assessed at --gain, with what it costs.
     Control(ControlArgs),
+    /// The design check under manufacturing spread: P(burst) with its interval, the worst
+    /// corner and the margin, which tolerance matters (Sobol indices), the resonance rule.
+    Robust(RobustArgs),
     /// Draw one figure: xdot-gamma, x-equilibrium, transformed-phase, phase-plane, slope, sweep,
     /// map, boundary, frequency-response, orbit-diagram, lyapunov-map.
     Plot(PlotArgs),
@@ -206,7 +210,7 @@ pub struct PhysicalArgs {
     #[arg(long, requires = "simulate", allow_negative_numbers = true)]
     pub dt: Option<f64>,
     /// Trajectory file with --simulate (.csv, .json or .parquet; CSV on stdout without it and
-    /// without --summary), or the curve with --frequency-response.
+    /// without --summary), the curve with --frequency-response, or the samples with --robust.
     #[arg(long, value_name = "FILE")]
     pub out: Option<PathBuf>,
     /// The frequency-response curve of the drive (continuation in the disturbance frequency) in
@@ -230,6 +234,12 @@ pub struct PhysicalArgs {
     /// law's torque in N m against the card's ratings.
     #[arg(long, conflicts_with_all = ["simulate", "design", "frequency_response"])]
     pub control: bool,
+    /// The design check under manufacturing spread (hdgear robust's analysis of this drive;
+    /// its options below).
+    #[arg(long, conflicts_with_all = ["simulate", "design", "frequency_response", "control"])]
+    pub robust: bool,
+    #[command(flatten)]
+    pub robust_opts: RobustOpts,
     #[command(flatten)]
     pub burst: BurstArgs,
 }

@@ -13,5 +13,6 @@ mod output;
 mod periodic;
 mod pipes;
 mod report;
+mod robust;
 mod serve;
 mod shard;

@@ -52,6 +52,7 @@ pub mod params;
 pub mod periodic;
 pub mod physical;
 pub mod report;
+pub mod robust;
 pub mod roots;
 pub mod scenario;
 pub mod simd;

@@ -16,4 +16,5 @@ mod output;
 mod periodic;
 mod physical;
 mod reference;
+mod robust;
 mod simd;

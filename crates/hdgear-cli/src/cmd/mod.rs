@@ -17,6 +17,7 @@ mod periodic;
 mod physical;
 mod plot;
 mod report;
+pub mod robust;
 mod serve;
 mod simulate;
 mod sweep;
@@ -45,6 +46,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Physical(a) => physical::run(a),
         Command::Card(a) => card::run(a),
         Command::Control(a) => control::run(a),
+        Command::Robust(a) => robust::run(a),
         Command::Plot(a) => plot::run(a),
         Command::Report(a) => report::run(a),
         Command::Serve(a) => serve::run(a),

@@ -13,14 +13,24 @@ pub fn run(a: PhysicalArgs) -> Result<()> {
     if a.simulate {
         return simulate(&a, &d, opts.tol);
     }
-    if a.out.is_some() && !a.frequency_response {
-        bail!("--out needs --simulate or --frequency-response");
+    if a.out.is_some() && !a.frequency_response && !a.robust {
+        bail!("--out needs --simulate, --frequency-response or --robust");
     }
     // a drive without a reduction is refused here with the way out
     d.reduce()
         .context("cannot reduce the drive (run it with hdgear physical --simulate)")?;
     if a.frequency_response {
         return frequency_response(&a, &d);
+    }
+    if a.robust {
+        let nominal = hdgear::robust::Nominal::Drive(d);
+        return crate::cmd::robust::analyse_and_print(
+            nominal,
+            &a.robust_opts,
+            &opts,
+            a.out.as_deref(),
+            a.json,
+        );
     }
     if a.control {
         let card = crate::cmd::card::load(&a.drive).context("--drive")?;

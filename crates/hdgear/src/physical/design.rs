@@ -149,32 +149,72 @@ fn judge_classified(
     opts: &BurstOptions,
 ) -> Result<(Judgement, Option<crate::burst::Classification>)> {
     let p = d.reduce()?.params;
-    let domain_predicted = p.omega <= turning_point_rate(&p) / crate::burst::TIME_SCALE_SEPARATION;
-    if p.omega >= MIN_SIMULATED_OMEGA {
-        let mut o = *opts;
-        o.tol.max_steps = o.tol.max_steps.min(SEARCH_MAX_STEPS);
-        match response(&p, &o) {
-            Ok(resp) => {
-                let c = classify(&p, &resp);
-                let j = Judgement {
-                    bursting: c.bursting,
-                    verdict: Some(c.verdict),
-                    fast_slow_domain: c.fast_slow_domain,
-                    basis: Basis::Simulation,
-                };
-                return Ok((j, Some(c)));
-            }
-            Err(crate::Error::Solver(crate::error::SolverError::TooManySteps { .. })) => {}
-            Err(e) => return Err(e),
+    let o = search_options(opts);
+    let simulated = (p.omega >= MIN_SIMULATED_OMEGA).then(|| response(&p, &o));
+    let (j, c, _) = decide(&p, simulated)?;
+    Ok((j, c))
+}
+
+/// The options of one verdict: the step budget capped at [`SEARCH_MAX_STEPS`].
+fn search_options(opts: &BurstOptions) -> BurstOptions {
+    let mut o = *opts;
+    o.tol.max_steps = o.tol.max_steps.min(SEARCH_MAX_STEPS);
+    o
+}
+
+/// A verdict, its classification and its response (when simulated).
+pub(crate) type Judged = (
+    Judgement,
+    Option<crate::burst::Classification>,
+    Option<crate::burst::Response>,
+);
+
+/// The rule of the module docs for a reduced set `p` given its simulated response (None when ω
+/// is below [`MIN_SIMULATED_OMEGA`]): the signatures decide, or the prediction when the response
+/// was not simulated or ran out of steps.
+fn decide(p: &crate::Params, simulated: Option<Result<crate::burst::Response>>) -> Result<Judged> {
+    match simulated {
+        Some(Ok(resp)) => {
+            let c = classify(p, &resp);
+            let j = Judgement {
+                bursting: c.bursting,
+                verdict: Some(c.verdict),
+                fast_slow_domain: c.fast_slow_domain,
+                basis: Basis::Simulation,
+            };
+            return Ok((j, Some(c), Some(resp)));
         }
+        Some(Err(crate::Error::Solver(crate::error::SolverError::TooManySteps { .. }))) | None => {}
+        Some(Err(e)) => return Err(e),
     }
     let j = Judgement {
-        bursting: predict(&p).bursting,
+        bursting: predict(p).bursting,
         verdict: None,
-        fast_slow_domain: domain_predicted,
+        fast_slow_domain: p.omega <= turning_point_rate(p) / crate::burst::TIME_SCALE_SEPARATION,
         basis: Basis::Prediction,
     };
-    Ok((j, None))
+    Ok((j, None, None))
+}
+
+/// [`judge`] of many reduced sets at once: the simulated ones on the sixteen-lane batches
+/// ([`crate::burst::responses`]), in the order given.
+pub(crate) fn judge_reduced(points: &[crate::Params], opts: &BurstOptions) -> Vec<Result<Judged>> {
+    let o = search_options(opts);
+    let simulate: Vec<crate::Params> = points
+        .iter()
+        .copied()
+        .filter(|p| p.omega >= MIN_SIMULATED_OMEGA)
+        .collect();
+    let mut simulated = crate::burst::responses(&simulate, &o).into_iter();
+    points
+        .iter()
+        .map(|p| {
+            let r = (p.omega >= MIN_SIMULATED_OMEGA)
+                .then(|| simulated.next())
+                .flatten();
+            decide(p, r)
+        })
+        .collect()
 }
 
 fn scaled(d: &PhysicalParams, param: DriveParam, f: f64) -> PhysicalParams {

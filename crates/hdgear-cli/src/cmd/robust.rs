@@ -1,0 +1,413 @@
+//! `hdgear robust` (and `hdgear physical --robust`): the design check under manufacturing
+//! spread, P(burst) with its interval, the worst corner and margin, the Sobol indices, the
+//! catalogue's resonance rule; the samples streamed to a file.
+
+use crate::cli::{BurstArgs, ParamArgs, check_out};
+use crate::sink::{Sink, out, warn};
+use anyhow::{Context, Result, bail};
+use clap::Args;
+use hdgear::output::RecordWriter;
+use hdgear::robust::{
+    APPLICATIONS, Analysis, AnalysisOptions, McOptions, Measure, Nominal, SampleRow, Sampler,
+    Space, analyse,
+};
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+/// The options of the analysis, shared by `hdgear robust` and `hdgear physical --robust`.
+#[derive(Args, Debug, Clone)]
+pub struct RobustOpts {
+    /// A parameter's spread, NAME=SPEC (repeatable): ±X% or ±X (uniform band), LO..HI,
+    /// normal:SD (SD in % or absolute), lognormal:S% (σ of ln), tnormal:SD:±X (truncated).
+    /// A drive without any takes documented default bands, marked as assumptions.
+    #[arg(long = "tolerance", value_name = "NAME=SPEC")]
+    pub tolerances: Vec<String>,
+    /// Samples of P(burst).
+    #[arg(long, default_value_t = 4096)]
+    pub samples: u64,
+    /// sobol (quasi-Monte Carlo, digitally shifted) or random (Monte Carlo).
+    #[arg(long, default_value = "sobol")]
+    pub sampler: String,
+    /// Seed of the samples (the same seed, the same bytes).
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Confidence of P(burst)'s Wilson interval.
+    #[arg(long, default_value_t = 0.95, allow_negative_numbers = true)]
+    pub level: f64,
+    /// Interval width whose sample count is reported.
+    #[arg(long, default_value_t = 0.02, allow_negative_numbers = true)]
+    pub width: f64,
+    /// Sobol indices of the burst indicator and the measures from a Saltelli design of N rows
+    /// (N·(k + 2) runs for k tolerances; a power of two suits the Sobol points).
+    #[arg(long, value_name = "N")]
+    pub sobol: Option<usize>,
+    /// Skip the worst corner and margin (2^k rays for k tolerances).
+    #[arg(long)]
+    pub no_worst: bool,
+    /// K/N: compute only part K (0 … N−1) of the samples, a contiguous block (the samples are
+    /// the same as in the whole run).
+    #[arg(long, value_name = "K/N")]
+    pub shard: Option<String>,
+}
+
+/// Arguments of `hdgear robust`.
+#[derive(Args, Debug)]
+pub struct RobustArgs {
+    /// A drive instead of a parameter set: its card (built-in name, FILE.toml or FILE.toml#NAME)
+    /// with the documented assumptions for the rest (hdgear physical --robust changes them).
+    #[arg(long, value_name = "CARD", conflicts_with_all = ["preset", "config", "alpha", "gamma", "eps", "mu", "delta", "omega"])]
+    pub card: Option<String>,
+    /// The samples, one row each (.csv, .json or .parquet).
+    #[arg(long, value_name = "FILE")]
+    pub out: Option<PathBuf>,
+    /// JSON instead of text.
+    #[arg(long)]
+    pub json: bool,
+    #[command(flatten)]
+    pub robust: RobustOpts,
+    #[command(flatten)]
+    pub params: ParamArgs,
+    #[command(flatten)]
+    pub burst: BurstArgs,
+}
+
+impl RobustOpts {
+    /// The checked options of the analysis.
+    fn options(&self) -> Result<AnalysisOptions> {
+        let sampler: Sampler = self.sampler.parse().context("--sampler")?;
+        let (first, samples) = match &self.shard {
+            None => (0, self.samples),
+            Some(s) => {
+                let (k, n) = shard(s)?;
+                let lo = self.samples * k / n;
+                (lo, self.samples * (k + 1) / n - lo)
+            }
+        };
+        let mc = McOptions {
+            samples,
+            first,
+            sampler,
+            seed: self.seed,
+            level: self.level,
+            width: self.width,
+        };
+        mc.validate()?;
+        if self.sobol.is_some_and(|n| n < 2) {
+            bail!(
+                "invalid option --sobol = {}: at least 2 rows",
+                self.sobol.unwrap_or(0)
+            );
+        }
+        Ok(AnalysisOptions {
+            mc,
+            worst: !self.no_worst,
+            sobol: self.sobol,
+        })
+    }
+
+    /// The space: the user's tolerances, or a drive's defaults.
+    fn space(&self, nominal: Nominal) -> Result<Space> {
+        let tolerances = if self.tolerances.is_empty() {
+            match nominal {
+                Nominal::Drive(d) => Space::drive_defaults(&d),
+                Nominal::Study(_) => bail!(
+                    "a parameter set needs its spreads: --tolerance NAME=SPEC (gamma=±10%); a \
+                     drive (--card) has default bands"
+                ),
+            }
+        } else {
+            self.tolerances
+                .iter()
+                .map(|t| Space::parse_tolerance(&nominal, t).context("--tolerance"))
+                .collect::<Result<_>>()?
+        };
+        Ok(Space::new(nominal, tolerances)?)
+    }
+}
+
+/// `K/N` with N ≥ 1 and K < N.
+fn shard(text: &str) -> Result<(u64, u64)> {
+    let parsed = text
+        .split_once('/')
+        .and_then(|(k, n)| Some((k.trim().parse::<u64>().ok()?, n.trim().parse::<u64>().ok()?)));
+    match parsed {
+        Some((k, n)) if n >= 1 && k < n => Ok((k, n)),
+        _ => bail!("invalid --shard '{text}': expected K/N with 0 <= K < N"),
+    }
+}
+
+/// Runs `hdgear robust`.
+pub fn run(a: RobustArgs) -> Result<()> {
+    let opts = a.burst.options()?;
+    let nominal = match &a.card {
+        Some(card) => {
+            let loaded = crate::cmd::card::load(card).context("--card")?;
+            let built = hdgear::physical::catalogue::assemble(&loaded.card, None, None)
+                .context("--card")?;
+            Nominal::Drive(built.drive)
+        }
+        None => {
+            let (p, warnings) = a.params.resolve()?;
+            warn(&warnings);
+            Nominal::Study(p)
+        }
+    };
+    analyse_and_print(nominal, &a.robust, &opts, a.out.as_deref(), a.json)
+}
+
+/// The analysis of `nominal`, its samples to `out`, its page (or JSON) to stdout.
+pub fn analyse_and_print(
+    nominal: Nominal,
+    r: &RobustOpts,
+    opts: &hdgear::burst::BurstOptions,
+    out_path: Option<&Path>,
+    json: bool,
+) -> Result<()> {
+    let space = r.space(nominal)?;
+    let options = r.options()?;
+    check_out(&out_path.map(Path::to_path_buf))?;
+    let mut writer = match out_path {
+        Some(path) => {
+            let (sink, format) = Sink::open(Some(path))?;
+            Some(RecordWriter::<_, SampleRow>::new(sink, format, &space)?)
+        }
+        None => None,
+    };
+    let analysis = analyse(&space, opts, &options, |samples| {
+        if let Some(w) = writer.as_mut() {
+            for s in samples {
+                w.row(&SampleRow::from(s))
+                    .map_err(|source| hdgear::Error::Io {
+                        path: out_path.unwrap_or(Path::new("-")).to_path_buf(),
+                        source,
+                    })?;
+            }
+        }
+        Ok(())
+    })?;
+    if let (Some(w), Some(path)) = (writer, out_path) {
+        w.finish()
+            .with_context(|| format!("writing {}", path.display()))?
+            .commit()?;
+    }
+    if json {
+        crate::sink::outln!("{}", serde_json::to_string_pretty(&analysis)?);
+    } else {
+        out!("{}", text(&analysis));
+    }
+    Ok(())
+}
+
+/// The one page: what spreads, P(burst), worst case and margin, which tolerance matters, the
+/// resonance rule.
+pub fn text(a: &Analysis) -> String {
+    let mut s = String::new();
+    match &a.space.nominal {
+        Nominal::Drive(d) => s.push_str(&crate::summary::drive_line(d)),
+        Nominal::Study(p) => {
+            let values: Vec<String> = hdgear::params::Param::ALL
+                .iter()
+                .map(|&q| format!("{q} = {}", p.value(q)))
+                .collect();
+            let _ = writeln!(s, "parameter set: {}", values.join(", "));
+        }
+    }
+    let _ = writeln!(s, "tolerances:");
+    for t in &a.space.tolerances {
+        let _ = writeln!(
+            s,
+            "  {:<9} {}  ({})",
+            t.target.name(),
+            t.distribution,
+            t.source
+        );
+    }
+    let p = &a.probability;
+    let _ = writeln!(
+        s,
+        "P(burst) = {} [{}, {}] ({:.0} % Wilson) from {} {} samples from index {} \
+         (seed {}): {} judged, {} of them predicted; {} outside the domain, {} failed",
+        probability(p.p),
+        probability(p.interval.0),
+        probability(p.interval.1),
+        100.0 * p.level,
+        p.samples,
+        a.sampling.sampler.name(),
+        a.sampling.first,
+        a.sampling.seed,
+        p.judged,
+        p.predicted,
+        p.outside_domain,
+        p.failed
+    );
+    let _ = writeln!(
+        s,
+        "  an interval {} wide needs {} samples at this P",
+        p.width, p.needed_for_width
+    );
+    if let Some(w) = &a.worst {
+        worst_text(&mut s, a, w);
+    }
+    if let Some(sens) = &a.sensitivity {
+        sobol_text(&mut s, sens);
+    }
+    if let Some(r) = &a.resonance {
+        let rule: Vec<String> = APPLICATIONS
+            .iter()
+            .map(|&(name, hz)| {
+                let ok = if r.lowest_hz >= hz { "pass" } else { "FAIL" };
+                format!("{name} (>= {hz} Hz) {ok}")
+            })
+            .collect();
+        let _ = writeln!(
+            s,
+            "resonance (selection rule f_n = sqrt(k1/J_o)/2pi): nominal {:.2} Hz, lowest over the \
+             box {:.2} Hz: {}",
+            r.nominal_hz,
+            r.lowest_hz,
+            rule.join(", ")
+        );
+    }
+    s
+}
+
+/// A probability with four decimals, or four significant digits below 1e-3.
+fn probability(p: f64) -> String {
+    if p == 0.0 || p >= 1e-3 {
+        format!("{p:.4}")
+    } else {
+        format!("{p:.3e}")
+    }
+}
+
+fn worst_text(s: &mut String, a: &Analysis, w: &hdgear::robust::WorstCase) {
+    let names: Vec<&str> = a.space.tolerances.iter().map(|t| t.target.name()).collect();
+    let nominal = if w.nominal.bursting {
+        "bursts"
+    } else {
+        "is burst-free"
+    };
+    let _ = writeln!(
+        s,
+        "worst case ({} corners; the nominal set {nominal}):",
+        w.corners.len()
+    );
+    let c = &w.corners[w.worst];
+    let signs: Vec<String> = names
+        .iter()
+        .zip(&c.signs)
+        .map(|(n, &g)| format!("{n} {}", if g > 0 { "high" } else { "low" }))
+        .collect();
+    let kind = if w.nominal.bursting {
+        "furthest into bursting"
+    } else {
+        "closest to bursting"
+    };
+    match &c.crossing {
+        Some(x) => {
+            let _ = writeln!(
+                s,
+                "  {kind}: {}; the verdict changes between {:.5} and {:.5} of the way to it \
+                 ({} inside, {} outside)",
+                signs.join(", "),
+                x.inside,
+                x.outside,
+                label(&x.inside_outcome),
+                label(&x.outside_outcome)
+            );
+        }
+        None => {
+            let _ = writeln!(
+                s,
+                "  {kind}: {}; no change of verdict up to {} times the box",
+                signs.join(", "),
+                c.reach
+            );
+        }
+    }
+    let bands: Vec<String> = names
+        .iter()
+        .zip(&w.margin_percent)
+        .map(|(n, (lo, hi))| format!("{n} {lo:+.2} % … {hi:+.2} %"))
+        .collect();
+    let what = if w.nominal.bursting {
+        "bursting"
+    } else {
+        "burst-free"
+    };
+    match w.margin {
+        Some(m) => {
+            let _ = writeln!(
+                s,
+                "  margin: {what} with every parameter within {} (the box scaled by {m:.4})",
+                bands.join(", ")
+            );
+        }
+        None => {
+            let _ = writeln!(
+                s,
+                "  margin: {what} with every parameter within {} (the reach of the search, {} \
+                 times the box)",
+                bands.join(", "),
+                w.reach
+            );
+        }
+    }
+    let _ = writeln!(
+        s,
+        "  checked inside that box: {} points, {} with another verdict",
+        w.interior_checked, w.interior_differing
+    );
+}
+
+fn label(o: &hdgear::robust::Outcome) -> &'static str {
+    hdgear::physical::design::Judgement {
+        bursting: o.bursting,
+        verdict: o.verdict,
+        fast_slow_domain: o.fast_slow_domain,
+        basis: o.basis,
+    }
+    .label()
+}
+
+fn sobol_text(s: &mut String, sens: &hdgear::robust::Sensitivity) {
+    let runs = sens.n * (sens.parameters.len() + 2);
+    let _ = writeln!(
+        s,
+        "which tolerance matters (Sobol indices, N = {}, {runs} runs, 95 % bootstrap intervals):",
+        sens.n
+    );
+    for (measure, ix) in &sens.measures {
+        let Some(ix) = ix else {
+            let _ = writeln!(
+                s,
+                "  {:<17} not every run has it (failed or predicted)",
+                measure.name()
+            );
+            continue;
+        };
+        if ix.variance == 0.0 {
+            let _ = writeln!(
+                s,
+                "  {:<17} does not vary (mean {:.4e})",
+                measure.name(),
+                ix.mean
+            );
+            continue;
+        }
+        let what = if *measure == Measure::Burst {
+            " (mean = P(burst))"
+        } else {
+            ""
+        };
+        let _ = writeln!(s, "  {}{what}: mean {:.4e}", measure.name(), ix.mean);
+        for (i, name) in sens.parameters.iter().enumerate() {
+            let (f, t) = (ix.first[i], ix.total[i]);
+            let _ = writeln!(
+                s,
+                "    {name:<9} first {:>7.4} [{:>7.4}, {:>7.4}]  total {:>7.4} [{:>7.4}, {:>7.4}]",
+                f.value, f.lo, f.hi, t.value, t.lo, t.hi
+            );
+        }
+    }
+}

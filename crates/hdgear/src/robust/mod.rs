@@ -1,0 +1,785 @@
+//! The design check under manufacturing spread: how likely a drive whose parameters spread is to
+//! burst ([`probability`]), its worst case and margin ([`worst_case`]), and which tolerance
+//! matters ([`sensitivity`]).
+//!
+//! A [`Space`] is a nominal parameter set (the study's dimensionless one, or a drive in SI units)
+//! with a [`Tolerance`] on some of its parameters. Every sample is judged as the design check
+//! judges a drive ([`crate::physical::design::judge`]): reduced, simulated on the sixteen-lane
+//! batches and classified by its signatures, or predicted from the equilibrium curve when its
+//! reduced ω is too small to simulate (each sample says which). Sample i of a run is a function
+//! of the seed and i alone ([`sequence`]), so a run is reproducible to the byte on any thread
+//! count and in any shard split.
+
+use crate::burst::{BurstOptions, Verdict};
+use crate::error::{Error, Result};
+use crate::params::{Param, Params};
+use crate::physical::design::{Basis, judge_reduced};
+use crate::physical::{DriveParam, PhysicalParams};
+use rayon::prelude::*;
+use serde::Serialize;
+
+pub mod dist;
+pub mod sequence;
+pub mod sobol;
+mod worst;
+
+pub use dist::{Distribution, normal_cdf, normal_quantile, samples_for_width, wilson};
+pub use sequence::{Points, Sampler};
+pub use worst::{Corner, WorstCase, worst_case};
+
+/// The parameter set the tolerances spread around.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[serde(tag = "kind", content = "values", rename_all = "kebab-case")]
+pub enum Nominal {
+    /// A dimensionless set.
+    Study(Params),
+    /// A drive in SI units (each sample reduced).
+    Drive(PhysicalParams),
+}
+
+/// A parameter that spreads: one of the nominal set's own.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(untagged)]
+pub enum Target {
+    /// A dimensionless parameter.
+    Study(Param),
+    /// A drive parameter.
+    Drive(DriveParam),
+}
+
+impl Target {
+    /// The name users write (`gamma`, `k1`, …).
+    pub fn name(self) -> &'static str {
+        match self {
+            Target::Study(p) => p.name(),
+            Target::Drive(p) => p.name(),
+        }
+    }
+}
+
+impl Nominal {
+    /// The parameter called `name` in this kind of set.
+    pub fn target(&self, name: &str) -> Result<Target> {
+        Ok(match self {
+            Nominal::Study(_) => Target::Study(name.parse()?),
+            Nominal::Drive(_) => Target::Drive(name.parse()?),
+        })
+    }
+
+    /// The value of a parameter of this kind of set.
+    pub fn value(&self, t: Target) -> f64 {
+        match (self, t) {
+            (Nominal::Study(p), Target::Study(q)) => p.value(q),
+            (Nominal::Drive(d), Target::Drive(q)) => d.value(q),
+            _ => f64::NAN,
+        }
+    }
+
+    /// The set with one parameter changed.
+    pub fn with(self, t: Target, v: f64) -> Nominal {
+        match (self, t) {
+            (Nominal::Study(p), Target::Study(q)) => Nominal::Study(p.with(q, v)),
+            (Nominal::Drive(d), Target::Drive(q)) => Nominal::Drive(d.with(q, v)),
+            (n, _) => n,
+        }
+    }
+
+    /// The dimensionless set it stands for (a drive reduced), checked.
+    pub fn reduced(&self) -> Result<Params> {
+        match self {
+            Nominal::Study(p) => {
+                p.validate()?;
+                Ok(*p)
+            }
+            Nominal::Drive(d) => Ok(d.reduce()?.params),
+        }
+    }
+}
+
+/// One parameter's spread, with where it comes from.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Tolerance {
+    /// The parameter.
+    pub target: Target,
+    /// Its distribution.
+    pub distribution: Distribution,
+    /// Its source (`assumption: …` for a default, `user` for one given).
+    pub source: String,
+}
+
+/// Default spreads of a drive's parameters when the user gives none, each an assumption: the
+/// catalogues give single typical values and state no scatter (REAL-DRIVES.md C4), so these are
+/// orders of magnitude an engineer would start from, to be replaced by measured ones.
+pub const DRIVE_DEFAULTS: [(DriveParam, f64, &str); 6] = [
+    (
+        DriveParam::K1,
+        0.15,
+        "assumption: catalogue stiffness is a typical value, ±15 %",
+    ),
+    (
+        DriveParam::K2,
+        0.15,
+        "assumption: catalogue stiffness is a typical value, ±15 %",
+    ),
+    (
+        DriveParam::CEq,
+        0.30,
+        "assumption: hysteresis loss (damping) ±30 %",
+    ),
+    (DriveParam::Backlash, 0.25, "assumption: lost motion ±25 %"),
+    (DriveParam::JOut, 0.10, "assumption: load inertia ±10 %"),
+    (
+        DriveParam::TAm,
+        0.20,
+        "assumption: disturbance amplitude ±20 %",
+    ),
+];
+
+/// A nominal set with its tolerances.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Space {
+    /// The nominal set.
+    pub nominal: Nominal,
+    /// The spreads, one per parameter.
+    pub tolerances: Vec<Tolerance>,
+}
+
+impl Space {
+    /// A checked space: a valid nominal set, at least one tolerance, each of its own kind of
+    /// parameter, none twice, each distribution valid.
+    pub fn new(nominal: Nominal, tolerances: Vec<Tolerance>) -> Result<Space> {
+        nominal.reduced()?;
+        if tolerances.is_empty() {
+            return Err(Error::InvalidInput {
+                what: "tolerances",
+                text: String::new(),
+                reason: "give at least one (NAME=±X%)".into(),
+            });
+        }
+        for (i, t) in tolerances.iter().enumerate() {
+            if nominal.value(t.target).is_nan() {
+                return Err(Error::InvalidInput {
+                    what: "tolerance",
+                    text: t.target.name().into(),
+                    reason: "not a parameter of the nominal set".into(),
+                });
+            }
+            if tolerances[..i].iter().any(|u| u.target == t.target) {
+                return Err(Error::InvalidInput {
+                    what: "tolerance",
+                    text: t.target.name().into(),
+                    reason: "given twice".into(),
+                });
+            }
+            t.distribution.validate()?;
+        }
+        Ok(Space {
+            nominal,
+            tolerances,
+        })
+    }
+
+    /// A tolerance as users write it, `NAME=SPEC` ([`Distribution::parse`] reads SPEC around the
+    /// nominal value).
+    pub fn parse_tolerance(nominal: &Nominal, text: &str) -> Result<Tolerance> {
+        let (name, spec) = text.split_once('=').ok_or_else(|| Error::InvalidInput {
+            what: "tolerance",
+            text: text.to_string(),
+            reason: "expected NAME=SPEC (k1=±20%, gamma=normal:0.1)".into(),
+        })?;
+        let target = nominal.target(name.trim())?;
+        Ok(Tolerance {
+            target,
+            distribution: Distribution::parse(spec, nominal.value(target))?,
+            source: "user".into(),
+        })
+    }
+
+    /// A drive's default tolerances ([`DRIVE_DEFAULTS`]).
+    pub fn drive_defaults(d: &PhysicalParams) -> Vec<Tolerance> {
+        DRIVE_DEFAULTS
+            .iter()
+            .map(|&(p, band, source)| {
+                let v = d.value(p);
+                Tolerance {
+                    target: Target::Drive(p),
+                    distribution: Distribution::Uniform {
+                        lo: v - band * v.abs(),
+                        hi: v + band * v.abs(),
+                    },
+                    source: source.into(),
+                }
+            })
+            .collect()
+    }
+
+    /// Number of toleranced parameters.
+    pub fn dims(&self) -> usize {
+        self.tolerances.len()
+    }
+
+    /// The parameter values at a point of the unit cube (each coordinate a quantile).
+    pub fn values(&self, unit: &[f64]) -> Vec<f64> {
+        self.tolerances
+            .iter()
+            .zip(unit)
+            .map(|(t, &u)| t.distribution.quantile(u))
+            .collect()
+    }
+
+    /// The nominal set with the toleranced parameters at `values`.
+    pub fn at(&self, values: &[f64]) -> Nominal {
+        self.tolerances
+            .iter()
+            .zip(values)
+            .fold(self.nominal, |n, (t, &v)| n.with(t.target, v))
+    }
+
+    /// The nominal values of the toleranced parameters.
+    pub fn nominal_values(&self) -> Vec<f64> {
+        self.tolerances
+            .iter()
+            .map(|t| self.nominal.value(t.target))
+            .collect()
+    }
+}
+
+/// A continuous measure of a response (or the burst indicator): what sensitivity is computed of.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Measure {
+    /// 1 when bursting, else 0 (its mean is P(burst)).
+    Burst,
+    /// Largest |x'| in the window.
+    PeakAbsXdot,
+    /// Largest leading lobe, in units of X.
+    MaxOvershoot,
+    /// Largest ringing swing of x', in units of ω·X.
+    MaxRingingSwing,
+    /// peak |x'| / the equilibrium's largest speed.
+    SpeedRatio,
+}
+
+impl Measure {
+    /// All, in the order of the columns.
+    pub const ALL: [Measure; 5] = [
+        Measure::Burst,
+        Measure::PeakAbsXdot,
+        Measure::MaxOvershoot,
+        Measure::MaxRingingSwing,
+        Measure::SpeedRatio,
+    ];
+
+    /// Its column name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Measure::Burst => "burst",
+            Measure::PeakAbsXdot => "peak_abs_xdot",
+            Measure::MaxOvershoot => "max_overshoot",
+            Measure::MaxRingingSwing => "max_ringing_swing",
+            Measure::SpeedRatio => "speed_ratio",
+        }
+    }
+}
+
+/// The verdict on one sample, with its measures.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Outcome {
+    /// Bursting or not.
+    pub bursting: bool,
+    /// The strongest signature (null when predicted).
+    pub verdict: Option<Verdict>,
+    /// Simulated or predicted.
+    pub basis: Basis,
+    /// Whether the sample is in the fast-slow domain.
+    pub fast_slow_domain: bool,
+    /// Each of [`Measure::ALL`] (NaN when predicted, but the burst indicator).
+    pub measures: [f64; 5],
+}
+
+/// Why a sample has no verdict.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+#[serde(tag = "kind", content = "message", rename_all = "kebab-case")]
+pub enum Failure {
+    /// Its parameter values are outside the model's domain (a negative stiffness, …).
+    OutsideDomain(String),
+    /// Its integration failed.
+    Solver(String),
+}
+
+/// One judged sample.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Sample {
+    /// Its index in the run's sequence.
+    pub index: u64,
+    /// The toleranced parameters' values.
+    pub values: Vec<f64>,
+    /// The dimensionless set it reduces to (None outside the domain).
+    pub reduced: Option<Params>,
+    /// The verdict, or why there is none.
+    pub outcome: std::result::Result<Outcome, Failure>,
+}
+
+/// Judges the sets `values` (each the toleranced parameters' values) in parallel, in order.
+pub fn evaluate(space: &Space, values: &[Vec<f64>], opts: &BurstOptions) -> Vec<Sample> {
+    /// Sets per parallel task: four sixteen-lane batches.
+    const TASK: usize = 4 * crate::batch::LANES;
+    let reduced: Vec<Result<Params>> = values.iter().map(|v| space.at(v).reduced()).collect();
+    let judged: Vec<std::result::Result<Outcome, Failure>> = reduced
+        .par_chunks(TASK)
+        .flat_map_iter(|chunk| {
+            let ok: Vec<Params> = chunk
+                .iter()
+                .filter_map(|r| r.as_ref().ok())
+                .copied()
+                .collect();
+            let mut j = judge_reduced(&ok, opts).into_iter();
+            chunk
+                .iter()
+                .map(|r| match r {
+                    Err(e) => Err(Failure::OutsideDomain(e.to_string())),
+                    Ok(_) => match j.next().expect("one verdict per valid set") {
+                        Ok(judged) => Ok(outcome(judged)),
+                        Err(e) => Err(Failure::Solver(e.to_string())),
+                    },
+                })
+                .collect::<Vec<_>>()
+        })
+        .collect();
+    values
+        .iter()
+        .zip(judged)
+        .zip(reduced)
+        .enumerate()
+        .map(|(i, ((v, outcome), r))| Sample {
+            index: i as u64,
+            values: v.clone(),
+            reduced: r.ok(),
+            outcome,
+        })
+        .collect()
+}
+
+/// A sample as a row of the samples file: its index, the dimensionless set it reduces to, its
+/// verdict and measures (NaN where there are none), and why it has no verdict (empty otherwise).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct SampleRow {
+    /// Index in the run's sequence.
+    pub index: u64,
+    /// α of the reduced set.
+    pub alpha: f64,
+    /// γ.
+    pub gamma: f64,
+    /// ε.
+    pub eps: f64,
+    /// μ.
+    pub mu: f64,
+    /// δ.
+    pub delta: f64,
+    /// ω.
+    pub omega: f64,
+    /// `fold-jump`, `overshoot`, `ringing`, `no-bursts`, or `bursting (predicted)` / `no-bursts
+    /// (predicted)`; empty without a verdict.
+    pub verdict: String,
+    /// Each of [`Measure::ALL`].
+    pub burst: f64,
+    /// Largest |x'|.
+    pub peak_abs_xdot: f64,
+    /// Largest leading lobe / X.
+    pub max_overshoot: f64,
+    /// Largest ringing swing / (ω X).
+    pub max_ringing_swing: f64,
+    /// peak |x'| over the equilibrium's largest speed.
+    pub speed_ratio: f64,
+    /// Why there is no verdict.
+    pub error: String,
+}
+crate::record!(
+    SampleRow: "index", "alpha", "gamma", "eps", "mu", "delta", "omega", "verdict", "burst",
+    "peak_abs_xdot", "max_overshoot", "max_ringing_swing", "speed_ratio", "error"
+);
+
+impl From<&Sample> for SampleRow {
+    fn from(s: &Sample) -> SampleRow {
+        let p = s
+            .reduced
+            .map_or([f64::NAN; 6], |p| Param::ALL.map(|q| p.value(q)));
+        let (verdict, m, error) = match &s.outcome {
+            Ok(o) => {
+                let j = crate::physical::design::Judgement {
+                    bursting: o.bursting,
+                    verdict: o.verdict,
+                    fast_slow_domain: o.fast_slow_domain,
+                    basis: o.basis,
+                };
+                (j.label().to_string(), o.measures, String::new())
+            }
+            Err(Failure::OutsideDomain(e) | Failure::Solver(e)) => {
+                (String::new(), [f64::NAN; 5], e.clone())
+            }
+        };
+        SampleRow {
+            index: s.index,
+            alpha: p[0],
+            gamma: p[1],
+            eps: p[2],
+            mu: p[3],
+            delta: p[4],
+            omega: p[5],
+            verdict,
+            burst: m[0],
+            peak_abs_xdot: m[1],
+            max_overshoot: m[2],
+            max_ringing_swing: m[3],
+            speed_ratio: m[4],
+            error,
+        }
+    }
+}
+
+fn outcome((j, _, r): crate::physical::design::Judged) -> Outcome {
+    let m = r.map_or([f64::NAN; 4], |r| {
+        [
+            r.rates.peak_abs_xdot,
+            r.signatures.max_overshoot,
+            r.signatures.max_ringing_swing,
+            r.measures.speed_ratio,
+        ]
+    });
+    Outcome {
+        bursting: j.bursting,
+        verdict: j.verdict,
+        basis: j.basis,
+        fast_slow_domain: j.fast_slow_domain,
+        measures: [f64::from(u8::from(j.bursting)), m[0], m[1], m[2], m[3]],
+    }
+}
+
+/// How a probability is estimated.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct McOptions {
+    /// Samples (indices `first .. first + samples` of the sequence).
+    pub samples: u64,
+    /// The first index (a shard's start).
+    pub first: u64,
+    /// Sobol or random points.
+    pub sampler: Sampler,
+    /// The seed.
+    pub seed: u64,
+    /// Two-sided confidence of the interval (default 0.95).
+    pub level: f64,
+    /// The interval width asked for: the samples it needs are reported.
+    pub width: f64,
+}
+
+impl Default for McOptions {
+    fn default() -> Self {
+        McOptions {
+            samples: 4096,
+            first: 0,
+            sampler: Sampler::Sobol,
+            seed: 1,
+            level: 0.95,
+            width: 0.02,
+        }
+    }
+}
+
+impl McOptions {
+    /// Checks the options.
+    pub fn validate(&self) -> Result<()> {
+        let bad = |name, value, reason| {
+            Err(Error::InvalidOption {
+                name,
+                value,
+                reason,
+            })
+        };
+        if self.samples == 0 {
+            return bad("samples", 0.0, "must be at least 1");
+        }
+        if !(self.level > 0.0 && self.level < 1.0) {
+            return bad("level", self.level, "must lie in (0, 1)");
+        }
+        if !(self.width > 0.0 && self.width < 1.0) {
+            return bad("width", self.width, "must lie in (0, 1)");
+        }
+        Ok(())
+    }
+}
+
+/// P(burst) over a run's samples.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Probability {
+    /// Samples drawn.
+    pub samples: u64,
+    /// Samples with a verdict.
+    pub judged: u64,
+    /// Of them bursting.
+    pub bursting: u64,
+    /// Of the verdicts, how many were predicted (reduced ω too small to simulate).
+    pub predicted: u64,
+    /// Samples outside the model's domain (excluded).
+    pub outside_domain: u64,
+    /// Samples whose integration failed (excluded).
+    pub failed: u64,
+    /// bursting / judged.
+    pub p: f64,
+    /// Wilson interval at `level`.
+    pub interval: (f64, f64),
+    /// Its confidence.
+    pub level: f64,
+    /// Samples an interval `width` wide needs at this p.
+    pub needed_for_width: u64,
+    /// The width asked for.
+    pub width: f64,
+}
+
+impl Probability {
+    /// Counts a run's samples.
+    pub fn of(samples: &[Sample], mc: &McOptions) -> Probability {
+        let mut p = Probability {
+            samples: 0,
+            judged: 0,
+            bursting: 0,
+            predicted: 0,
+            outside_domain: 0,
+            failed: 0,
+            p: f64::NAN,
+            interval: (0.0, 1.0),
+            level: mc.level,
+            needed_for_width: 0,
+            width: mc.width,
+        };
+        p.add(samples);
+        p.finish()
+    }
+
+    fn add(&mut self, samples: &[Sample]) {
+        for s in samples {
+            self.samples += 1;
+            match &s.outcome {
+                Ok(o) => {
+                    self.judged += 1;
+                    self.bursting += u64::from(o.bursting);
+                    self.predicted += u64::from(o.basis == Basis::Prediction);
+                }
+                Err(Failure::OutsideDomain(_)) => self.outside_domain += 1,
+                Err(Failure::Solver(_)) => self.failed += 1,
+            }
+        }
+    }
+
+    fn finish(mut self) -> Probability {
+        self.p = self.bursting as f64 / self.judged as f64;
+        self.interval = wilson(self.bursting, self.judged, self.level);
+        let p = if self.judged > 0 { self.p } else { 0.5 };
+        self.needed_for_width = samples_for_width(p, self.width, self.level);
+        self
+    }
+}
+
+/// Samples per streamed chunk: the memory a run holds whatever its size.
+pub const CHUNK: u64 = 4096;
+
+/// Estimates P(burst) from `mc.samples` samples of `space`, judged in chunks of [`CHUNK`];
+/// `each` sees every chunk's samples in order (to write them out) and may stop the run with an
+/// error.
+///
+/// ```
+/// use hdgear::{Params, burst::BurstOptions};
+/// use hdgear::robust::{McOptions, Nominal, Space, probability};
+/// let nominal = Nominal::Study(Params { gamma: 30.0, ..Params::default() });
+/// let t = Space::parse_tolerance(&nominal, "gamma=±10%").unwrap();
+/// let space = Space::new(nominal, vec![t]).unwrap();
+/// let mc = McOptions { samples: 32, ..McOptions::default() };
+/// let p = probability(&space, &BurstOptions::default(), &mc, |_| Ok(())).unwrap();
+/// assert_eq!((p.samples, p.bursting), (32, 0)); // γ = 27 … 33 lies far from the boundary
+/// ```
+pub fn probability(
+    space: &Space,
+    opts: &BurstOptions,
+    mc: &McOptions,
+    mut each: impl FnMut(&[Sample]) -> Result<()>,
+) -> Result<Probability> {
+    mc.validate()?;
+    opts.validate()?;
+    let points = Points::new(mc.sampler, mc.seed, space.dims())?;
+    let end = mc
+        .first
+        .checked_add(mc.samples)
+        .filter(|&e| e <= points.capacity());
+    let end = end.ok_or_else(|| Error::InvalidOption {
+        name: "samples",
+        value: mc.samples as f64,
+        reason: "the sequence has no more points",
+    })?;
+    let mut total = Probability::of(&[], mc);
+    let mut start = mc.first;
+    while start < end {
+        let stop = (start + CHUNK).min(end);
+        let values: Vec<Vec<f64>> = (start..stop)
+            .map(|i| {
+                let mut u = vec![0.0; space.dims()];
+                points.point(i, &mut u);
+                space.values(&u)
+            })
+            .collect();
+        let mut samples = evaluate(space, &values, opts);
+        for s in &mut samples {
+            s.index += start;
+        }
+        total.add(&samples);
+        each(&samples)?;
+        start = stop;
+    }
+    Ok(total.finish())
+}
+
+/// Everything the design check under spread reports: the one page of a design review.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Analysis {
+    /// The space.
+    pub space: Space,
+    /// P(burst).
+    pub probability: Probability,
+    /// The sampling options.
+    pub sampling: McOptions,
+    /// Worst case and margin (None when not asked for).
+    pub worst: Option<WorstCase>,
+    /// Sobol indices (None when not asked for).
+    pub sensitivity: Option<Sensitivity>,
+    /// The catalogue's resonance rule (drives only).
+    pub resonance: Option<Resonance>,
+}
+
+/// What [`analyse`] computes beside P(burst).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct AnalysisOptions {
+    /// The sampling of P(burst).
+    pub mc: McOptions,
+    /// The worst case and margin.
+    pub worst: bool,
+    /// Sobol indices from a Saltelli design of this many rows.
+    pub sobol: Option<usize>,
+}
+
+/// P(burst), then the worst case and the Sobol indices when asked for; `each` sees the
+/// samples of P(burst) chunk by chunk ([`probability`]).
+pub fn analyse(
+    space: &Space,
+    opts: &BurstOptions,
+    a: &AnalysisOptions,
+    each: impl FnMut(&[Sample]) -> Result<()>,
+) -> Result<Analysis> {
+    let probability = probability(space, opts, &a.mc, each)?;
+    let worst = a.worst.then(|| worst_case(space, opts)).transpose()?;
+    let sensitivity = a
+        .sobol
+        .map(|n| sensitivity(space, opts, n, a.mc.sampler, a.mc.seed))
+        .transpose()?;
+    Ok(Analysis {
+        space: space.clone(),
+        probability,
+        sampling: a.mc,
+        worst,
+        sensitivity,
+        resonance: resonance(space),
+    })
+}
+
+/// Sobol indices of each measure over a space.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Sensitivity {
+    /// N, the rows of the Saltelli design (N(k + 2) runs).
+    pub n: usize,
+    /// The parameters, in the order of the indices.
+    pub parameters: Vec<&'static str>,
+    /// Per measure ([`Measure::ALL`]): its indices, or None when some run has no value of it
+    /// (a failed or predicted sample).
+    pub measures: Vec<(Measure, Option<sobol::Indices>)>,
+    /// Runs without a verdict.
+    pub failed: usize,
+}
+
+/// Sobol first-order and total indices of every [`Measure`] over `space`, from the Saltelli
+/// design of `n` rows ([`sobol`]).
+pub fn sensitivity(
+    space: &Space,
+    opts: &BurstOptions,
+    n: usize,
+    sampler: Sampler,
+    seed: u64,
+) -> Result<Sensitivity> {
+    opts.validate()?;
+    if n < 2 {
+        return Err(Error::InvalidOption {
+            name: "samples",
+            value: n as f64,
+            reason: "the Saltelli design needs at least 2 rows",
+        });
+    }
+    let k = space.dims();
+    let rows = sobol::design(k, n, sampler, seed)?;
+    let values: Vec<Vec<f64>> = rows.iter().map(|u| space.values(u)).collect();
+    let samples = evaluate(space, &values, opts);
+    let failed = samples.iter().filter(|s| s.outcome.is_err()).count();
+    let measures = Measure::ALL
+        .iter()
+        .enumerate()
+        .map(|(m, &measure)| {
+            let f: Option<Vec<f64>> = samples
+                .iter()
+                .map(|s| s.outcome.as_ref().ok().map(|o| o.measures[m]))
+                .map(|v| v.filter(|v| v.is_finite()))
+                .collect();
+            (measure, f.map(|f| sobol::indices(k, &f)))
+        })
+        .collect();
+    Ok(Sensitivity {
+        n,
+        parameters: space.tolerances.iter().map(|t| t.target.name()).collect(),
+        measures,
+        failed,
+    })
+}
+
+/// The catalogue's selection rule for the torsional mode: f_n = √(k1/J_o)/(2π) at least the
+/// application's minimum (Harmonic Drive's selection procedure).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Resonance {
+    /// f_n at the nominal values \[Hz\].
+    pub nominal_hz: f64,
+    /// The lowest f_n over the tolerance box (k1 at its low edge, J_o at its high edge) \[Hz\].
+    pub lowest_hz: f64,
+}
+
+/// The applications of the selection rule and their minimum f_n \[Hz\].
+pub const APPLICATIONS: [(&str, f64); 4] = [
+    ("slow-turntable", 4.0),
+    ("robot-base", 8.0),
+    ("hand-axis", 15.0),
+    ("milling-head", 20.0),
+];
+
+/// The selection rule's frequencies for a drive space (None for a study set).
+pub fn resonance(space: &Space) -> Option<Resonance> {
+    let Nominal::Drive(d) = space.nominal else {
+        return None;
+    };
+    let f = |k1: f64, j: f64| (k1 / j).sqrt() / (2.0 * std::f64::consts::PI);
+    let edge = |p: DriveParam, low: bool| {
+        space
+            .tolerances
+            .iter()
+            .find(|t| t.target == Target::Drive(p))
+            .map_or(d.value(p), |t| {
+                let (lo, hi) = t.distribution.range();
+                if low { lo } else { hi }
+            })
+    };
+    Some(Resonance {
+        nominal_hz: f(d.k1, d.j_out),
+        lowest_hz: f(edge(DriveParam::K1, true), edge(DriveParam::JOut, false)),
+    })
+}
