@@ -38,6 +38,36 @@ pub(crate) fn to_py<'py, T: serde::Serialize>(
     value_to_py(py, &value)
 }
 
+/// Records as a dict of their columns ([`hdgear::output::Record::COLUMNS`], the CLI's CSV
+/// columns): a numpy array of floats for a numeric column (NaN for JSON's null), a list of
+/// strings otherwise.
+pub(crate) fn record_columns<'py, T: hdgear::output::Record>(
+    py: Python<'py>,
+    rows: &[T],
+) -> PyResult<Bound<'py, PyDict>> {
+    use numpy::IntoPyArray;
+    let values: Vec<serde_json::Value> = rows
+        .iter()
+        .map(serde_json::to_value)
+        .collect::<Result<_, _>>()
+        .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+    let d = PyDict::new(py);
+    for &name in T::COLUMNS {
+        let column: Vec<&serde_json::Value> = values.iter().map(|v| &v[name]).collect();
+        if column.iter().all(|v| v.is_number() || v.is_null()) {
+            let f: Vec<f64> = column.iter().map(|v| v.as_f64().unwrap_or(f64::NAN)).collect();
+            d.set_item(name, f.into_pyarray(py))?;
+        } else {
+            let s: Vec<String> = column
+                .iter()
+                .map(|v| v.as_str().map_or_else(|| v.to_string(), str::to_string))
+                .collect();
+            d.set_item(name, s)?;
+        }
+    }
+    Ok(d)
+}
+
 fn value_to_py<'py>(py: Python<'py>, v: &serde_json::Value) -> PyResult<Bound<'py, PyAny>> {
     use serde_json::Value;
     Ok(match v {

@@ -12,7 +12,7 @@ use std::collections::BTreeMap;
 #[pyclass(frozen, module = "hdgear._hdgear")]
 #[derive(Clone)]
 pub(crate) struct Drive {
-    inner: PhysicalParams,
+    pub(crate) inner: PhysicalParams,
 }
 
 #[pymethods]

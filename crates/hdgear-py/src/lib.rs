@@ -4,7 +4,7 @@
 //! arrays (columns of numbers) or Python objects (dicts and lists of nested results).
 //!
 //! One module per part of the library: [`params`], [`simulate`], [`fast`], [`sweep`],
-//! [`drive`], [`periodic`], [`control`]; what they share (errors, conversions, limits, Ctrl-C) in [`convert`].
+//! [`drive`], [`periodic`], [`control`], [`robust`]; what they share (errors, conversions, limits, Ctrl-C) in [`convert`].
 //!
 //! Errors: the library's input errors become `ValueError` with the CLI's message; a failed
 //! integration (step-size underflow, blow-up, step budget) a `RuntimeError`; Ctrl-C during a
@@ -13,6 +13,7 @@
 #![forbid(unsafe_code)]
 
 mod control;
+mod robust;
 mod convert;
 mod drive;
 mod fast;
@@ -39,6 +40,7 @@ fn _hdgear(m: &Bound<'_, PyModule>) -> PyResult<()> {
         wrap_pyfunction!(periodic::periodic, m)?,
         wrap_pyfunction!(periodic::continuation, m)?,
         wrap_pyfunction!(control::control, m)?,
+        wrap_pyfunction!(robust::robust, m)?,
     ] {
         m.add_function(f)?;
     }

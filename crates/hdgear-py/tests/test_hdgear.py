@@ -196,6 +196,28 @@ def test_control_equals_the_cli_and_refuses_bad_laws():
         hdgear.control("vdamping", ww=0.3)
 
 
+def test_robust_equals_the_cli_and_refuses_bad_tolerances(tmp_path):
+    drive = hdgear.Drive(k1=2000, t_am=22)
+    summary, samples = hdgear.robust(drive, samples=256, worst=False)
+    doc = cli_json("physical", "--k1", "2000", "--t-am", "22", "--robust", "--samples", "256",
+                   "--no-worst", "--json", "--out", str(tmp_path / "s.csv"))
+    assert summary.probability.to_dict() == doc["probability"]
+    rows = read_csv(tmp_path / "s.csv")
+    assert len(samples["verdict"]) == len(rows) == 256
+    assert [r["verdict"] for r in rows] == list(samples["verdict"])
+    assert sum(samples["burst"]) == summary.probability.bursting
+    assert summary.resonance.nominal_hz == doc["resonance"]["nominal_hz"]
+    s, _ = hdgear.robust(hdgear.Params(gamma=2.2), {"gamma": "normal:10%"}, samples=64,
+                         worst=False)
+    assert s.probability.judged == 64
+    with pytest.raises(ValueError, match="tolerances"):
+        hdgear.robust(hdgear.Params())
+    with pytest.raises(ValueError, match="weibull"):
+        hdgear.robust(drive, {"k1": "weibull:3"})
+    with pytest.raises(ValueError, match="gamma"):
+        hdgear.robust(drive, {"gamma": "±1%"})
+
+
 # ---- sweeps ----------------------------------------------------------------------------------
 
 def columns_equal(py, rows):

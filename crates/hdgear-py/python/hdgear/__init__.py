@@ -25,7 +25,7 @@ from ._hdgear import Params
 __version__ = _hdgear.__version__
 __all__ = ["Params", "Trajectory", "Result", "Drive", "simulate", "equilibria", "curve",
            "analyze", "bursts", "sweep", "periodic", "continuation", "frequency_response",
-           "control"]
+           "control", "robust"]
 
 
 class Result:
@@ -148,6 +148,37 @@ def control(laws=None, params=None, gain=None, ww=None, rel_tol=1e-3, spread=0.2
                            None if spread is None else float(spread), float(discard),
                            int(window_periods), float(rtol), float(atol), method)
     return Result(data)
+
+
+def robust(nominal=None, tolerances=None, samples=4096, sampler="sobol", seed=1, level=0.95,
+           width=0.02, sobol=None, worst=True, discard=1.0, window_periods=2, rtol=1e-10,
+           atol=1e-10, method="taylor"):
+    """The design check under manufacturing spread (what ``hdgear robust --json`` and ``hdgear
+    physical --robust --json`` print): returns ``(summary, samples)``.
+
+    ``nominal`` is a :class:`Params` or a :class:`Drive` (the study's set by default);
+    ``tolerances`` maps parameter names to spreads as the CLI writes them (``{"k1": "±15%",
+    "c_eq": "normal:10%"}``; a drive without any takes the default bands, marked as assumptions).
+    ``summary`` is a :class:`Result` with ``probability`` (P(burst), its Wilson interval at
+    ``level``), ``worst`` (the worst corner and margin; None with ``worst=False``),
+    ``sensitivity`` (Sobol indices from a Saltelli design of ``sobol`` rows, when given) and
+    ``resonance`` (drives). ``samples`` holds one row per sample, the columns of ``hdgear robust
+    --out``, as a DataFrame (a dict of columns without pandas). The same ``seed`` gives the same
+    samples on any thread count."""
+    tol = [] if tolerances is None else [f"{k}={v}" for k, v in dict(tolerances).items()]
+    params = drive = None
+    if isinstance(nominal, Drive):
+        drive = nominal._native
+    elif nominal is not None:
+        params = _params(nominal)
+    summary, cols = _hdgear.robust(params, drive, tol, int(samples), sampler, int(seed),
+                                   float(level), float(width),
+                                   None if sobol is None else int(sobol), bool(worst),
+                                   float(discard), int(window_periods), float(rtol),
+                                   float(atol), method)
+    for k in ("verdict", "error"):
+        cols[k] = _np.array(cols[k], dtype=object)
+    return Result(summary), _frame(cols)
 
 
 def sweep(axes, base=None, grid=True, threads=0, discard=1.0, window_periods=2, rtol=1e-10,

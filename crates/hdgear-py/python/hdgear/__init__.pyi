@@ -70,6 +70,11 @@ def control(laws: Union[str, Sequence[str], None] = ..., params: Optional[Params
             gain: Optional[float] = ..., ww: Optional[float] = ..., rel_tol: float = ...,
             spread: Optional[float] = ..., discard: float = ..., window_periods: int = ..., rtol: float = ...,
             atol: float = ..., method: str = ...) -> Result: ...
+def robust(nominal: Union[Params, "Drive", None] = ..., tolerances: Optional[Mapping[str, str]] = ...,
+           samples: int = ..., sampler: str = ..., seed: int = ..., level: float = ...,
+           width: float = ..., sobol: Optional[int] = ..., worst: bool = ..., discard: float = ...,
+           window_periods: int = ..., rtol: float = ..., atol: float = ...,
+           method: str = ...) -> Tuple[Result, Any]: ...
 def sweep(axes: Mapping[str, Union[Sequence[float], Array]], base: Optional[Params] = ...,
           grid: bool = ..., threads: int = ..., discard: float = ..., window_periods: int = ...,
           rtol: float = ..., atol: float = ..., method: str = ...) -> Any: ...
