@@ -108,3 +108,77 @@ fn robust_bad_input_exits_2() {
         "gamma",
     );
 }
+
+/// A card file with a `[card.tolerance]` table: its bands replace the defaults for the
+/// parameters it names (with the card's source), the defaults stay for the rest, its
+/// application's resonance requirement is checked (f_n ≈ 81 Hz against 200 Hz); a band on a
+/// parameter that is not the drive's is refused naming it.
+#[test]
+fn robust_takes_a_cards_tolerances() {
+    use hdgear::physical::card::{Application, CardFile, Source, SourceKind, Tolerances, builtin};
+    let dir = tempfile::tempdir().unwrap();
+    let write = |bands: &[(&str, &str)]| {
+        let mut f: CardFile = builtin().clone();
+        f.card.retain(|c| c.name == "CSF-20-50");
+        f.sources.insert(
+            "batch".into(),
+            Source {
+                kind: SourceKind::Measured,
+                cite: "a measured batch".into(),
+            },
+        );
+        f.card[0].application = Some(Application {
+            source: "batch".into(),
+            resonance_required: Some(200.0),
+            ..Application::default()
+        });
+        f.card[0].tolerance = Some(Tolerances {
+            source: "batch".into(),
+            bands: bands
+                .iter()
+                .map(|(k, v)| (k.to_string(), v.to_string()))
+                .collect(),
+        });
+        let path = dir.path().join(format!("card{}.toml", bands.len()));
+        std::fs::write(&path, f.to_toml()).unwrap();
+        path.to_str().unwrap().to_string()
+    };
+    let path = write(&[("k1", "±5%"), ("t_m", "normal:2%")]);
+    let doc = json_of(&[
+        "robust",
+        "--card",
+        &path,
+        "--samples",
+        "64",
+        "--no-worst",
+        "--json",
+    ]);
+    let tol = doc["space"]["tolerances"].as_array().unwrap();
+    let of = |name: &str| tol.iter().find(|t| t["target"] == name).unwrap();
+    assert_eq!(of("k1")["distribution"]["kind"], "uniform");
+    let lo = of("k1")["distribution"]["lo"].as_f64().unwrap();
+    let k1 = doc["space"]["nominal"]["values"]["k1"].as_f64().unwrap();
+    assert!((lo / k1 - 0.95).abs() < 1e-12);
+    assert!(
+        of("k1")["source"]
+            .as_str()
+            .unwrap()
+            .contains("a measured batch")
+    );
+    assert_eq!(of("t_m")["distribution"]["kind"], "normal");
+    assert!(
+        of("c_eq")["source"]
+            .as_str()
+            .unwrap()
+            .starts_with("assumption")
+    );
+    assert_eq!(tol.len(), 7);
+    assert_eq!(doc["resonance"]["required_hz"], 200.0);
+    let text = stdout_of(&["robust", "--card", &path, "--samples", "16", "--no-worst"]);
+    assert!(
+        text.contains("the card's application needs 200 Hz: FAIL"),
+        "{text}"
+    );
+    let bad = write(&[("k1", "±5%"), ("gamma", "±1%"), ("t_m", "±1%")]);
+    fails_with(&["robust", "--card", &bad], "gamma");
+}

@@ -55,7 +55,10 @@ pub(crate) fn record_columns<'py, T: hdgear::output::Record>(
     for &name in T::COLUMNS {
         let column: Vec<&serde_json::Value> = values.iter().map(|v| &v[name]).collect();
         if column.iter().all(|v| v.is_number() || v.is_null()) {
-            let f: Vec<f64> = column.iter().map(|v| v.as_f64().unwrap_or(f64::NAN)).collect();
+            let f: Vec<f64> = column
+                .iter()
+                .map(|v| v.as_f64().unwrap_or(f64::NAN))
+                .collect();
             d.set_item(name, f.into_pyarray(py))?;
         } else {
             let s: Vec<String> = column

@@ -13,12 +13,12 @@
 #![forbid(unsafe_code)]
 
 mod control;
-mod robust;
 mod convert;
 mod drive;
 mod fast;
 mod params;
 mod periodic;
+mod robust;
 mod simulate;
 mod sweep;
 

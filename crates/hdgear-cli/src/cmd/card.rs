@@ -412,6 +412,11 @@ fn template(name: &str) -> String {
             let _ = writeln!(s, "# {} = ...   # [{}] {}", f.key, f.unit, f.meaning);
         }
     }
+    s.push_str(
+        "\n# [card.tolerance]   # manufacturing spreads for hdgear robust (drive parameter names)\n\
+         # source = \"mine\"\n\
+         # bands = { k1 = \"±12%\", c_eq = \"normal:15%\" }   # ±X%, ±X, LO..HI, normal:SD, lognormal:S%, tnormal:SD:±X\n",
+    );
     s
 }
 

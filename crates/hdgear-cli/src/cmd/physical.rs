@@ -24,8 +24,10 @@ pub fn run(a: PhysicalArgs) -> Result<()> {
     }
     if a.robust {
         let nominal = hdgear::robust::Nominal::Drive(d);
+        let card = crate::cmd::card::load(&a.drive).context("--drive")?;
         return crate::cmd::robust::analyse_and_print(
             nominal,
+            Some(&card),
             &a.robust_opts,
             &opts,
             a.out.as_deref(),

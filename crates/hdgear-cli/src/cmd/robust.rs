@@ -3,6 +3,7 @@
 //! catalogue's resonance rule; the samples streamed to a file.
 
 use crate::cli::{BurstArgs, ParamArgs, check_out};
+use crate::cmd::card::Loaded;
 use crate::sink::{Sink, out, warn};
 use anyhow::{Context, Result, bail};
 use clap::Args;
@@ -19,7 +20,8 @@ use std::path::{Path, PathBuf};
 pub struct RobustOpts {
     /// A parameter's spread, NAME=SPEC (repeatable): ±X% or ±X (uniform band), LO..HI,
     /// normal:SD (SD in % or absolute), lognormal:S% (σ of ln), tnormal:SD:±X (truncated).
-    /// A drive without any takes documented default bands, marked as assumptions.
+    /// A drive without any takes its card's bands ([card.tolerance]) and documented default
+    /// bands for the rest, marked as assumptions.
     #[arg(long = "tolerance", value_name = "NAME=SPEC")]
     pub tolerances: Vec<String>,
     /// Samples of P(burst).
@@ -105,12 +107,14 @@ impl RobustOpts {
         })
     }
 
-    /// The space: the user's tolerances, or a drive's defaults.
-    fn space(&self, nominal: Nominal) -> Result<Space> {
+    /// The space: the user's tolerances, or a drive's card's bands and the defaults.
+    fn space(&self, nominal: Nominal, card: Option<&Loaded>) -> Result<Space> {
         let tolerances = if self.tolerances.is_empty() {
-            match nominal {
-                Nominal::Drive(d) => Space::drive_defaults(&d),
-                Nominal::Study(_) => bail!(
+            match (nominal, card) {
+                (Nominal::Drive(d), Some(c)) => Space::card_tolerances(&d, &c.card, &c.sources)
+                    .context("the card's tolerances")?,
+                (Nominal::Drive(d), None) => Space::drive_defaults(&d),
+                (Nominal::Study(_), _) => bail!(
                     "a parameter set needs its spreads: --tolerance NAME=SPEC (gamma=±10%); a \
                      drive (--card) has default bands"
                 ),
@@ -139,31 +143,40 @@ fn shard(text: &str) -> Result<(u64, u64)> {
 /// Runs `hdgear robust`.
 pub fn run(a: RobustArgs) -> Result<()> {
     let opts = a.burst.options()?;
-    let nominal = match &a.card {
+    let (nominal, card) = match &a.card {
         Some(card) => {
             let loaded = crate::cmd::card::load(card).context("--card")?;
             let built = hdgear::physical::catalogue::assemble(&loaded.card, None, None)
                 .context("--card")?;
-            Nominal::Drive(built.drive)
+            (Nominal::Drive(built.drive), Some(loaded))
         }
         None => {
             let (p, warnings) = a.params.resolve()?;
             warn(&warnings);
-            Nominal::Study(p)
+            (Nominal::Study(p), None)
         }
     };
-    analyse_and_print(nominal, &a.robust, &opts, a.out.as_deref(), a.json)
+    analyse_and_print(
+        nominal,
+        card.as_ref(),
+        &a.robust,
+        &opts,
+        a.out.as_deref(),
+        a.json,
+    )
 }
 
-/// The analysis of `nominal`, its samples to `out`, its page (or JSON) to stdout.
+/// The analysis of `nominal` (a drive with its `card`'s tolerances), its samples to `out`, its
+/// page (or JSON) to stdout.
 pub fn analyse_and_print(
     nominal: Nominal,
+    card: Option<&Loaded>,
     r: &RobustOpts,
     opts: &hdgear::burst::BurstOptions,
     out_path: Option<&Path>,
     json: bool,
 ) -> Result<()> {
-    let space = r.space(nominal)?;
+    let space = r.space(nominal, card)?;
     let options = r.options()?;
     check_out(&out_path.map(Path::to_path_buf))?;
     let mut writer = match out_path {
@@ -173,7 +186,7 @@ pub fn analyse_and_print(
         }
         None => None,
     };
-    let analysis = analyse(&space, opts, &options, |samples| {
+    let mut analysis = analyse(&space, opts, &options, |samples| {
         if let Some(w) = writer.as_mut() {
             for s in samples {
                 w.row(&SampleRow::from(s))
@@ -189,6 +202,13 @@ pub fn analyse_and_print(
         w.finish()
             .with_context(|| format!("writing {}", path.display()))?
             .commit()?;
+    }
+    if let (Some(r), Some(c)) = (analysis.resonance.as_mut(), card) {
+        r.required_hz = c
+            .card
+            .application
+            .as_ref()
+            .and_then(|a| a.resonance_required);
     }
     if json {
         crate::sink::outln!("{}", serde_json::to_string_pretty(&analysis)?);
@@ -267,6 +287,10 @@ pub fn text(a: &Analysis) -> String {
             r.lowest_hz,
             rule.join(", ")
         );
+        if let Some(req) = r.required_hz {
+            let ok = if r.lowest_hz >= req { "pass" } else { "FAIL" };
+            let _ = writeln!(s, "  the card's application needs {req} Hz: {ok}");
+        }
     }
     s
 }

@@ -224,6 +224,26 @@ pub struct Card {
     /// The application.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub application: Option<Application>,
+    /// The spreads of the drive's parameters (`hdgear robust`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tolerance: Option<Tolerances>,
+}
+
+/// A card's manufacturing spreads: drive parameter name (`k1`, `c_eq`, …) → spread as
+/// `hdgear robust --tolerance` writes it (`±15%`, `normal:5%`, …), with their source.
+///
+/// ```toml
+/// [card.tolerance]
+/// source = "measured-batch"
+/// bands = { k1 = "±12%", c_eq = "normal:15%" }
+/// ```
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Tolerances {
+    /// Key of the source in the file's `[sources]`.
+    pub source: String,
+    /// Spread per drive parameter.
+    pub bands: BTreeMap<String, String>,
 }
 
 /// A card file: its format, sources and cards.
@@ -371,6 +391,9 @@ impl Card {
                 }
             }
         }
+        if let Some(t) = &self.tolerance {
+            self.validate_tolerances(t, sources)?;
+        }
         let s = &self.stiffness;
         for (key, v) in REQUIRED.iter().zip([s.t1, s.t2, s.k1, s.k2]) {
             match v {
@@ -398,6 +421,39 @@ impl Card {
             && k3 < c.k2
         {
             return Err(bad("stiffness.k3".into(), fmt(k3), "must be ≥ k2"));
+        }
+        Ok(())
+    }
+}
+
+impl Card {
+    /// A tolerance table names a known source, drive parameters, and spreads that read (the
+    /// nominal value is the drive's, known only when it is built: checked here at 1).
+    fn validate_tolerances(
+        &self,
+        t: &Tolerances,
+        sources: &BTreeMap<String, Source>,
+    ) -> Result<()> {
+        let bad = |field: String, value: String, reason: &'static str| Error::Card {
+            card: self.name.clone(),
+            field,
+            value,
+            reason,
+        };
+        if !sources.contains_key(&t.source) {
+            let reason = "names no entry of [sources]";
+            return Err(bad("tolerance.source".into(), t.source.clone(), reason));
+        }
+        for (name, spec) in &t.bands {
+            if name.parse::<super::DriveParam>().is_err() {
+                let reason = "is not a drive parameter (j_in, j_out, ratio, k1, k2, backlash, c_eq, t_m, t_am, omega)";
+                return Err(bad(format!("tolerance.bands.{name}"), spec.clone(), reason));
+            }
+            if crate::robust::Distribution::parse(spec, 1.0).is_err() {
+                let reason =
+                    "is not a spread (±X%, ±X, LO..HI, normal:SD, lognormal:S%, tnormal:SD:±X)";
+                return Err(bad(format!("tolerance.bands.{name}"), spec.clone(), reason));
+            }
         }
         Ok(())
     }

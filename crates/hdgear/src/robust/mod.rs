@@ -213,6 +213,32 @@ impl Space {
             .collect()
     }
 
+    /// A drive's tolerances from its card: the card's bands (with the card's source) where it
+    /// has them, [`DRIVE_DEFAULTS`] for the other parameters.
+    pub fn card_tolerances(
+        d: &PhysicalParams,
+        card: &crate::physical::card::Card,
+        sources: &std::collections::BTreeMap<String, crate::physical::card::Source>,
+    ) -> Result<Vec<Tolerance>> {
+        let nominal = Nominal::Drive(*d);
+        let mut out = Space::drive_defaults(d);
+        let Some(t) = &card.tolerance else {
+            return Ok(out);
+        };
+        let source = sources.get(&t.source).map_or(t.source.clone(), |s| {
+            format!("card {}: {}", card.name, s.cite)
+        });
+        for (name, spec) in &t.bands {
+            let mut tol = Space::parse_tolerance(&nominal, &format!("{name}={spec}"))?;
+            tol.source.clone_from(&source);
+            match out.iter_mut().find(|u| u.target == tol.target) {
+                Some(u) => *u = tol,
+                None => out.push(tol),
+            }
+        }
+        Ok(out)
+    }
+
     /// Number of toleranced parameters.
     pub fn dims(&self) -> usize {
         self.tolerances.len()
@@ -752,6 +778,8 @@ pub struct Resonance {
     pub nominal_hz: f64,
     /// The lowest f_n over the tolerance box (k1 at its low edge, J_o at its high edge) \[Hz\].
     pub lowest_hz: f64,
+    /// The application's own requirement (a card's `application.resonance_required`) \[Hz\].
+    pub required_hz: Option<f64>,
 }
 
 /// The applications of the selection rule and their minimum f_n \[Hz\].
@@ -781,5 +809,6 @@ pub fn resonance(space: &Space) -> Option<Resonance> {
     Some(Resonance {
         nominal_hz: f(d.k1, d.j_out),
         lowest_hz: f(edge(DriveParam::K1, true), edge(DriveParam::JOut, false)),
+        required_hz: None,
     })
 }
