@@ -51,6 +51,28 @@ fn robust_counts_its_samples_file() {
     assert!(text.contains("hand-axis (>= 15 Hz) pass"), "{text}");
 }
 
+/// The tolerance cloud is drawn with both verdicts' samples and the predicted boundary.
+#[test]
+fn robust_draws_the_tolerance_cloud() {
+    let dir = tempfile::tempdir().unwrap();
+    let svg = dir.path().join("cloud.svg");
+    let args = [&DRIVE[..], &["--robust", "--samples", "512", "--no-worst"]].concat();
+    hdgear()
+        .args(&args)
+        .args(["--cloud", svg.to_str().unwrap()])
+        .assert()
+        .success();
+    let text = std::fs::read_to_string(&svg).unwrap();
+    for label in [
+        "burst-free sample",
+        "bursting sample",
+        "predicted boundary",
+        "nominal",
+    ] {
+        assert!(text.contains(label), "{label}");
+    }
+}
+
 /// Two shards of a run write the rows of the whole run, byte for byte.
 #[test]
 fn robust_shards_join_into_the_whole_run() {
@@ -103,6 +125,7 @@ fn robust_bad_input_exits_2() {
     fails_with(&[&g[..], &["--sampler", "lhs"]].concat(), "lhs");
     fails_with(&[&g[..], &["--sobol", "1"]].concat(), "sobol");
     fails_with(&[&g[..], &["--out", "x.txt"]].concat(), "x.txt");
+    fails_with(&[&g[..], &["--cloud", "x.pdf"]].concat(), "x.pdf");
     fails_with(
         &["robust", "--card", "CSF-20-50", "--tolerance", "gamma=±1%"],
         "gamma",

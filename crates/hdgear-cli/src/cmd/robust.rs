@@ -46,6 +46,10 @@ pub struct RobustOpts {
     /// Skip the worst corner and margin (2^k rays for k tolerances).
     #[arg(long)]
     pub no_worst: bool,
+    /// The tolerance cloud to a .svg or .png file: the first 4096 samples in the reduced
+    /// (γ, δ) plane coloured by verdict, with the predicted boundary.
+    #[arg(long, value_name = "FILE")]
+    pub cloud: Option<PathBuf>,
     /// K/N: compute only part K (0 … N−1) of the samples, a contiguous block (the samples are
     /// the same as in the whole run).
     #[arg(long, value_name = "K/N")]
@@ -179,6 +183,10 @@ pub fn analyse_and_print(
     let space = r.space(nominal, card)?;
     let options = r.options()?;
     check_out(&out_path.map(Path::to_path_buf))?;
+    if let Some(path) = &r.cloud {
+        crate::cli::check_figure_path("--cloud", path)?;
+    }
+    let mut cloud: Vec<(f64, f64, bool)> = Vec::new();
     let mut writer = match out_path {
         Some(path) => {
             let (sink, format) = Sink::open(Some(path))?;
@@ -187,6 +195,13 @@ pub fn analyse_and_print(
         None => None,
     };
     let mut analysis = analyse(&space, opts, &options, |samples| {
+        for s in samples {
+            if let (Some(p), Ok(o)) = (s.reduced, &s.outcome)
+                && cloud.len() < hdgear::figures::CLOUD_POINTS
+            {
+                cloud.push((p.gamma, p.delta, o.bursting));
+            }
+        }
         if let Some(w) = writer.as_mut() {
             for s in samples {
                 w.row(&SampleRow::from(s))
@@ -202,6 +217,10 @@ pub fn analyse_and_print(
         w.finish()
             .with_context(|| format!("writing {}", path.display()))?
             .commit()?;
+    }
+    if let Some(path) = &r.cloud {
+        let figure = hdgear::figures::cloud_figure(&space.nominal.reduced()?, &cloud);
+        hdgear::output::plot::write(&figure, path)?;
     }
     if let (Some(r), Some(c)) = (analysis.resonance.as_mut(), card) {
         r.required_hz = c
