@@ -27,6 +27,8 @@
 //! * [`control`]: feedback laws as terms, each measured against the open loop and tuned to the
 //!   least gain that removes the bursts.
 //! * [`physical`]: the drive in SI units, its reduction, simulation and design check.
+//! * [`robust`]: the design check under manufacturing spread (P(burst), worst case and margin,
+//!   Sobol indices), on the [`distribution`]s of the parameters.
 //! * [`study::Study`] and [`report::Report`]: computations done once, then rendered.
 //!
 //! ```
@@ -41,6 +43,7 @@
 pub mod batch;
 pub mod burst;
 pub mod control;
+pub mod distribution;
 pub mod error;
 pub mod explore;
 pub mod fast;

@@ -355,8 +355,8 @@ fn worst_text(s: &mut String, a: &Analysis, w: &hdgear::robust::WorstCase) {
                 signs.join(", "),
                 x.inside,
                 x.outside,
-                label(&x.inside_outcome),
-                label(&x.outside_outcome)
+                x.inside_outcome.label(),
+                x.outside_outcome.label()
             );
         }
         None => {
@@ -401,16 +401,6 @@ fn worst_text(s: &mut String, a: &Analysis, w: &hdgear::robust::WorstCase) {
         "  checked inside that box: {} points, {} with another verdict",
         w.interior_checked, w.interior_differing
     );
-}
-
-fn label(o: &hdgear::robust::Outcome) -> &'static str {
-    hdgear::physical::design::Judgement {
-        bursting: o.bursting,
-        verdict: o.verdict,
-        fast_slow_domain: o.fast_slow_domain,
-        basis: o.basis,
-    }
-    .label()
 }
 
 fn sobol_text(s: &mut String, sens: &hdgear::robust::Sensitivity) {

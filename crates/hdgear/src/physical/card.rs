@@ -449,7 +449,7 @@ impl Card {
                 let reason = "is not a drive parameter (j_in, j_out, ratio, k1, k2, backlash, c_eq, t_m, t_am, omega)";
                 return Err(bad(format!("tolerance.bands.{name}"), spec.clone(), reason));
             }
-            if crate::robust::Distribution::parse(spec, 1.0).is_err() {
+            if crate::distribution::Distribution::parse(spec, 1.0).is_err() {
                 let reason =
                     "is not a spread (±X%, ±X, LO..HI, normal:SD, lognormal:S%, tnormal:SD:±X)";
                 return Err(bad(format!("tolerance.bands.{name}"), spec.clone(), reason));

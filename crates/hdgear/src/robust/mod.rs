@@ -18,12 +18,13 @@ use crate::physical::{DriveParam, PhysicalParams};
 use rayon::prelude::*;
 use serde::Serialize;
 
-pub mod dist;
 pub mod sequence;
 pub mod sobol;
 mod worst;
 
-pub use dist::{Distribution, normal_cdf, normal_quantile, samples_for_width, wilson};
+pub use crate::distribution::{
+    Distribution, normal_cdf, normal_quantile, samples_for_width, wilson,
+};
 pub use sequence::{Points, Sampler};
 pub use worst::{Corner, WorstCase, worst_case};
 
@@ -323,6 +324,19 @@ pub struct Outcome {
     pub measures: [f64; 5],
 }
 
+impl Outcome {
+    /// The verdict's name, as the design check labels it (`ringing`, `no-bursts (predicted)`, …).
+    pub fn label(&self) -> &'static str {
+        crate::physical::design::Judgement {
+            bursting: self.bursting,
+            verdict: self.verdict,
+            fast_slow_domain: self.fast_slow_domain,
+            basis: self.basis,
+        }
+        .label()
+    }
+}
+
 /// Why a sample has no verdict.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 #[serde(tag = "kind", content = "message", rename_all = "kebab-case")]
@@ -431,15 +445,7 @@ impl From<&Sample> for SampleRow {
             .reduced
             .map_or([f64::NAN; 6], |p| Param::ALL.map(|q| p.value(q)));
         let (verdict, m, error) = match &s.outcome {
-            Ok(o) => {
-                let j = crate::physical::design::Judgement {
-                    bursting: o.bursting,
-                    verdict: o.verdict,
-                    fast_slow_domain: o.fast_slow_domain,
-                    basis: o.basis,
-                };
-                (j.label().to_string(), o.measures, String::new())
-            }
+            Ok(o) => (o.label().to_string(), o.measures, String::new()),
             Err(Failure::OutsideDomain(e) | Failure::Solver(e)) => {
                 (String::new(), [f64::NAN; 5], e.clone())
             }

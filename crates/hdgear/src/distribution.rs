@@ -1,5 +1,6 @@
 //! Distributions of a toleranced parameter, the normal distribution's CDF and quantile, and the
-//! Wilson interval of a binomial proportion.
+//! Wilson interval of a binomial proportion: what a card's tolerances and [`crate::robust`]
+//! read and compute with (it needs nothing but the error type).
 
 use crate::error::{Error, Result};
 use serde::{Deserialize, Serialize};
