@@ -113,13 +113,7 @@ pub fn normal_quantile(p: f64) -> f64 {
 impl Distribution {
     /// Checks the distribution's own parameters (finite, positive spreads, lo < hi).
     pub fn validate(&self) -> Result<()> {
-        let bad = |name, value, reason| {
-            Err(Error::InvalidOption {
-                name,
-                value,
-                reason,
-            })
-        };
+        let bad = crate::error::bad_option;
         let finite = |name, v: f64| {
             if v.is_finite() {
                 Ok(())

@@ -168,6 +168,15 @@ pub enum SolverError {
 /// Result alias of the library.
 pub type Result<T> = std::result::Result<T, Error>;
 
+/// An [`Error::InvalidOption`] as an `Err`: how option checks refuse a value.
+pub(crate) fn bad_option<T>(name: &'static str, value: f64, reason: &'static str) -> Result<T> {
+    Err(Error::InvalidOption {
+        name,
+        value,
+        reason,
+    })
+}
+
 /// The element of `all` called `text` (by `name`), or an [`Error::InvalidInput`] about `what`
 /// that lists the names: how every name-parsed enum (parameters, figure kinds, methods) reads
 /// user text.

@@ -124,13 +124,7 @@ impl Default for BurstOptions {
 impl BurstOptions {
     /// Checks the options.
     pub fn validate(&self) -> Result<()> {
-        let bad = |name, value, reason| {
-            Err(Error::InvalidOption {
-                name,
-                value,
-                reason,
-            })
-        };
+        let bad = crate::error::bad_option;
         if !(self.discard_periods.is_finite() && self.discard_periods >= 0.0) {
             return bad("discard", self.discard_periods, "must be finite and ≥ 0");
         }

@@ -520,13 +520,7 @@ impl Default for McOptions {
 impl McOptions {
     /// Checks the options.
     pub fn validate(&self) -> Result<()> {
-        let bad = |name, value, reason| {
-            Err(Error::InvalidOption {
-                name,
-                value,
-                reason,
-            })
-        };
+        let bad = crate::error::bad_option;
         if self.samples == 0 {
             return bad("samples", 0.0, "must be at least 1");
         }
