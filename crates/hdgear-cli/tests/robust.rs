@@ -1,6 +1,7 @@
 //! `hdgear robust` and `hdgear physical --robust`: the page and the JSON agree, the samples file
-//! holds one row per sample and its verdicts count to P(burst), shards join into the whole run,
-//! and bad requests are refused with the value named.
+//! holds one row per sample and its verdicts count to P(burst), shards join into the whole run
+//! (their rows, and their summaries through hdgear merge), and bad requests are refused with the
+//! value named.
 
 use crate::common::{fails_with, hdgear, json_of, stdout_of};
 
@@ -108,6 +109,54 @@ fn robust_shards_join_into_the_whole_run() {
     assert_eq!(whole, format!("{a}{b_rows}"));
 }
 
+/// The --json summaries of three shards, given in any order, merge into the whole run's: the
+/// same counts and P(burst), the importance sampling's sums equal to rounding (added in another
+/// order), part 0's worst case; a part missing or given twice is refused.
+#[test]
+fn robust_summaries_merge_into_the_whole_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let base = [
+        "physical",
+        "--k1",
+        "2000",
+        "--t-am",
+        "18",
+        "--robust",
+        "--samples",
+        "600",
+        "--importance",
+        "600",
+        "--json",
+    ];
+    let whole = json_of(&base);
+    let mut paths = Vec::new();
+    for k in [2, 0, 1] {
+        let shard = format!("{k}/3");
+        let doc = stdout_of(&[&base[..], &["--shard", &shard]].concat());
+        let path = dir.path().join(format!("p{k}.json"));
+        std::fs::write(&path, doc).unwrap();
+        paths.push(path.to_str().unwrap().to_string());
+    }
+    let out = dir.path().join("m.json");
+    let args: Vec<&str> = ["merge", "--out", out.to_str().unwrap()]
+        .into_iter()
+        .chain(paths.iter().map(String::as_str))
+        .collect();
+    hdgear().args(&args).assert().success();
+    let merged: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    for key in ["space", "probability", "sampling", "worst", "shard"] {
+        assert_eq!(merged[key], whole[key], "{key}");
+    }
+    let (a, b) = (&merged["importance"], &whole["importance"]);
+    assert_eq!(a["bursting"], b["bursting"]);
+    assert_eq!(a["design"], b["design"]);
+    let (pa, pb) = (a["p"].as_f64().unwrap(), b["p"].as_f64().unwrap());
+    assert!(pb > 0.0 && (pa - pb).abs() <= 1e-12 * pb, "{pa} {pb}");
+    fails_with(&["merge", &paths[0], &paths[1]], "every part");
+    fails_with(&["merge", &paths[0], &paths[1], &paths[1]], "every part");
+}
+
 /// Bad tolerances, shards and options exit 2 naming the value; a study set needs tolerances.
 #[test]
 fn robust_bad_input_exits_2() {
@@ -124,6 +173,7 @@ fn robust_bad_input_exits_2() {
     fails_with(&[&g[..], &["--level", "1"]].concat(), "level");
     fails_with(&[&g[..], &["--sampler", "lhs"]].concat(), "lhs");
     fails_with(&[&g[..], &["--sobol", "1"]].concat(), "sobol");
+    fails_with(&[&g[..], &["--importance", "0"]].concat(), "importance");
     fails_with(&[&g[..], &["--out", "x.txt"]].concat(), "x.txt");
     fails_with(&[&g[..], &["--cloud", "x.pdf"]].concat(), "x.pdf");
     fails_with(

@@ -171,6 +171,16 @@ impl Distribution {
         }
     }
 
+    /// The value at standard-normal coordinate z (the quantile of Φ(z)); exact for the normal
+    /// and log-normal, whose tails Φ would round away beyond |z| ≈ 8.
+    pub fn from_standard(&self, z: f64) -> f64 {
+        match *self {
+            Distribution::Normal { mean, sd } => mean + sd * z,
+            Distribution::LogNormal { median, sigma } => median * (sigma * z).exp(),
+            _ => self.quantile(normal_cdf(z).clamp(f64::MIN_POSITIVE, 1.0 - f64::EPSILON / 2.0)),
+        }
+    }
+
     /// The probability of a value at most x.
     pub fn cdf(&self, x: f64) -> f64 {
         match *self {

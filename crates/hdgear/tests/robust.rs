@@ -7,8 +7,8 @@ use hdgear::Params;
 use hdgear::burst::{BurstOptions, classify, response};
 use hdgear::physical::PhysicalParams;
 use hdgear::robust::{
-    Distribution, McOptions, Measure, Nominal, Sampler, Space, Target, Tolerance, normal_cdf,
-    probability, sensitivity, sobol, worst_case,
+    Distribution, McOptions, Measure, Nominal, Sampler, Space, Target, Tolerance, importance,
+    normal_cdf, probability, sensitivity, sobol, worst_case,
 };
 
 /// Ishigami (a = 7, b = 0.1) on [−π, π]³: the closed-form indices (Ishigami & Homma 1990;
@@ -62,27 +62,41 @@ fn bursts(gamma: f64) -> bool {
 /// γ_b, so P(burst) = Φ((γ_b − m)/s). γ_b is bisected here from single responses (not the
 /// batches the estimate runs on) to 1e-4; P is estimated from 2048 Sobol samples for three m
 /// and must lie in its 99 % Wilson interval.
+/// The simulated γ boundary at the study's point, bisected from single responses (not the
+/// batches the estimates run on) to 1e-4; once for all tests.
+fn gamma_boundary() -> f64 {
+    static B: std::sync::OnceLock<f64> = std::sync::OnceLock::new();
+    *B.get_or_init(|| {
+        let (mut lo, mut hi) = (1.5, 3.0);
+        assert!(bursts(lo) && !bursts(hi));
+        while hi - lo > 1e-4 {
+            let mid = 0.5 * (lo + hi);
+            if bursts(mid) { lo = mid } else { hi = mid }
+        }
+        0.5 * (lo + hi)
+    })
+}
+
+/// Only γ ~ N(m, s) uncertain at the study's point.
+fn gamma_space(m: f64, s: f64) -> Space {
+    let nominal = Nominal::Study(Params {
+        gamma: m,
+        ..Params::default()
+    });
+    let t = Tolerance {
+        target: Target::Study(hdgear::params::Param::Gamma),
+        distribution: Distribution::Normal { mean: m, sd: s },
+        source: "test".into(),
+    };
+    Space::new(nominal, vec![t]).unwrap()
+}
+
 #[test]
 fn burst_probability_is_phi_of_the_boundary() {
-    let (mut lo, mut hi) = (1.5, 3.0);
-    assert!(bursts(lo) && !bursts(hi));
-    while hi - lo > 1e-4 {
-        let mid = 0.5 * (lo + hi);
-        if bursts(mid) { lo = mid } else { hi = mid }
-    }
-    let gamma_b = 0.5 * (lo + hi);
+    let gamma_b = gamma_boundary();
     let s = 0.25;
     for m in [gamma_b - 0.3, gamma_b, gamma_b + 0.2] {
-        let nominal = Nominal::Study(Params {
-            gamma: m,
-            ..Params::default()
-        });
-        let t = Tolerance {
-            target: Target::Study(hdgear::params::Param::Gamma),
-            distribution: Distribution::Normal { mean: m, sd: s },
-            source: "test".into(),
-        };
-        let space = Space::new(nominal, vec![t]).unwrap();
+        let space = gamma_space(m, s);
         let mc = McOptions {
             samples: 2048,
             level: 0.99,
@@ -98,6 +112,56 @@ fn burst_probability_is_phi_of_the_boundary() {
             p.interval
         );
     }
+}
+
+/// Importance sampling of a small P: γ ~ N(γ_b + 1, 0.25) puts the boundary four standard
+/// deviations out, P = Φ(−4) ≈ 3.2e-5, where 2048 plain samples would expect 0.06 bursting
+/// ones. 2048 importance samples must hold Φ(−4) in their 99 % interval, with the design point
+/// (from the *predicted* boundary, not the simulated one the exact P uses) within a quarter of
+/// a standard deviation of −4 and a variance reduction of at least 100 (p(1 − p)/s² ≈ 1/(p·c)
+/// for a relative variance c of order one: about 10⁴ here).
+#[test]
+fn importance_sampling_finds_a_small_probability() {
+    let (gamma_b, s) = (gamma_boundary(), 0.25);
+    let m = gamma_b + 4.0 * s;
+    let space = gamma_space(m, s);
+    let mc = McOptions {
+        samples: 2048,
+        level: 0.99,
+        ..McOptions::default()
+    };
+    let want = normal_cdf(-4.0);
+    let est = importance(&space, &BurstOptions::default(), &mc).unwrap();
+    let d = est.design.as_ref().expect("a design point");
+    assert!((d.z[0] + 4.0).abs() < 0.25, "design point {:?}", d.z);
+    assert!(
+        est.interval.0 <= want && want <= est.interval.1,
+        "P = {} in {:?}, Φ(−4) = {want}",
+        est.p,
+        est.interval
+    );
+    assert!(est.bursting > 100, "{est:?}");
+    assert!(est.variance_reduction > 100.0, "{est:?}");
+    assert!(want <= est.upper_bound);
+}
+
+/// The estimate is unbiased whatever the design point: with the nominal set itself bursting
+/// (no design point, plain samples, weights 1) it is the plain estimate: the same random
+/// coordinates give the same values (z = Φ⁻¹(u), mean + sd·z either way) and the same verdicts.
+#[test]
+fn importance_without_a_design_point_is_plain_sampling() {
+    let space = gamma_space(gamma_boundary() - 0.05, 0.25);
+    let mc = McOptions {
+        samples: 512,
+        sampler: Sampler::Random,
+        ..McOptions::default()
+    };
+    let est = importance(&space, &BurstOptions::default(), &mc).unwrap();
+    assert!(est.design.is_none() && est.note.is_some(), "{est:?}");
+    assert_eq!(est.sum, est.bursting as f64);
+    let plain = probability(&space, &BurstOptions::default(), &mc, |_| Ok(())).unwrap();
+    assert_eq!((est.bursting, est.judged), (plain.bursting, plain.judged));
+    assert!(plain.bursting > 0 && (est.p - plain.p).abs() < 1e-15);
 }
 
 /// A drive near its boundary: CSF-20-50's preset with a soft k1 = 2000 N m/rad and a disturbance

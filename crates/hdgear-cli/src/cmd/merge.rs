@@ -2,6 +2,10 @@
 //! byte for byte. The files' settings are checked before any row is read (same sweep, every shard
 //! once); the rows are then streamed in grid order (row i is the next row of shard i mod N), each
 //! checked as it passes, into an atomic output: a failed merge leaves nothing behind.
+//!
+//! The `--json` summaries of `hdgear robust --shard K/N` (files ending in .json) merge into the
+//! whole run's summary: the same space and options checked, every part once, the counts (and the
+//! importance sampling's sums) added, the worst case and Sobol indices taken from part 0.
 
 use crate::cli::MergeArgs;
 use crate::cmd::sweep::file;
@@ -29,6 +33,12 @@ fn default_out(shard: &Path) -> Result<PathBuf> {
 
 /// Runs the merge command.
 pub fn run(a: MergeArgs) -> Result<()> {
+    if a.shards
+        .iter()
+        .all(|p| p.extension().is_some_and(|e| e == "json"))
+    {
+        return robust(&a.shards, a.out.as_deref());
+    }
     let out = match a.out {
         Some(o) => o,
         None => default_out(&a.shards[0])?,
@@ -70,4 +80,106 @@ pub fn run(a: MergeArgs) -> Result<()> {
         a.shards.len()
     );
     crate::cmd::sweep::all_failed(n, failed)
+}
+
+/// One part's summary, and the fields merging reads from it.
+struct Part {
+    doc: serde_json::Value,
+    shard: (u64, u64),
+    first: u64,
+}
+
+fn read_part(path: &Path) -> Result<Part> {
+    let what = || format!("reading {}", path.display());
+    let file = hdgear::output::open_input(path).with_context(what)?;
+    let doc: serde_json::Value =
+        serde_json::from_reader(std::io::BufReader::new(file)).with_context(what)?;
+    let shard = doc.get("shard").cloned().unwrap_or_default();
+    let Ok(shard) = serde_json::from_value::<(u64, u64)>(shard) else {
+        bail!(
+            "{} is not the --json summary of hdgear robust --shard K/N (no shard)",
+            path.display()
+        );
+    };
+    let first = doc.pointer("/sampling/first").and_then(|v| v.as_u64());
+    let first = first.with_context(|| format!("{}: no sampling.first", path.display()))?;
+    Ok(Part { doc, shard, first })
+}
+
+/// The run's settings a part must share with the others: everything but its block.
+fn settings(doc: &serde_json::Value) -> serde_json::Value {
+    let mut s = serde_json::json!({ "space": doc["space"], "sampling": doc["sampling"] });
+    if let Some(m) = s["sampling"].as_object_mut() {
+        m.remove("first");
+        m.remove("samples");
+    }
+    s
+}
+
+/// Merges the --json summaries of a sharded `hdgear robust` run.
+fn robust(paths: &[PathBuf], out: Option<&Path>) -> Result<()> {
+    let mut parts = paths
+        .iter()
+        .map(|p| read_part(p))
+        .collect::<Result<Vec<_>>>()?;
+    parts.sort_by_key(|p| p.shard.0);
+    let n = parts[0].shard.1;
+    let ks: Vec<u64> = parts.iter().map(|p| p.shard.0).collect();
+    if parts.iter().any(|p| p.shard.1 != n) || ks != (0..n).collect::<Vec<_>>() {
+        bail!("the summaries are parts {ks:?} of N = {n}: every part 0 … N−1 once is needed");
+    }
+    let whole = settings(&parts[0].doc);
+    let mut next = 0;
+    for (p, path) in parts.iter().zip(paths) {
+        if settings(&p.doc) != whole {
+            bail!(
+                "{} is a part of another run (space or sampling differs)",
+                path.display()
+            );
+        }
+        if p.first != next {
+            bail!(
+                "part {} starts at sample {}, not {next}",
+                p.shard.0,
+                p.first
+            );
+        }
+        next += p.doc["sampling"]["samples"].as_u64().unwrap_or(0);
+    }
+    let field = |name: &str| -> Result<Vec<serde_json::Value>> {
+        Ok(parts.iter().map(|p| p.doc[name].clone()).collect())
+    };
+    let probability: Vec<hdgear::robust::Probability> = field("probability")?
+        .into_iter()
+        .map(serde_json::from_value)
+        .collect::<std::result::Result<_, _>>()
+        .context("a part's probability")?;
+    let probability = hdgear::robust::Probability::merge(&probability)?;
+    let importance: Option<Vec<hdgear::robust::Importance>> = field("importance")?
+        .into_iter()
+        .map(|v| {
+            (!v.is_null())
+                .then(|| serde_json::from_value(v))
+                .transpose()
+        })
+        .collect::<std::result::Result<_, _>>()
+        .context("a part's importance sampling")?;
+    let importance = importance
+        .map(|i| hdgear::robust::Importance::merge(&i))
+        .transpose()?;
+    let mut doc = parts.swap_remove(0).doc;
+    doc["probability"] = serde_json::to_value(probability)?;
+    doc["importance"] = serde_json::to_value(&importance)?;
+    doc["sampling"]["samples"] = next.into();
+    doc["shard"] = serde_json::Value::Null;
+    let text = serde_json::to_string_pretty(&doc)? + "\n";
+    match out {
+        Some(path) => hdgear::output::write_atomic(path, text.as_bytes())?,
+        None => crate::sink::out!("{text}"),
+    }
+    eprintln!(
+        "merged {n} parts: P(burst) = {:.4e} [{:.4e}, {:.4e}] from {} samples",
+        probability.p, probability.interval.0, probability.interval.1, probability.samples
+    );
+    Ok(())
 }

@@ -43,6 +43,10 @@ pub struct RobustOpts {
     /// (N·(k + 2) runs for k tolerances; a power of two suits the Sobol points).
     #[arg(long, value_name = "N")]
     pub sobol: Option<usize>,
+    /// P(burst) also by importance sampling from N samples drawn around the predicted boundary
+    /// and weighted back (for a small P: the variance reduction is reported).
+    #[arg(long, value_name = "N")]
+    pub importance: Option<u64>,
     /// Skip the worst corner and margin (2^k rays for k tolerances).
     #[arg(long)]
     pub no_worst: bool,
@@ -51,7 +55,8 @@ pub struct RobustOpts {
     #[arg(long, value_name = "FILE")]
     pub cloud: Option<PathBuf>,
     /// K/N: compute only part K (0 … N−1) of the samples, a contiguous block (the samples are
-    /// the same as in the whole run).
+    /// the same as in the whole run); part 0 also computes the worst case and the Sobol indices.
+    /// hdgear merge joins the parts' --json summaries.
     #[arg(long, value_name = "K/N")]
     pub shard: Option<String>,
 }
@@ -81,14 +86,15 @@ impl RobustOpts {
     /// The checked options of the analysis.
     fn options(&self) -> Result<AnalysisOptions> {
         let sampler: Sampler = self.sampler.parse().context("--sampler")?;
-        let (first, samples) = match &self.shard {
-            None => (0, self.samples),
-            Some(s) => {
-                let (k, n) = shard(s)?;
-                let lo = self.samples * k / n;
-                (lo, self.samples * (k + 1) / n - lo)
-            }
+        let part = self.shard.as_deref().map(shard).transpose()?;
+        let block = |total: u64| match part {
+            None => 0..total,
+            Some((k, n)) => total * k / n..total * (k + 1) / n,
         };
+        let plain = block(self.samples);
+        let (first, samples) = (plain.start, plain.end - plain.start);
+        // the worst case and the Sobol indices are not sampled: shard 0 computes them whole
+        let lead = part.is_none_or(|(k, _)| k == 0);
         let mc = McOptions {
             samples,
             first,
@@ -104,10 +110,15 @@ impl RobustOpts {
                 self.sobol.unwrap_or(0)
             );
         }
+        if self.importance == Some(0) {
+            bail!("invalid option --importance = 0: at least 1 sample");
+        }
         Ok(AnalysisOptions {
             mc,
-            worst: !self.no_worst,
-            sobol: self.sobol,
+            worst: !self.no_worst && lead,
+            sobol: self.sobol.filter(|_| lead),
+            importance: self.importance.map(block),
+            shard: part,
         })
     }
 
@@ -284,6 +295,15 @@ pub fn text(a: &Analysis) -> String {
         "  an interval {} wide needs {} samples at this P",
         p.width, p.needed_for_width
     );
+    if let Some(i) = &a.importance {
+        importance_text(&mut s, a, i);
+    } else if p.bursting < 10 && p.judged > 0 {
+        let _ = writeln!(
+            s,
+            "  few bursting samples: --importance N estimates a small P from samples drawn near \
+             the predicted boundary"
+        );
+    }
     if let Some(w) = &a.worst {
         worst_text(&mut s, a, w);
     }
@@ -320,6 +340,60 @@ fn probability(p: f64) -> String {
         format!("{p:.4}")
     } else {
         format!("{p:.3e}")
+    }
+}
+
+fn importance_text(s: &mut String, a: &Analysis, i: &hdgear::robust::Importance) {
+    let names: Vec<&str> = a.space.tolerances.iter().map(|t| t.target.name()).collect();
+    match (&i.design, &i.note) {
+        (Some(d), _) => {
+            let at: Vec<String> = names
+                .iter()
+                .zip(&d.values)
+                .map(|(n, v)| format!("{n} = {v:.5}"))
+                .collect();
+            let _ = writeln!(
+                s,
+                "importance sampling: design point (nearest predicted bursting, {} rays) at beta = \
+                 {:.4} standard deviations, {}; first-order P = {}",
+                d.rays,
+                d.beta,
+                at.join(", "),
+                probability(d.first_order_p)
+            );
+        }
+        (None, Some(note)) => {
+            let _ = writeln!(s, "importance sampling: {note}");
+        }
+        (None, None) => {}
+    }
+    let _ = writeln!(
+        s,
+        "  P(burst) = {} [{}, {}] ({:.0} %) from {} samples, {:.0} % of them around the design \
+         point: {} bursting, {} excluded",
+        probability(i.p),
+        probability(i.interval.0),
+        probability(i.interval.1),
+        100.0 * i.level,
+        i.samples,
+        100.0 * i.share,
+        i.bursting,
+        i.excluded
+    );
+    if i.variance_reduction.is_finite() {
+        let _ = writeln!(
+            s,
+            "  variance reduction {:.3e}: as precise as {:.3e} plain samples",
+            i.variance_reduction, i.equivalent_plain_samples
+        );
+    }
+    if i.bursting < 10 {
+        let _ = writeln!(
+            s,
+            "  fewer than 10 bursting samples, so the interval's normal approximation is not \
+             reliable; P <= {} holds without it",
+            probability(i.upper_bound)
+        );
     }
 }
 

@@ -151,8 +151,8 @@ def control(laws=None, params=None, gain=None, ww=None, rel_tol=1e-3, spread=0.2
 
 
 def robust(nominal=None, tolerances=None, samples=4096, sampler="sobol", seed=1, level=0.95,
-           width=0.02, sobol=None, worst=True, discard=1.0, window_periods=2, rtol=1e-10,
-           atol=1e-10, method="taylor"):
+           width=0.02, sobol=None, worst=True, importance=None, discard=1.0, window_periods=2,
+           rtol=1e-10, atol=1e-10, method="taylor"):
     """The design check under manufacturing spread (what ``hdgear robust --json`` and ``hdgear
     physical --robust --json`` print): returns ``(summary, samples)``.
 
@@ -161,7 +161,9 @@ def robust(nominal=None, tolerances=None, samples=4096, sampler="sobol", seed=1,
     "c_eq": "normal:10%"}``; a drive without any takes the default bands, marked as assumptions).
     ``summary`` is a :class:`Result` with ``probability`` (P(burst), its Wilson interval at
     ``level``), ``worst`` (the worst corner and margin; None with ``worst=False``),
-    ``sensitivity`` (Sobol indices from a Saltelli design of ``sobol`` rows, when given) and
+    ``importance`` (P(burst) by importance sampling from ``importance`` samples drawn around the
+    predicted boundary, with its variance reduction, when given), ``sensitivity`` (Sobol indices
+    from a Saltelli design of ``sobol`` rows, when given) and
     ``resonance`` (drives). ``samples`` holds one row per sample, the columns of ``hdgear robust
     --out``, as a DataFrame (a dict of columns without pandas). The same ``seed`` gives the same
     samples on any thread count."""
@@ -174,6 +176,7 @@ def robust(nominal=None, tolerances=None, samples=4096, sampler="sobol", seed=1,
     summary, cols = _hdgear.robust(params, drive, tol, int(samples), sampler, int(seed),
                                    float(level), float(width),
                                    None if sobol is None else int(sobol), bool(worst),
+                                   None if importance is None else int(importance),
                                    float(discard), int(window_periods), float(rtol),
                                    float(atol), method)
     for k in ("verdict", "error"):

@@ -209,6 +209,12 @@ impl Drop for AtomicFile {
     }
 }
 
+/// Reads an f64 that JSON may hold as `null` (serde_json writes NaN and ±∞ so) back as NaN;
+/// for `#[serde(deserialize_with = …)]` on fields that are NaN when undefined.
+pub fn nan_if_null<'de, D: serde::Deserializer<'de>>(d: D) -> std::result::Result<f64, D::Error> {
+    Ok(<Option<f64> as serde::Deserialize>::deserialize(d)?.unwrap_or(f64::NAN))
+}
+
 /// Writes `bytes` to `path` atomically.
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
     let mut f = AtomicFile::create(path)?;

@@ -16,8 +16,9 @@ use crate::params::{Param, Params};
 use crate::physical::design::{Basis, judge_reduced};
 use crate::physical::{DriveParam, PhysicalParams};
 use rayon::prelude::*;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
+mod importance;
 pub mod sequence;
 pub mod sobol;
 mod worst;
@@ -25,6 +26,7 @@ mod worst;
 pub use crate::distribution::{
     Distribution, normal_cdf, normal_quantile, samples_for_width, wilson,
 };
+pub use importance::{DesignPoint, Importance, design_point, importance};
 pub use sequence::{Points, Sampler};
 pub use worst::{Corner, WorstCase, worst_case};
 
@@ -535,7 +537,7 @@ impl McOptions {
 }
 
 /// P(burst) over a run's samples.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Probability {
     /// Samples drawn.
     pub samples: u64,
@@ -550,6 +552,7 @@ pub struct Probability {
     /// Samples whose integration failed (excluded).
     pub failed: u64,
     /// bursting / judged.
+    #[serde(deserialize_with = "crate::output::nan_if_null")]
     pub p: f64,
     /// Wilson interval at `level`.
     pub interval: (f64, f64),
@@ -581,6 +584,36 @@ impl Probability {
         p.finish()
     }
 
+    /// The probability over the samples of several shards of one run (their counts added).
+    pub fn merge(parts: &[Probability]) -> Result<Probability> {
+        let first = parts.first().ok_or_else(|| no_parts("probability"))?;
+        let mut total = Probability {
+            samples: 0,
+            judged: 0,
+            bursting: 0,
+            predicted: 0,
+            outside_domain: 0,
+            failed: 0,
+            ..*first
+        };
+        for p in parts {
+            if (p.level, p.width) != (first.level, first.width) {
+                return Err(Error::InvalidInput {
+                    what: "shards",
+                    text: format!("level {} width {}", p.level, p.width),
+                    reason: "the shards were run with different levels or widths".into(),
+                });
+            }
+            total.samples += p.samples;
+            total.judged += p.judged;
+            total.bursting += p.bursting;
+            total.predicted += p.predicted;
+            total.outside_domain += p.outside_domain;
+            total.failed += p.failed;
+        }
+        Ok(total.finish())
+    }
+
     fn add(&mut self, samples: &[Sample]) {
         for s in samples {
             self.samples += 1;
@@ -602,6 +635,14 @@ impl Probability {
         let p = if self.judged > 0 { self.p } else { 0.5 };
         self.needed_for_width = samples_for_width(p, self.width, self.level);
         self
+    }
+}
+
+fn no_parts(what: &'static str) -> Error {
+    Error::InvalidInput {
+        what,
+        text: String::new(),
+        reason: "nothing to merge".into(),
     }
 }
 
@@ -673,14 +714,18 @@ pub struct Analysis {
     pub sampling: McOptions,
     /// Worst case and margin (None when not asked for).
     pub worst: Option<WorstCase>,
+    /// P(burst) by importance sampling (None when not asked for).
+    pub importance: Option<Importance>,
     /// Sobol indices (None when not asked for).
     pub sensitivity: Option<Sensitivity>,
     /// The catalogue's resonance rule (drives only).
     pub resonance: Option<Resonance>,
+    /// The shard (K, N) this is part K of (None: a whole run).
+    pub shard: Option<(u64, u64)>,
 }
 
 /// What [`analyse`] computes beside P(burst).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct AnalysisOptions {
     /// The sampling of P(burst).
     pub mc: McOptions,
@@ -688,9 +733,15 @@ pub struct AnalysisOptions {
     pub worst: bool,
     /// Sobol indices from a Saltelli design of this many rows.
     pub sobol: Option<usize>,
+    /// P(burst) also by importance sampling, from the samples of these indices (a shard's
+    /// block, or `0..n`).
+    pub importance: Option<std::ops::Range<u64>>,
+    /// The shard (K, N) the run is, recorded for merging.
+    pub shard: Option<(u64, u64)>,
 }
 
-/// P(burst), then the worst case and the Sobol indices when asked for; `each` sees the
+/// P(burst), then the worst case, P(burst) by importance sampling and the Sobol indices when
+/// asked for; `each` sees the
 /// samples of P(burst) chunk by chunk ([`probability`]).
 pub fn analyse(
     space: &Space,
@@ -700,6 +751,18 @@ pub fn analyse(
 ) -> Result<Analysis> {
     let probability = probability(space, opts, &a.mc, each)?;
     let worst = a.worst.then(|| worst_case(space, opts)).transpose()?;
+    let importance = a
+        .importance
+        .clone()
+        .map(|r| {
+            let mc = McOptions {
+                samples: r.end.saturating_sub(r.start),
+                first: r.start,
+                ..a.mc
+            };
+            importance(space, opts, &mc)
+        })
+        .transpose()?;
     let sensitivity = a
         .sobol
         .map(|n| sensitivity(space, opts, n, a.mc.sampler, a.mc.seed))
@@ -709,8 +772,10 @@ pub fn analyse(
         probability,
         sampling: a.mc,
         worst,
+        importance,
         sensitivity,
         resonance: resonance(space),
+        shard: a.shard,
     })
 }
 
