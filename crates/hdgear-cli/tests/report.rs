@@ -12,6 +12,7 @@ fn figures() -> Vec<&'static str> {
         .map(|f| f.2)
         .chain(hdgear::report::PERIODIC_FIGURES.iter().map(|f| f.1))
         .chain([hdgear::report::control::CONTROL_FIGURE])
+        .chain(hdgear::report::robust::ROBUST_FIGURES)
         .collect()
 }
 
@@ -72,6 +73,7 @@ fn report_has_every_section_and_figure_inline() {
         "physical",
         "periodic",
         "control",
+        "robust",
         "methods",
     ] {
         assert!(
@@ -433,4 +435,48 @@ fn report_control_section_is_its_data() {
         );
         assert_eq!(row.contains("above"), of_rated > 1.0, "{row}");
     }
+}
+
+/// The spread section's numbers are its data file's, and its P(burst) is what `hdgear physical
+/// --robust` computes for the same drive and samples (the section's drive is the report's
+/// catalogue drive with k1 = 2000 N m/rad, T_am = 22 N m).
+#[test]
+fn report_robust_section_is_its_data() {
+    let h = html();
+    let doc: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(report_dir().join("data/robust.json")).unwrap(),
+    )
+    .unwrap();
+    let a = &doc["analysis"];
+    let p = a["probability"]["p"].as_f64().unwrap();
+    let section = &h[h.find("<section id=\"robust\">").unwrap()..];
+    assert!(section.contains(&format!("data-key=\"p\" data-value=\"{p}\"")));
+    let sens = &a["sensitivity"];
+    let names = sens["parameters"].as_array().unwrap();
+    let burst = &sens["measures"][0];
+    assert_eq!(burst[0], "burst");
+    for (i, n) in names.iter().enumerate() {
+        let v = burst[1]["total"][i]["value"].as_f64().unwrap();
+        let key = format!(
+            "data-key=\"total-{}\" data-value=\"{v}\"",
+            n.as_str().unwrap()
+        );
+        assert!(section.contains(&key), "{key}");
+    }
+    let (k1, t_am) = hdgear::report::robust::ROBUST_DRIVE;
+    let samples = hdgear::report::robust::ROBUST_SAMPLES.0.to_string();
+    let cli = crate::common::json_of(&[
+        "physical",
+        "--k1",
+        &k1.to_string(),
+        "--t-am",
+        &t_am.to_string(),
+        "--robust",
+        "--samples",
+        &samples,
+        "--no-worst",
+        "--json",
+    ]);
+    assert_eq!(cli["probability"], a["probability"]);
+    assert!(p > 0.05 && p < 0.5, "the drive is near its boundary: {p}");
 }

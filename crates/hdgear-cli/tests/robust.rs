@@ -52,25 +52,56 @@ fn robust_counts_its_samples_file() {
     assert!(text.contains("hand-axis (>= 15 Hz) pass"), "{text}");
 }
 
-/// The tolerance cloud is drawn with both verdicts' samples and the predicted boundary.
+/// The tolerance cloud is drawn with both verdicts' samples and the predicted boundary, the
+/// Sobol bars with each tolerance, the load curve with its intervals; the load curve's point at
+/// the nominal load is the run's own P(burst) (the same points and space, so the same counts),
+/// and P(burst) at 2^(j/4) times the load is that factor's load.
 #[test]
-fn robust_draws_the_tolerance_cloud() {
+fn robust_draws_its_figures() {
     let dir = tempfile::tempdir().unwrap();
-    let svg = dir.path().join("cloud.svg");
-    let args = [&DRIVE[..], &["--robust", "--samples", "512", "--no-worst"]].concat();
-    hdgear()
-        .args(&args)
-        .args(["--cloud", svg.to_str().unwrap()])
-        .assert()
-        .success();
-    let text = std::fs::read_to_string(&svg).unwrap();
-    for label in [
-        "burst-free sample",
-        "bursting sample",
-        "predicted boundary",
-        "nominal",
+    let path = |name: &str| dir.path().join(name).to_str().unwrap().to_string();
+    let (cloud, bars, load) = (path("cloud.svg"), path("bars.svg"), path("load.svg"));
+    let args = [
+        &DRIVE[..],
+        &[
+            "--robust",
+            "--samples",
+            "512",
+            "--no-worst",
+            "--sobol",
+            "64",
+            "--json",
+        ],
+        &["--cloud", &cloud, "--bars", &bars, "--load-curve", &load],
+    ]
+    .concat();
+    let doc = json_of(&args);
+    let curve = doc["load_curve"].as_array().unwrap();
+    assert_eq!(curve.len(), 13);
+    assert_eq!(curve[8]["factor"], 1.0);
+    assert_eq!(curve[8]["probability"], doc["probability"]);
+    for (j, point) in curve.iter().enumerate() {
+        let want = 22.0 * 2f64.powf((j as f64 - 8.0) / 4.0);
+        assert!((point["load"].as_f64().unwrap() - want).abs() < 1e-12 * want);
+    }
+    let read = |p: &str| std::fs::read_to_string(p).unwrap();
+    for (file, labels) in [
+        (
+            &cloud,
+            &[
+                "burst-free sample",
+                "bursting sample",
+                "predicted boundary",
+                "nominal",
+            ][..],
+        ),
+        (&bars, &["k1", "t_am", "first-order index", "bootstrap"][..]),
+        (&load, &["P(burst)", "Wilson", "nominal load"][..]),
     ] {
-        assert!(text.contains(label), "{label}");
+        let text = read(file);
+        for label in labels {
+            assert!(text.contains(label), "{file}: {label}");
+        }
     }
 }
 
@@ -176,6 +207,8 @@ fn robust_bad_input_exits_2() {
     fails_with(&[&g[..], &["--importance", "0"]].concat(), "importance");
     fails_with(&[&g[..], &["--out", "x.txt"]].concat(), "x.txt");
     fails_with(&[&g[..], &["--cloud", "x.pdf"]].concat(), "x.pdf");
+    fails_with(&[&g[..], &["--load-curve", "x.pdf"]].concat(), "x.pdf");
+    fails_with(&[&g[..], &["--bars", "x.svg"]].concat(), "--sobol");
     fails_with(
         &["robust", "--card", "CSF-20-50", "--tolerance", "gamma=±1%"],
         "gamma",

@@ -13,7 +13,7 @@ use std::sync::atomic::Ordering;
 /// (summary dict, sample columns) of the analysis of `params` or `drive` under `tolerances`
 /// (`NAME=SPEC` strings; a drive without any takes its default bands).
 #[pyfunction]
-#[pyo3(signature = (params, drive, tolerances, samples, sampler, seed, level, width, sobol, worst, importance, discard, window_periods, rtol, atol, method))]
+#[pyo3(signature = (params, drive, tolerances, samples, sampler, seed, level, width, sobol, worst, importance, load_curve, discard, window_periods, rtol, atol, method))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn robust<'py>(
     py: Python<'py>,
@@ -28,6 +28,7 @@ pub(crate) fn robust<'py>(
     sobol: Option<usize>,
     worst: bool,
     importance: Option<u64>,
+    load_curve: bool,
     discard: f64,
     window_periods: u32,
     rtol: f64,
@@ -67,6 +68,7 @@ pub(crate) fn robust<'py>(
         worst,
         sobol,
         importance: importance.map(|n| 0..n),
+        load_curve: load_curve.then_some(samples),
         shard: None,
     };
     // Ctrl-C stops the run between blocks of samples

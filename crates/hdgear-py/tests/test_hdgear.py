@@ -198,10 +198,15 @@ def test_control_equals_the_cli_and_refuses_bad_laws():
 
 def test_robust_equals_the_cli_and_refuses_bad_tolerances(tmp_path):
     drive = hdgear.Drive(k1=2000, t_am=22)
-    summary, samples = hdgear.robust(drive, samples=256, worst=False)
+    summary, samples = hdgear.robust(drive, samples=256, worst=False, importance=256,
+                                     load_curve=True)
     doc = cli_json("physical", "--k1", "2000", "--t-am", "22", "--robust", "--samples", "256",
-                   "--no-worst", "--json", "--out", str(tmp_path / "s.csv"))
+                   "--no-worst", "--importance", "256", "--load-curve", str(tmp_path / "l.svg"),
+                   "--json", "--out", str(tmp_path / "s.csv"))
     assert summary.probability.to_dict() == doc["probability"]
+    assert summary.importance.p == doc["importance"]["p"]
+    assert [x["probability"]["bursting"] for x in summary.load_curve] == \
+        [x["probability"]["bursting"] for x in doc["load_curve"]]
     rows = read_csv(tmp_path / "s.csv")
     assert len(samples["verdict"]) == len(rows) == 256
     assert [r["verdict"] for r in rows] == list(samples["verdict"])

@@ -181,6 +181,30 @@ impl Distribution {
         }
     }
 
+    /// The distribution of c·X (c > 0): a band given in % of a nominal value scales with it.
+    pub fn scaled(&self, c: f64) -> Distribution {
+        match *self {
+            Distribution::Uniform { lo, hi } => Distribution::Uniform {
+                lo: c * lo,
+                hi: c * hi,
+            },
+            Distribution::Normal { mean, sd } => Distribution::Normal {
+                mean: c * mean,
+                sd: c * sd,
+            },
+            Distribution::LogNormal { median, sigma } => Distribution::LogNormal {
+                median: c * median,
+                sigma,
+            },
+            Distribution::TruncatedNormal { mean, sd, lo, hi } => Distribution::TruncatedNormal {
+                mean: c * mean,
+                sd: c * sd,
+                lo: c * lo,
+                hi: c * hi,
+            },
+        }
+    }
+
     /// The probability of a value at most x.
     pub fn cdf(&self, x: f64) -> f64 {
         match *self {

@@ -54,6 +54,14 @@ pub struct RobustOpts {
     /// (γ, δ) plane coloured by verdict, with the predicted boundary.
     #[arg(long, value_name = "FILE")]
     pub cloud: Option<PathBuf>,
+    /// The Sobol bars to a .svg or .png file (needs --sobol): each tolerance's total and
+    /// first-order index of the burst indicator.
+    #[arg(long, value_name = "FILE", requires = "sobol")]
+    pub bars: Option<PathBuf>,
+    /// P(burst) at 1/4 … 2 times the load amplitude (13 loads) (T_am, or δ for a parameter set), --samples
+    /// each, on the page and as a figure in this .svg or .png file.
+    #[arg(long, value_name = "FILE")]
+    pub load_curve: Option<PathBuf>,
     /// K/N: compute only part K (0 … N−1) of the samples, a contiguous block (the samples are
     /// the same as in the whole run); part 0 also computes the worst case and the Sobol indices.
     /// hdgear merge joins the parts' --json summaries.
@@ -118,6 +126,11 @@ impl RobustOpts {
             worst: !self.no_worst && lead,
             sobol: self.sobol.filter(|_| lead),
             importance: self.importance.map(block),
+            load_curve: self
+                .load_curve
+                .as_ref()
+                .filter(|_| lead)
+                .map(|_| self.samples),
             shard: part,
         })
     }
@@ -194,8 +207,14 @@ pub fn analyse_and_print(
     let space = r.space(nominal, card)?;
     let options = r.options()?;
     check_out(&out_path.map(Path::to_path_buf))?;
-    if let Some(path) = &r.cloud {
-        crate::cli::check_figure_path("--cloud", path)?;
+    for (flag, path) in [
+        ("--cloud", &r.cloud),
+        ("--bars", &r.bars),
+        ("--load-curve", &r.load_curve),
+    ] {
+        if let Some(path) = path {
+            crate::cli::check_figure_path(flag, path)?;
+        }
     }
     let mut cloud: Vec<(f64, f64, bool)> = Vec::new();
     let mut writer = match out_path {
@@ -232,6 +251,19 @@ pub fn analyse_and_print(
     if let Some(path) = &r.cloud {
         let figure = hdgear::figures::cloud_figure(&space.nominal.reduced()?, &cloud);
         hdgear::output::plot::write(&figure, path)?;
+    }
+    if let (Some(path), Some(sens)) = (&r.bars, &analysis.sensitivity) {
+        match hdgear::figures::sobol_figure(sens) {
+            Some(figure) => hdgear::output::plot::write(&figure, path)?,
+            None => eprintln!("no Sobol bars: neither the verdict nor the peak |x'| varies"),
+        }
+    }
+    if let (Some(path), Some(points)) = (&r.load_curve, &analysis.load_curve) {
+        let load = match space.nominal {
+            Nominal::Drive(_) => "T_am [N m]",
+            Nominal::Study(_) => "δ",
+        };
+        hdgear::output::plot::write(&hdgear::figures::load_figure(points, load), path)?;
     }
     if let (Some(r), Some(c)) = (analysis.resonance.as_mut(), card) {
         r.required_hz = c
@@ -309,6 +341,26 @@ pub fn text(a: &Analysis) -> String {
     }
     if let Some(sens) = &a.sensitivity {
         sobol_text(&mut s, sens);
+    }
+    if let Some(points) = &a.load_curve {
+        let _ = writeln!(
+            s,
+            "P(burst) against the load amplitude ({}, {} samples each):",
+            hdgear::robust::load_target(&a.space.nominal).name(),
+            a.sampling.samples
+        );
+        for q in points {
+            let p = &q.probability;
+            let _ = writeln!(
+                s,
+                "  {:>5.3} x  {:>10.4}  {} [{}, {}]",
+                q.factor,
+                q.load,
+                probability(p.p),
+                probability(p.interval.0),
+                probability(p.interval.1)
+            );
+        }
     }
     if let Some(r) = &a.resonance {
         let rule: Vec<String> = APPLICATIONS

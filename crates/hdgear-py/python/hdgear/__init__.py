@@ -151,8 +151,8 @@ def control(laws=None, params=None, gain=None, ww=None, rel_tol=1e-3, spread=0.2
 
 
 def robust(nominal=None, tolerances=None, samples=4096, sampler="sobol", seed=1, level=0.95,
-           width=0.02, sobol=None, worst=True, importance=None, discard=1.0, window_periods=2,
-           rtol=1e-10, atol=1e-10, method="taylor"):
+           width=0.02, sobol=None, worst=True, importance=None, load_curve=False, discard=1.0,
+           window_periods=2, rtol=1e-10, atol=1e-10, method="taylor"):
     """The design check under manufacturing spread (what ``hdgear robust --json`` and ``hdgear
     physical --robust --json`` print): returns ``(summary, samples)``.
 
@@ -163,7 +163,8 @@ def robust(nominal=None, tolerances=None, samples=4096, sampler="sobol", seed=1,
     ``level``), ``worst`` (the worst corner and margin; None with ``worst=False``),
     ``importance`` (P(burst) by importance sampling from ``importance`` samples drawn around the
     predicted boundary, with its variance reduction, when given), ``sensitivity`` (Sobol indices
-    from a Saltelli design of ``sobol`` rows, when given) and
+    from a Saltelli design of ``sobol`` rows, when given), ``load_curve`` (P(burst) at 1/4 … 2
+    times the load amplitude, ``samples`` each, with ``load_curve=True``) and
     ``resonance`` (drives). ``samples`` holds one row per sample, the columns of ``hdgear robust
     --out``, as a DataFrame (a dict of columns without pandas). The same ``seed`` gives the same
     samples on any thread count."""
@@ -177,6 +178,7 @@ def robust(nominal=None, tolerances=None, samples=4096, sampler="sobol", seed=1,
                                    float(level), float(width),
                                    None if sobol is None else int(sobol), bool(worst),
                                    None if importance is None else int(importance),
+                                   bool(load_curve),
                                    float(discard), int(window_periods), float(rtol),
                                    float(atol), method)
     for k in ("verdict", "error"):

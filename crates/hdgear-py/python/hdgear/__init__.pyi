@@ -73,7 +73,7 @@ def control(laws: Union[str, Sequence[str], None] = ..., params: Optional[Params
 def robust(nominal: Union[Params, "Drive", None] = ..., tolerances: Optional[Mapping[str, str]] = ...,
            samples: int = ..., sampler: str = ..., seed: int = ..., level: float = ...,
            width: float = ..., sobol: Optional[int] = ..., worst: bool = ...,
-           importance: Optional[int] = ..., discard: float = ...,
+           importance: Optional[int] = ..., load_curve: bool = ..., discard: float = ...,
            window_periods: int = ..., rtol: float = ..., atol: float = ...,
            method: str = ...) -> Tuple[Result, Any]: ...
 def sweep(axes: Mapping[str, Union[Sequence[float], Array]], base: Optional[Params] = ...,

@@ -19,7 +19,7 @@ pub use periodic::{
     LYAPUNOV_BINS, frequency_response_figure, frequency_response_kind, lyapunov_figure,
     lyapunov_map_kind, orbit_diagram_figure, orbit_diagram_kind, physical_response_figure,
 };
-pub use robust::{CLOUD_POINTS, cloud_figure};
+pub use robust::{CLOUD_POINTS, cloud_figure, load_figure, sobol_figure};
 pub use study::{phase_plane, slope, transformed_phase, x_equilibrium, xdot_gamma};
 
 /// The figure kinds (`hdgear plot KIND`, the report's figures). Adding a figure is a variant

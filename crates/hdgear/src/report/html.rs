@@ -28,18 +28,21 @@ pub fn render(r: &Report, svgs: &[String]) -> String {
     physical(&mut h, r);
     periodic(&mut h, r);
     control(&mut h, r);
+    super::robust::html(&mut h, &r.robust);
     methods(&mut h, r);
     h
 }
 
-fn esc(s: &str) -> String {
+/// `s` escaped for HTML text and attributes.
+pub(super) fn esc(s: &str) -> String {
     s.replace('&', "&amp;")
         .replace('<', "&lt;")
         .replace('>', "&gt;")
         .replace('"', "&quot;")
 }
 
-fn num(v: f64) -> String {
+/// A number as the report shows it: four decimals, or three significant digits in e-notation.
+pub(super) fn num(v: f64) -> String {
     if v.is_infinite() {
         "∞".into()
     } else if v.is_nan() {
@@ -52,7 +55,7 @@ fn num(v: f64) -> String {
 }
 
 /// A table cell with its exact value in `data-value`.
-fn cell(key: &str, v: f64) -> String {
+pub(super) fn cell(key: &str, v: f64) -> String {
     format!("<td data-key=\"{key}\" data-value=\"{v}\">{}</td>", num(v))
 }
 

@@ -11,6 +11,7 @@ pub mod control;
 mod files;
 pub mod html;
 pub mod periodic;
+pub mod robust;
 
 use crate::burst::{Boundaries, BurstOptions};
 use crate::error::Result;
@@ -162,9 +163,13 @@ impl Stage {
                 "physical drive ({PHYSICAL_DRIVE}): reduction, two-inertia check, design check; \
                  bursting boundaries; and together with them periodic orbits, frequency \
                  response, period-doubling bubble, orbit diagram, Lyapunov map, the drive's \
-                 frequency response; burst control at γ = 1 and 0.1 and on the bursting drive"
+                 frequency response; burst control at γ = 1 and 0.1 and on the bursting drive; \
+                 the drive under manufacturing spread"
             ),
-            Stage::Figures => format!("{} figures", FIGURES.len() + PERIODIC_FIGURES.len() + 1),
+            Stage::Figures => format!(
+                "{} figures",
+                FIGURES.len() + PERIODIC_FIGURES.len() + 1 + robust::ROBUST_FIGURES.len()
+            ),
             Stage::Writing => "writing SVG, PNG, data and index.html".into(),
         }
     }
@@ -260,8 +265,11 @@ pub struct Report {
     pub periodic: periodic::PeriodicEvidence,
     /// The burst-control section.
     pub control: control::ControlEvidence,
+    /// The section on design under manufacturing spread.
+    pub robust: robust::RobustEvidence,
     /// The figures, in [`FIGURES`] order, then the periodic section's, then the control
-    /// section's ([`control::CONTROL_FIGURE`]).
+    /// section's ([`control::CONTROL_FIGURE`]), then the spread section's
+    /// ([`robust::ROBUST_FIGURES`]).
     #[serde(skip)]
     pub figures: Vec<Figure>,
 }
@@ -326,14 +334,22 @@ impl Report {
                     },
                 )
             },
-            || control::ControlEvidence::compute(&base, &variant, &opts.burst),
+            || {
+                rayon::join(
+                    || control::ControlEvidence::compute(&base, &variant, &opts.burst),
+                    || robust::RobustEvidence::compute(&drive, &opts.burst),
+                )
+            },
         );
-        let (physical, bounds, periodic, control) = (physical?, bounds?, periodic?, control?);
+        let (control, robust) = control;
+        let (physical, bounds, periodic, control, robust) =
+            (physical?, bounds?, periodic?, control?, robust?);
 
         observer.stage(Stage::Figures);
         let mut figures = study_figures(&base, &mut study)?;
         figures.extend(periodic.figures(&base));
         figures.push(control.figure());
+        figures.extend(robust.figures());
         Ok(Report {
             version: env!("CARGO_PKG_VERSION"),
             options: *opts,
@@ -346,6 +362,7 @@ impl Report {
             boundaries: [bounds[0], bounds[1]],
             periodic,
             control,
+            robust,
             figures,
         })
     }
@@ -393,6 +410,7 @@ impl Report {
         out.csv("data/lyapunov-map.csv", &pe.lyapunov)?;
         out.json("data/periodic.json", pe)?;
         out.json("data/control.json", &self.control)?;
+        out.json("data/robust.json", &self.robust)?;
         // every figure's two files listed first (see `Files::claim`), then the figures drawn
         // and written on all cores: drawing is most of this stage's time, and one figure's
         // files do not depend on another's

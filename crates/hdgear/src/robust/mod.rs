@@ -720,6 +720,8 @@ pub struct Analysis {
     pub sensitivity: Option<Sensitivity>,
     /// The catalogue's resonance rule (drives only).
     pub resonance: Option<Resonance>,
+    /// P(burst) against the load amplitude (None when not asked for).
+    pub load_curve: Option<Vec<LoadPoint>>,
     /// The shard (K, N) this is part K of (None: a whole run).
     pub shard: Option<(u64, u64)>,
 }
@@ -736,6 +738,8 @@ pub struct AnalysisOptions {
     /// P(burst) also by importance sampling, from the samples of these indices (a shard's
     /// block, or `0..n`).
     pub importance: Option<std::ops::Range<u64>>,
+    /// P(burst) at [`load_factors`] times the load amplitude, from this many samples each.
+    pub load_curve: Option<u64>,
     /// The shard (K, N) the run is, recorded for merging.
     pub shard: Option<(u64, u64)>,
 }
@@ -763,6 +767,17 @@ pub fn analyse(
             importance(space, opts, &mc)
         })
         .transpose()?;
+    let load_curve = a
+        .load_curve
+        .map(|n| {
+            let mc = McOptions {
+                samples: n,
+                first: 0,
+                ..a.mc
+            };
+            load_curve(space, opts, &mc)
+        })
+        .transpose()?;
     let sensitivity = a
         .sobol
         .map(|n| sensitivity(space, opts, n, a.mc.sampler, a.mc.seed))
@@ -775,8 +790,64 @@ pub fn analyse(
         importance,
         sensitivity,
         resonance: resonance(space),
+        load_curve,
         shard: a.shard,
     })
+}
+
+/// The factors on the load amplitude of [`load_curve`]: 2^(j/4) for j = −8 … 4, a quarter to
+/// twice the nominal load in steps of 19 %, the nominal (j = 0) among them.
+pub fn load_factors() -> impl Iterator<Item = f64> {
+    (-8..=4).map(|j| 2f64.powf(f64::from(j) / 4.0))
+}
+
+/// P(burst) at one load amplitude.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct LoadPoint {
+    /// The factor on the nominal load.
+    pub factor: f64,
+    /// The load amplitude (T_am in N m for a drive, δ for a study set).
+    pub load: f64,
+    /// P(burst) there.
+    pub probability: Probability,
+}
+
+/// The load amplitude of a set: a drive's T_am, a study set's δ.
+pub fn load_target(nominal: &Nominal) -> Target {
+    match nominal {
+        Nominal::Drive(_) => Target::Drive(DriveParam::TAm),
+        Nominal::Study(_) => Target::Study(Param::Delta),
+    }
+}
+
+/// P(burst) against the load amplitude: the space with its nominal load (and the load's
+/// tolerance, which scales with it) at each of [`load_factors`], `mc.samples` samples each
+/// (the same points at every load).
+pub fn load_curve(space: &Space, opts: &BurstOptions, mc: &McOptions) -> Result<Vec<LoadPoint>> {
+    let target = load_target(&space.nominal);
+    let nominal = space.nominal.value(target);
+    load_factors()
+        .map(|c| {
+            let tolerances = space
+                .tolerances
+                .iter()
+                .map(|t| Tolerance {
+                    distribution: if t.target == target {
+                        t.distribution.scaled(c)
+                    } else {
+                        t.distribution
+                    },
+                    ..t.clone()
+                })
+                .collect();
+            let scaled = Space::new(space.nominal.with(target, c * nominal), tolerances)?;
+            Ok(LoadPoint {
+                factor: c,
+                load: c * nominal,
+                probability: probability(&scaled, opts, mc, |_| Ok(()))?,
+            })
+        })
+        .collect()
 }
 
 /// Sobol indices of each measure over a space.
