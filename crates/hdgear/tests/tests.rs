@@ -7,6 +7,7 @@ mod common;
 mod burst;
 mod cards;
 mod control;
+mod curve2;
 mod fast;
 mod friction;
 mod integrate;

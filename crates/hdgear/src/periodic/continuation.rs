@@ -432,7 +432,7 @@ impl<O: Oscillator> Tracer<'_, O> {
 /// with the other within one step; a complex pair contributes |m ∓ 1|² > 0, so a sign change
 /// means a real multiplier through ±1. From det M (accumulated) and tr M (normalised), with the
 /// scale capped so that e^{700} still fits.
-fn test_functions(f: &super::Flow) -> [f64; 2] {
+pub(super) fn test_functions(f: &super::Flow) -> [f64; 2] {
     let det = f.det_sign * f.log_det.min(700.0).exp();
     let tr = (f.m[0][0] + f.m[1][1]) * f.log_scale.min(700.0).exp();
     [det - tr + 1.0, det + tr + 1.0]

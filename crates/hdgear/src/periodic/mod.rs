@@ -37,6 +37,7 @@ use serde::Serialize;
 
 mod branch;
 mod continuation;
+mod curve2;
 mod diagram;
 mod floquet;
 mod lyapunov;
@@ -45,6 +46,7 @@ mod response;
 mod shooting;
 pub use branch::*;
 pub use continuation::*;
+pub use curve2::*;
 pub use diagram::*;
 pub use floquet::*;
 pub use lyapunov::*;

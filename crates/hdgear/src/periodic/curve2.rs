@@ -1,0 +1,700 @@
+//! Two-parameter continuation: the curve of folds of cycles (or of period doublings) as two
+//! parameters change together, with its codimension-two points.
+//!
+//! **Unknowns** z = (x₀/S, x₀'/S, u₁, u₂): the orbit's start at phase 0 (scaled by S, as in
+//! [`continue_orbit`](super::continue_orbit)) and both parameter coordinates (λ or ln λ).
+//! **Equations**: the periodicity P(z) = (φ_{2πk}(x₀, x₀'; λ₁, λ₂) − (x₀, x₀'))/S = 0, the test
+//! function ψ(z) = 0 (ψ₊ = det(M − I) for folds, ψ₋ = det(M + I) for period doublings, the
+//! functions the one-parameter continuation locates its special points with), and the arclength
+//! condition t·(z − z_pred) = 0: four equations, a curve in four unknowns. On the curve one
+//! multiplier is exactly +1 (−1), since ψ = (m₁ ∓ 1)(m₂ ∓ 1) and the other multiplier is far
+//! from ±1 (m₁m₂ = e^{−kT}).
+//!
+//! The Jacobian's first two rows [M − I | ∂φ/∂u₁ | ∂φ/∂u₂] come from the variational equations
+//! (one integration per parameter), the row of ψ from forward differences of ψ over
+//! [`GRADIENT_STEP`] in each unknown (ψ depends on M, whose derivatives would need the
+//! second-order variational equations): a quasi-Newton corrector, which converges to the same
+//! zero (the residuals are exact) a little more slowly. Converged when |P| ≤ 1e-11·(1 + |x₀|) as
+//! in shooting and |ψ| ≤ [`PSI_TOL`].
+//!
+//! **Codimension-two points**, located by the Illinois method on the arclength with a corrector
+//! at every trial:
+//! * a **cusp** (of a fold curve): the curve's projection on the parameter plane stops and turns
+//!   back. Its parameter-plane velocity (t₃, t₄) keeps its direction (normal to the fold line)
+//!   and changes sign, so (t₃, t₄)·(t₃, t₄)_before is the test function. There the two folds of a
+//!   one-parameter branch meet and its hysteresis vanishes.
+//! * a **fold–flip**: the other multiplier reaches ∓1 (the other test function ψ∓ changes sign
+//!   on the curve), where a fold curve meets a period-doubling curve.
+//!
+//! Step control is that of [`continue_orbit`](super::continue_orbit), in units of the parameter
+//! box's diagonal in u: a step grows by 1.5 after a corrector of at most three iterations, halves
+//! after a failure, a tangent turn over `max_turn` or a corrector that lands farther from the
+//! predictor than the step; the curve ends where it leaves the box (on its edge exactly), closes
+//! on itself, or the step falls below `min_step`.
+
+use super::branch::{ContinuationOptions, End, Scale};
+use super::continuation::test_functions;
+use super::{Amplitude, Flow, Multiplier, Oscillator, amplitude, flow, multipliers};
+use crate::error::{Error, Result, SolverError};
+use serde::Serialize;
+use std::f64::consts::TAU;
+
+/// Forward-difference step of ψ's gradient in the (scaled) unknowns: √ε·10 ≈ 1.5e-7 balances
+/// the truncation error (∝ h) against the integration's noise in ψ (≈ 1e-13/h).
+pub const GRADIENT_STEP: f64 = 1.5e-7;
+
+/// |ψ| at a converged point: with |m₂ ∓ 1| of order one it puts the critical multiplier within
+/// about 1e-11 of ±1, inside the 1e-9 the curve is checked to.
+pub const PSI_TOL: f64 = 1e-11;
+
+/// Which curve.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum CurveKind {
+    /// Folds of cycles: a multiplier at +1.
+    Fold,
+    /// Period doublings: a multiplier at −1.
+    PeriodDoubling,
+}
+
+impl CurveKind {
+    /// The name users write.
+    pub fn name(self) -> &'static str {
+        match self {
+            CurveKind::Fold => "fold",
+            CurveKind::PeriodDoubling => "period-doubling",
+        }
+    }
+
+    /// The index of its test function in [`test_functions`] (ψ₊ then ψ₋).
+    fn index(self) -> usize {
+        match self {
+            CurveKind::Fold => 0,
+            CurveKind::PeriodDoubling => 1,
+        }
+    }
+}
+
+/// A codimension-two point on a curve.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Codim2 {
+    /// Two folds meet: the hysteresis is born here.
+    Cusp,
+    /// The other multiplier reaches ∓1: a fold curve meets a period-doubling curve.
+    FoldFlip,
+}
+
+impl Codim2 {
+    /// The name written in tables.
+    pub fn name(self) -> &'static str {
+        match self {
+            Codim2::Cusp => "cusp",
+            Codim2::FoldFlip => "fold-flip",
+        }
+    }
+}
+
+/// One point of a two-parameter curve.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct CurvePoint2 {
+    /// (λ₁, λ₂).
+    pub params: [f64; 2],
+    /// (x, x') at phase 0.
+    pub start: [f64; 2],
+    /// The multipliers, the larger first.
+    pub multipliers: [Multiplier; 2],
+    /// Extremes of the response.
+    pub amplitude: Amplitude,
+    /// Set at a located codimension-two point.
+    pub special: Option<Codim2>,
+}
+
+/// A curve of folds or period doublings in two parameters.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Curve2<P> {
+    /// Folds or period doublings.
+    pub kind: CurveKind,
+    /// The two parameters.
+    pub params: [P; 2],
+    /// k: the orbits have period k·2π/ω.
+    pub subharmonic: u32,
+    /// The points in order along the curve, codimension-two points in their place.
+    pub points: Vec<CurvePoint2>,
+    /// Why each end ended: the start of `points`, then its end.
+    pub ends: [End; 2],
+}
+
+/// The box a curve is followed in: each parameter's range and coordinate.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Box2 {
+    /// (low, high) of λ₁ and of λ₂.
+    pub ranges: [(f64, f64); 2],
+    /// λ or ln λ for each.
+    pub scales: [Scale; 2],
+}
+
+impl Box2 {
+    /// Checks the ranges (finite, low < high, positive on a log scale).
+    pub fn validate(&self) -> Result<()> {
+        for (i, (&(lo, hi), s)) in self.ranges.iter().zip(self.scales).enumerate() {
+            let ok =
+                lo.is_finite() && hi.is_finite() && lo < hi && (s == Scale::Linear || lo > 0.0);
+            if !ok {
+                return Err(Error::InvalidOption {
+                    name: if i == 0 { "range1" } else { "range2" },
+                    value: if lo.is_finite() { hi } else { lo },
+                    reason: "needs finite low < high (> 0 on a log scale)",
+                });
+            }
+        }
+        Ok(())
+    }
+}
+
+/// A corrected point.
+#[derive(Clone, Copy)]
+struct Point {
+    z: [f64; 4],
+    flow: Flow,
+    /// ∂(φ/S)/∂u₂ (the flow carries ∂(φ/S)/∂u₁).
+    w2: [f64; 2],
+    grad: [f64; 4],
+    iterations: usize,
+}
+
+struct Tracer<'a, O: Oscillator> {
+    o: &'a O,
+    params: [O::Param; 2],
+    kind: CurveKind,
+    k: u32,
+    opts: &'a ContinuationOptions,
+    scales: [Scale; 2],
+    /// The box in u: (low, high) per parameter.
+    bounds: [[f64; 2]; 2],
+    /// Its diagonal in u: the unit of the steps.
+    size: f64,
+    /// The state's scale S.
+    scale: f64,
+}
+
+fn dot(a: [f64; 4], b: [f64; 4]) -> f64 {
+    a.iter().zip(&b).map(|(x, y)| x * y).sum()
+}
+
+fn norm(a: [f64; 4]) -> f64 {
+    dot(a, a).sqrt()
+}
+
+fn axpy(a: [f64; 4], s: f64, b: [f64; 4]) -> [f64; 4] {
+    std::array::from_fn(|i| a[i] + s * b[i])
+}
+
+/// Solves an n × n system by Gaussian elimination with partial pivoting.
+fn solve<const N: usize>(mut a: [[f64; N]; N], mut b: [f64; N]) -> Option<[f64; N]> {
+    for c in 0..N {
+        let p = (c..N).max_by(|&i, &j| a[i][c].abs().total_cmp(&a[j][c].abs()))?;
+        if a[p][c] == 0.0 || !a[p][c].is_finite() {
+            return None;
+        }
+        a.swap(c, p);
+        b.swap(c, p);
+        for r in c + 1..N {
+            let f = a[r][c] / a[c][c];
+            let pivot = a[c];
+            for (x, y) in a[r][c..].iter_mut().zip(&pivot[c..]) {
+                *x -= f * y;
+            }
+            b[r] -= f * b[c];
+        }
+    }
+    let mut x = [0.0; N];
+    for r in (0..N).rev() {
+        let s: f64 = (r + 1..N).map(|j| a[r][j] * x[j]).sum();
+        x[r] = (b[r] - s) / a[r][r];
+    }
+    x.iter().all(|v| v.is_finite()).then_some(x)
+}
+
+fn det3(m: [[f64; 3]; 3]) -> f64 {
+    m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
+        - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+        + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
+}
+
+/// The kernel of a 3 × 4 matrix of rank 3: its signed 3 × 3 minors.
+fn kernel(rows: [[f64; 4]; 3]) -> [f64; 4] {
+    std::array::from_fn(|j| {
+        let minor = rows.map(|r| {
+            let mut c = [0.0; 3];
+            let mut n = 0;
+            for (i, v) in r.iter().enumerate() {
+                if i != j {
+                    c[n] = *v;
+                    n += 1;
+                }
+            }
+            c
+        });
+        if j % 2 == 0 {
+            det3(minor)
+        } else {
+            -det3(minor)
+        }
+    })
+}
+
+impl<O: Oscillator> Tracer<'_, O> {
+    fn lambda(&self, z: [f64; 4]) -> [f64; 2] {
+        [
+            self.scales[0].to_lambda(z[2]),
+            self.scales[1].to_lambda(z[3]),
+        ]
+    }
+
+    fn at(&self, z: [f64; 4]) -> Result<O> {
+        let l = self.lambda(z);
+        self.o
+            .with(self.params[0], l[0])?
+            .with(self.params[1], l[1])
+    }
+
+    fn state(&self, z: [f64; 4]) -> [f64; 2] {
+        [self.scale * z[0], self.scale * z[1]]
+    }
+
+    fn span(&self) -> f64 {
+        TAU * f64::from(self.k)
+    }
+
+    fn psi(&self, f: &Flow) -> f64 {
+        test_functions(f)[self.kind.index()]
+    }
+
+    /// Newton on (P, ψ, n·z − c) = 0 from z; `Ok(None)` when it does not converge.
+    fn correct(&self, mut z: [f64; 4], n: [f64; 4], c: f64) -> Result<Option<Point>> {
+        let tol = self.opts.periodic.tol;
+        let soft = |e: Error| match e {
+            Error::Solver(SolverError::StepSizeTooSmall { .. } | SolverError::BlowUp { .. }) => {
+                Ok(None)
+            }
+            Error::InvalidParameter { .. } | Error::InvalidOption { .. } => Ok(None),
+            e => Err(e),
+        };
+        for iterations in 0..=self.opts.max_corrector {
+            let o = match self.at(z) {
+                Ok(o) => o,
+                Err(e) => return soft(e),
+            };
+            let y = self.state(z);
+            let flows = flow(&o, Some(self.params[0]), 0.0, y, self.span(), tol).and_then(|f1| {
+                let f2 = flow(&o, Some(self.params[1]), 0.0, y, self.span(), tol)?;
+                Ok((f1, f2))
+            });
+            let (mut f1, f2) = match flows {
+                Ok(f) => f,
+                Err(e) => return soft(e),
+            };
+            let d1 = self.scales[0].dlambda(z[2]) / self.scale;
+            let d2 = self.scales[1].dlambda(z[3]) / self.scale;
+            f1.w = [f1.w[0] * d1, f1.w[1] * d1];
+            let w2 = [f2.w[0] * d2, f2.w[1] * d2];
+            let r = [f1.y[0] - y[0], f1.y[1] - y[1]];
+            let g = self.psi(&f1);
+            let a = dot(n, z) - c;
+            let mut grad = [0.0; 4];
+            for (j, gj) in grad.iter_mut().enumerate() {
+                let mut zj = z;
+                zj[j] += GRADIENT_STEP;
+                let fj = self
+                    .at(zj)
+                    .and_then(|oj| flow(&oj, None, 0.0, self.state(zj), self.span(), tol));
+                match fj {
+                    Ok(fj) => *gj = (self.psi(&fj) - g) / GRADIENT_STEP,
+                    Err(e) => return soft(e),
+                }
+            }
+            let point = Point {
+                z,
+                flow: f1,
+                w2,
+                grad,
+                iterations,
+            };
+            if super::converged(r, y) && g.abs() <= PSI_TOL && a.abs() <= 1e-12 * (1.0 + norm(z)) {
+                return Ok(Some(point));
+            }
+            if iterations == self.opts.max_corrector {
+                break;
+            }
+            let Some(rows) = self.rows(&point) else {
+                return Ok(None);
+            };
+            let j = [rows[0], rows[1], rows[2], n];
+            let rhs = [-r[0] / self.scale, -r[1] / self.scale, -g, -a];
+            let Some(d) = solve(j, rhs) else {
+                return Ok(None);
+            };
+            z = axpy(z, 1.0, d);
+            if !z.iter().all(|v| v.is_finite()) {
+                return Ok(None);
+            }
+        }
+        Ok(None)
+    }
+
+    /// The Jacobian's rows of P and ψ at a point.
+    fn rows(&self, p: &Point) -> Option<[[f64; 4]; 3]> {
+        let a = p.flow.m_minus_i()?;
+        Some([
+            [a[0][0], a[0][1], p.flow.w[0], p.w2[0]],
+            [a[1][0], a[1][1], p.flow.w[1], p.w2[1]],
+            p.grad,
+        ])
+    }
+
+    /// The unit tangent at a point, oriented along `along`.
+    fn tangent(&self, p: &Point, along: [f64; 4]) -> Option<[f64; 4]> {
+        let t = kernel(self.rows(p)?);
+        let n = norm(t);
+        if !(n > 0.0 && n.is_finite()) {
+            return None;
+        }
+        let s = if dot(t, along) < 0.0 { -1.0 } else { 1.0 };
+        Some(t.map(|v| s * v / n))
+    }
+
+    fn inside(&self, z: [f64; 4]) -> bool {
+        (0..2).all(|i| {
+            let u = z[2 + i];
+            let slack = 1e-12 * (1.0 + u.abs());
+            u >= self.bounds[i][0] - slack && u <= self.bounds[i][1] + slack
+        })
+    }
+
+    fn curve_point(&self, p: &Point, special: Option<Codim2>) -> Result<CurvePoint2> {
+        let o = self.at(p.z)?;
+        Ok(CurvePoint2 {
+            params: self.lambda(p.z),
+            start: self.state(p.z),
+            multipliers: multipliers(&p.flow),
+            amplitude: amplitude(&o, self.state(p.z), self.k, self.opts.periodic.tol)?,
+            special,
+        })
+    }
+
+    /// The zero of `f` (a function of a corrected point and its tangent) between p (σ = 0,
+    /// value fa) and σ_b (value fb), by the Illinois method with a corrector at every trial.
+    fn locate(
+        &self,
+        p: &Point,
+        t: [f64; 4],
+        sigma_b: f64,
+        (fa, fb): (f64, f64),
+        f: impl Fn(&Point, [f64; 4]) -> Option<f64>,
+    ) -> Result<Option<Point>> {
+        let (mut lo, mut hi, mut flo, mut fhi) = (0.0, sigma_b, fa, fb);
+        let mut side = 0;
+        let mut best = None;
+        for _ in 0..80 {
+            let sigma = (lo * fhi - hi * flo) / (fhi - flo);
+            let zp = axpy(p.z, sigma, t);
+            let Some(q) = self.correct(zp, t, dot(t, p.z) + sigma)? else {
+                return Ok(best);
+            };
+            let Some(tq) = self.tangent(&q, t) else {
+                return Ok(best);
+            };
+            let Some(v) = f(&q, tq) else {
+                return Ok(best);
+            };
+            best = Some(q);
+            if v == 0.0 || (hi - lo).abs() <= 1e-10 {
+                return Ok(best);
+            }
+            if (v > 0.0) == (flo > 0.0) {
+                lo = sigma;
+                flo = v;
+                if side == -1 {
+                    fhi *= 0.5;
+                }
+                side = -1;
+            } else {
+                hi = sigma;
+                fhi = v;
+                if side == 1 {
+                    flo *= 0.5;
+                }
+                side = 1;
+            }
+        }
+        Ok(best)
+    }
+
+    /// The codimension-two points between p and q (tangents t, tq), located, in order.
+    fn specials_between(
+        &self,
+        p: &Point,
+        t: [f64; 4],
+        q: &Point,
+        tq: [f64; 4],
+    ) -> Result<Vec<CurvePoint2>> {
+        let sigma_b = dot(t, q.z) - dot(t, p.z);
+        let mut found: Vec<(f64, CurvePoint2)> = Vec::new();
+        // cusp: the parameter-plane velocity reverses
+        let tp = [t[2], t[3]];
+        let cusp = |_: &Point, tq: [f64; 4]| Some(tq[2] * tp[0] + tq[3] * tp[1]);
+        let (a, b) = (tp[0] * tp[0] + tp[1] * tp[1], tq[2] * tp[0] + tq[3] * tp[1]);
+        if self.kind == CurveKind::Fold && b < 0.0 {
+            if let Some(s) = self.locate(p, t, sigma_b, (a, b), cusp)? {
+                found.push((dot(t, s.z), self.curve_point(&s, Some(Codim2::Cusp))?));
+            }
+        }
+        // fold-flip: the other test function changes sign
+        let other = 1 - self.kind.index();
+        let (a, b) = (
+            test_functions(&p.flow)[other],
+            test_functions(&q.flow)[other],
+        );
+        if (a > 0.0) != (b > 0.0) {
+            let f = |s: &Point, _: [f64; 4]| Some(test_functions(&s.flow)[other]);
+            if let Some(s) = self.locate(p, t, sigma_b, (a, b), f)? {
+                found.push((dot(t, s.z), self.curve_point(&s, Some(Codim2::FoldFlip))?));
+            }
+        }
+        found.sort_by(|x, y| x.0.total_cmp(&y.0));
+        Ok(found.into_iter().map(|f| f.1).collect())
+    }
+
+    /// The point on the box's edge between p (inside) and q (outside), corrected with the
+    /// parameter that left fixed at its bound.
+    fn edge_point(&self, p: &Point, q: &Point) -> Result<Option<CurvePoint2>> {
+        let (mut best, mut edge) = (1.0f64, None);
+        for i in 0..2 {
+            for (b, &bound) in self.bounds[i].iter().enumerate() {
+                let (a, c) = (p.z[2 + i], q.z[2 + i]);
+                let crosses = if b == 0 { c < bound } else { c > bound };
+                if crosses && a != c {
+                    let w = (bound - a) / (c - a);
+                    if w < best {
+                        (best, edge) = (w, Some((i, bound)));
+                    }
+                }
+            }
+        }
+        let Some((i, bound)) = edge else {
+            return Ok(None);
+        };
+        let guess = axpy(p.z, best, axpy(q.z, -1.0, p.z));
+        let mut n = [0.0; 4];
+        n[2 + i] = 1.0;
+        match self.correct(guess, n, bound)? {
+            Some(e) => Ok(Some(self.curve_point(&e, None)?)),
+            None => Ok(None),
+        }
+    }
+
+    /// Follows the curve from p along t until it leaves the box, closes or stalls.
+    fn trace(&self, mut p: Point, mut t: [f64; 4]) -> Result<(Vec<CurvePoint2>, End)> {
+        let (min, max) = (
+            self.opts.min_step * self.size,
+            self.opts.max_step * self.size,
+        );
+        let z0 = p.z;
+        let mut ds = self.opts.initial_step * self.size;
+        let mut points = Vec::new();
+        let mut left = false;
+        loop {
+            if points.len() >= self.opts.max_points {
+                return Ok((points, End::MaxPoints));
+            }
+            let zp = axpy(p.z, ds, t);
+            let next = self.correct(zp, t, dot(t, zp))?;
+            let accepted = next.and_then(|q| self.tangent(&q, t).map(|tq| (q, tq)));
+            let Some((q, tq)) = accepted.filter(|(q, tq)| {
+                let turn = (dot(t, *tq) / (norm(t) * norm(*tq)))
+                    .clamp(-1.0, 1.0)
+                    .acos();
+                // the cusp turns the parameter part back but not the whole tangent
+                (turn <= self.opts.max_turn && norm(axpy(q.z, -1.0, zp)) <= ds) || ds <= min
+            }) else {
+                ds *= 0.5;
+                if ds < min {
+                    let param = self.lambda(p.z)[0];
+                    return Ok((points, End::StepTooSmall { param }));
+                }
+                continue;
+            };
+            points.extend(self.specials_between(&p, t, &q, tq)?);
+            if !self.inside(q.z) {
+                points.extend(self.edge_point(&p, &q)?);
+                return Ok((points, End::Reached));
+            }
+            let from_start = norm(axpy(q.z, -1.0, z0));
+            if left && from_start <= ds {
+                return Ok((points, End::Closed));
+            }
+            left |= from_start > 3.0 * ds;
+            points.push(self.curve_point(&q, None)?);
+            ds = if q.iterations <= 3 {
+                (ds * 1.5).min(max)
+            } else {
+                (ds * 0.7).max(min)
+            };
+            p = q;
+            t = tq;
+        }
+    }
+}
+
+/// Follows the curve of `kind` in `params` through the orbit of period k·2π/ω of `o` that starts
+/// near `start` at phase 0, a point of that kind (a fold or a period doubling located by
+/// [`continue_orbit`](super::continue_orbit) in `params[0]`), in both directions within `box2`.
+/// The start is first corrected onto the curve with `params[1]` fixed; a start that is not a
+/// point of that kind is refused with the reason.
+///
+/// ```
+/// use hdgear::{Params, params::Param};
+/// use hdgear::periodic::{Box2, ContinuationOptions, CurveKind, Scale, Special, continue_curve,
+///     frequency_response};
+/// // the study's point with γ = 30: the frequency response's two folds near ω ≈ 8
+/// let p = Params { gamma: 30.0, ..Params::default() };
+/// let r = frequency_response(&p, Some((4.0, 12.0)), &ContinuationOptions::default()).unwrap();
+/// let fold = r.specials().find(|q| q.special == Some(Special::Fold)).unwrap();
+/// let box2 = Box2 { ranges: [(4.0, 12.0), (10.0, 20.0)], scales: [Scale::Log, Scale::Log] };
+/// let o = Params { omega: fold.param, ..p };
+/// let c = continue_curve(&o, [Param::Omega, Param::Delta], CurveKind::Fold, 1, fold.start,
+///     &box2, &ContinuationOptions::default()).unwrap();
+/// // one multiplier is +1 all along
+/// assert!(c.points.iter().all(|q| q.multipliers[0].log_abs.abs() < 1e-9));
+/// ```
+pub fn continue_curve<O: Oscillator>(
+    o: &O,
+    params: [O::Param; 2],
+    kind: CurveKind,
+    k: u32,
+    start: [f64; 2],
+    box2: &Box2,
+    opts: &ContinuationOptions,
+) -> Result<Curve2<O::Param>> {
+    opts.validate()?;
+    box2.validate()?;
+    if params[0] == params[1] {
+        return Err(Error::InvalidInput {
+            what: "parameters",
+            text: format!("{}", params[0]),
+            reason: "two different parameters are needed".into(),
+        });
+    }
+    let tr = tracer(o, params, kind, k, start, box2, opts);
+    let u = [0, 1].map(|i| box2.scales[i].to_u(o.get(params[i])));
+    let z0 = [start[0] / tr.scale, start[1] / tr.scale, u[0], u[1]];
+    let bad_start = |reason: String| Error::InvalidInput {
+        what: "start",
+        text: format!(
+            "{} = {}, {} = {}",
+            params[0],
+            o.get(params[0]),
+            params[1],
+            o.get(params[1])
+        ),
+        reason,
+    };
+    if !tr.inside(z0) {
+        return Err(bad_start("outside the box".into()));
+    }
+    let Some(p) = tr.correct(z0, [0.0, 0.0, 0.0, 1.0], u[1])? else {
+        return Err(bad_start(format!(
+            "no {} of the period-{k} orbit near it (the corrector did not converge)",
+            kind.name()
+        )));
+    };
+    let Some(t) = tr.tangent(&p, [0.0, 0.0, 1.0, 1.0]) else {
+        return Err(bad_start(
+            "the curve has no tangent there (a singular point)".into(),
+        ));
+    };
+    let first = tr.curve_point(&p, None)?;
+    let (mut back, end0) = tr.trace(p, t.map(|v| -v))?;
+    let (forward, end1) = if end0 == End::Closed {
+        (Vec::new(), End::Closed)
+    } else {
+        tr.trace(p, t)?
+    };
+    back.reverse();
+    back.push(first);
+    back.extend(forward);
+    Ok(Curve2 {
+        kind,
+        params,
+        subharmonic: k,
+        points: back,
+        ends: [end0, end1],
+    })
+}
+
+/// The point of the curve of `kind` with `params[fixed]` = `value`, corrected from `near` (a
+/// point of the curve close to it, e.g. of a [`Curve2`] from [`continue_curve`] with the same
+/// `o`, `params`, `k` and `box2`): where the curve crosses a line of the parameter plane, or a
+/// restart from any point of an output file.
+#[allow(clippy::too_many_arguments)]
+pub fn point_on_curve<O: Oscillator>(
+    o: &O,
+    params: [O::Param; 2],
+    kind: CurveKind,
+    k: u32,
+    near: &CurvePoint2,
+    (fixed, value): (usize, f64),
+    box2: &Box2,
+    opts: &ContinuationOptions,
+) -> Result<CurvePoint2> {
+    opts.validate()?;
+    box2.validate()?;
+    let tr = tracer(o, params, kind, k, near.start, box2, opts);
+    let z = [
+        near.start[0] / tr.scale,
+        near.start[1] / tr.scale,
+        box2.scales[0].to_u(near.params[0]),
+        box2.scales[1].to_u(near.params[1]),
+    ];
+    let mut n = [0.0; 4];
+    n[2 + fixed.min(1)] = 1.0;
+    let u = box2.scales[fixed.min(1)].to_u(value);
+    match tr.correct(z, n, u)? {
+        Some(p) => tr.curve_point(&p, None),
+        None => Err(Error::InvalidInput {
+            what: "point on curve",
+            text: format!("{} = {value}", params[fixed.min(1)]),
+            reason: format!("the corrector did not converge from {:?}", near.params),
+        }),
+    }
+}
+
+fn tracer<'a, O: Oscillator>(
+    o: &'a O,
+    params: [O::Param; 2],
+    kind: CurveKind,
+    k: u32,
+    start: [f64; 2],
+    box2: &Box2,
+    opts: &'a ContinuationOptions,
+) -> Tracer<'a, O> {
+    let bounds = [0, 1].map(|i| {
+        let (lo, hi) = box2.ranges[i];
+        [box2.scales[i].to_u(lo), box2.scales[i].to_u(hi)]
+    });
+    let size =
+        ((bounds[0][1] - bounds[0][0]).powi(2) + (bounds[1][1] - bounds[1][0]).powi(2)).sqrt();
+    let scale = start[0].abs().max(start[1].abs()).max(1.0);
+    Tracer {
+        o,
+        params,
+        kind,
+        k,
+        opts,
+        scales: box2.scales,
+        bounds,
+        size,
+        scale,
+    }
+}
