@@ -50,6 +50,9 @@ pub enum Command {
     /// Follow the periodic orbit in a parameter (pseudo-arclength): folds, period doublings,
     /// the doubled branches.
     Continue(ContinueArgs),
+    /// Curves of folds or period doublings in two parameters (two-parameter continuation),
+    /// with their cusps and fold-flips.
+    Continue2(crate::cmd::continuation2::Continue2Args),
     /// The frequency-response curve: response amplitude against omega, stable and unstable
     /// branches, folds (the jumps).
     FrequencyResponse(FrequencyResponseArgs),

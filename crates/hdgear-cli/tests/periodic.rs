@@ -1,5 +1,5 @@
-//! The periodic-response commands: `continue`, `frequency-response` and `orbit-diagram` write
-//! their curves, figures and report sections.
+//! The periodic-response commands: `continue`, `continue2`, `frequency-response` and
+//! `orbit-diagram` write their curves, figures and report sections.
 
 /// Rows of a CSV file as maps from column to text.
 fn csv_rows(path: &std::path::Path) -> Vec<std::collections::HashMap<String, String>> {
@@ -156,4 +156,60 @@ fn a_lyapunov_map_is_in_grid_order_whatever_the_threads() {
     }
     let svg = std::fs::read_to_string(dir.path().join("map.svg")).unwrap();
     assert!(svg.contains("complex multipliers"));
+}
+
+/// `hdgear continue2` from every fold of the study's frequency response: two fold curves (the
+/// four folds at δ = 15 lie two on each, traced once), each with its cusp, every row's larger
+/// multiplier at +1 to 1e-9, the JSON's curves the file's rows; the figure; bad requests exit 2
+/// naming the value.
+#[test]
+fn continue2_traces_each_fold_curve_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let args = [
+        "continue2",
+        "--param",
+        "omega=0.3:20:log",
+        "--param",
+        "delta=0.5:40:log",
+        "--out",
+        "c.csv",
+        "--plot",
+        "c.svg",
+    ];
+    let text = run_in(dir.path(), &args);
+    assert_eq!(text.matches("cusp").count(), 2, "{text}");
+    assert!(text.contains("curve 1: fold"), "{text}");
+    assert!(!text.contains("curve 2"), "{text}");
+    let rows = csv_rows(&dir.path().join("c.csv"));
+    assert!(rows.len() > 100);
+    for r in &rows {
+        let m: f64 = r["ln_abs_m1"].parse().unwrap();
+        assert!(m.abs() < 1e-9, "{r:?}");
+    }
+    let cusps: Vec<_> = rows.iter().filter(|r| r["special"] == "cusp").collect();
+    assert_eq!(cusps.len(), 2);
+    let svg = std::fs::read_to_string(dir.path().join("c.svg")).unwrap();
+    assert!(svg.contains("fold curve") && svg.contains("cusp"));
+    let doc = crate::common::json_of(&[&args[..5], &["--json"]].concat());
+    let n: usize = doc["curves"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| c["points"].as_array().unwrap().len())
+        .sum();
+    assert_eq!(n, rows.len());
+    let base = ["continue2", "--param", "omega=0.3:20:log"];
+    crate::common::fails_with(&base, "exactly twice");
+    crate::common::fails_with(
+        &[&base[..], &["--param", "delta=20:40"]].concat(),
+        "delta=20:40",
+    );
+    crate::common::fails_with(&[&base[..], &["--param", "omega=1:2"]].concat(), "twice");
+    let both = [&base[..], &["--param", "delta=0.5:40"]].concat();
+    crate::common::fails_with(&[&both[..], &["--from", "fold:9"]].concat(), "fold:9");
+    crate::common::fails_with(&[&both[..], &["--from", "hopf"]].concat(), "hopf");
+    crate::common::fails_with(
+        &[&both[..], &["--from", "period-doubling"]].concat(),
+        "no period-doubling",
+    );
 }

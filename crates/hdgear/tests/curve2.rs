@@ -75,22 +75,8 @@ fn fold_curves_hold_a_unit_multiplier_and_pass_through_every_one_parameter_fold(
         let ones = folds(&Params { delta: d, ..p }, (0.3, 20.0), &opts);
         let mut crossings = Vec::new();
         for c in curves {
-            for w in c.points.windows(2) {
-                if (w[0].params[1] - d) * (w[1].params[1] - d) < 0.0 {
-                    let q = point_on_curve(
-                        &p,
-                        PARAMS,
-                        CurveKind::Fold,
-                        1,
-                        &w[0],
-                        (1, d),
-                        &plane(),
-                        &opts,
-                    )
-                    .unwrap();
-                    crossings.push(q.params[0]);
-                }
-            }
+            let xs = c.crossings(&p, (1, d), &plane(), &opts).unwrap();
+            crossings.extend(xs.iter().map(|q| q.params[0]));
         }
         let gap = |a: &[f64], b: &[f64]| {
             a.iter()

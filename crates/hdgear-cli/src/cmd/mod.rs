@@ -6,6 +6,7 @@ mod bifurcation;
 mod bursts;
 pub mod card;
 mod continuation;
+pub mod continuation2;
 pub mod control;
 mod diagram;
 mod equilibria;
@@ -39,6 +40,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Sweep(a) => sweep::run(a),
         Command::Merge(a) => merge::run(a),
         Command::Continue(a) => continuation::run(a),
+        Command::Continue2(a) => continuation2::run(a),
         Command::FrequencyResponse(a) => frequency::run(a),
         Command::OrbitDiagram(a) => diagram::run(a),
         Command::LyapunovMap(a) => lyapunov::run(a),

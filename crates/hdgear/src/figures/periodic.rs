@@ -447,3 +447,67 @@ pub fn lyapunov_map_kind(p: &Params, study: &mut Study) -> Result<Figure> {
     let rows = crate::periodic::lyapunov_map(&grid, &opts, study.threads)?;
     Ok(lyapunov_figure(&grid, &rows))
 }
+
+/// Two-parameter curves in their parameter plane: each fold curve and period-doubling curve a
+/// line, their codimension-two points marked; `names` and `logs` are the two parameters' names
+/// and whether their axis is logarithmic.
+pub fn curve2_figure(
+    curves: &[crate::periodic::Curve2<Param>],
+    names: [&str; 2],
+    logs: [bool; 2],
+) -> Figure {
+    use crate::periodic::CurveKind;
+    let mut seen = [false; 2];
+    let series = curves
+        .iter()
+        .map(|c| {
+            let i = usize::from(c.kind == CurveKind::PeriodDoubling);
+            let first = !std::mem::replace(&mut seen[i], true);
+            Series {
+                label: if first {
+                    format!("{} curve", c.kind.name())
+                } else {
+                    String::new()
+                },
+                points: c
+                    .points
+                    .iter()
+                    .map(|q| (q.params[0], q.params[1]))
+                    .collect(),
+                color: i,
+                style: Style::Line,
+            }
+        })
+        .collect();
+    let markers = curves
+        .iter()
+        .flat_map(|c| c.points.iter())
+        .filter_map(|q| {
+            q.special
+                .map(|s| (q.params[0], q.params[1], s.name().to_string()))
+        })
+        .collect();
+    Figure {
+        name: "curves".into(),
+        caption: format!(
+            "Folds of cycles and period doublings of the periodic response in the ({}, {}) \
+             plane, each followed by two-parameter continuation. Between the two branches of a \
+             fold curve the response is hysteretic (two stable orbits, a jump at each fold); at \
+             a cusp the two folds meet and the hysteresis vanishes. Inside a period-doubling \
+             curve the period-1 orbit is unstable and a period-2 orbit takes over.",
+            names[0], names[1]
+        ),
+        size: (1000, 700),
+        panels: vec![Panel {
+            title: format!("Two-parameter curves in ({}, {})", names[0], names[1]),
+            x_label: names[0].into(),
+            y_label: names[1].into(),
+            x_log: logs[0],
+            y_log: logs[1],
+            series,
+            markers,
+            ..Panel::default()
+        }],
+        map: None,
+    }
+}

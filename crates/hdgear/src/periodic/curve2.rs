@@ -698,3 +698,98 @@ fn tracer<'a, O: Oscillator>(
         scale,
     }
 }
+
+/// A point of a two-parameter curve as a row of its output file.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct CurveRow {
+    /// Index of the curve.
+    pub curve: usize,
+    /// fold or period-doubling.
+    pub kind: &'static str,
+    /// k (period k·2π/ω).
+    pub subharmonic: u32,
+    /// λ₁.
+    pub param1: f64,
+    /// λ₂.
+    pub param2: f64,
+    /// x at phase 0.
+    pub x0: f64,
+    /// x' at phase 0.
+    pub xdot0: f64,
+    /// x_max − x_min.
+    pub peak_to_peak: f64,
+    /// Largest |x'|.
+    pub max_abs_xdot: f64,
+    /// ln |m1| (the larger multiplier).
+    pub ln_abs_m1: f64,
+    /// arg m1.
+    pub arg_m1: f64,
+    /// ln |m2|.
+    pub ln_abs_m2: f64,
+    /// arg m2.
+    pub arg_m2: f64,
+    /// cusp, fold-flip or empty.
+    pub special: &'static str,
+}
+crate::record!(
+    CurveRow: "curve", "kind", "subharmonic", "param1", "param2", "x0", "xdot0", "peak_to_peak",
+    "max_abs_xdot", "ln_abs_m1", "arg_m1", "ln_abs_m2", "arg_m2", "special"
+);
+
+impl CurveRow {
+    /// The rows of curve number `i`.
+    pub fn of<P>(i: usize, c: &Curve2<P>) -> impl Iterator<Item = CurveRow> + '_ {
+        c.points.iter().map(move |q| CurveRow {
+            curve: i,
+            kind: c.kind.name(),
+            subharmonic: c.subharmonic,
+            param1: q.params[0],
+            param2: q.params[1],
+            x0: q.start[0],
+            xdot0: q.start[1],
+            peak_to_peak: q.amplitude.peak_to_peak,
+            max_abs_xdot: q.amplitude.max_abs_xdot,
+            ln_abs_m1: q.multipliers[0].log_abs,
+            arg_m1: q.multipliers[0].arg,
+            ln_abs_m2: q.multipliers[1].log_abs,
+            arg_m2: q.multipliers[1].arg,
+            special: q.special.map_or("", Codim2::name),
+        })
+    }
+}
+
+impl<P: Copy + PartialEq + std::fmt::Debug + std::fmt::Display + Send + Sync> Curve2<P> {
+    /// Where the curve crosses the line λ_fixed = `value` of the parameter plane, each crossing
+    /// corrected onto it ([`point_on_curve`]) from the curve's point before it; `o` is any set
+    /// of the curve's other parameters, `box2` and `opts` those it was followed with.
+    pub fn crossings<O: Oscillator<Param = P>>(
+        &self,
+        o: &O,
+        (fixed, value): (usize, f64),
+        box2: &Box2,
+        opts: &ContinuationOptions,
+    ) -> Result<Vec<CurvePoint2>> {
+        let j = fixed.min(1);
+        self.points
+            .windows(2)
+            .filter(|w| {
+                let (a, b) = (w[0].params[j] - value, w[1].params[j] - value);
+                a * b < 0.0 || b == 0.0
+            })
+            .map(|w| {
+                let closer = (w[0].params[j] - value).abs() < (w[1].params[j] - value).abs();
+                let near = if closer { &w[0] } else { &w[1] };
+                point_on_curve(
+                    o,
+                    self.params,
+                    self.kind,
+                    self.subharmonic,
+                    near,
+                    (j, value),
+                    box2,
+                    opts,
+                )
+            })
+            .collect()
+    }
+}

@@ -1,0 +1,266 @@
+//! `hdgear continue2`: the curves of folds (or period doublings) of the periodic response in two
+//! parameters, started from the special points a one-parameter continuation finds, with their
+//! cusps and fold-flips.
+
+use crate::cli::ParamArgs;
+use crate::sink::{outln, warn, write_records};
+use anyhow::{Context, Result, bail};
+use clap::Args;
+use hdgear::params::Param;
+use hdgear::periodic::{
+    Box2, Codim2, ContinuationOptions, Curve2, CurveKind, CurveRow, End, Range, Scale, Special,
+    continue_curve, continue_orbit,
+};
+use serde::Serialize;
+use std::path::PathBuf;
+
+/// Arguments of `hdgear continue2`.
+#[derive(Args, Debug)]
+pub struct Continue2Args {
+    #[command(flatten)]
+    pub params: ParamArgs,
+    /// NAME=LO:HI[:log], given twice: the two parameters and the box the curves are followed in.
+    /// The start is found by continuation in the first from LO to HI, the second at its value.
+    #[arg(
+        long = "param",
+        value_name = "SPEC",
+        required = true,
+        allow_hyphen_values = true
+    )]
+    pub ranges: Vec<String>,
+    /// fold or period-doubling, optionally :N: the curves through every fold (period doubling)
+    /// of that one-parameter branch, or through its Nth (from 1) only.
+    #[arg(long, default_value = "fold", value_name = "KIND[:N]")]
+    pub from: String,
+    /// K: orbits of period K·2π/ω.
+    #[arg(long, default_value_t = 1)]
+    pub subharmonic: u32,
+    /// The curves' points (curve,kind,subharmonic,param1,param2,x0,…,special) to a .csv, .json
+    /// or .parquet file.
+    #[arg(long, value_name = "FILE")]
+    pub out: Option<PathBuf>,
+    /// The curves in the parameter plane to a .svg or .png file.
+    #[arg(long, value_name = "FILE")]
+    pub plot: Option<PathBuf>,
+    /// Print one JSON document (every curve with every point).
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// What `--json` prints and `--out` carries as metadata.
+#[derive(Serialize)]
+struct Doc<'a> {
+    params: hdgear::Params,
+    ranges: [Range; 2],
+    options: ContinuationOptions,
+    curves: &'a [Curve2<Param>],
+}
+
+/// `fold[:N]` or `period-doubling[:N]`.
+fn parse_from(text: &str) -> Result<(CurveKind, Option<usize>)> {
+    let (kind, n) = match text.split_once(':') {
+        Some((k, n)) => (k, Some(n)),
+        None => (text, None),
+    };
+    let kind = match kind.trim() {
+        "fold" => CurveKind::Fold,
+        "period-doubling" | "pd" => CurveKind::PeriodDoubling,
+        _ => {
+            bail!("invalid --from '{text}': expected fold or period-doubling, with :N for the Nth")
+        }
+    };
+    let n = match n {
+        None => None,
+        Some(n) => match n.trim().parse::<usize>() {
+            Ok(n) if n >= 1 => Some(n),
+            _ => bail!("invalid --from '{text}': N must be a whole number from 1"),
+        },
+    };
+    Ok((kind, n))
+}
+
+pub fn run(a: Continue2Args) -> Result<()> {
+    let ranges: Vec<Range> = a
+        .ranges
+        .iter()
+        .map(|r| Range::parse(r).context("--param"))
+        .collect::<Result<_>>()?;
+    let [r1, r2] = ranges[..] else {
+        bail!(
+            "--param is needed exactly twice (NAME=LO:HI[:log] for each of the two parameters), got {}",
+            ranges.len()
+        );
+    };
+    if r1.param == r2.param {
+        bail!(
+            "invalid --param: {} given twice; two different parameters are needed",
+            r1.param
+        );
+    }
+    let (kind, nth) = parse_from(&a.from)?;
+    if a.params.given(r1.param.name()) {
+        bail!("--{0} does not apply: --param sets {0} itself", r1.param);
+    }
+    let (p, warnings) = a.params.resolve()?;
+    let p = p.with(r1.param, r1.from);
+    p.validate().context("--param")?;
+    let box2 = Box2 {
+        ranges: [r1, r2].map(|r| (r.from.min(r.to), r.from.max(r.to))),
+        scales: [r1.scale, r2.scale],
+    };
+    box2.validate().context("--param")?;
+    let at = p.value(r2.param);
+    if !(at >= box2.ranges[1].0 && at <= box2.ranges[1].1) {
+        bail!(
+            "invalid --param {}: the set's {} = {at} is outside it, and the start is found there",
+            a.ranges[1],
+            r2.param
+        );
+    }
+    crate::cli::check_out(&a.out)?;
+    if let Some(path) = &a.plot {
+        crate::cli::check_figure_path("--plot", path)?;
+    }
+    warn(&warnings);
+    let opts = ContinuationOptions::default();
+    let one = ContinuationOptions {
+        scale: r1.scale,
+        ..opts
+    };
+    let branch = continue_orbit(&p, r1.param, a.subharmonic, None, r1.to, &one)?;
+    let want = match kind {
+        CurveKind::Fold => Special::Fold,
+        CurveKind::PeriodDoubling => Special::PeriodDoubling,
+    };
+    let starts: Vec<_> = branch
+        .specials()
+        .filter(|q| q.special == Some(want))
+        .collect();
+    let starts: Vec<_> = match nth {
+        None => starts,
+        Some(n) => match starts.get(n - 1) {
+            Some(q) => vec![*q],
+            None => bail!(
+                "invalid --from '{}': the branch in {} has {} {}s",
+                a.from,
+                r1.param,
+                starts.len(),
+                kind.name()
+            ),
+        },
+    };
+    if starts.is_empty() {
+        bail!(
+            "no {} on the branch in {} from {} to {} at {} = {at}: nothing to continue (try \
+             another range or --from)",
+            kind.name(),
+            r1.param,
+            r1.from,
+            r1.to,
+            r2.param
+        );
+    }
+    let mut curves: Vec<Curve2<Param>> = Vec::new();
+    for s in starts {
+        // a special point on a curve already traced is not traced again
+        let mut seen = false;
+        for c in &curves {
+            let xs = c.crossings(&p, (1, at), &box2, &opts)?;
+            seen |= xs
+                .iter()
+                .any(|x| (x.params[0] - s.param).abs() <= 1e-6 * (1.0 + s.param.abs()));
+        }
+        if seen {
+            continue;
+        }
+        let o = p.with(r1.param, s.param);
+        curves.push(continue_curve(
+            &o,
+            [r1.param, r2.param],
+            kind,
+            a.subharmonic,
+            s.start,
+            &box2,
+            &opts,
+        )?);
+    }
+    let doc = Doc {
+        params: p,
+        ranges: [r1, r2],
+        options: opts,
+        curves: &curves,
+    };
+    if let Some(out) = &a.out {
+        let rows = curves
+            .iter()
+            .enumerate()
+            .flat_map(|(i, c)| CurveRow::of(i, c));
+        write_records(Some(out), &doc, rows)?;
+    }
+    if let Some(path) = &a.plot {
+        let names = [r1.param.name(), r2.param.name()];
+        let logs = [r1.scale, r2.scale].map(|s| s == Scale::Log);
+        let figure = hdgear::figures::curve2_figure(&curves, names, logs);
+        hdgear::output::plot::write(&figure, path)?;
+    }
+    if a.json {
+        outln!("{}", serde_json::to_string_pretty(&doc)?);
+    } else {
+        summary(&curves, [r1.param, r2.param])?;
+    }
+    Ok(())
+}
+
+fn end_text(e: End) -> &'static str {
+    match e {
+        End::Reached => "left the box",
+        End::MaxPoints => "stopped at the point limit",
+        End::Closed => "closed on itself",
+        End::StepTooSmall { .. } => "the step fell below its minimum",
+        End::Rejoined { .. } => "rejoined",
+    }
+}
+
+fn summary(curves: &[Curve2<Param>], names: [Param; 2]) -> Result<()> {
+    for (i, c) in curves.iter().enumerate() {
+        let extent = |j: usize| {
+            let v = c.points.iter().map(|q| q.params[j]);
+            let (lo, hi) = v.fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), x| {
+                (l.min(x), h.max(x))
+            });
+            format!("{} {lo:.6} … {hi:.6}", names[j])
+        };
+        outln!(
+            "curve {i}: {}, period {} × 2π/ω, {} points, {}, {}; ends: {}, {}",
+            c.kind.name(),
+            c.subharmonic,
+            c.points.len(),
+            extent(0),
+            extent(1),
+            end_text(c.ends[0]),
+            end_text(c.ends[1])
+        );
+        let worst = c
+            .points
+            .iter()
+            .map(|q| {
+                q.multipliers[0]
+                    .log_abs
+                    .abs()
+                    .min(q.multipliers[1].log_abs.abs())
+            })
+            .fold(0.0f64, f64::max);
+        outln!("  critical multiplier within {worst:.1e} of the unit circle at every point");
+        for q in c.points.iter().filter(|q| q.special.is_some()) {
+            outln!(
+                "  {:<10} {} = {:.10}  {} = {:.10}",
+                q.special.map_or("", Codim2::name),
+                names[0],
+                q.params[0],
+                names[1],
+                q.params[1]
+            );
+        }
+    }
+    Ok(())
+}
