@@ -169,25 +169,7 @@ fn the_cusp_is_where_the_hysteresis_vanishes() {
         let ratio = w[1].1 / w[0].1;
         assert!((ratio - 2f64.powf(1.5)).abs() < 0.1, "{widths:?}");
     }
-    // the quadratic through (δ, w^{2/3}) at the three smallest e, and its root near δ_c
-    let (x, y): (Vec<f64>, Vec<f64>) = widths[..3]
-        .iter()
-        .map(|&(d, w)| (d, w.powf(2.0 / 3.0)))
-        .unzip();
-    let q = |t: f64| -> f64 {
-        (0..3)
-            .map(|i| {
-                (0..3)
-                    .filter(|&j| j != i)
-                    .fold(y[i], |l, j| l * (t - x[j]) / (x[i] - x[j]))
-            })
-            .sum()
-    };
-    let mut root = dc;
-    for _ in 0..50 {
-        let h = 1e-7;
-        root -= q(root) * 2.0 * h / (q(root + h) - q(root - h));
-    }
+    let root = zero_of_width(&widths[..3], dc);
     assert!((root - dc).abs() < 1e-5, "fit {root} against {dc}");
     let below = folds(
         &Params {
@@ -198,6 +180,27 @@ fn the_cusp_is_where_the_hysteresis_vanishes() {
         &fine,
     );
     assert!(below.is_empty(), "{below:?}");
+}
+
+/// The root near `guess` of the quadratic through (δ, w^{2/3}) at three widths: where the
+/// hysteresis width extrapolates to zero.
+fn zero_of_width(widths: &[(f64, f64)], guess: f64) -> f64 {
+    let (x, y): (Vec<f64>, Vec<f64>) = widths.iter().map(|&(d, w)| (d, w.powf(2.0 / 3.0))).unzip();
+    let q = |t: f64| -> f64 {
+        (0..3)
+            .map(|i| {
+                (0..3)
+                    .filter(|&j| j != i)
+                    .fold(y[i], |l, j| l * (t - x[j]) / (x[i] - x[j]))
+            })
+            .sum()
+    };
+    let mut root = guess;
+    for _ in 0..50 {
+        let h = 1e-7;
+        root -= q(root) * 2.0 * h / (q(root + h) - q(root - h));
+    }
+    root
 }
 
 /// γ = 10: the period-doubling bubble of the frequency response (ω ≈ 8.14 and 9.56 at δ = 15)

@@ -79,7 +79,8 @@ fn parse_from(text: &str) -> Result<(CurveKind, Option<usize>)> {
     Ok((kind, n))
 }
 
-pub fn run(a: Continue2Args) -> Result<()> {
+/// The checked request: the set (with the first parameter at its start), both ranges, the box.
+fn request(a: &Continue2Args) -> Result<(hdgear::Params, [Range; 2], Box2)> {
     let ranges: Vec<Range> = a
         .ranges
         .iter()
@@ -97,7 +98,6 @@ pub fn run(a: Continue2Args) -> Result<()> {
             r1.param
         );
     }
-    let (kind, nth) = parse_from(&a.from)?;
     if a.params.given(r1.param.name()) {
         bail!("--{0} does not apply: --param sets {0} itself", r1.param);
     }
@@ -122,6 +122,13 @@ pub fn run(a: Continue2Args) -> Result<()> {
         crate::cli::check_figure_path("--plot", path)?;
     }
     warn(&warnings);
+    Ok((p, [r1, r2], box2))
+}
+
+pub fn run(a: Continue2Args) -> Result<()> {
+    let (kind, nth) = parse_from(&a.from)?;
+    let (p, [r1, r2], box2) = request(&a)?;
+    let at = p.value(r2.param);
     let opts = ContinuationOptions::default();
     let one = ContinuationOptions {
         scale: r1.scale,
@@ -160,30 +167,7 @@ pub fn run(a: Continue2Args) -> Result<()> {
             r2.param
         );
     }
-    let mut curves: Vec<Curve2<Param>> = Vec::new();
-    for s in starts {
-        // a special point on a curve already traced is not traced again
-        let mut seen = false;
-        for c in &curves {
-            let xs = c.crossings(&p, (1, at), &box2, &opts)?;
-            seen |= xs
-                .iter()
-                .any(|x| (x.params[0] - s.param).abs() <= 1e-6 * (1.0 + s.param.abs()));
-        }
-        if seen {
-            continue;
-        }
-        let o = p.with(r1.param, s.param);
-        curves.push(continue_curve(
-            &o,
-            [r1.param, r2.param],
-            kind,
-            a.subharmonic,
-            s.start,
-            &box2,
-            &opts,
-        )?);
-    }
+    let curves = trace(&p, [r1, r2], kind, &starts, a.subharmonic, &box2, &opts)?;
     let doc = Doc {
         params: p,
         ranges: [r1, r2],
@@ -209,6 +193,44 @@ pub fn run(a: Continue2Args) -> Result<()> {
         summary(&curves, [r1.param, r2.param])?;
     }
     Ok(())
+}
+
+/// The curve through each start, each curve once.
+fn trace(
+    p: &hdgear::Params,
+    [r1, r2]: [Range; 2],
+    kind: CurveKind,
+    starts: &[&hdgear::periodic::BranchPoint],
+    k: u32,
+    box2: &Box2,
+    opts: &ContinuationOptions,
+) -> Result<Vec<Curve2<Param>>> {
+    let at = p.value(r2.param);
+    let mut curves: Vec<Curve2<Param>> = Vec::new();
+    for s in starts {
+        // a special point on a curve already traced is not traced again
+        let mut seen = false;
+        for c in &curves {
+            let xs = c.crossings(p, (1, at), box2, opts)?;
+            seen |= xs
+                .iter()
+                .any(|x| (x.params[0] - s.param).abs() <= 1e-6 * (1.0 + s.param.abs()));
+        }
+        if seen {
+            continue;
+        }
+        let o = p.with(r1.param, s.param);
+        curves.push(continue_curve(
+            &o,
+            [r1.param, r2.param],
+            kind,
+            k,
+            s.start,
+            box2,
+            opts,
+        )?);
+    }
+    Ok(curves)
 }
 
 fn end_text(e: End) -> &'static str {

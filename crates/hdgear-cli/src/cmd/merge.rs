@@ -107,13 +107,20 @@ fn read_part(path: &Path) -> Result<Part> {
 }
 
 /// The run's settings a part must share with the others: everything but its block.
-fn settings(doc: &serde_json::Value) -> serde_json::Value {
-    let mut s = serde_json::json!({ "space": doc["space"], "sampling": doc["sampling"] });
-    if let Some(m) = s["sampling"].as_object_mut() {
-        m.remove("first");
-        m.remove("samples");
+#[derive(PartialEq)]
+struct Settings {
+    space: serde_json::Value,
+    sampling: serde_json::Map<String, serde_json::Value>,
+}
+
+fn settings(doc: &serde_json::Value) -> Settings {
+    let mut sampling = doc["sampling"].as_object().cloned().unwrap_or_default();
+    sampling.remove("first");
+    sampling.remove("samples");
+    Settings {
+        space: doc["space"].clone(),
+        sampling,
     }
-    s
 }
 
 /// Merges the --json summaries of a sharded `hdgear robust` run.

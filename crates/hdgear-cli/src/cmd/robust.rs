@@ -343,47 +343,55 @@ pub fn text(a: &Analysis) -> String {
         sobol_text(&mut s, sens);
     }
     if let Some(points) = &a.load_curve {
-        let _ = writeln!(
-            s,
-            "P(burst) against the load amplitude ({}, {} samples each):",
-            hdgear::robust::load_target(&a.space.nominal).name(),
-            a.sampling.samples
-        );
-        for q in points {
-            let p = &q.probability;
-            let _ = writeln!(
-                s,
-                "  {:>5.3} x  {:>10.4}  {} [{}, {}]",
-                q.factor,
-                q.load,
-                probability(p.p),
-                probability(p.interval.0),
-                probability(p.interval.1)
-            );
-        }
+        load_text(&mut s, a, points);
     }
     if let Some(r) = &a.resonance {
-        let rule: Vec<String> = APPLICATIONS
-            .iter()
-            .map(|&(name, hz)| {
-                let ok = if r.lowest_hz >= hz { "pass" } else { "FAIL" };
-                format!("{name} (>= {hz} Hz) {ok}")
-            })
-            .collect();
-        let _ = writeln!(
-            s,
-            "resonance (selection rule f_n = sqrt(k1/J_o)/2pi): nominal {:.2} Hz, lowest over the \
-             box {:.2} Hz: {}",
-            r.nominal_hz,
-            r.lowest_hz,
-            rule.join(", ")
-        );
-        if let Some(req) = r.required_hz {
-            let ok = if r.lowest_hz >= req { "pass" } else { "FAIL" };
-            let _ = writeln!(s, "  the card's application needs {req} Hz: {ok}");
-        }
+        resonance_text(&mut s, r);
     }
     s
+}
+
+fn load_text(s: &mut String, a: &Analysis, points: &[hdgear::robust::LoadPoint]) {
+    let _ = writeln!(
+        s,
+        "P(burst) against the load amplitude ({}, {} samples each):",
+        hdgear::robust::load_target(&a.space.nominal).name(),
+        points.first().map_or(0, |q| q.probability.samples)
+    );
+    for q in points {
+        let p = &q.probability;
+        let _ = writeln!(
+            s,
+            "  {:>5.3} x  {:>10.4}  {} [{}, {}]",
+            q.factor,
+            q.load,
+            probability(p.p),
+            probability(p.interval.0),
+            probability(p.interval.1)
+        );
+    }
+}
+
+fn resonance_text(s: &mut String, r: &hdgear::robust::Resonance) {
+    let rule: Vec<String> = APPLICATIONS
+        .iter()
+        .map(|&(name, hz)| {
+            let ok = if r.lowest_hz >= hz { "pass" } else { "FAIL" };
+            format!("{name} (>= {hz} Hz) {ok}")
+        })
+        .collect();
+    let _ = writeln!(
+        s,
+        "resonance (selection rule f_n = sqrt(k1/J_o)/2pi): nominal {:.2} Hz, lowest over the \
+         box {:.2} Hz: {}",
+        r.nominal_hz,
+        r.lowest_hz,
+        rule.join(", ")
+    );
+    if let Some(req) = r.required_hz {
+        let ok = if r.lowest_hz >= req { "pass" } else { "FAIL" };
+        let _ = writeln!(s, "  the card's application needs {req} Hz: {ok}");
+    }
 }
 
 /// A probability with four decimals, or four significant digits below 1e-3.

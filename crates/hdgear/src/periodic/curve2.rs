@@ -445,10 +445,11 @@ impl<O: Oscillator> Tracer<'_, O> {
         let tp = [t[2], t[3]];
         let cusp = |_: &Point, tq: [f64; 4]| Some(tq[2] * tp[0] + tq[3] * tp[1]);
         let (a, b) = (tp[0] * tp[0] + tp[1] * tp[1], tq[2] * tp[0] + tq[3] * tp[1]);
-        if self.kind == CurveKind::Fold && b < 0.0 {
-            if let Some(s) = self.locate(p, t, sigma_b, (a, b), cusp)? {
-                found.push((dot(t, s.z), self.curve_point(&s, Some(Codim2::Cusp))?));
-            }
+        if self.kind == CurveKind::Fold
+            && b < 0.0
+            && let Some(s) = self.locate(p, t, sigma_b, (a, b), cusp)?
+        {
+            found.push((dot(t, s.z), self.curve_point(&s, Some(Codim2::Cusp))?));
         }
         // fold-flip: the other test function changes sign
         let other = 1 - self.kind.index();

@@ -312,39 +312,7 @@ impl Report {
         let map = study.map(&base)?.clone();
 
         observer.stage(Stage::PhysicalAndPeriodic);
-        let (drive, variant) = PhysicalEvidence::drives()?;
-        let gammas: Vec<f64> = STUDY_GAMMAS.iter().map(|g| g.0).collect();
-        let (((physical, bounds), periodic), control) = rayon::join(
-            || {
-                rayon::join(
-                    || {
-                        rayon::join(
-                            || PhysicalEvidence::compute(&opts.burst),
-                            || study.boundaries(&[base, at(1.0)]),
-                        )
-                    },
-                    || {
-                        periodic::PeriodicEvidence::compute(
-                            &base,
-                            &gammas,
-                            &opts.burst,
-                            (&drive, &variant),
-                            opts.threads,
-                        )
-                    },
-                )
-            },
-            || {
-                rayon::join(
-                    || control::ControlEvidence::compute(&base, &variant, &opts.burst),
-                    || robust::RobustEvidence::compute(&drive, &opts.burst),
-                )
-            },
-        );
-        let (control, robust) = control;
-        let (physical, bounds, periodic, control, robust) =
-            (physical?, bounds?, periodic?, control?, robust?);
-
+        let (physical, bounds, periodic, control, robust) = side_sections(opts, &mut study)?;
         observer.stage(Stage::Figures);
         let mut figures = study_figures(&base, &mut study)?;
         figures.extend(periodic.figures(&base));
@@ -445,6 +413,53 @@ impl Report {
             tables: self.tables.clone(),
         })
     }
+}
+
+/// The sections computed side by side (independent of one another): the physical drive, the
+/// boundaries, the periodic response, burst control and the drive under spread.
+fn side_sections(
+    opts: &ReportOptions,
+    study: &mut Study,
+) -> Result<(
+    PhysicalEvidence,
+    Vec<Boundaries>,
+    periodic::PeriodicEvidence,
+    control::ControlEvidence,
+    robust::RobustEvidence,
+)> {
+    let base = opts.base;
+    let at = |gamma: f64| Params { gamma, ..base };
+    let (drive, variant) = PhysicalEvidence::drives()?;
+    let gammas: Vec<f64> = STUDY_GAMMAS.iter().map(|g| g.0).collect();
+    let (((physical, bounds), periodic), control) = rayon::join(
+        || {
+            rayon::join(
+                || {
+                    rayon::join(
+                        || PhysicalEvidence::compute(&opts.burst),
+                        || study.boundaries(&[base, at(1.0)]),
+                    )
+                },
+                || {
+                    periodic::PeriodicEvidence::compute(
+                        &base,
+                        &gammas,
+                        &opts.burst,
+                        (&drive, &variant),
+                        opts.threads,
+                    )
+                },
+            )
+        },
+        || {
+            rayon::join(
+                || control::ControlEvidence::compute(&base, &variant, &opts.burst),
+                || robust::RobustEvidence::compute(&drive, &opts.burst),
+            )
+        },
+    );
+    let (control, robust) = control;
+    Ok((physical?, bounds?, periodic?, control?, robust?))
 }
 
 /// The study's figures, in [`FIGURES`] order, each at its γ (the base set's without one).

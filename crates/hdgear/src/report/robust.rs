@@ -80,13 +80,13 @@ impl RobustEvidence {
 pub(super) fn html(h: &mut String, ev: &RobustEvidence) {
     let a = &ev.analysis;
     let p = &a.probability;
-    let _ = write!(
+    let _ = writeln!(
         h,
         "<section id=\"robust\"><h2>Design under manufacturing spread</h2><p>The drive of the \
          physical section with a soft k1 = {} N m/rad and a disturbance T_am = {} N m, burst-free \
          at its nominal values. Its parameters spread by the default bands, each an assumption \
          (the catalogues state no scatter):</p><table><tr><th>parameter</th><th>spread</th>\
-         <th>source</th></tr>\n",
+         <th>source</th></tr>",
         ROBUST_DRIVE.0, ROBUST_DRIVE.1
     );
     for t in &a.space.tolerances {
@@ -111,33 +111,45 @@ pub(super) fn html(h: &mut String, ev: &RobustEvidence) {
         num(p.interval.1)
     );
     if let Some(w) = &a.worst {
-        let names: Vec<&str> = a.space.tolerances.iter().map(|t| t.target.name()).collect();
-        let corner: Vec<String> = names
-            .iter()
-            .zip(&w.corners[w.worst].signs)
-            .map(|(n, &s)| format!("{n} {}", if s > 0 { "high" } else { "low" }))
-            .collect();
-        let bands: Vec<String> = names
-            .iter()
-            .zip(&w.margin_percent)
-            .map(|(n, (lo, hi))| format!("{n} {lo:+.2} % … {hi:+.2} %"))
-            .collect();
-        let _ = writeln!(
-            h,
-            "<p>Worst corner of the {} (closest to bursting): {}. Margin: burst-free with every \
-             parameter within {} (the box scaled by <span data-key=\"margin\">{}</span>; {} \
-             points inside it checked, {} with another verdict).</p>",
-            w.corners.len(),
-            corner.join(", "),
-            bands.join(", "),
-            w.margin.map_or("–".into(), num),
-            w.interior_checked,
-            w.interior_differing
-        );
+        worst_html(h, a, w);
     }
-    if let Some(s) = &a.sensitivity
-        && let Some((_, Some(ix))) = s.measures.iter().find(|m| m.0 == Measure::Burst)
-    {
+    if let Some(s) = &a.sensitivity {
+        sobol_html(h, s);
+    }
+    if let Some(r) = &a.resonance {
+        resonance_html(h, r);
+    }
+    h.push_str("</section>\n");
+}
+
+fn worst_html(h: &mut String, a: &Analysis, w: &crate::robust::WorstCase) {
+    let names: Vec<&str> = a.space.tolerances.iter().map(|t| t.target.name()).collect();
+    let corner: Vec<String> = names
+        .iter()
+        .zip(&w.corners[w.worst].signs)
+        .map(|(n, &s)| format!("{n} {}", if s > 0 { "high" } else { "low" }))
+        .collect();
+    let bands: Vec<String> = names
+        .iter()
+        .zip(&w.margin_percent)
+        .map(|(n, (lo, hi))| format!("{n} {lo:+.2} % … {hi:+.2} %"))
+        .collect();
+    let _ = writeln!(
+        h,
+        "<p>Worst corner of the {} (closest to bursting): {}. Margin: burst-free with every \
+         parameter within {} (the box scaled by <span data-key=\"margin\">{}</span>; {} \
+         points inside it checked, {} with another verdict).</p>",
+        w.corners.len(),
+        corner.join(", "),
+        bands.join(", "),
+        w.margin.map_or("–".into(), num),
+        w.interior_checked,
+        w.interior_differing
+    );
+}
+
+fn sobol_html(h: &mut String, s: &crate::robust::Sensitivity) {
+    if let Some((_, Some(ix))) = s.measures.iter().find(|m| m.0 == Measure::Burst) {
         let _ = write!(
             h,
             "<table id=\"robust-sobol\"><tr><th>Sobol index of the verdict (N = {})</th>",
@@ -174,23 +186,23 @@ pub(super) fn html(h: &mut String, ev: &RobustEvidence) {
             num(total)
         );
     }
-    if let Some(r) = &a.resonance {
-        let rule: Vec<String> = crate::robust::APPLICATIONS
-            .iter()
-            .map(|&(name, hz)| {
-                let ok = if r.lowest_hz >= hz { "passes" } else { "fails" };
-                format!("{ok} {name} (≥ {hz} Hz)")
-            })
-            .collect();
-        let _ = writeln!(
-            h,
-            "<p>The catalogue's selection rule, beside the verdict: f<sub>n</sub> = \
-             √(k1/J<sub>o</sub>)/2π = {} Hz nominal, {} Hz at the band's soft, heavy edge; it \
-             {}. The rule and the burst verdict answer different questions.</p>",
-            num(r.nominal_hz),
-            num(r.lowest_hz),
-            rule.join(", ")
-        );
-    }
-    h.push_str("</section>\n");
+}
+
+fn resonance_html(h: &mut String, r: &crate::robust::Resonance) {
+    let rule: Vec<String> = crate::robust::APPLICATIONS
+        .iter()
+        .map(|&(name, hz)| {
+            let ok = if r.lowest_hz >= hz { "passes" } else { "fails" };
+            format!("{ok} {name} (≥ {hz} Hz)")
+        })
+        .collect();
+    let _ = writeln!(
+        h,
+        "<p>The catalogue's selection rule, beside the verdict: f<sub>n</sub> = \
+         √(k1/J<sub>o</sub>)/2π = {} Hz nominal, {} Hz at the band's soft, heavy edge; it \
+         {}. The rule and the burst verdict answer different questions.</p>",
+        num(r.nominal_hz),
+        num(r.lowest_hz),
+        rule.join(", ")
+    );
 }
