@@ -284,15 +284,7 @@ pub fn importance(space: &Space, opts: &BurstOptions, mc: &McOptions) -> Result<
     let centre = design.as_ref().map_or(vec![0.0; k], |d| d.z.clone());
     let beta2: f64 = centre.iter().map(|x| x * x).sum();
     let points = super::Points::new(mc.sampler, mc.seed, k + 1)?;
-    let end = mc
-        .first
-        .checked_add(mc.samples)
-        .filter(|&e| e <= points.capacity())
-        .ok_or(Error::InvalidOption {
-            name: "samples",
-            value: mc.samples as f64,
-            reason: "the sequence has no more points",
-        })?;
+    let end = mc.end(&points)?;
     let mut total = Importance {
         design,
         note,

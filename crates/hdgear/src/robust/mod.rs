@@ -522,6 +522,17 @@ impl Default for McOptions {
 }
 
 impl McOptions {
+    /// The index after the run's last sample, checked against the points' `capacity`.
+    pub fn end(&self, points: &Points) -> Result<u64> {
+        let end = self.first.checked_add(self.samples);
+        end.filter(|&e| e <= points.capacity())
+            .ok_or(Error::InvalidOption {
+                name: "samples",
+                value: self.samples as f64,
+                reason: "the sequence has no more points",
+            })
+    }
+
     /// Checks the options.
     pub fn validate(&self) -> Result<()> {
         let bad = crate::error::bad_option;
@@ -674,15 +685,7 @@ pub fn probability(
     mc.validate()?;
     opts.validate()?;
     let points = Points::new(mc.sampler, mc.seed, space.dims())?;
-    let end = mc
-        .first
-        .checked_add(mc.samples)
-        .filter(|&e| e <= points.capacity());
-    let end = end.ok_or_else(|| Error::InvalidOption {
-        name: "samples",
-        value: mc.samples as f64,
-        reason: "the sequence has no more points",
-    })?;
+    let end = mc.end(&points)?;
     let mut total = Probability::of(&[], mc);
     let mut start = mc.first;
     while start < end {
