@@ -6,7 +6,8 @@
 //! | [`newton_bracketed`] | a monotone f with its derivative, bracketed | the equilibria of the fast subsystem |
 //! | [`bisect`], [`try_bisect`] | where a predicate (or a sign) switches | spiking-area edges, extremum times of a periodic orbit, catalogue twists, the design margin |
 //! | [`bisect_log`] | a predicate's switch on a positive axis, in log scale | the predicted γ boundary, the map's predicted boundary |
-//! | [`multisect_log`] | the same, several values per round (a batch) | the simulated bursting boundaries |
+//! | [`multisect`] | a predicate's switch, several values per round (a batch) | the boundary curves in a parameter plane |
+//! | [`multisect_log`] | the same in log scale | the simulated bursting boundaries |
 //!
 //! Each finder keeps its bracket and returns a point inside it; none of them extrapolates.
 
@@ -225,32 +226,55 @@ pub fn first_switch(xs: &[f64], lower: &[bool]) -> Option<(f64, f64)> {
         .map(|k| (xs[k - 1], xs[k]))
 }
 
-/// Narrows a bracket (a, b), 0 < a < b, with `lower(a)` and not `lower(b)`, in log scale until
-/// ln b − ln a ≤ `rel_tol`: each round cuts it into `n` + 1 equal parts at `n` values evaluated
+/// Narrows a bracket (a, b), a < b, with `lower(a)` and not `lower(b)`, until `done(a, b)` or
+/// the resolution of f64: each round cuts it into `n` + 1 equal parts at `n` values evaluated
 /// together (`lower` gets them in increasing order) and keeps the part where the flag first
-/// switches. Returns the final bracket's geometric midpoint.
+/// switches. Returns the final bracket.
+///
+/// ```
+/// let (a, b) = hdgear::roots::multisect::<()>((0.0, 4.0), 3, |a, b| b - a <= 1e-9, |xs| {
+///     Ok(xs.iter().map(|&x| x < 1.5).collect())
+/// })
+/// .unwrap();
+/// assert!(a < 1.5 && 1.5 <= b && b - a <= 1e-9);
+/// ```
+pub fn multisect<E>(
+    (mut a, mut b): (f64, f64),
+    n: usize,
+    mut done: impl FnMut(f64, f64) -> bool,
+    mut lower: impl FnMut(&[f64]) -> Result<Vec<bool>, E>,
+) -> Result<(f64, f64), E> {
+    while !done(a, b) && !at_resolution(a, b) {
+        // the bracket's ends and the round's values between them
+        let parts = n as f64 + 1.0;
+        let mut xs = vec![a];
+        xs.extend((1..=n).map(|j| a + (b - a) * j as f64 / parts));
+        xs.push(b);
+        let mut sides = vec![true];
+        sides.extend(lower(&xs[1..=n])?);
+        sides.push(false);
+        // (there is one: the ends are on either side)
+        let Some(part) = first_switch(&xs, &sides) else {
+            break;
+        };
+        (a, b) = part;
+    }
+    Ok((a, b))
+}
+
+/// [`multisect`] in log scale on a positive axis, until ln b − ln a ≤ `rel_tol`. Returns the
+/// final bracket's geometric midpoint.
 pub fn multisect_log<E>(
     (a, b): (f64, f64),
     n: usize,
     rel_tol: f64,
     mut lower: impl FnMut(&[f64]) -> Result<Vec<bool>, E>,
 ) -> Result<f64, E> {
-    let (mut la, mut lb) = (a.ln(), b.ln());
-    while lb - la > rel_tol {
-        // the bracket's ends and the round's values between them, in log scale
-        let parts = n as f64 + 1.0;
-        let mut ls = vec![la];
-        ls.extend((1..=n).map(|j| la + (lb - la) * j as f64 / parts));
-        ls.push(lb);
-        let xs: Vec<f64> = ls[1..=n].iter().map(|l| l.exp()).collect();
-        let mut sides = vec![true];
-        sides.extend(lower(&xs)?);
-        sides.push(false);
-        // (there is one: the ends are on either side)
-        let Some(part) = first_switch(&ls, &sides) else {
-            break;
-        };
-        (la, lb) = part;
-    }
+    let (la, lb) = multisect(
+        (a.ln(), b.ln()),
+        n,
+        |la, lb| lb - la <= rel_tol,
+        |ls| lower(&ls.iter().map(|l| l.exp()).collect::<Vec<_>>()),
+    )?;
     Ok((0.5 * (la + lb)).exp())
 }

@@ -16,6 +16,7 @@ mod model;
 mod output;
 mod periodic;
 mod physical;
+mod plane;
 mod reference;
 mod robust;
 mod simd;

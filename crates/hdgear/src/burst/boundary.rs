@@ -58,17 +58,22 @@ pub struct Boundaries {
     pub simulated_omega: Option<f64>,
 }
 
-/// The simulated verdicts (bursting or not) at the parameter sets `at(x)` for `xs`: as one batch
-/// when there are several and the method is Taylor's, one by one otherwise.
+/// The simulated verdicts (bursting or not) at the parameter sets `at(x)` for `xs`.
 fn bursting(xs: &[f64], at: impl Fn(f64) -> Params, opts: &BurstOptions) -> Result<Vec<bool>> {
     let points: Vec<Params> = xs.iter().map(|&x| at(x)).collect();
+    simulated_bursting(&points, opts)
+}
+
+/// The simulated verdicts (bursting or not) at `points`: as one batch when there are several and
+/// the method is Taylor's, one by one otherwise.
+pub(super) fn simulated_bursting(points: &[Params], opts: &BurstOptions) -> Result<Vec<bool>> {
     if let [p] = points[..] {
         // a batch of one lane costs as much as sixteen
         return Ok(vec![classify(&p, &response(&p, opts)?).bursting]);
     }
-    responses(&points, opts)
+    responses(points, opts)
         .into_iter()
-        .zip(&points)
+        .zip(points)
         .map(|(r, p)| Ok(classify(p, &r?).bursting))
         .collect()
 }
@@ -139,7 +144,7 @@ fn boundaries_with(p: &Params, opts: &BurstOptions, lanes: (usize, f64)) -> Resu
         lanes,
         |gs| bursting(gs, |gamma| Params { gamma, ..*p }, opts),
     )?;
-    let omega_max = super::turning_point_rate(p) / super::TIME_SCALE_SEPARATION;
+    let omega_max = super::fast_slow_omega_max(p);
     let simulated_omega = if pr.fold_in_range {
         None
     } else {

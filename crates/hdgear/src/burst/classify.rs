@@ -119,7 +119,13 @@ pub struct Classification {
 /// (r_q = 1/2 on a focus, so ω ≤ 0.05 for the study's stiff branches); and, measured, the fast
 /// motion stops between passages (no continuous fast motion).
 pub fn fast_slow_domain(p: &Params, r: &Response) -> bool {
-    !r.continuous_fast_motion && p.omega <= turning_point_rate(p) / TIME_SCALE_SEPARATION
+    !r.continuous_fast_motion && p.omega <= fast_slow_omega_max(p)
+}
+
+/// The largest ω of the fast-slow domain: r_q/[`TIME_SCALE_SEPARATION`] (see
+/// [`fast_slow_domain`]).
+pub fn fast_slow_omega_max(p: &Params) -> f64 {
+    turning_point_rate(p) / TIME_SCALE_SEPARATION
 }
 
 /// The slowest relaxation rate of the fast subsystem at the equilibria the state rests on at the

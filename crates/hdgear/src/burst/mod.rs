@@ -49,15 +49,21 @@ mod bursts;
 mod classify;
 mod lanes;
 mod model;
+mod plane;
 mod scan;
 
 pub use boundary::{BOUNDARY_REL_TOL, Boundaries, OMEGA_SEARCH_MIN, boundaries};
 use bursts::assemble;
 pub use bursts::{NOISE_FACTOR, ToleranceLimit, overshoot_floor, swing_floor, tolerance_limit};
 pub use classify::{
-    Classification, Mechanism, Mode, Verdict, classify, fast_slow_domain, turning_point_rate,
+    Classification, Mechanism, Mode, Verdict, classify, fast_slow_domain, fast_slow_omega_max,
+    turning_point_rate,
 };
 pub use model::response_model;
+pub use plane::{
+    BoundaryKind, CURVE_TOL, EDGE_SAMPLES, MAX_TURN, PlaneCurve, PlaneEnd, PlaneOptions,
+    PlanePoint, ROUND, plane_boundaries,
+};
 
 use scan::{History, Pivot, Scan, Scanner};
 

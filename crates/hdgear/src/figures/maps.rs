@@ -252,10 +252,7 @@ fn boundary_curves(base: &Params) -> (Curve, Curve) {
         .collect();
     let domain: Vec<(f64, f64)> = gammas
         .iter()
-        .map(|&g| {
-            let r = crate::burst::turning_point_rate(&at(g));
-            (r / crate::burst::TIME_SCALE_SEPARATION, g)
-        })
+        .map(|&g| (crate::burst::fast_slow_omega_max(&at(g)), g))
         .collect();
     (predicted, domain)
 }

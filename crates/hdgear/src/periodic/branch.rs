@@ -16,13 +16,13 @@ pub enum Scale {
 }
 
 impl Scale {
-    pub(super) fn to_u(self, lambda: f64) -> f64 {
+    pub(crate) fn to_u(self, lambda: f64) -> f64 {
         match self {
             Scale::Linear => lambda,
             Scale::Log => lambda.ln(),
         }
     }
-    pub(super) fn to_lambda(self, u: f64) -> f64 {
+    pub(crate) fn to_lambda(self, u: f64) -> f64 {
         match self {
             Scale::Linear => u,
             Scale::Log => u.exp(),

@@ -16,7 +16,7 @@
 //! meaning, and the margin says so instead of giving a factor.
 
 use super::{DriveParam, PhysicalParams, Reduction};
-use crate::burst::{BurstOptions, Verdict, classify, response, turning_point_rate};
+use crate::burst::{BurstOptions, Verdict, classify, response};
 use crate::error::Result;
 use crate::fast::predict;
 use rayon::prelude::*;
@@ -190,7 +190,7 @@ fn decide(p: &crate::Params, simulated: Option<Result<crate::burst::Response>>) 
     let j = Judgement {
         bursting: predict(p).bursting,
         verdict: None,
-        fast_slow_domain: p.omega <= turning_point_rate(p) / crate::burst::TIME_SCALE_SEPARATION,
+        fast_slow_domain: p.omega <= crate::burst::fast_slow_omega_max(p),
         basis: Basis::Prediction,
     };
     Ok((j, None, None))

@@ -1,0 +1,229 @@
+//! Boundaries in a parameter plane (`burst::plane_boundaries`), each against an independent
+//! reference: one-parameter bisections written here, closed forms of the fast subsystem.
+
+use hdgear::burst::{
+    BOUNDARY_REL_TOL, BoundaryKind, BurstOptions, PlaneCurve, PlaneOptions, classify,
+    plane_boundaries, response,
+};
+use hdgear::params::{Param, Params};
+use hdgear::periodic::{Box2, Scale};
+
+fn curves(params: [Param; 2], ranges: [(f64, f64); 2], kind: BoundaryKind) -> Vec<PlaneCurve> {
+    let box2 = Box2 {
+        ranges,
+        scales: [Scale::Log; 2],
+    };
+    let base = Params::default();
+    let opts = PlaneOptions::default();
+    plane_boundaries(
+        &base,
+        params,
+        &box2,
+        &[kind],
+        &opts,
+        &BurstOptions::default(),
+    )
+    .unwrap()
+}
+
+/// The local slope d ln λ₁ / d ln λ₂ of a curve at point `i` (from its neighbours).
+fn slope(c: &PlaneCurve, i: usize) -> f64 {
+    let (a, b) = (
+        &c.points[i.saturating_sub(1)],
+        &c.points[(i + 1).min(c.points.len() - 1)],
+    );
+    ((b.params[0] / a.params[0]).ln() / (b.params[1] / a.params[1]).ln()).abs()
+}
+
+/// Bisection in log scale of a verdict's switch in λ₁ at fixed λ₂ within [x/1.7, 1.9x] (not
+/// centred on x, so that its values do not line up with the curve's): the
+/// final bracket, at most `rel` wide.
+fn bisect(x: f64, rel: f64, holds: impl Fn(f64) -> bool) -> (f64, f64) {
+    let (mut lo, mut hi) = (x / 1.7, 1.9 * x);
+    let below = holds(lo);
+    assert_ne!(below, holds(hi), "no switch in [{lo}, {hi}]");
+    while (hi / lo).ln() > rel {
+        let m = (lo * hi).sqrt();
+        if holds(m) == below {
+            lo = m;
+        } else {
+            hi = m;
+        }
+    }
+    (lo, hi)
+}
+
+/// The simulated boundary in (ω, γ), followed by the predictor–corrector, agrees with ten
+/// independent bisections in ω at its points' γ (each response on its own, not in a batch):
+/// both brackets are 1 % wide, so their midpoints differ by at most 1 % plus the curve's
+/// bracket's extent in γ carried by the slope (0.5 %·|d ln ω/d ln γ|).
+#[test]
+fn the_simulated_curve_agrees_with_ten_bisections() {
+    let c = curves(
+        [Param::Omega, Param::Gamma],
+        [(1e-4, 0.2), (0.3, 3.0)],
+        BoundaryKind::Simulated,
+    );
+    assert_eq!(c.len(), 1, "{c:?}");
+    let c = &c[0];
+    assert!(c.points.len() > 20, "{}", c.points.len());
+    let o = BurstOptions::default();
+    let n = c.points.len();
+    for k in 0..10 {
+        let i = 1 + k * (n - 2) / 9;
+        let [omega, gamma] = c.points[i].params;
+        let bursting = |omega| {
+            let p = Params {
+                omega,
+                gamma,
+                ..Params::default()
+            };
+            classify(&p, &response(&p, &o).unwrap()).bursting
+        };
+        let (lo, hi) = bisect(omega, BOUNDARY_REL_TOL, bursting);
+        let off = (omega / (lo * hi).sqrt()).ln().abs();
+        let allowed = BOUNDARY_REL_TOL * (1.0 + 0.5 * slope(c, i));
+        assert!(
+            off <= allowed,
+            "gamma {gamma}: curve {omega}, bisection [{lo}, {hi}]"
+        );
+    }
+}
+
+/// The predicted boundary in (γ, δ) agrees with bisections of the prediction in δ at every
+/// point's γ to 1e-6 (the bisections' own tolerance), and in (ω, γ) it is the closed form
+/// ω_b = ω·κ_c/max κ (checked in the function's example).
+#[test]
+fn the_predicted_curve_agrees_with_bisections() {
+    let c = curves(
+        [Param::Gamma, Param::Delta],
+        [(0.005, 1.0), (0.3, 30.0)],
+        BoundaryKind::Predicted,
+    );
+    assert_eq!(c.len(), 1);
+    for q in &c[0].points {
+        let [gamma, delta] = q.params;
+        let at = |delta| Params {
+            gamma,
+            delta,
+            ..Params::default()
+        };
+        let bursting = |d| hdgear::fast::predict(&at(d)).bursting;
+        if q.params[0] == 1.0 || q.params[1] == 0.3 || q.params[1] == 30.0 {
+            continue; // on the box's edge (its δ may sit at a range end)
+        }
+        let (lo, hi) = bisect(delta, 1e-7, bursting);
+        let off = (delta / (lo * hi).sqrt()).ln().abs();
+        assert!(
+            off < 1e-6,
+            "gamma {gamma}: curve {delta}, bisection [{lo}, {hi}]"
+        );
+    }
+}
+
+/// The fold set of the fast subsystem in (γ, δ), from the cubic written here: the folds are at
+/// g'(x) = 0, x± = (1 ± √(1 − 3αγ))/(3α), and lie in a ∈ [−1, 1] when |g(x±) − μ| ≤ δ. So the
+/// region with both in range is bounded by δ = max |g(x±) − μ| and the cusp line γ = 1/(3α),
+/// the one with at least one by δ = min |g(x±) − μ| and the same line. Every point is on one
+/// of them to 1e-8, and both pieces are followed.
+#[test]
+fn the_fold_set_is_the_closed_form() {
+    let p0 = Params::default();
+    let gc = 1.0 / (3.0 * p0.alpha);
+    let deltas = |gamma: f64| {
+        let p = Params { gamma, ..p0 };
+        let s = (1.0 - 3.0 * p.alpha * gamma).sqrt();
+        let g = |x: f64| p.alpha * x * x * x - x * x + gamma * (x - p.eps) - p.mu;
+        let (a, b) = (
+            g((1.0 - s) / (3.0 * p.alpha)).abs(),
+            g((1.0 + s) / (3.0 * p.alpha)).abs(),
+        );
+        (a.min(b), a.max(b))
+    };
+    for (kind, both) in [
+        (BoundaryKind::AFoldInRange, false),
+        (BoundaryKind::BothFoldsInRange, true),
+    ] {
+        let c = curves(
+            [Param::Gamma, Param::Delta],
+            [(0.002, 0.1), (0.01, 30.0)],
+            kind,
+        );
+        assert_eq!(c.len(), 1, "{kind:?}");
+        let (mut on_fold, mut on_cusp) = (0, 0);
+        for q in &c[0].points {
+            let [gamma, delta] = q.params;
+            if (gamma / gc - 1.0).abs() < 1e-8 {
+                on_cusp += 1;
+                continue;
+            }
+            let (one, two) = deltas(gamma);
+            let d = if both { two } else { one };
+            assert!(
+                (delta / d - 1.0).abs() < 1e-8,
+                "{kind:?} gamma {gamma}: {delta} vs {d}"
+            );
+            on_fold += 1;
+        }
+        assert!(
+            on_fold > 10 && on_cusp > 10,
+            "{kind:?}: {on_fold} {on_cusp}"
+        );
+    }
+}
+
+/// The edge of the fast-slow domain in (ω, γ) is ω = r/10 with r the slower relaxation rate of
+/// the stable equilibria at a = ±1, from the linearisation written here: 1/2 on a focus
+/// (g' > 1/4), (1 − √(1 − 4g'))/2 on a node. δ from 0.05 to 2 (at δ ≈ 0.14 the equilibrium at
+/// a = −1 sits at the least g', 0.079: a node).
+#[test]
+fn the_fast_slow_edge_is_the_relaxation_rate() {
+    let c = curves(
+        [Param::Omega, Param::Delta],
+        [(1e-3, 0.2), (0.05, 2.0)],
+        BoundaryKind::FastSlowEdge,
+    );
+    assert_eq!(c.len(), 1);
+    let mut nodes = 0;
+    let mut omega_max = |delta| {
+        let p = Params {
+            delta,
+            ..Params::default()
+        };
+        let rate = [-1.0, 1.0]
+            .map(|a| {
+                // the one equilibrium (γ = 0.1 > 1/(3α): g is increasing) by bisection
+                let f = p.mu + p.delta * a;
+                let (mut lo, mut hi) = (-10.0, 10.0);
+                for _ in 0..200 {
+                    let m = 0.5 * (lo + hi);
+                    if p.g(m) < f {
+                        lo = m;
+                    } else {
+                        hi = m;
+                    }
+                }
+                let gp = p.g_prime(0.5 * (lo + hi));
+                if gp > 0.25 {
+                    0.5
+                } else {
+                    nodes += 1;
+                    0.5 * (1.0 - (1.0 - 4.0 * gp).sqrt())
+                }
+            })
+            .into_iter()
+            .fold(f64::INFINITY, f64::min);
+        rate / 10.0
+    };
+    // each point's bracket straddles the edge (where the edge is steep, at g' = 1/4 on a node,
+    // a bracket 1e-9 wide in δ moves ω by more than 1e-9, so the bracket is what is checked)
+    for q in &c[0].points {
+        let (out, inside) = (q.outside, q.inside);
+        assert!(inside[0] <= omega_max(inside[1]), "{q:?}");
+        assert!(out[0] > omega_max(out[1]), "{q:?}");
+        for i in 0..2 {
+            assert!((out[i] / inside[i] - 1.0).abs() <= 1e-9, "{q:?}");
+        }
+    }
+    assert!(nodes > 0, "no node at the turning points in the range");
+}
