@@ -53,6 +53,9 @@ pub enum Command {
     /// Curves of folds or period doublings in two parameters (two-parameter continuation),
     /// with their cusps and fold-flips.
     Continue2(crate::cmd::continuation2::Continue2Args),
+    /// Boundaries in two parameters as curves: the bursting boundary (predicted and simulated),
+    /// the fold set of the fast subsystem, the edge of the fast-slow domain.
+    Boundary(crate::cmd::boundary::BoundaryArgs),
     /// The frequency-response curve: response amplitude against omega, stable and unstable
     /// branches, folds (the jumps).
     FrequencyResponse(FrequencyResponseArgs),

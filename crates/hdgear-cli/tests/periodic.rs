@@ -213,3 +213,76 @@ fn continue2_traces_each_fold_curve_once() {
         "no period-doubling",
     );
 }
+
+/// `hdgear boundary` in (ω, γ): each boundary once, from edge to edge; every simulated point's
+/// bracket 1 % wide and every other one's 1e-9, bursting on the high-ω side; the JSON's curves
+/// the file's rows; the figure names each kind; bad requests exit 2 naming the value.
+#[test]
+fn boundary_writes_each_curve_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let args = [
+        "boundary",
+        "--param",
+        "omega=1e-4:0.2:log",
+        "--param",
+        "gamma=0.01:3:log",
+        "--out",
+        "b.csv",
+        "--plot",
+        "b.svg",
+    ];
+    let text = run_in(dir.path(), &args);
+    let kinds = [
+        "predicted",
+        "simulated",
+        "a-fold-in-range",
+        "both-folds-in-range",
+        "fast-slow-edge",
+    ];
+    for (i, kind) in kinds.iter().enumerate() {
+        assert!(text.contains(&format!("curve {i}: {kind} (")), "{text}");
+    }
+    assert!(!text.contains("curve 5"), "{text}");
+    let rows = csv_rows(&dir.path().join("b.csv"));
+    for r in &rows {
+        let f = |k: &str| r[k].parse::<f64>().unwrap();
+        let tol = if r["kind"] == "simulated" { 0.01 } else { 1e-9 };
+        for (o, i) in [("outside1", "inside1"), ("outside2", "inside2")] {
+            assert!((f(o) / f(i) - 1.0).abs() <= tol * (1.0 + 1e-12), "{r:?}");
+        }
+        if r["kind"].ends_with("ed") {
+            // bursting above the boundary in ω
+            assert!(f("inside1") >= f("outside1"), "{r:?}");
+        }
+    }
+    let svg = std::fs::read_to_string(dir.path().join("b.svg")).unwrap();
+    assert!(kinds.iter().all(|k| svg.contains(k)));
+    let some = [
+        &args[..5],
+        &["--kinds", "predicted,fast-slow-edge", "--json"],
+    ]
+    .concat();
+    let doc = crate::common::json_of(&some);
+    let curves = doc["curves"].as_array().unwrap();
+    assert_eq!(curves.len(), 2);
+    let n = |kind: &str| rows.iter().filter(|r| r["kind"] == kind).count();
+    for c in curves {
+        let kind = c["kind"].as_str().unwrap();
+        assert_eq!(c["points"].as_array().unwrap().len(), n(kind), "{kind}");
+    }
+    let base = &args[..5];
+    crate::common::fails_with(&[base, &["--kinds", "hopf"]].concat(), "hopf");
+    crate::common::fails_with(&[base, &["--step", "0.5"]].concat(), "0.5");
+    crate::common::fails_with(&[base, &["--gamma", "1"]].concat(), "--gamma");
+    crate::common::fails_with(&["boundary", "--param", "omega=1:2"], "exactly twice");
+    crate::common::fails_with(
+        &[
+            "boundary",
+            "--param",
+            "omega=1:2",
+            "--param",
+            "delta=-1:2:log",
+        ],
+        "delta=-1:2:log",
+    );
+}

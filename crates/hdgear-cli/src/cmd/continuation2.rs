@@ -81,8 +81,35 @@ fn parse_from(text: &str) -> Result<(CurveKind, Option<usize>)> {
 
 /// The checked request: the set (with the first parameter at its start), both ranges, the box.
 fn request(a: &Continue2Args) -> Result<(hdgear::Params, [Range; 2], Box2)> {
-    let ranges: Vec<Range> = a
-        .ranges
+    let (p, [r1, r2], box2, warnings) = plane(&a.params, &a.ranges)?;
+    let at = p.value(r2.param);
+    if !(at >= box2.ranges[1].0 && at <= box2.ranges[1].1) {
+        bail!(
+            "invalid --param {}: the set's {} = {at} is outside it, and the start is found there",
+            a.ranges[1],
+            r2.param
+        );
+    }
+    crate::cli::check_out(&a.out)?;
+    if let Some(path) = &a.plot {
+        crate::cli::check_figure_path("--plot", path)?;
+    }
+    warn(&warnings);
+    Ok((p, [r1, r2], box2))
+}
+
+/// A parameter plane from `--param` given twice (`NAME=LO:HI[:log]`): the set with the first
+/// parameter at its LO, both ranges, the box, and the set's warnings.
+pub(crate) fn plane(
+    params: &ParamArgs,
+    specs: &[String],
+) -> Result<(
+    hdgear::Params,
+    [Range; 2],
+    Box2,
+    Vec<hdgear::params::Warning>,
+)> {
+    let ranges: Vec<Range> = specs
         .iter()
         .map(|r| Range::parse(r).context("--param"))
         .collect::<Result<_>>()?;
@@ -98,10 +125,10 @@ fn request(a: &Continue2Args) -> Result<(hdgear::Params, [Range; 2], Box2)> {
             r1.param
         );
     }
-    if a.params.given(r1.param.name()) {
+    if params.given(r1.param.name()) {
         bail!("--{0} does not apply: --param sets {0} itself", r1.param);
     }
-    let (p, warnings) = a.params.resolve()?;
+    let (p, warnings) = params.resolve()?;
     let p = p.with(r1.param, r1.from);
     p.validate().context("--param")?;
     let box2 = Box2 {
@@ -109,20 +136,7 @@ fn request(a: &Continue2Args) -> Result<(hdgear::Params, [Range; 2], Box2)> {
         scales: [r1.scale, r2.scale],
     };
     box2.validate().context("--param")?;
-    let at = p.value(r2.param);
-    if !(at >= box2.ranges[1].0 && at <= box2.ranges[1].1) {
-        bail!(
-            "invalid --param {}: the set's {} = {at} is outside it, and the start is found there",
-            a.ranges[1],
-            r2.param
-        );
-    }
-    crate::cli::check_out(&a.out)?;
-    if let Some(path) = &a.plot {
-        crate::cli::check_figure_path("--plot", path)?;
-    }
-    warn(&warnings);
-    Ok((p, [r1, r2], box2))
+    Ok((p, [r1, r2], box2, warnings))
 }
 
 pub fn run(a: Continue2Args) -> Result<()> {
@@ -184,7 +198,7 @@ pub fn run(a: Continue2Args) -> Result<()> {
     if let Some(path) = &a.plot {
         let names = [r1.param.name(), r2.param.name()];
         let logs = [r1.scale, r2.scale].map(|s| s == Scale::Log);
-        let figure = hdgear::figures::curve2_figure(&curves, names, logs);
+        let figure = hdgear::figures::plane_figure(&curves, &[], names, logs);
         hdgear::output::plot::write(&figure, path)?;
     }
     if a.json {

@@ -3,6 +3,7 @@
 
 mod analyze;
 mod bifurcation;
+pub mod boundary;
 mod bursts;
 pub mod card;
 mod continuation;
@@ -41,6 +42,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Merge(a) => merge::run(a),
         Command::Continue(a) => continuation::run(a),
         Command::Continue2(a) => continuation2::run(a),
+        Command::Boundary(a) => boundary::run(a),
         Command::FrequencyResponse(a) => frequency::run(a),
         Command::OrbitDiagram(a) => diagram::run(a),
         Command::LyapunovMap(a) => lyapunov::run(a),

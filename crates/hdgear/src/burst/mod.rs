@@ -62,7 +62,7 @@ pub use classify::{
 pub use model::response_model;
 pub use plane::{
     BoundaryKind, CURVE_TOL, EDGE_SAMPLES, MAX_TURN, PlaneCurve, PlaneEnd, PlaneOptions,
-    PlanePoint, ROUND, plane_boundaries,
+    PlanePoint, PlaneRow, ROUND, plane_boundaries,
 };
 
 use scan::{History, Pivot, Scan, Scanner};

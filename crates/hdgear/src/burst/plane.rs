@@ -236,6 +236,46 @@ pub struct PlaneCurve {
     pub evaluations: usize,
 }
 
+/// A point of a boundary curve as a row of its output file.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct PlaneRow {
+    /// Index of the curve.
+    pub curve: usize,
+    /// Its kind ([`BoundaryKind::name`]).
+    pub kind: &'static str,
+    /// λ₁.
+    pub param1: f64,
+    /// λ₂.
+    pub param2: f64,
+    /// λ₁ at the bracket's end outside the region.
+    pub outside1: f64,
+    /// λ₂ there.
+    pub outside2: f64,
+    /// λ₁ at its end inside.
+    pub inside1: f64,
+    /// λ₂ there.
+    pub inside2: f64,
+}
+crate::record!(
+    PlaneRow: "curve", "kind", "param1", "param2", "outside1", "outside2", "inside1", "inside2"
+);
+
+impl PlaneRow {
+    /// The rows of curve number `i`.
+    pub fn of(i: usize, c: &PlaneCurve) -> impl Iterator<Item = PlaneRow> + '_ {
+        c.points.iter().map(move |q| PlaneRow {
+            curve: i,
+            kind: c.kind.name(),
+            param1: q.params[0],
+            param2: q.params[1],
+            outside1: q.outside[0],
+            outside2: q.outside[1],
+            inside1: q.inside[0],
+            inside2: q.inside[1],
+        })
+    }
+}
+
 /// Where a curve starts: its point on an edge, the inward heading.
 #[derive(Clone, Copy, Debug)]
 struct Start {

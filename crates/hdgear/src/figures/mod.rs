@@ -16,9 +16,9 @@ mod study;
 pub use decimate::decimate;
 pub use maps::{boundary_figure, fold_delta, map_figure, sweep_figure};
 pub use periodic::{
-    LYAPUNOV_BINS, curve2_figure, frequency_response_figure, frequency_response_kind,
-    lyapunov_figure, lyapunov_map_kind, orbit_diagram_figure, orbit_diagram_kind,
-    physical_response_figure,
+    LYAPUNOV_BINS, frequency_response_figure, frequency_response_kind, lyapunov_figure,
+    lyapunov_map_kind, orbit_diagram_figure, orbit_diagram_kind, physical_response_figure,
+    plane_figure,
 };
 pub use robust::{CLOUD_POINTS, cloud_figure, load_figure, sobol_figure};
 pub use study::{phase_plane, slope, transformed_phase, x_equilibrium, xdot_gamma};

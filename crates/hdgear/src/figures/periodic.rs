@@ -448,37 +448,48 @@ pub fn lyapunov_map_kind(p: &Params, study: &mut Study) -> Result<Figure> {
     Ok(lyapunov_figure(&grid, &rows))
 }
 
-/// Two-parameter curves in their parameter plane: each fold curve and period-doubling curve a
-/// line, their codimension-two points marked; `names` and `logs` are the two parameters' names
-/// and whether their axis is logarithmic.
-pub fn curve2_figure(
+/// The curves of a parameter plane: folds and period doublings of the periodic response
+/// (two-parameter continuation) and boundaries of the fast-slow picture (the bursting boundary
+/// predicted and simulated, the fold set of the fast subsystem, the fast-slow edge), each kind
+/// in its own colour, the codimension-two points marked.
+pub fn plane_figure(
     curves: &[crate::periodic::Curve2<Param>],
+    boundaries: &[crate::burst::PlaneCurve],
     names: [&str; 2],
     logs: [bool; 2],
 ) -> Figure {
+    use crate::burst::BoundaryKind;
     use crate::periodic::CurveKind;
-    let mut seen = [false; 2];
-    let series = curves
+    let mut seen = [false; 2 + BoundaryKind::ALL.len()];
+    let mut series = |color: usize, label: String, points: Vec<(f64, f64)>| {
+        let first = !std::mem::replace(&mut seen[color], true);
+        Series {
+            label: if first { label } else { String::new() },
+            points,
+            color,
+            style: Style::Line,
+        }
+    };
+    let mut all: Vec<Series> = curves
         .iter()
         .map(|c| {
-            let i = usize::from(c.kind == CurveKind::PeriodDoubling);
-            let first = !std::mem::replace(&mut seen[i], true);
-            Series {
-                label: if first {
-                    format!("{} curve", c.kind.name())
-                } else {
-                    String::new()
-                },
-                points: c
-                    .points
-                    .iter()
-                    .map(|q| (q.params[0], q.params[1]))
-                    .collect(),
-                color: i,
-                style: Style::Line,
-            }
+            let color = usize::from(c.kind == CurveKind::PeriodDoubling);
+            let points = c.points.iter().map(|q| (q.params[0], q.params[1]));
+            series(color, format!("{} curve", c.kind.name()), points.collect())
         })
         .collect();
+    all.extend(boundaries.iter().map(|b| {
+        let color = 2 + BoundaryKind::ALL
+            .iter()
+            .position(|&k| k == b.kind)
+            .unwrap_or(0);
+        let points = b.points.iter().map(|q| (q.params[0], q.params[1]));
+        series(
+            color,
+            format!("{} ({} inside)", b.kind.name(), b.kind.inside()),
+            points.collect(),
+        )
+    }));
     let markers = curves
         .iter()
         .flat_map(|c| c.points.iter())
@@ -490,21 +501,24 @@ pub fn curve2_figure(
     Figure {
         name: "curves".into(),
         caption: format!(
-            "Folds of cycles and period doublings of the periodic response in the ({}, {}) \
-             plane, each followed by two-parameter continuation. Between the two branches of a \
-             fold curve the response is hysteretic (two stable orbits, a jump at each fold); at \
-             a cusp the two folds meet and the hysteresis vanishes. Inside a period-doubling \
-             curve the period-1 orbit is unstable and a period-2 orbit takes over.",
+            "Curves of the ({}, {}) plane. Folds of cycles and period doublings of the periodic \
+             response, each followed by two-parameter continuation: between the two branches of \
+             a fold curve the response is hysteretic (two stable orbits, a jump at each fold); \
+             at a cusp the two folds meet and the hysteresis vanishes; inside a period-doubling \
+             curve the period-1 orbit is unstable and a period-2 orbit takes over. Boundaries \
+             of the fast-slow picture, each the edge of the region where its verdict holds \
+             (named in the legend), followed by the predictor–corrector of \
+             hdgear::burst::plane_boundaries.",
             names[0], names[1]
         ),
         size: (1000, 700),
         panels: vec![Panel {
-            title: format!("Two-parameter curves in ({}, {})", names[0], names[1]),
+            title: format!("Curves in ({}, {})", names[0], names[1]),
             x_label: names[0].into(),
             y_label: names[1].into(),
             x_log: logs[0],
             y_log: logs[1],
-            series,
+            series: all,
             markers,
             ..Panel::default()
         }],

@@ -1,0 +1,162 @@
+//! `hdgear boundary`: the bursting boundary (predicted and simulated), the fold set of the fast
+//! subsystem and the edge of the fast-slow domain as curves in a plane of two parameters.
+
+use crate::cli::{BurstArgs, ParamArgs};
+use crate::sink::{outln, warn, write_records};
+use anyhow::{Result, bail};
+use clap::Args;
+use clap::builder::PossibleValuesParser;
+use hdgear::burst::{
+    BoundaryKind, BurstOptions, PlaneCurve, PlaneEnd, PlaneOptions, PlaneRow, plane_boundaries,
+};
+use hdgear::periodic::{Range, Scale};
+use serde::Serialize;
+use std::path::PathBuf;
+
+/// Arguments of `hdgear boundary`.
+#[derive(Args, Debug)]
+pub struct BoundaryArgs {
+    #[command(flatten)]
+    pub params: ParamArgs,
+    #[command(flatten)]
+    pub burst: BurstArgs,
+    /// NAME=LO:HI[:log], given twice: the two parameters and the box the curves are followed in.
+    #[arg(
+        long = "param",
+        value_name = "SPEC",
+        required = true,
+        allow_hyphen_values = true
+    )]
+    pub ranges: Vec<String>,
+    /// Which boundaries, comma-separated (all without it).
+    #[arg(
+        long,
+        value_delimiter = ',',
+        value_name = "KIND",
+        value_parser = PossibleValuesParser::new(BoundaryKind::ALL.map(BoundaryKind::name))
+    )]
+    pub kinds: Vec<String>,
+    /// Largest step, as a fraction of the box (each axis 1 wide in its scale).
+    #[arg(long, default_value_t = PlaneOptions::default().step_max)]
+    pub step: f64,
+    /// The curves' points (curve,kind,param1,param2,outside1,outside2,inside1,inside2) to a
+    /// .csv, .json or .parquet file.
+    #[arg(long, value_name = "FILE")]
+    pub out: Option<PathBuf>,
+    /// The curves in the parameter plane to a .svg or .png file.
+    #[arg(long, value_name = "FILE")]
+    pub plot: Option<PathBuf>,
+    /// Print one JSON document (every curve with every point).
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// What `--json` prints and `--out` carries as metadata.
+#[derive(Serialize)]
+struct Doc<'a> {
+    params: hdgear::Params,
+    ranges: [Range; 2],
+    options: PlaneOptions,
+    burst: BurstOptions,
+    curves: &'a [PlaneCurve],
+}
+
+pub fn run(a: BoundaryArgs) -> Result<()> {
+    let (p, [r1, r2], box2, warnings) = super::continuation2::plane(&a.params, &a.ranges)?;
+    if a.params.given(r2.param.name()) {
+        bail!("--{0} does not apply: --param sets {0} itself", r2.param);
+    }
+    let kinds: Vec<BoundaryKind> = if a.kinds.is_empty() {
+        BoundaryKind::ALL.to_vec()
+    } else {
+        a.kinds
+            .iter()
+            .map(|k| k.parse())
+            .collect::<Result<_, _>>()?
+    };
+    let opts = PlaneOptions {
+        step_max: a.step,
+        step_min: PlaneOptions::default().step_min.min(a.step),
+        ..PlaneOptions::default()
+    };
+    opts.validate()
+        .map_err(|e| anyhow::anyhow!("--step: {e}"))?;
+    let burst = a.burst.options()?;
+    crate::cli::check_out(&a.out)?;
+    if let Some(path) = &a.plot {
+        crate::cli::check_figure_path("--plot", path)?;
+    }
+    warn(&warnings);
+    let params = [r1.param, r2.param];
+    let curves = plane_boundaries(&p, params, &box2, &kinds, &opts, &burst)?;
+    let doc = Doc {
+        params: p,
+        ranges: [r1, r2],
+        options: opts,
+        burst,
+        curves: &curves,
+    };
+    if let Some(out) = &a.out {
+        let rows = curves
+            .iter()
+            .enumerate()
+            .flat_map(|(i, c)| PlaneRow::of(i, c));
+        write_records(Some(out), &doc, rows)?;
+    }
+    if let Some(path) = &a.plot {
+        let names = params.map(|q| q.name());
+        let logs = [r1.scale, r2.scale].map(|s| s == Scale::Log);
+        let figure = hdgear::figures::plane_figure(&[], &curves, names, logs);
+        hdgear::output::plot::write(&figure, path)?;
+    }
+    if a.json {
+        outln!("{}", serde_json::to_string_pretty(&doc)?);
+    } else {
+        summary(&curves, &kinds, params)?;
+    }
+    Ok(())
+}
+
+fn summary(
+    curves: &[PlaneCurve],
+    kinds: &[BoundaryKind],
+    names: [hdgear::params::Param; 2],
+) -> Result<()> {
+    for &kind in kinds {
+        let n = curves.iter().filter(|c| c.kind == kind).count();
+        if n == 0 {
+            outln!("{}: no curve meets the box's edges", kind.name());
+        }
+    }
+    for (i, c) in curves.iter().enumerate() {
+        let extent = |j: usize| {
+            let v = c.points.iter().map(|q| q.params[j]);
+            let (lo, hi) = v.fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), x| {
+                (l.min(x), h.max(x))
+            });
+            format!("{} {lo:.6} … {hi:.6}", names[j])
+        };
+        let end = match c.end {
+            PlaneEnd::Edge => "left the box",
+            PlaneEnd::MaxPoints => "stopped at the point limit",
+            PlaneEnd::StepTooSmall => "the step fell below its minimum",
+        };
+        outln!(
+            "curve {i}: {} ({} on one side), {} points, {}, {}; from the box's edge, {end}; {} {}, \
+             points to {:e} relative",
+            c.kind.name(),
+            c.kind.inside(),
+            c.points.len(),
+            extent(0),
+            extent(1),
+            c.evaluations,
+            if c.kind == BoundaryKind::Simulated {
+                "simulations"
+            } else {
+                "verdicts"
+            },
+            c.kind.tolerance()
+        );
+    }
+    Ok(())
+}
