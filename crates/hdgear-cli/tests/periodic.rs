@@ -240,7 +240,8 @@ fn boundary_writes_each_curve_once() {
         "fast-slow-edge",
     ];
     for (i, kind) in kinds.iter().enumerate() {
-        assert!(text.contains(&format!("curve {i}: {kind} (")), "{text}");
+        assert!(text.contains(&format!("curve {i}: {kind}, ")), "{text}");
+        assert!(text.contains(&format!("{kind}: 1 curve(s)")), "{text}");
     }
     assert!(!text.contains("curve 5"), "{text}");
     let rows = csv_rows(&dir.path().join("b.csv"));

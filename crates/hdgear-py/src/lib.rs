@@ -39,6 +39,8 @@ fn _hdgear(m: &Bound<'_, PyModule>) -> PyResult<()> {
         wrap_pyfunction!(sweep::bursts, m)?,
         wrap_pyfunction!(periodic::periodic, m)?,
         wrap_pyfunction!(periodic::continuation, m)?,
+        wrap_pyfunction!(periodic::continuation2, m)?,
+        wrap_pyfunction!(periodic::boundary, m)?,
         wrap_pyfunction!(control::control, m)?,
         wrap_pyfunction!(robust::robust, m)?,
     ] {

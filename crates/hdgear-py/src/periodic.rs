@@ -1,6 +1,6 @@
 //! Periodic responses: shooting with Floquet multipliers, and continuation.
 
-use crate::convert::{err, to_py};
+use crate::convert::{burst_options, err, record_columns, to_py};
 use crate::params::Params;
 use hdgear::burst::BurstOptions;
 use hdgear::params::Param;
@@ -114,4 +114,87 @@ pub(crate) fn continuation<'py>(
     let special: Vec<&str> = rows.iter().map(|r| r.special).collect();
     d.set_item("special", special)?;
     Ok(d)
+}
+
+/// Two-parameter curves of folds or period doublings from the special points of a one-parameter
+/// branch (`hdgear continue2`): the rows of its `--out` as a dict of columns.
+#[pyfunction]
+#[pyo3(signature = (params, range1, range2, start, subharmonic))]
+pub(crate) fn continuation2<'py>(
+    py: Python<'py>,
+    params: &Params,
+    range1: &str,
+    range2: &str,
+    start: &str,
+    subharmonic: u32,
+) -> PyResult<Bound<'py, PyDict>> {
+    use hdgear::periodic::{ContinuationOptions, CurveKind, CurveRow, Range, curves_from_branch};
+    let ranges = [
+        Range::parse(range1).map_err(err)?,
+        Range::parse(range2).map_err(err)?,
+    ];
+    let (kind, nth) = CurveKind::parse_start(start).map_err(err)?;
+    let p = params.inner;
+    let opts = ContinuationOptions::default();
+    let curves = py
+        .detach(|| curves_from_branch(&p, ranges, kind, nth, subharmonic, &opts))
+        .map_err(err)?;
+    let rows: Vec<CurveRow> = curves
+        .iter()
+        .enumerate()
+        .flat_map(|(i, c)| CurveRow::of(i, c))
+        .collect();
+    record_columns(py, &rows)
+}
+
+/// The boundaries of a parameter plane as curves (`hdgear boundary`): the rows of its `--out`
+/// as a dict of columns.
+#[pyfunction]
+#[pyo3(signature = (params, range1, range2, kinds, step, discard, window_periods, rtol, atol, method))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn boundary<'py>(
+    py: Python<'py>,
+    params: &Params,
+    range1: &str,
+    range2: &str,
+    kinds: Vec<String>,
+    step: f64,
+    discard: f64,
+    window_periods: u32,
+    rtol: f64,
+    atol: f64,
+    method: &str,
+) -> PyResult<Bound<'py, PyDict>> {
+    use hdgear::burst::{BoundaryKind, PlaneOptions, PlaneRow, plane_boundaries};
+    use hdgear::periodic::{Box2, Range};
+    let ranges = [
+        Range::parse(range1).map_err(err)?,
+        Range::parse(range2).map_err(err)?,
+    ];
+    let kinds: Vec<BoundaryKind> = if kinds.is_empty() {
+        BoundaryKind::ALL.to_vec()
+    } else {
+        kinds
+            .iter()
+            .map(|k| k.parse())
+            .collect::<Result<_, _>>()
+            .map_err(err)?
+    };
+    let opts = PlaneOptions {
+        step_max: step,
+        step_min: PlaneOptions::default().step_min.min(step),
+        ..PlaneOptions::default()
+    };
+    let burst = burst_options(discard, window_periods, rtol, atol, method)?;
+    let p = params.inner;
+    let plane = ranges.map(|r| r.param);
+    let curves = py
+        .detach(|| plane_boundaries(&p, plane, &Box2::of(ranges), &kinds, &opts, &burst))
+        .map_err(err)?;
+    let rows: Vec<PlaneRow> = curves
+        .iter()
+        .enumerate()
+        .flat_map(|(i, c)| PlaneRow::of(i, c))
+        .collect();
+    record_columns(py, &rows)
 }

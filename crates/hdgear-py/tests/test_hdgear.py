@@ -344,3 +344,26 @@ def test_continuation_equals_the_cli_and_finds_the_bubble(tmp_path, monkeypatch)
     fr = hdgear.frequency_response(hdgear.Params(gamma=30.0), omega_range=(6.0, 10.0))
     folds = fr["param"][fr["special"] == "fold"]
     assert len(folds) == 2 and 7.8 < folds.min() < 7.9 and 8.4 < folds.max() < 8.5
+
+
+def test_two_parameter_curves_equal_the_cli(tmp_path, monkeypatch):
+    monkeypatch.setitem(sys.modules, "pandas", None)
+    c = hdgear.continuation2("omega=0.3:20:log", "delta=0.5:40:log")
+    out = cli("continue2", "--param", "omega=0.3:20:log", "--param", "delta=0.5:40:log",
+              "--out", str(tmp_path / "c.csv"))
+    assert out.returncode == 0, out.stderr
+    rows = read_csv(tmp_path / "c.csv")
+    assert [float(r["param1"]) for r in rows] == c["param1"].tolist()
+    assert list(c["special"]).count("cusp") == 2
+    assert abs(c["ln_abs_m1"]).max() < 1e-9
+    b = hdgear.boundary("omega=1e-4:0.2:log", "gamma=0.3:3:log", kinds=["predicted", "simulated"])
+    out = cli("boundary", "--param", "omega=1e-4:0.2:log", "--param", "gamma=0.3:3:log",
+              "--kinds", "predicted,simulated", "--out", str(tmp_path / "b.csv"))
+    assert out.returncode == 0, out.stderr
+    rows = read_csv(tmp_path / "b.csv")
+    assert [float(r["param1"]) for r in rows] == b["param1"].tolist()
+    assert sorted(set(b["kind"])) == ["predicted", "simulated"]
+    with pytest.raises(ValueError, match="hopf"):
+        hdgear.boundary("omega=1e-4:0.2:log", "gamma=0.3:3:log", kinds=["hopf"])
+    with pytest.raises(ValueError, match="fold:9"):
+        hdgear.continuation2("omega=0.3:20:log", "delta=0.5:40:log", start="fold:9")

@@ -124,9 +124,11 @@ fn summary(
 ) -> Result<()> {
     for &kind in kinds {
         let n = curves.iter().filter(|c| c.kind == kind).count();
-        if n == 0 {
-            outln!("{}: no curve meets the box's edges", kind.name());
-        }
+        outln!(
+            "{}: {n} curve(s); on one side {}",
+            kind.name(),
+            kind.inside()
+        );
     }
     for (i, c) in curves.iter().enumerate() {
         let extent = |j: usize| {
@@ -137,24 +139,21 @@ fn summary(
             format!("{} {lo:.6} … {hi:.6}", names[j])
         };
         let end = match c.end {
-            PlaneEnd::Edge => "left the box",
+            PlaneEnd::Edge => "edge to edge",
             PlaneEnd::MaxPoints => "stopped at the point limit",
             PlaneEnd::StepTooSmall => "the step fell below its minimum",
         };
+        let what = match c.kind {
+            BoundaryKind::Simulated => "simulations",
+            _ => "verdicts",
+        };
         outln!(
-            "curve {i}: {} ({} on one side), {} points, {}, {}; from the box's edge, {end}; {} {}, \
-             points to {:e} relative",
+            "curve {i}: {}, {} points, {}, {}, {end}; {} {what}, each point to {:e}",
             c.kind.name(),
-            c.kind.inside(),
             c.points.len(),
             extent(0),
             extent(1),
             c.evaluations,
-            if c.kind == BoundaryKind::Simulated {
-                "simulations"
-            } else {
-                "verdicts"
-            },
             c.kind.tolerance()
         );
     }

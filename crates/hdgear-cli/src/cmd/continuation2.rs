@@ -8,8 +8,8 @@ use anyhow::{Context, Result, bail};
 use clap::Args;
 use hdgear::params::Param;
 use hdgear::periodic::{
-    Box2, Codim2, ContinuationOptions, Curve2, CurveKind, CurveRow, End, Range, Scale, Special,
-    continue_curve, continue_orbit,
+    Box2, Codim2, ContinuationOptions, Curve2, CurveKind, CurveRow, End, Range, Scale,
+    curves_from_branch,
 };
 use serde::Serialize;
 use std::path::PathBuf;
@@ -56,31 +56,8 @@ struct Doc<'a> {
     curves: &'a [Curve2<Param>],
 }
 
-/// `fold[:N]` or `period-doubling[:N]`.
-fn parse_from(text: &str) -> Result<(CurveKind, Option<usize>)> {
-    let (kind, n) = match text.split_once(':') {
-        Some((k, n)) => (k, Some(n)),
-        None => (text, None),
-    };
-    let kind = match kind.trim() {
-        "fold" => CurveKind::Fold,
-        "period-doubling" | "pd" => CurveKind::PeriodDoubling,
-        _ => {
-            bail!("invalid --from '{text}': expected fold or period-doubling, with :N for the Nth")
-        }
-    };
-    let n = match n {
-        None => None,
-        Some(n) => match n.trim().parse::<usize>() {
-            Ok(n) if n >= 1 => Some(n),
-            _ => bail!("invalid --from '{text}': N must be a whole number from 1"),
-        },
-    };
-    Ok((kind, n))
-}
-
-/// The checked request: the set (with the first parameter at its start), both ranges, the box.
-fn request(a: &Continue2Args) -> Result<(hdgear::Params, [Range; 2], Box2)> {
+/// The checked request: the set (with the first parameter at its start), both ranges.
+fn request(a: &Continue2Args) -> Result<(hdgear::Params, [Range; 2])> {
     let (p, [r1, r2], box2, warnings) = plane(&a.params, &a.ranges)?;
     let at = p.value(r2.param);
     if !(at >= box2.ranges[1].0 && at <= box2.ranges[1].1) {
@@ -95,7 +72,7 @@ fn request(a: &Continue2Args) -> Result<(hdgear::Params, [Range; 2], Box2)> {
         crate::cli::check_figure_path("--plot", path)?;
     }
     warn(&warnings);
-    Ok((p, [r1, r2], box2))
+    Ok((p, [r1, r2]))
 }
 
 /// A parameter plane from `--param` given twice (`NAME=LO:HI[:log]`): the set with the first
@@ -131,57 +108,17 @@ pub(crate) fn plane(
     let (p, warnings) = params.resolve()?;
     let p = p.with(r1.param, r1.from);
     p.validate().context("--param")?;
-    let box2 = Box2 {
-        ranges: [r1, r2].map(|r| (r.from.min(r.to), r.from.max(r.to))),
-        scales: [r1.scale, r2.scale],
-    };
+    let box2 = Box2::of([r1, r2]);
     box2.validate().context("--param")?;
     Ok((p, [r1, r2], box2, warnings))
 }
 
 pub fn run(a: Continue2Args) -> Result<()> {
-    let (kind, nth) = parse_from(&a.from)?;
-    let (p, [r1, r2], box2) = request(&a)?;
-    let at = p.value(r2.param);
+    let (kind, nth) = CurveKind::parse_start(&a.from).context("--from")?;
+    let (p, [r1, r2]) = request(&a)?;
     let opts = ContinuationOptions::default();
-    let one = ContinuationOptions {
-        scale: r1.scale,
-        ..opts
-    };
-    let branch = continue_orbit(&p, r1.param, a.subharmonic, None, r1.to, &one)?;
-    let want = match kind {
-        CurveKind::Fold => Special::Fold,
-        CurveKind::PeriodDoubling => Special::PeriodDoubling,
-    };
-    let starts: Vec<_> = branch
-        .specials()
-        .filter(|q| q.special == Some(want))
-        .collect();
-    let starts: Vec<_> = match nth {
-        None => starts,
-        Some(n) => match starts.get(n - 1) {
-            Some(q) => vec![*q],
-            None => bail!(
-                "invalid --from '{}': the branch in {} has {} {}s",
-                a.from,
-                r1.param,
-                starts.len(),
-                kind.name()
-            ),
-        },
-    };
-    if starts.is_empty() {
-        bail!(
-            "no {} on the branch in {} from {} to {} at {} = {at}: nothing to continue (try \
-             another range or --from)",
-            kind.name(),
-            r1.param,
-            r1.from,
-            r1.to,
-            r2.param
-        );
-    }
-    let curves = trace(&p, [r1, r2], kind, &starts, a.subharmonic, &box2, &opts)?;
+    let curves = curves_from_branch(&p, [r1, r2], kind, nth, a.subharmonic, &opts)
+        .with_context(|| format!("--from {}", a.from))?;
     let doc = Doc {
         params: p,
         ranges: [r1, r2],
@@ -207,44 +144,6 @@ pub fn run(a: Continue2Args) -> Result<()> {
         summary(&curves, [r1.param, r2.param])?;
     }
     Ok(())
-}
-
-/// The curve through each start, each curve once.
-fn trace(
-    p: &hdgear::Params,
-    [r1, r2]: [Range; 2],
-    kind: CurveKind,
-    starts: &[&hdgear::periodic::BranchPoint],
-    k: u32,
-    box2: &Box2,
-    opts: &ContinuationOptions,
-) -> Result<Vec<Curve2<Param>>> {
-    let at = p.value(r2.param);
-    let mut curves: Vec<Curve2<Param>> = Vec::new();
-    for s in starts {
-        // a special point on a curve already traced is not traced again
-        let mut seen = false;
-        for c in &curves {
-            let xs = c.crossings(p, (1, at), box2, opts)?;
-            seen |= xs
-                .iter()
-                .any(|x| (x.params[0] - s.param).abs() <= 1e-6 * (1.0 + s.param.abs()));
-        }
-        if seen {
-            continue;
-        }
-        let o = p.with(r1.param, s.param);
-        curves.push(continue_curve(
-            &o,
-            [r1.param, r2.param],
-            kind,
-            k,
-            s.start,
-            box2,
-            opts,
-        )?);
-    }
-    Ok(curves)
 }
 
 fn end_text(e: End) -> &'static str {

@@ -24,8 +24,8 @@ from ._hdgear import Params
 
 __version__ = _hdgear.__version__
 __all__ = ["Params", "Trajectory", "Result", "Drive", "simulate", "equilibria", "curve",
-           "analyze", "bursts", "sweep", "periodic", "continuation", "frequency_response",
-           "control", "robust"]
+           "analyze", "bursts", "sweep", "periodic", "continuation", "continuation2",
+           "frequency_response", "boundary", "control", "robust"]
 
 
 class Result:
@@ -236,6 +236,32 @@ def continuation(param, to, params=None, log=False, subharmonic=1, switch=False)
     dict of numpy arrays without pandas."""
     return _branch_frame(_hdgear.continuation(_params(params), str(param), float(to), bool(log),
                                               int(subharmonic), bool(switch)))
+
+
+def continuation2(range1, range2, params=None, start="fold", subharmonic=1):
+    """Curves of folds (``start="fold"``) or period doublings (``"period-doubling"``) in two
+    parameters, as ``hdgear continue2`` follows them: ``range1`` and ``range2`` are its
+    ``--param`` specs (``"omega=0.3:20:log"``); the curves start from the special points of the
+    one-parameter branch in the first parameter (``"fold:2"``: from the second only). Returns
+    the columns of its ``--out`` (curve, kind, subharmonic, param1, param2, x0, xdot0,
+    peak_to_peak, max_abs_xdot, ln_abs_m1, arg_m1, ln_abs_m2, arg_m2, special) as a DataFrame,
+    or a dict of numpy arrays without pandas."""
+    return _frame(_hdgear.continuation2(_params(params), str(range1), str(range2), str(start),
+                                        int(subharmonic)))
+
+
+def boundary(range1, range2, params=None, kinds=None, step=0.02, discard=1.0, window_periods=2,
+             rtol=1e-10, atol=1e-10, method="taylor"):
+    """Boundaries in two parameters as curves, as ``hdgear boundary`` follows them:
+    ``range1`` and ``range2`` are its ``--param`` specs (``"omega=1e-4:0.2:log"``), ``kinds`` a
+    list of predicted, simulated, a-fold-in-range, both-folds-in-range, fast-slow-edge (all
+    by default). Returns the columns of its ``--out`` (curve, kind, param1, param2, outside1,
+    outside2, inside1, inside2: each point and its bracket's ends) as a DataFrame, or a dict of
+    numpy arrays without pandas."""
+    kinds = [] if kinds is None else [str(k) for k in kinds]
+    return _frame(_hdgear.boundary(_params(params), str(range1), str(range2), kinds,
+                                   float(step), float(discard), int(window_periods),
+                                   float(rtol), float(atol), method))
 
 
 def frequency_response(params=None, omega_range=None, switch=False):

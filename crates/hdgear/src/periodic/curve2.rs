@@ -66,6 +66,37 @@ impl CurveKind {
         }
     }
 
+    /// Parses a start, `fold[:N]` or `period-doubling[:N]` (`pd` for short): the curves through
+    /// every such point of a one-parameter branch, or through its Nth (from 1) only.
+    ///
+    /// ```
+    /// use hdgear::periodic::CurveKind;
+    /// assert_eq!(CurveKind::parse_start("pd:2").unwrap(), (CurveKind::PeriodDoubling, Some(2)));
+    /// assert!(CurveKind::parse_start("hopf").is_err());
+    /// ```
+    pub fn parse_start(text: &str) -> Result<(CurveKind, Option<usize>)> {
+        let bad = |reason: &str| Error::InvalidInput {
+            what: "start",
+            text: text.to_string(),
+            reason: reason.to_string(),
+        };
+        let (kind, n) = match text.split_once(':') {
+            Some((k, n)) => (k, Some(n)),
+            None => (text, None),
+        };
+        let kind = match kind.trim() {
+            "fold" => CurveKind::Fold,
+            "period-doubling" | "pd" => CurveKind::PeriodDoubling,
+            _ => return Err(bad("expected fold or period-doubling, with :N for the Nth")),
+        };
+        let n = match n.map(|n| n.trim().parse::<usize>()) {
+            None => None,
+            Some(Ok(n)) if n >= 1 => Some(n),
+            Some(_) => return Err(bad("N must be a whole number from 1")),
+        };
+        Ok((kind, n))
+    }
+
     /// The index of its test function in [`test_functions`] (ψ₊ then ψ₋).
     fn index(self) -> usize {
         match self {
@@ -792,5 +823,15 @@ impl<P: Copy + PartialEq + std::fmt::Debug + std::fmt::Display + Send + Sync> Cu
                 )
             })
             .collect()
+    }
+}
+
+impl Box2 {
+    /// The box of two continuation ranges (each from its lower end to its upper one).
+    pub fn of(ranges: [super::Range; 2]) -> Box2 {
+        Box2 {
+            ranges: ranges.map(|r| (r.from.min(r.to), r.from.max(r.to))),
+            scales: ranges.map(|r| r.scale),
+        }
     }
 }

@@ -11,6 +11,7 @@ pub mod control;
 mod files;
 pub mod html;
 pub mod periodic;
+pub mod plane;
 pub mod robust;
 
 use crate::burst::{Boundaries, BurstOptions};
@@ -104,12 +105,14 @@ pub const FIGURES: [(FigureKind, Option<f64>, &str); 9] = [
 /// Figures of the periodic section, built from its computations (see
 /// [`periodic::PeriodicEvidence::figures`]), in order: the figure kind they are an instance of
 /// (None: the drive's response in SI units, which only `hdgear physical --frequency-response
-/// --plot` draws) and the file stem.
-pub const PERIODIC_FIGURES: [(Option<FigureKind>, &str); 4] = [
+/// --plot` draws, and the (ω, δ) plane, which `hdgear continue2 --plot` and `hdgear boundary
+/// --plot` draw in parts) and the file stem.
+pub const PERIODIC_FIGURES: [(Option<FigureKind>, &str); 5] = [
     (Some(FigureKind::FrequencyResponse), "frequency-response"),
     (Some(FigureKind::OrbitDiagram), "orbit-diagram-g10"),
     (Some(FigureKind::LyapunovMap), "lyapunov-map-g10"),
     (None, "physical-frequency-response"),
+    (None, "plane-omega-delta"),
 ];
 
 /// The drive of the physical section.

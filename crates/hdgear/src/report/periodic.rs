@@ -67,6 +67,8 @@ pub struct PeriodicEvidence {
     pub drive: PhysicalResponse,
     /// The bursting variant's.
     pub variant: PhysicalResponse,
+    /// The (ω, δ) plane at the study's γ.
+    pub plane: super::plane::PlaneEvidence,
 }
 
 impl PeriodicEvidence {
@@ -86,11 +88,12 @@ impl PeriodicEvidence {
                 Ok((
                     physical_frequency_response(drives.0, None, &copts)?,
                     physical_frequency_response(drives.1, None, &copts)?,
+                    super::plane::PlaneEvidence::compute(base, burst)?,
                 ))
             },
         );
         let (orbits, response, bubble, doubled, diagram) = dimensionless?;
-        let (drive, variant) = physical?;
+        let (drive, variant, plane) = physical?;
         let at = Params {
             gamma: BUBBLE_GAMMA,
             ..*base
@@ -118,11 +121,12 @@ impl PeriodicEvidence {
             lyapunov,
             drive,
             variant,
+            plane,
         })
     }
 
     /// The section's figures: the frequency response at the study's point, the bubble's orbit
-    /// diagram, the Lyapunov map and the variant drive's response in SI units.
+    /// diagram, the Lyapunov map, the variant drive's response in SI units and the (ω, δ) plane.
     pub fn figures(&self, base: &Params) -> Vec<Figure> {
         let at = Params {
             gamma: BUBBLE_GAMMA,
@@ -133,6 +137,7 @@ impl PeriodicEvidence {
             crate::figures::orbit_diagram_figure(&at, Param::Omega, &self.diagram),
             crate::figures::lyapunov_figure(&self.lyapunov_grid, &self.lyapunov),
             crate::figures::physical_response_figure(&self.variant),
+            self.plane.figure(),
         ];
         for (f, (_, name)) in figures.iter_mut().zip(super::PERIODIC_FIGURES) {
             f.name = name.to_string();

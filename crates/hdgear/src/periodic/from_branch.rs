@@ -1,0 +1,89 @@
+//! Two-parameter curves started from a one-parameter branch: the special points a continuation
+//! in the first parameter finds are the starts of the curves ([`curves_from_branch`]), what
+//! `hdgear continue2` and Python's `continuation2` run.
+
+use super::{Box2, ContinuationOptions, Curve2, CurveKind, Range, continue_curve};
+use crate::error::{Error, Result};
+use crate::params::{Param, Params};
+
+/// The curves of `kind` through the special points of that kind (every one, or the `nth` from
+/// 1) of the one-parameter branch of `p` in the first range's parameter from its `from` to its
+/// `to` (the second parameter at its value in `p`), each curve once: a special point on a curve
+/// already traced is skipped (the curve's crossings of the line λ₂ = p's value are corrected
+/// onto it and compared, to 1e-6).
+pub fn curves_from_branch(
+    p: &Params,
+    [r1, r2]: [Range; 2],
+    kind: CurveKind,
+    nth: Option<usize>,
+    k: u32,
+    opts: &ContinuationOptions,
+) -> Result<Vec<Curve2<Param>>> {
+    use super::{Special, continue_orbit};
+    // (the inherent setter, not the Oscillator one)
+    let start = Params::with(*p, r1.param, r1.from);
+    let box2 = Box2::of([r1, r2]);
+    box2.validate()?;
+    let at = start.value(r2.param);
+    let one = ContinuationOptions {
+        scale: r1.scale,
+        ..*opts
+    };
+    let branch = continue_orbit(&start, r1.param, k, None, r1.to, &one)?;
+    let want = match kind {
+        CurveKind::Fold => Special::Fold,
+        CurveKind::PeriodDoubling => Special::PeriodDoubling,
+    };
+    let all: Vec<_> = branch
+        .specials()
+        .filter(|q| q.special == Some(want))
+        .collect();
+    let bad = |text: String, reason: String| Error::InvalidInput {
+        what: "start",
+        text,
+        reason,
+    };
+    let starts = match nth {
+        None => all,
+        Some(n) => match all.get(n.wrapping_sub(1)) {
+            Some(q) => vec![*q],
+            None => {
+                let reason = format!(
+                    "the branch in {} has {} {}s",
+                    r1.param,
+                    all.len(),
+                    kind.name()
+                );
+                return Err(bad(format!("{}:{n}", kind.name()), reason));
+            }
+        },
+    };
+    if starts.is_empty() {
+        let reason = format!(
+            "no {} on the branch in {} from {} to {} at {} = {at}: nothing to continue (try \
+             another range or start)",
+            kind.name(),
+            r1.param,
+            r1.from,
+            r1.to,
+            r2.param
+        );
+        return Err(bad(kind.name().to_string(), reason));
+    }
+    let mut curves: Vec<Curve2<Param>> = Vec::new();
+    for s in starts {
+        let mut seen = false;
+        for c in &curves {
+            let xs = c.crossings(&start, (1, at), &box2, opts)?;
+            seen |= xs
+                .iter()
+                .any(|x| (x.params[0] - s.param).abs() <= 1e-6 * (1.0 + s.param.abs()));
+        }
+        if !seen {
+            let o = Params::with(start, r1.param, s.param);
+            let params = [r1.param, r2.param];
+            curves.push(continue_curve(&o, params, kind, k, s.start, &box2, opts)?);
+        }
+    }
+    Ok(curves)
+}
