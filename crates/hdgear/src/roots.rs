@@ -4,6 +4,7 @@
 //! |---|---|---|
 //! | [`brent`] | a continuous f with a sign change on a bracket | events on the dense output, the burst scan's extrema and jumps |
 //! | [`newton_bracketed`] | a monotone f with its derivative, bracketed | the equilibria of the fast subsystem |
+//! | [`illinois`] | a continuous f whose trials may fail or carry a result, bracketed | special points on a branch and on a two-parameter curve (a corrector at every trial) |
 //! | [`bisect`], [`try_bisect`] | where a predicate (or a sign) switches | spiking-area edges, extremum times of a periodic orbit, catalogue twists, the design margin |
 //! | [`bisect_log`] | a predicate's switch on a positive axis, in log scale | the predicted γ boundary, the map's predicted boundary |
 //! | [`multisect`] | a predicate's switch, several values per round (a batch) | the boundary curves in a parameter plane |
@@ -139,6 +140,57 @@ pub fn newton_bracketed(
         x = next;
     }
     x
+}
+
+/// The Illinois variant of regula falsi (the secant through the bracket's ends, the value kept
+/// at the end that stays twice in a row halved) for a root of f on [a, b] with f(a) = `fa`,
+/// f(b) = `fb` of opposite signs, where each trial may fail (`Err`), give up (`Ok(None)`) or
+/// return f's value with a result (a corrected point). Stops when `done(value, bracket width)`
+/// or after `max` trials; returns the last trial's (x, result), `None` when the first gives up.
+///
+/// ```
+/// let r = hdgear::roots::illinois::<_, ()>((0.0, -2.0), (2.0, 2.0), 60, |v, w| v.abs() < 1e-14 || w < 1e-14, |x| {
+///     Ok(Some((x * x - 2.0, x)))
+/// })
+/// .unwrap()
+/// .unwrap();
+/// assert!((r.1 - 2f64.sqrt()).abs() < 1e-13);
+/// ```
+pub fn illinois<T, E>(
+    (a, fa): (f64, f64),
+    (b, fb): (f64, f64),
+    max: usize,
+    done: impl Fn(f64, f64) -> bool,
+    mut f: impl FnMut(f64) -> Result<Option<(f64, T)>, E>,
+) -> Result<Option<(f64, T)>, E> {
+    let (mut lo, mut hi, mut flo, mut fhi) = (a, b, fa, fb);
+    // which end moved last: -1 the low one, 1 the high one
+    let mut side = 0;
+    let mut best = None;
+    for _ in 0..max {
+        let x = (lo * fhi - hi * flo) / (fhi - flo);
+        let Some((v, result)) = f(x)? else {
+            return Ok(best);
+        };
+        best = Some((x, result));
+        if done(v, (hi - lo).abs()) {
+            return Ok(best);
+        }
+        if (v > 0.0) == (flo > 0.0) {
+            (lo, flo) = (x, v);
+            if side == -1 {
+                fhi *= 0.5;
+            }
+            side = -1;
+        } else {
+            (hi, fhi) = (x, v);
+            if side == 1 {
+                flo *= 0.5;
+            }
+            side = 1;
+        }
+    }
+    Ok(best)
 }
 
 /// Bisection of the switch of a fallible predicate between `a` and `b` (in either order): halves

@@ -388,42 +388,17 @@ impl<O: Oscillator> Tracer<'_, O> {
         a: f64,
         b: f64,
     ) -> Result<Option<(f64, Point)>> {
-        let (mut lo, mut hi, mut flo, mut fhi) = (0.0, sigma_b, a, b);
-        let mut side = 0;
-        let mut best = None;
-        for _ in 0..60 {
-            let sigma = (lo * fhi - hi * flo) / (fhi - flo);
+        let tol = 1e-12 * (1.0 + norm(p.z));
+        let done = |f: f64, width: f64| f.abs() <= 1e-10 || width <= tol;
+        crate::roots::illinois((0.0, a), (sigma_b, b), 60, done, |sigma| {
             let zp = [
                 p.z[0] + sigma * t[0],
                 p.z[1] + sigma * t[1],
                 p.z[2] + sigma * t[2],
             ];
-            let Some(q) = self.correct(zp, t, dot(t, p.z) + sigma)? else {
-                return Ok(best);
-            };
-            let f = test_functions(&q.flow)[i];
-            let done = f.abs() <= 1e-10 || (hi - lo).abs() <= 1e-12 * (1.0 + norm(p.z));
-            best = Some((sigma, q));
-            if done {
-                return Ok(best);
-            }
-            if (f > 0.0) == (flo > 0.0) {
-                lo = sigma;
-                flo = f;
-                if side == -1 {
-                    fhi *= 0.5;
-                }
-                side = -1;
-            } else {
-                hi = sigma;
-                fhi = f;
-                if side == 1 {
-                    flo *= 0.5;
-                }
-                side = 1;
-            }
-        }
-        Ok(best)
+            let q = self.correct(zp, t, dot(t, p.z) + sigma)?;
+            Ok(q.map(|q| (test_functions(&q.flow)[i], q)))
+        })
     }
 }
 

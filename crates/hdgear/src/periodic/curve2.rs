@@ -424,42 +424,16 @@ impl<O: Oscillator> Tracer<'_, O> {
         (fa, fb): (f64, f64),
         f: impl Fn(&Point, [f64; 4]) -> Option<f64>,
     ) -> Result<Option<Point>> {
-        let (mut lo, mut hi, mut flo, mut fhi) = (0.0, sigma_b, fa, fb);
-        let mut side = 0;
-        let mut best = None;
-        for _ in 0..80 {
-            let sigma = (lo * fhi - hi * flo) / (fhi - flo);
+        let done = |v: f64, width: f64| v == 0.0 || width <= 1e-10;
+        let found = crate::roots::illinois((0.0, fa), (sigma_b, fb), 80, done, |sigma| {
             let zp = axpy(p.z, sigma, t);
             let Some(q) = self.correct(zp, t, dot(t, p.z) + sigma)? else {
-                return Ok(best);
+                return Ok::<_, Error>(None);
             };
-            let Some(tq) = self.tangent(&q, t) else {
-                return Ok(best);
-            };
-            let Some(v) = f(&q, tq) else {
-                return Ok(best);
-            };
-            best = Some(q);
-            if v == 0.0 || (hi - lo).abs() <= 1e-10 {
-                return Ok(best);
-            }
-            if (v > 0.0) == (flo > 0.0) {
-                lo = sigma;
-                flo = v;
-                if side == -1 {
-                    fhi *= 0.5;
-                }
-                side = -1;
-            } else {
-                hi = sigma;
-                fhi = v;
-                if side == 1 {
-                    flo *= 0.5;
-                }
-                side = 1;
-            }
-        }
-        Ok(best)
+            let value = self.tangent(&q, t).and_then(|tq| f(&q, tq));
+            Ok(value.map(|v| (v, q)))
+        })?;
+        Ok(found.map(|(_, q)| q))
     }
 
     /// The codimension-two points between p and q (tangents t, tq), located, in order.

@@ -6,11 +6,11 @@ use super::{Box2, ContinuationOptions, Curve2, CurveKind, Range, continue_curve}
 use crate::error::{Error, Result};
 use crate::params::{Param, Params};
 
-/// The curves of `kind` through the special points of that kind (every one, or the `nth` from
-/// 1) of the one-parameter branch of `p` in the first range's parameter from its `from` to its
-/// `to` (the second parameter at its value in `p`), each curve once: a special point on a curve
-/// already traced is skipped (the curve's crossings of the line λ₂ = p's value are corrected
-/// onto it and compared, to 1e-6).
+/// The curves of `kind` through the special points of that kind (every one, or only the `nth`,
+/// counted from one) of the one-parameter branch of `p` in the first range's parameter from its
+/// `from` to its `to` (the second parameter at its value in `p`), each curve once: a special
+/// point on a curve already traced is skipped (the curve's crossings of the line λ₂ = p's value
+/// are corrected onto it and compared, to 1e-6).
 pub fn curves_from_branch(
     p: &Params,
     [r1, r2]: [Range; 2],
