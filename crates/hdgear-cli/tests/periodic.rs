@@ -287,3 +287,82 @@ fn boundary_writes_each_curve_once() {
         "delta=-1:2:log",
     );
 }
+
+/// `continue2 --restart FILE:ROW` from a row of curve 1 follows curve 1 again, edge to edge (its
+/// ends within 1e-8); bad restarts exit 2 with the reason.
+#[test]
+fn continue2_restarts_from_a_row_of_its_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let args = [
+        "continue2",
+        "--param",
+        "omega=0.3:20:log",
+        "--param",
+        "delta=0.5:40:log",
+        "--out",
+        "c.csv",
+    ];
+    run_in(dir.path(), &args);
+    let rows = csv_rows(&dir.path().join("c.csv"));
+    let k = rows.iter().position(|r| r["curve"] == "1").unwrap() + 20;
+    let row = format!("c.csv:{k}");
+    let again = [&args[..5], &["--restart", &row, "--json"]].concat();
+    let out = crate::common::hdgear()
+        .current_dir(dir.path())
+        .args(&again)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let points = doc["curves"][0]["points"].as_array().unwrap();
+    let ends = |ps: Vec<[f64; 2]>| [ps[0], ps[ps.len() - 1]];
+    let here = ends(
+        points
+            .iter()
+            .map(|q| [0, 1].map(|j| q["params"][j].as_f64().unwrap()))
+            .collect(),
+    );
+    let there = ends(
+        rows.iter()
+            .filter(|r| r["curve"] == "1")
+            .map(|r| [r["param1"].parse().unwrap(), r["param2"].parse().unwrap()])
+            .collect(),
+    );
+    for (a, b) in here.iter().flatten().zip(there.iter().flatten()) {
+        assert!((a / b - 1.0).abs() < 1e-8, "{here:?} vs {there:?}");
+    }
+    // bad restarts: no such row, not a continue2 file, a start off the curve
+    let bad = |restart: &'static str| [&args[..5], &["--restart", restart]].concat();
+    let run = |a: &[&str]| {
+        crate::common::hdgear()
+            .current_dir(dir.path())
+            .args(a)
+            .output()
+            .unwrap()
+    };
+    let out = run(&bad("c.csv:99999"));
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("no row 99999"));
+    let text = std::fs::read_to_string(dir.path().join("c.csv")).unwrap();
+    let off: String = text
+        .lines()
+        .take(2)
+        .map(|l| {
+            let mut f: Vec<&str> = l.split(',').collect();
+            if f[0] != "curve" {
+                f[5] = "3.5"; // x0 far from the orbit
+            }
+            f.join(",") + "\n"
+        })
+        .collect();
+    std::fs::write(dir.path().join("off.csv"), off).unwrap();
+    let out = run(&bad("off.csv:0"));
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("did not converge"));
+    let out = run(&bad("c.svg:0"));
+    assert_eq!(out.status.code(), Some(2));
+}

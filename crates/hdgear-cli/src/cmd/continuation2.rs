@@ -9,7 +9,7 @@ use clap::Args;
 use hdgear::params::Param;
 use hdgear::periodic::{
     Box2, Codim2, ContinuationOptions, Curve2, CurveKind, CurveRow, End, Range, Scale,
-    curves_from_branch,
+    continue_curve, curves_from_branch,
 };
 use serde::Serialize;
 use std::path::PathBuf;
@@ -32,6 +32,10 @@ pub struct Continue2Args {
     /// of that one-parameter branch, or through its Nth (from 1) only.
     #[arg(long, default_value = "fold", value_name = "KIND[:N]")]
     pub from: String,
+    /// FILE:ROW: follow the one curve through row ROW (from 0) of a `continue2 --out` CSV
+    /// file instead, the two --param as in the run that wrote it (its param1 and param2).
+    #[arg(long, value_name = "FILE:ROW")]
+    pub restart: Option<String>,
     /// K: orbits of period K·2π/ω.
     #[arg(long, default_value_t = 1)]
     pub subharmonic: u32,
@@ -117,8 +121,11 @@ pub fn run(a: Continue2Args) -> Result<()> {
     let (kind, nth) = CurveKind::parse_start(&a.from).context("--from")?;
     let (p, [r1, r2]) = request(&a)?;
     let opts = ContinuationOptions::default();
-    let curves = curves_from_branch(&p, [r1, r2], kind, nth, a.subharmonic, &opts)
-        .with_context(|| format!("--from {}", a.from))?;
+    let curves = match &a.restart {
+        Some(spec) => vec![restart(spec, &p, [r1, r2], &opts)?],
+        None => curves_from_branch(&p, [r1, r2], kind, nth, a.subharmonic, &opts)
+            .with_context(|| format!("--from {}", a.from))?,
+    };
     let doc = Doc {
         params: p,
         ranges: [r1, r2],
@@ -144,6 +151,64 @@ pub fn run(a: Continue2Args) -> Result<()> {
         summary(&curves, [r1.param, r2.param])?;
     }
     Ok(())
+}
+
+/// The curve through row ROW of FILE (`--restart FILE:ROW`): its kind, period, parameters and
+/// orbit start are the row's; the start is corrected onto the curve and refused with the reason
+/// when it is not near one.
+fn restart(
+    spec: &str,
+    p: &hdgear::Params,
+    [r1, r2]: [Range; 2],
+    opts: &ContinuationOptions,
+) -> Result<Curve2<Param>> {
+    use hdgear::output::Record;
+    let bad = |why: String| anyhow::anyhow!("invalid --restart '{spec}': {why}");
+    let (path, row) = spec
+        .rsplit_once(':')
+        .ok_or_else(|| bad("expected FILE:ROW".into()))?;
+    let row: usize = row
+        .trim()
+        .parse()
+        .map_err(|_| bad(format!("ROW '{row}' is not a row number (from 0)")))?;
+    let mut rdr = csv::ReaderBuilder::new()
+        .comment(Some(b'#'))
+        .from_path(path)
+        .map_err(|e| bad(format!("cannot read {path}: {e}")))?;
+    let head = rdr.headers().map_err(|e| bad(e.to_string()))?.clone();
+    if head.iter().ne(CurveRow::COLUMNS.iter().copied()) {
+        return Err(bad(format!(
+            "{path} is not a continue2 --out CSV file (its columns differ)"
+        )));
+    }
+    let rec = rdr
+        .records()
+        .nth(row)
+        .ok_or_else(|| bad(format!("{path} has no row {row}")))?
+        .map_err(|e| bad(e.to_string()))?;
+    let field = |name: &str| {
+        let i = head.iter().position(|h| h == name).unwrap_or(0);
+        rec.get(i).unwrap_or("")
+    };
+    let num = |name: &str| {
+        field(name).parse::<f64>().map_err(|_| {
+            bad(format!(
+                "row {row}: {name} '{}' is not a number",
+                field(name)
+            ))
+        })
+    };
+    let (kind, _) = CurveKind::parse_start(field("kind")).map_err(|e| bad(e.to_string()))?;
+    let k: u32 = field("subharmonic")
+        .parse()
+        .map_err(|_| bad(format!("row {row}: subharmonic '{}'", field("subharmonic"))))?;
+    let o = p
+        .with(r1.param, num("param1")?)
+        .with(r2.param, num("param2")?);
+    let start = [num("x0")?, num("xdot0")?];
+    let box2 = Box2::of([r1, r2]);
+    continue_curve(&o, [r1.param, r2.param], kind, k, start, &box2, opts)
+        .with_context(|| format!("--restart {spec}"))
 }
 
 fn end_text(e: End) -> &'static str {

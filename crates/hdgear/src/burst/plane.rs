@@ -458,7 +458,11 @@ impl<'a> Plane<'a> {
     /// in a window of `lanes` values around it, widened until it holds one.
     fn start_near(&mut self, near: &Start) -> Result<Option<Start>> {
         let e = edge_of(near.heading);
-        let at = if e.is_multiple_of(2) { near.v[0] } else { near.v[1] };
+        let at = if e.is_multiple_of(2) {
+            near.v[0]
+        } else {
+            near.v[1]
+        };
         let n = self.lanes.max(2) - 1;
         let mut w = 0.05;
         loop {
