@@ -319,7 +319,12 @@ fn continue2_restarts_from_a_row_of_its_output() {
     );
     let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let points = doc["curves"][0]["points"].as_array().unwrap();
-    let ends = |ps: Vec<[f64; 2]>| [ps[0], ps[ps.len() - 1]];
+    // the two ends, in either order (the curve may be followed the other way)
+    let ends = |ps: Vec<[f64; 2]>| {
+        let mut e = [ps[0], ps[ps.len() - 1]];
+        e.sort_by(|a, b| a[0].total_cmp(&b[0]));
+        e
+    };
     let here = ends(
         points
             .iter()

@@ -42,8 +42,7 @@ use super::{BOUNDARY_REL_TOL, BurstOptions, boundary::simulated_bursting, fast_s
 use crate::error::{Error, Result};
 use crate::fast::predict;
 use crate::integrate::Method;
-use crate::params::{Param, Params};
-use crate::periodic::{Box2, Scale};
+use crate::params::{Box2, Param, Params, Scale};
 use crate::roots::{first_switch, multisect};
 use serde::Serialize;
 use std::f64::consts::{FRAC_PI_2, PI};

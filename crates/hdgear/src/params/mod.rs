@@ -4,6 +4,9 @@
 //! `[params]` table, then single values (the command line's flags). [`ParamOverrides`] is the
 //! partial set both the file and the flags produce.
 
+mod plane;
+pub use plane::{Box2, Scale};
+
 use crate::error::{Error, Result};
 use serde::{Deserialize, Serialize};
 use std::fmt;

@@ -4,39 +4,6 @@
 use super::*;
 use std::f64::consts::PI;
 
-/// How the parameter enters the arclength: as itself, or as its logarithm (for ranges over
-/// decades of a positive parameter, such as ω).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "lowercase")]
-pub enum Scale {
-    /// u = λ.
-    Linear,
-    /// u = ln λ (λ > 0).
-    Log,
-}
-
-impl Scale {
-    pub(crate) fn to_u(self, lambda: f64) -> f64 {
-        match self {
-            Scale::Linear => lambda,
-            Scale::Log => lambda.ln(),
-        }
-    }
-    pub(crate) fn to_lambda(self, u: f64) -> f64 {
-        match self {
-            Scale::Linear => u,
-            Scale::Log => u.exp(),
-        }
-    }
-    /// dλ/du.
-    pub(super) fn dlambda(self, u: f64) -> f64 {
-        match self {
-            Scale::Linear => 1.0,
-            Scale::Log => u.exp(),
-        }
-    }
-}
-
 /// Options of the continuation.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct ContinuationOptions {

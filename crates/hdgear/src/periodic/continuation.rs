@@ -40,7 +40,7 @@
 //! ```
 
 use super::branch::*;
-use super::{Amplitude, Oscillator, Solved, amplitude, flow};
+use super::{Amplitude, Oscillator, Scale, Solved, amplitude, flow};
 use crate::error::{Error, Result, SolverError};
 use std::f64::consts::TAU;
 

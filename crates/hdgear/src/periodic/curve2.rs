@@ -32,9 +32,10 @@
 //! predictor than the step; the curve ends where it leaves the box (on its edge exactly), closes
 //! on itself, or the step falls below `min_step`.
 
-use super::branch::{ContinuationOptions, End, Scale};
+use super::branch::{ContinuationOptions, End};
 use super::continuation::test_functions;
 use super::{Amplitude, Flow, Multiplier, Oscillator, amplitude, flow, multipliers};
+use super::{Box2, Scale};
 use crate::error::{Error, Result, SolverError};
 use serde::Serialize;
 use std::f64::consts::TAU;
@@ -154,33 +155,6 @@ pub struct Curve2<P> {
     pub points: Vec<CurvePoint2>,
     /// Why each end ended: the start of `points`, then its end.
     pub ends: [End; 2],
-}
-
-/// The box a curve is followed in: each parameter's range and coordinate.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct Box2 {
-    /// (low, high) of λ₁ and of λ₂.
-    pub ranges: [(f64, f64); 2],
-    /// λ or ln λ for each.
-    pub scales: [Scale; 2],
-}
-
-impl Box2 {
-    /// Checks the ranges (finite, low < high, positive on a log scale).
-    pub fn validate(&self) -> Result<()> {
-        for (i, (&(lo, hi), s)) in self.ranges.iter().zip(self.scales).enumerate() {
-            let ok =
-                lo.is_finite() && hi.is_finite() && lo < hi && (s == Scale::Linear || lo > 0.0);
-            if !ok {
-                return Err(Error::InvalidOption {
-                    name: if i == 0 { "range1" } else { "range2" },
-                    value: if lo.is_finite() { hi } else { lo },
-                    reason: "needs finite low < high (> 0 on a log scale)",
-                });
-            }
-        }
-        Ok(())
-    }
 }
 
 /// A corrected point.
@@ -797,15 +771,5 @@ impl<P: Copy + PartialEq + std::fmt::Debug + std::fmt::Display + Send + Sync> Cu
                 )
             })
             .collect()
-    }
-}
-
-impl Box2 {
-    /// The box of two continuation ranges (each from its lower end to its upper one).
-    pub fn of(ranges: [super::Range; 2]) -> Box2 {
-        Box2 {
-            ranges: ranges.map(|r| (r.from.min(r.to), r.from.max(r.to))),
-            scales: ranges.map(|r| r.scale),
-        }
     }
 }

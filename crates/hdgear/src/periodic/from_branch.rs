@@ -87,3 +87,13 @@ pub fn curves_from_branch(
     }
     Ok(curves)
 }
+
+impl Box2 {
+    /// The box of two continuation ranges (each from its lower end to its upper one).
+    pub fn of(ranges: [Range; 2]) -> Box2 {
+        Box2 {
+            ranges: ranges.map(|r| (r.from.min(r.to), r.from.max(r.to))),
+            scales: ranges.map(|r| r.scale),
+        }
+    }
+}

@@ -45,6 +45,7 @@ mod lyapunov;
 mod oscillator;
 mod response;
 mod shooting;
+pub use crate::params::{Box2, Scale};
 pub use branch::*;
 pub use continuation::*;
 pub use curve2::*;
