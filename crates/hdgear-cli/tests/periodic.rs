@@ -307,17 +307,7 @@ fn continue2_restarts_from_a_row_of_its_output() {
     let k = rows.iter().position(|r| r["curve"] == "1").unwrap() + 20;
     let row = format!("c.csv:{k}");
     let again = [&args[..5], &["--restart", &row, "--json"]].concat();
-    let out = crate::common::hdgear()
-        .current_dir(dir.path())
-        .args(&again)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let doc: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let doc: serde_json::Value = serde_json::from_str(&run_in(dir.path(), &again)).unwrap();
     let points = doc["curves"][0]["points"].as_array().unwrap();
     // the two ends, in either order (the curve may be followed the other way)
     let ends = |ps: Vec<[f64; 2]>| {

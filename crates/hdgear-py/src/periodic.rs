@@ -180,11 +180,7 @@ pub(crate) fn boundary<'py>(
             .collect::<Result<_, _>>()
             .map_err(err)?
     };
-    let opts = PlaneOptions {
-        step_max: step,
-        step_min: PlaneOptions::default().step_min.min(step),
-        ..PlaneOptions::default()
-    };
+    let opts = PlaneOptions::with_step(step);
     let burst = burst_options(discard, window_periods, rtol, atol, method)?;
     let p = params.inner;
     let plane = ranges.map(|r| r.param);

@@ -74,11 +74,7 @@ pub fn run(a: BoundaryArgs) -> Result<()> {
             .map(|k| k.parse())
             .collect::<Result<_, _>>()?
     };
-    let opts = PlaneOptions {
-        step_max: a.step,
-        step_min: PlaneOptions::default().step_min.min(a.step),
-        ..PlaneOptions::default()
-    };
+    let opts = PlaneOptions::with_step(a.step);
     opts.validate()
         .map_err(|e| anyhow::anyhow!("--step: {e}"))?;
     let burst = a.burst.options()?;
@@ -131,13 +127,8 @@ fn summary(
         );
     }
     for (i, c) in curves.iter().enumerate() {
-        let extent = |j: usize| {
-            let v = c.points.iter().map(|q| q.params[j]);
-            let (lo, hi) = v.fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), x| {
-                (l.min(x), h.max(x))
-            });
-            format!("{} {lo:.6} … {hi:.6}", names[j])
-        };
+        let extent =
+            |j: usize| super::continuation2::extent(names[j], c.points.iter().map(|q| q.params[j]));
         let end = match c.end {
             PlaneEnd::Edge => "edge to edge",
             PlaneEnd::MaxPoints => "stopped at the point limit",

@@ -211,6 +211,14 @@ fn restart(
         .with_context(|| format!("--restart {spec}"))
 }
 
+/// `NAME lo … hi`: the range of a curve's values of one parameter (its summary line).
+pub(crate) fn extent(name: impl std::fmt::Display, values: impl Iterator<Item = f64>) -> String {
+    let (lo, hi) = values.fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), x| {
+        (l.min(x), h.max(x))
+    });
+    format!("{name} {lo:.6} … {hi:.6}")
+}
+
 fn end_text(e: End) -> &'static str {
     match e {
         End::Reached => "left the box",
@@ -223,13 +231,7 @@ fn end_text(e: End) -> &'static str {
 
 fn summary(curves: &[Curve2<Param>], names: [Param; 2]) -> Result<()> {
     for (i, c) in curves.iter().enumerate() {
-        let extent = |j: usize| {
-            let v = c.points.iter().map(|q| q.params[j]);
-            let (lo, hi) = v.fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), x| {
-                (l.min(x), h.max(x))
-            });
-            format!("{} {lo:.6} … {hi:.6}", names[j])
-        };
+        let extent = |j: usize| extent(names[j], c.points.iter().map(|q| q.params[j]));
         outln!(
             "curve {i}: {}, period {} × 2π/ω, {} points, {}, {}; ends: {}, {}",
             c.kind.name(),

@@ -174,6 +174,16 @@ impl Default for PlaneOptions {
 }
 
 impl PlaneOptions {
+    /// The defaults with the largest step `step` (the least step no larger than it).
+    pub fn with_step(step: f64) -> PlaneOptions {
+        let d = PlaneOptions::default();
+        PlaneOptions {
+            step_max: step,
+            step_min: d.step_min.min(step),
+            ..d
+        }
+    }
+
     /// Checks 0 < step_min ≤ step_max ≤ 0.25 and max_points ≥ 2.
     pub fn validate(&self) -> Result<()> {
         let bad = |name, value, reason| {
