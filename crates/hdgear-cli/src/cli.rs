@@ -466,15 +466,8 @@ pub struct FrequencyResponseArgs {
     /// LO:HI, the omega range (default: from 1/20 to 3 times the stiffest static frequency).
     #[arg(long = "omega-range", value_name = "LO:HI")]
     pub omega_range: Option<String>,
-    /// The curve's points to a .csv, .json or .parquet file.
-    #[arg(long, value_name = "FILE")]
-    pub out: Option<PathBuf>,
-    /// The figure to a .svg or .png file.
-    #[arg(long, value_name = "FILE")]
-    pub plot: Option<PathBuf>,
-    /// Print one JSON document.
-    #[arg(long)]
-    pub json: bool,
+    #[command(flatten)]
+    pub export: crate::export::Export<hdgear::periodic::BranchRow>,
 }
 
 /// Arguments of `hdgear orbit-diagram`.

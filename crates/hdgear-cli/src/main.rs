@@ -4,6 +4,7 @@
 
 mod cli;
 mod cmd;
+mod export;
 mod signals;
 mod sink;
 mod sources;

@@ -9,18 +9,26 @@ use hdgear::params::{Param, Params};
 use hdgear::periodic::{Box2, Scale};
 
 fn curves(params: [Param; 2], ranges: [(f64, f64); 2], kind: BoundaryKind) -> Vec<PlaneCurve> {
+    curves_with(params, ranges, kind, &PlaneOptions::default())
+}
+
+fn curves_with(
+    params: [Param; 2],
+    ranges: [(f64, f64); 2],
+    kind: BoundaryKind,
+    opts: &PlaneOptions,
+) -> Vec<PlaneCurve> {
     let box2 = Box2 {
         ranges,
         scales: [Scale::Log; 2],
     };
     let base = Params::default();
-    let opts = PlaneOptions::default();
     plane_boundaries(
         &base,
         params,
         &box2,
         &[kind],
-        &opts,
+        opts,
         &BurstOptions::default(),
     )
     .unwrap()
@@ -226,4 +234,114 @@ fn the_fast_slow_edge_is_the_relaxation_rate() {
         }
     }
     assert!(nodes > 0, "no node at the turning points in the range");
+}
+
+/// A curve's points in the unit square of its box (log scales).
+fn unit(c: &PlaneCurve, ranges: [(f64, f64); 2]) -> Vec<[f64; 2]> {
+    let v = |x: f64, (lo, hi): (f64, f64)| (x / lo).ln() / (hi / lo).ln();
+    c.points
+        .iter()
+        .map(|q| [v(q.params[0], ranges[0]), v(q.params[1], ranges[1])])
+        .collect()
+}
+
+/// The distance from `x` to the polyline `line`.
+fn to_polyline(x: [f64; 2], line: &[[f64; 2]]) -> f64 {
+    line.windows(2)
+        .map(|w| {
+            let (a, b) = (w[0], w[1]);
+            let d = [b[0] - a[0], b[1] - a[1]];
+            let len2 = d[0] * d[0] + d[1] * d[1];
+            let t = if len2 > 0.0 {
+                (((x[0] - a[0]) * d[0] + (x[1] - a[1]) * d[1]) / len2).clamp(0.0, 1.0)
+            } else {
+                0.0
+            };
+            (x[0] - a[0] - t * d[0]).hypot(x[1] - a[1] - t * d[1])
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// How far a polyline traced with largest step `h` and turn limit `turn` lies from the curve
+/// through its vertices. With the limit active (turn < π/2), a step's arc turns by at most
+/// `turn`, and its sagitta is h·tan(turn/4)/2; corners are taken at the least step. At π/2 or
+/// above there is no limit (the half circle's ends cap every turn at π/2), a step may cut across
+/// a corner, and a chord of length h whose ends are on the two legs of a corner of at least 90°
+/// passes within h/2 of it.
+fn sagitta(h: f64, turn: f64) -> f64 {
+    if turn >= std::f64::consts::FRAC_PI_2 {
+        0.5 * h
+    } else {
+        0.5 * h * (turn / 4.0).tan()
+    }
+}
+
+/// The tracer's constants (the largest turn per step, the angles of a round, the values per edge
+/// in the search for starts), each a decade above and below its default (the round no lower
+/// than 3, its least), give the same curves: as many, and every point of each within the other's
+/// polyline's sagitta of it, both ways, ends included. Checked on the predicted boundary in
+/// (ω, γ) and on the fold set in (γ, δ), which has a corner where it meets the cusp line. A
+/// decade above the turn limit is no limit at all (see [`sagitta`]): the corner is then cut by
+/// up to half a step, which this bound allows and the default's does not.
+#[test]
+fn the_tracer_constants_do_not_change_the_curves_over_a_decade() {
+    let d = PlaneOptions::default();
+    let variants = [
+        PlaneOptions {
+            max_turn: d.max_turn / 10.0,
+            ..d
+        },
+        PlaneOptions {
+            max_turn: d.max_turn * 10.0,
+            ..d
+        },
+        PlaneOptions { round: 3, ..d },
+        PlaneOptions {
+            round: d.round * 10,
+            ..d
+        },
+        PlaneOptions {
+            edge_samples: d.edge_samples / 10,
+            ..d
+        },
+        PlaneOptions {
+            edge_samples: d.edge_samples * 10,
+            ..d
+        },
+    ];
+    let cases = [
+        (
+            [Param::Omega, Param::Gamma],
+            [(1e-4, 0.2), (0.01, 3.0)],
+            BoundaryKind::Predicted,
+        ),
+        (
+            [Param::Gamma, Param::Delta],
+            [(0.002, 0.1), (0.01, 30.0)],
+            BoundaryKind::AFoldInRange,
+        ),
+    ];
+    for (params, ranges, kind) in cases {
+        let reference = curves_with(params, ranges, kind, &d);
+        assert!(!reference.is_empty(), "{kind:?}");
+        for o in &variants {
+            let c = curves_with(params, ranges, kind, o);
+            assert_eq!(c.len(), reference.len(), "{kind:?} {o:?}");
+            for r in &reference {
+                let a = unit(r, ranges);
+                // the variant's curve through the reference's first point
+                let b = c
+                    .iter()
+                    .map(|q| unit(q, ranges))
+                    .min_by(|x, y| to_polyline(a[0], x).total_cmp(&to_polyline(a[0], y)))
+                    .unwrap();
+                for (from, to, o) in [(&a, &b, o), (&b, &a, &d)] {
+                    let allowed = sagitta(o.step_max, o.max_turn) + 1e-6;
+                    let worst = from.iter().map(|&x| to_polyline(x, to)).fold(0.0, f64::max);
+                    eprintln!("{kind:?} {o:?}: {worst:.2e} (allowed {allowed:.2e})");
+                    assert!(worst <= allowed, "{kind:?} {o:?}: {worst} > {allowed}");
+                }
+            }
+        }
+    }
 }

@@ -2,7 +2,8 @@
 //! subsystem and the edge of the fast-slow domain as curves in a plane of two parameters.
 
 use crate::cli::{BurstArgs, ParamArgs};
-use crate::sink::{outln, warn, write_records};
+use crate::export::Export;
+use crate::sink::{outln, warn};
 use anyhow::{Result, bail};
 use clap::Args;
 use clap::builder::PossibleValuesParser;
@@ -11,7 +12,6 @@ use hdgear::burst::{
 };
 use hdgear::periodic::{Range, Scale};
 use serde::Serialize;
-use std::path::PathBuf;
 
 /// Arguments of `hdgear boundary`.
 #[derive(Args, Debug)]
@@ -39,16 +39,8 @@ pub struct BoundaryArgs {
     /// Largest step, as a fraction of the box (each axis 1 wide in its scale).
     #[arg(long, default_value_t = PlaneOptions::default().step_max)]
     pub step: f64,
-    /// The curves' points (curve,kind,param1,param2,outside1,outside2,inside1,inside2) to a
-    /// .csv, .json or .parquet file.
-    #[arg(long, value_name = "FILE")]
-    pub out: Option<PathBuf>,
-    /// The curves in the parameter plane to a .svg or .png file.
-    #[arg(long, value_name = "FILE")]
-    pub plot: Option<PathBuf>,
-    /// Print one JSON document (every curve with every point).
-    #[arg(long)]
-    pub json: bool,
+    #[command(flatten)]
+    pub export: Export<PlaneRow>,
 }
 
 /// What `--json` prints and `--out` carries as metadata.
@@ -78,10 +70,7 @@ pub fn run(a: BoundaryArgs) -> Result<()> {
     opts.validate()
         .map_err(|e| anyhow::anyhow!("--step: {e}"))?;
     let burst = a.burst.options()?;
-    crate::cli::check_out(&a.out)?;
-    if let Some(path) = &a.plot {
-        crate::cli::check_figure_path("--plot", path)?;
-    }
+    a.export.check()?;
     warn(&warnings);
     let params = [r1.param, r2.param];
     let curves = plane_boundaries(&p, params, &box2, &kinds, &opts, &burst)?;
@@ -92,25 +81,18 @@ pub fn run(a: BoundaryArgs) -> Result<()> {
         burst,
         curves: &curves,
     };
-    if let Some(out) = &a.out {
-        let rows = curves
+    let rows = || {
+        curves
             .iter()
             .enumerate()
-            .flat_map(|(i, c)| PlaneRow::of(i, c));
-        write_records(Some(out), &doc, rows)?;
-    }
-    if let Some(path) = &a.plot {
-        let names = params.map(|q| q.name());
+            .flat_map(|(i, c)| PlaneRow::of(i, c))
+    };
+    let figure = || {
         let logs = [r1.scale, r2.scale].map(|s| s == Scale::Log);
-        let figure = hdgear::figures::plane_figure(&[], &curves, names, logs);
-        hdgear::output::plot::write(&figure, path)?;
-    }
-    if a.json {
-        outln!("{}", serde_json::to_string_pretty(&doc)?);
-    } else {
-        summary(&curves, &kinds, params)?;
-    }
-    Ok(())
+        hdgear::figures::plane_figure(&[], &curves, params.map(|q| q.name()), logs)
+    };
+    a.export.write(&doc, rows, figure)?;
+    a.export.print(&doc, || summary(&curves, &kinds, params))
 }
 
 fn summary(

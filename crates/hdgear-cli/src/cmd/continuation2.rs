@@ -3,7 +3,8 @@
 //! cusps and fold-flips.
 
 use crate::cli::ParamArgs;
-use crate::sink::{outln, warn, write_records};
+use crate::export::Export;
+use crate::sink::{outln, warn};
 use anyhow::{Context, Result, bail};
 use clap::Args;
 use hdgear::params::Param;
@@ -12,7 +13,6 @@ use hdgear::periodic::{
     continue_curve, curves_from_branch,
 };
 use serde::Serialize;
-use std::path::PathBuf;
 
 /// Arguments of `hdgear continue2`.
 #[derive(Args, Debug)]
@@ -39,16 +39,8 @@ pub struct Continue2Args {
     /// K: orbits of period K·2π/ω.
     #[arg(long, default_value_t = 1)]
     pub subharmonic: u32,
-    /// The curves' points (curve,kind,subharmonic,param1,param2,x0,…,special) to a .csv, .json
-    /// or .parquet file.
-    #[arg(long, value_name = "FILE")]
-    pub out: Option<PathBuf>,
-    /// The curves in the parameter plane to a .svg or .png file.
-    #[arg(long, value_name = "FILE")]
-    pub plot: Option<PathBuf>,
-    /// Print one JSON document (every curve with every point).
-    #[arg(long)]
-    pub json: bool,
+    #[command(flatten)]
+    pub export: Export<CurveRow>,
 }
 
 /// What `--json` prints and `--out` carries as metadata.
@@ -71,10 +63,7 @@ fn request(a: &Continue2Args) -> Result<(hdgear::Params, [Range; 2])> {
             r2.param
         );
     }
-    crate::cli::check_out(&a.out)?;
-    if let Some(path) = &a.plot {
-        crate::cli::check_figure_path("--plot", path)?;
-    }
+    a.export.check()?;
     warn(&warnings);
     Ok((p, [r1, r2]))
 }
@@ -132,25 +121,20 @@ pub fn run(a: Continue2Args) -> Result<()> {
         options: opts,
         curves: &curves,
     };
-    if let Some(out) = &a.out {
-        let rows = curves
+    let rows = || {
+        curves
             .iter()
             .enumerate()
-            .flat_map(|(i, c)| CurveRow::of(i, c));
-        write_records(Some(out), &doc, rows)?;
-    }
-    if let Some(path) = &a.plot {
+            .flat_map(|(i, c)| CurveRow::of(i, c))
+    };
+    let figure = || {
         let names = [r1.param.name(), r2.param.name()];
         let logs = [r1.scale, r2.scale].map(|s| s == Scale::Log);
-        let figure = hdgear::figures::plane_figure(&curves, &[], names, logs);
-        hdgear::output::plot::write(&figure, path)?;
-    }
-    if a.json {
-        outln!("{}", serde_json::to_string_pretty(&doc)?);
-    } else {
-        summary(&curves, [r1.param, r2.param])?;
-    }
-    Ok(())
+        hdgear::figures::plane_figure(&curves, &[], names, logs)
+    };
+    a.export.write(&doc, rows, figure)?;
+    a.export
+        .print(&doc, || summary(&curves, [r1.param, r2.param]))
 }
 
 /// The curve through row ROW of FILE (`--restart FILE:ROW`): its kind, period, parameters and

@@ -2,7 +2,7 @@
 //! its folds (the jumps of a slow up- or down-sweep) and stability along the curve.
 
 use crate::cli::FrequencyResponseArgs;
-use crate::sink::{warn, write_records};
+use crate::sink::warn;
 use anyhow::{Context, Result};
 use hdgear::periodic::{BranchRow, ContinuationOptions, Special, frequency_response};
 
@@ -12,25 +12,17 @@ pub fn run(a: FrequencyResponseArgs) -> Result<()> {
     }
     let range = crate::cli::parse_frequency_range("--omega-range", a.omega_range.as_deref())?;
     let (p, warnings) = a.params.resolve()?;
-    crate::cli::check_out(&a.out)?;
-    if let Some(plot) = &a.plot {
-        crate::cli::check_plot(plot)?;
-    }
+    a.export.check()?;
     warn(&warnings);
     let opts = ContinuationOptions::default();
     let b = frequency_response(&p, range, &opts).context("frequency-response")?;
-    if let Some(out) = &a.out {
-        let rows = b.points.iter().map(|q| BranchRow::new(0, 1, q));
-        write_records(Some(out), &b.param, rows)?;
-    }
-    if let Some(plot) = &a.plot {
-        let f = hdgear::figures::frequency_response_figure(&p, &b);
-        hdgear::output::plot::write(&f, plot)?;
-    }
-    if a.json {
-        crate::sink::outln!("{}", serde_json::to_string_pretty(&b)?);
-        return Ok(());
-    }
+    let rows = || b.points.iter().map(|q| BranchRow::new(0, 1, q));
+    let figure = || hdgear::figures::frequency_response_figure(&p, &b);
+    a.export.write(&b.param, rows, figure)?;
+    a.export.print(&b, || summary(&b))
+}
+
+fn summary(b: &hdgear::periodic::Branch<hdgear::params::Param>) -> Result<()> {
     let peak = b.points.iter().max_by(|x, y| {
         x.amplitude
             .peak_to_peak

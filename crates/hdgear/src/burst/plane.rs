@@ -6,37 +6,37 @@
 //!
 //! # The tracer
 //!
-//! Each parameter is taken as itself or as its logarithm ([`Scale`]) and scaled so that the box
-//! is the unit square (coordinates v). A curve is followed from a point P on it with a heading θ
-//! and a step h:
+//! Each parameter is taken as itself or as its logarithm ([`Scale`]) and scaled so that the box is
+//! the unit square (coordinates v). A curve is followed from a point P on it with a heading θ and a
+//! step h:
 //!
 //! 1. **predictor–corrector on a half circle**: the half circle of radius h around P ahead of the
 //!    heading, from θ − π/2 to θ + π/2, is searched for the switch of the verdict — first at
-//!    [`ROUND`] angles evaluated together (both ends among them: they must lie on either side of
-//!    the curve, the region on the same side as at the previous step; the first switch from the
-//!    outside end is taken), then narrowed
-//!    ([`crate::roots::multisect`]) until the bracket's two ends differ by at most the kind's
-//!    tolerance in each parameter (relative: [`BOUNDARY_REL_TOL`] for the simulated boundary,
-//!    [`CURVE_TOL`] for the others). Its midpoint is the next point and its direction from P
-//!    the next heading. The heading is the tangent predictor (the secant of the last step); the
-//!    circle is the corrector, and unlike a correction along the normal it also finds the curve
-//!    after a corner.
-//! 2. **step control**: a step that turns the heading by more than [`MAX_TURN`], or whose half
-//!    circle's ends are not on either side, is retried at h/2; after a turn below a third of it h
-//!    grows by 3/2, up to [`PlaneOptions::step_max`]. At the least step (the larger of
-//!    [`PlaneOptions::step_min`] and four brackets' widths: a step shorter than its bracket
+//!    [`PlaneOptions::round`] angles evaluated together (both ends among them: they must lie on
+//!    either side of the curve, the region on the same side as at the previous step; the first
+//!    switch from the outside end is taken), then narrowed ([`crate::roots::multisect`]) until the
+//!    bracket's two ends differ by at most the kind's tolerance in each parameter (relative:
+//!    [`BOUNDARY_REL_TOL`] for the simulated boundary, [`CURVE_TOL`] for the others). Its midpoint
+//!    is the next point and its direction from P the next heading. The heading is the tangent
+//!    predictor (the secant of the last step); the circle is the corrector, and unlike a correction
+//!    along the normal it also finds the curve after a corner.
+//! 2. **step control**: a step that turns the heading by more than [`PlaneOptions::max_turn`], or
+//!    whose half circle's ends are not on either side, is retried at h/2; after a turn below a
+//!    third of it h grows by 3/2, up to [`PlaneOptions::step_max`]. At the least step (the larger
+//!    of [`PlaneOptions::step_min`] and four brackets' widths: a step shorter than its bracket
 //!    would be noise) a turn is accepted — a corner, such as where the fold curve meets the cusp
 //!    line γ = 1/(3α) — and ends on one side end the curve ([`PlaneEnd::StepTooSmall`]).
 //! 3. **ends**: points of the half circle outside the box are taken on its edge (each coordinate
-//!    clamped to [0, 1], which keeps the path continuous), so the switch the search finds there
-//!    is where the curve leaves the box, on its edge exactly ([`PlaneEnd::Edge`]); or after
+//!    clamped to [0, 1], which keeps the path continuous), so the switch the search finds there is
+//!    where the curve leaves the box, on its edge exactly ([`PlaneEnd::Edge`]); or after
 //!    [`PlaneOptions::max_points`] points.
 //!
-//! **Starts**: the switches of the verdict along the box's four edges, [`EDGE_SAMPLES`] values
-//! each, narrowed to the tolerance. A curve is followed from one end; the start at its other end
-//! is then dropped. The simulated boundary is started from the predicted boundary's starts: on
-//! the same edge, a window of `lanes` values around the predicted switch, widened until it holds a
-//! switch. Curves that close inside the box without touching its edges are not found.
+//! **Starts**: the switches of the verdict along the box's four edges,
+//! [`PlaneOptions::edge_samples`] values each, narrowed to the tolerance. A curve is followed from
+//! one end; the start at its other end is then dropped. The simulated boundary is started from the
+//! predicted boundary's starts: on the same edge, a window of `lanes` values around the predicted
+//! switch, widened until it holds a switch. Curves that close inside the box without touching its
+//! edges are not found.
 
 use super::{BOUNDARY_REL_TOL, BurstOptions, boundary::simulated_bursting, fast_slow_omega_max};
 use crate::error::{Error, Result};
@@ -161,6 +161,12 @@ pub struct PlaneOptions {
     pub step_min: f64,
     /// Most points per curve (default 2000).
     pub max_points: usize,
+    /// Largest turn of the heading in one step, in radians (default [`MAX_TURN`]).
+    pub max_turn: f64,
+    /// Angles of the first round on each half circle (default [`ROUND`]).
+    pub round: usize,
+    /// Values per edge of the box in the search for starts (default [`EDGE_SAMPLES`]).
+    pub edge_samples: usize,
 }
 
 impl Default for PlaneOptions {
@@ -169,6 +175,9 @@ impl Default for PlaneOptions {
             step_max: 0.02,
             step_min: 1e-4,
             max_points: 2000,
+            max_turn: MAX_TURN,
+            round: ROUND,
+            edge_samples: EDGE_SAMPLES,
         }
     }
 }
@@ -184,7 +193,8 @@ impl PlaneOptions {
         }
     }
 
-    /// Checks 0 < step_min ≤ step_max ≤ 0.25 and max_points ≥ 2.
+    /// Checks 0 < step_min ≤ step_max ≤ 0.25, max_points ≥ 2, 0 < max_turn ≤ π, round ≥ 3 and
+    /// edge_samples ≥ 2.
     pub fn validate(&self) -> Result<()> {
         let bad = |name, value, reason| {
             Err(Error::InvalidOption {
@@ -201,6 +211,19 @@ impl PlaneOptions {
         }
         if self.max_points < 2 {
             return bad("max_points", self.max_points as f64, "must be at least 2");
+        }
+        if !(self.max_turn > 0.0 && self.max_turn <= PI) {
+            return bad("max_turn", self.max_turn, "must be in (0, π]");
+        }
+        if self.round < 3 {
+            return bad("round", self.round as f64, "must be at least 3");
+        }
+        if self.edge_samples < 2 {
+            return bad(
+                "edge_samples",
+                self.edge_samples as f64,
+                "must be at least 2",
+            );
         }
         Ok(())
     }
@@ -455,10 +478,10 @@ impl<'a> Plane<'a> {
     }
 
     /// The starts on all four edges.
-    fn starts(&mut self) -> Result<Vec<Start>> {
+    fn starts(&mut self, opts: &PlaneOptions) -> Result<Vec<Start>> {
         let mut all = Vec::new();
         for e in 0..4 {
-            all.extend(self.edge_starts(e, (0.0, 1.0), EDGE_SAMPLES)?);
+            all.extend(self.edge_starts(e, (0.0, 1.0), opts.edge_samples)?);
         }
         Ok(all)
     }
@@ -502,7 +525,7 @@ impl<'a> Plane<'a> {
             }
             let circle = move |phi: f64| [v[0] + h * phi.cos(), v[1] + h * phi.sin()];
             // the round: from the right end (θ − π/2) to the left end (θ + π/2)
-            let m = ROUND;
+            let m = opts.round;
             let phis: Vec<f64> = (0..m)
                 .map(|k| heading - FRAC_PI_2 + PI * k as f64 / (m - 1) as f64)
                 .collect();
@@ -533,7 +556,7 @@ impl<'a> Plane<'a> {
             let bracket = self.narrow(&path, (phis[ka], phis[kb]))?;
             let phi = 0.5 * (bracket.0 + bracket.1);
             let turn = (phi - heading + PI).rem_euclid(2.0 * PI) - PI;
-            if side.is_some() && turn.abs() > MAX_TURN && h > least {
+            if side.is_some() && turn.abs() > opts.max_turn && h > least {
                 h = (0.5 * h).max(least);
                 continue;
             }
@@ -545,7 +568,7 @@ impl<'a> Plane<'a> {
                 break PlaneEnd::Edge;
             }
             (v, heading) = (q, phi);
-            if turn.abs() < MAX_TURN / 3.0 {
+            if turn.abs() < opts.max_turn / 3.0 {
                 h = (1.5 * h).min(opts.step_max);
             }
         };
@@ -655,14 +678,14 @@ pub fn plane_boundaries(
     for &kind in kinds {
         let mut pl = plane(kind);
         let starts = if kind == BoundaryKind::Simulated {
-            let predicted = plane(BoundaryKind::Predicted).starts()?;
+            let predicted = plane(BoundaryKind::Predicted).starts(opts)?;
             let mut starts = Vec::new();
             for s in &predicted {
                 starts.extend(pl.start_near(s)?);
             }
             starts
         } else {
-            pl.starts()?
+            pl.starts(opts)?
         };
         curves.extend(pl.follow_all(starts, opts)?);
     }
@@ -694,7 +717,7 @@ mod tests {
             &verdict,
             1,
         );
-        let starts = plane.starts().unwrap();
+        let starts = plane.starts(&PlaneOptions::default()).unwrap();
         plane.follow_all(starts, &PlaneOptions::default()).unwrap()
     }
 

@@ -1,0 +1,86 @@
+//! `--out`, `--plot` and `--json`, written once for every command whose result is rows, a figure
+//! and one JSON document (hyperfine's one exporter): the flags, their checks before the run, and
+//! the export after it. The `--out` help lists the rows' columns from the row type itself.
+
+use crate::sink::{outln, write_records};
+use anyhow::Result;
+use clap::Args;
+use hdgear::output::Record;
+use hdgear::output::plot::Figure;
+use std::marker::PhantomData;
+use std::path::PathBuf;
+
+/// The three output flags of a command whose rows are `R`.
+#[derive(Args)]
+pub struct Export<R: Record + 'static> {
+    #[arg(long, value_name = "FILE", help = out_help(R::COLUMNS))]
+    pub out: Option<PathBuf>,
+    /// The figure to a .svg or .png file.
+    #[arg(long, value_name = "FILE")]
+    pub plot: Option<PathBuf>,
+    /// Print one JSON document (every result in full) instead of the summary.
+    #[arg(long)]
+    pub json: bool,
+    #[arg(skip)]
+    rows: PhantomData<fn() -> R>,
+}
+
+impl<R: Record> std::fmt::Debug for Export<R> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Export")
+            .field("out", &self.out)
+            .field("plot", &self.plot)
+            .field("json", &self.json)
+            .finish()
+    }
+}
+
+/// `--out`'s help: the columns, in order, as the file will have them.
+fn out_help(columns: &[&str]) -> String {
+    format!(
+        "The rows ({}) to a .csv, .json or .parquet file",
+        columns.join(",")
+    )
+}
+
+impl<R: Record> Export<R> {
+    /// Refuses a bad `--out` or `--plot` path before anything is computed.
+    pub fn check(&self) -> Result<()> {
+        crate::cli::check_out(&self.out)?;
+        if let Some(path) = &self.plot {
+            crate::cli::check_plot(path)?;
+        }
+        Ok(())
+    }
+
+    /// Writes the rows (with `meta`) to `--out` and the figure to `--plot`, each only when asked
+    /// for.
+    pub fn write<I: IntoIterator<Item = R>>(
+        &self,
+        meta: &impl serde::Serialize,
+        rows: impl FnOnce() -> I,
+        figure: impl FnOnce() -> Figure,
+    ) -> Result<()> {
+        if let Some(out) = &self.out {
+            write_records(Some(out), meta, rows())?;
+        }
+        if let Some(path) = &self.plot {
+            hdgear::output::plot::write(&figure(), path)?;
+        }
+        Ok(())
+    }
+
+    /// Prints `doc` as one JSON document with `--json`, the summary without it.
+    pub fn print(
+        &self,
+        doc: &impl serde::Serialize,
+        summary: impl FnOnce() -> Result<()>,
+    ) -> Result<()> {
+        if self.json {
+            outln!("{}", serde_json::to_string_pretty(doc)?);
+            Ok(())
+        } else {
+            summary()
+        }
+    }
+}
