@@ -346,3 +346,12 @@ pub fn design_text(c: &hdgear::physical::design::DesignCheck) -> String {
     }
     s
 }
+
+/// `, supercritical (c = …)` at a period doubling with its normal-form coefficient, empty
+/// elsewhere: what a summary line of a branch's special point adds.
+pub fn criticality(q: &hdgear::periodic::BranchPoint) -> String {
+    match (q.flip_coefficient, q.criticality()) {
+        (Some(c), Some(k)) => format!(", {} (c = {c:.3e})", k.name()),
+        _ => String::new(),
+    }
+}

@@ -13,6 +13,7 @@ mod friction;
 mod integrate;
 mod memory;
 mod model;
+mod normal_form;
 mod output;
 mod periodic;
 mod physical;

@@ -88,12 +88,13 @@ fn print_summary(branches: &[Branch<Param>], param: Param) -> Result<()> {
         crate::sink::outln!("  {stable} stable, {} unstable", b.points.len() - stable);
         for q in b.specials() {
             crate::sink::outln!(
-                "  {:<16} {param} = {:<14.10} x0 = {:<12.8} peak-to-peak x {:.6}, max |x'| {:.6}",
+                "  {:<16} {param} = {:<14.10} x0 = {:<12.8} peak-to-peak x {:.6}, max |x'| {:.6}{}",
                 q.special.map_or("", Special::name),
                 q.param,
                 q.start[0],
                 q.amplitude.peak_to_peak,
-                q.amplitude.max_abs_xdot
+                q.amplitude.max_abs_xdot,
+                crate::summary::criticality(q)
             );
         }
     }

@@ -49,10 +49,11 @@ fn summary(b: &hdgear::periodic::Branch<hdgear::params::Param>) -> Result<()> {
     }
     for q in specials {
         crate::sink::outln!(
-            "  {:<16} omega = {:.10}, peak-to-peak x {:.6}",
+            "  {:<16} omega = {:.10}, peak-to-peak x {:.6}{}",
             q.special.map_or("", Special::name),
             q.param,
-            q.amplitude.peak_to_peak
+            q.amplitude.peak_to_peak,
+            crate::summary::criticality(q)
         );
     }
     Ok(())

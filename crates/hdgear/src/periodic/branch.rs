@@ -109,6 +109,16 @@ pub struct BranchPoint {
     /// At a special point, the eigenvector of M for the critical multiplier (unit length).
     #[serde(skip)]
     pub critical_direction: Option<[f64; 2]>,
+    /// At a period doubling, its normal-form coefficient ([`super::flip_coefficient`]): > 0
+    /// supercritical (the doubled orbit is born stable), < 0 subcritical.
+    pub flip_coefficient: Option<f64>,
+}
+
+impl BranchPoint {
+    /// At a period doubling, which way it goes (from [`BranchPoint::flip_coefficient`]).
+    pub fn criticality(&self) -> Option<super::Criticality> {
+        self.flip_coefficient.and_then(super::Criticality::of)
+    }
 }
 
 /// Why a branch ended.

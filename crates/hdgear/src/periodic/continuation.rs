@@ -42,7 +42,7 @@
 use super::branch::*;
 use super::{Amplitude, Oscillator, Scale, Solved, amplitude, flow};
 use crate::error::{Error, Result, SolverError};
-use std::f64::consts::TAU;
+use std::f64::consts::{PI, TAU};
 
 /// A corrected point: z, the flow from it, the corrector's iterations.
 struct Point {
@@ -213,6 +213,15 @@ impl<O: Oscillator> Tracer<'_, O> {
         let multipliers = super::multipliers(&p.flow);
         let o = self.at(p.z[2])?;
         let critical_direction = special.map(|s| critical_direction(&p.flow, s));
+        let tol = self.opts.periodic.tol;
+        // at a doubling of this branch's orbit (a multiplier −1; the doubled branch's own first
+        // point, the same doubling seen over twice the period, has +1)
+        let flip_coefficient = match special {
+            Some(Special::PeriodDoubling) if multipliers.iter().any(|m| m.arg == PI) => {
+                Some(super::flip_coefficient(&o, self.state(p.z), self.k, tol)?)
+            }
+            _ => None,
+        };
         Ok(BranchPoint {
             param: self.opts.scale.to_lambda(p.z[2]),
             start: self.state(p.z),
@@ -221,6 +230,7 @@ impl<O: Oscillator> Tracer<'_, O> {
             amplitude: amplitude(&o, self.state(p.z), self.k, self.opts.periodic.tol)?,
             special,
             critical_direction,
+            flip_coefficient,
         })
     }
 
@@ -269,7 +279,11 @@ impl<O: Oscillator> Tracer<'_, O> {
                 let b = points[0];
                 let z0 = self.unknowns(b.start, self.opts.scale.to_u(b.param));
                 if norm(sub(q.z, z0)) > 2.0 * norm(sub(q.z, p.z)) {
-                    let closing = BranchPoint { special: None, ..b };
+                    let closing = BranchPoint {
+                        special: None,
+                        flip_coefficient: None,
+                        ..b
+                    };
                     first_terminal = Some((z0, closing, End::Closed));
                 }
             }

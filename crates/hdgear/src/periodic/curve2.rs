@@ -115,6 +115,9 @@ pub enum Codim2 {
     Cusp,
     /// The other multiplier reaches ∓1: a fold curve meets a period-doubling curve.
     FoldFlip,
+    /// The period doubling's normal-form coefficient ([`super::flip_coefficient`]) changes sign:
+    /// the doubling turns from supercritical to subcritical.
+    GeneralisedPeriodDoubling,
 }
 
 impl Codim2 {
@@ -123,6 +126,7 @@ impl Codim2 {
         match self {
             Codim2::Cusp => "cusp",
             Codim2::FoldFlip => "fold-flip",
+            Codim2::GeneralisedPeriodDoubling => "generalised-period-doubling",
         }
     }
 }
@@ -140,6 +144,9 @@ pub struct CurvePoint2 {
     pub amplitude: Amplitude,
     /// Set at a located codimension-two point.
     pub special: Option<Codim2>,
+    /// On a period-doubling curve, the doubling's normal-form coefficient
+    /// ([`super::flip_coefficient`]): > 0 supercritical, < 0 subcritical.
+    pub flip_coefficient: Option<f64>,
 }
 
 /// A curve of folds or period doublings in two parameters.
@@ -385,7 +392,18 @@ impl<O: Oscillator> Tracer<'_, O> {
             multipliers: multipliers(&p.flow),
             amplitude: amplitude(&o, self.state(p.z), self.k, self.opts.periodic.tol)?,
             special,
+            flip_coefficient: self.flip(p),
         })
+    }
+
+    /// On a period-doubling curve, the normal-form coefficient at `p` (None elsewhere, and where
+    /// it has none: at a fold-flip point I − M is singular).
+    fn flip(&self, p: &Point) -> Option<f64> {
+        if self.kind != CurveKind::PeriodDoubling {
+            return None;
+        }
+        let o = self.at(p.z).ok()?;
+        super::flip_coefficient(&o, self.state(p.z), self.k, self.opts.periodic.tol).ok()
     }
 
     /// The zero of `f` (a function of a corrected point and its tangent) between p (σ = 0,
@@ -440,6 +458,21 @@ impl<O: Oscillator> Tracer<'_, O> {
             let f = |s: &Point, _: [f64; 4]| Some(test_functions(&s.flow)[other]);
             if let Some(s) = self.locate(p, t, sigma_b, (a, b), f)? {
                 found.push((dot(t, s.z), self.curve_point(&s, Some(Codim2::FoldFlip))?));
+            }
+        }
+        // generalised period doubling: the normal-form coefficient changes sign through zero
+        // (through a pole, at a fold-flip, it grows beyond both ends' values instead)
+        if let (Some(a), Some(b)) = (self.flip(p), self.flip(q))
+            && (a > 0.0) != (b > 0.0)
+        {
+            let f = |s: &Point, _: [f64; 4]| self.flip(s);
+            if let Some(s) = self.locate(p, t, sigma_b, (a, b), f)?
+                && self
+                    .flip(&s)
+                    .is_some_and(|c| c.abs() <= a.abs().min(b.abs()))
+            {
+                let point = self.curve_point(&s, Some(Codim2::GeneralisedPeriodDoubling))?;
+                found.push((dot(t, s.z), point));
             }
         }
         found.sort_by(|x, y| x.0.total_cmp(&y.0));
@@ -708,12 +741,14 @@ pub struct CurveRow {
     pub ln_abs_m2: f64,
     /// arg m2.
     pub arg_m2: f64,
-    /// cusp, fold-flip or empty.
+    /// cusp, fold-flip, generalised-period-doubling or empty.
     pub special: &'static str,
+    /// The period doubling's normal-form coefficient (period-doubling curves; empty on folds).
+    pub flip_coefficient: Option<f64>,
 }
 crate::record!(
     CurveRow: "curve", "kind", "subharmonic", "param1", "param2", "x0", "xdot0", "peak_to_peak",
-    "max_abs_xdot", "ln_abs_m1", "arg_m1", "ln_abs_m2", "arg_m2", "special"
+    "max_abs_xdot", "ln_abs_m1", "arg_m1", "ln_abs_m2", "arg_m2", "special", "flip_coefficient"
 );
 
 impl CurveRow {
@@ -734,6 +769,7 @@ impl CurveRow {
             ln_abs_m2: q.multipliers[1].log_abs,
             arg_m2: q.multipliers[1].arg,
             special: q.special.map_or("", Codim2::name),
+            flip_coefficient: q.flip_coefficient,
         })
     }
 }
