@@ -264,7 +264,7 @@ fn load_map_judges_the_cards_drive_at_every_load() {
     let map = load_map(c, sources, DampingChoice::HysteresisLoss, &grid, &opts).unwrap();
     assert_eq!(map.len(), 16);
     let check = check_card(c, sources, DampingChoice::HysteresisLoss, &opts).unwrap();
-    for p in map.iter().step_by(5) {
+    for p in &map {
         let d = hdgear::physical::PhysicalParams {
             t_am: p.t_am,
             omega: std::f64::consts::TAU * p.frequency_hz,

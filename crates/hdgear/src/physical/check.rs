@@ -317,7 +317,6 @@ pub fn load_map(
     grid: &MapGrid,
     opts: &BurstOptions,
 ) -> Result<Vec<MapPoint>> {
-    use rayon::prelude::*;
     card.validate(sources)?;
     grid.validate()?;
     let zeta = chosen_zeta(damping, &loss_damping(card, sources));
@@ -328,19 +327,22 @@ pub fn load_map(
         .into_iter()
         .flat_map(|a| freqs.iter().map(move |&f| (a, f)))
         .collect();
-    points
-        .par_iter()
-        .map(|&(t_am, f)| {
-            let dd = super::PhysicalParams {
-                t_am,
-                omega: std::f64::consts::TAU * f,
-                ..d
-            };
-            Ok(MapPoint {
-                t_am,
-                frequency_hz: f,
-                judgement: super::design::judge(&dd, opts)?,
-            })
+    let drives: Vec<super::PhysicalParams> = points
+        .iter()
+        .map(|&(t_am, f)| super::PhysicalParams {
+            t_am,
+            omega: std::f64::consts::TAU * f,
+            ..d
         })
-        .collect()
+        .collect();
+    let judgements = super::design::judge_many(&drives, opts)?;
+    Ok(points
+        .iter()
+        .zip(judgements)
+        .map(|(&(t_am, frequency_hz), judgement)| MapPoint {
+            t_am,
+            frequency_hz,
+            judgement,
+        })
+        .collect())
 }

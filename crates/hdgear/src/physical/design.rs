@@ -143,6 +143,35 @@ pub fn judge(d: &PhysicalParams, opts: &BurstOptions) -> Result<Judgement> {
     Ok(judge_classified(d, opts)?.0)
 }
 
+/// [`judge`] for many drives at once, each verdict the one `judge` gives: the responses run as
+/// batches of sixteen lanes ([`crate::burst::responses`]), the batches on all cores.
+pub fn judge_many(ds: &[PhysicalParams], opts: &BurstOptions) -> Result<Vec<Judgement>> {
+    let reduced: Vec<crate::Params> = ds
+        .iter()
+        .map(|d| Ok(d.reduce()?.params))
+        .collect::<Result<_>>()?;
+    let o = search_options(opts);
+    let simulated: Vec<usize> = (0..reduced.len())
+        .filter(|&i| reduced[i].omega >= MIN_SIMULATED_OMEGA)
+        .collect();
+    let points: Vec<crate::Params> = simulated.iter().map(|&i| reduced[i]).collect();
+    // a few batches per task: enough tasks for the cores, whole batches for the lanes
+    let responses: Vec<Result<crate::burst::Response>> = points
+        .par_chunks(4 * crate::batch::LANES)
+        .flat_map_iter(|chunk| crate::burst::responses(chunk, &o))
+        .collect();
+    let mut slots: Vec<Option<Result<crate::burst::Response>>> =
+        (0..reduced.len()).map(|_| None).collect();
+    for (i, r) in simulated.into_iter().zip(responses) {
+        slots[i] = Some(r);
+    }
+    reduced
+        .par_iter()
+        .zip(slots)
+        .map(|(p, s)| Ok(decide(p, s)?.0))
+        .collect()
+}
+
 /// [`judge`], with the classification of the simulated response when there was one.
 fn judge_classified(
     d: &PhysicalParams,
