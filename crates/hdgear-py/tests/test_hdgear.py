@@ -356,6 +356,11 @@ def test_two_parameter_curves_equal_the_cli(tmp_path, monkeypatch):
     assert [float(r["param1"]) for r in rows] == c["param1"].tolist()
     assert list(c["special"]).count("cusp") == 2
     assert abs(c["ln_abs_m1"]).max() < 1e-9
+    assert np.isnan(c["flip_coefficient"]).all()  # fold curves have no doubling coefficient
+    pd_ = hdgear.continuation2("omega=4:14:log", "mu=-5:5", params=hdgear.Params(gamma=10.0),
+                               start="period-doubling")
+    assert list(pd_["special"]).count("generalised-period-doubling") >= 2
+    assert (pd_["flip_coefficient"] < 0).any() and (pd_["flip_coefficient"] > 0).any()
     b = hdgear.boundary("omega=1e-4:0.2:log", "gamma=0.3:3:log", kinds=["predicted", "simulated"])
     out = cli("boundary", "--param", "omega=1e-4:0.2:log", "--param", "gamma=0.3:3:log",
               "--kinds", "predicted,simulated", "--out", str(tmp_path / "b.csv"))

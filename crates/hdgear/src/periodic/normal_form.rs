@@ -109,7 +109,7 @@ fn flip_pair(a: Mat) -> Result<(f64, [f64; 2], [f64; 2])> {
         value: disc,
         reason: "are complex: no real multiplier near −1",
     };
-    if !(disc >= 0.0) {
+    if disc.is_nan() || disc < 0.0 {
         return Err(complex());
     }
     let l = [0.5 * (tr - disc.sqrt()), 0.5 * (tr + disc.sqrt())]
@@ -184,7 +184,7 @@ pub(crate) fn flip_coefficient_step<O: Oscillator>(
     let at = |y: [f64; 2]| -> Result<Mat> { monodromy(&flow(o, None, 0.0, y, span, tol)?) };
     let a = at(y0)?;
     let (l, q, p) = flip_pair(a)?;
-    if !((l + 1.0).abs() <= FLIP_NEAR) {
+    if (l + 1.0).abs().is_nan() || (l + 1.0).abs() > FLIP_NEAR {
         return Err(Error::InvalidOption {
             name: "multiplier",
             value: l,
