@@ -51,7 +51,7 @@ pub enum Command {
     /// the doubled branches.
     Continue(ContinueArgs),
     /// Curves of folds or period doublings in two parameters (two-parameter continuation),
-    /// with their cusps and fold-flips.
+    /// with their cusps and generalised period doublings.
     Continue2(crate::cmd::continuation2::Continue2Args),
     /// Boundaries in two parameters as curves: the bursting boundary (predicted and simulated),
     /// the fold set of the fast subsystem, the edge of the fast-slow domain.

@@ -1,6 +1,6 @@
 //! `hdgear continue2`: the curves of folds (or period doublings) of the periodic response in two
 //! parameters, started from the special points a one-parameter continuation finds, with their
-//! cusps and fold-flips.
+//! cusps and generalised period doublings.
 
 use crate::cli::ParamArgs;
 use crate::export::Export;

@@ -23,8 +23,15 @@
 //!   back. Its parameter-plane velocity (t₃, t₄) keeps its direction (normal to the fold line)
 //!   and changes sign, so (t₃, t₄)·(t₃, t₄)_before is the test function. There the two folds of a
 //!   one-parameter branch meet and its hysteresis vanishes.
-//! * a **fold–flip**: the other multiplier reaches ∓1 (the other test function ψ∓ changes sign
-//!   on the curve), where a fold curve meets a period-doubling curve.
+//! * a **generalised period doubling** (of a period-doubling curve): the doubling's normal-form
+//!   coefficient ([`super::flip_coefficient`]) passes through zero, and the doubling turns from
+//!   supercritical to subcritical.
+//!
+//! No other codimension-two point of cycles can occur in a forced oscillator of one degree of
+//! freedom, so none is looked for. By Liouville's formula det M = exp(∫ ∂a/∂v dτ) > 0, while a
+//! fold–flip (multipliers +1 and −1) needs m₁m₂ = −1. The 1:1 and 1:2 resonances (a double +1 or
+//! −1) and a Neimark–Sacker pair on the unit circle need det M = 1, which damping along the orbit
+//! rules out (the study's model has ∂a/∂v = −1: det M = e^{−kT}).
 //!
 //! Step control is that of [`continue_orbit`](super::continue_orbit), in units of the parameter
 //! box's diagonal in u: a step grows by 1.5 after a corrector of at most three iterations, halves
@@ -113,8 +120,6 @@ impl CurveKind {
 pub enum Codim2 {
     /// Two folds meet: the hysteresis is born here.
     Cusp,
-    /// The other multiplier reaches ∓1: a fold curve meets a period-doubling curve.
-    FoldFlip,
     /// The period doubling's normal-form coefficient ([`super::flip_coefficient`]) changes sign:
     /// the doubling turns from supercritical to subcritical.
     GeneralisedPeriodDoubling,
@@ -125,7 +130,6 @@ impl Codim2 {
     pub fn name(self) -> &'static str {
         match self {
             Codim2::Cusp => "cusp",
-            Codim2::FoldFlip => "fold-flip",
             Codim2::GeneralisedPeriodDoubling => "generalised-period-doubling",
         }
     }
@@ -397,7 +401,7 @@ impl<O: Oscillator> Tracer<'_, O> {
     }
 
     /// On a period-doubling curve, the normal-form coefficient at `p` (None elsewhere, and where
-    /// it has none: at a fold-flip point I − M is singular).
+    /// it cannot be computed).
     fn flip(&self, p: &Point) -> Option<f64> {
         if self.kind != CurveKind::PeriodDoubling {
             return None;
@@ -448,20 +452,8 @@ impl<O: Oscillator> Tracer<'_, O> {
         {
             found.push((dot(t, s.z), self.curve_point(&s, Some(Codim2::Cusp))?));
         }
-        // fold-flip: the other test function changes sign
-        let other = 1 - self.kind.index();
-        let (a, b) = (
-            test_functions(&p.flow)[other],
-            test_functions(&q.flow)[other],
-        );
-        if (a > 0.0) != (b > 0.0) {
-            let f = |s: &Point, _: [f64; 4]| Some(test_functions(&s.flow)[other]);
-            if let Some(s) = self.locate(p, t, sigma_b, (a, b), f)? {
-                found.push((dot(t, s.z), self.curve_point(&s, Some(Codim2::FoldFlip))?));
-            }
-        }
-        // generalised period doubling: the normal-form coefficient changes sign through zero
-        // (through a pole, at a fold-flip, it grows beyond both ends' values instead)
+        // generalised period doubling: the normal-form coefficient changes sign through zero (a
+        // change of sign where |c| does not fall below both ends' values is not a zero of c)
         if let (Some(a), Some(b)) = (self.flip(p), self.flip(q))
             && (a > 0.0) != (b > 0.0)
         {
@@ -741,7 +733,7 @@ pub struct CurveRow {
     pub ln_abs_m2: f64,
     /// arg m2.
     pub arg_m2: f64,
-    /// cusp, fold-flip, generalised-period-doubling or empty.
+    /// cusp, generalised-period-doubling or empty.
     pub special: &'static str,
     /// The period doubling's normal-form coefficient (period-doubling curves; empty on folds).
     pub flip_coefficient: Option<f64>,

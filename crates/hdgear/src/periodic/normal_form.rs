@@ -216,7 +216,7 @@ pub(crate) fn flip_coefficient_step<O: Oscillator>(
         Err(Error::InvalidOption {
             name: "multipliers",
             value: det,
-            reason: "make I − A singular: a multiplier is +1 too (a fold-flip point)",
+            reason: "make I − A singular: a multiplier is +1 too",
         })
     }
 }

@@ -151,9 +151,12 @@ pub fn judge_many(ds: &[PhysicalParams], opts: &BurstOptions) -> Result<Vec<Judg
         .map(|d| Ok(d.reduce()?.params))
         .collect::<Result<_>>()?;
     let o = search_options(opts);
-    let simulated: Vec<usize> = (0..reduced.len())
+    // in order of ω: the lanes of a batch then run for about the same time (a run lasts a few
+    // slow periods, 2π/ω each, and a batch as long as its longest lane)
+    let mut simulated: Vec<usize> = (0..reduced.len())
         .filter(|&i| reduced[i].omega >= MIN_SIMULATED_OMEGA)
         .collect();
+    simulated.sort_by(|&i, &j| reduced[i].omega.total_cmp(&reduced[j].omega));
     let points: Vec<crate::Params> = simulated.iter().map(|&i| reduced[i]).collect();
     // a few batches per task: enough tasks for the cores, whole batches for the lanes
     let responses: Vec<Result<crate::burst::Response>> = points
