@@ -113,6 +113,8 @@ pub(crate) fn continuation<'py>(
     d.set_item("stable", stable)?;
     let special: Vec<&str> = rows.iter().map(|r| r.special).collect();
     d.set_item("special", special)?;
+    let flip = f(|r| r.flip_coefficient.unwrap_or(f64::NAN));
+    d.set_item("flip_coefficient", flip.into_pyarray(py))?;
     Ok(d)
 }
 

@@ -232,8 +232,9 @@ def continuation(param, to, params=None, log=False, subharmonic=1, switch=False)
     (pseudo-arclength; in the logarithm of the parameter with ``log=True``), locating folds and
     period doublings, and with ``switch=True`` the doubled branches. Returns the columns of
     ``hdgear continue`` (branch, subharmonic, param, x0, xdot0, x_min, x_max, peak_to_peak,
-    max_abs_xdot, ln_abs_m1, arg_m1, ln_abs_m2, arg_m2, stable, special) as a DataFrame, or a
-    dict of numpy arrays without pandas."""
+    max_abs_xdot, ln_abs_m1, arg_m1, ln_abs_m2, arg_m2, stable, special, flip_coefficient: the
+    normal-form coefficient at a period doubling, NaN elsewhere) as a DataFrame, or a dict of
+    numpy arrays without pandas."""
     return _branch_frame(_hdgear.continuation(_params(params), str(param), float(to), bool(log),
                                               int(subharmonic), bool(switch)))
 

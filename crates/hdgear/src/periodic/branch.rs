@@ -199,11 +199,13 @@ pub struct BranchRow {
     pub stable: bool,
     /// fold, period-doubling, branch-point or empty.
     pub special: &'static str,
+    /// At a period doubling, its normal-form coefficient (> 0 supercritical); empty elsewhere.
+    pub flip_coefficient: Option<f64>,
 }
 crate::record!(
     BranchRow: "branch", "subharmonic", "param", "x0", "xdot0", "x_min", "x_max",
     "peak_to_peak", "max_abs_xdot", "ln_abs_m1", "arg_m1", "ln_abs_m2", "arg_m2", "stable",
-    "special"
+    "special", "flip_coefficient"
 );
 
 impl BranchRow {
@@ -225,6 +227,7 @@ impl BranchRow {
             arg_m2: q.multipliers[1].arg,
             stable: q.stable,
             special: q.special.map_or("", Special::name),
+            flip_coefficient: q.flip_coefficient,
         }
     }
 }
