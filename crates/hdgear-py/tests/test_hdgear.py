@@ -341,6 +341,12 @@ def test_continuation_equals_the_cli_and_finds_the_bubble(tmp_path, monkeypatch)
     assert len(rows) == len(b["param"])
     assert [float(r["param"]) for r in rows] == b["param"].tolist()
     assert list(b["special"]).count("period-doubling") >= 2 and 1 in b["branch"]
+    # the parent's doublings carry their normal-form coefficient (both supercritical), as the CLI's
+    pd = (b["special"] == "period-doubling") & (b["branch"] == 0)
+    assert pd.sum() == 2 and (b["flip_coefficient"][pd] > 0).all()
+    assert np.isnan(b["flip_coefficient"][b["special"] == ""]).all()
+    has = [r["flip_coefficient"] != "" for r in rows]
+    assert has == (~np.isnan(b["flip_coefficient"])).tolist()
     fr = hdgear.frequency_response(hdgear.Params(gamma=30.0), omega_range=(6.0, 10.0))
     folds = fr["param"][fr["special"] == "fold"]
     assert len(folds) == 2 and 7.8 < folds.min() < 7.9 and 8.4 < folds.max() < 8.5
