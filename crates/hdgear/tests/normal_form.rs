@@ -7,28 +7,39 @@ use hdgear::Params;
 use hdgear::integrate::{Method, Options};
 use hdgear::params::Param;
 use hdgear::periodic::{
-    Box2, BranchPoint, Codim2, ContinuationOptions, Curve2, CurveKind, CurvePoint2, Range, Scale,
-    Special, continue_curve, continue_orbit, curves_from_branch, switch_at_period_doubling,
+    Box2, Branch, BranchPoint, Codim2, ContinuationOptions, Curve2, CurveKind, CurvePoint2, Range,
+    Scale, Special, continue_curve, continue_orbit, curves_from_branch, switch_at_period_doubling,
 };
 use hdgear::simulate::{SimOptions, Start, simulate};
 
-/// The period doublings of the γ = 10 bubble (ω from 7 to 10 at the study's δ = 15).
-fn bubble() -> (Params, Vec<BranchPoint>) {
+/// Continuation in ln ω.
+fn log_omega() -> ContinuationOptions {
+    ContinuationOptions {
+        scale: Scale::Log,
+        ..ContinuationOptions::default()
+    }
+}
+
+/// The period-1 branch of γ = 10 at `mu` (δ = 15) in ω from 7 to `to`, with its period doublings.
+fn doubling_branch(mu: f64, to: f64) -> (Params, Branch<Param>, Vec<BranchPoint>) {
     let p = Params {
         gamma: 10.0,
         omega: 7.0,
+        mu,
         ..Params::default()
     };
-    let opts = ContinuationOptions {
-        scale: Scale::Log,
-        ..ContinuationOptions::default()
-    };
-    let b = continue_orbit(&p, Param::Omega, 1, None, 10.0, &opts).unwrap();
+    let b = continue_orbit(&p, Param::Omega, 1, None, to, &log_omega()).unwrap();
     let pds = b
         .specials()
         .filter(|q| q.special == Some(Special::PeriodDoubling))
         .copied()
         .collect();
+    (p, b, pds)
+}
+
+/// The period doublings of the γ = 10 bubble (ω from 7 to 10 at the study's μ and δ = 15).
+fn bubble() -> (Params, Vec<BranchPoint>) {
+    let (p, _, pds) = doubling_branch(Params::default().mu, 10.0);
     (p, pds)
 }
 
@@ -143,24 +154,10 @@ fn the_coefficient_is_the_decay_rate_at_the_doubling() {
 /// μ both of the bubble are supercritical.
 #[test]
 fn the_sign_of_the_coefficient_is_the_side_of_the_doubled_branch() {
-    let opts = ContinuationOptions {
-        scale: Scale::Log,
-        ..ContinuationOptions::default()
-    };
+    let opts = log_omega();
     let mut signs = Vec::new();
     for mu in [Params::default().mu, 2.728] {
-        let p = Params {
-            gamma: 10.0,
-            omega: 7.0,
-            mu,
-            ..Params::default()
-        };
-        let b = continue_orbit(&p, Param::Omega, 1, None, 11.0, &opts).unwrap();
-        let pds: Vec<BranchPoint> = b
-            .specials()
-            .filter(|q| q.special == Some(Special::PeriodDoubling))
-            .copied()
-            .collect();
+        let (p, b, pds) = doubling_branch(mu, 11.0);
         assert_eq!(pds.len(), 2, "μ = {mu}");
         let d = switch_at_period_doubling(&p, Param::Omega, 1, &pds[0], &pds, [7.0, 11.0], &opts)
             .unwrap();
@@ -247,20 +244,8 @@ fn generalised_period_doublings_are_where_the_coefficient_vanishes() {
 
 /// The period-doubling curve of γ = 10 in (ω, μ), from the first doubling of the bubble.
 fn pd_curve_in_omega_mu() -> Curve2<Param> {
-    let p = Params {
-        gamma: 10.0,
-        omega: 7.0,
-        ..Params::default()
-    };
-    let opts = ContinuationOptions {
-        scale: Scale::Log,
-        ..ContinuationOptions::default()
-    };
-    let b = continue_orbit(&p, Param::Omega, 1, None, 10.0, &opts).unwrap();
-    let pd = *b
-        .specials()
-        .find(|q| q.special == Some(Special::PeriodDoubling))
-        .unwrap();
+    let (p, pds) = bubble();
+    let pd = pds[0];
     let box2 = Box2 {
         ranges: [(4.0, 14.0), (-5.0, 5.0)],
         scales: [Scale::Log, Scale::Linear],

@@ -389,6 +389,16 @@ impl<O: Oscillator> Tracer<'_, O> {
     }
 
     fn curve_point(&self, p: &Point, special: Option<Codim2>) -> Result<CurvePoint2> {
+        self.curve_point_with(p, special, self.flip(p))
+    }
+
+    /// [`Tracer::curve_point`] with the normal-form coefficient at `p` already computed.
+    fn curve_point_with(
+        &self,
+        p: &Point,
+        special: Option<Codim2>,
+        flip_coefficient: Option<f64>,
+    ) -> Result<CurvePoint2> {
         let o = self.at(p.z)?;
         Ok(CurvePoint2 {
             params: self.lambda(p.z),
@@ -396,7 +406,7 @@ impl<O: Oscillator> Tracer<'_, O> {
             multipliers: multipliers(&p.flow),
             amplitude: amplitude(&o, self.state(p.z), self.k, self.opts.periodic.tol)?,
             special,
-            flip_coefficient: self.flip(p),
+            flip_coefficient,
         })
     }
 
@@ -433,12 +443,14 @@ impl<O: Oscillator> Tracer<'_, O> {
     }
 
     /// The codimension-two points between p and q (tangents t, tq), located, in order.
+    /// `flips` are the normal-form coefficients at p and q ([`Tracer::flip`]).
     fn specials_between(
         &self,
         p: &Point,
         t: [f64; 4],
         q: &Point,
         tq: [f64; 4],
+        flips: (Option<f64>, Option<f64>),
     ) -> Result<Vec<CurvePoint2>> {
         let sigma_b = dot(t, q.z) - dot(t, p.z);
         let mut found: Vec<(f64, CurvePoint2)> = Vec::new();
@@ -454,7 +466,7 @@ impl<O: Oscillator> Tracer<'_, O> {
         }
         // generalised period doubling: the normal-form coefficient changes sign through zero (a
         // change of sign where |c| does not fall below both ends' values is not a zero of c)
-        if let (Some(a), Some(b)) = (self.flip(p), self.flip(q))
+        if let (Some(a), Some(b)) = flips
             && (a > 0.0) != (b > 0.0)
         {
             let f = |s: &Point, _: [f64; 4]| self.flip(s);
@@ -509,6 +521,8 @@ impl<O: Oscillator> Tracer<'_, O> {
         let mut ds = self.opts.initial_step * self.size;
         let mut points = Vec::new();
         let mut left = false;
+        // the normal-form coefficient at p, computed once per point
+        let mut flip_p = self.flip(&p);
         loop {
             if points.len() >= self.opts.max_points {
                 return Ok((points, End::MaxPoints));
@@ -530,7 +544,8 @@ impl<O: Oscillator> Tracer<'_, O> {
                 }
                 continue;
             };
-            points.extend(self.specials_between(&p, t, &q, tq)?);
+            let flip_q = self.flip(&q);
+            points.extend(self.specials_between(&p, t, &q, tq, (flip_p, flip_q))?);
             if !self.inside(q.z) {
                 points.extend(self.edge_point(&p, &q)?);
                 return Ok((points, End::Reached));
@@ -540,7 +555,7 @@ impl<O: Oscillator> Tracer<'_, O> {
                 return Ok((points, End::Closed));
             }
             left |= from_start > 3.0 * ds;
-            points.push(self.curve_point(&q, None)?);
+            points.push(self.curve_point_with(&q, None, flip_q)?);
             ds = if q.iterations <= 3 {
                 (ds * 1.5).min(max)
             } else {
@@ -548,6 +563,7 @@ impl<O: Oscillator> Tracer<'_, O> {
             };
             p = q;
             t = tq;
+            flip_p = flip_q;
         }
     }
 }
