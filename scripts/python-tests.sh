@@ -3,12 +3,13 @@
 # after `cargo build --release`):
 #   1. a virtual environment (target/py-venv) with maturin, numpy, pandas, pytest, matplotlib,
 #      dask[distributed], nbclient and ziglang from PyPI;
-#   2. `pip install ./crates/hdgear-py` (maturin, release build), then pytest, the examples
-#      (study figure, Dask LocalCluster map, the notebook run top to bottom) and the overhead
-#      benchmark;
-#   3. one manylinux2014 wheel built with `maturin build --zig` (abi3: CPython ≥ 3.9), installed
-#      into fresh environments of two other Python versions (pyenv's 3.9 and 3.13) and tested there
-#      (without pandas: the plain-dict path).
+#   2. one wheel, built the way a user installs from source (`pip wheel ./crates/hdgear-py`: pip
+#      runs maturin, release build), as a manylinux2014 wheel linked with zig (abi3: CPython
+#      ≥ 3.9), so that one build serves every test below;
+#   3. that wheel installed into the venv, then pytest, the examples (study figure, Dask
+#      LocalCluster map, the notebook run top to bottom) and the overhead benchmark;
+#   4. the same wheel installed into fresh environments of two other Python versions (pyenv's
+#      3.9 and 3.13) and tested there (without pandas: the plain-dict path).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
@@ -20,8 +21,20 @@ export HDGEAR_BIN="$bin"
 venv="$root/target/py-venv"
 [ -x "$venv/bin/python" ] || python3 -m venv "$venv"
 "$venv/bin/pip" install -q maturin numpy pandas pytest matplotlib "dask[distributed]" nbclient nbformat ipykernel ziglang
-echo "== pip install ./crates/hdgear-py ($("$venv/bin/python" --version))"
-"$venv/bin/pip" install -q --force-reinstall --no-deps ./crates/hdgear-py
+echo "== pip wheel ./crates/hdgear-py: one manylinux2014 wheel, linked with zig"
+rm -rf target/wheels
+# pip runs maturin (the package's build backend) in an isolated environment; MATURIN_PEP517_ARGS
+# passes it the zig options, and maturin finds zig through `python3 -m ziglang` on PATH: the venv's
+PATH="$venv/bin:$PATH" MATURIN_PEP517_ARGS="--zig --compatibility manylinux2014" \
+    "$venv/bin/pip" wheel -q --no-deps -w target/wheels ./crates/hdgear-py
+wheel=$(ls target/wheels/hdgear-*.whl)
+echo "built $(basename "$wheel")"
+case "$wheel" in
+    *manylinux2014*abi3* | *abi3*manylinux2014*) ;;
+    *) echo "not a manylinux2014 abi3 wheel: $wheel"; exit 1 ;;
+esac
+echo "== the wheel in $("$venv/bin/python" --version)"
+"$venv/bin/pip" install -q --force-reinstall --no-deps "$wheel"
 "$venv/bin/python" -m pytest -q crates/hdgear-py/tests
 echo "== examples"
 "$venv/bin/python" examples/python/study.py target/py-examples
@@ -35,13 +48,7 @@ PY
 echo "== the Python overhead benchmark"
 "$venv/bin/python" bench/python_overhead.py "$bin"
 
-echo "== a manylinux2014 wheel built with zig, tested on two more Python versions"
-rm -rf target/wheels
-# maturin finds zig through `python3 -m ziglang` on PATH: the venv's
-PATH="$venv/bin:$PATH" "$venv/bin/maturin" build --release --zig --compatibility manylinux2014 \
-    -m crates/hdgear-py/Cargo.toml -o target/wheels -i "$venv/bin/python" --quiet
-wheel=$(ls target/wheels/hdgear-*.whl)
-echo "built $(basename "$wheel")"
+echo "== the same wheel on two more Python versions"
 pyroot=$(pyenv root 2>/dev/null || echo "$HOME/.pyenv")
 tested=0
 for v in 3.9 3.13; do

@@ -361,3 +361,66 @@ fn continue2_restarts_from_a_row_of_its_output() {
     let out = run(&bad("c.svg:0"));
     assert_eq!(out.status.code(), Some(2));
 }
+
+/// `continue2 --from period-doubling --switch` at γ = 10 in (ω, μ): the period-doubling curve
+/// with its two generalised period doublings, then one fold curve of the doubled orbits
+/// (period 2), switched onto at the first and ending at the second; every row of it has a
+/// multiplier at +1 to 1e-9. `--switch` from folds is refused.
+#[test]
+fn continue2_switches_at_generalised_period_doublings() {
+    let dir = tempfile::tempdir().unwrap();
+    let args = [
+        "continue2",
+        "--gamma",
+        "10",
+        "--param",
+        "omega=7:11:log",
+        "--param",
+        "mu=-5:5",
+        "--from",
+        "period-doubling:1",
+        "--switch",
+        "--out",
+        "c.csv",
+    ];
+    let text = run_in(dir.path(), &args);
+    assert!(
+        text.contains("curve 0: period-doubling, period 1"),
+        "{text}"
+    );
+    assert!(text.contains("curve 1: fold, period 2"), "{text}");
+    assert!(
+        text.contains(
+            "switched onto at a generalised period doubling, at another generalised period doubling"
+        ),
+        "{text}"
+    );
+    assert!(!text.contains("curve 2"), "{text}");
+    let rows = csv_rows(&dir.path().join("c.csv"));
+    let lpc: Vec<_> = rows.iter().filter(|r| r["curve"] == "1").collect();
+    assert!(lpc.len() > 5);
+    for r in &lpc {
+        assert_eq!(
+            (r["kind"].as_str(), r["subharmonic"].as_str()),
+            ("fold", "2")
+        );
+        let m: f64 = r["ln_abs_m1"].parse().unwrap();
+        assert!(m.abs() < 1e-9, "{r:?}");
+    }
+    let ends = [lpc[0], lpc[lpc.len() - 1]];
+    assert!(
+        ends.iter()
+            .all(|r| r["special"] == "generalised-period-doubling")
+    );
+    crate::common::fails_with(
+        &[
+            "continue2",
+            "--param",
+            "omega=0.3:20:log",
+            "--param",
+            "delta=0.5:40:log",
+            "--switch",
+        ],
+        "--switch: invalid switch 'fold'",
+    );
+}

@@ -121,7 +121,7 @@ pub(crate) fn continuation<'py>(
 /// Two-parameter curves of folds or period doublings from the special points of a one-parameter
 /// branch (`hdgear continue2`): the rows of its `--out` as a dict of columns.
 #[pyfunction]
-#[pyo3(signature = (params, range1, range2, start, subharmonic))]
+#[pyo3(signature = (params, range1, range2, start, subharmonic, switch))]
 pub(crate) fn continuation2<'py>(
     py: Python<'py>,
     params: &Params,
@@ -129,8 +129,11 @@ pub(crate) fn continuation2<'py>(
     range2: &str,
     start: &str,
     subharmonic: u32,
+    switch: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
-    use hdgear::periodic::{ContinuationOptions, CurveKind, CurveRow, Range, curves_from_branch};
+    use hdgear::periodic::{
+        ContinuationOptions, CurveKind, CurveRow, Range, curves_at_gpds, curves_from_branch,
+    };
     let ranges = [
         Range::parse(range1).map_err(err)?,
         Range::parse(range2).map_err(err)?,
@@ -139,7 +142,14 @@ pub(crate) fn continuation2<'py>(
     let p = params.inner;
     let opts = ContinuationOptions::default();
     let curves = py
-        .detach(|| curves_from_branch(&p, ranges, kind, nth, subharmonic, &opts))
+        .detach(|| {
+            let mut curves = curves_from_branch(&p, ranges, kind, nth, subharmonic, &opts)?;
+            if switch {
+                let more = curves_at_gpds(&p, ranges, &curves, &opts)?;
+                curves.extend(more);
+            }
+            Ok::<_, hdgear::Error>(curves)
+        })
         .map_err(err)?;
     let rows: Vec<CurveRow> = curves
         .iter()

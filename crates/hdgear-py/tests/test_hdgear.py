@@ -367,6 +367,14 @@ def test_two_parameter_curves_equal_the_cli(tmp_path, monkeypatch):
                                start="period-doubling")
     assert list(pd_["special"]).count("generalised-period-doubling") >= 2
     assert (pd_["flip_coefficient"] < 0).any() and (pd_["flip_coefficient"] > 0).any()
+    sw = hdgear.continuation2("omega=4:14:log", "mu=-5:5", params=hdgear.Params(gamma=10.0),
+                              start="period-doubling", switch=True)
+    lpc = [i for i, c in enumerate(sw["curve"]) if c == 1]  # switched onto at a GPD
+    assert len(lpc) > 5
+    assert {sw["kind"][i] for i in lpc} == {"fold"} and {sw["subharmonic"][i] for i in lpc} == {2}
+    assert max(abs(sw["ln_abs_m1"][i]) for i in lpc) < 1e-9
+    with pytest.raises(ValueError, match="switch"):
+        hdgear.continuation2("omega=0.3:20:log", "delta=0.5:40:log", switch=True)
     b = hdgear.boundary("omega=1e-4:0.2:log", "gamma=0.3:3:log", kinds=["predicted", "simulated"])
     out = cli("boundary", "--param", "omega=1e-4:0.2:log", "--param", "gamma=0.3:3:log",
               "--kinds", "predicted,simulated", "--out", str(tmp_path / "b.csv"))

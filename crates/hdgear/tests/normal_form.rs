@@ -7,8 +7,9 @@ use hdgear::Params;
 use hdgear::integrate::{Method, Options};
 use hdgear::params::Param;
 use hdgear::periodic::{
-    Box2, Branch, BranchPoint, Codim2, ContinuationOptions, Curve2, CurveKind, CurvePoint2, Range,
-    Scale, Special, continue_curve, continue_orbit, curves_from_branch, switch_at_period_doubling,
+    Box2, Branch, BranchPoint, Codim2, ContinuationOptions, Curve2, CurveKind, CurvePoint2, End,
+    Range, Scale, Special, continue_curve, continue_orbit, curves_from_branch, switch_at_gpd,
+    switch_at_period_doubling,
 };
 use hdgear::simulate::{SimOptions, Start, simulate};
 
@@ -307,5 +308,100 @@ fn the_fold_curve_of_the_doubled_orbits_ends_at_the_generalised_period_doublings
             .map(|q| (q.params[0] - g[0]).hypot(q.params[1] - g[1]))
             .fold(f64::INFINITY, f64::min);
         assert!(nearest < 1e-4, "GPD {g:?}: nearest point {nearest:e} away");
+    }
+}
+
+/// The folds of the doubled orbits of the γ = 10 branch at `mu`, found by one-parameter
+/// continuation of the doubled branches born at its period doublings (ω from 7 to 11).
+fn doubled_folds(mu: f64) -> Vec<f64> {
+    let (p, _, pds) = doubling_branch(mu, 11.0);
+    let mut folds: Vec<f64> = Vec::new();
+    for pd in &pds {
+        let d = switch_at_period_doubling(&p, Param::Omega, 1, pd, &pds, [7.0, 11.0], &log_omega())
+            .unwrap();
+        for f in d.specials().filter(|q| q.special == Some(Special::Fold)) {
+            if folds.iter().all(|w| (w - f.param).abs() > 1e-7) {
+                folds.push(f.param);
+            }
+        }
+    }
+    folds.sort_by(f64::total_cmp);
+    folds
+}
+
+/// Branch switching at a generalised period doubling (`switch_at_gpd`): the fold curve of the
+/// doubled orbits started at the first GPD of the (ω, μ) period-doubling curve, with no
+/// one-parameter branch behind it. At every point one multiplier is +1 to 1e-9 and the orbit is
+/// a doubled one (it does not come back after one forcing period); the curve ends at the other
+/// GPD, and it crosses the lines μ = 2.5, 2.728 and 3.0 exactly where one-parameter continuation
+/// of the doubled branches finds their folds (to 1e-8 in ω).
+#[test]
+fn the_fold_curve_of_the_doubled_orbits_is_switched_onto_at_a_gpd() {
+    let pd = pd_curve_in_omega_mu();
+    let gpds: Vec<&CurvePoint2> = pd
+        .points
+        .iter()
+        .filter(|q| q.special == Some(Codim2::GeneralisedPeriodDoubling))
+        .collect();
+    let box2 = Box2 {
+        ranges: [(4.0, 14.0), (-5.0, 5.0)],
+        scales: [Scale::Log, Scale::Linear],
+    };
+    let (p, _) = bubble();
+    let opts = ContinuationOptions::default();
+    let lpc = switch_at_gpd(&p, &pd, gpds[0], &box2, &opts).unwrap();
+    assert_eq!((lpc.kind, lpc.subharmonic), (CurveKind::Fold, 2));
+    assert_eq!(lpc.ends[0], End::Switched);
+    assert!(
+        matches!(lpc.ends[1], End::Rejoined { .. }),
+        "{:?}",
+        lpc.ends
+    );
+    let last = lpc.points.last().unwrap();
+    assert_eq!(last.special, Some(Codim2::GeneralisedPeriodDoubling));
+    assert!(
+        (last.params[0] - gpds[0].params[0]).abs() > 0.1,
+        "it ended where it started: {:?}",
+        last.params
+    );
+    let n = lpc.points.len();
+    let mut least = f64::INFINITY;
+    for q in &lpc.points[1..n - 1] {
+        let m = q.multipliers[0];
+        assert!(m.log_abs.abs() < 1e-9 && m.arg.abs() < 1e-9, "{q:?}");
+        let at = p
+            .with(Param::Omega, q.params[0])
+            .with(Param::Mu, q.params[1]);
+        let s = stroboscopic(&at, q.start, 2);
+        let scale = 1.0 + q.start[0].hypot(q.start[1]);
+        let (back, half) = (
+            (s[2][0] - q.start[0]).hypot(s[2][1] - q.start[1]) / scale,
+            (s[1][0] - q.start[0]).hypot(s[1][1] - q.start[1]) / scale,
+        );
+        assert!(back < 1e-8, "not periodic: {back:e} at {:?}", q.params);
+        least = least.min(half);
+    }
+    assert!(least > 1e-6, "a period-1 orbit on the curve: {least:e}");
+    for mu in [2.5, 2.728, 3.0] {
+        let crossings: Vec<f64> = lpc
+            .crossings(&p, (1, mu), &box2, &opts)
+            .unwrap()
+            .iter()
+            .map(|q| q.params[0])
+            .collect();
+        let folds = doubled_folds(mu);
+        assert_eq!(
+            crossings.len(),
+            folds.len(),
+            "μ = {mu}: {crossings:?} {folds:?}"
+        );
+        let mut crossings = crossings;
+        crossings.sort_by(f64::total_cmp);
+        for (c, f) in crossings.iter().zip(&folds) {
+            assert!(
+                (c - f).abs() < 1e-8,
+                "μ = {mu}: curve at ω = {c}, fold at {f}"
+            );
+        }
     }
 }

@@ -78,6 +78,7 @@ fn print_summary(branches: &[Branch<Param>], param: Param) -> Result<()> {
             End::StepTooSmall { param: v } => {
                 format!("the step fell below its minimum near {param} = {v}")
             }
+            End::Switched => "switched onto at its first point".to_string(),
         };
         crate::sink::outln!(
             "branch {i}: period {} × 2π/ω, {} points, {span}; {end}",

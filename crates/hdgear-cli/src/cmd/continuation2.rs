@@ -10,7 +10,7 @@ use clap::Args;
 use hdgear::params::Param;
 use hdgear::periodic::{
     Box2, Codim2, ContinuationOptions, Curve2, CurveKind, CurveRow, End, Range, Scale,
-    continue_curve, curves_from_branch,
+    continue_curve, curves_at_gpds, curves_from_branch,
 };
 use serde::Serialize;
 
@@ -39,6 +39,10 @@ pub struct Continue2Args {
     /// K: orbits of period K·2π/ω.
     #[arg(long, default_value_t = 1)]
     pub subharmonic: u32,
+    /// Period-doubling curves only: also follow the fold curve of the doubled orbits (period
+    /// 2K·2π/ω) born at each generalised period doubling found, switched onto there.
+    #[arg(long)]
+    pub switch: bool,
     #[command(flatten)]
     pub export: Export<CurveRow>,
 }
@@ -110,11 +114,15 @@ pub fn run(a: Continue2Args) -> Result<()> {
     let (kind, nth) = CurveKind::parse_start(&a.from).context("--from")?;
     let (p, [r1, r2]) = request(&a)?;
     let opts = ContinuationOptions::default();
-    let curves = match &a.restart {
+    let mut curves = match &a.restart {
         Some(spec) => vec![restart(spec, &p, [r1, r2], &opts)?],
         None => curves_from_branch(&p, [r1, r2], kind, nth, a.subharmonic, &opts)
             .with_context(|| format!("--from {}", a.from))?,
     };
+    if a.switch {
+        let more = curves_at_gpds(&p, [r1, r2], &curves, &opts).context("--switch")?;
+        curves.extend(more);
+    }
     let doc = Doc {
         params: p,
         ranges: [r1, r2],
@@ -209,7 +217,8 @@ fn end_text(e: End) -> &'static str {
         End::MaxPoints => "stopped at the point limit",
         End::Closed => "closed on itself",
         End::StepTooSmall { .. } => "the step fell below its minimum",
-        End::Rejoined { .. } => "rejoined",
+        End::Rejoined { .. } => "at another generalised period doubling",
+        End::Switched => "switched onto at a generalised period doubling",
     }
 }
 

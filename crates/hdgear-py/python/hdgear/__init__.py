@@ -239,17 +239,18 @@ def continuation(param, to, params=None, log=False, subharmonic=1, switch=False)
                                               int(subharmonic), bool(switch)))
 
 
-def continuation2(range1, range2, params=None, start="fold", subharmonic=1):
+def continuation2(range1, range2, params=None, start="fold", subharmonic=1, switch=False):
     """Curves of folds (``start="fold"``) or period doublings (``"period-doubling"``) in two
     parameters, as ``hdgear continue2`` follows them: ``range1`` and ``range2`` are its
     ``--param`` specs (``"omega=0.3:20:log"``); the curves start from the special points of the
-    one-parameter branch in the first parameter (``"fold:2"``: from the second only). Returns
-    the columns of its ``--out`` (curve, kind, subharmonic, param1, param2, x0, xdot0,
-    peak_to_peak, max_abs_xdot, ln_abs_m1, arg_m1, ln_abs_m2, arg_m2, special, flip_coefficient:
-    the period doubling's normal-form coefficient, NaN on fold curves) as a DataFrame, or a dict
-    of numpy arrays without pandas."""
+    one-parameter branch in the first parameter (``"fold:2"``: from the second only). With
+    ``switch=True`` (period doublings only), also the fold curves of the doubled orbits born at
+    the generalised period doublings found (``--switch``). Returns the columns of its ``--out``
+    (curve, kind, subharmonic, param1, param2, x0, xdot0, peak_to_peak, max_abs_xdot, ln_abs_m1,
+    arg_m1, ln_abs_m2, arg_m2, special, flip_coefficient: the period doubling's normal-form
+    coefficient, NaN on fold curves) as a DataFrame, or a dict of numpy arrays without pandas."""
     return _frame(_hdgear.continuation2(_params(params), str(range1), str(range2), str(start),
-                                        int(subharmonic)))
+                                        int(subharmonic), bool(switch)))
 
 
 def boundary(range1, range2, params=None, kinds=None, step=0.02, discard=1.0, window_periods=2,

@@ -137,12 +137,17 @@ pub enum End {
     },
     /// The branch came back to its first point: a closed loop (an isola), traced once.
     Closed,
-    /// A doubled branch reached another period doubling of the branch it was born on (a
-    /// period-doubling bubble; the last point is that period doubling).
+    /// A branch born at a branch point reached another point of that kind on its parent (the
+    /// last point is that point): a doubled branch another period doubling of the branch it was
+    /// born on (a period-doubling bubble), a fold curve of doubled orbits another generalised
+    /// period doubling ([`switch_at_gpd`](super::switch_at_gpd)).
     Rejoined {
-        /// λ at that period doubling.
+        /// λ (λ₁ on a curve) at that point.
         param: f64,
     },
+    /// The curve was switched onto at its first point, a branch point of another curve (a fold
+    /// curve of doubled orbits at its generalised period doubling).
+    Switched,
 }
 
 /// A branch of periodic orbits.

@@ -618,7 +618,7 @@ pub fn switch_at_period_doubling<O: Oscillator>(
     }
     let n = [v[0], v[1], 0.0];
     let tol = opts.periodic.tol;
-    for h in [1.0, 0.3, 3.0, 0.1].map(|f| f * opts.initial_step * tracer.range) {
+    for h in SWITCH_LADDER.map(|f| f * opts.initial_step * tracer.range) {
         let zp = [star[0] + h * v[0], star[1] + h * v[1], u];
         let Some(first) = tracer.correct(zp, n, dot(n, zp))? else {
             continue;
@@ -641,6 +641,11 @@ pub fn switch_at_period_doubling<O: Oscillator>(
         residual: f64::NAN,
     })
 }
+
+/// The first offsets tried off a branch point onto the new branch, in units of the first step:
+/// the first step itself, then shorter and longer ones (a corrector that fails from one may
+/// converge from the next).
+pub(super) const SWITCH_LADDER: [f64; 4] = [1.0, 0.3, 3.0, 0.1];
 
 /// The branch of period k·2π/ω from the parameter's current value to `to`
 /// ([`continue_orbit`]), then with `switch` the doubled branch born at each of its period

@@ -170,8 +170,8 @@ pub struct Curve2<P> {
 
 /// A corrected point.
 #[derive(Clone, Copy)]
-struct Point {
-    z: [f64; 4],
+pub(super) struct Point {
+    pub(super) z: [f64; 4],
     flow: Flow,
     /// ∂(φ/S)/∂u₂ (the flow carries ∂(φ/S)/∂u₁).
     w2: [f64; 2],
@@ -179,7 +179,7 @@ struct Point {
     iterations: usize,
 }
 
-struct Tracer<'a, O: Oscillator> {
+pub(super) struct Tracer<'a, O: Oscillator> {
     o: &'a O,
     params: [O::Param; 2],
     kind: CurveKind,
@@ -189,12 +189,15 @@ struct Tracer<'a, O: Oscillator> {
     /// The box in u: (low, high) per parameter.
     bounds: [[f64; 2]; 2],
     /// Its diagonal in u: the unit of the steps.
-    size: f64,
+    pub(super) size: f64,
     /// The state's scale S.
-    scale: f64,
+    pub(super) scale: f64,
+    /// Points where a curve born at a switch ends ([`End::Rejoined`]): in unknowns, and as
+    /// written.
+    pub(super) terminals: Vec<([f64; 4], CurvePoint2)>,
 }
 
-fn dot(a: [f64; 4], b: [f64; 4]) -> f64 {
+pub(super) fn dot(a: [f64; 4], b: [f64; 4]) -> f64 {
     a.iter().zip(&b).map(|(x, y)| x * y).sum()
 }
 
@@ -202,7 +205,7 @@ fn norm(a: [f64; 4]) -> f64 {
     dot(a, a).sqrt()
 }
 
-fn axpy(a: [f64; 4], s: f64, b: [f64; 4]) -> [f64; 4] {
+pub(super) fn axpy(a: [f64; 4], s: f64, b: [f64; 4]) -> [f64; 4] {
     std::array::from_fn(|i| a[i] + s * b[i])
 }
 
@@ -268,14 +271,14 @@ impl<O: Oscillator> Tracer<'_, O> {
         ]
     }
 
-    fn at(&self, z: [f64; 4]) -> Result<O> {
+    pub(super) fn at(&self, z: [f64; 4]) -> Result<O> {
         let l = self.lambda(z);
         self.o
             .with(self.params[0], l[0])?
             .with(self.params[1], l[1])
     }
 
-    fn state(&self, z: [f64; 4]) -> [f64; 2] {
+    pub(super) fn state(&self, z: [f64; 4]) -> [f64; 2] {
         [self.scale * z[0], self.scale * z[1]]
     }
 
@@ -288,7 +291,7 @@ impl<O: Oscillator> Tracer<'_, O> {
     }
 
     /// Newton on (P, ψ, n·z − c) = 0 from z; `Ok(None)` when it does not converge.
-    fn correct(&self, mut z: [f64; 4], n: [f64; 4], c: f64) -> Result<Option<Point>> {
+    pub(super) fn correct(&self, mut z: [f64; 4], n: [f64; 4], c: f64) -> Result<Option<Point>> {
         let tol = self.opts.periodic.tol;
         let soft = |e: Error| match e {
             Error::Solver(SolverError::StepSizeTooSmall { .. } | SolverError::BlowUp { .. }) => {
@@ -370,7 +373,7 @@ impl<O: Oscillator> Tracer<'_, O> {
     }
 
     /// The unit tangent at a point, oriented along `along`.
-    fn tangent(&self, p: &Point, along: [f64; 4]) -> Option<[f64; 4]> {
+    pub(super) fn tangent(&self, p: &Point, along: [f64; 4]) -> Option<[f64; 4]> {
         let t = kernel(self.rows(p)?);
         let n = norm(t);
         if !(n > 0.0 && n.is_finite()) {
@@ -380,7 +383,7 @@ impl<O: Oscillator> Tracer<'_, O> {
         Some(t.map(|v| s * v / n))
     }
 
-    fn inside(&self, z: [f64; 4]) -> bool {
+    pub(super) fn inside(&self, z: [f64; 4]) -> bool {
         (0..2).all(|i| {
             let u = z[2 + i];
             let slack = 1e-12 * (1.0 + u.abs());
@@ -388,7 +391,17 @@ impl<O: Oscillator> Tracer<'_, O> {
         })
     }
 
-    fn curve_point(&self, p: &Point, special: Option<Codim2>) -> Result<CurvePoint2> {
+    /// Whether a point of the curve lies in the box.
+    fn holds(&self, q: &CurvePoint2) -> bool {
+        self.inside([
+            0.0,
+            0.0,
+            self.scales[0].to_u(q.params[0]),
+            self.scales[1].to_u(q.params[1]),
+        ])
+    }
+
+    pub(super) fn curve_point(&self, p: &Point, special: Option<Codim2>) -> Result<CurvePoint2> {
         self.curve_point_with(p, special, self.flip(p))
     }
 
@@ -512,7 +525,7 @@ impl<O: Oscillator> Tracer<'_, O> {
     }
 
     /// Follows the curve from p along t until it leaves the box, closes or stalls.
-    fn trace(&self, mut p: Point, mut t: [f64; 4]) -> Result<(Vec<CurvePoint2>, End)> {
+    pub(super) fn trace(&self, mut p: Point, mut t: [f64; 4]) -> Result<(Vec<CurvePoint2>, End)> {
         let (min, max) = (
             self.opts.min_step * self.size,
             self.opts.max_step * self.size,
@@ -545,10 +558,25 @@ impl<O: Oscillator> Tracer<'_, O> {
                 continue;
             };
             let flip_q = self.flip(&q);
-            points.extend(self.specials_between(&p, t, &q, tq, (flip_p, flip_q))?);
+            let specials = self.specials_between(&p, t, &q, tq, (flip_p, flip_q))?;
+            points.extend(specials.into_iter().filter(|s| self.holds(s)));
             if !self.inside(q.z) {
                 points.extend(self.edge_point(&p, &q)?);
                 return Ok((points, End::Reached));
+            }
+            // another point of the kind this curve was born at, within a step
+            if let Some((_, end)) = self
+                .terminals
+                .iter()
+                .find(|(z, _)| norm(axpy(q.z, -1.0, *z)) <= ds)
+            {
+                points.push(*end);
+                return Ok((
+                    points,
+                    End::Rejoined {
+                        param: end.params[0],
+                    },
+                ));
             }
             let from_start = norm(axpy(q.z, -1.0, z0));
             if left && from_start <= ds {
@@ -691,7 +719,7 @@ pub fn point_on_curve<O: Oscillator>(
     }
 }
 
-fn tracer<'a, O: Oscillator>(
+pub(super) fn tracer<'a, O: Oscillator>(
     o: &'a O,
     params: [O::Param; 2],
     kind: CurveKind,
@@ -717,6 +745,7 @@ fn tracer<'a, O: Oscillator>(
         bounds,
         size,
         scale,
+        terminals: Vec::new(),
     }
 }
 

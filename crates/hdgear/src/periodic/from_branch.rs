@@ -1,8 +1,9 @@
 //! Two-parameter curves started from a one-parameter branch: the special points a continuation
-//! in the first parameter finds are the starts of the curves ([`curves_from_branch`]), what
-//! `hdgear continue2` and Python's `continuation2` run.
+//! in the first parameter finds are the starts of the curves ([`curves_from_branch`]), and the
+//! generalised period doublings on period-doubling curves those of the doubled orbits' fold
+//! curves ([`curves_at_gpds`]): what `hdgear continue2` and Python's `continuation2` run.
 
-use super::{Box2, ContinuationOptions, Curve2, CurveKind, Range, continue_curve};
+use super::{Box2, Codim2, ContinuationOptions, Curve2, CurveKind, Range, continue_curve};
 use crate::error::{Error, Result};
 use crate::params::{Param, Params};
 
@@ -83,6 +84,47 @@ pub fn curves_from_branch(
             let o = Params::with(start, r1.param, s.param);
             let params = [r1.param, r2.param];
             curves.push(continue_curve(&o, params, kind, k, s.start, &box2, opts)?);
+        }
+    }
+    Ok(curves)
+}
+
+/// The fold curves of the doubled orbits born at the generalised period doublings of the
+/// period-doubling curves `pd` of `p` (in the box of `ranges`, as from [`curves_from_branch`]),
+/// switched onto at each GPD ([`switch_at_gpd`](super::switch_at_gpd)), each curve once: a GPD
+/// where a curve already traced ends is skipped. Fold curves in `pd` are refused.
+pub fn curves_at_gpds(
+    p: &Params,
+    ranges: [Range; 2],
+    pd: &[Curve2<Param>],
+    opts: &ContinuationOptions,
+) -> Result<Vec<Curve2<Param>>> {
+    if let Some(c) = pd.iter().find(|c| c.kind != CurveKind::PeriodDoubling) {
+        return Err(Error::InvalidInput {
+            what: "switch",
+            text: c.kind.name().to_string(),
+            reason: "switching is at generalised period doublings: period-doubling curves only"
+                .into(),
+        });
+    }
+    let box2 = Box2::of(ranges);
+    let mut curves: Vec<Curve2<Param>> = Vec::new();
+    for c in pd {
+        for g in c
+            .points
+            .iter()
+            .filter(|q| q.special == Some(Codim2::GeneralisedPeriodDoubling))
+        {
+            let same = |q: &super::CurvePoint2| {
+                (0..2)
+                    .all(|i| (q.params[i] - g.params[i]).abs() <= 1e-9 * (1.0 + g.params[i].abs()))
+            };
+            let seen = curves
+                .iter()
+                .any(|l| l.points.first().is_some_and(same) || l.points.last().is_some_and(same));
+            if !seen {
+                curves.push(super::switch_at_gpd(p, c, g, &box2, opts)?);
+            }
         }
     }
     Ok(curves)

@@ -141,6 +141,39 @@ fn flip_pair(a: Mat) -> Result<(f64, [f64; 2], [f64; 2])> {
     Ok((l, q, p.map(|v| v / pq)))
 }
 
+/// The monodromy of the orbit of period k·2π/ω through `y0` with its flip vectors q (M q = −q
+/// at a doubling, |q| = 1) and p (⟨p, q⟩ = 1); refused when no real multiplier is within
+/// [`FLIP_NEAR`] of −1.
+fn flip_at<O: Oscillator>(
+    o: &O,
+    y0: [f64; 2],
+    k: u32,
+    tol: Options,
+) -> Result<(Mat, [f64; 2], [f64; 2])> {
+    let span = std::f64::consts::TAU * f64::from(k);
+    let a = monodromy(&flow(o, None, 0.0, y0, span, tol)?)?;
+    let (l, q, p) = flip_pair(a)?;
+    if (l + 1.0).abs().is_nan() || (l + 1.0).abs() > FLIP_NEAR {
+        return Err(Error::InvalidOption {
+            name: "multiplier",
+            value: l,
+            reason: "is not near −1: no period doubling here",
+        });
+    }
+    Ok((a, q, p))
+}
+
+/// The direction q (|q| = 1 in (x, x')) in which the orbit of period k·2π/ω through `y0` doubles:
+/// M q = −q at a period doubling.
+pub(crate) fn flip_direction<O: Oscillator>(
+    o: &O,
+    y0: [f64; 2],
+    k: u32,
+    tol: Options,
+) -> Result<[f64; 2]> {
+    flip_at(o, y0, k, tol).map(|(_, q, _)| q)
+}
+
 /// The period-doubling normal-form coefficient c (see the module docs) of the orbit of period
 /// k·2π/ω of `o` through `y0` at phase 0, with |q| = 1 in (x, x'). c > 0: supercritical (the
 /// doubled orbit is born stable); c < 0: subcritical. Meaningful where a multiplier is −1: on a
@@ -182,15 +215,7 @@ pub(crate) fn flip_coefficient_step<O: Oscillator>(
     }
     let span = std::f64::consts::TAU * f64::from(k);
     let at = |y: [f64; 2]| -> Result<Mat> { monodromy(&flow(o, None, 0.0, y, span, tol)?) };
-    let a = at(y0)?;
-    let (l, q, p) = flip_pair(a)?;
-    if (l + 1.0).abs().is_nan() || (l + 1.0).abs() > FLIP_NEAR {
-        return Err(Error::InvalidOption {
-            name: "multiplier",
-            value: l,
-            reason: "is not near −1: no period doubling here",
-        });
-    }
+    let (a, q, p) = flip_at(o, y0, k, tol)?;
     let eps = step * (1.0 + y0[0].hypot(y0[1]));
     let plus = at([y0[0] + eps * q[0], y0[1] + eps * q[1]])?;
     let minus = at([y0[0] - eps * q[0], y0[1] - eps * q[1]])?;
