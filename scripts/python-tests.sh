@@ -24,8 +24,9 @@ venv="$root/target/py-venv"
 echo "== pip wheel ./crates/hdgear-py: one manylinux2014 wheel, linked with zig"
 rm -rf target/wheels
 # pip runs maturin (the package's build backend) in an isolated environment; MATURIN_PEP517_ARGS
-# passes it the zig options, and maturin finds zig through `python3 -m ziglang` on PATH: the venv's
-PATH="$venv/bin:$PATH" MATURIN_PEP517_ARGS="--zig --compatibility manylinux2014" \
+# passes it the zig options, and maturin finds the `zig` that the venv's ziglang package holds
+zig_dir=$("$venv/bin/python" -c 'import os, ziglang; print(os.path.dirname(ziglang.__file__))')
+PATH="$zig_dir:$PATH" MATURIN_PEP517_ARGS="--zig --compatibility manylinux2014" \
     "$venv/bin/pip" wheel -q --no-deps -w target/wheels ./crates/hdgear-py
 wheel=$(ls target/wheels/hdgear-*.whl)
 echo "built $(basename "$wheel")"

@@ -151,6 +151,15 @@ pub fn warn(warnings: &[Warning]) {
     }
 }
 
+/// The context of a failed write of `what` to `out`: `writing the trajectory to t.csv` (or `to
+/// stdout`), so that the one-line error names the file.
+pub fn writing(what: &str, out: Option<&Path>) -> String {
+    match out {
+        Some(p) => format!("writing {what} to {}", p.display()),
+        None => format!("writing {what} to stdout"),
+    }
+}
+
 /// Where records go: an atomic file, or stdout.
 pub enum Sink {
     File(AtomicFile),

@@ -661,3 +661,29 @@ fn blow_ups_and_tolerance_limited_verdicts_say_so() {
     );
     assert!(!err(&run(&near)).contains("noise floor"));
 }
+
+/// A file-size limit (`ulimit -f`, SIGXFSZ) is a full disk: the write past it fails, the run
+/// says so in one line and exits 2, and neither the output nor its temporary is left.
+#[test]
+fn a_file_size_limit_leaves_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let bin = assert_cmd::cargo::cargo_bin("hdgear");
+    let o = Command::new("bash")
+        .current_dir(dir.path())
+        .arg("-c")
+        .arg(format!(
+            "ulimit -f 4 && exec '{}' simulate --t-end 2000 --dt 0.01 --out t.csv",
+            bin.display()
+        ))
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2), "{}", err(&o));
+    let e = err(&o);
+    let errors: Vec<&str> = e.lines().filter(|l| l.starts_with("error:")).collect();
+    assert_eq!(errors.len(), 1, "{e}");
+    assert!(
+        errors[0].contains("t.csv") && !e.contains("panicked"),
+        "{e}"
+    );
+    assert_eq!(crate::common::files_in(dir.path()), Vec::<String>::new());
+}

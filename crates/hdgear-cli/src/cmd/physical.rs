@@ -106,9 +106,12 @@ fn simulate(
             }
         })?;
         if let Some(e) = err {
-            return Err(e).context("writing the trajectory");
+            return Err(e)
+                .with_context(|| crate::sink::writing("the trajectory", a.out.as_deref()));
         }
-        w.finish().context("writing the trajectory")?.commit()?;
+        w.finish()
+            .with_context(|| crate::sink::writing("the trajectory", a.out.as_deref()))?
+            .commit()?;
         s
     };
     drop(progress);

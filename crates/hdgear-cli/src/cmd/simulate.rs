@@ -50,9 +50,11 @@ fn simulate_into<W: Write + Send>(
         None => hdgear::simulate::simulate(&p, &run.opts, |t, y| each(t, y))?,
     };
     if let Some(e) = io_err {
-        return Err(e).context("writing the trajectory");
+        return Err(e).with_context(|| crate::sink::writing("the trajectory", run.out.as_deref()));
     }
-    let sink = table.finish().context("writing the trajectory")?;
+    let sink = table
+        .finish()
+        .with_context(|| crate::sink::writing("the trajectory", run.out.as_deref()))?;
     Ok((sink, summary))
 }
 
