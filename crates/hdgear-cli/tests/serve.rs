@@ -310,3 +310,50 @@ fn the_explorer_in_a_real_browser() {
         );
     }
 }
+
+/// CPU time (user + system) the server process has used so far, in seconds.
+fn cpu_seconds(pid: u32) -> f64 {
+    let stat = std::fs::read_to_string(format!("/proc/{pid}/stat")).unwrap();
+    // the fields after the command name in parentheses; utime and stime are the 14th and 15th
+    let after = stat.rsplit_once(") ").unwrap().1;
+    let f: Vec<u64> = after
+        .split_whitespace()
+        .map(|v| v.parse().unwrap_or(0))
+        .collect();
+    // clock ticks: 100 per second on Linux
+    (f[11] + f[12]) as f64 / 100.0
+}
+
+/// Work that clients gave up on stops: eight slow views (α = 1e-7, seconds each) abandoned
+/// after half a second each run under the deadline of the server's view timeout (5 s), so a
+/// second after it has passed the server is idle (under 0.2 s of CPU over the next second,
+/// where two busy cores use 2 s) and answers the default view.
+#[test]
+fn abandoned_views_stop_at_their_deadline() {
+    let s = Server::start();
+    let sent = Instant::now();
+    std::thread::scope(|scope| {
+        for i in 1..=8 {
+            let addr = s.addr.clone();
+            scope.spawn(move || {
+                let mut c = TcpStream::connect(&addr).unwrap();
+                let path = format!("/api/view?alpha=1e-7&gamma=0.00{i}");
+                write!(c, "GET {path} HTTP/1.1\r\nHost: {addr}\r\n\r\n").unwrap();
+                std::thread::sleep(Duration::from_millis(500));
+            });
+        }
+    });
+    let view_timeout = Duration::from_secs(5);
+    std::thread::sleep(
+        (sent + view_timeout + Duration::from_secs(1)).saturating_duration_since(Instant::now()),
+    );
+    let before = cpu_seconds(s.child.id());
+    std::thread::sleep(Duration::from_secs(1));
+    let used = cpu_seconds(s.child.id()) - before;
+    assert!(
+        used < 0.2,
+        "the server used {used} s of CPU after the deadline"
+    );
+    let (status, _) = get(&s.addr, "/api/view");
+    assert_eq!(status, 200);
+}

@@ -402,8 +402,11 @@ fn run<const FMA: bool, const TANGENT: bool>(
     show: Show<'_>,
 ) -> Outcomes {
     let mut failed: [Option<crate::Error>; LANES] = std::array::from_fn(|_| None);
+    let mut count = 0u64;
     while (0..LANES).any(|l| b.t[l] < b.t_end[l]) {
         b.step::<FMA, TANGENT>();
+        count += 1;
+        let late = tol.past_deadline(count);
         let Step {
             t0,
             h,
@@ -416,7 +419,7 @@ fn run<const FMA: bool, const TANGENT: bool>(
         for l in 0..LANES {
             let moved = h[l] > 0.0;
             blown[l] = !(nx[l].abs() <= tol.blowup && nv[l].abs() <= tol.blowup);
-            spent[l] = b.steps[l] >= tol.max_steps && b.t[l] < b.t_end[l];
+            spent[l] = (b.steps[l] >= tol.max_steps || late) && b.t[l] < b.t_end[l];
             trouble |= moved & (blown[l] | spent[l]);
             shown |= moved & (b.t[l] > b.from[l]);
         }
@@ -478,9 +481,13 @@ fn settle_trouble(
             };
             Some(SolverError::BlowUp { t: b.t[l], value })
         } else if spent[l] {
-            Some(SolverError::TooManySteps {
-                t: b.t[l],
-                max_steps: tol.max_steps,
+            Some(if b.steps[l] >= tol.max_steps {
+                SolverError::TooManySteps {
+                    t: b.t[l],
+                    max_steps: tol.max_steps,
+                }
+            } else {
+                SolverError::Deadline { t: b.t[l] }
             })
         } else {
             None

@@ -163,6 +163,12 @@ pub enum SolverError {
         /// The budget.
         max_steps: u64,
     },
+    /// The caller's deadline ([`crate::integrate::Options::deadline`]) passed.
+    #[error("stopped at t = {t:?}: the deadline passed (the result was no longer wanted)")]
+    Deadline {
+        /// Time reached.
+        t: f64,
+    },
 }
 
 /// Result alias of the library.

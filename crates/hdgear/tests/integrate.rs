@@ -582,3 +582,48 @@ fn the_physical_model_agrees_across_methods() {
     eprintln!("physical Taylor vs DOP853: {worst:e} relative");
     assert!(worst < 1e-9, "{worst:e}");
 }
+
+/// A deadline that has passed (`Options::deadline`: how the explorer stops work it has given up
+/// on) stops both integrators within `DEADLINE_EVERY` steps, with `SolverError::Deadline` at the
+/// time reached, and every lane of a batch the same way. Without it the same run finishes.
+#[test]
+fn a_passed_deadline_stops_every_integrator() {
+    use hdgear::error::SolverError;
+    use hdgear::simulate::{SimOptions, simulate};
+    let p = Params::default();
+    let past = Some(std::time::Instant::now());
+    let stopped = |r: hdgear::Result<()>| match r {
+        Err(hdgear::Error::Solver(SolverError::Deadline { t })) => t,
+        other => panic!("{other:?}"),
+    };
+    for method in [Method::Taylor, Method::Dop853] {
+        let opts = |deadline| SimOptions {
+            t_end: 1e7,
+            dt: 1e3,
+            tol: Options {
+                method,
+                deadline,
+                ..Options::default()
+            },
+            ..SimOptions::default()
+        };
+        let t = stopped(simulate(&p, &opts(past), |_, _| {}).map(|_| ()));
+        assert!((0.0..1e7).contains(&t), "{method}: t = {t}");
+        let short = SimOptions {
+            t_end: 100.0,
+            ..opts(None)
+        };
+        assert!(simulate(&p, &short, |_, _| {}).is_ok(), "{method}");
+    }
+    let mut o = hdgear::burst::BurstOptions::default();
+    o.tol.deadline = past;
+    let sets: Vec<Params> = (0..16)
+        .map(|i| Params {
+            gamma: 0.5 + 0.1 * f64::from(i),
+            ..p
+        })
+        .collect();
+    for r in hdgear::burst::responses(&sets, &o) {
+        stopped(r.map(|_| ()));
+    }
+}

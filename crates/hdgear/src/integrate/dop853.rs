@@ -222,12 +222,11 @@ impl<'s, S: System<N> + ?Sized, const N: usize> Dop853<'s, S, N> {
             return Ok(());
         }
         loop {
-            if self.stats.steps + self.stats.rejected >= self.opts.max_steps {
-                return Err(SolverError::TooManySteps {
-                    t: self.t,
-                    max_steps: self.opts.max_steps,
-                }
-                .into());
+            if let Some(e) = self
+                .opts
+                .spent(self.stats.steps + self.stats.rejected, self.t)
+            {
+                return Err(e.into());
             }
             let mut h = self.h;
             if let Some(hm) = self.opts.h_max {

@@ -177,7 +177,18 @@ pub struct Options {
     /// ([`taylor`]'s module documentation). Ignored by DOP853.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub order: Option<usize>,
+    /// A wall-clock time past which the integration stops with [`SolverError::Deadline`] (looked
+    /// at every [`DEADLINE_EVERY`] steps): how a caller that has given up on the result (the
+    /// explorer, after its timeout) stops the work. Not serialised. Default `None`.
+    #[serde(skip)]
+    pub deadline: Option<std::time::Instant>,
 }
+
+/// Steps between two looks at the clock for [`Options::deadline`]. A look costs about as much
+/// as a few of one step's arithmetic operations, so one per 256 steps is lost in the noise,
+/// and a deadline is overrun by at most 256 steps (well under a millisecond at the study's
+/// points).
+pub const DEADLINE_EVERY: u64 = 256;
 
 impl Default for Options {
     fn default() -> Self {
@@ -190,11 +201,35 @@ impl Default for Options {
             blowup: 1e100,
             method: Method::default(),
             order: None,
+            deadline: None,
         }
     }
 }
 
 impl Options {
+    /// Whether an integration at time `t` after `steps` steps must stop:
+    /// [`SolverError::TooManySteps`] at `max_steps`, [`SolverError::Deadline`] past the
+    /// deadline.
+    pub(crate) fn spent(&self, steps: u64, t: f64) -> Option<SolverError> {
+        if steps >= self.max_steps {
+            return Some(SolverError::TooManySteps {
+                t,
+                max_steps: self.max_steps,
+            });
+        }
+        self.past_deadline(steps)
+            .then_some(SolverError::Deadline { t })
+    }
+
+    /// Whether the deadline has passed, looked at only when `count` is a multiple of
+    /// [`DEADLINE_EVERY`].
+    pub(crate) fn past_deadline(&self, count: u64) -> bool {
+        count.is_multiple_of(DEADLINE_EVERY)
+            && self
+                .deadline
+                .is_some_and(|d| std::time::Instant::now() >= d)
+    }
+
     /// Checks that the tolerances and limits are usable.
     pub fn validate(&self) -> Result<()> {
         let bad = |name: &'static str, value: f64, reason: &'static str| {

@@ -329,12 +329,8 @@ impl<'s, S: System<N> + ?Sized, const N: usize> Taylor<'s, S, N> {
         if remaining <= 0.0 {
             return Ok(());
         }
-        if self.stats.steps >= self.opts.max_steps {
-            return Err(SolverError::TooManySteps {
-                t: self.t,
-                max_steps: self.opts.max_steps,
-            }
-            .into());
+        if let Some(e) = self.opts.spent(self.stats.steps, self.t) {
+            return Err(e.into());
         }
         let scale = self.weights();
         self.sys.taylor(self.t, &self.y, self.order, &mut self.c);

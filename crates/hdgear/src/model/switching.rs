@@ -408,13 +408,8 @@ impl<const N: usize> Stepper<N> for Switching<'_, N> {
         &self.y
     }
     fn step(&mut self, t_bound: f64) -> Result<()> {
-        let steps = self.stats().steps;
-        if steps >= self.opts.max_steps {
-            return Err(SolverError::TooManySteps {
-                t: self.t,
-                max_steps: self.opts.max_steps,
-            }
-            .into());
+        if let Some(e) = self.opts.spent(self.stats().steps, self.t) {
+            return Err(e.into());
         }
         let Some(inner) = self.inner.as_mut() else {
             return self.hold(t_bound);

@@ -10,8 +10,9 @@
 //! Bad parameters get a 400 with the CLI's one-line message; a parameter set whose run would
 //! exceed the explorer's step budget ([`hdgear::explore::STEP_BUDGET`], checked before any work)
 //! a 422 with the reason; every computation runs on the blocking pool (never on the async
-//! runtime, so requests do not block each other), at most two per core at once, and is abandoned
-//! with a 503 after [`VIEW_TIMEOUT`] (boundaries: [`BOUNDARY_TIMEOUT`]).
+//! runtime, so requests do not block each other), at most two per core at once. A request not
+//! answered [`VIEW_TIMEOUT`] after it came (boundaries: [`BOUNDARY_TIMEOUT`]) gets a 503 with
+//! `Retry-After`, and its computation stops at that deadline (see [`compute`]).
 
 use crate::cli::ServeArgs;
 use anyhow::{Context, Result};
@@ -47,7 +48,13 @@ struct ErrorBody<'a> {
 
 impl IntoResponse for ApiError {
     fn into_response(self) -> Response {
-        (self.0, Json(ErrorBody { error: &self.1 })).into_response()
+        let mut r = (self.0, Json(ErrorBody { error: &self.1 })).into_response();
+        if self.0 == StatusCode::SERVICE_UNAVAILABLE {
+            // busy or too slow now: a client may try again in a moment
+            r.headers_mut()
+                .insert(header::RETRY_AFTER, header::HeaderValue::from_static("1"));
+        }
+        r
     }
 }
 
@@ -109,30 +116,53 @@ fn params(q: &BTreeMap<String, String>) -> Result<(Params, Vec<Warning>), ApiErr
     Ok((p, warnings))
 }
 
-/// Runs `f` on the blocking pool under the concurrency limit, abandoned after `limit`.
+/// Runs `f` on the blocking pool under the concurrency limit; the request is answered with a 503
+/// once `limit` has passed since it came (waiting for a permit included). `f` gets that
+/// deadline for its integrations ([`hdgear::integrate::Options::deadline`]): abandoned work
+/// stops there, and it holds its permit until it has stopped, so at most the limit's number of
+/// computations ever run.
 async fn compute<T: Send + 'static>(
-    permits: &Semaphore,
+    permits: &Permits,
     limit: Duration,
-    f: impl FnOnce() -> hdgear::Result<T> + Send + 'static,
+    f: impl FnOnce(std::time::Instant) -> hdgear::Result<T> + Send + 'static,
 ) -> Result<T, ApiError> {
-    let _permit = permits
-        .acquire()
+    let deadline = std::time::Instant::now() + limit;
+    let work = async {
+        let permit = permits
+            .clone()
+            .acquire_owned()
+            .await
+            .map_err(|_| ApiError(StatusCode::SERVICE_UNAVAILABLE, "shutting down".into()))?;
+        tokio::task::spawn_blocking(move || {
+            let _permit = permit;
+            f(deadline)
+        })
         .await
-        .map_err(|_| ApiError(StatusCode::SERVICE_UNAVAILABLE, "shutting down".into()))?;
-    match tokio::time::timeout(limit, tokio::task::spawn_blocking(f)).await {
-        Ok(Ok(r)) => Ok(r?),
-        Ok(Err(e)) => Err(ApiError(
-            StatusCode::INTERNAL_SERVER_ERROR,
-            format!("the computation failed: {e}"),
-        )),
+        .map_err(|e| {
+            ApiError(
+                StatusCode::INTERNAL_SERVER_ERROR,
+                format!("the computation failed: {e}"),
+            )
+        })
+    };
+    match tokio::time::timeout(limit, work).await {
+        Ok(r) => Ok(r??),
         Err(_) => Err(ApiError(
             StatusCode::SERVICE_UNAVAILABLE,
             format!(
-                "refused: the computation took longer than {} s",
+                "refused: the computation took longer than {} s (waiting for a free worker \
+                 included)",
                 limit.as_secs()
             ),
         )),
     }
+}
+
+/// The explorer's detection options with the integrations' deadline.
+fn options_until(deadline: std::time::Instant) -> hdgear::burst::BurstOptions {
+    let mut o = hdgear::explore::View::options();
+    o.tol.deadline = Some(deadline);
+    o
 }
 
 type Permits = Arc<Semaphore>;
@@ -140,8 +170,8 @@ type Q = Query<BTreeMap<String, String>>;
 
 async fn view(State(permits): State<Permits>, Query(q): Q) -> Result<Response, ApiError> {
     let (p, warnings) = params(&q)?;
-    let v = compute(&permits, VIEW_TIMEOUT, move || {
-        hdgear::explore::View::compute(&p, warnings, &hdgear::explore::View::options())
+    let v = compute(&permits, VIEW_TIMEOUT, move |deadline| {
+        hdgear::explore::View::compute(&p, warnings, &options_until(deadline))
     })
     .await?;
     Ok(Json(v).into_response())
@@ -149,8 +179,8 @@ async fn view(State(permits): State<Permits>, Query(q): Q) -> Result<Response, A
 
 async fn boundaries(State(permits): State<Permits>, Query(q): Q) -> Result<Response, ApiError> {
     let (p, _) = params(&q)?;
-    let b = compute(&permits, BOUNDARY_TIMEOUT, move || {
-        hdgear::burst::boundaries(&p, &hdgear::explore::View::options())
+    let b = compute(&permits, BOUNDARY_TIMEOUT, move |deadline| {
+        hdgear::burst::boundaries(&p, &options_until(deadline))
     })
     .await?;
     Ok(Json(b).into_response())
