@@ -324,10 +324,10 @@ fn cpu_seconds(pid: u32) -> f64 {
     (f[11] + f[12]) as f64 / 100.0
 }
 
-/// Work that clients gave up on stops: eight slow views (α = 1e-7, seconds each) abandoned
-/// after half a second each run under the deadline of the server's view timeout (5 s), so a
-/// second after it has passed the server is idle (under 0.2 s of CPU over the next second,
-/// where two busy cores use 2 s) and answers the default view.
+/// Work that clients gave up on stops: eight slow views (α = 1e-7) abandoned after half a
+/// second each run under the deadline of the server's view timeout, so a second after it has
+/// passed the server is idle (under a fifth of a CPU second over the next second, where two busy
+/// cores use two) and answers the default view.
 #[test]
 fn abandoned_views_stop_at_their_deadline() {
     let s = Server::start();
