@@ -687,3 +687,37 @@ fn a_file_size_limit_leaves_nothing() {
     );
     assert_eq!(crate::common::files_in(dir.path()), Vec::<String>::new());
 }
+
+/// A sweep stopped by a file-size limit says where its finished rows are and how to resume
+/// (exit 2); `--resume` without the limit then writes the same file as an uninterrupted sweep.
+#[test]
+fn a_sweep_stopped_by_a_file_size_limit_resumes() {
+    let dir = tempfile::tempdir().unwrap();
+    let bin = assert_cmd::cargo::cargo_bin("hdgear");
+    let sweep = ["sweep", "--param", "gamma=0.1:30:60:log", "--quiet"];
+    let o = Command::new("bash")
+        .current_dir(dir.path())
+        .arg("-c")
+        .arg(format!(
+            "ulimit -f 2 && exec '{}' {} --out s.csv",
+            bin.display(),
+            sweep.join(" ")
+        ))
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2), "{}", err(&o));
+    assert!(
+        err(&o).contains("kept in s.csv.partial: rerun the same command with --resume"),
+        "{}",
+        err(&o)
+    );
+    let resumed = run_in(
+        dir.path(),
+        &[&sweep[..], &["--out", "s.csv", "--resume"]].concat(),
+    );
+    assert!(resumed.status.success(), "{}", err(&resumed));
+    let whole = run_in(dir.path(), &[&sweep[..], &["--out", "w.csv"]].concat());
+    assert!(whole.status.success(), "{}", err(&whole));
+    let read = |f: &str| std::fs::read(dir.path().join(f)).unwrap();
+    assert_eq!(read("s.csv"), read("w.csv"));
+}

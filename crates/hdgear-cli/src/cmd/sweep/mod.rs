@@ -237,7 +237,7 @@ fn compute(job: &Job) -> Result<()> {
     })?;
     bar.finish_and_clear();
     if let Some(e) = io_err {
-        return Err(e);
+        return Err(e.context(resume_hint(&partial)));
     }
     for old in finished {
         put(&mut out, &old)?;
@@ -262,11 +262,16 @@ fn open_partial(job: &Job, partial: &Path) -> Result<(Vec<SweepRow>, csv::Writer
     }
     file::write(partial, &job.settings, &finished)?;
     let w = file::append(partial)?;
-    crate::signals::set_hint(format!(
+    crate::signals::set_hint(resume_hint(partial));
+    Ok((finished, w))
+}
+
+/// What a sweep that stopped early (a signal, a full disk) tells the user.
+fn resume_hint(partial: &Path) -> String {
+    format!(
         "the finished rows are kept in {}: rerun the same command with --resume",
         partial.display()
-    ));
-    Ok((finished, w))
+    )
 }
 
 /// Says what was written; exit code 1 when every point of a whole sweep failed.
