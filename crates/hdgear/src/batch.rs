@@ -481,14 +481,11 @@ fn settle_trouble(
             };
             Some(SolverError::BlowUp { t: b.t[l], value })
         } else if spent[l] {
-            Some(if b.steps[l] >= tol.max_steps {
-                SolverError::TooManySteps {
-                    t: b.t[l],
-                    max_steps: tol.max_steps,
-                }
-            } else {
-                SolverError::Deadline { t: b.t[l] }
-            })
+            // out of steps, or else (the loop's clock said so) past the deadline
+            Some(
+                tol.spent(b.steps[l], b.t[l])
+                    .unwrap_or(SolverError::Deadline { t: b.t[l] }),
+            )
         } else {
             None
         };
