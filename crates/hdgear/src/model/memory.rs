@@ -8,7 +8,10 @@
 //! Both states' rates vanish at x' = 0, so a state is held while the motion rests.
 
 use super::jet::{cauchy, exp_step_limit, quotient_coefficient, square_coefficient};
-use super::terms::{Domain, Level, ParamInfo, Scratch, Side, StateInfo, Term, piece_sign};
+use super::terms::{
+    Domain, FRICTION_FC, FRICTION_FS, Level, ParamInfo, STRIBECK_VELOCITY, Scratch, Side,
+    StateInfo, Term, piece_sign,
+};
 use serde::Serialize;
 
 /// LuGre friction on x': F = σ₀s + σ₁s' + σ₂x' with the bristle state
@@ -43,32 +46,14 @@ impl Term for LuGre {
     const SWITCHES_AT_REST: bool = true;
     const PARAMS: &'static [ParamInfo] = &[
         ParamInfo {
-            name: "fc",
-            symbol: "f_c",
-            latex: "f_c",
-            meaning: "Coulomb (sliding) friction torque",
             domain: Domain::Positive,
-            default: 0.05,
-            si: "T·k2·φ·J_eq²/C⁴ (a torque on μ's scale)",
+            ..FRICTION_FC
         },
         ParamInfo {
-            name: "fs",
-            symbol: "f_s",
-            latex: "f_s",
-            meaning: "static (breakaway) friction torque",
             domain: Domain::Positive,
-            default: 0.08,
-            si: "T·k2·φ·J_eq²/C⁴ (a torque on μ's scale)",
+            ..FRICTION_FS
         },
-        ParamInfo {
-            name: "vst",
-            symbol: "v_st",
-            latex: r"v_{st}",
-            meaning: "Stribeck velocity",
-            domain: Domain::Positive,
-            default: 0.1,
-            si: "θ'·k2·φ·J_eq²/C³ (a velocity on x's scale)",
-        },
+        STRIBECK_VELOCITY,
         ParamInfo {
             name: "sigma0",
             symbol: "σ₀",

@@ -433,6 +433,51 @@ impl Term for Friction {
     }
 }
 
+/// The Coulomb (sliding) friction level shared by the Stribeck, switched-Coulomb and LuGre friction laws.
+pub(super) const FRICTION_FC: ParamInfo = ParamInfo {
+    name: "fc",
+    symbol: "f_c",
+    latex: "f_c",
+    meaning: "Coulomb (sliding) friction torque",
+    domain: Domain::NonNegative,
+    default: 0.05,
+    si: "T·k2·φ·J_eq²/C⁴ (a torque on μ's scale)",
+};
+
+/// The static (breakaway) friction level shared by the Stribeck, switched-Coulomb and LuGre friction laws.
+pub(super) const FRICTION_FS: ParamInfo = ParamInfo {
+    name: "fs",
+    symbol: "f_s",
+    latex: "f_s",
+    meaning: "static (breakaway) friction torque",
+    domain: Domain::NonNegative,
+    default: 0.08,
+    si: "T·k2·φ·J_eq²/C⁴ (a torque on μ's scale)",
+};
+
+/// The Stribeck velocity shared by the Stribeck, switched-Coulomb and LuGre friction laws.
+pub(super) const STRIBECK_VELOCITY: ParamInfo = ParamInfo {
+    name: "vst",
+    symbol: "v_st",
+    latex: r"v_{st}",
+    meaning: "Stribeck velocity",
+    domain: Domain::Positive,
+    default: 0.1,
+    si: "θ'·k2·φ·J_eq²/C³ (a velocity on x's scale)",
+};
+
+/// The viscous friction coefficient shared by the Stribeck and switched-Coulomb friction laws
+/// (LuGre names its own, σ₂).
+const VISCOUS: ParamInfo = ParamInfo {
+    name: "cv",
+    symbol: "c_v",
+    latex: "c_v",
+    meaning: "viscous friction coefficient (added to the unit damping)",
+    domain: Domain::NonNegative,
+    default: 0.0,
+    si: "c_v/C (over the damping C)",
+};
+
 /// Coulomb–Stribeck–viscous friction (f_c + (f_s − f_c)·e^{−(x'/v_s)²})·tanh(x'/v_r) + c_v·x',
 /// regularised at the velocity scale v_r.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -449,42 +494,10 @@ impl Term for Stribeck {
     const KIND: &'static str = "stribeck";
     const ABOUT: &'static str = "Coulomb–Stribeck–viscous friction, regularised by tanh(x'/v_r)";
     const PARAMS: &'static [ParamInfo] = &[
-        ParamInfo {
-            name: "fc",
-            symbol: "f_c",
-            latex: "f_c",
-            meaning: "Coulomb (sliding) friction torque",
-            domain: Domain::NonNegative,
-            default: 0.05,
-            si: "T·k2·φ·J_eq²/C⁴ (a torque on μ's scale)",
-        },
-        ParamInfo {
-            name: "fs",
-            symbol: "f_s",
-            latex: "f_s",
-            meaning: "static (breakaway) friction torque",
-            domain: Domain::NonNegative,
-            default: 0.08,
-            si: "T·k2·φ·J_eq²/C⁴ (a torque on μ's scale)",
-        },
-        ParamInfo {
-            name: "vst",
-            symbol: "v_st",
-            latex: r"v_{st}",
-            meaning: "Stribeck velocity",
-            domain: Domain::Positive,
-            default: 0.1,
-            si: "θ'·k2·φ·J_eq²/C³ (a velocity on x's scale)",
-        },
-        ParamInfo {
-            name: "cv",
-            symbol: "c_v",
-            latex: "c_v",
-            meaning: "viscous friction coefficient (added to the unit damping)",
-            domain: Domain::NonNegative,
-            default: 0.0,
-            si: "c_v/C (over the damping C)",
-        },
+        FRICTION_FC,
+        FRICTION_FS,
+        STRIBECK_VELOCITY,
+        VISCOUS,
         ParamInfo {
             name: "vr",
             symbol: "v_r",
@@ -582,42 +595,13 @@ impl Term for Coulomb {
     const ABOUT: &'static str =
         "Coulomb–Stribeck–viscous friction with sticking (sgn x', integrated piece by piece)";
     const PARAMS: &'static [ParamInfo] = &[
+        FRICTION_FC,
         ParamInfo {
-            name: "fc",
-            symbol: "f_c",
-            latex: "f_c",
-            meaning: "Coulomb (sliding) friction torque",
-            domain: Domain::NonNegative,
-            default: 0.05,
-            si: "T·k2·φ·J_eq²/C⁴ (a torque on μ's scale)",
-        },
-        ParamInfo {
-            name: "fs",
-            symbol: "f_s",
-            latex: "f_s",
             meaning: "static (breakaway) friction torque: the sticking band",
-            domain: Domain::NonNegative,
-            default: 0.08,
-            si: "T·k2·φ·J_eq²/C⁴ (a torque on μ's scale)",
+            ..FRICTION_FS
         },
-        ParamInfo {
-            name: "vst",
-            symbol: "v_st",
-            latex: r"v_{st}",
-            meaning: "Stribeck velocity",
-            domain: Domain::Positive,
-            default: 0.1,
-            si: "θ'·k2·φ·J_eq²/C³ (a velocity on x's scale)",
-        },
-        ParamInfo {
-            name: "cv",
-            symbol: "c_v",
-            latex: "c_v",
-            meaning: "viscous friction coefficient (added to the unit damping)",
-            domain: Domain::NonNegative,
-            default: 0.0,
-            si: "c_v/C (over the damping C)",
-        },
+        STRIBECK_VELOCITY,
+        VISCOUS,
     ];
     fn from_values(v: &[f64]) -> Self {
         Coulomb {

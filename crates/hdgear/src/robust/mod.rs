@@ -578,9 +578,9 @@ pub struct Probability {
 }
 
 impl Probability {
-    /// Counts a run's samples.
-    pub fn of(samples: &[Sample], mc: &McOptions) -> Probability {
-        let mut p = Probability {
+    /// No samples counted yet, at this confidence `level` and interval `width`.
+    fn none(level: f64, width: f64) -> Probability {
+        Probability {
             samples: 0,
             judged: 0,
             bursting: 0,
@@ -589,10 +589,15 @@ impl Probability {
             failed: 0,
             p: f64::NAN,
             interval: (0.0, 1.0),
-            level: mc.level,
+            level,
             needed_for_width: 0,
-            width: mc.width,
-        };
+            width,
+        }
+    }
+
+    /// Counts a run's samples.
+    pub fn of(samples: &[Sample], mc: &McOptions) -> Probability {
+        let mut p = Probability::none(mc.level, mc.width);
         p.add(samples);
         p.finish()
     }
@@ -600,15 +605,7 @@ impl Probability {
     /// The probability over the samples of several shards of one run (their counts added).
     pub fn merge(parts: &[Probability]) -> Result<Probability> {
         let first = parts.first().ok_or_else(|| no_parts("probability"))?;
-        let mut total = Probability {
-            samples: 0,
-            judged: 0,
-            bursting: 0,
-            predicted: 0,
-            outside_domain: 0,
-            failed: 0,
-            ..*first
-        };
+        let mut total = Probability::none(first.level, first.width);
         for p in parts {
             if (p.level, p.width) != (first.level, first.width) {
                 return Err(Error::InvalidInput {
