@@ -78,6 +78,17 @@ pub fn analysis_text(an: &Analysis) -> String {
         let _ = writeln!(s, "dx/da at a = 0: {s0:.6}");
     }
     let _ = writeln!(s, "Hopf bifurcation possible: no ({})", e.hopf_reason);
+    let r = &e.slowest_relaxation;
+    let _ = writeln!(
+        s,
+        "slowest relaxation on the traversed path ({}): rate {:.4e} at a = {:.6}, x = {:.6}; \
+         fast-slow for omega <= {:.4e}",
+        r.along.name(),
+        r.rate,
+        r.a,
+        r.x,
+        hdgear::burst::fast_slow_omega_max(&an.params)
+    );
     prediction_text(&mut s, e);
     s
 }

@@ -241,9 +241,16 @@ fn boundary_writes_each_curve_once() {
     ];
     for (i, kind) in kinds.iter().enumerate() {
         assert!(text.contains(&format!("curve {i}: {kind}, ")), "{text}");
+    }
+    for kind in &kinds[..4] {
         assert!(text.contains(&format!("{kind}: 1 curve(s)")), "{text}");
     }
-    assert!(!text.contains("curve 5"), "{text}");
+    // the fast-slow edge breaks at the cusp γ = 1/48: above it the path's slowest rate, that of
+    // the node at the inflection (≈ γ − 1/48), goes to 0; below it the state jumps at both
+    // folds and settles at the turning points
+    assert!(text.contains("fast-slow-edge: 2 curve(s)"), "{text}");
+    assert!(text.contains("curve 5: fast-slow-edge, "), "{text}");
+    assert!(!text.contains("curve 6"), "{text}");
     let rows = csv_rows(&dir.path().join("b.csv"));
     for r in &rows {
         let f = |k: &str| r[k].parse::<f64>().unwrap();
@@ -265,11 +272,15 @@ fn boundary_writes_each_curve_once() {
     .concat();
     let doc = crate::common::json_of(&some);
     let curves = doc["curves"].as_array().unwrap();
-    assert_eq!(curves.len(), 2);
+    assert_eq!(curves.len(), 3); // one predicted, two fast-slow edges
     let n = |kind: &str| rows.iter().filter(|r| r["kind"] == kind).count();
-    for c in curves {
-        let kind = c["kind"].as_str().unwrap();
-        assert_eq!(c["points"].as_array().unwrap().len(), n(kind), "{kind}");
+    for kind in ["predicted", "fast-slow-edge"] {
+        let points: usize = curves
+            .iter()
+            .filter(|c| c["kind"] == kind)
+            .map(|c| c["points"].as_array().unwrap().len())
+            .sum();
+        assert_eq!(points, n(kind), "{kind}");
     }
     let base = &args[..5];
     crate::common::fails_with(&[base, &["--kinds", "hopf"]].concat(), "hopf");

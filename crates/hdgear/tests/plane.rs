@@ -180,60 +180,76 @@ fn the_fold_set_is_the_closed_form() {
     }
 }
 
-/// The edge of the fast-slow domain in (ω, γ) is ω = r/10 with r the slower relaxation rate of
-/// the stable equilibria at a = ±1, from the linearisation written here: 1/2 on a focus
-/// (g' > 1/4), (1 − √(1 − 4g'))/2 on a node. δ from 0.05 to 2 (at δ ≈ 0.14 the equilibrium at
-/// a = −1 sits at the least g', 0.079: a node).
-#[test]
-fn the_fast_slow_edge_is_the_relaxation_rate() {
-    let c = curves(
-        [Param::Omega, Param::Delta],
-        [(1e-3, 0.2), (0.05, 2.0)],
-        BoundaryKind::FastSlowEdge,
-    );
-    assert_eq!(c.len(), 1);
-    let mut nodes = 0;
-    let mut omega_max = |delta| {
-        let p = Params {
-            delta,
-            ..Params::default()
-        };
-        let rate = [-1.0, 1.0]
-            .map(|a| {
-                // the one equilibrium (γ = 0.1 > 1/(3α): g is increasing) by bisection
-                let f = p.mu + p.delta * a;
-                let (mut lo, mut hi) = (-10.0, 10.0);
-                for _ in 0..200 {
-                    let m = 0.5 * (lo + hi);
-                    if p.g(m) < f {
-                        lo = m;
-                    } else {
-                        hi = m;
-                    }
-                }
-                let gp = p.g_prime(0.5 * (lo + hi));
-                if gp > 0.25 {
-                    0.5
-                } else {
-                    nodes += 1;
-                    0.5 * (1.0 - (1.0 - 4.0 * gp).sqrt())
-                }
-            })
-            .into_iter()
-            .fold(f64::INFINITY, f64::min);
-        rate / 10.0
+/// The edge of the fast-slow domain from the linearisation written here (rate 1/2 on a focus,
+/// g' > 1/4; (1 − √(1 − 4g'))/2 on a node), for a monotone curve (γ > 1/(3α): one branch, the
+/// state passes every x between the equilibria at a = ±1): the smaller of a tenth of the slower
+/// turning point's rate and the path's slowest rate, where g' (a parabola in x) is least over
+/// that interval, at its point nearest the vertex x = 1/(3α). Also whether the path decided.
+fn fast_slow_edge(p: &Params) -> (f64, bool) {
+    let rate = |gp: f64| {
+        if gp > 0.25 {
+            0.5
+        } else {
+            0.5 * (1.0 - (1.0 - 4.0 * gp).sqrt())
+        }
     };
-    // each point's bracket straddles the edge (where the edge is steep, at g' = 1/4 on a node,
-    // a bracket 1e-9 wide in δ moves ω by more than 1e-9, so the bracket is what is checked)
+    // the one equilibrium at a = ±1 by bisection
+    let [x_lo, x_hi] = [-1.0, 1.0].map(|a| {
+        let f = p.mu + p.delta * a;
+        let (mut lo, mut hi) = (-100.0, 100.0);
+        for _ in 0..200 {
+            let m = 0.5 * (lo + hi);
+            if p.g(m) < f {
+                lo = m;
+            } else {
+                hi = m;
+            }
+        }
+        0.5 * (lo + hi)
+    });
+    let settling = rate(p.g_prime(x_lo)).min(rate(p.g_prime(x_hi))) / 10.0;
+    let path = rate(p.g_prime((1.0 / (3.0 * p.alpha)).clamp(x_lo, x_hi)));
+    (settling.min(path), path < settling)
+}
+
+/// Every point's bracket straddles [`fast_slow_edge`]; returns how many points the path decided.
+fn check_fast_slow_edge(params: [Param; 2], ranges: [(f64, f64); 2]) -> usize {
+    let c = curves(params, ranges, BoundaryKind::FastSlowEdge);
+    assert_eq!(c.len(), 1);
+    let at = |v: [f64; 2]| {
+        Params::default()
+            .with(params[0], v[0])
+            .with(params[1], v[1])
+    };
+    let mut by_path = 0;
+    // (where the edge is steep, at g' = 1/4 on a node, a bracket 1e-9 wide moves ω by more
+    // than 1e-9, so the bracket is what is checked)
     for q in &c[0].points {
         let (out, inside) = (q.outside, q.inside);
-        assert!(inside[0] <= omega_max(inside[1]), "{q:?}");
-        assert!(out[0] > omega_max(out[1]), "{q:?}");
+        let (edge_in, path) = fast_slow_edge(&at(inside));
+        assert!(inside[0] <= edge_in, "{q:?}");
+        assert!(out[0] > fast_slow_edge(&at(out)).0, "{q:?}");
         for i in 0..2 {
             assert!((out[i] / inside[i] - 1.0).abs() <= 1e-9, "{q:?}");
         }
+        by_path += usize::from(path);
     }
-    assert!(nodes > 0, "no node at the turning points in the range");
+    by_path
+}
+
+/// The edge of the fast-slow domain in (ω, δ) at γ = 0.1 (δ from 0.05 to 2: at δ ≈ 0.14 the
+/// equilibrium at a = −1 sits at the least g', 0.079, a node) is the turning points' decade;
+/// in (ω, γ) near the cusp (γ − 1/48 from 1e-3) it is the node at the inflection, whose rate
+/// ≈ γ − 1/48 falls below a tenth of the turning points' 1/2 for γ < 0.068.
+#[test]
+fn the_fast_slow_edge_is_the_relaxation_rate() {
+    let by_path = check_fast_slow_edge([Param::Omega, Param::Delta], [(1e-3, 0.2), (0.05, 2.0)]);
+    assert_eq!(by_path, 0);
+    let by_path = check_fast_slow_edge(
+        [Param::Omega, Param::Gamma],
+        [(1e-4, 0.2), (1.0 / 48.0 + 1e-3, 0.3)],
+    );
+    assert!(by_path > 5, "{by_path} points decided by the path");
 }
 
 /// A curve's points in the unit square of its box (log scales).

@@ -17,11 +17,25 @@ pub fn run(a: AnalyzeArgs) -> Result<()> {
         let c = hdgear::burst::classify(&p, &r);
         crate::sink::tolerance_note(&r, &opts.tol);
         if !c.fast_slow_domain {
+            let s = an.equilibria.slowest_relaxation;
+            let why = if p.omega > s.rate {
+                format!(
+                    "omega >= r = {:.4e}, the slowest relaxation rate on the traversed path ({}), \
+                     at a = {:.6}: the time scales exchange roles there",
+                    s.rate,
+                    s.along.name(),
+                    s.a
+                )
+            } else {
+                format!(
+                    "omega > r/10, r = {:.3} the relaxation rate at a = ±1, where the state settles",
+                    hdgear::burst::turning_point_rate(&p)
+                )
+            };
             note(&format!(
-                "omega = {:?} is not slow against the fast subsystem (omega > r/10, r = {:.3} the \
-                 relaxation rate at a = ±1{}): the fast-slow picture does not apply, mode not-fast-slow",
+                "omega = {:?} is not slow against the fast subsystem ({why}{}): the fast-slow \
+                 picture does not apply, mode not-fast-slow",
                 p.omega,
-                hdgear::burst::turning_point_rate(&p),
                 if r.continuous_fast_motion {
                     ", and the fast motion never stops"
                 } else {

@@ -84,8 +84,8 @@ use std::f64::consts::{FRAC_PI_2, PI};
 /// with Taylor.
 pub const CLASSIFICATION_TOL: f64 = 1e-8;
 
-/// The time-scale separation the fast-slow picture needs: ω at most the slowest relaxation rate
-/// at the turning points divided by this (a decade, the usual meaning of "ω ≪ r"; see
+/// The time-scale separation the fast-slow picture needs where the state settles: ω at most the
+/// slowest relaxation rate at the turning points divided by this (a decade, the usual meaning of "ω ≪ r"; see
 /// [`fast_slow_domain`]).
 pub const TIME_SCALE_SEPARATION: f64 = 10.0;
 

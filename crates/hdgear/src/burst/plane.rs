@@ -110,7 +110,9 @@ impl BoundaryKind {
             BoundaryKind::Simulated => "bursting simulated",
             BoundaryKind::AFoldInRange => "a fold of the fast subsystem in a ∈ [−1, 1]",
             BoundaryKind::BothFoldsInRange => "both folds in a ∈ [−1, 1] (fold hysteresis)",
-            BoundaryKind::FastSlowEdge => "fast-slow (ω at most a tenth of the relaxation rate)",
+            BoundaryKind::FastSlowEdge => {
+                "fast-slow (ω at most a tenth of the turning points' relaxation rate, below the path's)"
+            }
         }
     }
 

@@ -125,6 +125,9 @@ pub struct EquilibriaSummary {
     /// The predicted γ boundary with the other parameters fixed: bursting predicted below it
     /// (`None` when no switch exists between the cusp and 10⁶).
     pub predicted_gamma_boundary: Option<f64>,
+    /// The slowest relaxation on the path the state follows over a ∈ [−1, 1], and where: the
+    /// fast-slow domain needs ω below its rate (`burst::fast_slow_domain`).
+    pub slowest_relaxation: super::SlowestRelaxation,
 }
 
 /// The analysis of the fast subsystem: the document `hdgear analyze --json` prints.
@@ -456,6 +459,7 @@ pub fn analyze(p: &Params, a_range: (f64, f64)) -> Result<Analysis> {
             quiescent_areas,
             prediction,
             predicted_gamma_boundary: predicted_gamma_boundary(p),
+            slowest_relaxation: super::slowest_relaxation(p),
         },
     })
 }

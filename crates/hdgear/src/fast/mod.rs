@@ -24,6 +24,8 @@ pub fn x_extent(p: &crate::params::Params, a_range: (f64, f64)) -> f64 {
 
 mod analysis;
 mod curve;
+mod domain;
+pub use domain::{Along, SlowestRelaxation, slowest_relaxation, turning_point_relaxation};
 mod equilibria;
 pub(crate) use equilibria::newton;
 mod predict;

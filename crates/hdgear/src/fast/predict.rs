@@ -172,19 +172,25 @@ fn focus_pieces_of(p: &Params, branch: &SettledBranch) -> Vec<(f64, f64)> {
 /// The least g' over x-intervals: at an end or at the inflection x = 1/(3α), where g'' = 0
 /// (0 where it is negative).
 pub(crate) fn min_gprime(p: &Params, intervals: &[(f64, f64)]) -> f64 {
+    least_gprime(p, intervals).0.max(0.0)
+}
+
+/// The least g' over x-intervals and the x where it is met (an end, or the inflection
+/// x = 1/(3α) where g'' = 0); (∞, NaN) without intervals.
+pub(crate) fn least_gprime(p: &Params, intervals: &[(f64, f64)]) -> (f64, f64) {
     let xc = p.critical_gamma(); // g'' = 0 at x = 1/(3α)
     intervals
         .iter()
-        .map(|&(lo, hi)| {
-            let m = p.g_prime(lo).min(p.g_prime(hi));
-            if xc > lo && xc < hi {
-                m.min(p.g_prime(xc))
-            } else {
-                m
-            }
+        .flat_map(|&(lo, hi)| {
+            [lo, hi]
+                .into_iter()
+                .chain((xc > lo && xc < hi).then_some(xc))
         })
-        .fold(f64::INFINITY, f64::min)
-        .max(0.0)
+        .map(|x| (p.g_prime(x), x))
+        .fold(
+            (f64::INFINITY, f64::NAN),
+            |m, c| if c.0 < m.0 { c } else { m },
+        )
 }
 
 /// The largest κ on [l, r], with its x: a dense scan, then golden-section refinement around the

@@ -830,7 +830,7 @@ fn methods(h: &mut String, r: &Report) {
          {} analysed from the next turning point of a. Spikes: swings of x' of at least {} of the burst's largest.</li>\
          <li><b>Modes</b> from the signatures: normal (none), transitional (ringing only), fast-slow (overshoot where the \
          slowest traversed point is a focus), pronounced bursting (overshoot where it is a node, g' ≤ {FOCUS_GPRIME}), relaxation \
-         (jumps); not fast-slow when ω &gt; r/{TIME_SCALE_SEPARATION} (r: the relaxation rate at a = ±1) or the fast motion never stops. \
+         (jumps); not fast-slow when ω &gt; r/{TIME_SCALE_SEPARATION} (r: the relaxation rate at a = ±1) or ω ≥ the slowest relaxation rate on the path the state follows or the fast motion never stops. \
          Mechanism: fold-hysteresis when a jump is measured, sharp-quantitative-change for overshoot or ringing.</li>\
          <li><b>Sweep and map</b>: {} and {} × {} independent simulations in parallel at rtol = atol = {:e}, the \
          loosest tolerance with a margin at which no verdict, mode or burst count changes (tested from 1e-6 to 1e-12 on \
