@@ -357,3 +357,142 @@ fn abandoned_views_stop_at_their_deadline() {
     let (status, _) = get(&s.addr, "/api/view");
     assert_eq!(status, 200);
 }
+
+/// The server's workers: two per core, as `hdgear serve` counts them.
+fn workers() -> usize {
+    2 * std::thread::available_parallelism().map_or(2, |n| n.get())
+}
+
+/// The queue for workers is bounded: of many slow views sent at once, those beyond the workers
+/// and [`QUEUE_PER_WORKER`] waiting per worker are refused at once with a 503 and
+/// `Retry-After`, instead of waiting out the view timeout; the rest are admitted.
+#[test]
+fn a_full_queue_is_refused_at_once() {
+    const QUEUE_PER_WORKER: usize = 5; // the server's, documented in the guide
+    let s = Server::start();
+    let admitted = workers() * (1 + QUEUE_PER_WORKER);
+    let sent = admitted + 12;
+    let answers: Vec<(Duration, String)> = std::thread::scope(|scope| {
+        let handles: Vec<_> = (0..sent)
+            .map(|i| {
+                let addr = s.addr.clone();
+                scope.spawn(move || {
+                    let t = Instant::now();
+                    let mut c = TcpStream::connect(&addr).unwrap();
+                    c.set_read_timeout(Some(Duration::from_secs(30))).unwrap();
+                    // α = 1e-7: each view runs until the view timeout stops it
+                    let gamma = 1e-3 * (1.0 + i as f64 / 64.0);
+                    write!(
+                        c,
+                        "GET /api/view?alpha=1e-7&gamma={gamma} HTTP/1.1\r\nHost: {addr}\r\n\
+                         Connection: close\r\n\r\n"
+                    )
+                    .unwrap();
+                    let mut raw = Vec::new();
+                    c.read_to_end(&mut raw).unwrap();
+                    (t.elapsed(), String::from_utf8_lossy(&raw).into_owned())
+                })
+            })
+            .collect();
+        handles.into_iter().map(|h| h.join().unwrap()).collect()
+    });
+    let busy: Vec<_> = answers
+        .iter()
+        .filter(|(_, a)| a.contains("busy:"))
+        .collect();
+    assert_eq!(busy.len(), sent - admitted, "{:?}", answers.len());
+    for (t, a) in &busy {
+        assert!(a.starts_with("HTTP/1.1 503"), "{a:.200}");
+        assert!(
+            a.to_ascii_lowercase().contains("retry-after: 1"),
+            "{a:.300}"
+        );
+        assert!(*t < Duration::from_secs(2), "refused only after {t:?}");
+    }
+    // the admitted ones were computed: most ran into the view timeout and got its 503
+    let timed_out = answers
+        .iter()
+        .filter(|(_, a)| a.contains("took longer than"))
+        .count();
+    let statuses: Vec<&str> = answers
+        .iter()
+        .map(|(_, a)| a.get(9..12).unwrap_or(""))
+        .collect();
+    assert!(timed_out > admitted / 2, "{timed_out}: {statuses:?}");
+    let (status, _) = get(&s.addr, "/api/view");
+    assert_eq!(status, 200);
+}
+
+/// Slow clients (slowloris): connections that never finish a request's headers are closed
+/// after the header timeout, at most 512 are served at once (the rest wait, unaccepted,
+/// until slots free), and the server's memory stays flat. 600 such clients: at most 512 are
+/// closed in the first timeout, every one by the second; a normal request sent meanwhile is
+/// answered once slots are free.
+#[test]
+fn slow_clients_are_cut_off_and_capped() {
+    const HEADER_TIMEOUT: Duration = Duration::from_secs(10);
+    const MAX_CONNECTIONS: usize = 512;
+    let s = Server::start();
+    let (status, _) = get(&s.addr, "/api/view");
+    assert_eq!(status, 200);
+    let rss_before = s.rss_kb();
+    let t0 = Instant::now();
+    let slow: Vec<TcpStream> = (0..600)
+        .map(|_| {
+            let mut c = TcpStream::connect(&s.addr).unwrap();
+            // a request line and part of the headers, never the blank line that ends them
+            write!(c, "GET /api/view HTTP/1.1\r\nHost: x\r\nX-Slow: ").unwrap();
+            c
+        })
+        .collect();
+    let closed_at: Vec<Duration> = std::thread::scope(|scope| {
+        let handles: Vec<_> = slow
+            .into_iter()
+            .map(|mut c| {
+                scope.spawn(move || {
+                    c.set_read_timeout(Some(3 * HEADER_TIMEOUT)).unwrap();
+                    let mut buf = [0u8; 1024];
+                    // the server's close: end of stream (or a reset), possibly after a short
+                    // error answer
+                    loop {
+                        match c.read(&mut buf) {
+                            Ok(0) | Err(_) => break,
+                            Ok(_) => {}
+                        }
+                    }
+                    t0.elapsed()
+                })
+            })
+            .collect();
+        handles.into_iter().map(|h| h.join().unwrap()).collect()
+    });
+    let first = closed_at
+        .iter()
+        .filter(|t| **t < HEADER_TIMEOUT + HEADER_TIMEOUT / 2)
+        .count();
+    assert!(
+        closed_at
+            .iter()
+            .all(|t| *t >= HEADER_TIMEOUT - Duration::from_secs(1)),
+        "a connection was closed before the header timeout: {:?}",
+        closed_at.iter().min()
+    );
+    assert!(
+        closed_at
+            .iter()
+            .all(|t| *t < 2 * HEADER_TIMEOUT + HEADER_TIMEOUT / 2),
+        "a connection was kept past two header timeouts: {:?}",
+        closed_at.iter().max()
+    );
+    assert!(
+        (MAX_CONNECTIONS - 16..=MAX_CONNECTIONS).contains(&first),
+        "{first} closed in the first timeout"
+    );
+    let (status, _) = get(&s.addr, "/api/view");
+    assert_eq!(status, 200);
+    let rss_after = s.rss_kb();
+    assert!(
+        rss_after < rss_before + 32 * 1024,
+        "memory grew from {rss_before} kB to {rss_after} kB"
+    );
+}

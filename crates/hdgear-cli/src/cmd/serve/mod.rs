@@ -12,7 +12,14 @@
 //! a 422 with the reason; every computation runs on the blocking pool (never on the async
 //! runtime, so requests do not block each other), at most two per core at once. A request not
 //! answered [`VIEW_TIMEOUT`] after it came (boundaries: [`BOUNDARY_TIMEOUT`]) gets a 503 with
-//! `Retry-After`, and its computation stops at that deadline (see [`compute`]).
+//! `Retry-After`, and its computation stops at that deadline (see [`compute`]). At most
+//! [`QUEUE_PER_WORKER`] requests per worker wait for one; beyond that a request is answered
+//! with a 503 at once.
+//!
+//! Connections: at most [`MAX_CONNECTIONS`] are open at once (the next waits in the kernel's
+//! backlog until one closes), and a client that has not sent a request's headers within
+//! [`HEADER_TIMEOUT`] (after connecting, or after its last answer on a kept-alive connection)
+//! is disconnected, so half-sent requests cannot hold connections or memory.
 
 use crate::cli::ServeArgs;
 use anyhow::{Context, Result};
@@ -32,6 +39,23 @@ use tokio::sync::Semaphore;
 pub const VIEW_TIMEOUT: Duration = Duration::from_secs(5);
 /// Longest a boundary search may take.
 pub const BOUNDARY_TIMEOUT: Duration = Duration::from_secs(30);
+
+/// Requests that may wait for a worker, per worker. A view is refused before any work when it
+/// would need more than the step budget, about a second of one core; so a request behind this
+/// many per worker could not be answered within [`VIEW_TIMEOUT`] anyway, and waiting
+/// longer only delays its 503.
+pub const QUEUE_PER_WORKER: usize = 5;
+
+/// Longest a client may take to send a request's headers, and longest a kept-alive connection
+/// may sit idle between requests. A browser sends a GET's headers in one packet, in well under
+/// a second even on a slow link; a client that takes longer is not a browser, and the explorer's
+/// page reconnects on its own when an idle connection was closed.
+pub const HEADER_TIMEOUT: Duration = Duration::from_secs(10);
+
+/// Most connections open at once: half the usual soft limit of 1,024 file descriptors a
+/// process may hold, so that open connections never starve the server of descriptors for its
+/// own files and listener; a browser holds at most six connections to one server.
+pub const MAX_CONNECTIONS: usize = 512;
 
 const PAGE: &str = include_str!("assets/index.html");
 const APP_JS: &str = include_str!("assets/app.js");
@@ -116,35 +140,69 @@ fn params(q: &BTreeMap<String, String>) -> Result<(Params, Vec<Warning>), ApiErr
     Ok((p, warnings))
 }
 
+/// The computations' limits: workers running at once, and requests admitted (running or
+/// waiting for a worker).
+#[derive(Clone)]
+struct Workers {
+    running: Arc<Semaphore>,
+    admitted: Arc<Semaphore>,
+    count: usize,
+}
+
+impl Workers {
+    /// Two per core: a computation that waits on nothing keeps a core busy, and the second lets
+    /// a cheap view run beside a long boundary search.
+    fn new() -> Workers {
+        let cores = std::thread::available_parallelism().map_or(2, |n| n.get());
+        let count = 2 * cores;
+        Workers {
+            running: Arc::new(Semaphore::new(count)),
+            admitted: Arc::new(Semaphore::new(count * (1 + QUEUE_PER_WORKER))),
+            count,
+        }
+    }
+}
+
 /// Runs `f` on the blocking pool under the concurrency limit; the request is answered with a 503
-/// once `limit` has passed since it came (waiting for a permit included). `f` gets that
-/// deadline for its integrations ([`hdgear::integrate::Options::deadline`]): abandoned work
-/// stops there, and it holds its permit until it has stopped, so at most the limit's number of
-/// computations ever run.
+/// at once when [`QUEUE_PER_WORKER`] requests per worker are already waiting, and once `limit`
+/// has passed since it came (waiting for a worker included). `f` gets that deadline for its
+/// integrations ([`hdgear::integrate::Options::deadline`]): abandoned work stops there, and it
+/// holds its permits until it has stopped, so at most the limit's number of computations ever
+/// run and the queue's bound counts them.
 async fn compute<T: Send + 'static>(
-    permits: &Permits,
+    workers: &Workers,
     limit: Duration,
     f: impl FnOnce(std::time::Instant) -> hdgear::Result<T> + Send + 'static,
 ) -> Result<T, ApiError> {
     let deadline = std::time::Instant::now() + limit;
-    let work = async {
-        let permit = permits
-            .clone()
-            .acquire_owned()
+    let admitted = workers.admitted.clone().try_acquire_owned().map_err(|_| {
+        ApiError(
+            StatusCode::SERVICE_UNAVAILABLE,
+            format!(
+                "busy: {} computations are running and {} waiting; try again in a moment",
+                workers.count,
+                workers.count * QUEUE_PER_WORKER
+            ),
+        )
+    })?;
+    let work =
+        async {
+            let permit =
+                workers.running.clone().acquire_owned().await.map_err(|_| {
+                    ApiError(StatusCode::SERVICE_UNAVAILABLE, "shutting down".into())
+                })?;
+            tokio::task::spawn_blocking(move || {
+                let _permits = (permit, admitted);
+                f(deadline)
+            })
             .await
-            .map_err(|_| ApiError(StatusCode::SERVICE_UNAVAILABLE, "shutting down".into()))?;
-        tokio::task::spawn_blocking(move || {
-            let _permit = permit;
-            f(deadline)
-        })
-        .await
-        .map_err(|e| {
-            ApiError(
-                StatusCode::INTERNAL_SERVER_ERROR,
-                format!("the computation failed: {e}"),
-            )
-        })
-    };
+            .map_err(|e| {
+                ApiError(
+                    StatusCode::INTERNAL_SERVER_ERROR,
+                    format!("the computation failed: {e}"),
+                )
+            })
+        };
     match tokio::time::timeout(limit, work).await {
         Ok(r) => Ok(r??),
         Err(_) => Err(ApiError(
@@ -165,21 +223,20 @@ fn options_until(deadline: std::time::Instant) -> hdgear::burst::BurstOptions {
     o
 }
 
-type Permits = Arc<Semaphore>;
 type Q = Query<BTreeMap<String, String>>;
 
-async fn view(State(permits): State<Permits>, Query(q): Q) -> Result<Response, ApiError> {
+async fn view(State(workers): State<Workers>, Query(q): Q) -> Result<Response, ApiError> {
     let (p, warnings) = params(&q)?;
-    let v = compute(&permits, VIEW_TIMEOUT, move |deadline| {
+    let v = compute(&workers, VIEW_TIMEOUT, move |deadline| {
         hdgear::explore::View::compute(&p, warnings, &options_until(deadline))
     })
     .await?;
     Ok(Json(v).into_response())
 }
 
-async fn boundaries(State(permits): State<Permits>, Query(q): Q) -> Result<Response, ApiError> {
+async fn boundaries(State(workers): State<Workers>, Query(q): Q) -> Result<Response, ApiError> {
     let (p, _) = params(&q)?;
-    let b = compute(&permits, BOUNDARY_TIMEOUT, move |deadline| {
+    let b = compute(&workers, BOUNDARY_TIMEOUT, move |deadline| {
         hdgear::burst::boundaries(&p, &options_until(deadline))
     })
     .await?;
@@ -227,8 +284,6 @@ fn asset(kind: &'static str, body: &'static str) -> Response {
 
 /// The application: routes and their shared state.
 pub fn router() -> axum::Router {
-    let cores = std::thread::available_parallelism().map_or(2, |n| n.get());
-    let permits: Permits = Arc::new(Semaphore::new(2 * cores));
     axum::Router::new()
         .route(
             "/",
@@ -247,7 +302,38 @@ pub fn router() -> axum::Router {
         .route("/api/drives", get(drives))
         .route("/api/drive", get(drive))
         .fallback(|| async { ApiError(StatusCode::NOT_FOUND, "no such page".into()) })
-        .with_state(permits)
+        .with_state(Workers::new())
+}
+
+/// Serves `app` on `listener`: one task per connection, at most [`MAX_CONNECTIONS`] at once,
+/// each closed when a request's headers take longer than [`HEADER_TIMEOUT`].
+async fn serve(listener: tokio::net::TcpListener, app: axum::Router) {
+    let slots = Arc::new(Semaphore::new(MAX_CONNECTIONS));
+    loop {
+        let Ok(slot) = slots.clone().acquire_owned().await else {
+            return; // never closed
+        };
+        let stream = match listener.accept().await {
+            Ok((stream, _)) => stream,
+            // out of descriptors, or a connection reset before it was accepted: the listener
+            // itself is fine, so wait a moment and go on
+            Err(_) => {
+                tokio::time::sleep(Duration::from_millis(50)).await;
+                continue;
+            }
+        };
+        let service = hyper_util::service::TowerToHyperService::new(app.clone());
+        tokio::spawn(async move {
+            let _slot = slot;
+            // a connection's errors (a client gone, a timeout, a malformed request) end that
+            // connection only
+            let _ = hyper::server::conn::http1::Builder::new()
+                .timer(hyper_util::rt::TokioTimer::new())
+                .header_read_timeout(HEADER_TIMEOUT)
+                .serve_connection(hyper_util::rt::TokioIo::new(stream), service)
+                .await;
+        });
+    }
 }
 
 /// Runs the serve command until Ctrl-C.
@@ -279,9 +365,8 @@ pub fn run(a: ServeArgs) -> Result<()> {
         if a.open {
             open(&url);
         }
-        axum::serve(listener, router())
-            .await
-            .context("the server stopped")
+        serve(listener, router()).await;
+        Ok(())
     })
 }
 
