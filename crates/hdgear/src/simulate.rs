@@ -88,7 +88,13 @@ pub fn simulate(
     opts: &SimOptions,
     out: impl FnMut(f64, &[f64; 2]),
 ) -> Result<SimSummary> {
-    sampled(&Dimensionless::new(*p), opts, checked_start(p, opts)?, out)
+    sampled(
+        &Dimensionless::new(*p),
+        opts,
+        checked_start(p, opts)?,
+        out,
+        |_| {},
+    )
 }
 
 /// [`simulate`] without the samples: the summary alone, `at(τ)` called after every step (for
@@ -130,6 +136,38 @@ pub fn simulate_model(
     opts: &SimOptions,
     out: impl FnMut(f64, &[f64]),
 ) -> Result<SimSummary> {
+    simulate_model_steps(m, opts, out, |_| {})
+}
+
+/// One accepted step of a model's run, as [`simulate_model_steps`] shows it: the solution
+/// anywhere in it (what an exact integral over the run reads, rather than the output grid).
+pub trait ModelStep {
+    /// The step's span [t0, t1].
+    fn span(&self) -> (f64, f64);
+    /// The state at t in the span, into `y` (the model's [`Model::dim`] components).
+    fn state(&self, t: f64, y: &mut [f64]);
+}
+
+/// A step's dense output seen as a [`ModelStep`].
+struct Step<'a, D, const N: usize>(&'a D);
+
+impl<D: DenseOutput<N>, const N: usize> ModelStep for Step<'_, D, N> {
+    fn span(&self) -> (f64, f64) {
+        (self.0.t_start(), self.0.t_end())
+    }
+    fn state(&self, t: f64, y: &mut [f64]) {
+        y[..N].copy_from_slice(&self.0.eval(t));
+    }
+}
+
+/// [`simulate_model`], also showing every accepted step to `on_step` (in order, after the
+/// output grid's points in it).
+pub fn simulate_model_steps(
+    m: &Model,
+    opts: &SimOptions,
+    out: impl FnMut(f64, &[f64]),
+    on_step: impl FnMut(&dyn ModelStep),
+) -> Result<SimSummary> {
     m.check()?;
     crate::integrate::check_budget(opts.t_end, &opts.tol)?;
     let (x0, v0) = match opts.start {
@@ -139,9 +177,9 @@ pub fn simulate_model(
     };
     let [z0, z1] = m.rest_states(x0);
     match m.dim() {
-        2 => model_run::<2>(m, opts, [x0, v0], out),
-        3 => model_run::<3>(m, opts, [x0, v0, z0], out),
-        _ => model_run::<4>(m, opts, [x0, v0, z0, z1], out),
+        2 => model_run::<2>(m, opts, [x0, v0], out, on_step),
+        3 => model_run::<3>(m, opts, [x0, v0, z0], out, on_step),
+        _ => model_run::<4>(m, opts, [x0, v0, z0, z1], out, on_step),
     }
 }
 
@@ -152,10 +190,11 @@ fn model_run<const N: usize>(
     opts: &SimOptions,
     y0: [f64; N],
     mut out: impl FnMut(f64, &[f64]),
+    mut on_step: impl FnMut(&dyn ModelStep),
 ) -> Result<SimSummary> {
     let mut out = |t: f64, y: &[f64; N]| out(t, y);
     let Some(pieces) = Pieces::new(m) else {
-        return sampled(m, opts, y0, out);
+        return sampled(m, opts, y0, out, |d| on_step(&Step(d)));
     };
     let mut grid = Grid::new(0.0, opts.t_end, opts.dt)?;
     grid.start(&y0, &mut out);
@@ -171,6 +210,7 @@ fn model_run<const N: usize>(
             sticking.sticks += u64::from(w.to == Mode::Stuck);
         }
         grid.fill(d, s.y(), &mut out);
+        on_step(&Step(d));
     })?;
     grid.finish(solver.y(), &mut out);
     summary.sticking = Some(sticking);
@@ -195,13 +235,15 @@ fn sampled<S: System<N>, const N: usize>(
     opts: &SimOptions,
     y0: [f64; N],
     mut out: impl FnMut(f64, &[f64; N]),
+    mut on_step: impl FnMut(&crate::integrate::AnyDense<N>),
 ) -> Result<SimSummary> {
     let mut grid = Grid::new(0.0, opts.t_end, opts.dt)?;
     grid.start(&y0, &mut out);
     let mut solver = stepper(sys, 0.0, y0, opts.tol)?;
     let accel = |t: f64, y: &[f64; N]| sys.rhs(t, y)[1];
     let summary = run(&mut solver, accel, opts, y0, |d, s| {
-        grid.fill(d, s.y(), &mut out)
+        grid.fill(d, s.y(), &mut out);
+        on_step(d);
     })?;
     grid.finish(solver.y(), &mut out);
     Ok(summary)

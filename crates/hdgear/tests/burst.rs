@@ -667,14 +667,7 @@ fn a_batched_point_does_not_depend_on_its_neighbours() {
 fn a_single_fold_in_range_means_one_transient_jump_not_bursting() {
     // one fold inside a ∈ [−1, 1]: a branch spans the whole range, and the state that is on it
     // (or jumps onto it once, in the transient) stays there
-    let p = Params {
-        alpha: 0.5435,
-        gamma: 0.2945,
-        eps: 0.2397,
-        mu: -0.2234,
-        delta: 0.09737,
-        omega: 0.003897,
-    };
+    let p = crate::common::SINGLE_FOLD;
     let branch = hdgear::fast::settled_branch(&p);
     assert_eq!((branch.folds_in_range, branch.must_jump), (1, false));
     let pr = predict(&p);

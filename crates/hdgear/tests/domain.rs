@@ -21,21 +21,6 @@ fn relaxation_rate_of(gp: f64) -> f64 {
     }
 }
 
-/// The one equilibrium at a of a monotone g, by bisection.
-fn monotone_equilibrium(p: &Params, a: f64) -> f64 {
-    let f = p.mu + p.delta * a;
-    let (mut lo, mut hi) = (-100.0, 100.0);
-    for _ in 0..200 {
-        let m = 0.5 * (lo + hi);
-        if p.g(m) < f {
-            lo = m;
-        } else {
-            hi = m;
-        }
-    }
-    0.5 * (lo + hi)
-}
-
 /// A set near the cusp (γ − 1/(3α) = 0.0039) that bursts with its turning points foci.
 const NEAR_CUSP: Params = Params {
     alpha: 25.91,
@@ -72,8 +57,8 @@ fn the_slowest_relaxation_is_the_least_over_the_traversed_curve() {
         let s = slowest_relaxation(&p);
         assert_eq!(s.along, Along::SettledBranch, "{p:?}");
         let (x0, x1) = (
-            monotone_equilibrium(&p, -1.0),
-            monotone_equilibrium(&p, 1.0),
+            crate::common::monotone_equilibrium(&p, -1.0),
+            crate::common::monotone_equilibrium(&p, 1.0),
         );
         let n = 100_000;
         let least = (0..=n)
@@ -132,14 +117,7 @@ fn the_fast_slow_domain_sees_the_slowest_point_of_the_traversed_curve() {
     assert!((s.rate - relaxation_rate_of(p.g_prime(s.x))).abs() <= 1e-12);
     // one fold in range: the settled branch spans the range and has no fold, so its slowest
     // point is a stable equilibrium inside it
-    let p = Params {
-        alpha: 0.5435,
-        gamma: 0.2945,
-        eps: 0.2397,
-        mu: -0.2234,
-        delta: 0.09737,
-        omega: 0.003897,
-    };
+    let p = crate::common::SINGLE_FOLD;
     let s = slowest_relaxation(&p);
     assert_eq!(s.along, Along::SettledBranch);
     assert!(p.g_prime(s.x) > 0.0 && s.a.abs() <= 1.0 + 1e-12, "{s:?}");

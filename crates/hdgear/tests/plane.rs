@@ -193,20 +193,7 @@ fn fast_slow_edge(p: &Params) -> (f64, bool) {
             0.5 * (1.0 - (1.0 - 4.0 * gp).sqrt())
         }
     };
-    // the one equilibrium at a = ±1 by bisection
-    let [x_lo, x_hi] = [-1.0, 1.0].map(|a| {
-        let f = p.mu + p.delta * a;
-        let (mut lo, mut hi) = (-100.0, 100.0);
-        for _ in 0..200 {
-            let m = 0.5 * (lo + hi);
-            if p.g(m) < f {
-                lo = m;
-            } else {
-                hi = m;
-            }
-        }
-        0.5 * (lo + hi)
-    });
+    let [x_lo, x_hi] = [-1.0, 1.0].map(|a| crate::common::monotone_equilibrium(p, a));
     let settling = rate(p.g_prime(x_lo)).min(rate(p.g_prime(x_hi))) / 10.0;
     let path = rate(p.g_prime((1.0 / (3.0 * p.alpha)).clamp(x_lo, x_hi)));
     (settling.min(path), path < settling)

@@ -35,3 +35,29 @@ pub fn files_in(dir: &Path) -> Vec<String> {
     v.sort();
     v
 }
+
+/// The set with one fold inside a ∈ [−1, 1]: a branch spans the whole range.
+pub const SINGLE_FOLD: hdgear::Params = hdgear::Params {
+    alpha: 0.5435,
+    gamma: 0.2945,
+    eps: 0.2397,
+    mu: -0.2234,
+    delta: 0.09737,
+    omega: 0.003897,
+};
+
+/// The one equilibrium at a of a monotone g (γ > 1/(3α)), by bisection on [−100, 100]: an
+/// independent solve of g(x) = μ + δa for the tests.
+pub fn monotone_equilibrium(p: &hdgear::Params, a: f64) -> f64 {
+    let f = p.mu + p.delta * a;
+    let (mut lo, mut hi) = (-100.0, 100.0);
+    for _ in 0..200 {
+        let m = 0.5 * (lo + hi);
+        if p.g(m) < f {
+            lo = m;
+        } else {
+            hi = m;
+        }
+    }
+    0.5 * (lo + hi)
+}
