@@ -179,7 +179,7 @@ async fn compute<T: Send + 'static>(
         ApiError(
             StatusCode::SERVICE_UNAVAILABLE,
             format!(
-                "busy: {} computations are running and {} waiting; try again in a moment",
+                "busy: all {} workers and {} waiting places are taken; try again in a moment",
                 workers.count,
                 workers.count * QUEUE_PER_WORKER
             ),
