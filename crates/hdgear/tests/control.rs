@@ -296,6 +296,14 @@ fn bad_control_requests_are_refused() {
         .unwrap_err()
         .to_string();
     assert!(e.contains("does not burst"), "{e}");
+    // both folds in range (γ = 0.01 < 1/48): a law without static torque cannot remove the
+    // jumps, so the search is refused before it simulates ever stiffer loops
+    for (law, rest) in [("vdamping", &[][..]), ("washout", &[0.03][..])] {
+        let e = tune(&at(0.01), law, rest, &BurstOptions::default(), 1e-3)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("fold hysteresis") && e.contains(law), "{e}");
+    }
 }
 
 /// Feed-forward's residual: δ sin ωτ − κδ sin(ωτ + Δφ) is a sine of amplitude

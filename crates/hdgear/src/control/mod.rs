@@ -427,7 +427,30 @@ pub fn tune(
     rel_tol: f64,
 ) -> Result<Tuning> {
     check_fraction("rel_tol", rel_tol)?;
+    static_jumps_refused(p, law, rest)?;
     tune_against(p, law, rest, opts, rel_tol, &OpenLoop::of(p, opts)?)
+}
+
+/// Refuses a search for the least gain of a law that cannot remove the bursts at any gain. With
+/// both folds in the traversed range the state must jump at each fold, at every ω and whatever
+/// the dynamics; a law with no static torque (its closed loop has the open loop's equilibria
+/// exactly) leaves the folds where they are, and the search would only simulate ever stiffer
+/// loops up to [`GAIN_MAX`]. Checked before any simulation.
+fn static_jumps_refused(p: &Params, law: &str, rest: &[f64]) -> Result<()> {
+    let closed = Model::study(p).with_term(law_term(law, 1.0, rest)?)?;
+    if crate::fast::settled_branch(p).must_jump && closed.equivalent_params() == Some(*p) {
+        return Err(Error::InvalidInput {
+            what: "control law",
+            text: law.to_string(),
+            reason: format!(
+                "both folds lie in the traversed range at γ = {}, so the state must jump at \
+                 each (fold hysteresis); {law} leaves the equilibrium curve unchanged, so no \
+                 gain removes the jumps: a law that stiffens the curve (vstiffness) can",
+                p.gamma
+            ),
+        });
+    }
+    Ok(())
 }
 
 /// [`tune`] with the open loop's measures given (computed once for several laws).
@@ -668,6 +691,11 @@ pub fn compare(
         assessments: Vec::new(),
         feedforward: None,
     };
+    if c.gain.is_none() {
+        for law in &laws {
+            static_jumps_refused(p, law, &law_rest(law, c.ww))?;
+        }
+    }
     let open = OpenLoop::of(p, opts)?;
     match c.gain {
         Some(_) => {
