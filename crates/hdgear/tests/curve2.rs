@@ -279,3 +279,48 @@ fn the_period_doubling_bubble_is_one_curve() {
         );
     }
 }
+
+/// A box far larger than the curve (μ ∈ ±5000 around a fold curve that spans μ ∈ [−50.6, 36.9]
+/// at γ = 10): the steps, a share of the box's diagonal, are then longer than the curve is wide.
+/// The curve is still followed whole and closed (the other fold branch passing within a step of
+/// the start is not taken for the start), with the same two cusps as in a box that fits it, and
+/// the corrector does not wander to parameters the box never asked for (a Newton iterate at
+/// ω ≈ 1e-5 took seconds per flow before).
+#[test]
+fn a_box_much_larger_than_the_curve_gives_the_same_closed_curve() {
+    use hdgear::periodic::{End, Range, curves_from_branch};
+    let p = Params {
+        gamma: 10.0,
+        ..Params::default()
+    };
+    let opts = ContinuationOptions::default();
+    let cusps = |half: f64| {
+        let ranges = [
+            Range::parse("omega=4:14:log").unwrap(),
+            Range::parse(&format!("mu=-{half}:{half}")).unwrap(),
+        ];
+        let curves = curves_from_branch(&p, ranges, CurveKind::Fold, Some(1), 1, &opts).unwrap();
+        let c = &curves[0];
+        assert_eq!(c.ends, [End::Closed, End::Closed], "±{half}");
+        let mut mu: Vec<f64> = c
+            .points
+            .iter()
+            .filter(|q| q.special == Some(Codim2::Cusp))
+            .map(|q| q.params[1])
+            .collect();
+        mu.sort_by(f64::total_cmp);
+        assert_eq!(mu.len(), 2, "±{half}: {mu:?}");
+        mu
+    };
+    let (fits, wide) = (cusps(100.0), cusps(5000.0));
+    for (a, b) in fits.iter().zip(&wide) {
+        assert!((a - b).abs() < 1e-7 * a.abs(), "{fits:?} vs {wide:?}");
+    }
+    // an independent check of both: x = y + s, s = 1/(3α), removes the quadratic term and
+    // leaves y'' + y' + αy³ + (γ − s)y = μ − μ_s + δ sin ωτ with μ_s = −2·s²/3 + γ(s − ε), which
+    // y ↦ −y (with half a period's shift) maps onto μ ↦ 2μ_s − μ: the cusps straddle μ_s
+    let s = 1.0 / (3.0 * p.alpha);
+    let mu_s = -2.0 * s * s / 3.0 + p.gamma * (s - p.eps);
+    let mid = 0.5 * (wide[0] + wide[1]);
+    assert!((mid - mu_s).abs() < 1e-7 * mu_s.abs(), "{mid} vs {mu_s}");
+}

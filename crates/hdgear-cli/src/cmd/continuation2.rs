@@ -103,8 +103,14 @@ pub(crate) fn plane(
         bail!("--{0} does not apply: --param sets {0} itself", r1.param);
     }
     let (p, warnings) = params.resolve()?;
+    // every end of both ranges is a value the parameter may take (its domain and the magnitude
+    // limit): the curves are followed up to the box's edges
+    for r in [r1, r2] {
+        for end in [r.from, r.to] {
+            p.with(r.param, end).validate().context("--param")?;
+        }
+    }
     let p = p.with(r1.param, r1.from);
-    p.validate().context("--param")?;
     let box2 = Box2::of([r1, r2]);
     box2.validate().context("--param")?;
     Ok((p, [r1, r2], box2, warnings))

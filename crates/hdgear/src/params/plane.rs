@@ -50,14 +50,18 @@ pub struct Box2 {
 }
 
 impl Box2 {
-    /// Checks the ranges (finite, low < high, positive on a log scale).
+    /// Checks the ranges (finite, low < high, positive on a log scale, within the magnitude
+    /// limit every parameter has: [`crate::params::MAGNITUDE_LIMIT`]).
     pub fn validate(&self) -> Result<()> {
         for (i, (&(lo, hi), s)) in self.ranges.iter().zip(self.scales).enumerate() {
+            let name = if i == 0 { "range1" } else { "range2" };
+            crate::params::check_magnitude(name, lo)?;
+            crate::params::check_magnitude(name, hi)?;
             let ok =
                 lo.is_finite() && hi.is_finite() && lo < hi && (s == Scale::Linear || lo > 0.0);
             if !ok {
                 return Err(Error::InvalidOption {
-                    name: if i == 0 { "range1" } else { "range2" },
+                    name,
                     value: if lo.is_finite() { hi } else { lo },
                     reason: "needs finite low < high (> 0 on a log scale)",
                 });

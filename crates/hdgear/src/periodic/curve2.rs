@@ -355,11 +355,24 @@ impl<O: Oscillator> Tracer<'_, O> {
                 return Ok(None);
             };
             z = axpy(z, 1.0, d);
-            if !z.iter().all(|v| v.is_finite()) {
+            if !z.iter().all(|v| v.is_finite()) || self.far_outside(z) {
                 return Ok(None);
             }
         }
         Ok(None)
+    }
+
+    /// Whether a Newton iterate's parameters lie more than the box's own width outside it in
+    /// either parameter. The trace keeps only points inside the box and one step (at most
+    /// [`ContinuationOptions::max_step`] of the diagonal) beyond it, so such an iterate is
+    /// diverging; following it would shoot at parameters the user never asked for (ln ω ten
+    /// units below a box of width 1.25: periods of 10⁶ time units, seconds per flow), and the
+    /// trace halves its step instead.
+    fn far_outside(&self, z: [f64; 4]) -> bool {
+        self.bounds.iter().enumerate().any(|(i, &[lo, hi])| {
+            let w = hi - lo;
+            !(z[2 + i] >= lo - w && z[2 + i] <= hi + w)
+        })
     }
 
     /// The Jacobian's rows of P and ψ at a point.
@@ -530,7 +543,7 @@ impl<O: Oscillator> Tracer<'_, O> {
             self.opts.min_step * self.size,
             self.opts.max_step * self.size,
         );
-        let z0 = p.z;
+        let (z0, t0) = (p.z, t);
         let mut ds = self.opts.initial_step * self.size;
         let mut points = Vec::new();
         let mut left = false;
@@ -579,7 +592,9 @@ impl<O: Oscillator> Tracer<'_, O> {
                 ));
             }
             let from_start = norm(axpy(q.z, -1.0, z0));
-            if left && from_start <= ds {
+            // back at the start, and heading the way it first went: another branch can pass
+            // within a step of the start when steps are long (a box much larger than the curve)
+            if left && from_start <= ds && dot(tq, t0) > self.opts.max_turn.cos() {
                 return Ok((points, End::Closed));
             }
             left |= from_start > 3.0 * ds;
