@@ -292,10 +292,26 @@ fn bad_control_requests_are_refused() {
     assert!(e.contains("pid") && e.contains("washout"), "{e}");
     let e = law_term("vstiffness", -1.0, &[]).unwrap_err().to_string();
     assert!(e.contains("kp") && e.contains("-1"), "{e}");
+    // beyond the magnitude limit every parameter has: refused, not simulated until it blows up
+    let e = law_term("washout", 1e300, &[0.03]).unwrap_err().to_string();
+    assert!(e.contains("1e300") && e.contains("1e100"), "{e}");
+    let e = law_term("washout", 1.0, &[1e-300]).unwrap_err().to_string();
+    assert!(e.contains("1e-300") && e.contains("1e-100"), "{e}");
     let e = tune(&at(30.0), "vstiffness", &[], &BurstOptions::default(), 1e-3)
         .unwrap_err()
         .to_string();
     assert!(e.contains("does not burst"), "{e}");
+    // a bracket narrower than f64 can form would never be reached: refused before any run
+    let e = tune(
+        &at(1.0),
+        "vstiffness",
+        &[],
+        &BurstOptions::default(),
+        1e-320,
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("rel_tol") && e.contains("8.9e-16"), "{e}");
     // both folds in range (γ = 0.01 < 1/48): a law without static torque cannot remove the
     // jumps, so the search is refused before it simulates ever stiffer loops
     for (law, rest) in [("vdamping", &[][..]), ("washout", &[0.03][..])] {

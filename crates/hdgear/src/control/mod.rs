@@ -19,7 +19,10 @@ use crate::simulate::{ModelStep, SimOptions, Start, simulate_model_steps};
 use serde::Serialize;
 
 pub mod drive;
+mod search;
 pub use drive::{DriveControl, DriveEffort, RatingCheck, Ratings, compare_drive};
+pub use search::{GAIN_MAX, GAIN_MIN, GAIN_START, MIN_REL_TOL};
+use search::{check_fraction, check_rel_tol, crossing};
 
 /// The control laws, by their terms' kinds: the one list `hdgear control` and [`tune`] offer.
 pub const LAWS: [&str; 3] = [VirtualStiffness::KIND, VirtualDamping::KIND, Washout::KIND];
@@ -254,8 +257,12 @@ impl Run {
         let quarter = std::f64::consts::FRAC_PI_2 / p.omega;
         let per_quarter = (quarter / sample_dt).ceil();
         let dt = quarter / per_quarter;
-        // ũ = −(the law's torque): the loop's terms' torque less the open loop's
-        let control = |y: &[f64]| open.torque_at(y) - m.torque_at(y);
+        // ũ = −(the law's torque): the loop's terms' torque less the open loop's, with the size
+        // of the two torques it is the difference of (the integrals' tolerance scale)
+        let control = |y: &[f64]| {
+            let (t_open, t_loop) = (open.torque_at(y), m.torque_at(y));
+            (t_open - t_loop, t_open.abs() + t_loop.abs())
+        };
         // the window's integrals of (x' − ẋ*)², ũ² and ũ along every step, x* followed by a
         // tracker fed in time order (every step's end before the window)
         let x0 = crate::fast::stable_equilibrium(&p, 0.0);
@@ -275,7 +282,7 @@ impl Run {
             if t < w0 - 0.5 * dt {
                 return;
             }
-            peak = peak.max(control(y).abs());
+            peak = peak.max(control(y).0.abs());
             window_x.push(y[0]);
             if (t / dt).round() as i64 % (2 * per_quarter as i64) == per_quarter as i64 {
                 turning_x.push(y[0]);
@@ -294,10 +301,7 @@ impl Run {
                 let (s, c) = (p.omega * t).sin_cos();
                 let xs = tracker.at(s, y[0]);
                 let xs_dot = p.omega * c * p.delta / p.g_prime(xs);
-                let state = &y[..m.dim()];
-                let (t_open, t_loop) = (open.torque_at(state), m.torque_at(state));
-                let u = t_open - t_loop;
-                let scale = t_open.abs() + t_loop.abs();
+                let (u, scale) = control(&y[..m.dim()]);
                 let e = y[1] - xs_dot;
                 let e_scale = y[1].abs() + xs_dot.abs();
                 [e * e, u * u, u, e_scale * e_scale, scale * scale, scale]
@@ -334,30 +338,6 @@ pub struct Tuning {
     pub relative_width: f64,
 }
 
-/// The first gain tried: 1/64, below the study's least gains (of order 1). The bracket the
-/// search ends on does not depend on it: gains double upward from it while the closed loop
-/// bursts, or halve downward while half the gain still removes the bursts.
-pub const GAIN_START: f64 = 1.0 / 64.0;
-/// The largest gain tried (2^16): a law that has not removed the bursts by then is reported as
-/// unable to.
-pub const GAIN_MAX: f64 = 65536.0;
-/// The smallest gain tried (2^-40): bursts removed by less are at the verdict's own threshold.
-pub const GAIN_MIN: f64 = 1.0 / 1_099_511_627_776.0;
-
-/// A bracket's relative width (`rel_tol`) or a relative model error (`spread`) must lie in
-/// (0, 1).
-fn check_fraction(name: &'static str, value: f64) -> Result<()> {
-    if value > 0.0 && value < 1.0 {
-        Ok(())
-    } else {
-        Err(Error::InvalidOption {
-            name,
-            value,
-            reason: "must lie in (0, 1)",
-        })
-    }
-}
-
 /// The refusal of a search for the least control at a point whose open loop does not burst.
 fn no_control_needed(p: &Params, law: &str) -> Error {
     Error::InvalidInput {
@@ -368,43 +348,6 @@ fn no_control_needed(p: &Params, law: &str) -> Error {
             p.gamma, p.delta, p.omega
         ),
     }
-}
-
-/// Where `bursts` (true for small values of a suppressing variable, false for large ones) turns
-/// false: from `start`, doubled while it bursts (up to `max`: `None` beyond) or halved while half
-/// of it does not (down to `min`: the lower end 0 below), then the bracket bisected geometrically
-/// to `rel_tol`. Returns (largest value found bursting, least found not).
-fn crossing(
-    mut bursts: impl FnMut(f64) -> Result<bool>,
-    start: f64,
-    min: f64,
-    max: f64,
-    rel_tol: f64,
-) -> Result<Option<(f64, f64)>> {
-    let mut lo = 0.0;
-    let mut hi = start;
-    if !bursts(hi)? {
-        while hi > min && !bursts(0.5 * hi)? {
-            hi *= 0.5;
-        }
-        lo = if hi > min { 0.5 * hi } else { 0.0 };
-    }
-    while bursts(hi)? {
-        lo = hi;
-        hi *= 2.0;
-        if hi > max {
-            return Ok(None);
-        }
-    }
-    while lo > 0.0 && hi / lo - 1.0 > rel_tol {
-        let mid = (lo * hi).sqrt();
-        if bursts(mid)? {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    Ok(Some((lo, hi)))
 }
 
 /// Whether `p`'s closed loop with law `law` at `gain` (other parameters `rest`) bursts: the
@@ -426,7 +369,7 @@ pub fn tune(
     opts: &BurstOptions,
     rel_tol: f64,
 ) -> Result<Tuning> {
-    check_fraction("rel_tol", rel_tol)?;
+    check_rel_tol(rel_tol)?;
     static_jumps_refused(p, law, rest)?;
     tune_against(p, law, rest, opts, rel_tol, &OpenLoop::of(p, opts)?)
 }
@@ -544,7 +487,7 @@ pub fn robustness(
     rel_tol: f64,
 ) -> Result<Robustness> {
     use rayon::prelude::*;
-    check_fraction("rel_tol", rel_tol)?;
+    check_rel_tol(rel_tol)?;
     check_fraction("spread", spread)?;
     let plants = model_error_plants(p, spread);
     let rest = &tuned.tuned.term.values()[1..];
@@ -680,7 +623,7 @@ pub fn compare(
             reason: "only the washout law has a corner frequency".into(),
         });
     }
-    check_fraction("rel_tol", c.rel_tol)?;
+    check_rel_tol(c.rel_tol)?;
     if let Some(s) = c.spread {
         check_fraction("spread", s)?;
     }
@@ -751,7 +694,7 @@ pub fn feedforward_residual(kappa: f64, phase_error: f64) -> f64 {
 /// How well the load must be known for feed-forward to remove the bursts of `p` ([`FeedForward`]):
 /// the δ-boundary found by bisection of the verdict in δ_r/δ, to `rel_tol`.
 pub fn feedforward(p: &Params, opts: &BurstOptions, rel_tol: f64) -> Result<FeedForward> {
-    check_fraction("rel_tol", rel_tol)?;
+    check_rel_tol(rel_tol)?;
     // s = δ/δ_r, the suppression: bursting at s = 1 (the open loop) unless nothing is needed
     let bursts = |s: f64| -> Result<bool> {
         let q = Params {

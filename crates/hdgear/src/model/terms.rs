@@ -814,7 +814,8 @@ any_term!(
     Washout,
 );
 
-/// Checks a term's values against its parameter list.
+/// Checks a term's values against its parameter list: each within the magnitude limit every
+/// parameter has ([`crate::params::MAGNITUDE_LIMIT`]), then its own domain.
 fn check_values(params: &[ParamInfo], values: &[f64]) -> Result<()> {
     if params.len() != values.len() {
         return Err(Error::InvalidInput {
@@ -823,10 +824,10 @@ fn check_values(params: &[ParamInfo], values: &[f64]) -> Result<()> {
             reason: format!("{} values expected", params.len()),
         });
     }
-    params
-        .iter()
-        .zip(values)
-        .try_for_each(|(p, &v)| p.domain.check(p.name, v))
+    params.iter().zip(values).try_for_each(|(p, &v)| {
+        crate::params::check_magnitude(p.name, v)?;
+        p.domain.check(p.name, v)
+    })
 }
 
 fn unknown_kind(kind: &str) -> Error {
