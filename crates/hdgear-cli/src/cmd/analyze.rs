@@ -17,26 +17,30 @@ pub fn run(a: AnalyzeArgs) -> Result<()> {
         let c = hdgear::burst::classify(&p, &r);
         crate::sink::tolerance_note(&r, &opts.tol);
         if !c.fast_slow_domain {
-            let s = an.equilibria.slowest_relaxation;
-            let why = if p.omega > s.rate {
-                format!(
+            let e = hdgear::burst::fast_slow_edge(&p);
+            let s = e.slowest;
+            let why = match e.limit {
+                // within both conditions: only the measured motion put it outside
+                _ if p.omega <= e.omega_max => {
+                    "the fast motion never stops between passages".into()
+                }
+                hdgear::burst::DomainLimit::Ordering => format!(
                     "omega >= r = {:.4e}, the slowest relaxation rate on the traversed path ({}), \
                      at a = {:.6}: the time scales exchange roles there",
                     s.rate,
                     s.along.name(),
                     s.a
-                )
-            } else {
-                format!(
+                ),
+                hdgear::burst::DomainLimit::Settling => format!(
                     "omega > r/10, r = {:.3} the relaxation rate at a = ±1, where the state settles",
-                    hdgear::burst::turning_point_rate(&p)
-                )
+                    e.turning_point_rate
+                ),
             };
             note(&format!(
                 "omega = {:?} is not slow against the fast subsystem ({why}{}): the fast-slow \
                  picture does not apply, mode not-fast-slow",
                 p.omega,
-                if r.continuous_fast_motion {
+                if r.continuous_fast_motion && p.omega > e.omega_max {
                     ", and the fast motion never stops"
                 } else {
                     ""

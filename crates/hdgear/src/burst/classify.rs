@@ -134,8 +134,62 @@ pub fn fast_slow_domain(p: &Params, r: &Response) -> bool {
 /// The largest ω of the fast-slow domain: the smaller of r_q/[`TIME_SCALE_SEPARATION`] and the
 /// slowest relaxation rate on the path (see [`fast_slow_domain`]).
 pub fn fast_slow_omega_max(p: &Params) -> f64 {
-    let settling = turning_point_rate(p) / TIME_SCALE_SEPARATION;
-    settling.min(fast::slowest_relaxation(p).rate)
+    fast_slow_edge(p).omega_max
+}
+
+/// Which of the fast-slow domain's two conditions ([`fast_slow_domain`]) sets its edge.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum DomainLimit {
+    /// Settling at the turning points: ω ≤ r_q/[`TIME_SCALE_SEPARATION`].
+    Settling,
+    /// Ordering on the path: ω < r, r the slowest relaxation rate met.
+    Ordering,
+}
+
+/// The edge of the fast-slow domain in ω, its two conditions' rates and which one sets it: what
+/// a report of "outside the domain" names, derived here once.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct DomainEdge {
+    /// The largest ω of the domain ([`fast_slow_omega_max`]).
+    pub omega_max: f64,
+    /// r_q, the slowest relaxation rate at the turning points a = ±1.
+    pub turning_point_rate: f64,
+    /// The slowest relaxation met on the traversed path, and where.
+    pub slowest: fast::SlowestRelaxation,
+    /// The condition that sets `omega_max`.
+    pub limit: DomainLimit,
+}
+
+/// The edge of the fast-slow domain of `p` ([`DomainEdge`]).
+///
+/// ```
+/// use hdgear::{Params, burst::{DomainLimit, fast_slow_edge}};
+/// // the study's γ = 30: stiff everywhere, the turning points' decade sets the edge
+/// let e = fast_slow_edge(&Params { gamma: 30.0, ..Params::default() });
+/// assert_eq!(e.limit, DomainLimit::Settling);
+/// assert_eq!(e.omega_max, e.turning_point_rate / 10.0);
+/// ```
+pub fn fast_slow_edge(p: &Params) -> DomainEdge {
+    let slowest = fast::slowest_relaxation(p);
+    // taken at the turning points already when the path is not followed (both folds in range)
+    let turning = if slowest.along == fast::Along::TurningPoints {
+        slowest
+    } else {
+        fast::turning_point_relaxation(p)
+    };
+    let settling = turning.rate / TIME_SCALE_SEPARATION;
+    let limit = if slowest.rate < settling {
+        DomainLimit::Ordering
+    } else {
+        DomainLimit::Settling
+    };
+    DomainEdge {
+        omega_max: settling.min(slowest.rate),
+        turning_point_rate: turning.rate,
+        slowest,
+        limit,
+    }
 }
 
 /// The slowest relaxation rate of the fast subsystem at the stable equilibria at the turning

@@ -56,8 +56,8 @@ pub use boundary::{BOUNDARY_REL_TOL, Boundaries, OMEGA_SEARCH_MIN, boundaries};
 use bursts::assemble;
 pub use bursts::{NOISE_FACTOR, ToleranceLimit, overshoot_floor, swing_floor, tolerance_limit};
 pub use classify::{
-    Classification, Mechanism, Mode, Verdict, classify, fast_slow_domain, fast_slow_omega_max,
-    turning_point_rate,
+    Classification, DomainEdge, DomainLimit, Mechanism, Mode, Verdict, classify, fast_slow_domain,
+    fast_slow_edge, fast_slow_omega_max, turning_point_rate,
 };
 pub use model::response_model;
 pub use plane::{
