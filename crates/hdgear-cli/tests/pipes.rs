@@ -31,6 +31,41 @@ const FORMS: &[&[&str]] = &[
     &["physical", "--design", "--json"],
     &["physical", "--simulate", "--t-end", "0.05"],
     &["physical", "--frequency-response", "--hz", "80:130"],
+    &["model"],
+    &["model", "--json"],
+    &[
+        "continue2",
+        "--gamma=10",
+        "--param=omega=4:14:log",
+        "--param=mu=-5:5",
+        "--from=period-doubling",
+    ],
+    &[
+        "boundary",
+        "--kinds=predicted",
+        "--param=gamma=0.01:1:log",
+        "--param=delta=1:30:log",
+        "--json",
+    ],
+    &[
+        "orbit-diagram",
+        "--param=omega=5:6:3",
+        "--record=4",
+        "--discard=2",
+    ],
+    &["card", "list"],
+    &["card", "show", "csf-20-50", "--json"],
+    &["card", "check", "csf-20-50"],
+    &["card", "map", "csf-20-50", "--points=4"],
+    &["card", "new", "mine"],
+    &["control", "vstiffness", "--gain=1", "--spread=0"],
+    &["control", "vstiffness", "--gain=1", "--spread=0", "--json"],
+    &[
+        "robust",
+        "--tolerance=gamma=±10%",
+        "--samples=16",
+        "--no-worst",
+    ],
 ];
 
 fn run(args: &[&str], stdout: Stdio) -> std::process::Output {

@@ -7,6 +7,7 @@ mod cli;
 mod control;
 mod docs;
 mod hardening;
+mod hostile;
 mod interrupted;
 mod model;
 mod output;
