@@ -122,12 +122,23 @@ fn prediction_text(s: &mut String, e: &hdgear::fast::EquilibriaSummary) {
                 .map_or(String::new(), |g| format!(", gamma = {g:.4}"))
         );
     }
-    if let Some(g) = c.node_min_gprime {
+    if let Some(cp) = c.cusp {
         let _ = writeln!(
             *s,
-            "caveat: the branch passes a node part (g' down to {g:.4} < 1/4), whose excitation kappa \
-             does not see: near the cusp the predicted omega boundary can be up to ~3 times too high \
-             (simulate to be sure: analyze --simulated-boundaries)"
+            "passage near the cusp: a node part about the inflection (g' down to {:.4} < 1/4) at \
+             a = {:.6}; ramp rate s = {:.4e} against the normal form's threshold {:.4e}: {}",
+            cp.gprime_min,
+            cp.at_a,
+            cp.ramp_rate,
+            cp.threshold,
+            if cp.rings() { "rings" } else { "no ringing" }
+        );
+    } else if let Some(g) = c.node_min_gprime {
+        let _ = writeln!(
+            *s,
+            "caveat: the branch passes a node part (g' down to {g:.4} < 1/4) away from the \
+             inflection, whose excitation kappa does not see: the predicted omega boundary can be \
+             too high (simulate to be sure: analyze --simulated-boundaries)"
         );
     }
     if e.spiking_areas.is_empty() {

@@ -28,6 +28,11 @@ mod domain;
 pub use domain::{Along, SlowestRelaxation, slowest_relaxation, turning_point_relaxation};
 mod equilibria;
 pub(crate) use equilibria::newton;
+pub mod passage;
+pub use passage::{
+    CuspPassage, PASSAGE_GPRIME, SWING_FRACTION, TABLE_STEP, THRESHOLD_REL_TOL, passage_rings,
+    ramp_threshold, ramp_threshold_at,
+};
 mod predict;
 
 pub use analysis::{

@@ -24,6 +24,7 @@
 
 use super::curve::x_intervals;
 use super::equilibria::fold_abscissae;
+use super::passage::CuspPassage;
 use crate::params::Params;
 use crate::simd::{Simd, dispatched};
 use serde::Serialize;
@@ -71,8 +72,13 @@ pub struct Prediction {
     /// carries out of the node part is missed and the ω boundary comes out too high: measured on
     /// 24 sets near the cusp (γ − 1/(3α) from 0.002 to 0.04, α 1–30, δ 0.3–30), κ at the
     /// simulated boundary was 0.07–0.12 instead of [`FORCING_RATE_THRESHOLD`], the predicted ω
-    /// boundary 1.7–2.7 times the simulated one.
+    /// boundary 1.7–2.7 times the simulated one. Where the settled branch passes the inflection
+    /// inside the range, [`Prediction::cusp`] judges that passage instead.
     pub node_min_gprime: Option<f64>,
+    /// The passage through a node part about the inflection (g'_min < 1/4 there, with the
+    /// inflection's load inside the range), judged on the normal form
+    /// ([`super::passage`]); `None` when the settled branch has no such passage.
+    pub cusp: Option<CuspPassage>,
 }
 
 /// κ(x) at abscissa x (see the module docs).
@@ -287,6 +293,7 @@ pub fn predict(p: &Params) -> Prediction {
             at_x: f64::NAN,
             omega_boundary: 0.0,
             node_min_gprime: None,
+            cusp: None,
         };
     }
     let (mut bx, mut bv) = (f64::NAN, 0.0f64);
@@ -296,22 +303,49 @@ pub fn predict(p: &Params) -> Prediction {
             (bx, bv) = (x, v);
         }
     }
+    let cusp = cusp_passage(p, &branch);
+    let kappa_boundary = if bv > 0.0 {
+        p.omega * FORCING_RATE_THRESHOLD / bv
+    } else {
+        f64::INFINITY
+    };
+    let cusp_boundary = cusp.map_or(f64::INFINITY, |c| p.omega * c.threshold / c.ramp_rate);
     Prediction {
-        bursting: bv > FORCING_RATE_THRESHOLD,
+        bursting: bv > FORCING_RATE_THRESHOLD || cusp.is_some_and(|c| c.rings()),
         fold_in_range,
         folds_in_range,
         forcing_rate: bv,
         threshold: FORCING_RATE_THRESHOLD,
         at_a: if bx.is_nan() { f64::NAN } else { p.a_at(bx) },
         at_x: bx,
-        omega_boundary: if bv > 0.0 {
-            p.omega * FORCING_RATE_THRESHOLD / bv
-        } else {
-            f64::INFINITY
-        },
+        omega_boundary: kappa_boundary.min(cusp_boundary),
         node_min_gprime: Some(min_gprime(p, &branch.intervals))
             .filter(|&g| g < super::FOCUS_GPRIME),
+        cusp,
     }
+}
+
+/// The passage of the settled branch through a node part about the inflection x_i = 1/(3α):
+/// `Some` when x_i lies inside the branch with 0 ≤ g'(x_i) < 1/4 and its load a_i inside the
+/// open range (−1, 1), where the sine's rate √(1 − a_i²) is what the normal form linearises.
+fn cusp_passage(p: &Params, branch: &SettledBranch) -> Option<CuspPassage> {
+    let xi = p.critical_gamma(); // the inflection, 1/(3α)
+    let gprime_min = p.g_prime(xi);
+    let inside = branch.intervals.iter().any(|&(l, r)| l < xi && xi < r);
+    if !inside || !(0.0..super::FOCUS_GPRIME).contains(&gprime_min) {
+        return None;
+    }
+    let at_a = p.a_at(xi);
+    if at_a.abs() >= 1.0 {
+        return None;
+    }
+    let ramp_rate = (3.0 * p.alpha).sqrt() * p.delta * p.omega * (1.0 - at_a * at_a).sqrt();
+    Some(CuspPassage {
+        gprime_min,
+        at_a,
+        ramp_rate,
+        threshold: super::ramp_threshold(gprime_min)?,
+    })
 }
 
 /// The predicted γ boundary with the other parameters of `p`: the γ above which no bursting is
