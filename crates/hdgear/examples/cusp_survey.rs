@@ -6,7 +6,9 @@
 //! (defaults 10 1 0.002 0.05 0.7), or `… thresholds` for s_c at six g'_min with the swing floor
 //! a decade either way and the passage's edge at 4 and 16 times g' = 4 (ratios to the default).
 
-use hdgear::Params;
+#[path = "../tests/common/cusp_sets.rs"]
+mod cusp_sets;
+
 use hdgear::burst::{BurstOptions, boundaries};
 use hdgear::fast::predict;
 
@@ -34,35 +36,10 @@ fn main() {
         }
         return;
     }
-    let n: usize = args.first().and_then(|s| s.parse().ok()).unwrap_or(10);
-    let mut seed: u64 = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(1);
-    let lo_gap: f64 = args.get(2).and_then(|s| s.parse().ok()).unwrap_or(0.002);
-    let hi_gap: f64 = args.get(3).and_then(|s| s.parse().ok()).unwrap_or(0.05);
-    let mut rnd = move || {
-        seed = seed
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (seed >> 11) as f64 / (1u64 << 53) as f64
-    };
-    let logu = |u: f64, lo: f64, hi: f64| (lo.ln() + u * (hi / lo).ln()).exp();
-    for _ in 0..n {
-        let alpha = logu(rnd(), 1.0, 30.0);
-        let gap = logu(rnd(), lo_gap, hi_gap);
-        let gamma = 1.0 / (3.0 * alpha) + gap;
-        let eps = 0.2 + 0.8 * rnd();
-        let delta = logu(rnd(), 0.3, 30.0);
-        let amax: f64 = args.get(4).and_then(|s| s.parse().ok()).unwrap_or(0.7);
-        let ai = amax * (2.0 * rnd() - 1.0);
-        let mut p = Params {
-            alpha,
-            gamma,
-            eps,
-            mu: 0.0,
-            delta,
-            omega: 0.01,
-        };
-        let xi = 1.0 / (3.0 * alpha);
-        p.mu = p.g(xi) - delta * ai;
+    let arg = |i: usize, default: f64| args.get(i).and_then(|s| s.parse().ok()).unwrap_or(default);
+    let (n, seed) = (arg(0, 10.0) as usize, arg(1, 1.0) as u64);
+    for p in cusp_sets::near_cusp_sets(n, seed, (arg(2, 0.002), arg(3, 0.05)), arg(4, 0.7)) {
+        let (ai, gap) = (p.a_at(p.critical_gamma()), p.gamma - p.critical_gamma());
         let pr = predict(&p);
         let b = match boundaries(&p, &BurstOptions::default()) {
             Ok(b) => b,

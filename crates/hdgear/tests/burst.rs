@@ -720,47 +720,15 @@ fn single_fold_sets_far_from_the_study_never_jump_after_the_transient() {
     }
 }
 
-/// Sets whose settled branch passes the inflection through a node part, drawn the way the
-/// survey behind `fast::passage` drew them (none of them was used to build anything: the
-/// threshold is solved from the normal form alone): α log-uniform in [1, 30], γ − 1/(3α)
-/// log-uniform in [0.002, 0.2], ε in [0.2, 1], δ log-uniform in [0.3, 30], and μ placing the
-/// inflection at a_i uniform in [−0.7, 0.7].
-fn near_cusp_sets(n: usize, mut seed: u64) -> Vec<Params> {
-    let mut u = move || {
-        seed = seed
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (seed >> 11) as f64 / (1u64 << 53) as f64
-    };
-    let log_u = |u: f64, lo: f64, hi: f64| (lo.ln() + u * (hi / lo).ln()).exp();
-    (0..n)
-        .map(|_| {
-            let alpha = log_u(u(), 1.0, 30.0);
-            let gamma = 1.0 / (3.0 * alpha) + log_u(u(), 0.002, 0.2);
-            let eps = 0.2 + 0.8 * u();
-            let delta = log_u(u(), 0.3, 30.0);
-            let ai = 0.7 * (2.0 * u() - 1.0);
-            let mut p = Params {
-                alpha,
-                gamma,
-                eps,
-                mu: 0.0,
-                delta,
-                omega: 0.01,
-            };
-            p.mu = p.g(p.critical_gamma()) - delta * ai;
-            p
-        })
-        .collect()
-}
-
 /// Near the cusp the prediction judges the node passage on the normal form, and its ω boundary
 /// lands within 15 % of the simulated one (the acceptance). Measured over 124 such sets
 /// (`examples/cusp_survey.rs`): predicted/simulated 0.92–1.09; κ alone gave 1.5–2.7 there.
 #[test]
 fn near_the_cusp_the_normal_form_predicts_the_simulated_boundary() {
     let mut checked = 0;
-    for p in near_cusp_sets(12, 2026) {
+    // none of these sets was used to build anything: the threshold is solved from the normal
+    // form alone
+    for p in crate::common::cusp_sets::near_cusp_sets(12, 2026, (0.002, 0.2), 0.7) {
         let pr = predict(&p);
         let cusp = pr.cusp.expect("a passage through a node part");
         assert!((cusp.gprime_min - (p.gamma - p.critical_gamma())).abs() < 1e-12);

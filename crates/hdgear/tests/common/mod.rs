@@ -2,6 +2,8 @@
 
 use std::path::{Path, PathBuf};
 
+pub mod cusp_sets;
+
 /// A file of the vendored reference data (`tests/data/`, described in its README).
 pub fn data(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
