@@ -6,7 +6,7 @@ use crate::common::{hdgear, walk};
 use std::time::Duration;
 
 /// Hostile values for a numeric flag.
-const VALUES: [&str; 13] = [
+pub(crate) const VALUES: [&str; 13] = [
     "nan", "inf", "-inf", "0", "-1", "1e300", "-1e300", "1e-320", "5e-324", "", "abc", "1e400",
     "-0",
 ];

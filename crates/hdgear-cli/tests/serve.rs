@@ -496,3 +496,73 @@ fn slow_clients_are_cut_off_and_capped() {
         "memory grew from {rss_before} kB to {rss_after} kB"
     );
 }
+
+/// The hostile pass over the JSON API: every parameter of `/api/view` and `/api/boundaries`
+/// with each of the CLI generator's hostile values, malformed queries and drive names, sent by
+/// four clients at once. Every answer is a known status with, when it is not 200, one JSON line
+/// naming the problem; the server stays up and answers a normal view afterwards.
+#[test]
+fn hostile_queries_get_one_line_errors_and_the_server_stays_up() {
+    let mut s = Server::start();
+    let mut paths: Vec<String> = Vec::new();
+    for endpoint in ["view", "boundaries"] {
+        for param in hdgear::params::Param::ALL {
+            for v in crate::hostile::VALUES {
+                paths.push(format!("/api/{endpoint}?{}={v}", param.name()));
+            }
+        }
+        for q in [
+            "gamma",
+            "gamma=1&gamma=abc",
+            "%ZZ=1",
+            "gamma=%ZZ",
+            "=1",
+            "&&&",
+            "beta",
+        ] {
+            paths.push(format!("/api/{endpoint}?{q}"));
+        }
+    }
+    for name in [
+        "",
+        "%2F",
+        "..%2F..%2Fetc%2Fpasswd",
+        "%00",
+        &"x".repeat(5000),
+    ] {
+        paths.push(format!("/api/drive?name={name}"));
+    }
+    paths.push("/api/drive".into());
+    let total = paths.len();
+    let chunks: Vec<Vec<String>> = paths.chunks(total.div_ceil(4)).map(<[_]>::to_vec).collect();
+    let addr = s.addr.clone();
+    let refused: usize = std::thread::scope(|scope| {
+        let handles: Vec<_> = chunks
+            .iter()
+            .map(|chunk| {
+                let addr = addr.clone();
+                scope.spawn(move || {
+                    let mut refused = 0;
+                    for path in chunk {
+                        let (code, body) = get(&addr, path);
+                        assert!(
+                            [200, 400, 422, 503].contains(&code),
+                            "{path}: {code} {body:.200}"
+                        );
+                        if code != 200 {
+                            let e = json(&body)["error"].as_str().unwrap_or("").to_string();
+                            assert!(!e.is_empty() && !e.contains('\n'), "{path}: {body:.200}");
+                            refused += 1;
+                        }
+                    }
+                    refused
+                })
+            })
+            .collect();
+        handles.into_iter().map(|h| h.join().unwrap()).sum()
+    });
+    eprintln!("sent {total} hostile queries, {refused} refused");
+    assert!(total >= 170 && refused * 2 > total, "{refused} of {total}");
+    assert!(s.child.try_wait().unwrap().is_none(), "the server died");
+    assert_eq!(get(&s.addr, "/api/view?gamma=1").0, 200);
+}
