@@ -265,6 +265,20 @@ fn blow_ups_and_tolerance_limited_verdicts_say_so() {
     let o = run(&["simulate", "--x0", "1e50", "--t-end", "100", "--summary"]);
     assert_ne!(o.status.code(), Some(0));
     assert!(err(&o).contains("blew up at t = 0.0"), "{}", err(&o));
+    // a start beyond the blow-up bound itself is bad input, not a failed computation (found by
+    // the Python package's hostile pass: it came back as a RuntimeError)
+    for x0 in ["--x0=1e300", "--v0=-1e300"] {
+        let o = run(&["simulate", x0, "--t-end", "10", "--summary"]);
+        assert_eq!(o.status.code(), Some(2), "{}", err(&o));
+        assert!(err(&o).contains("blow-up bound"), "{}", err(&o));
+    }
+    // so is an atol whose error norm overflows (it used to fail as a step-size underflow at
+    // t = 0, exit 1); the least one accepted runs
+    let o = run(&["simulate", "--atol=1e-200", "--t-end", "10", "--summary"]);
+    assert_eq!(o.status.code(), Some(2), "{}", err(&o));
+    assert!(err(&o).contains("≥ 1e-100"), "{}", err(&o));
+    let o = run(&["simulate", "--atol=1e-100", "--t-end", "10", "--summary"]);
+    assert_eq!(o.status.code(), Some(0), "{}", err(&o));
     // a verdict decided by the tolerance's noise says so, with the rtol to use
     let near = [
         "analyze",

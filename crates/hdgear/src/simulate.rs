@@ -27,6 +27,26 @@ pub enum Start {
     },
 }
 
+impl Start {
+    /// Checks a given state: both components finite and below the integration's blow-up bound
+    /// ([`crate::integrate::Options::blowup`]), since a state beyond it has blown up before the
+    /// first step. The other starts are always usable.
+    pub fn check(self, tol: &crate::integrate::Options) -> Result<()> {
+        if let Start::Given { x0, v0 } = self {
+            for (name, v) in [("x0", x0), ("v0", v0)] {
+                if v.is_nan() || v.abs() >= tol.blowup {
+                    return crate::error::bad_option(
+                        name,
+                        v,
+                        "must be finite and below the integration's blow-up bound in magnitude",
+                    );
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
 /// What to simulate and how finely.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct SimOptions {
@@ -170,6 +190,7 @@ pub fn simulate_model_steps(
 ) -> Result<SimSummary> {
     m.check()?;
     crate::integrate::check_budget(opts.t_end, &opts.tol)?;
+    opts.start.check(&opts.tol)?;
     let (x0, v0) = match opts.start {
         Start::Equilibrium => (m.stable_equilibrium(0.0)?, 0.0),
         Start::Rest => (0.0, 0.0),
@@ -254,6 +275,7 @@ fn sampled<S: System<N>, const N: usize>(
 fn checked_start(p: &Params, opts: &SimOptions) -> Result<[f64; 2]> {
     p.validate()?;
     crate::integrate::check_budget(opts.t_end, &opts.tol)?;
+    opts.start.check(&opts.tol)?;
     Ok(initial_state(p, opts.start))
 }
 
