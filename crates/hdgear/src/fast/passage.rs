@@ -63,9 +63,10 @@ impl NormalForm {
 
 /// Whether the passage of the normal form with g'_min = `gprime_min` ≥ 0 at ramp rate `ramp` > 0
 /// rings: y' has three or more extrema between the run's ends once swings below `swing_fraction`
-/// of the pulse are pruned (the burst scan's rule, [`SWING_FRACTION`] by default). The state starts on the equilibrium y* with g'(y*) =
-/// `edge` ([`PASSAGE_GPRIME`] by default), with its first-order lag y*'/g' and speed y*', and the
-/// run ends where the equilibrium is as far on the other side.
+/// of the pulse are pruned (the burst scan's rule, [`SWING_FRACTION`] by default). The state
+/// starts on the equilibrium y* with g'(y*) = `edge` ([`PASSAGE_GPRIME`] by default), with its
+/// first-order lag y*'/g' and speed y*', and the run ends where the equilibrium is as far on the
+/// other side.
 pub fn passage_rings(gprime_min: f64, ramp: f64, swing_fraction: f64, edge: f64) -> Result<bool> {
     let nf = NormalForm { gprime_min, ramp };
     let y_edge = (edge - gprime_min).max(0.0).sqrt();
@@ -135,10 +136,13 @@ pub fn ramp_threshold_at(gprime_min: f64, swing_fraction: f64, edge: f64) -> Res
 /// Spacing in g'_min of the table [`ramp_threshold`] interpolates (ln s_c is smooth in g'_min:
 /// linear interpolation over this spacing is within the threshold's own tolerance, checked
 /// against direct solves between the nodes in `tests/burst.rs`).
-pub const TABLE_STEP: f64 = 0.005;
+pub const TABLE_STEP: f64 = super::FOCUS_GPRIME / INTERVALS as f64;
+
+/// Intervals of the table over 0 ≤ g'_min ≤ 1/4.
+const INTERVALS: usize = 50;
 
 /// Nodes of the table: g'_min = 0, [`TABLE_STEP`], …, 1/4.
-const NODES: usize = 51;
+const NODES: usize = INTERVALS + 1;
 
 /// ln s_c at node `j`, solved the first time it is asked for (each solve takes a few
 /// milliseconds; a prediction needs two nodes).
