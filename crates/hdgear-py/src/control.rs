@@ -6,7 +6,7 @@ use pyo3::prelude::*;
 
 /// What `hdgear control --json` prints, as a dict.
 #[pyfunction]
-#[pyo3(signature = (params, laws, gain, ww, rel_tol, spread, discard, window_periods, rtol, atol, method))]
+#[pyo3(signature = (params, laws, gain, ww, wd, rel_tol, spread, discard, window_periods, rtol, atol, method))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn control<'py>(
     py: Python<'py>,
@@ -14,6 +14,7 @@ pub(crate) fn control<'py>(
     laws: Vec<String>,
     gain: Option<f64>,
     ww: Option<f64>,
+    wd: Option<f64>,
     rel_tol: f64,
     spread: Option<f64>,
     discard: f64,
@@ -30,6 +31,7 @@ pub(crate) fn control<'py>(
             let c = hdgear::control::ControlOptions {
                 gain,
                 ww,
+                wd,
                 rel_tol,
                 spread,
             };

@@ -11,7 +11,8 @@ use hdgear::control::{Comparison, ControlOptions, DriveControl, Ratings, compare
 #[derive(Args, Debug)]
 pub struct ControlArgs {
     /// The laws: vstiffness (ũ = −k_p x), vdamping (ũ = −k_d x'), washout (ũ = −k_w (x − ξ),
-    /// ξ' = ω_w (x − ξ)); all three without any.
+    /// ξ' = ω_w (x − ξ)), dither (ũ = D sin Ω_d τ, the gain D; its verdict is of the motion
+    /// averaged over the dither's period); the first three without any.
     #[arg(value_name = "LAW")]
     pub laws: Vec<String>,
     /// Assess each law at this gain instead of tuning it to its least gain that removes the
@@ -21,6 +22,9 @@ pub struct ControlArgs {
     /// The washout filter's corner frequency ω_w (the term's default without it).
     #[arg(long, allow_negative_numbers = true)]
     pub ww: Option<f64>,
+    /// The dither's angular frequency Ω_d (the term's default without it).
+    #[arg(long, allow_negative_numbers = true)]
+    pub wd: Option<f64>,
     /// Relative width of a tuned gain's final bracket.
     #[arg(long, default_value_t = 1e-3)]
     pub rel_tol: f64,
@@ -48,6 +52,7 @@ impl ControlArgs {
         ControlOptions {
             gain: self.gain,
             ww: self.ww,
+            wd: self.wd,
             rel_tol: self.rel_tol,
             spread: (self.spread != 0.0).then_some(self.spread),
         }
@@ -234,6 +239,20 @@ pub fn text(doc: &Comparison) -> String {
 /// The table's closing lines: feed-forward's tolerance, the model error checked, the key.
 fn notes(s: &mut String, doc: &Comparison) {
     use std::fmt::Write;
+    for a in doc.rows() {
+        if let Some(v) = &a.averaging {
+            let _ = writeln!(
+                *s,
+                "{} at {:.5}: averaged model γ = {:.5}, ε = {:.5} (ripple A = {:.4} on the twist); Ω_d/√(max g') = {:.2} (averaging needs it well above 1)",
+                a.term.kind(),
+                a.gain,
+                v.params.gamma,
+                v.params.eps,
+                v.ripple,
+                v.frequency_ratio,
+            );
+        }
+    }
     if let Some(f) = &doc.feedforward {
         let _ = writeln!(
             *s,

@@ -12,7 +12,7 @@ use crate::burst::{BurstOptions, Verdict, classify, response_model, window};
 use crate::error::{Error, Result};
 use crate::fast::EquilibriumTracker;
 use crate::model::Model;
-use crate::model::control::{VirtualDamping, VirtualStiffness, Washout};
+use crate::model::control::{Dither, VirtualDamping, VirtualStiffness, Washout};
 use crate::model::terms::{AnyTerm, Term};
 use crate::params::{Param, Params};
 use crate::simulate::{ModelStep, SimOptions, Start, simulate_model_steps};
@@ -25,7 +25,17 @@ pub use search::{GAIN_MAX, GAIN_MIN, GAIN_START, MIN_REL_TOL};
 use search::{check_fraction, check_rel_tol, crossing};
 
 /// The control laws, by their terms' kinds: the one list `hdgear control` and [`tune`] offer.
-pub const LAWS: [&str; 3] = [VirtualStiffness::KIND, VirtualDamping::KIND, Washout::KIND];
+pub const LAWS: [&str; 4] = [
+    VirtualStiffness::KIND,
+    VirtualDamping::KIND,
+    Washout::KIND,
+    Dither::KIND,
+];
+
+/// The laws [`compare`] runs when given none: every law of [`LAWS`] but the dither, whose
+/// verdicts each integrate the ripple (steps a fraction of its period, some 10–100 times the
+/// others' work) and which is run on request.
+pub const DEFAULT_LAWS: [&str; 3] = [VirtualStiffness::KIND, VirtualDamping::KIND, Washout::KIND];
 
 /// Spacing of the samples the measures are taken from (the fast mode's period at the study's
 /// sets is ≥ 2π/√(g'max) ≈ 1: 20 samples or more per oscillation; the peaks of x' are the
@@ -46,7 +56,9 @@ pub fn law_term(law: &str, gain: f64, rest: &[f64]) -> Result<AnyTerm> {
     AnyTerm::new(law, &values)
 }
 
-/// What a law at one gain does, against the open loop over the same window.
+/// What a law at one gain does, against the open loop over the same window. For the dither the
+/// verdict and peak |x'| are of the motion averaged over its period (the scan's), the energy,
+/// efforts and shifts of the motion itself, ripple included (what the drive feels).
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Assessment {
     /// The law's term with its values.
@@ -78,10 +90,43 @@ pub struct Assessment {
     /// in the window, where the state sits quasi-statically on the curve), over the open loop's
     /// curve extent X.
     pub static_shift: f64,
+    /// For a dither: what first-order averaging makes of it (`None` for the other laws).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub averaging: Option<Averaging>,
     /// The largest change of x anywhere in the window, over X: with the load's extremes' shift,
     /// the lag a law adds while the load moves (a washout acts as a damper k_w/ω_w below its
     /// corner, and the state lags the curve by that much more).
     pub max_shift: f64,
+}
+
+/// What first-order averaging makes of a dither ũ = D·sin Ω_dτ on the study's model.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Averaging {
+    /// The ripple amplitude A on the twist ([`crate::model::control::dither_ripple`]).
+    pub ripple: f64,
+    /// The averaged model: γ + 1.5αA², with the −A²/2 load folded into ε.
+    pub params: Params,
+    /// Ω_d over the fast mode's largest angular frequency on the averaged curve, √(max g'):
+    /// averaging needs it well above 1 (the dither faster than every motion it is averaged
+    /// against; the guide's control page shows where it holds).
+    pub frequency_ratio: f64,
+}
+
+impl Averaging {
+    /// The dithered closed loop `closed` of the study model with `p`: `None` without a dither.
+    fn of(p: &Params, closed: &Model) -> Option<Averaging> {
+        let [_, wd] = closed.dither()?;
+        let params = closed.equivalent_params()?;
+        let gmax = crate::fast::x_intervals(&params, (-1.0, 1.0))
+            .iter()
+            .flat_map(|&(l, r)| [params.g_prime(l), params.g_prime(r)])
+            .fold(0.0_f64, f64::max);
+        Some(Averaging {
+            ripple: ((params.gamma - p.gamma) / (1.5 * p.alpha)).max(0.0).sqrt(),
+            params,
+            frequency_ratio: wd / gmax.sqrt(),
+        })
+    }
 }
 
 impl Assessment {
@@ -172,6 +217,7 @@ fn assess_against(
         effort_rms: c.effort[1],
         effort_mean: c.effort[2],
         static_shift: shift / x_extent,
+        averaging: Averaging::of(p, &closed),
         max_shift: max_shift / x_extent,
     })
 }
@@ -526,9 +572,9 @@ pub fn robustness(
     })
 }
 
-/// The parameters of `law` after its gain: its term's defaults, with `ww` for a washout's corner
-/// frequency where given.
-pub fn law_rest(law: &str, ww: Option<f64>) -> Vec<f64> {
+/// The parameters of `law` after its gain: its term's defaults, with `c.ww` for a washout's
+/// corner frequency and `c.wd` for a dither's frequency where given.
+pub fn law_rest(law: &str, c: &ControlOptions) -> Vec<f64> {
     let params = AnyTerm::KINDS
         .iter()
         .find(|k| k.0 == law)
@@ -536,8 +582,8 @@ pub fn law_rest(law: &str, ww: Option<f64>) -> Vec<f64> {
     params
         .iter()
         .skip(1)
-        .map(|p| match (p.name, ww) {
-            ("ww", Some(w)) => w,
+        .map(|p| match (p.name, c.ww, c.wd) {
+            ("ww", Some(w), _) | ("wd", _, Some(w)) => w,
             _ => p.default,
         })
         .collect()
@@ -550,6 +596,8 @@ pub struct ControlOptions {
     pub gain: Option<f64>,
     /// The washout's corner frequency ω_w (its term's default without it).
     pub ww: Option<f64>,
+    /// The dither's angular frequency Ω_d (its term's default without it).
+    pub wd: Option<f64>,
     /// The relative width a tuned gain's final bracket stops at, in (0, 1).
     pub rel_tol: f64,
     /// With it, each tuned law's [`robustness`] to this relative model error.
@@ -562,6 +610,7 @@ impl Default for ControlOptions {
         ControlOptions {
             gain: None,
             ww: None,
+            wd: None,
             rel_tol: 1e-3,
             spread: None,
         }
@@ -598,10 +647,10 @@ impl Comparison {
     }
 }
 
-/// The laws `laws` ([`LAWS`] when empty) on `p` as `c` says: tuned to `c.rel_tol` (with every
+/// The laws `laws` ([`DEFAULT_LAWS`] when empty) on `p` as `c` says: tuned to `c.rel_tol` (with every
 /// law tuned, feed-forward's tolerance too, [`feedforward`]; with `c.spread`, each law's
 /// [`robustness`]), or assessed at `c.gain`. Every law and value is checked before anything
-/// runs; `c.ww` without the washout among the laws is refused.
+/// runs; `c.ww` without the washout among the laws, or `c.wd` without the dither, is refused.
 pub fn compare(
     p: &Params,
     laws: &[&str],
@@ -609,19 +658,28 @@ pub fn compare(
     opts: &BurstOptions,
 ) -> Result<Comparison> {
     let all = laws.is_empty();
-    let laws: Vec<&str> = if all { LAWS.to_vec() } else { laws.to_vec() };
+    let laws: Vec<&str> = if all {
+        DEFAULT_LAWS.to_vec()
+    } else {
+        laws.to_vec()
+    };
     let terms = laws
         .iter()
-        .map(|l| law_term(l, c.gain.unwrap_or(0.0), &law_rest(l, c.ww)))
+        .map(|l| law_term(l, c.gain.unwrap_or(0.0), &law_rest(l, c)))
         .collect::<Result<Vec<_>>>()?;
-    if let Some(w) = c.ww
-        && !laws.contains(&Washout::KIND)
-    {
-        return Err(Error::InvalidInput {
-            what: "ww",
-            text: w.to_string(),
-            reason: "only the washout law has a corner frequency".into(),
-        });
+    for (name, value, law, what) in [
+        ("ww", c.ww, Washout::KIND, "a corner frequency"),
+        ("wd", c.wd, Dither::KIND, "a dither frequency"),
+    ] {
+        if let Some(w) = value
+            && !laws.contains(&law)
+        {
+            return Err(Error::InvalidInput {
+                what: name,
+                text: w.to_string(),
+                reason: format!("only the {law} law has {what}"),
+            });
+        }
     }
     check_rel_tol(c.rel_tol)?;
     if let Some(s) = c.spread {
@@ -636,7 +694,7 @@ pub fn compare(
     };
     if c.gain.is_none() {
         for law in &laws {
-            static_jumps_refused(p, law, &law_rest(law, c.ww))?;
+            static_jumps_refused(p, law, &law_rest(law, c))?;
         }
     }
     let open = OpenLoop::of(p, opts)?;
@@ -648,7 +706,7 @@ pub fn compare(
         }
         None => {
             for law in &laws {
-                let t = tune_against(p, law, &law_rest(law, c.ww), opts, c.rel_tol, &open)?;
+                let t = tune_against(p, law, &law_rest(law, c), opts, c.rel_tol, &open)?;
                 if let Some(s) = c.spread {
                     out.robustness.push(robustness(p, &t, s, opts, c.rel_tol)?);
                 }

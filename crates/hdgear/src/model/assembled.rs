@@ -402,6 +402,10 @@ impl Model {
     /// their own (friction, damping, a washout) the set is the stiffness term's exactly; with
     /// virtual stiffness k_p it is γ + k_p, γε/(γ + k_p). `None` otherwise (a static torque not
     /// affine in x, or γ' = 0 with a₀ ≠ γε).
+    ///
+    /// With a dither ([`Model::dither`]) it is the averaged model's: the ripple A it leaves
+    /// ([`super::control::dither_ripple`], at the model's damping at rest) adds 1.5αA² to a₁ and
+    /// −A²/2 to a₀.
     pub fn equivalent_params(&self) -> Option<Params> {
         let [alpha, gamma, eps] = self.terms().find_map(|t| match t {
             AnyTerm::Stiffness(s) => Some(s.0),
@@ -418,6 +422,15 @@ impl Model {
         if !affine {
             return None;
         }
+        let (a0, a1) = match self.dither() {
+            Some([d, wd]) => {
+                let gprime_min = gamma + a1 - 1.0 / (3.0 * alpha);
+                let c = self.facts().damping_at_rest;
+                let r = super::control::dither_ripple(alpha, gprime_min, d, wd, c);
+                (a0 - 0.5 * r * r, a1 + 1.5 * alpha * r * r)
+            }
+            None => (a0, a1),
+        };
         let (gamma, eps) = if a0 == 0.0 && a1 == 0.0 {
             (gamma, eps)
         } else if gamma + a1 != 0.0 {
@@ -484,6 +497,14 @@ impl Model {
             }
         }
         m
+    }
+
+    /// The model's dither [D, Ω_d], if a term applies one with D > 0 ([`AnyTerm::dither`];
+    /// with several, the first): a dither of amplitude 0 is the model without it.
+    pub fn dither(&self) -> Option<[f64; 2]> {
+        self.terms()
+            .find_map(|t| t.dither())
+            .filter(|[d, _]| *d > 0.0)
     }
 
     /// Whether the model has terms beyond the study's (damping and stiffness).

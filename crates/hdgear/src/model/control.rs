@@ -4,6 +4,7 @@
 //! parameters and a filter's state as the term's own state. [`crate::control`] measures what
 //! each law does.
 
+use super::jet::sin_cos_coefficients;
 use super::terms::{Domain, ParamInfo, Scratch, StateInfo, Term};
 use serde::Serialize;
 
@@ -174,4 +175,118 @@ impl Term for Washout {
     fn state_at_rest(&self, x: f64) -> f64 {
         x
     }
+}
+
+/// Dither ũ = D·sin θ, θ' = Ω_d: a fast periodic torque whatever the motion (θ, its phase, is the
+/// term's state, so the model stays autonomous apart from the slow load). At Ω_d ≫ 1 the twist
+/// carries a ripple A·sin θ about a slower motion X, and averaged over the ripple the cubic
+/// stiffens: ⟨g(X + A sin θ)⟩ = g(X) + 1.5αA²·X − A²/2 ([`dither_ripple`]). The burst verdict
+/// of a dithered model is taken on its motion averaged over the dither period
+/// ([`crate::burst::response_model`]), against the averaged model's equilibria
+/// ([`super::Model::equivalent_params`]).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Dither(pub [f64; 2]);
+
+impl Term for Dither {
+    const KIND: &'static str = "dither";
+    const ABOUT: &'static str = "dither: a fast control torque ũ = D·sin θ with the phase θ' = Ω_d";
+    const STATE: Option<StateInfo> = Some(StateInfo {
+        name: "theta",
+        meaning: "dither phase Ω_d·τ",
+    });
+    const PARAMS: &'static [ParamInfo] = &[
+        ParamInfo {
+            name: "dd",
+            symbol: "D",
+            latex: "D",
+            meaning: "amplitude of the dither torque",
+            domain: Domain::NonNegative,
+            default: 0.0,
+            si: "u_d·T²/(L·N²·J_i) (u_d in N m at the motor)",
+        },
+        ParamInfo {
+            name: "wd",
+            symbol: "Ω_d",
+            latex: r"\Omega_d",
+            meaning: "angular frequency of the dither",
+            domain: Domain::Positive,
+            default: 10.0,
+            si: "Ω_d·J_eq/C",
+        },
+    ];
+    fn from_values(v: &[f64]) -> Self {
+        Dither([v[0], v[1]])
+    }
+    fn values(&self) -> &[f64] {
+        &self.0
+    }
+    fn torque(&self, _x: f64, _v: f64, theta: f64) -> f64 {
+        -self.0[0] * libm::sin(theta)
+    }
+    fn gradient(&self, _x: f64, _v: f64, theta: f64) -> [f64; 3] {
+        [0.0, 0.0, -self.0[0] * libm::cos(theta)]
+    }
+    fn param_derivative(&self, i: usize, _x: f64, _v: f64, theta: f64) -> f64 {
+        if i == 0 { -libm::sin(theta) } else { 0.0 }
+    }
+    /// sin θ (row 0) and cos θ (row 1) by their recurrences.
+    fn taylor(&self, k: usize, _x: &[f64], _v: &[f64], theta: &[f64], rows: &mut Scratch) -> f64 {
+        let [s, c, ..] = &mut rows.0;
+        (s[k], c[k]) = sin_cos_coefficients(theta, s, c, k);
+        -self.0[0] * s[k]
+    }
+    fn rate(&self, _x: f64, _v: f64, _theta: f64) -> f64 {
+        self.0[1]
+    }
+    fn rate_param_derivative(&self, i: usize, _x: f64, _v: f64, _theta: f64) -> f64 {
+        if i == 1 { 1.0 } else { 0.0 }
+    }
+    fn rate_taylor(&self, k: usize, _x: &[f64], _v: &[f64], _t: &[f64], _r: &mut Scratch) -> f64 {
+        if k == 0 { self.0[1] } else { 0.0 }
+    }
+    fn text(&self) -> String {
+        " − D·sin θ".into()
+    }
+    fn latex(&self) -> String {
+        r" - D \sin\theta".into()
+    }
+    fn rate_text(&self) -> Option<String> {
+        Some("θ' = Ω_d".into())
+    }
+    fn rate_latex(&self) -> Option<String> {
+        Some(r"\dot\theta = \Omega_d".into())
+    }
+    fn dither(&self) -> Option<[f64; 2]> {
+        Some(self.0)
+    }
+}
+
+/// The ripple amplitude A a dither of amplitude `amplitude` and angular frequency `omega_d`
+/// leaves on the twist where the bursts form, the inflection of the averaged cubic: the linear
+/// response of x'' + c·x' + k·x at Ω_d, A = D/√((k − Ω_d²)² + (cΩ_d)²), with c the damping at
+/// rest and k the averaged slope there, k = `gprime_min` + 1.5αA² (`gprime_min` = γ − 1/(3α),
+/// the open loop's); solved for A by fixed-point iteration (a contraction where Ω_d² exceeds
+/// k, which first-order averaging needs anyway).
+///
+/// ```
+/// use hdgear::model::control::dither_ripple;
+/// // far above every stiffness: A → D/(Ω_d·√(Ω_d² + c²))
+/// let a = dither_ripple(16.0, 0.0, 1.0, 1e3, 1.0);
+/// assert!((a - 1.0 / (1e3 * (1e6_f64 + 1.0).sqrt())).abs() < 1e-15);
+/// ```
+pub fn dither_ripple(alpha: f64, gprime_min: f64, amplitude: f64, omega_d: f64, c: f64) -> f64 {
+    let w2 = omega_d * omega_d;
+    let response = |a: f64| {
+        let k = gprime_min + 1.5 * alpha * a * a;
+        amplitude / ((k - w2).powi(2) + (c * omega_d).powi(2)).sqrt()
+    };
+    let mut a = response(0.0);
+    for _ in 0..200 {
+        let next = response(a);
+        if (next - a).abs() <= 1e-15 * next {
+            return next;
+        }
+        a = next;
+    }
+    a
 }

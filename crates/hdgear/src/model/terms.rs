@@ -3,7 +3,7 @@
 //! [`super::memory`]), with its parameters and, in one place, everything the machines need of it
 //! ([`Term`]).
 
-pub use super::control::{VirtualDamping, VirtualStiffness, Washout};
+pub use super::control::{Dither, VirtualDamping, VirtualStiffness, Washout};
 use super::jet::{
     exp_coefficient, exp_step_limit, square_coefficient, tanh_coefficient, tanh_step_limit,
 };
@@ -254,6 +254,12 @@ pub trait Term: Copy {
     /// default: the virgin state of a memory term; x for a washout filter, which follows x).
     fn state_at_rest(&self, _x: f64) -> f64 {
         0.0
+    }
+    /// A torque the term applies whatever the motion, D·sin θ with θ' = Ω_d, as [D, Ω_d]: a
+    /// dither, whose ripple the burst verdict averages out ([`super::control::Dither`]). `None`
+    /// (the default) for a term of the motion.
+    fn dither(&self) -> Option<[f64; 2]> {
+        None
     }
 }
 
@@ -789,6 +795,10 @@ macro_rules! any_term {
             pub fn breakaway(&self) -> Option<f64> {
                 match self { $(AnyTerm::$variant(t) => t.breakaway(),)* }
             }
+            /// Its dither [D, Ω_d], if it is one ([`Term::dither`]).
+            pub fn dither(&self) -> Option<[f64; 2]> {
+                match self { $(AnyTerm::$variant(t) => t.dither(),)* }
+            }
             /// Its internal state at rest at twist x ([`Term::state_at_rest`]).
             pub fn state_at_rest(&self, x: f64) -> f64 {
                 match self { $(AnyTerm::$variant(t) => t.state_at_rest(x),)* }
@@ -812,6 +822,7 @@ any_term!(
     VirtualStiffness,
     VirtualDamping,
     Washout,
+    Dither,
 );
 
 /// Checks a term's values against its parameter list: each within the magnitude limit every
