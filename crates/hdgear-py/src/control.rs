@@ -6,7 +6,7 @@ use pyo3::prelude::*;
 
 /// What `hdgear control --json` prints, as a dict.
 #[pyfunction]
-#[pyo3(signature = (params, laws, gain, ww, wd, rel_tol, spread, discard, window_periods, rtol, atol, method))]
+#[pyo3(signature = (params, laws, gain, ww, wd, taud, rel_tol, spread, discard, window_periods, rtol, atol, method))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn control<'py>(
     py: Python<'py>,
@@ -15,6 +15,7 @@ pub(crate) fn control<'py>(
     gain: Option<f64>,
     ww: Option<f64>,
     wd: Option<f64>,
+    taud: Option<f64>,
     rel_tol: f64,
     spread: Option<f64>,
     discard: f64,
@@ -32,6 +33,7 @@ pub(crate) fn control<'py>(
                 gain,
                 ww,
                 wd,
+                taud,
                 rel_tol,
                 spread,
             };

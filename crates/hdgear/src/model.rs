@@ -10,6 +10,7 @@
 //!   study runs on; the tests hold it to [`Model::study`]'s coefficients.
 
 pub mod control;
+pub mod delay;
 pub mod jet;
 pub mod memory;
 pub mod switching;

@@ -4,6 +4,7 @@ use crate::error::Result;
 use crate::fast::stable_equilibrium;
 use crate::integrate::events::{Detector, Direction};
 use crate::integrate::{DenseOutput, Grid, Options, Stats, Stepper, System, stepper};
+use crate::model::delay::Delayed;
 use crate::model::switching::{Mode, Pieces, Switching, SwitchingDense};
 use crate::model::{Description, Dimensionless, Model};
 use crate::params::Params;
@@ -214,6 +215,16 @@ fn model_run<const N: usize>(
     mut on_step: impl FnMut(&dyn ModelStep),
 ) -> Result<SimSummary> {
     let mut out = |t: f64, y: &[f64; N]| out(t, y);
+    if let Some(sys) = Delayed::new(m, &y0) {
+        let opts = SimOptions {
+            tol: sys.options(opts.tol, opts.t_end)?,
+            ..*opts
+        };
+        return sampled(&sys, &opts, y0, out, |d| {
+            on_step(&Step(d));
+            sys.push(*d);
+        });
+    }
     let Some(pieces) = Pieces::new(m) else {
         return sampled(m, opts, y0, out, |d| on_step(&Step(d)));
     };

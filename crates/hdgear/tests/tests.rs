@@ -8,6 +8,7 @@ mod burst;
 mod cards;
 mod control;
 mod curve2;
+mod delay;
 mod dither;
 mod domain;
 mod fast;

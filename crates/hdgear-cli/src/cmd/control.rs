@@ -12,7 +12,8 @@ use hdgear::control::{Comparison, ControlOptions, DriveControl, Ratings, compare
 pub struct ControlArgs {
     /// The laws: vstiffness (ũ = −k_p x), vdamping (ũ = −k_d x'), washout (ũ = −k_w (x − ξ),
     /// ξ' = ω_w (x − ξ)), dither (ũ = D sin Ω_d τ, the gain D; its verdict is of the motion
-    /// averaged over the dither's period); the first three without any.
+    /// averaged over the dither's period), delay (ũ = K (x(τ − τ_d) − x(τ)), the gain K); the
+    /// first three without any.
     #[arg(value_name = "LAW")]
     pub laws: Vec<String>,
     /// Assess each law at this gain instead of tuning it to its least gain that removes the
@@ -25,6 +26,9 @@ pub struct ControlArgs {
     /// The dither's angular frequency Ω_d (the term's default without it).
     #[arg(long, allow_negative_numbers = true)]
     pub wd: Option<f64>,
+    /// The delayed feedback's delay τ_d (the term's default without it).
+    #[arg(long, allow_negative_numbers = true)]
+    pub taud: Option<f64>,
     /// Relative width of a tuned gain's final bracket.
     #[arg(long, default_value_t = 1e-3)]
     pub rel_tol: f64,
@@ -53,6 +57,7 @@ impl ControlArgs {
             gain: self.gain,
             ww: self.ww,
             wd: self.wd,
+            taud: self.taud,
             rel_tol: self.rel_tol,
             spread: (self.spread != 0.0).then_some(self.spread),
         }
@@ -221,7 +226,11 @@ pub fn text(doc: &Comparison) -> String {
             a.term.kind(),
             a.gain,
             below.map_or("-".into(), |b| format!("{b:.5}")),
-            a.verdict.name(),
+            if a.unstable {
+                "unstable"
+            } else {
+                a.verdict.name()
+            },
             a.peak_ratio(),
             a.fast_energy_db,
             a.effort_peak,

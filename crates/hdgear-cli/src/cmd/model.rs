@@ -59,7 +59,9 @@ pub fn run(a: ModelArgs) -> Result<()> {
     );
     outln!(
         "  Hopf bifurcation {}",
-        if f.hopf_possible {
+        if f.hopf_possible && f.damping_at_rest > 0.0 {
+            "possible (a delayed feedback: its roots cross the imaginary axis as K·τ_d grows)"
+        } else if f.hopf_possible {
             "possible (c ≤ 0 somewhere)"
         } else {
             "impossible (c > 0: the trace −c of the Jacobian never crosses 0)"

@@ -133,20 +133,22 @@ def bursts(params=None, discard=1.0, window_periods=2, rtol=1e-10, atol=1e-10, m
     return _frame(cols)
 
 
-def control(laws=None, params=None, gain=None, ww=None, wd=None, rel_tol=1e-3, spread=0.2, discard=1.0,
+def control(laws=None, params=None, gain=None, ww=None, wd=None, taud=None, rel_tol=1e-3, spread=0.2, discard=1.0,
             window_periods=2, rtol=1e-10, atol=1e-10, method="taylor"):
     """Feedback laws against the bursts (what ``hdgear control --json`` prints), as a
-    :class:`Result`: each of ``laws`` ("vstiffness", "vdamping", "washout", "dither"; the first three
+    :class:`Result`: each of ``laws`` ("vstiffness", "vdamping", "washout", "dither", "delay"; the first three
     by default)
     tuned to its least gain that removes the bursts (``tunings``: the tuned gain and the one below
     it, each assessed), or assessed at ``gain`` (``assessments``); ``ww`` is the washout's corner
-    frequency; "dither" (run only on request) is ``wd``'s dither at amplitude ``gain``; with ``spread`` (0.2: ±20 %, as ``hdgear control``; None: not checked) each tuned law's
+    frequency; "dither" (run only on request) is ``wd``'s dither at amplitude ``gain``, "delay"
+    (on request) the feedback K·(x(τ − ``taud``) − x(τ)) with K = ``gain``; with ``spread`` (0.2: ±20 %, as ``hdgear control``; None: not checked) each tuned law's
     ``robustness``, the least gain
     that keeps every plant within that model error of α, γ, ε, μ, δ burst-free."""
     laws = [] if laws is None else ([laws] if isinstance(laws, str) else list(laws))
     data = _hdgear.control(_params(params), laws, None if gain is None else float(gain),
                            None if ww is None else float(ww),
-                           None if wd is None else float(wd), float(rel_tol),
+                           None if wd is None else float(wd),
+                           None if taud is None else float(taud), float(rel_tol),
                            None if spread is None else float(spread), float(discard),
                            int(window_periods), float(rtol), float(atol), method)
     return Result(data)

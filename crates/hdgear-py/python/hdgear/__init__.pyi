@@ -68,7 +68,7 @@ def bursts(params: Optional[Params] = ..., discard: float = ..., window_periods:
            rtol: float = ..., atol: float = ..., method: str = ...) -> Any: ...
 def control(laws: Union[str, Sequence[str], None] = ..., params: Optional[Params] = ...,
             gain: Optional[float] = ..., ww: Optional[float] = ..., wd: Optional[float] = ...,
-            rel_tol: float = ...,
+            taud: Optional[float] = ..., rel_tol: float = ...,
             spread: Optional[float] = ..., discard: float = ..., window_periods: int = ..., rtol: float = ...,
             atol: float = ..., method: str = ...) -> Result: ...
 def robust(nominal: Union[Params, "Drive", None] = ..., tolerances: Optional[Mapping[str, str]] = ...,

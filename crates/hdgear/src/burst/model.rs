@@ -7,6 +7,7 @@ use super::scan::{History, ScanStep};
 use super::{BurstOptions, Plan, Response};
 use crate::error::{Error, Result};
 use crate::integrate::{AnyDense, DenseOutput, Stepper, stepper};
+use crate::model::delay::Delayed;
 use crate::model::{MAX_STATES, Model};
 use std::collections::VecDeque;
 use std::f64::consts::TAU;
@@ -248,14 +249,45 @@ fn run<const N: usize>(
     y0: [f64; N],
 ) -> Result<Response> {
     let plan = Plan::new(p, opts)?;
-    let mut solver = stepper(m, 0.0, y0, opts.tol)?;
-    let mut scanner = plan.scanner(p, opts, y0[0]);
+    match Delayed::new(m, &y0) {
+        Some(sys) => {
+            let tol = sys.options(opts.tol, plan.scan.1)?;
+            let solver = stepper(&sys, 0.0, y0, tol)?;
+            scan_steps(&plan, solver, m, p, opts, y0[0], Some(&|d| sys.push(d)))
+        }
+        None => {
+            let solver = stepper(m, 0.0, y0, opts.tol)?;
+            scan_steps(&plan, solver, m, p, opts, y0[0], None)
+        }
+    }
+}
+
+/// The scan of [`run`] over `solver`'s steps; `taken` sees every step (a delayed model's
+/// history), where given.
+fn scan_steps<St: Stepper<N, Dense = AnyDense<N>>, const N: usize>(
+    plan: &Plan,
+    mut solver: St,
+    m: &Model,
+    p: &crate::Params,
+    opts: &BurstOptions,
+    x0: f64,
+    taken: Option<&dyn Fn(AnyDense<N>)>,
+) -> Result<Response> {
+    let mut scanner = plan.scanner(p, opts, x0);
     let mut history = History::new(plan.history_span());
     while solver.t() < plan.scan.1 {
         solver.step(plan.scan.1)?;
-        if solver.t() > plan.scan.0 {
+        let scanned = solver.t() > plan.scan.0;
+        if !scanned && taken.is_none() {
+            continue;
+        }
+        let d = solver.dense();
+        if let Some(f) = taken {
+            f(d);
+        }
+        if scanned {
             history.push(Projected {
-                inner: solver.dense(),
+                inner: d,
                 model: m,
                 params: p,
             });

@@ -13,28 +13,33 @@ use crate::error::{Error, Result};
 use crate::fast::EquilibriumTracker;
 use crate::model::Model;
 use crate::model::control::{Dither, VirtualDamping, VirtualStiffness, Washout};
+use crate::model::delay::Delay;
 use crate::model::terms::{AnyTerm, Term};
 use crate::params::{Param, Params};
 use crate::simulate::{ModelStep, SimOptions, Start, simulate_model_steps};
 use serde::Serialize;
 
+mod averaging;
 pub mod drive;
 mod search;
+pub use averaging::Averaging;
 pub use drive::{DriveControl, DriveEffort, RatingCheck, Ratings, compare_drive};
 pub use search::{GAIN_MAX, GAIN_MIN, GAIN_START, MIN_REL_TOL};
 use search::{check_fraction, check_rel_tol, crossing};
 
 /// The control laws, by their terms' kinds: the one list `hdgear control` and [`tune`] offer.
-pub const LAWS: [&str; 4] = [
+pub const LAWS: [&str; 5] = [
     VirtualStiffness::KIND,
     VirtualDamping::KIND,
     Washout::KIND,
     Dither::KIND,
+    Delay::KIND,
 ];
 
 /// The laws [`compare`] runs when given none: every law of [`LAWS`] but the dither, whose
 /// verdicts each integrate the ripple (steps a fraction of its period, some 10–100 times the
-/// others' work) and which is run on request.
+/// others' work), and the delayed feedback, whose gain depends on a delay the caller chooses;
+/// both run on request.
 pub const DEFAULT_LAWS: [&str; 3] = [VirtualStiffness::KIND, VirtualDamping::KIND, Washout::KIND];
 
 /// Spacing of the samples the measures are taken from (the fast mode's period at the study's
@@ -69,6 +74,11 @@ pub struct Assessment {
     pub verdict: Verdict,
     /// The open loop's verdict.
     pub open_verdict: Verdict,
+    /// The law makes the loop oscillate by itself: the closed loop's fast motion never settles
+    /// (one burst group longer than half a slow period,
+    /// [`crate::burst::Response::continuous_fast_motion`]) where the open loop's does. An
+    /// unstable loop never counts as removing the bursts, whatever its verdict.
+    pub unstable: bool,
     /// Largest |x'| in the window, closed loop.
     pub peak_xdot: f64,
     /// Largest |x'| in the window, open loop.
@@ -99,40 +109,10 @@ pub struct Assessment {
     pub max_shift: f64,
 }
 
-/// What first-order averaging makes of a dither ũ = D·sin Ω_dτ on the study's model.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct Averaging {
-    /// The ripple amplitude A on the twist ([`crate::model::control::dither_ripple`]).
-    pub ripple: f64,
-    /// The averaged model: γ + 1.5αA², with the −A²/2 load folded into ε.
-    pub params: Params,
-    /// Ω_d over the fast mode's largest angular frequency on the averaged curve, √(max g'):
-    /// averaging needs it well above 1 (the dither faster than every motion it is averaged
-    /// against; the guide's control page shows where it holds).
-    pub frequency_ratio: f64,
-}
-
-impl Averaging {
-    /// The dithered closed loop `closed` of the study model with `p`: `None` without a dither.
-    fn of(p: &Params, closed: &Model) -> Option<Averaging> {
-        let [_, wd] = closed.dither()?;
-        let params = closed.equivalent_params()?;
-        let gmax = crate::fast::x_intervals(&params, (-1.0, 1.0))
-            .iter()
-            .flat_map(|&(l, r)| [params.g_prime(l), params.g_prime(r)])
-            .fold(0.0_f64, f64::max);
-        Some(Averaging {
-            ripple: ((params.gamma - p.gamma) / (1.5 * p.alpha)).max(0.0).sqrt(),
-            params,
-            frequency_ratio: wd / gmax.sqrt(),
-        })
-    }
-}
-
 impl Assessment {
     /// Whether the closed loop shows no burst signature.
     pub fn removes_bursts(&self) -> bool {
-        self.verdict == Verdict::NoBursts
+        self.verdict == Verdict::NoBursts && !self.unstable
     }
 
     /// Closed-loop peak |x'| over the open loop's.
@@ -210,6 +190,7 @@ fn assess_against(
         gain: term.values()[0],
         verdict: c.verdict,
         open_verdict: o.verdict,
+        unstable: c.continuous && !o.continuous,
         peak_xdot: c.peak_xdot,
         open_peak_xdot: o.peak_xdot,
         fast_energy_db: 10.0 * (c.fast_energy / o.fast_energy).log10(),
@@ -282,6 +263,8 @@ fn adaptive(
 /// One loop's verdict and measures.
 struct Run {
     verdict: Verdict,
+    /// The fast motion never settles ([`crate::burst::Response::continuous_fast_motion`]).
+    continuous: bool,
     peak_xdot: f64,
     fast_energy: f64,
     /// Peak |ũ|, RMS and mean of ũ.
@@ -298,6 +281,7 @@ impl Run {
         let r = response_model(m, opts)?;
         let p = m.equivalent_params().expect("response_model checked it");
         let verdict = classify(&p, &r).verdict;
+        let continuous = r.continuous_fast_motion;
         let (w0, w1) = window(&p, opts);
         // a grid on which every turning point of a, τ = (2k + 1)·π/(2ω), is a sample
         let quarter = std::f64::consts::FRAC_PI_2 / p.omega;
@@ -361,6 +345,7 @@ impl Run {
         let means = integrals.map(|v| v / (w1 - w0));
         Ok(Run {
             verdict,
+            continuous,
             peak_xdot: r.rates.peak_abs_xdot,
             fast_energy: means[0],
             effort: [peak, means[1].sqrt(), means[2]],
@@ -396,12 +381,13 @@ fn no_control_needed(p: &Params, law: &str) -> Error {
     }
 }
 
-/// Whether `p`'s closed loop with law `law` at `gain` (other parameters `rest`) bursts: the
-/// verdict every search here bisects.
+/// Whether `p`'s closed loop with law `law` at `gain` (other parameters `rest`) bursts, or never
+/// settles (a loop the law makes oscillate by itself, [`Assessment::unstable`], does not remove
+/// the bursts): the verdict every search here bisects.
 fn bursts_at(p: &Params, law: &str, gain: f64, rest: &[f64], opts: &BurstOptions) -> Result<bool> {
     let m = closed_loop(p, law_term(law, gain, rest)?)?;
     let r = response_model(&m, opts)?;
-    Ok(classify(&m.equivalent_params().expect("checked"), &r).bursting)
+    Ok(classify(&m.equivalent_params().expect("checked"), &r).bursting || r.continuous_fast_motion)
 }
 
 /// The least gain of law `law` (other parameters `rest`) that removes the bursts of `p`: gains
@@ -573,7 +559,8 @@ pub fn robustness(
 }
 
 /// The parameters of `law` after its gain: its term's defaults, with `c.ww` for a washout's
-/// corner frequency and `c.wd` for a dither's frequency where given.
+/// corner frequency, `c.wd` for a dither's frequency and `c.taud` for a delayed feedback's
+/// delay where given.
 pub fn law_rest(law: &str, c: &ControlOptions) -> Vec<f64> {
     let params = AnyTerm::KINDS
         .iter()
@@ -582,8 +569,8 @@ pub fn law_rest(law: &str, c: &ControlOptions) -> Vec<f64> {
     params
         .iter()
         .skip(1)
-        .map(|p| match (p.name, c.ww, c.wd) {
-            ("ww", Some(w), _) | ("wd", _, Some(w)) => w,
+        .map(|p| match (p.name, c.ww, c.wd, c.taud) {
+            ("ww", Some(w), ..) | ("wd", _, Some(w), _) | ("taud", .., Some(w)) => w,
             _ => p.default,
         })
         .collect()
@@ -598,6 +585,8 @@ pub struct ControlOptions {
     pub ww: Option<f64>,
     /// The dither's angular frequency Ω_d (its term's default without it).
     pub wd: Option<f64>,
+    /// The delayed feedback's delay τ_d (its term's default without it).
+    pub taud: Option<f64>,
     /// The relative width a tuned gain's final bracket stops at, in (0, 1).
     pub rel_tol: f64,
     /// With it, each tuned law's [`robustness`] to this relative model error.
@@ -611,6 +600,7 @@ impl Default for ControlOptions {
             gain: None,
             ww: None,
             wd: None,
+            taud: None,
             rel_tol: 1e-3,
             spread: None,
         }
@@ -650,7 +640,8 @@ impl Comparison {
 /// The laws `laws` ([`DEFAULT_LAWS`] when empty) on `p` as `c` says: tuned to `c.rel_tol` (with every
 /// law tuned, feed-forward's tolerance too, [`feedforward`]; with `c.spread`, each law's
 /// [`robustness`]), or assessed at `c.gain`. Every law and value is checked before anything
-/// runs; `c.ww` without the washout among the laws, or `c.wd` without the dither, is refused.
+/// runs; `c.ww` without the washout among the laws, `c.wd` without the dither or `c.taud`
+/// without the delayed feedback is refused.
 pub fn compare(
     p: &Params,
     laws: &[&str],
@@ -670,6 +661,7 @@ pub fn compare(
     for (name, value, law, what) in [
         ("ww", c.ww, Washout::KIND, "a corner frequency"),
         ("wd", c.wd, Dither::KIND, "a dither frequency"),
+        ("taud", c.taud, Delay::KIND, "a delay"),
     ] {
         if let Some(w) = value
             && !laws.contains(&law)

@@ -119,8 +119,10 @@ pub struct Facts {
     /// Whether c is the same at every sampled x (to 1e-12 relative): then the values below hold
     /// at every equilibrium.
     pub damping_uniform: bool,
-    /// Whether a Hopf bifurcation of the fast subsystem is possible: only where c ≤ 0 can the
-    /// trace of its Jacobian cross zero.
+    /// Whether a Hopf bifurcation of the fast subsystem is possible: where c ≤ 0 the trace of
+    /// its Jacobian can cross zero; with a delayed feedback its characteristic equation
+    /// λ² + cλ + g' + K(1 − e^{−λτ_d}) = 0 has roots that cross the imaginary axis as τ_d or K
+    /// grows, whatever c.
     pub hopf_possible: bool,
     /// The slope g' above which an equilibrium is a focus (complex eigenvalues): c²/4.
     pub focus_node_threshold: f64,
@@ -507,6 +509,16 @@ impl Model {
             .filter(|[d, _]| *d > 0.0)
     }
 
+    /// The model's delayed feedback [K, τ_d], if a term is one ([`AnyTerm::delay`]).
+    pub fn delay(&self) -> Option<[f64; 2]> {
+        self.terms().find_map(|t| t.delay())
+    }
+
+    /// The state index of the delayed twist, for a model with a delayed feedback.
+    pub(crate) fn delay_slot(&self) -> Option<usize> {
+        self.slots().find_map(|(t, at)| t.delay().and(at))
+    }
+
     /// Whether the model has terms beyond the study's (damping and stiffness).
     pub fn has_extra_terms(&self) -> bool {
         self.terms().any(|t| Model::is_extra_kind(t.kind()))
@@ -585,7 +597,7 @@ impl Model {
         Facts {
             damping_at_rest: c,
             damping_uniform: hi - lo <= 1e-12 * hi.abs().max(1.0),
-            hopf_possible: c <= 0.0,
+            hopf_possible: c <= 0.0 || self.delay().is_some_and(|[k, _]| k > 0.0),
             focus_node_threshold: c * c / 4.0,
             decay_time,
             omega_decay: self.forcing[2] * decay_time,

@@ -4,6 +4,7 @@
 //! ([`Term`]).
 
 pub use super::control::{Dither, VirtualDamping, VirtualStiffness, Washout};
+pub use super::delay::Delay;
 use super::jet::{
     exp_coefficient, exp_step_limit, square_coefficient, tanh_coefficient, tanh_step_limit,
 };
@@ -259,6 +260,11 @@ pub trait Term: Copy {
     /// dither, whose ripple the burst verdict averages out ([`super::control::Dither`]). `None`
     /// (the default) for a term of the motion.
     fn dither(&self) -> Option<[f64; 2]> {
+        None
+    }
+    /// A delayed feedback's [K, τ_d]: its state is the twist τ_d ago, which only the run's history
+    /// gives ([`super::delay::Delayed`]). `None` (the default) for every other term.
+    fn delay(&self) -> Option<[f64; 2]> {
         None
     }
 }
@@ -799,6 +805,10 @@ macro_rules! any_term {
             pub fn dither(&self) -> Option<[f64; 2]> {
                 match self { $(AnyTerm::$variant(t) => t.dither(),)* }
             }
+            /// Its delay [K, τ_d], if it is a delayed feedback ([`Term::delay`]).
+            pub fn delay(&self) -> Option<[f64; 2]> {
+                match self { $(AnyTerm::$variant(t) => t.delay(),)* }
+            }
             /// Its internal state at rest at twist x ([`Term::state_at_rest`]).
             pub fn state_at_rest(&self, x: f64) -> f64 {
                 match self { $(AnyTerm::$variant(t) => t.state_at_rest(x),)* }
@@ -823,6 +833,7 @@ any_term!(
     VirtualDamping,
     Washout,
     Dither,
+    Delay,
 );
 
 /// Checks a term's values against its parameter list: each within the magnitude limit every
