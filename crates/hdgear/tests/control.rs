@@ -162,16 +162,7 @@ fn washout_integration_matches_an_independent_rk4() {
     let mut y = [x0, 0.0, x0];
     let steps = (t_end / h) as usize;
     for i in 0..steps {
-        let t = i as f64 * h;
-        let add =
-            |a: [f64; 3], b: [f64; 3], s: f64| [a[0] + s * b[0], a[1] + s * b[1], a[2] + s * b[2]];
-        let k1 = f(t, y);
-        let k2 = f(t + h / 2.0, add(y, k1, h / 2.0));
-        let k3 = f(t + h / 2.0, add(y, k2, h / 2.0));
-        let k4 = f(t + h, add(y, k3, h));
-        for j in 0..3 {
-            y[j] += h / 6.0 * (k1[j] + 2.0 * k2[j] + 2.0 * k3[j] + k4[j]);
-        }
+        y = crate::common::rk4_step(f, i as f64 * h, y, h);
     }
     let opts = SimOptions {
         t_end,

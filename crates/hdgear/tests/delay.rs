@@ -60,15 +60,10 @@ fn method_of_steps(p: &Params, k: f64, tau: f64, h: f64, t_end: f64, x0: f64) ->
     for i in 0..steps {
         let t = i as f64 * h;
         let j = i as isize - m as isize;
-        let (x_a, x_m, x_b) = (at(&hist, j)[0], half(&hist, j), at(&hist, j + 1)[0]);
-        let add = |a: [f64; 2], b: [f64; 2], s: f64| [a[0] + s * b[0], a[1] + s * b[1]];
-        let k1 = f(t, y, x_a);
-        let k2 = f(t + h / 2.0, add(y, k1, h / 2.0), x_m);
-        let k3 = f(t + h / 2.0, add(y, k2, h / 2.0), x_m);
-        let k4 = f(t + h, add(y, k3, h), x_b);
-        for c in 0..2 {
-            y[c] += h / 6.0 * (k1[c] + 2.0 * k2[c] + 2.0 * k3[c] + k4[c]);
-        }
+        // the delayed twist at the stage's time: the step's start, its middle or its end
+        let delayed = [at(&hist, j)[0], half(&hist, j), at(&hist, j + 1)[0]];
+        let stage = |s: f64| delayed[(2.0 * (s - t) / h).round() as usize];
+        y = crate::common::rk4_step(|s, y| f(s, y, stage(s)), t, y, h);
         hist.push(y);
     }
     y

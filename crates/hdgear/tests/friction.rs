@@ -49,17 +49,7 @@ impl Reference {
     }
     fn rk4(&self, t: f64, y: [f64; 2], h: f64, s: f64) -> [f64; 2] {
         let f = |t: f64, y: [f64; 2]| [y[1], self.accel(t, y[0], y[1], s)];
-        let k1 = f(t, y);
-        let k2 = f(
-            t + h / 2.0,
-            [y[0] + h / 2.0 * k1[0], y[1] + h / 2.0 * k1[1]],
-        );
-        let k3 = f(
-            t + h / 2.0,
-            [y[0] + h / 2.0 * k2[0], y[1] + h / 2.0 * k2[1]],
-        );
-        let k4 = f(t + h, [y[0] + h * k3[0], y[1] + h * k3[1]]);
-        std::array::from_fn(|i| y[i] + h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]))
+        crate::common::rk4_step(f, t, y, h)
     }
     fn mode_at_rest(&self, t: f64, x: f64) -> Mode {
         let a = self.applied(t, x);

@@ -67,13 +67,7 @@ impl Reference {
         [v, a, rate]
     }
     fn rk4(&self, t: f64, y: [f64; 3], h: f64, sv: f64, sz: f64) -> [f64; 3] {
-        let f = |t, y| self.rhs(t, y, sv, sz);
-        let add = |y: [f64; 3], k: [f64; 3], c: f64| std::array::from_fn(|i| y[i] + c * k[i]);
-        let k1 = f(t, y);
-        let k2 = f(t + h / 2.0, add(y, k1, h / 2.0));
-        let k3 = f(t + h / 2.0, add(y, k2, h / 2.0));
-        let k4 = f(t + h, add(y, k3, h));
-        std::array::from_fn(|i| y[i] + h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]))
+        crate::common::rk4_step(|t, y| self.rhs(t, y, sv, sz), t, y, h)
     }
     /// The sign a component leaves 0 with: x' along the acceleration at rest, z along z'
     /// (whose |z| parts vanish at z = 0).

@@ -63,3 +63,20 @@ pub fn monotone_equilibrium(p: &hdgear::Params, a: f64) -> f64 {
     }
     0.5 * (lo + hi)
 }
+
+/// One classical RK4 step of y' = f(t, y) from (t, y) with step h: the independent integrator
+/// the tests compare hdgear against (error O(h⁴) over a run). `f` is called at t, t + h/2
+/// (twice) and t + h, in that order.
+pub fn rk4_step<const N: usize>(
+    mut f: impl FnMut(f64, [f64; N]) -> [f64; N],
+    t: f64,
+    y: [f64; N],
+    h: f64,
+) -> [f64; N] {
+    let add = |y: [f64; N], k: [f64; N], c: f64| std::array::from_fn(|i| y[i] + c * k[i]);
+    let k1 = f(t, y);
+    let k2 = f(t + h / 2.0, add(y, k1, h / 2.0));
+    let k3 = f(t + h / 2.0, add(y, k2, h / 2.0));
+    let k4 = f(t + h, add(y, k3, h));
+    std::array::from_fn(|i| y[i] + h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]))
+}
