@@ -159,23 +159,8 @@ fn washout_integration_matches_an_independent_rk4() {
     };
     let (t_end, h) = (200.0, 1e-3);
     let x0 = m.stable_equilibrium(0.0).unwrap();
-    let mut y = [x0, 0.0, x0];
-    let steps = (t_end / h) as usize;
-    for i in 0..steps {
-        y = crate::common::rk4_step(f, i as f64 * h, y, h);
-    }
-    let opts = SimOptions {
-        t_end,
-        dt: t_end,
-        start: Start::Equilibrium,
-        tol: Options {
-            rtol: 1e-13,
-            atol: 1e-13,
-            ..Options::default()
-        },
-    };
-    let mut last = Vec::new();
-    simulate_model(&m, &opts, |_, s| last = s.to_vec()).unwrap();
+    let y = crate::common::rk4_run(f, [x0, 0.0, x0], h, t_end);
+    let last = crate::common::model_end_state(&m, t_end, 1e-13, hdgear::integrate::Method::Taylor);
     for j in 0..3 {
         assert!(
             (last[j] - y[j]).abs() < 1e-8,

@@ -14,19 +14,8 @@ fn delayed(p: &Params, k: f64, tau: f64) -> Model {
 
 /// x and x' at `t_end` from the equilibrium at rtol = atol = `tol`.
 fn end_state(m: &Model, t_end: f64, tol: f64) -> [f64; 2] {
-    let opts = SimOptions {
-        t_end,
-        dt: t_end,
-        start: Start::Equilibrium,
-        tol: Options {
-            rtol: tol,
-            atol: tol,
-            ..Options::default()
-        },
-    };
-    let mut last = [0.0; 2];
-    simulate_model(m, &opts, |_, y| last = [y[0], y[1]]).unwrap();
-    last
+    let y = crate::common::model_end_state(m, t_end, tol, hdgear::integrate::Method::Dop853);
+    [y[0], y[1]]
 }
 
 /// An independent method of steps: classical RK4 with step h = τ_d/m, the history kept at every

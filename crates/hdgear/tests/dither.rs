@@ -4,9 +4,8 @@
 
 use hdgear::Params;
 use hdgear::burst::{BurstOptions, classify, response_model};
-use hdgear::integrate::{Method, Options};
+use hdgear::integrate::Method;
 use hdgear::model::{Model, terms::AnyTerm};
-use hdgear::simulate::{SimOptions, Start, simulate_model};
 
 fn dithered(p: &Params, d: f64, wd: f64) -> Model {
     Model::study(p)
@@ -34,25 +33,9 @@ fn dither_integration_matches_an_independent_rk4() {
     };
     let (t_end, h): (f64, f64) = (100.0, 2e-4);
     let x0 = m.stable_equilibrium(0.0).unwrap();
-    let mut y = [x0, 0.0];
-    let steps = (t_end / h).round() as usize;
-    for i in 0..steps {
-        y = crate::common::rk4_step(f, i as f64 * h, y, h);
-    }
+    let y = crate::common::rk4_run(f, [x0, 0.0], h, t_end);
     for method in [Method::Taylor, Method::Dop853] {
-        let opts = SimOptions {
-            t_end,
-            dt: t_end,
-            start: Start::Equilibrium,
-            tol: Options {
-                rtol: 1e-13,
-                atol: 1e-13,
-                method,
-                ..Options::default()
-            },
-        };
-        let mut last = Vec::new();
-        simulate_model(&m, &opts, |_, s| last = s.to_vec()).unwrap();
+        let last = crate::common::model_end_state(&m, t_end, 1e-13, method);
         assert!(
             (last[2] - wd * t_end).abs() < 1e-9 * wd * t_end,
             "{method}: θ = {}",

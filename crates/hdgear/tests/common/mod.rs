@@ -80,3 +80,42 @@ pub fn rk4_step<const N: usize>(
     let k4 = f(t + h, add(y, k3, h));
     std::array::from_fn(|i| y[i] + h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]))
 }
+
+/// [`rk4_step`] from (0, y0) to t_end in steps of h (t_end a whole number of them).
+pub fn rk4_run<const N: usize>(
+    mut f: impl FnMut(f64, [f64; N]) -> [f64; N],
+    y0: [f64; N],
+    h: f64,
+    t_end: f64,
+) -> [f64; N] {
+    let steps = (t_end / h).round() as usize;
+    assert!(
+        (steps as f64 * h - t_end).abs() < 1e-9 * t_end,
+        "t_end a whole number of steps"
+    );
+    (0..steps).fold(y0, |y, i| rk4_step(&mut f, i as f64 * h, y, h))
+}
+
+/// The state at t_end of `m` run from its equilibrium by `method` at rtol = atol = `tol`.
+pub fn model_end_state(
+    m: &hdgear::model::Model,
+    t_end: f64,
+    tol: f64,
+    method: hdgear::integrate::Method,
+) -> Vec<f64> {
+    use hdgear::simulate::{SimOptions, Start, simulate_model};
+    let opts = SimOptions {
+        t_end,
+        dt: t_end,
+        start: Start::Equilibrium,
+        tol: hdgear::integrate::Options {
+            rtol: tol,
+            atol: tol,
+            method,
+            ..hdgear::integrate::Options::default()
+        },
+    };
+    let mut last = Vec::new();
+    simulate_model(m, &opts, |_, y| last = y.to_vec()).unwrap();
+    last
+}
