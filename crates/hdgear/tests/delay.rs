@@ -177,3 +177,27 @@ fn a_delayed_loop_may_have_a_hopf_bifurcation() {
     assert!(f.hopf_possible && f.damping_at_rest > 0.0, "{f:?}");
     assert_eq!(delayed(&p, 0.0, 1.0).facts(), Model::study(&p).facts());
 }
+
+/// A delayed loop with a dither as well is scanned by the method of steps on the averaged
+/// motion: with a dither too small to move it (D = 1e-3 at Ω_d = 30), its verdict is the delayed
+/// loop's.
+#[test]
+fn a_delayed_and_dithered_loop_is_scanned() {
+    use hdgear::burst::{BurstOptions, classify, response_model};
+    let opts = BurstOptions::default();
+    for gamma in [0.1, 10.0] {
+        let p = Params {
+            gamma,
+            ..Params::default()
+        };
+        let m = delayed(&p, 2.0, 0.3);
+        let both = m
+            .with_term(AnyTerm::new("dither", &[1e-3, 30.0]).unwrap())
+            .unwrap();
+        let verdict = |m: &Model| {
+            let r = response_model(m, &opts).unwrap();
+            classify(&m.equivalent_params().unwrap(), &r).verdict
+        };
+        assert_eq!(verdict(&both), verdict(&m), "γ = {gamma}");
+    }
+}

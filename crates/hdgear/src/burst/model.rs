@@ -233,15 +233,16 @@ pub fn response_model(m: &Model, opts: &BurstOptions) -> Result<Response> {
     })?;
     let x0 = crate::fast::stable_equilibrium(&p, 0.0);
     let z: [f64; MAX_STATES] = m.rest_states(x0);
-    match (m.dim(), m.dither()) {
-        (2, _) => run::<2>(m, &p, opts, [x0, 0.0]),
-        (3, None) => run::<3>(m, &p, opts, [x0, 0.0, z[0]]),
-        (3, Some([_, wd])) => run_averaged::<3>(m, &p, opts, [x0, 0.0, z[0]], TAU / wd),
-        (_, None) => run::<4>(m, &p, opts, [x0, 0.0, z[0], z[1]]),
-        (_, Some([_, wd])) => run_averaged::<4>(m, &p, opts, [x0, 0.0, z[0], z[1]], TAU / wd),
+    match m.dim() {
+        2 => run::<2>(m, &p, opts, [x0, 0.0]),
+        3 => run::<3>(m, &p, opts, [x0, 0.0, z[0]]),
+        _ => run::<4>(m, &p, opts, [x0, 0.0, z[0], z[1]]),
     }
 }
 
+/// The scan of the model's run from `y0`: by the method of steps for a delayed model
+/// ([`Delayed`]), of the motion averaged over the dither's period for a dithered one
+/// ([`Averaged`]), of the motion itself otherwise ([`Projected`]).
 fn run<const N: usize>(
     m: &Model,
     p: &crate::Params,
@@ -253,69 +254,44 @@ fn run<const N: usize>(
         Some(sys) => {
             let tol = sys.options(opts.tol, plan.scan.1)?;
             let solver = stepper(&sys, 0.0, y0, tol)?;
-            scan_steps(&plan, solver, m, p, opts, y0[0], Some(&|d| sys.push(d)))
+            scan_model(&plan, solver, m, p, opts, y0[0], Some(&|d| sys.push(d)))
         }
         None => {
             let solver = stepper(m, 0.0, y0, opts.tol)?;
-            scan_steps(&plan, solver, m, p, opts, y0[0], None)
+            scan_model(&plan, solver, m, p, opts, y0[0], None)
         }
     }
 }
 
-/// The scan of [`run`] over `solver`'s steps; `taken` sees every step (a delayed model's
-/// history), where given.
-fn scan_steps<St: Stepper<N, Dense = AnyDense<N>>, const N: usize>(
+/// [`run`] on `solver`'s steps, each shown to `taken` where given (a delayed model's history).
+fn scan_model<St: Stepper<N, Dense = AnyDense<N>>, const N: usize>(
     plan: &Plan,
-    mut solver: St,
+    solver: St,
     m: &Model,
     p: &crate::Params,
     opts: &BurstOptions,
     x0: f64,
     taken: Option<&dyn Fn(AnyDense<N>)>,
 ) -> Result<Response> {
-    let mut scanner = plan.scanner(p, opts, x0);
-    let mut history = History::new(plan.history_span());
-    while solver.t() < plan.scan.1 {
-        solver.step(plan.scan.1)?;
-        let scanned = solver.t() > plan.scan.0;
-        if !scanned && taken.is_none() {
-            continue;
-        }
-        let d = solver.dense();
-        if let Some(f) = taken {
-            f(d);
-        }
-        if scanned {
-            history.push(Projected {
+    let Some([_, wd]) = m.dither() else {
+        let project = |d: AnyDense<N>, scanned: bool| {
+            if let Some(f) = taken {
+                f(d);
+            }
+            scanned.then_some(Projected {
                 inner: d,
                 model: m,
                 params: p,
-            });
-            if let Some(d) = history.latest() {
-                scanner.push(d, &history);
-            }
-        }
-    }
-    Ok(plan.assemble(p, opts, scanner.finish(&history)))
-}
-
-/// [`run`] for a dithered model (dither period `period`): the scan sees the motion averaged over
-/// the period ([`Averaged`]), from the first step that starts a period into the run.
-fn run_averaged<const N: usize>(
-    m: &Model,
-    p: &crate::Params,
-    opts: &BurstOptions,
-    y0: [f64; N],
-    period: f64,
-) -> Result<Response> {
-    let plan = Plan::new(p, opts)?;
-    let mut solver = stepper(m, 0.0, y0, opts.tol)?;
-    let mut scanner = plan.scanner(p, opts, y0[0]);
-    let mut history = History::new(plan.history_span());
+            })
+        };
+        return scan_steps(plan, solver, p, opts, x0, taken.is_some(), project);
+    };
+    let period = TAU / wd;
     let mut pieces: VecDeque<Piece<N>> = VecDeque::new();
-    while solver.t() < plan.scan.1 {
-        solver.step(plan.scan.1)?;
-        let d = solver.dense();
+    let average = |d: AnyDense<N>, scanned: bool| {
+        if let Some(f) = taken {
+            f(d);
+        }
         let (t0, t1) = (d.t_start(), d.t_end());
         pieces.push_back(Piece {
             d,
@@ -325,14 +301,39 @@ fn run_averaged<const N: usize>(
         while pieces.len() > 1 && pieces[1].d.t_start() <= t0 - 2.0 * period {
             pieces.pop_front();
         }
-        if t1 > plan.scan.0 && t0 >= 2.0 * period {
-            history.push(Averaged {
-                pieces: pieces.iter().copied().collect(),
-                period,
-                params: p,
-            });
-            if let Some(a) = history.latest() {
-                scanner.push(a, &history);
+        (scanned && t0 >= 2.0 * period).then(|| Averaged {
+            pieces: pieces.iter().copied().collect(),
+            period,
+            params: p,
+        })
+    };
+    scan_steps(plan, solver, p, opts, x0, true, average)
+}
+
+/// The scan over `solver`'s steps to the plan's end: each step's dense output, with whether it
+/// ends inside the scanned span, goes to `view`, and what `view` returns is scanned. Steps before
+/// the span are shown only when `every_step` (a view or a history that needs them).
+fn scan_steps<St: Stepper<N, Dense = AnyDense<N>>, V: ScanStep, const N: usize>(
+    plan: &Plan,
+    mut solver: St,
+    p: &crate::Params,
+    opts: &BurstOptions,
+    x0: f64,
+    every_step: bool,
+    mut view: impl FnMut(AnyDense<N>, bool) -> Option<V>,
+) -> Result<Response> {
+    let mut scanner = plan.scanner(p, opts, x0);
+    let mut history = History::new(plan.history_span());
+    while solver.t() < plan.scan.1 {
+        solver.step(plan.scan.1)?;
+        let scanned = solver.t() > plan.scan.0;
+        if !scanned && !every_step {
+            continue;
+        }
+        if let Some(v) = view(solver.dense(), scanned) {
+            history.push(v);
+            if let Some(d) = history.latest() {
+                scanner.push(d, &history);
             }
         }
     }
