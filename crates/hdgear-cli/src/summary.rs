@@ -377,3 +377,22 @@ pub fn criticality(q: &hdgear::periodic::BranchPoint) -> String {
         _ => String::new(),
     }
 }
+
+/// The special points of a response, one line each (`line` writes what follows the name), or
+/// `none` when there are none.
+pub fn specials<T>(
+    points: impl IntoIterator<Item = T>,
+    name: impl Fn(&T) -> &'static str,
+    line: impl Fn(&T) -> String,
+    none: &str,
+) -> anyhow::Result<()> {
+    let mut any = false;
+    for q in points {
+        any = true;
+        crate::sink::outln!("  {:<16} {}", name(&q), line(&q));
+    }
+    if !any {
+        crate::sink::outln!("  {none}");
+    }
+    Ok(())
+}

@@ -1,12 +1,12 @@
 //! Burst control: the laws tuned or assessed side by side ([`hdgear::control::compare`]).
 
-use crate::convert::{burst_options, err, to_py};
+use crate::convert::{Detection, err, to_py};
 use crate::params::Params;
 use pyo3::prelude::*;
 
 /// What `hdgear control --json` prints, as a dict.
 #[pyfunction]
-#[pyo3(signature = (params, laws, gain, ww, wd, taud, rel_tol, spread, discard, window_periods, rtol, atol, method))]
+#[pyo3(signature = (params, laws, gain, ww, wd, taud, rel_tol, spread, detection))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn control<'py>(
     py: Python<'py>,
@@ -18,14 +18,10 @@ pub(crate) fn control<'py>(
     taud: Option<f64>,
     rel_tol: f64,
     spread: Option<f64>,
-    discard: f64,
-    window_periods: u32,
-    rtol: f64,
-    atol: f64,
-    method: &str,
+    detection: Detection,
 ) -> PyResult<Bound<'py, PyAny>> {
     let p = params.inner;
-    let opts = burst_options(discard, window_periods, rtol, atol, method)?;
+    let opts = detection.0;
     let doc = py
         .detach(|| {
             let laws: Vec<&str> = laws.iter().map(String::as_str).collect();

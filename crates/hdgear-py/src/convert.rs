@@ -99,22 +99,32 @@ fn value_to_py<'py>(py: Python<'py>, v: &serde_json::Value) -> PyResult<Bound<'p
     })
 }
 
-/// Detection options and tolerances from keyword values, validated.
-pub(crate) fn burst_options(
-    discard: f64,
-    window_periods: u32,
-    rtol: f64,
-    atol: f64,
-    method: &str,
-) -> PyResult<BurstOptions> {
-    let o = BurstOptions {
-        discard_periods: discard,
-        periods: window_periods,
-        tol: tol(rtol, atol, method)?,
-        ..BurstOptions::default()
-    };
-    o.validate().map_err(err)?;
-    Ok(o)
+/// Detection options and tolerances, validated: the native functions take them as one argument,
+/// the tuple `(discard, window_periods, rtol, atol, method)` the Python wrapper's `_detection`
+/// builds from its keywords.
+pub(crate) struct Detection(pub(crate) BurstOptions);
+
+impl<'a, 'py> FromPyObject<'a, 'py> for Detection {
+    type Error = PyErr;
+
+    fn extract(obj: Borrowed<'a, 'py, PyAny>) -> PyResult<Self> {
+        let (discard, window_periods, rtol, atol, method): (f64, i64, f64, f64, String) =
+            obj.extract()?;
+        let periods = u32::try_from(window_periods).map_err(|_| {
+            PyValueError::new_err(format!(
+                "window_periods = {window_periods}: must be a whole number from 1 to {}",
+                u32::MAX
+            ))
+        })?;
+        let o = BurstOptions {
+            discard_periods: discard,
+            periods,
+            tol: tol(rtol, atol, &method)?,
+            ..BurstOptions::default()
+        };
+        o.validate().map_err(err)?;
+        Ok(Detection(o))
+    }
 }
 
 /// Integration tolerances and method from keyword values, validated.

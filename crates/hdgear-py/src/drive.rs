@@ -1,6 +1,6 @@
 //! `hdgear.Drive`: a harmonic drive in SI units, its reduction, simulation and design check.
 
-use crate::convert::{burst_options, check_samples, err, to_py, tol};
+use crate::convert::{Detection, check_samples, err, to_py, tol};
 use crate::params::Params;
 use hdgear::physical::PhysicalParams;
 use numpy::{IntoPyArray, PyArray1};
@@ -88,17 +88,14 @@ impl Drive {
     }
 
     /// The design check as a dict.
-    #[pyo3(signature = (discard, window_periods, rtol, atol))]
+    #[pyo3(signature = (detection))]
     fn design_check<'py>(
         &self,
         py: Python<'py>,
-        discard: f64,
-        window_periods: u32,
-        rtol: f64,
-        atol: f64,
+        detection: Detection,
     ) -> PyResult<Bound<'py, PyAny>> {
         let d = self.inner;
-        let opts = burst_options(discard, window_periods, rtol, atol, "taylor")?;
+        let opts = detection.0;
         let c = py
             .detach(|| hdgear::physical::design::design_check(&d, &opts))
             .map_err(err)?;

@@ -1,6 +1,6 @@
 //! The fast subsystem (equilibria, the equilibrium curve) and the point analysis.
 
-use crate::convert::{burst_options, err, invalid, to_py};
+use crate::convert::{Detection, err, invalid, to_py};
 use crate::params::Params;
 use numpy::IntoPyArray;
 use pyo3::prelude::*;
@@ -57,21 +57,17 @@ pub(crate) fn curve<'py>(
 
 /// What `hdgear analyze --json` prints, as a dict.
 #[pyfunction]
-#[pyo3(signature = (params, response, simulated_boundaries, discard, window_periods, rtol, atol, method))]
+#[pyo3(signature = (params, response, simulated_boundaries, detection))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn analyze<'py>(
     py: Python<'py>,
     params: &Params,
     response: bool,
     simulated_boundaries: bool,
-    discard: f64,
-    window_periods: u32,
-    rtol: f64,
-    atol: f64,
-    method: &str,
+    detection: Detection,
 ) -> PyResult<Bound<'py, PyAny>> {
     let p = params.inner;
-    let opts = burst_options(discard, window_periods, rtol, atol, method)?;
+    let opts = detection.0;
     let doc = py
         .detach(|| -> hdgear::Result<_> {
             let analysis = hdgear::fast::analyze(&p, hdgear::fast::A_RANGE)?;

@@ -1,8 +1,8 @@
 //! `hdgear.Params`: the six dimensionless values, checked on construction.
 
 use crate::convert::err;
-use hdgear::params::{Param, ParamOverrides, Params as LibParams};
-use pyo3::exceptions::{PyAttributeError, PyRuntimeError};
+use hdgear::params::{Param, Params as LibParams};
+use pyo3::exceptions::{PyAttributeError, PyRuntimeError, PyTypeError};
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 
@@ -13,61 +13,46 @@ pub(crate) struct Params {
     pub(crate) inner: LibParams,
 }
 
+/// `base` with the values named in `values` (keywords of the library's parameter list; a None
+/// keeps the base's value), validated.
+fn with_values(mut base: LibParams, values: Option<&Bound<'_, PyDict>>) -> PyResult<Params> {
+    for (k, v) in values.into_iter().flatten() {
+        let name: String = k.extract()?;
+        let q: Param = name
+            .parse()
+            .map_err(|_| PyTypeError::new_err(format!("unexpected keyword argument '{name}'")))?;
+        let v: Option<f64> = v.extract().map_err(|e: PyErr| {
+            PyTypeError::new_err(format!("argument '{name}': {}", e.value(v.py())))
+        })?;
+        if let Some(v) = v {
+            base = base.with(q, v);
+        }
+    }
+    base.validate().map_err(err)?;
+    Ok(Params { inner: base })
+}
+
 #[pymethods]
 impl Params {
+    /// The preset's values with those given by name (`alpha=…`, `gamma=…`, …) replaced.
     #[new]
-    #[pyo3(signature = (alpha=None, gamma=None, eps=None, mu=None, delta=None, omega=None, preset="paper"))]
-    fn new(
-        alpha: Option<f64>,
-        gamma: Option<f64>,
-        eps: Option<f64>,
-        mu: Option<f64>,
-        delta: Option<f64>,
-        omega: Option<f64>,
-        preset: &str,
-    ) -> PyResult<Params> {
-        let o = ParamOverrides {
-            alpha,
-            gamma,
-            eps,
-            mu,
-            delta,
-            omega,
-        };
-        let (inner, _) = hdgear::params::resolve(preset, None, &o).map_err(err)?;
-        Ok(Params { inner })
+    #[pyo3(signature = (*, preset="paper", **values))]
+    fn new(preset: &str, values: Option<&Bound<'_, PyDict>>) -> PyResult<Params> {
+        with_values(LibParams::preset(preset).map_err(err)?, values)
     }
 
     /// The study's parameter set with γ (default 0.1).
     #[staticmethod]
     #[pyo3(signature = (gamma=None))]
     fn paper(gamma: Option<f64>) -> PyResult<Params> {
-        Params::new(None, gamma, None, None, None, None, "paper")
+        let p = LibParams::preset("paper").map_err(err)?;
+        with_values(gamma.map_or(p, |g| p.with(Param::Gamma, g)), None)
     }
 
     /// A copy with some values replaced (validated).
-    #[pyo3(signature = (alpha=None, gamma=None, eps=None, mu=None, delta=None, omega=None))]
-    fn replace(
-        &self,
-        alpha: Option<f64>,
-        gamma: Option<f64>,
-        eps: Option<f64>,
-        mu: Option<f64>,
-        delta: Option<f64>,
-        omega: Option<f64>,
-    ) -> PyResult<Params> {
-        let mut p = self.inner;
-        ParamOverrides {
-            alpha,
-            gamma,
-            eps,
-            mu,
-            delta,
-            omega,
-        }
-        .apply(&mut p);
-        p.validate().map_err(err)?;
-        Ok(Params { inner: p })
+    #[pyo3(signature = (**values))]
+    fn replace(&self, values: Option<&Bound<'_, PyDict>>) -> PyResult<Params> {
+        with_values(self.inner, values)
     }
 
     /// The six values as a dict.

@@ -1,6 +1,6 @@
 //! Periodic responses: shooting with Floquet multipliers, and continuation.
 
-use crate::convert::{burst_options, err, record_columns, to_py};
+use crate::convert::{Detection, err, record_columns, to_py};
 use crate::params::Params;
 use hdgear::burst::BurstOptions;
 use hdgear::params::Param;
@@ -162,7 +162,7 @@ pub(crate) fn continuation2<'py>(
 /// The boundaries of a parameter plane as curves (`hdgear boundary`): the rows of its `--out`
 /// as a dict of columns.
 #[pyfunction]
-#[pyo3(signature = (params, range1, range2, kinds, step, discard, window_periods, rtol, atol, method))]
+#[pyo3(signature = (params, range1, range2, kinds, step, detection))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn boundary<'py>(
     py: Python<'py>,
@@ -171,11 +171,7 @@ pub(crate) fn boundary<'py>(
     range2: &str,
     kinds: Vec<String>,
     step: f64,
-    discard: f64,
-    window_periods: u32,
-    rtol: f64,
-    atol: f64,
-    method: &str,
+    detection: Detection,
 ) -> PyResult<Bound<'py, PyDict>> {
     use hdgear::burst::{BoundaryKind, PlaneOptions, PlaneRow, plane_boundaries};
     use hdgear::periodic::{Box2, Range};
@@ -193,7 +189,7 @@ pub(crate) fn boundary<'py>(
             .map_err(err)?
     };
     let opts = PlaneOptions::with_step(step);
-    let burst = burst_options(discard, window_periods, rtol, atol, method)?;
+    let burst = detection.0;
     let p = params.inner;
     let plane = ranges.map(|r| r.param);
     let curves = py

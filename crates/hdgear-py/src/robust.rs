@@ -1,7 +1,7 @@
 //! `hdgear.robust`: the design check under manufacturing spread, its summary as `hdgear robust
 //! --json` prints it and its samples as the columns of `hdgear robust --out`.
 
-use crate::convert::{burst_options, err, interruptible, record_columns, to_py};
+use crate::convert::{Detection, err, interruptible, record_columns, to_py};
 use crate::drive::Drive;
 use crate::params::Params;
 use hdgear::robust::{AnalysisOptions, McOptions, Nominal, SampleRow, Space, analyse};
@@ -13,7 +13,7 @@ use std::sync::atomic::Ordering;
 /// (summary dict, sample columns) of the analysis of `params` or `drive` under `tolerances`
 /// (`NAME=SPEC` strings; a drive without any takes its default bands).
 #[pyfunction]
-#[pyo3(signature = (params, drive, tolerances, samples, sampler, seed, level, width, sobol, worst, importance, load_curve, discard, window_periods, rtol, atol, method))]
+#[pyo3(signature = (params, drive, tolerances, samples, sampler, seed, level, width, sobol, worst, importance, load_curve, detection))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn robust<'py>(
     py: Python<'py>,
@@ -29,13 +29,9 @@ pub(crate) fn robust<'py>(
     worst: bool,
     importance: Option<u64>,
     load_curve: bool,
-    discard: f64,
-    window_periods: u32,
-    rtol: f64,
-    atol: f64,
-    method: &str,
+    detection: Detection,
 ) -> PyResult<(Bound<'py, PyAny>, Bound<'py, PyDict>)> {
-    let opts = burst_options(discard, window_periods, rtol, atol, method)?;
+    let opts = detection.0;
     let nominal = match (params, drive) {
         (_, Some(d)) => Nominal::Drive(d.inner),
         (Some(p), None) => Nominal::Study(p.inner),

@@ -1,6 +1,6 @@
 //! Sweeps of explicit parameter sets on all cores, and the bursts of one response.
 
-use crate::convert::{burst_options, err, interruptible, to_py};
+use crate::convert::{Detection, err, interruptible, to_py};
 use crate::params::Params;
 use hdgear::burst::{Mechanism, Mode};
 use hdgear::params::{Param, Params as LibParams};
@@ -14,7 +14,7 @@ use std::sync::atomic::Ordering;
 /// The sweep of explicit points: the parameter sets are `base` with `names[k]` set to
 /// `values[k][i]` for point i; rows as a dict of columns, computed in parallel without the GIL.
 #[pyfunction]
-#[pyo3(signature = (base, names, values, threads, discard, window_periods, rtol, atol, method))]
+#[pyo3(signature = (base, names, values, threads, detection))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn sweep<'py>(
     py: Python<'py>,
@@ -22,13 +22,9 @@ pub(crate) fn sweep<'py>(
     names: Vec<String>,
     values: Vec<Vec<f64>>,
     threads: usize,
-    discard: f64,
-    window_periods: u32,
-    rtol: f64,
-    atol: f64,
-    method: &str,
+    detection: Detection,
 ) -> PyResult<Bound<'py, PyDict>> {
-    let opts = burst_options(discard, window_periods, rtol, atol, method)?;
+    let opts = detection.0;
     let params: Vec<Param> = names
         .iter()
         .map(|n| n.parse().map_err(err))
@@ -115,18 +111,14 @@ fn columns<'py>(py: Python<'py>, rows: &[hdgear::sweep::SweepRow]) -> PyResult<B
 
 /// The bursts of a response, as a list of dicts.
 #[pyfunction]
-#[pyo3(signature = (params, discard, window_periods, rtol, atol, method))]
+#[pyo3(signature = (params, detection))]
 pub(crate) fn bursts<'py>(
     py: Python<'py>,
     params: &Params,
-    discard: f64,
-    window_periods: u32,
-    rtol: f64,
-    atol: f64,
-    method: &str,
+    detection: Detection,
 ) -> PyResult<Bound<'py, PyAny>> {
     let p = params.inner;
-    let opts = burst_options(discard, window_periods, rtol, atol, method)?;
+    let opts = detection.0;
     let r = py
         .detach(|| hdgear::burst::response(&p, &opts))
         .map_err(err)?;

@@ -80,6 +80,16 @@ def test_other_bad_input():
         hdgear.simulate(t_end=1e12)
     with pytest.raises(ValueError, match="unknown drive value"):
         hdgear.Drive(k3=1.0)
+    # the parameters are keywords of the library's list, each named in its error
+    with pytest.raises(TypeError, match="unexpected keyword argument 'beta'"):
+        hdgear.Params(beta=1.0)
+    with pytest.raises(TypeError, match="argument 'gamma'"):
+        hdgear.Params().replace(gamma="abc")
+    with pytest.raises(TypeError):
+        hdgear.Params(16.0)
+    assert hdgear.Params(gamma=None) == hdgear.Params()
+    with pytest.raises(ValueError, match=r"window_periods = -1: must be a whole number"):
+        hdgear.bursts(window_periods=-1)
 
 
 

@@ -1,7 +1,8 @@
 //! `hdgear boundary`: the bursting boundary (predicted and simulated), the fold set of the fast
 //! subsystem and the edge of the fast-slow domain as curves in a plane of two parameters.
 
-use crate::cli::{BurstArgs, ParamArgs};
+use super::continuation2::PlaneArgs;
+use crate::cli::BurstArgs;
 use crate::export::Export;
 use crate::sink::{outln, warn};
 use anyhow::{Result, bail};
@@ -17,17 +18,9 @@ use serde::Serialize;
 #[derive(Args, Debug)]
 pub struct BoundaryArgs {
     #[command(flatten)]
-    pub params: ParamArgs,
+    pub plane: PlaneArgs,
     #[command(flatten)]
     pub burst: BurstArgs,
-    /// NAME=LO:HI[:log], given twice: the two parameters and the box the curves are followed in.
-    #[arg(
-        long = "param",
-        value_name = "SPEC",
-        required = true,
-        allow_hyphen_values = true
-    )]
-    pub ranges: Vec<String>,
     /// Which boundaries, comma-separated (all without it).
     #[arg(
         long,
@@ -54,8 +47,8 @@ struct Doc<'a> {
 }
 
 pub fn run(a: BoundaryArgs) -> Result<()> {
-    let (p, [r1, r2], box2, warnings) = super::continuation2::plane(&a.params, &a.ranges)?;
-    if a.params.given(r2.param.name()) {
+    let (p, [r1, r2], box2, warnings) = a.plane.resolve()?;
+    if a.plane.params.given(r2.param.name()) {
         bail!("--{0} does not apply: --param sets {0} itself", r2.param);
     }
     let kinds: Vec<BoundaryKind> = if a.kinds.is_empty() {

@@ -14,13 +14,13 @@ use hdgear::periodic::{
 };
 use serde::Serialize;
 
-/// Arguments of `hdgear continue2`.
+/// A plane of two parameters: the set, and `--param` given twice (shared by `continue2` and
+/// `boundary`).
 #[derive(Args, Debug)]
-pub struct Continue2Args {
+pub struct PlaneArgs {
     #[command(flatten)]
     pub params: ParamArgs,
     /// NAME=LO:HI[:log], given twice: the two parameters and the box the curves are followed in.
-    /// The start is found by continuation in the first from LO to HI, the second at its value.
     #[arg(
         long = "param",
         value_name = "SPEC",
@@ -28,8 +28,16 @@ pub struct Continue2Args {
         allow_hyphen_values = true
     )]
     pub ranges: Vec<String>,
+}
+
+/// Arguments of `hdgear continue2`.
+#[derive(Args, Debug)]
+pub struct Continue2Args {
+    #[command(flatten)]
+    pub plane: PlaneArgs,
     /// fold or period-doubling, optionally :N: the curves through every fold (period doubling)
-    /// of that one-parameter branch, or through its Nth (from 1) only.
+    /// of the one-parameter branch in the first --param from LO to HI (the second at the set's
+    /// value), or through its Nth (from 1) only.
     #[arg(long, default_value = "fold", value_name = "KIND[:N]")]
     pub from: String,
     /// FILE:ROW: follow the one curve through row ROW (from 0) of a `continue2 --out` CSV
@@ -58,12 +66,12 @@ struct Doc<'a> {
 
 /// The checked request: the set (with the first parameter at its start), both ranges.
 fn request(a: &Continue2Args) -> Result<(hdgear::Params, [Range; 2])> {
-    let (p, [r1, r2], box2, warnings) = plane(&a.params, &a.ranges)?;
+    let (p, [r1, r2], box2, warnings) = a.plane.resolve()?;
     let at = p.value(r2.param);
     if !(at >= box2.ranges[1].0 && at <= box2.ranges[1].1) {
         bail!(
             "invalid --param {}: the set's {} = {at} is outside it, and the start is found there",
-            a.ranges[1],
+            a.plane.ranges[1],
             r2.param
         );
     }
@@ -72,48 +80,50 @@ fn request(a: &Continue2Args) -> Result<(hdgear::Params, [Range; 2])> {
     Ok((p, [r1, r2]))
 }
 
-/// A parameter plane from `--param` given twice (`NAME=LO:HI[:log]`): the set with the first
-/// parameter at its LO, both ranges, the box, and the set's warnings.
-pub(crate) fn plane(
-    params: &ParamArgs,
-    specs: &[String],
-) -> Result<(
-    hdgear::Params,
-    [Range; 2],
-    Box2,
-    Vec<hdgear::params::Warning>,
-)> {
-    let ranges: Vec<Range> = specs
-        .iter()
-        .map(|r| Range::parse(r).context("--param"))
-        .collect::<Result<_>>()?;
-    let [r1, r2] = ranges[..] else {
-        bail!(
-            "--param is needed exactly twice (NAME=LO:HI[:log] for each of the two parameters), got {}",
-            ranges.len()
-        );
-    };
-    if r1.param == r2.param {
-        bail!(
-            "invalid --param: {} given twice; two different parameters are needed",
-            r1.param
-        );
-    }
-    if params.given(r1.param.name()) {
-        bail!("--{0} does not apply: --param sets {0} itself", r1.param);
-    }
-    let (p, warnings) = params.resolve()?;
-    // every end of both ranges is a value the parameter may take (its domain and the magnitude
-    // limit): the curves are followed up to the box's edges
-    for r in [r1, r2] {
-        for end in [r.from, r.to] {
-            p.with(r.param, end).validate().context("--param")?;
+impl PlaneArgs {
+    /// The plane from `--param` given twice (`NAME=LO:HI[:log]`): the set with the first
+    /// parameter at its LO, both ranges, the box, and the set's warnings.
+    pub(crate) fn resolve(
+        &self,
+    ) -> Result<(
+        hdgear::Params,
+        [Range; 2],
+        Box2,
+        Vec<hdgear::params::Warning>,
+    )> {
+        let (params, specs) = (&self.params, &self.ranges);
+        let ranges: Vec<Range> = specs
+            .iter()
+            .map(|r| Range::parse(r).context("--param"))
+            .collect::<Result<_>>()?;
+        let [r1, r2] = ranges[..] else {
+            bail!(
+                "--param is needed exactly twice (NAME=LO:HI[:log] for each of the two parameters), got {}",
+                ranges.len()
+            );
+        };
+        if r1.param == r2.param {
+            bail!(
+                "invalid --param: {} given twice; two different parameters are needed",
+                r1.param
+            );
         }
+        if params.given(r1.param.name()) {
+            bail!("--{0} does not apply: --param sets {0} itself", r1.param);
+        }
+        let (p, warnings) = params.resolve()?;
+        // every end of both ranges is a value the parameter may take (its domain and the magnitude
+        // limit): the curves are followed up to the box's edges
+        for r in [r1, r2] {
+            for end in [r.from, r.to] {
+                p.with(r.param, end).validate().context("--param")?;
+            }
+        }
+        let p = p.with(r1.param, r1.from);
+        let box2 = Box2::of([r1, r2]);
+        box2.validate().context("--param")?;
+        Ok((p, [r1, r2], box2, warnings))
     }
-    let p = p.with(r1.param, r1.from);
-    let box2 = Box2::of([r1, r2]);
-    box2.validate().context("--param")?;
-    Ok((p, [r1, r2], box2, warnings))
 }
 
 pub fn run(a: Continue2Args) -> Result<()> {

@@ -41,20 +41,17 @@ fn summary(b: &hdgear::periodic::Branch<hdgear::params::Param>) -> Result<()> {
             if q.stable { "stable" } else { "unstable" }
         );
     }
-    let specials: Vec<_> = b.specials().collect();
-    if specials.is_empty() {
-        crate::sink::outln!(
-            "  no fold, no period doubling: the response is single-valued (no jump)"
-        );
-    }
-    for q in specials {
-        crate::sink::outln!(
-            "  {:<16} omega = {:.10}, peak-to-peak x {:.6}{}",
-            q.special.map_or("", Special::name),
-            q.param,
-            q.amplitude.peak_to_peak,
-            crate::summary::criticality(q)
-        );
-    }
-    Ok(())
+    crate::summary::specials(
+        b.specials(),
+        |q| q.special.map_or("", Special::name),
+        |q| {
+            format!(
+                "omega = {:.10}, peak-to-peak x {:.6}{}",
+                q.param,
+                q.amplitude.peak_to_peak,
+                crate::summary::criticality(q)
+            )
+        },
+        "no fold, no period doubling: the response is single-valued (no jump)",
+    )
 }

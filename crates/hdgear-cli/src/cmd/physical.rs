@@ -196,19 +196,15 @@ fn frequency_response(a: &PhysicalArgs, d: &hdgear::physical::PhysicalParams) ->
             q.torque_range[1]
         );
     }
-    let specials: Vec<_> = r.points.iter().filter(|q| q.special.is_some()).collect();
-    if specials.is_empty() {
-        crate::sink::outln!(
-            "  no fold: the response is single-valued, a frequency sweep does not jump"
-        );
-    }
-    for q in specials {
-        crate::sink::outln!(
-            "  {:<16} {:.6} Hz, twist {:.4e} rad peak to peak",
-            q.special.map_or("", Special::name),
-            q.frequency_hz,
-            q.twist_peak_to_peak
-        );
-    }
-    Ok(())
+    crate::summary::specials(
+        r.points.iter().filter(|q| q.special.is_some()),
+        |q| q.special.map_or("", Special::name),
+        |q| {
+            format!(
+                "{:.6} Hz, twist {:.4e} rad peak to peak",
+                q.frequency_hz, q.twist_peak_to_peak
+            )
+        },
+        "no fold: the response is single-valued, a frequency sweep does not jump",
+    )
 }

@@ -112,12 +112,17 @@ def curve(params=None, points=401, a_range=(-1.0, 1.0)):
     return _hdgear.curve(_params(params), int(points), float(a_range[0]), float(a_range[1]))
 
 
+def _detection(discard, window_periods, rtol, atol, method):
+    """The detection options every burst verdict takes, as the native functions read them."""
+    return (float(discard), int(window_periods), float(rtol), float(atol), str(method))
+
+
 def analyze(params=None, response=True, simulated_boundaries=False, discard=1.0,
             window_periods=2, rtol=1e-10, atol=1e-10, method="taylor"):
     """The fast-subsystem analysis, the measured response and its classification (what
     ``hdgear analyze --json`` prints), as a :class:`Result`."""
     data = _hdgear.analyze(_params(params), bool(response), bool(simulated_boundaries),
-                           float(discard), int(window_periods), float(rtol), float(atol), method)
+                           _detection(discard, window_periods, rtol, atol, method))
     return Result(data)
 
 
@@ -125,8 +130,7 @@ def bursts(params=None, discard=1.0, window_periods=2, rtol=1e-10, atol=1e-10, m
     """The bursts of the response, one row each (onset, end, a_onset, duration, t_peak, a_peak,
     peak_abs_xdot, spikes, extrema, ringing_swing, overshoot, overshoot_lobes, jumps, complete):
     a DataFrame, or a dict of arrays without pandas."""
-    rows = _hdgear.bursts(_params(params), float(discard), int(window_periods), float(rtol),
-                          float(atol), method)
+    rows = _hdgear.bursts(_params(params), _detection(discard, window_periods, rtol, atol, method))
     keys = ["onset", "end", "a_onset", "duration", "t_peak", "a_peak", "peak_abs_xdot", "spikes",
             "extrema", "ringing_swing", "overshoot", "overshoot_lobes", "jumps", "complete"]
     cols = {k: _np.array([r[k] for r in rows]) for k in keys}
@@ -149,8 +153,8 @@ def control(laws=None, params=None, gain=None, ww=None, wd=None, taud=None, rel_
                            None if ww is None else float(ww),
                            None if wd is None else float(wd),
                            None if taud is None else float(taud), float(rel_tol),
-                           None if spread is None else float(spread), float(discard),
-                           int(window_periods), float(rtol), float(atol), method)
+                           None if spread is None else float(spread),
+                           _detection(discard, window_periods, rtol, atol, method))
     return Result(data)
 
 
@@ -183,8 +187,7 @@ def robust(nominal=None, tolerances=None, samples=4096, sampler="sobol", seed=1,
                                    None if sobol is None else int(sobol), bool(worst),
                                    None if importance is None else int(importance),
                                    bool(load_curve),
-                                   float(discard), int(window_periods), float(rtol),
-                                   float(atol), method)
+                                   _detection(discard, window_periods, rtol, atol, method))
     for k in ("verdict", "error"):
         cols[k] = _np.array(cols[k], dtype=object)
     return Result(summary), _frame(cols)
@@ -210,7 +213,7 @@ def sweep(axes, base=None, grid=True, threads=0, discard=1.0, window_periods=2, 
         # first name fastest: transpose so the first axis varies fastest in C order
         vals = [m.transpose(tuple(reversed(range(len(vals))))).ravel() for m in mesh]
     cols = _hdgear.sweep(_params(base), names, [v.tolist() for v in vals], int(threads),
-                         float(discard), int(window_periods), float(rtol), float(atol), method)
+                         _detection(discard, window_periods, rtol, atol, method))
     for k in ("mode", "mechanism", "error"):
         cols[k] = _np.array(cols[k], dtype=object)
     return _frame(cols)
@@ -267,8 +270,8 @@ def boundary(range1, range2, params=None, kinds=None, step=0.02, discard=1.0, wi
     numpy arrays without pandas."""
     kinds = [] if kinds is None else [str(k) for k in kinds]
     return _frame(_hdgear.boundary(_params(params), str(range1), str(range2), kinds,
-                                   float(step), float(discard), int(window_periods),
-                                   float(rtol), float(atol), method))
+                                   float(step),
+                                   _detection(discard, window_periods, rtol, atol, method)))
 
 
 def frequency_response(params=None, omega_range=None, switch=False):
@@ -344,8 +347,8 @@ class Drive:
     def design_check(self, discard=1.0, window_periods=2, rtol=1e-10, atol=1e-10):
         """The distance to the bursting regime and the single changes that cross it (what
         ``hdgear physical --design --json`` prints), as a Result."""
-        return Result(self._native.design_check(float(discard), int(window_periods), float(rtol),
-                                                float(atol)))
+        return Result(self._native.design_check(
+            _detection(discard, window_periods, rtol, atol, "taylor")))
 
     def __repr__(self):
         return "Drive(" + ", ".join(f"{k}={v!r}" for k, v in self.to_dict().items()) + ")"

@@ -12,12 +12,12 @@ Columns = Dict[str, Any]
 class Params:
     """The dimensionless parameters α, γ, ε, μ, δ, ω, validated (ValueError with the CLI's
     message). Missing values come from ``preset`` (default: the study's point, γ = 0.1)."""
-    def __init__(self, alpha: Optional[float] = ..., gamma: Optional[float] = ...,
+    def __init__(self, *, alpha: Optional[float] = ..., gamma: Optional[float] = ...,
                  eps: Optional[float] = ..., mu: Optional[float] = ..., delta: Optional[float] = ...,
                  omega: Optional[float] = ..., preset: str = ...) -> None: ...
     @staticmethod
     def paper(gamma: Optional[float] = ...) -> "Params": ...
-    def replace(self, alpha: Optional[float] = ..., gamma: Optional[float] = ...,
+    def replace(self, *, alpha: Optional[float] = ..., gamma: Optional[float] = ...,
                 eps: Optional[float] = ..., mu: Optional[float] = ..., delta: Optional[float] = ...,
                 omega: Optional[float] = ...) -> "Params": ...
     def to_dict(self) -> Dict[str, float]: ...
