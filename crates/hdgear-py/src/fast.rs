@@ -58,7 +58,6 @@ pub(crate) fn curve<'py>(
 /// What `hdgear analyze --json` prints, as a dict.
 #[pyfunction]
 #[pyo3(signature = (params, response, simulated_boundaries, detection))]
-#[allow(clippy::too_many_arguments)]
 pub(crate) fn analyze<'py>(
     py: Python<'py>,
     params: &Params,

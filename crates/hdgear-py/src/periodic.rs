@@ -163,7 +163,6 @@ pub(crate) fn continuation2<'py>(
 /// as a dict of columns.
 #[pyfunction]
 #[pyo3(signature = (params, range1, range2, kinds, step, detection))]
-#[allow(clippy::too_many_arguments)]
 pub(crate) fn boundary<'py>(
     py: Python<'py>,
     params: &Params,

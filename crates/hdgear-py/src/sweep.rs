@@ -15,7 +15,6 @@ use std::sync::atomic::Ordering;
 /// `values[k][i]` for point i; rows as a dict of columns, computed in parallel without the GIL.
 #[pyfunction]
 #[pyo3(signature = (base, names, values, threads, detection))]
-#[allow(clippy::too_many_arguments)]
 pub(crate) fn sweep<'py>(
     py: Python<'py>,
     base: &Params,
