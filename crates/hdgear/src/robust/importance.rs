@@ -110,6 +110,35 @@ pub struct Importance {
 }
 
 impl Importance {
+    /// No sample yet: the counts and sums zero, the estimate undefined until [`Importance::finish`].
+    fn empty(
+        design: Option<DesignPoint>,
+        note: Option<String>,
+        share: f64,
+        first: u64,
+        level: f64,
+    ) -> Importance {
+        Importance {
+            design,
+            note,
+            share,
+            first,
+            samples: 0,
+            judged: 0,
+            bursting: 0,
+            excluded: 0,
+            sum: 0.0,
+            sum_sq: 0.0,
+            p: f64::NAN,
+            std_error: f64::NAN,
+            interval: (0.0, 1.0),
+            upper_bound: 1.0,
+            level,
+            variance_reduction: f64::NAN,
+            equivalent_plain_samples: f64::NAN,
+        }
+    }
+
     /// The estimate, interval and variance reduction from the sums (shards add their sums).
     pub fn finish(mut self) -> Importance {
         let n = self.judged as f64;
@@ -142,15 +171,13 @@ impl Importance {
         let first = *sorted
             .first()
             .ok_or_else(|| super::no_parts("importance"))?;
-        let mut total = Importance {
-            samples: 0,
-            judged: 0,
-            bursting: 0,
-            excluded: 0,
-            sum: 0.0,
-            sum_sq: 0.0,
-            ..first.clone()
-        };
+        let mut total = Importance::empty(
+            first.design.clone(),
+            first.note.clone(),
+            first.share,
+            first.first,
+            first.level,
+        );
         for p in sorted {
             let bad = |reason: &str| Error::InvalidInput {
                 what: "shards",
@@ -285,25 +312,7 @@ pub fn importance(space: &Space, opts: &BurstOptions, mc: &McOptions) -> Result<
     let beta2: f64 = centre.iter().map(|x| x * x).sum();
     let points = super::Points::new(mc.sampler, mc.seed, k + 1)?;
     let end = mc.end(&points)?;
-    let mut total = Importance {
-        design,
-        note,
-        share,
-        first: mc.first,
-        samples: 0,
-        judged: 0,
-        bursting: 0,
-        excluded: 0,
-        sum: 0.0,
-        sum_sq: 0.0,
-        p: f64::NAN,
-        std_error: f64::NAN,
-        interval: (0.0, 1.0),
-        upper_bound: 1.0,
-        level: mc.level,
-        variance_reduction: f64::NAN,
-        equivalent_plain_samples: f64::NAN,
-    };
+    let mut total = Importance::empty(design, note, share, mc.first, mc.level);
     let mut start = mc.first;
     let mut u = vec![0.0; k + 1];
     while start < end {
