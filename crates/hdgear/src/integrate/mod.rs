@@ -43,13 +43,22 @@ pub trait System<const N: usize> {
     fn taylor(&self, _t: f64, _y: &[f64; N], _order: usize, _c: &mut [[f64; N]]) -> bool {
         false
     }
-    /// The longest step, at most `h` (Jorba–Zou's from the state's rows), on which the Taylor
-    /// polynomial through (t, y) of order `order` stays accurate to `atol` by what the system
-    /// knows beyond the state's rows (a factor of its right-hand side whose own series converges
-    /// later than the state's shows, [`crate::model::jet::exp_step_limit`]); `h`, the default,
-    /// where the state's rows tell all.
-    fn taylor_step_limit(&self, _t: f64, _y: &[f64; N], _order: usize, h: f64, _atol: f64) -> f64 {
-        h
+    /// [`System::taylor`]'s coefficients and the step they allow, in one pass: `step` is the
+    /// integrator's rule on the state's rows (Jorba–Zou's); a system that knows more shortens it
+    /// to the longest step on which the polynomial stays accurate to `atol` (a factor of its
+    /// right-hand side whose own series converges later than the state's rows show,
+    /// [`crate::model::jet::exp_step_limit`]). `None` when the system has no coefficients; the
+    /// default is `step` on [`System::taylor`]'s rows.
+    fn taylor_step<F: FnOnce(&[[f64; N]]) -> f64>(
+        &self,
+        t: f64,
+        y: &[f64; N],
+        order: usize,
+        c: &mut [[f64; N]],
+        _atol: f64,
+        step: F,
+    ) -> Option<f64> {
+        self.taylor(t, y, order, c).then(|| step(c))
     }
 }
 

@@ -196,6 +196,26 @@ pub(crate) fn poly(coef: impl Fn(usize) -> f64, order: usize, h: f64) -> f64 {
     poly_on(Simd::detect(), coef, order, h)
 }
 
+/// The Jorba–Zou step of order `p` from coefficients `c` and the [`Taylor::weights`] of the
+/// step's start: the weighted max-norms of rows p − 1 and p.
+#[inline(always)]
+fn step_size<const FMA: bool, const N: usize>(
+    p: usize,
+    shift: f64,
+    c: &[[f64; N]],
+    scale: &[f64; N],
+) -> f64 {
+    // (a NaN coefficient, from an overflow in the recurrences, makes the norm NaN: f64::max
+    // would drop it and take an infinite step)
+    let norm = |row: &[f64; N]| {
+        (0..N).fold(0.0f64, |m, i| {
+            let v = row[i].abs() * scale[i];
+            if v <= m { m } else { v }
+        })
+    };
+    step_from_norms::<FMA, false>(p, shift, norm(&c[p - 1]), norm(&c[p]))
+}
+
 dispatched! {
     /// [`estrin`] on the vector unit `simd` names.
     fn poly_on(coef: impl Fn(usize) -> f64, order: usize, h: f64) -> f64 = estrin::<FMA>(coef, order, h)
@@ -307,22 +327,6 @@ impl<'s, S: System<N> + ?Sized, const N: usize> Taylor<'s, S, N> {
         self.y.map(|y| 1.0 / y.abs().max(floor))
     }
 
-    /// The Jorba–Zou step from the coefficients in `self.c` and the [`Taylor::weights`] of the
-    /// step's start: the weighted max-norms of rows p − 1 and p.
-    #[inline(always)]
-    fn step_size<const FMA: bool>(&self, scale: &[f64; N]) -> f64 {
-        let p = self.order;
-        // (a NaN coefficient, from an overflow in the recurrences, makes the norm NaN: f64::max
-        // would drop it and take an infinite step)
-        let norm = |row: &[f64; N]| {
-            (0..N).fold(0.0f64, |m, i| {
-                let v = row[i].abs() * scale[i];
-                if v <= m { m } else { v }
-            })
-        };
-        step_from_norms::<FMA, false>(p, self.shift, norm(&self.c[p - 1]), norm(&self.c[p]))
-    }
-
     #[inline(always)]
     fn step_with<const FMA: bool>(&mut self, t_bound: f64) -> Result<()> {
         let remaining = t_bound - self.t;
@@ -333,15 +337,17 @@ impl<'s, S: System<N> + ?Sized, const N: usize> Taylor<'s, S, N> {
             return Err(e.into());
         }
         let scale = self.weights();
-        self.sys.taylor(self.t, &self.y, self.order, &mut self.c);
-        self.stats.rhs_evals += 1;
-        let mut h = self.step_size::<FMA>(&scale);
-        if let Some(hm) = self.opts.h_max {
-            h = h.min(hm);
-        }
-        h = self
+        let (p, shift, h_max) = (self.order, self.shift, self.opts.h_max);
+        let mut h = self
             .sys
-            .taylor_step_limit(self.t, &self.y, self.order, h, self.opts.atol);
+            .taylor_step(self.t, &self.y, p, &mut self.c, self.opts.atol, |c| {
+                let h = step_size::<FMA, N>(p, shift, c, &scale);
+                h_max.map_or(h, |hm| h.min(hm))
+            })
+            // the system gave coefficients at the start (`Taylor::new`); without them now,
+            // no step is known good
+            .unwrap_or(f64::NAN);
+        self.stats.rhs_evals += 1;
         if h.is_nan() {
             // the coefficients overflowed: the solution leaves every bound within this step
             return Err(SolverError::BlowUp {

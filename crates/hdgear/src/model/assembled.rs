@@ -672,22 +672,30 @@ impl<const N: usize> System<N> for Model {
         self.taylor_rows(t, y, order, c, &mut [Scratch::default(); MAX_TERMS]);
         true
     }
-    /// The terms' own limits ([`super::terms::Term::step_limit`]) on their rows, recomputed
-    /// (only for models with a term that has one), a contribution of 1e-3·atol negligible.
-    fn taylor_step_limit(&self, t: f64, y: &[f64; N], order: usize, h: f64, atol: f64) -> f64 {
-        if !self.terms().any(|t| t.limits_steps()) {
-            return h;
-        }
-        let mut c = [[0.0; N]; MAX_ROWS];
+    /// `step` on the state's rows, shortened by the terms' own limits
+    /// ([`super::terms::Term::step_limit`]) on the terms' rows of the same pass, a contribution
+    /// of 1e-3·atol negligible.
+    fn taylor_step<F: FnOnce(&[[f64; N]]) -> f64>(
+        &self,
+        t: f64,
+        y: &[f64; N],
+        order: usize,
+        c: &mut [[f64; N]],
+        atol: f64,
+        step: F,
+    ) -> Option<f64> {
         let mut rows = [Scratch::default(); MAX_TERMS];
-        let n = self.taylor_rows(t, y, order, &mut c, &mut rows);
-        self.terms
-            .iter()
-            .zip(&rows)
-            .fold(h, |h, (term, r)| match term {
-                Some(term) => term.step_limit(r, n, h, 1e-3 * atol),
-                None => h,
-            })
+        let n = self.taylor_rows(t, y, order, c, &mut rows);
+        let h = step(c);
+        Some(
+            self.terms
+                .iter()
+                .zip(&rows)
+                .fold(h, |h, (term, r)| match term {
+                    Some(term) if term.limits_steps() => term.step_limit(r, n, h, 1e-3 * atol),
+                    _ => h,
+                }),
+        )
     }
 }
 
