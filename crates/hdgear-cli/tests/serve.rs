@@ -497,8 +497,56 @@ fn slow_clients_are_cut_off_and_capped() {
     );
 }
 
-/// The hostile pass over the JSON API: every parameter of `/api/view` and `/api/boundaries`
-/// with each of the CLI generator's hostile values, malformed queries and drive names, sent by
+/// `/api/control`: the served comparison is the library's, to the last bit; its refusals are
+/// one line each.
+#[test]
+fn the_control_api_is_the_library_s_and_refuses_bad_laws_and_gains() {
+    let s = Server::start();
+    let (code, body) = get(&s.addr, "/api/control?law=vdamping&gain=3&gamma=0.1");
+    assert_eq!(code, 200, "{body}");
+    let want = hdgear::control::compare(
+        &Params::default(),
+        &["vdamping"],
+        &hdgear::control::ControlOptions {
+            gain: Some(3.0),
+            ..Default::default()
+        },
+        &View::options(),
+    )
+    .unwrap();
+    let a = &json(&body)["assessments"][0];
+    assert_eq!(a["verdict"], "no-bursts");
+    assert_eq!(
+        a["peak_xdot"].as_f64(),
+        Some(want.assessments[0].peak_xdot),
+        "the served assessment is the library's, to the last bit"
+    );
+    let (code, body) = get(&s.addr, "/api/laws");
+    assert_eq!(code, 200);
+    assert_eq!(
+        json(&body)["laws"].as_array().unwrap().len(),
+        hdgear::control::LAWS.len()
+    );
+    for (query, needle) in [
+        ("gain=3", "law is needed"),
+        ("law=pid&gain=3", "pid"),
+        ("law=vdamping&gain=abc", "invalid value 'abc' for gain"),
+        ("law=vdamping&gain=-1", "-1"),
+        ("law=vdamping&ww=2", "only the washout law"),
+        (
+            "law=vdamping&gain=3&beta=1",
+            "invalid parameter name 'beta'",
+        ),
+    ] {
+        let (c, body) = get(&s.addr, &format!("/api/control?{query}"));
+        assert_eq!(c, 400, "{query}: {body}");
+        let e = json(&body)["error"].as_str().unwrap().to_string();
+        assert!(e.contains(needle) && !e.contains('\n'), "{query}: {e}");
+    }
+}
+
+/// The hostile pass over the JSON API: every parameter of `/api/view` and `/api/boundaries`,
+/// and the gain and options of `/api/control`, with each of the CLI generator's hostile values, malformed queries and drive names, sent by
 /// four clients at once. Every answer is a known status with, when it is not 200, one JSON line
 /// naming the problem; the server stays up and answers a normal view afterwards.
 #[test]
@@ -521,6 +569,18 @@ fn hostile_queries_get_one_line_errors_and_the_server_stays_up() {
             "beta",
         ] {
             paths.push(format!("/api/{endpoint}?{q}"));
+        }
+    }
+    // a control law's gain and options (with a gain: assessed, not tuned)
+    for (law, key) in [
+        ("vdamping", "gain"),
+        ("washout", "ww"),
+        ("dither", "wd"),
+        ("delay", "taud"),
+    ] {
+        for v in crate::hostile::VALUES {
+            let gain = if key == "gain" { "" } else { "&gain=1" };
+            paths.push(format!("/api/control?law={law}&{key}={v}{gain}"));
         }
     }
     for name in [

@@ -116,6 +116,22 @@ with sync_playwright() as p:
     page.wait_for_function("document.getElementById('simulated').textContent.startsWith('γ')", timeout=60_000)
     located = page.locator("#simulated").inner_text()
 
+    # burst control: virtual damping assessed at k_d = 3 removes the study point's bursts, and
+    # tuned (no gain) it reports its least gain
+    page.click("#control summary")
+    page.select_option("#law", "vdamping")
+    page.fill("#gain", "3")
+    page.click("#run-control")
+    page.wait_for_function("document.getElementById('control-out').querySelector('table')", timeout=30_000)
+    assessed = page.locator("#control-out").inner_text()
+    check("no-bursts" in assessed and "overshoot" in assessed, f"k_d = 3 removes the bursts ({assessed!r})")
+    page.fill("#gain", "")
+    page.click("#run-control")
+    page.wait_for_function("document.getElementById('control-out').innerText.includes('least gain that removes')",
+                           timeout=60_000)
+    tuned = page.locator("#control-out").inner_text()
+    check("no-bursts" in tuned, f"the tuned law removes the bursts ({tuned!r})")
+
     # a catalogue drive: its reduced parameters (α·ε = 1) replace the sliders
     page.click("#physical summary")
     page.select_option("#drive", "CSF-32-50")

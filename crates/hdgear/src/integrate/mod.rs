@@ -43,6 +43,11 @@ pub trait System<const N: usize> {
     fn taylor(&self, _t: f64, _y: &[f64; N], _order: usize, _c: &mut [[f64; N]]) -> bool {
         false
     }
+    /// Whether [`System::taylor_step`] may shorten the step rule's step (false, the default:
+    /// the stepper takes the rule's step on [`System::taylor`]'s rows).
+    fn taylor_limits_steps(&self) -> bool {
+        false
+    }
     /// [`System::taylor`]'s coefficients and the step they allow, in one pass: `step` is the
     /// integrator's rule on the state's rows (Jorba–Zou's); a system that knows more shortens it
     /// to the longest step on which the polynomial stays accurate to `atol` (a factor of its

@@ -338,15 +338,22 @@ impl<'s, S: System<N> + ?Sized, const N: usize> Taylor<'s, S, N> {
         }
         let scale = self.weights();
         let (p, shift, h_max) = (self.order, self.shift, self.opts.h_max);
-        let mut h = self
-            .sys
-            .taylor_step(self.t, &self.y, p, &mut self.c, self.opts.atol, |c| {
-                let h = step_size::<FMA, N>(p, shift, c, &scale);
-                h_max.map_or(h, |hm| h.min(hm))
-            })
-            // the system gave coefficients at the start (`Taylor::new`); without them now,
-            // no step is known good
-            .unwrap_or(f64::NAN);
+        let rule = |c: &[[f64; N]]| {
+            let h = step_size::<FMA, N>(p, shift, c, &scale);
+            h_max.map_or(h, |hm| h.min(hm))
+        };
+        let mut h = if self.sys.taylor_limits_steps() {
+            self.sys
+                .taylor_step(self.t, &self.y, p, &mut self.c, self.opts.atol, rule)
+                // the system gave coefficients at the start (`Taylor::new`); without them now,
+                // no step is known good
+                .unwrap_or(f64::NAN)
+        } else {
+            // the rule alone: the recurrence and the rule stay apart, as the hot loop of a
+            // polynomial model wants them
+            self.sys.taylor(self.t, &self.y, p, &mut self.c);
+            rule(&self.c)
+        };
         self.stats.rhs_evals += 1;
         if h.is_nan() {
             // the coefficients overflowed: the solution leaves every bound within this step

@@ -672,6 +672,9 @@ impl<const N: usize> System<N> for Model {
         self.taylor_rows(t, y, order, c, &mut [Scratch::default(); MAX_TERMS]);
         true
     }
+    fn taylor_limits_steps(&self) -> bool {
+        self.terms().any(|t| t.limits_steps())
+    }
     /// `step` on the state's rows, shortened by the terms' own limits
     /// ([`super::terms::Term::step_limit`]) on the terms' rows of the same pass, a contribution
     /// of 1e-3·atol negligible.
@@ -692,7 +695,7 @@ impl<const N: usize> System<N> for Model {
                 .iter()
                 .zip(&rows)
                 .fold(h, |h, (term, r)| match term {
-                    Some(term) if term.limits_steps() => term.step_limit(r, n, h, 1e-3 * atol),
+                    Some(term) => term.step_limit(r, n, h, 1e-3 * atol),
                     _ => h,
                 }),
         )

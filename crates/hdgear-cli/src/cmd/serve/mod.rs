@@ -4,6 +4,10 @@
 //! - `GET /api/view?alpha=…&gamma=…&eps=…&mu=…&delta=…&omega=…` (any subset; the rest from the
 //!   study's default point): [`hdgear::explore::View`] as JSON.
 //! - `GET /api/boundaries?…`: the bursting boundaries located by simulation (seconds).
+//! - `GET /api/control?law=vdamping&gain=…&…`: one control law ([`hdgear::control::LAWS`]) on the
+//!   parameters, assessed at `gain` or, without it, tuned to its least gain
+//!   ([`hdgear::control::Comparison`]); `ww`, `wd`, `taud` as `hdgear control` takes them.
+//! - `GET /api/laws`: the control laws, and those `hdgear control` runs by default.
 //! - `GET /api/drives` and `GET /api/drive?name=CSF-20-50`: the catalogue drives and one drive's
 //!   reduction to the dimensionless parameters.
 //!
@@ -124,17 +128,24 @@ impl From<hdgear::Error> for ApiError {
     }
 }
 
+/// A query value as a number, or a 400 naming it.
+fn number(k: &str, v: &str) -> Result<f64, ApiError> {
+    v.trim().parse().map_err(|_| {
+        ApiError(
+            StatusCode::BAD_REQUEST,
+            format!("invalid value '{v}' for {k}: not a number"),
+        )
+    })
+}
+
 /// Query → checked parameters (the CLI's validation and messages).
 fn params(q: &BTreeMap<String, String>) -> Result<(Params, Vec<Warning>), ApiError> {
-    let bad = |m: String| ApiError(StatusCode::BAD_REQUEST, m);
     let mut p = Params::preset("paper")?;
     for (k, v) in q {
-        let param: Param = k.parse().map_err(|e: hdgear::Error| bad(e.to_string()))?;
-        let value: f64 = v
-            .trim()
+        let param: Param = k
             .parse()
-            .map_err(|_| bad(format!("invalid value '{v}' for {k}: not a number")))?;
-        p = p.with(param, value);
+            .map_err(|e: hdgear::Error| ApiError(StatusCode::BAD_REQUEST, e.to_string()))?;
+        p = p.with(param, number(k, v)?);
     }
     let warnings = p.validate()?;
     Ok((p, warnings))
@@ -243,6 +254,50 @@ async fn boundaries(State(workers): State<Workers>, Query(q): Q) -> Result<Respo
     Ok(Json(b).into_response())
 }
 
+/// The keys of `/api/control` beside the parameters: the law, and the options of
+/// [`hdgear::control::ControlOptions`] the explorer sets.
+const CONTROL_KEYS: [&str; 5] = ["law", "gain", "ww", "wd", "taud"];
+
+async fn control(State(workers): State<Workers>, Query(mut q): Q) -> Result<Response, ApiError> {
+    let mut take = |k: &str| q.remove(k);
+    let [law, gain, ww, wd, taud] = CONTROL_KEYS.map(&mut take);
+    let law = law.ok_or_else(|| {
+        ApiError(
+            StatusCode::BAD_REQUEST,
+            format!("law is needed: one of {}", hdgear::control::LAWS.join(", ")),
+        )
+    })?;
+    let value = |k: &str, v: Option<String>| v.map(|v| number(k, &v)).transpose();
+    let c = hdgear::control::ControlOptions {
+        gain: value("gain", gain)?,
+        ww: value("ww", ww)?,
+        wd: value("wd", wd)?,
+        taud: value("taud", taud)?,
+        ..hdgear::control::ControlOptions::default()
+    };
+    let (p, _) = params(&q)?;
+    let doc = compute(&workers, BOUNDARY_TIMEOUT, move |deadline| {
+        hdgear::control::compare(&p, &[law.as_str()], &c, &options_until(deadline))
+    })
+    .await?;
+    Ok(Json(doc).into_response())
+}
+
+/// The answer of `/api/laws`.
+#[derive(serde::Serialize)]
+struct LawsBody {
+    laws: [&'static str; hdgear::control::LAWS.len()],
+    default: [&'static str; hdgear::control::DEFAULT_LAWS.len()],
+}
+
+async fn laws() -> Response {
+    Json(LawsBody {
+        laws: hdgear::control::LAWS,
+        default: hdgear::control::DEFAULT_LAWS,
+    })
+    .into_response()
+}
+
 async fn drives() -> Response {
     let names: Vec<&str> = hdgear::physical::card::builtin()
         .card
@@ -299,6 +354,8 @@ pub fn router() -> axum::Router {
         )
         .route("/api/view", get(view))
         .route("/api/boundaries", get(boundaries))
+        .route("/api/control", get(control))
+        .route("/api/laws", get(laws))
         .route("/api/drives", get(drives))
         .route("/api/drive", get(drive))
         .fallback(|| async { ApiError(StatusCode::NOT_FOUND, "no such page".into()) })

@@ -327,6 +327,54 @@ async function useDrive() {
   for (const q of PARAMS) set(q.key, p[q.key], "drive");
 }
 
+async function loadLaws() {
+  const r = await fetch("/api/laws");
+  const d = await r.json();
+  $("law").innerHTML = d.laws.map((n) => `<option${n === d.default[0] ? " selected" : ""}>${n}</option>`).join("");
+  const showOptions = () => { for (const l of document.querySelectorAll("#control .opt")) l.hidden = l.dataset.law !== $("law").value; };
+  $("law").addEventListener("change", showOptions);
+  showOptions();
+}
+
+// One assessment as table rows: the closed loop against the open one, in the measures of
+// `hdgear control`.
+function assessmentRows(a) {
+  const word = a.unstable ? "unstable" : a.verdict;
+  const cls = a.unstable || a.verdict !== "no-bursts" ? "yes" : "no";
+  return [
+    ["gain", fmt(a.gain)],
+    ["verdict (open loop)", `<span class="${cls}">${esc(word)}</span> (${esc(a.open_verdict)})`],
+    ["peak |x'| closed / open", fmt(a.peak_xdot / a.open_peak_xdot, 3)],
+    ["fast energy", `${fmt(a.fast_energy_db, 3)} dB`],
+    ["effort peak / rms", `${fmt(a.effort_peak)} / ${fmt(a.effort_rms)}`],
+    ["shift of x at a = ±1 (÷ X)", fmt(a.static_shift)],
+    ["largest shift of x (÷ X)", fmt(a.max_shift)],
+  ];
+}
+
+async function runControl() {
+  const out = $("control-out");
+  const law = $("law").value;
+  const extra = new URLSearchParams({ law });
+  for (const id of ["gain", "ww", "wd", "taud"]) {
+    const v = $(id).value.trim();
+    if (v !== "" && (id === "gain" || $(id).closest(".opt")?.dataset.law === law)) extra.set(id, v);
+  }
+  out.textContent = extra.has("gain") ? "assessing…" : "tuning the least gain…";
+  const q = query();
+  const r = await fetch(`/api/control?${q}&${extra}`);
+  const d = await r.json();
+  if (q !== query()) return;
+  if (!r.ok) { out.textContent = d.error; return; }
+  let rows;
+  if (d.assessments?.length) rows = assessmentRows(d.assessments[0]);
+  else {
+    const t = d.tunings[0];
+    rows = [["least gain that removes the bursts", `${fmt(t.tuned.gain)} (below: ${fmt(t.below.gain)}, ${esc(t.below.unstable ? "unstable" : t.below.verdict)})`], ...assessmentRows(t.tuned).slice(1)];
+  }
+  out.innerHTML = `<table>${rows.map(([k, v]) => `<tr><td>${k}</td><td>${v}</td></tr>`).join("")}</table>`;
+}
+
 function init() {
   buildSliders();
   const url = new URLSearchParams(location.search);
@@ -354,6 +402,8 @@ function init() {
   let resize = null;
   window.addEventListener("resize", () => { clearTimeout(resize); resize = setTimeout(render, 100); });
   loadDrives().catch((e) => showError(String(e)));
+  loadLaws().catch((e) => showError(String(e)));
+  $("run-control").addEventListener("click", () => runControl().catch((e) => { $("control-out").textContent = String(e); }));
 }
 
 init();
