@@ -28,7 +28,8 @@ pub struct Cli {
 /// Subcommands.
 #[derive(Subcommand, Debug)]
 pub enum Command {
-    /// Simulate the dimensionless model and write its trajectory (t,a,x,xdot).
+    /// Simulate the dimensionless model and write its trajectory (t,a,x,xdot, then a column per
+    /// internal state of the model's terms).
     Simulate(SimulateArgs),
     /// The assembled model: its equation (text and LaTeX), states, parameters with values and
     /// domains, and the facts of its fast subsystem derived from its terms.

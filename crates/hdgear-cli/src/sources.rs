@@ -16,9 +16,7 @@ pub struct ParamArgs {
     /// Named parameter set: paper (= paper-g0.1), paper-g30, paper-g10, paper-g1, paper-g0.1.
     #[arg(long, default_value = "paper")]
     pub preset: String,
-    /// TOML scenario file: a [params] table (keys alpha, gamma, eps, mu, delta, omega) and, for
-    /// model and simulate, a table per extra term ([friction], [stribeck]).
-    #[arg(long, value_name = "FILE")]
+    #[arg(long, value_name = "FILE", help = config_help())]
     pub config: Option<PathBuf>,
     /// α > 0, cubic stiffness.
     #[arg(long, allow_negative_numbers = true)]
@@ -38,6 +36,23 @@ pub struct ParamArgs {
     /// ω > 0, frequency of the slow disturbance.
     #[arg(long, allow_negative_numbers = true)]
     pub omega: Option<f64>,
+}
+
+/// `--config`'s help: the keys of `[params]` and the tables of the extra terms, read from the
+/// library's lists.
+fn config_help() -> String {
+    let keys: Vec<&str> = params::Param::ALL.iter().map(|q| q.name()).collect();
+    let tables: Vec<String> = hdgear::model::terms::AnyTerm::KINDS
+        .iter()
+        .filter(|(kind, ..)| hdgear::model::Model::is_extra_kind(kind))
+        .map(|(kind, ..)| format!("[{kind}]"))
+        .collect();
+    format!(
+        "TOML scenario file: a [params] table (keys {}) and, for model and simulate, a table per \
+         extra term ({})",
+        keys.join(", "),
+        tables.join(", ")
+    )
 }
 
 impl ParamArgs {

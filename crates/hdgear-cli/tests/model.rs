@@ -123,3 +123,56 @@ fn term_tables_are_refused_where_they_would_be_ignored_and_bad_ones_named() {
             .stderr(predicate::str::contains(needle));
     }
 }
+
+#[test]
+fn the_trajectory_has_a_column_per_internal_state() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = scenario(
+        dir.path(),
+        "s.toml",
+        "[params]\ngamma = 1\n[lugre]\n[dither]\ndd = 1\nwd = 20\n",
+    );
+    let args = ["simulate", "--quiet", "--config", &f, "--t-end", "2"];
+    let text = crate::common::stdout_of(&args);
+    let mut csv = csv::Reader::from_reader(text.as_bytes());
+    // the columns follow the model's states, as `hdgear model` lists them
+    let states = json_of(&["model", "--json", "--quiet", "--config", &f])["states"].clone();
+    let own: Vec<&str> = states.as_array().unwrap()[2..]
+        .iter()
+        .map(|s| s.as_str().unwrap())
+        .collect();
+    assert_eq!(own.len(), 2);
+    let header: Vec<String> = csv.headers().unwrap().iter().map(String::from).collect();
+    assert_eq!(header[..4], ["t", "a", "x", "xdot"]);
+    assert_eq!(header[4..], own[..]);
+    let theta = header.iter().position(|c| *c == "theta").unwrap();
+    let mut rows = 0;
+    for rec in csv.records() {
+        let rec = rec.unwrap();
+        let (t, th): (f64, f64) = (rec[0].parse().unwrap(), rec[theta].parse().unwrap());
+        // the dither's phase θ' = Ω_d from θ = 0: exactly Ω_d·t, to the integration's rounding
+        assert!(
+            (th - 20.0 * t).abs() < 1e-12 * (1.0 + th),
+            "t = {t}: θ = {th}"
+        );
+        rows += 1;
+    }
+    assert_eq!(rows, 41);
+    // JSON rows name the same columns
+    let out = dir.path().join("s.json");
+    let mut json_args = args.to_vec();
+    json_args.extend(["--out", out.to_str().unwrap()]);
+    crate::common::hdgear().args(&json_args).assert().success();
+    let doc: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    let mut keys: Vec<&str> = doc["rows"][3]
+        .as_object()
+        .unwrap()
+        .keys()
+        .map(|k| k.as_str())
+        .collect();
+    let mut columns: Vec<&str> = header.iter().map(String::as_str).collect();
+    keys.sort_unstable();
+    columns.sort_unstable();
+    assert_eq!(keys, columns);
+}

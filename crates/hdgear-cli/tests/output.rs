@@ -67,6 +67,31 @@ mod parquet_files {
     }
 
     #[test]
+    fn parquet_trajectories_carry_the_model_s_internal_states() {
+        let dir = tempfile::tempdir().unwrap();
+        let d = dir.path();
+        std::fs::write(d.join("m.toml"), "[lugre]\n[washout]\nkw = 2\n").unwrap();
+        for out in ["m.csv", "m.parquet"] {
+            let args = [
+                "simulate", "--config", "m.toml", "--t-end", "50", "--quiet", "--out",
+            ];
+            let o = hdgear()
+                .current_dir(d)
+                .args(args)
+                .arg(out)
+                .output()
+                .unwrap();
+            assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        }
+        assert_eq!(
+            assert_parquet_equals_csv(&d.join("m.parquet"), &d.join("m.csv")),
+            1001
+        );
+        let csv = std::fs::read_to_string(d.join("m.csv")).unwrap();
+        assert!(csv.starts_with("t,a,x,xdot,s,xi\n"), "{}", &csv[..40]);
+    }
+
+    #[test]
     fn parquet_sweeps_keep_their_settings_and_merge_to_the_same_bytes() {
         let dir = tempfile::tempdir().unwrap();
         let d = dir.path();

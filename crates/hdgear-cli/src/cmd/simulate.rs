@@ -3,19 +3,36 @@
 use crate::cli::SimulateRun;
 use crate::sink::{RunProgress, Sink, warn};
 use anyhow::{Context, Result};
-use hdgear::output::{Format, RecordWriter};
+use hdgear::model::MAX_STATES;
+use hdgear::output::{Format, Record, RecordWriter};
 use serde::Serialize;
+use serde::ser::SerializeStruct;
 use std::io::Write;
 
-/// One trajectory sample: the CSV columns `t,a,x,xdot`.
-#[derive(Serialize)]
-struct Sample {
+/// One trajectory sample: the columns `t,a,x,xdot`, then one per internal state of the model's
+/// terms, named as `hdgear model` names them (`s` of LuGre friction, `z` of Bouc–Wen, …).
+struct Sample<'a> {
     t: f64,
     a: f64,
-    x: f64,
-    xdot: f64,
+    /// The state, its first `dim` components used.
+    y: [f64; 2 + MAX_STATES],
+    dim: usize,
+    states: &'a [&'static str],
 }
-hdgear::record!(Sample: "t", "a", "x", "xdot");
+hdgear::record!(Sample<'_>: "t", "a", "x", "xdot");
+
+impl Serialize for Sample<'_> {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        let mut row = s.serialize_struct("Sample", 2 + self.dim)?;
+        row.serialize_field("t", &self.t)?;
+        row.serialize_field("a", &self.a)?;
+        let names = Self::COLUMNS[2..].iter().chain(self.states);
+        for (name, value) in names.zip(&self.y[..self.dim]) {
+            row.serialize_field(name, value)?;
+        }
+        row.end()
+    }
+}
 
 /// Streams a simulation into a table on `sink`; returns the sink (for committing) and the summary.
 fn simulate_into<W: Write + Send>(
@@ -29,17 +46,22 @@ fn simulate_into<W: Write + Send>(
         options: run.opts,
         model: run.model.map(|m| m.describe()),
     };
-    let mut table = RecordWriter::<_, Sample>::new(sink, format, &meta)?;
+    let states = run.model.map_or_else(Vec::new, |m| m.states().split_off(2));
+    let columns = Sample::COLUMNS.iter().chain(&states).copied().collect();
+    let mut table = RecordWriter::<_, Sample>::with_columns(sink, format, &meta, columns)?;
     let mut io_err: Option<std::io::Error> = None;
     let mut progress = RunProgress::new(run.opts.t_end, run.opts.t_end);
     let mut each = |t: f64, y: &[f64]| {
         progress.at(t);
+        let mut state = [0.0; 2 + MAX_STATES];
+        state[..y.len()].copy_from_slice(y);
         if io_err.is_none()
             && let Err(e) = table.row(&Sample {
                 t,
                 a: (p.omega * t).sin(),
-                x: y[0],
-                xdot: y[1],
+                y: state,
+                dim: y.len(),
+                states: &states,
             })
         {
             io_err = Some(e);

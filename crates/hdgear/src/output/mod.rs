@@ -297,14 +297,26 @@ impl<W: Write + Send, T: Record> RecordWriter<W, T> {
     /// Starts the output (the CSV header is written at once). `meta` (the parameters and options
     /// that produced the rows) goes into JSON and Parquet output only.
     pub fn new(
+        w: W,
+        format: Format,
+        meta: &(impl serde::Serialize + ?Sized),
+    ) -> std::io::Result<Self> {
+        Self::with_columns(w, format, meta, T::COLUMNS.to_vec())
+    }
+
+    /// As [`RecordWriter::new`], for a row type whose columns are known only at run time (a
+    /// trajectory with one column per state of its model): `columns` names the fields `T`
+    /// writes, in order.
+    pub fn with_columns(
         mut w: W,
         format: Format,
         meta: &(impl serde::Serialize + ?Sized),
+        columns: Vec<&'static str>,
     ) -> std::io::Result<Self> {
         let inner = match format {
             Format::Csv => {
                 let mut c = csv::WriterBuilder::new().has_headers(false).from_writer(w);
-                c.write_record(T::COLUMNS).map_err(csv_io)?;
+                c.write_record(&columns).map_err(csv_io)?;
                 Inner::Csv(Box::new(c))
             }
             Format::Json => {
@@ -316,7 +328,7 @@ impl<W: Write + Send, T: Record> RecordWriter<W, T> {
             #[cfg(feature = "parquet")]
             Format::Parquet => Inner::Parquet(Box::new(parquet::ParquetWriter::new(
                 w,
-                T::COLUMNS,
+                columns,
                 serde_json::to_string(meta)?,
             ))),
             #[cfg(not(feature = "parquet"))]

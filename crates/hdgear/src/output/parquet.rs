@@ -56,7 +56,7 @@ impl Cell {
 
 /// Streams records into a Parquet file.
 pub struct ParquetWriter<W: Write + Send> {
-    columns: &'static [&'static str],
+    columns: Vec<&'static str>,
     meta: String,
     /// Row-major cells of the row group being filled.
     rows: Vec<Vec<Cell>>,
@@ -71,7 +71,7 @@ fn io(e: impl std::fmt::Display) -> std::io::Error {
 
 impl<W: Write + Send> ParquetWriter<W> {
     /// A writer for records with `columns`, with `meta` (JSON) stored in the file's metadata.
-    pub fn new(out: W, columns: &'static [&'static str], meta: String) -> Self {
+    pub fn new(out: W, columns: Vec<&'static str>, meta: String) -> Self {
         ParquetWriter {
             columns,
             meta,
