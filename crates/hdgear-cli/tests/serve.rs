@@ -143,6 +143,29 @@ fn the_api_answers_and_refuses_with_the_cli_messages() {
         assert_eq!(code, 200, "{page}");
         assert!(body.len() > 1000, "{page}");
     }
+    // the sliders are the library's parameters, with its symbols and defaults
+    let js = get(&s.addr, "/app.js").1;
+    let start = js.find("const PARAMS = ").unwrap() + "const PARAMS = ".len();
+    let end = start + js[start..].find(";\n").unwrap();
+    let sliders: serde_json::Value = serde_json::from_str(&js[start..end]).unwrap();
+    let defaults = hdgear::Params::default();
+    for (q, s) in hdgear::params::Param::ALL
+        .iter()
+        .zip(sliders.as_array().unwrap())
+    {
+        assert_eq!(s["key"], q.name());
+        assert_eq!(s["def"].as_f64().unwrap(), defaults.value(*q));
+        let (lo, hi, def) = (
+            s["min"].as_f64().unwrap(),
+            s["max"].as_f64().unwrap(),
+            defaults.value(*q),
+        );
+        assert!(
+            lo < def && def < hi,
+            "{q}: {def} outside the slider [{lo}, {hi}]"
+        );
+    }
+    assert_eq!(sliders.as_array().unwrap().len(), 6);
 }
 
 /// Latency quantile (ms) of sorted durations.

@@ -1,6 +1,7 @@
 //! `hdgear serve`: a local web server with one page (the live explorer) and a small JSON API.
 //!
-//! - `GET /` (and `/app.js`, `/app.css`): the page, embedded in the binary (`include_str!`).
+//! - `GET /` (and `/app.js`, `/app.css`): the page, embedded in the binary (`include_str!`); the
+//!   script starts with its sliders' table, from the library's parameter list.
 //! - `GET /api/view?alpha=…&gamma=…&eps=…&mu=…&delta=…&omega=…` (any subset; the rest from the
 //!   study's default point): [`hdgear::explore::View`] as JSON.
 //! - `GET /api/boundaries?…`: the bursting boundaries located by simulation (seconds).
@@ -64,6 +65,66 @@ pub const MAX_CONNECTIONS: usize = 512;
 const PAGE: &str = include_str!("assets/index.html");
 const APP_JS: &str = include_str!("assets/app.js");
 const APP_CSS: &str = include_str!("assets/app.css");
+/// Where app.js holds its sliders' table (an empty list until the server writes it).
+const SLIDERS: &str = "/*PARAMS*/[]";
+
+/// The range a parameter's slider spans at first, and whether on a log scale: all the explorer
+/// adds to the library's parameter list (a value typed beyond it widens it).
+fn slider(q: Param) -> (f64, f64, bool) {
+    match q {
+        Param::Alpha => (0.5, 100.0, true),
+        Param::Gamma => (1e-3, 100.0, true),
+        Param::Eps => (0.0, 2.0, false),
+        Param::Mu => (-0.5, 0.5, false),
+        Param::Delta => (0.0, 40.0, false),
+        Param::Omega => (1e-4, 0.3, true),
+    }
+}
+
+/// One slider of the page: the library's name, symbol, meaning and default of a parameter with
+/// its [`slider`] range.
+#[derive(serde::Serialize)]
+struct Slider {
+    key: &'static str,
+    sym: &'static str,
+    hint: &'static str,
+    def: f64,
+    min: f64,
+    max: f64,
+    log: bool,
+}
+
+/// `/app.js`: the page's script with its sliders' table `PARAMS` written in, read from the
+/// library's parameter list (the study's model's definitions, in [`Param::ALL`]'s order).
+static APP: std::sync::LazyLock<String> = std::sync::LazyLock::new(|| {
+    let defs = hdgear::model::Model::study(&hdgear::Params::default()).param_values();
+    let sliders: Vec<Slider> = Param::ALL
+        .iter()
+        .map(|&q| {
+            let info = defs
+                .iter()
+                .find(|d| d.info.name == q.name())
+                .expect("the study's model has every parameter")
+                .info;
+            let (min, max, log) = slider(q);
+            Slider {
+                key: info.name,
+                sym: info.symbol,
+                hint: info.meaning,
+                def: info.default,
+                min,
+                max,
+                log,
+            }
+        })
+        .collect();
+    let table = serde_json::to_string(&sliders).expect("plain data serialises");
+    assert!(
+        APP_JS.matches(SLIDERS).count() == 1,
+        "app.js holds one {SLIDERS}"
+    );
+    APP_JS.replacen(SLIDERS, &table, 1)
+});
 
 /// An API error: status and one line.
 struct ApiError(StatusCode, String);
@@ -346,7 +407,7 @@ pub fn router() -> axum::Router {
         )
         .route(
             "/app.js",
-            get(|| async { asset("text/javascript; charset=utf-8", APP_JS) }),
+            get(|| async { asset("text/javascript; charset=utf-8", APP.as_str()) }),
         )
         .route(
             "/app.css",

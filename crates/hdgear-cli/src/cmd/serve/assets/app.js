@@ -2,14 +2,9 @@
 // step, no dependencies: everything is served by the hdgear binary itself.
 "use strict";
 
-const PARAMS = [
-  { key: "alpha", sym: "α", min: 0.5, max: 100, log: true, def: 16, hint: "cubic stiffness" },
-  { key: "gamma", sym: "γ", min: 1e-3, max: 100, log: true, def: 0.1, hint: "linear stiffness (the study varies it)" },
-  { key: "eps", sym: "ε", min: 0, max: 2, log: false, def: 0.71, hint: "backlash offset" },
-  { key: "mu", sym: "μ", min: -0.5, max: 0.5, log: false, def: 0.07, hint: "mean load" },
-  { key: "delta", sym: "δ", min: 0, max: 40, log: false, def: 15, hint: "amplitude of the slow disturbance" },
-  { key: "omega", sym: "ω", min: 1e-4, max: 0.3, log: true, def: 0.01, hint: "frequency of the slow disturbance" },
-];
+// The sliders: the server writes them in place of the empty list, from the library's parameter
+// list (serve/mod.rs).
+const PARAMS = /*PARAMS*/[];
 const STEPS = 1000;
 const state = {};
 let view = null;
