@@ -13,6 +13,7 @@ pub mod control;
 pub mod delay;
 pub mod jet;
 pub mod memory;
+pub mod mesh;
 pub mod switching;
 pub mod terms;
 

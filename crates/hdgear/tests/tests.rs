@@ -14,6 +14,7 @@ mod domain;
 mod fast;
 mod friction;
 mod integrate;
+mod kinematic;
 mod memory;
 mod model;
 mod normal_form;

@@ -3,13 +3,31 @@
 use crate::cli::ModelArgs;
 use crate::sink::{outln, warn};
 use anyhow::Result;
+use hdgear::control::Averaging;
+use hdgear::model::Description;
+use serde::Serialize;
+
+/// What `model --json` prints: the description and, for a model with a fast periodic torque,
+/// what averaging makes of it.
+#[derive(Serialize)]
+struct Doc {
+    #[serde(flatten)]
+    description: Description,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    averaged: Option<Averaging>,
+}
 
 pub fn run(a: ModelArgs) -> Result<()> {
     let (_, model, warnings) = a.params.resolve_model()?;
     warn(&warnings);
     let d = model.describe();
+    let averaged = Averaging::of(&model);
     if a.json {
-        outln!("{}", serde_json::to_string_pretty(&d)?);
+        let doc = Doc {
+            description: d,
+            averaged,
+        };
+        outln!("{}", serde_json::to_string_pretty(&doc)?);
         return Ok(());
     }
     outln!("equation  {}", d.equation);
@@ -45,7 +63,15 @@ pub fn run(a: ModelArgs) -> Result<()> {
             p.info.meaning
         );
     }
-    let f = d.facts;
+    print_facts(&d.facts)?;
+    if let (Some(av), Some(fast)) = (averaged, model.dither()) {
+        print_averaging(&av, fast)?;
+    }
+    Ok(())
+}
+
+/// The facts of the fast subsystem derived from the terms.
+fn print_facts(f: &hdgear::model::Facts) -> Result<()> {
     outln!();
     outln!("fast subsystem (forcing frozen at a), derived from the terms:");
     outln!(
@@ -75,6 +101,22 @@ pub fn run(a: ModelArgs) -> Result<()> {
         "  decay time 2/c = {} (ω·2/c = {:.3e})",
         f.decay_time,
         f.omega_decay
+    );
+    Ok(())
+}
+
+/// What averaging makes of a fast periodic torque [D, Ω].
+fn print_averaging(av: &Averaging, [d, wd]: [f64; 2]) -> Result<()> {
+    outln!(
+        "fast periodic torque {d} at Ω = {wd} (Ω/√max g' = {:.3} on the averaged curve; \
+         averaging needs it well above 1):",
+        av.frequency_ratio
+    );
+    outln!(
+        "  ripple ≈ {:.4e} on x; averaged stiffness γ = {}, ε = {}",
+        av.ripple,
+        av.params.gamma,
+        av.params.eps
     );
     Ok(())
 }

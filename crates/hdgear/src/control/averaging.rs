@@ -1,10 +1,12 @@
-//! What first-order averaging makes of a dither ([`Averaging`]), for the control table.
+//! What first-order averaging makes of a model's fast periodic torque ([`Averaging`]): a
+//! dither's in the control table, a kinematic error's in `hdgear model`.
 
 use crate::model::Model;
 use crate::params::Params;
 use serde::Serialize;
 
-/// What first-order averaging makes of a dither ũ = D·sin Ω_dτ on the study's model.
+/// What first-order averaging makes of a fast periodic torque of amplitude D at Ω_d (a dither
+/// ũ = D·sin Ω_dτ, a kinematic error's base excitation: [`Model::dither`]).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct Averaging {
     /// The ripple amplitude A on the twist ([`crate::model::control::dither_ripple`]).
@@ -18,16 +20,21 @@ pub struct Averaging {
 }
 
 impl Averaging {
-    /// The dithered closed loop `closed` of the study model with `p`: `None` without a dither.
-    pub(crate) fn of(p: &Params, closed: &Model) -> Option<Averaging> {
-        let [_, wd] = closed.dither()?;
-        let params = closed.equivalent_params()?;
+    /// The averaging of `model`'s fast periodic torque: `None` without one (or where the model
+    /// has no equivalent study set, [`Model::equivalent_params`]). The ripple is read from the
+    /// stiffening, against the same model without the torque.
+    pub fn of(model: &Model) -> Option<Averaging> {
+        let [_, wd] = model.dither()?;
+        let params = model.equivalent_params()?;
+        let open = model.without_fast_torque().equivalent_params()?;
         let gmax = crate::fast::x_intervals(&params, (-1.0, 1.0))
             .iter()
             .flat_map(|&(l, r)| [params.g_prime(l), params.g_prime(r)])
             .fold(0.0_f64, f64::max);
         Some(Averaging {
-            ripple: ((params.gamma - p.gamma) / (1.5 * p.alpha)).max(0.0).sqrt(),
+            ripple: ((params.gamma - open.gamma) / (1.5 * open.alpha))
+                .max(0.0)
+                .sqrt(),
             params,
             frequency_ratio: wd / gmax.sqrt(),
         })

@@ -198,7 +198,7 @@ fn assess_against(
         effort_rms: c.effort[1],
         effort_mean: c.effort[2],
         static_shift: shift / x_extent,
-        averaging: Averaging::of(p, &closed),
+        averaging: Averaging::of(&closed),
         max_shift: max_shift / x_extent,
     })
 }

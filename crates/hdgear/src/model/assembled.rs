@@ -195,6 +195,14 @@ impl Model {
         if self.terms().any(|t| t.kind() == term.kind()) {
             return Err(refuse("the model has one already".into()));
         }
+        if let (Some(_), Some(other)) = (term.dither(), self.terms().find(|t| t.dither().is_some()))
+        {
+            // the verdict averages the motion over one fast period; two need two time scales
+            return Err(refuse(format!(
+                "the model's {} is a fast periodic torque already (one is averaged, not two)",
+                other.kind()
+            )));
+        }
         if term.state().is_some() && self.dim() - 2 == MAX_STATES {
             return Err(refuse(format!(
                 "a model holds at most {MAX_STATES} terms with a state of their own"
@@ -389,9 +397,11 @@ impl Model {
 
     /// The static torque g(x) = Σ T(x, 0, z_rest(x)): the fast subsystem's equilibria solve
     /// g(x) = a, each internal state at rest ([`AnyTerm::state_at_rest`]: 0, the virgin state, for
-    /// a model with memory; x for a washout filter).
+    /// a model with memory; x for a washout filter). A fast periodic torque ([`Model::dither`])
+    /// has no static part (its mean over a period is 0) and is left out.
     pub fn static_torque(&self, x: f64) -> f64 {
         self.terms()
+            .filter(|t| t.dither().is_none())
             .map(|t| t.torque(x, 0.0, t.state_at_rest(x)))
             .sum()
     }
@@ -501,12 +511,24 @@ impl Model {
         m
     }
 
-    /// The model's dither [D, Ω_d], if a term applies one with D > 0 ([`AnyTerm::dither`];
-    /// with several, the first): a dither of amplitude 0 is the model without it.
+    /// The model's fast periodic torque [D, Ω_d] (a dither, a kinematic error: [`AnyTerm::dither`];
+    /// a model holds one), if its amplitude D > 0: at amplitude 0 the model is the one without it.
     pub fn dither(&self) -> Option<[f64; 2]> {
         self.terms()
             .find_map(|t| t.dither())
             .filter(|[d, _]| *d > 0.0)
+    }
+
+    /// The model without its fast periodic torque ([`Model::dither`]): what that torque's
+    /// averaging is measured against.
+    pub fn without_fast_torque(&self) -> Model {
+        let mut m = *self;
+        for slot in &mut m.terms {
+            if slot.is_some_and(|t| t.dither().is_some()) {
+                *slot = None;
+            }
+        }
+        m
     }
 
     /// The model's delayed feedback [K, τ_d], if a term is one ([`AnyTerm::delay`]).

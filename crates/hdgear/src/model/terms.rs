@@ -9,6 +9,7 @@ use super::jet::{
     exp_coefficient, exp_step_limit, square_coefficient, tanh_coefficient, tanh_step_limit,
 };
 pub use super::memory::{BoucWen, LuGre};
+pub use super::mesh::KinematicError;
 use crate::error::{Error, Result};
 use serde::Serialize;
 
@@ -256,9 +257,10 @@ pub trait Term: Copy {
     fn state_at_rest(&self, _x: f64) -> f64 {
         0.0
     }
-    /// A torque the term applies whatever the motion, D·sin θ with θ' = Ω_d, as [D, Ω_d]: a
-    /// dither, whose ripple the burst verdict averages out ([`super::control::Dither`]). `None`
-    /// (the default) for a term of the motion.
+    /// A sinusoidal torque the term applies whatever the motion, of amplitude D at the angular
+    /// frequency Ω_d (its phase the term's state), as [D, Ω_d]: a dither
+    /// ([`super::control::Dither`]) or a kinematic error ([`super::mesh::KinematicError`]), whose
+    /// ripple the burst verdict averages out. `None` (the default) for a term of the motion.
     fn dither(&self) -> Option<[f64; 2]> {
         None
     }
@@ -834,6 +836,7 @@ any_term!(
     Washout,
     Dither,
     Delay,
+    KinematicError,
 );
 
 /// Checks a term's values against its parameter list: each within the magnitude limit every
