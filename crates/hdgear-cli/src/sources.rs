@@ -3,7 +3,7 @@
 
 use anyhow::Result;
 use clap::Args;
-use hdgear::params::{self, ParamOverrides, Params, Warning};
+use hdgear::params::{self, Param, ParamOverrides, Params, Warning};
 use hdgear::scenario::Scenario;
 use std::path::PathBuf;
 
@@ -18,24 +18,66 @@ pub struct ParamArgs {
     pub preset: String,
     #[arg(long, value_name = "FILE", help = config_help())]
     pub config: Option<PathBuf>,
-    /// α > 0, cubic stiffness.
-    #[arg(long, allow_negative_numbers = true)]
-    pub alpha: Option<f64>,
-    /// γ, linear stiffness.
-    #[arg(long, allow_negative_numbers = true)]
-    pub gamma: Option<f64>,
-    /// ε, backlash offset.
-    #[arg(long, allow_negative_numbers = true)]
-    pub eps: Option<f64>,
-    /// μ, mean load.
-    #[arg(long, allow_negative_numbers = true)]
-    pub mu: Option<f64>,
-    /// δ ≥ 0, amplitude of the slow disturbance.
-    #[arg(long, allow_negative_numbers = true)]
-    pub delta: Option<f64>,
-    /// ω > 0, frequency of the slow disturbance.
-    #[arg(long, allow_negative_numbers = true)]
-    pub omega: Option<f64>,
+    /// One flag per parameter of the study (`--alpha`, …), from the library's list.
+    #[command(flatten)]
+    pub values: ParamFlags,
+}
+
+/// The flags `--alpha`, `--gamma`, … of the study's parameters, one per [`Param`], each with
+/// its symbol, domain and meaning from the library's definition ([`hdgear::model::study_param`]).
+#[derive(Debug, Clone, Default)]
+pub struct ParamFlags(pub ParamOverrides);
+
+impl clap::FromArgMatches for ParamFlags {
+    fn from_arg_matches(m: &clap::ArgMatches) -> Result<Self, clap::Error> {
+        let mut o = ParamOverrides::default();
+        for q in Param::ALL {
+            if let Some(&v) = m.get_one::<f64>(q.name()) {
+                o.set(q, v);
+            }
+        }
+        Ok(ParamFlags(o))
+    }
+
+    fn update_from_arg_matches(&mut self, m: &clap::ArgMatches) -> Result<(), clap::Error> {
+        *self = Self::from_arg_matches(m)?;
+        Ok(())
+    }
+}
+
+/// What `--card` conflicts with: the preset, the scenario file and every parameter flag.
+pub const NOT_WITH_CARD: [&str; 2 + Param::ALL.len()] = {
+    let mut names = ["preset", "config", "", "", "", "", "", ""];
+    let mut i = 0;
+    while i < Param::ALL.len() {
+        names[2 + i] = Param::ALL[i].name();
+        i += 1;
+    }
+    names
+};
+
+impl Args for ParamFlags {
+    fn augment_args(cmd: clap::Command) -> clap::Command {
+        Param::ALL.iter().fold(cmd, |cmd, &q| {
+            let info = hdgear::model::study_param(q);
+            let domain = match info.domain.text() {
+                "finite" => String::new(),
+                rule => format!(" {rule}"),
+            };
+            cmd.arg(
+                clap::Arg::new(q.name())
+                    .long(q.name())
+                    .value_name(q.name().to_uppercase())
+                    .allow_negative_numbers(true)
+                    .value_parser(clap::value_parser!(f64))
+                    .help(format!("{}{domain}, {}", info.symbol, info.meaning)),
+            )
+        })
+    }
+
+    fn augment_args_for_update(cmd: clap::Command) -> clap::Command {
+        Self::augment_args(cmd)
+    }
 }
 
 /// `--config`'s help: the keys of `[params]` and the tables of the extra terms, read from the
@@ -58,15 +100,8 @@ fn config_help() -> String {
 impl ParamArgs {
     /// Whether the flag of parameter `name` was given.
     pub fn given(&self, name: &str) -> bool {
-        match name {
-            "alpha" => self.alpha.is_some(),
-            "gamma" => self.gamma.is_some(),
-            "eps" => self.eps.is_some(),
-            "mu" => self.mu.is_some(),
-            "delta" => self.delta.is_some(),
-            "omega" => self.omega.is_some(),
-            _ => false,
-        }
+        name.parse::<Param>()
+            .is_ok_and(|q| self.values.0.get(q).is_some())
     }
 
     /// The parameter set these sources give, validated, with its warnings. A scenario file with
@@ -116,18 +151,10 @@ impl ParamArgs {
             }
             None => None,
         };
-        let flags = ParamOverrides {
-            alpha: self.alpha,
-            gamma: self.gamma,
-            eps: self.eps,
-            mu: self.mu,
-            delta: self.delta,
-            omega: self.omega,
-        };
         let (p, warnings) = params::resolve(
             &self.preset,
             file.as_ref().and_then(|(_, s)| s.params.as_ref()),
-            &flags,
+            &self.values.0,
         )?;
         Ok((p, file, warnings))
     }

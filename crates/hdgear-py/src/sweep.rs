@@ -71,15 +71,9 @@ fn columns<'py>(py: Python<'py>, rows: &[hdgear::sweep::SweepRow]) -> PyResult<B
     let f = |g: fn(&hdgear::sweep::SweepRow) -> f64| rows.iter().map(g).collect::<Vec<f64>>();
     let index: Vec<i64> = rows.iter().map(|r| r.index as i64).collect();
     d.set_item("index", index.into_pyarray(py))?;
-    for (name, col) in [
-        ("alpha", f(|r| r.params.alpha)),
-        ("gamma", f(|r| r.params.gamma)),
-        ("eps", f(|r| r.params.eps)),
-        ("mu", f(|r| r.params.mu)),
-        ("delta", f(|r| r.params.delta)),
-        ("omega", f(|r| r.params.omega)),
-    ] {
-        d.set_item(name, col.into_pyarray(py))?;
+    for q in hdgear::params::Param::ALL {
+        let col: Vec<f64> = rows.iter().map(|r| r.params.value(q)).collect();
+        d.set_item(q.name(), col.into_pyarray(py))?;
     }
     let mode: Vec<&str> = rows.iter().map(|r| r.mode.map_or("", Mode::name)).collect();
     let mech: Vec<&str> = rows

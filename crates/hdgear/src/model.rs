@@ -19,7 +19,7 @@ pub mod terms;
 
 mod assembled;
 pub use assembled::{
-    Description, FORCING, Facts, MAX_STATES, MAX_TERMS, Model, ModelParam, ParamValue,
+    Description, FORCING, Facts, MAX_STATES, MAX_TERMS, Model, ModelParam, ParamValue, study_param,
 };
 
 use crate::integrate::System;

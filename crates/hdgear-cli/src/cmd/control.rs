@@ -39,7 +39,7 @@ pub struct ControlArgs {
     /// A drive instead of a parameter set: its card (built-in name, FILE.toml or FILE.toml#NAME)
     /// with the documented assumptions for the rest (hdgear physical --control changes them);
     /// the efforts in N m against its torque ratings.
-    #[arg(long, value_name = "CARD", conflicts_with_all = ["preset", "config", "alpha", "gamma", "eps", "mu", "delta", "omega"])]
+    #[arg(long, value_name = "CARD", conflicts_with_all = crate::sources::NOT_WITH_CARD)]
     pub card: Option<String>,
     /// JSON instead of text.
     #[arg(long)]

@@ -74,7 +74,7 @@ pub struct RobustOpts {
 pub struct RobustArgs {
     /// A drive instead of a parameter set: its card (built-in name, FILE.toml or FILE.toml#NAME)
     /// with the documented assumptions for the rest (hdgear physical --robust changes them).
-    #[arg(long, value_name = "CARD", conflicts_with_all = ["preset", "config", "alpha", "gamma", "eps", "mu", "delta", "omega"])]
+    #[arg(long, value_name = "CARD", conflicts_with_all = crate::sources::NOT_WITH_CARD)]
     pub card: Option<String>,
     /// The samples, one row each (.csv, .json or .parquet).
     #[arg(long, value_name = "FILE")]

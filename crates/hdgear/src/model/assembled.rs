@@ -151,6 +151,23 @@ pub struct Description {
     pub facts: Facts,
 }
 
+/// The definition of one of the study's six parameters (name, symbol, meaning, domain,
+/// default), read from the term or forcing that owns it: what flags, sliders and tables show.
+///
+/// ```
+/// use hdgear::model::study_param;
+/// use hdgear::params::Param;
+/// assert_eq!(study_param(Param::Delta).symbol, "δ");
+/// assert_eq!(study_param(Param::Alpha).default, 16.0);
+/// ```
+pub fn study_param(q: crate::params::Param) -> ParamInfo {
+    *FORCING
+        .iter()
+        .chain(Stiffness::PARAMS)
+        .find(|i| i.name == q.name())
+        .expect("the study's stiffness and forcing define every parameter of Param")
+}
+
 impl Model {
     /// The model's [`Description`].
     pub fn describe(&self) -> Description {

@@ -75,7 +75,7 @@ impl Param {
     ];
 
     /// The name users write (`alpha`, `gamma`, `eps`, `mu`, `delta`, `omega`).
-    pub fn name(self) -> &'static str {
+    pub const fn name(self) -> &'static str {
         match self {
             Param::Alpha => "alpha",
             Param::Gamma => "gamma",
@@ -301,19 +301,50 @@ pub struct ParamOverrides {
 }
 
 impl ParamOverrides {
+    /// Sets parameter `q`'s value.
+    ///
+    /// ```
+    /// use hdgear::params::{Param, ParamOverrides, Params};
+    /// for q in Param::ALL {
+    ///     let mut o = ParamOverrides::default();
+    ///     o.set(q, 0.5);
+    ///     assert_eq!(o.get(q), Some(0.5));
+    ///     let mut p = Params::default();
+    ///     o.apply(&mut p);
+    ///     assert_eq!(p, Params::default().with(q, 0.5));
+    /// }
+    /// ```
+    pub fn set(&mut self, q: Param, value: f64) {
+        let ParamOverrides {
+            alpha,
+            gamma,
+            eps,
+            mu,
+            delta,
+            omega,
+        } = self;
+        // in the order of Param's variants
+        *[alpha, gamma, eps, mu, delta, omega][q as usize] = Some(value);
+    }
+
+    /// Parameter `q`'s value, if present.
+    pub fn get(&self, q: Param) -> Option<f64> {
+        let ParamOverrides {
+            alpha,
+            gamma,
+            eps,
+            mu,
+            delta,
+            omega,
+        } = *self;
+        [alpha, gamma, eps, mu, delta, omega][q as usize]
+    }
+
     /// Applies the values that are present to `p`.
     pub fn apply(&self, p: &mut Params) {
-        let pairs = [
-            (&mut p.alpha, self.alpha),
-            (&mut p.gamma, self.gamma),
-            (&mut p.eps, self.eps),
-            (&mut p.mu, self.mu),
-            (&mut p.delta, self.delta),
-            (&mut p.omega, self.omega),
-        ];
-        for (slot, v) in pairs {
-            if let Some(v) = v {
-                *slot = v;
+        for q in Param::ALL {
+            if let Some(v) = self.get(q) {
+                *p = p.with(q, v);
             }
         }
     }

@@ -97,15 +97,10 @@ struct Slider {
 /// `/app.js`: the page's script with its sliders' table `PARAMS` written in, read from the
 /// library's parameter list (the study's model's definitions, in [`Param::ALL`]'s order).
 static APP: std::sync::LazyLock<String> = std::sync::LazyLock::new(|| {
-    let defs = hdgear::model::Model::study(&hdgear::Params::default()).param_values();
     let sliders: Vec<Slider> = Param::ALL
         .iter()
         .map(|&q| {
-            let info = defs
-                .iter()
-                .find(|d| d.info.name == q.name())
-                .expect("the study's model has every parameter")
-                .info;
+            let info = hdgear::model::study_param(q);
             let (min, max, log) = slider(q);
             Slider {
                 key: info.name,

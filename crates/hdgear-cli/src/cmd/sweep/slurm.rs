@@ -20,6 +20,7 @@ use crate::cli::{Cli, Command, SweepArgs};
 use anyhow::{Context, Result, bail};
 use clap::Parser;
 use hdgear::output::AtomicFile;
+use hdgear::params::Param;
 use hdgear::sweep::Shard;
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -126,13 +127,10 @@ fn sweep_args(job: &Job) -> Vec<String> {
     let s = &job.settings;
     let (p, o) = (s.grid.base, s.options);
     let mut v: Vec<String> = vec!["sweep".into()];
+    for q in Param::ALL {
+        v.extend([format!("--{}", q.name()), format!("{:?}", p.value(q))]);
+    }
     for (flag, value) in [
-        ("--alpha", p.alpha),
-        ("--gamma", p.gamma),
-        ("--eps", p.eps),
-        ("--mu", p.mu),
-        ("--delta", p.delta),
-        ("--omega", p.omega),
         ("--discard", o.discard_periods),
         ("--rtol", o.tol.rtol),
         ("--atol", o.tol.atol),
