@@ -4,7 +4,6 @@
 
 use hdgear::Params;
 use hdgear::burst::{BurstOptions, classify, response_model};
-use hdgear::integrate::Method;
 use hdgear::model::{Model, terms::AnyTerm};
 use hdgear::simulate::{SimOptions, Start, simulate_model};
 
@@ -41,18 +40,7 @@ fn kinematic_error_integration_matches_an_independent_rk4() {
     let (t_end, h): (f64, f64) = (100.0, 2e-4);
     let x0 = m.stable_equilibrium(0.0).unwrap();
     let y = crate::common::rk4_run(f, [x0, 0.0], h, t_end);
-    for method in [Method::Taylor, Method::Dop853] {
-        let last = crate::common::model_end_state(&m, t_end, 1e-13, method);
-        assert!((last[2] - w_in * t_end).abs() < 1e-12 * w_in * t_end);
-        for j in 0..2 {
-            assert!(
-                (last[j] - y[j]).abs() < 1e-8,
-                "{method}, component {j}: {} vs {}",
-                last[j],
-                y[j]
-            );
-        }
-    }
+    crate::common::assert_both_methods_reach(&m, t_end, y, 1e-8, w_in);
 }
 
 /// Under a constant load (δ = 0) the elastic twist answers a small error A = 1e-4 as the

@@ -119,3 +119,35 @@ pub fn model_end_state(
     simulate_model(m, &opts, |_, y| last = y.to_vec()).unwrap();
     last
 }
+
+/// `m` run from its equilibrium to t_end by Taylor and by DOP853 (both at 1e-13): x and x' equal
+/// `expected` to `tol`, and the phase state (component 2, θ' = `rate`) equals rate·t_end to 1e-9
+/// of it (the rounding summed over the steps).
+pub fn assert_both_methods_reach(
+    m: &hdgear::model::Model,
+    t_end: f64,
+    expected: [f64; 2],
+    tol: f64,
+    rate: f64,
+) {
+    for method in [
+        hdgear::integrate::Method::Taylor,
+        hdgear::integrate::Method::Dop853,
+    ] {
+        let last = model_end_state(m, t_end, 1e-13, method);
+        let phase = rate * t_end;
+        assert!(
+            (last[2] - phase).abs() < 1e-9 * phase,
+            "{method}: θ = {}",
+            last[2]
+        );
+        for j in 0..2 {
+            assert!(
+                (last[j] - expected[j]).abs() < tol,
+                "{method}, component {j}: {} vs {}",
+                last[j],
+                expected[j]
+            );
+        }
+    }
+}
