@@ -57,6 +57,21 @@ def test_params_defaults_presets_and_replace():
     assert repr(p).startswith("Params(alpha=16.0")
 
 
+def test_the_stub_names_the_library_s_parameters():
+    """The type stub is written by hand (type checkers read it as it stands); it must name the
+    parameters the library defines, in its order, in Params(), replace() and the properties."""
+    import ast
+    stub = ast.parse((ROOT / "crates" / "hdgear-py" / "python" / "hdgear" / "__init__.pyi").read_text())
+    params = next(c for c in stub.body if isinstance(c, ast.ClassDef) and c.name == "Params")
+    methods = {f.name: f for f in params.body if isinstance(f, ast.FunctionDef)}
+    names = list(hdgear.Params().to_dict())
+    assert [a.arg for a in methods["__init__"].args.kwonlyargs] == names + ["preset"]
+    assert [a.arg for a in methods["replace"].args.kwonlyargs] == names
+    properties = [f.name for f in params.body if isinstance(f, ast.FunctionDef)
+                  and any(isinstance(d, ast.Name) and d.id == "property" for d in f.decorator_list)]
+    assert [n for n in properties if n != "warnings"] == names
+
+
 @pytest.mark.parametrize("kw,flag", [({"gamma": float("nan")}, "--gamma=nan"), ({"omega": 0.0}, "--omega=0"),
                                      ({"alpha": -1.0}, "--alpha=-1"), ({"delta": -2.0}, "--delta=-2")])
 def test_invalid_values_raise_valueerror_with_the_cli_message(kw, flag):
