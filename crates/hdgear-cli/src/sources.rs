@@ -13,8 +13,7 @@ type Sources<'a> = (Params, Option<(&'a PathBuf, Scenario)>, Vec<Warning>);
 /// Model parameters shared by every command: preset, then file, then flags.
 #[derive(Args, Debug, Clone)]
 pub struct ParamArgs {
-    /// Named parameter set: paper (= paper-g0.1), paper-g30, paper-g10, paper-g1, paper-g0.1.
-    #[arg(long, default_value = "paper")]
+    #[arg(long, default_value = "paper", help = preset_help())]
     pub preset: String,
     #[arg(long, value_name = "FILE", help = config_help())]
     pub config: Option<PathBuf>,
@@ -78,6 +77,21 @@ impl Args for ParamFlags {
     fn augment_args_for_update(cmd: clap::Command) -> clap::Command {
         Self::augment_args(cmd)
     }
+}
+
+/// `--preset`'s help: the library's presets, a name that repeats another's set marked so.
+fn preset_help() -> String {
+    let names: Vec<String> = params::PRESETS
+        .iter()
+        .enumerate()
+        .map(
+            |(i, (name, gamma))| match params::PRESETS[i + 1..].iter().find(|(_, g)| g == gamma) {
+                Some((same, _)) => format!("{name} (= {same})"),
+                None => name.to_string(),
+            },
+        )
+        .collect();
+    format!("Named parameter set: {}", names.join(", "))
 }
 
 /// `--config`'s help: the keys of `[params]` and the tables of the extra terms, read from the
