@@ -160,13 +160,7 @@ fn a_model_holds_one_fast_periodic_torque_and_the_error_has_no_static_part() {
 #[test]
 fn the_error_s_derivatives_are_its_torque_s_finite_differences() {
     use hdgear::model::terms::{KinematicError, Term};
-    let mut state = 0x9e37_79b9_7f4a_7c15_u64;
-    let mut u = move || {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        (state >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut u = crate::common::uniform(5);
     for _ in 0..200 {
         let values = [
             0.5 * u(),

@@ -8,17 +8,9 @@ use hdgear::model::terms::AnyTerm;
 use hdgear::model::{Dimensionless, Model};
 use hdgear::params::Param;
 
-/// A small deterministic generator of uniform numbers in [0, 1).
-fn uniform(seed: u64) -> impl FnMut() -> f64 {
-    let mut s = seed;
-    move || {
-        s = s
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (s >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
+use crate::common::uniform;
 
+/// A number between lo and hi from the generator `u`.
 fn between(u: &mut impl FnMut() -> f64, lo: f64, hi: f64) -> f64 {
     lo + (hi - lo) * u()
 }

@@ -315,6 +315,17 @@ impl ParamOverrides {
     /// }
     /// ```
     pub fn set(&mut self, q: Param, value: f64) {
+        *self.fields()[q as usize] = Some(value);
+    }
+
+    /// Parameter `q`'s value, if present.
+    pub fn get(&self, q: Param) -> Option<f64> {
+        let mut copy = *self;
+        *copy.fields()[q as usize]
+    }
+
+    /// The six values, in the order of [`Param`]'s variants.
+    fn fields(&mut self) -> [&mut Option<f64>; 6] {
         let ParamOverrides {
             alpha,
             gamma,
@@ -323,21 +334,7 @@ impl ParamOverrides {
             delta,
             omega,
         } = self;
-        // in the order of Param's variants
-        *[alpha, gamma, eps, mu, delta, omega][q as usize] = Some(value);
-    }
-
-    /// Parameter `q`'s value, if present.
-    pub fn get(&self, q: Param) -> Option<f64> {
-        let ParamOverrides {
-            alpha,
-            gamma,
-            eps,
-            mu,
-            delta,
-            omega,
-        } = *self;
-        [alpha, gamma, eps, mu, delta, omega][q as usize]
+        [alpha, gamma, eps, mu, delta, omega]
     }
 
     /// Applies the values that are present to `p`.

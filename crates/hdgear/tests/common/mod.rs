@@ -151,3 +151,15 @@ pub fn assert_both_methods_reach(
         }
     }
 }
+
+/// Uniform numbers in [0, 1) from a seeded generator (a 64-bit LCG's upper 53 bits): random
+/// test cases that repeat from run to run.
+pub fn uniform(seed: u64) -> impl FnMut() -> f64 {
+    let mut s = seed;
+    move || {
+        s = s
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (s >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
