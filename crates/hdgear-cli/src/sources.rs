@@ -3,6 +3,7 @@
 
 use anyhow::Result;
 use clap::Args;
+use hdgear::model::terms::Domain;
 use hdgear::params::{self, Param, ParamOverrides, Params, Warning};
 use hdgear::scenario::Scenario;
 use std::path::PathBuf;
@@ -59,9 +60,9 @@ impl Args for ParamFlags {
     fn augment_args(cmd: clap::Command) -> clap::Command {
         Param::ALL.iter().fold(cmd, |cmd, &q| {
             let info = hdgear::model::study_param(q);
-            let domain = match info.domain.text() {
-                "finite" => String::new(),
-                rule => format!(" {rule}"),
+            let domain = match info.domain {
+                Domain::Any => String::new(),
+                rule => format!(" {}", rule.text()),
             };
             cmd.arg(
                 clap::Arg::new(q.name())
@@ -97,7 +98,7 @@ fn preset_help() -> String {
 /// `--config`'s help: the keys of `[params]` and the tables of the extra terms, read from the
 /// library's lists.
 fn config_help() -> String {
-    let keys: Vec<&str> = params::Param::ALL.iter().map(|q| q.name()).collect();
+    let keys: Vec<&str> = Param::ALL.iter().map(|q| q.name()).collect();
     let tables: Vec<String> = hdgear::model::terms::AnyTerm::KINDS
         .iter()
         .filter(|(kind, ..)| hdgear::model::Model::is_extra_kind(kind))

@@ -29,6 +29,18 @@ impl KinematicError {
         let w = self.frequency();
         (self.0[0] * w, -self.0[0] * w * w)
     }
+
+    /// (sin φ, cos φ) at the wave generator's angle θ, φ = kθ + ψ.
+    fn sin_cos(&self, theta: f64) -> (f64, f64) {
+        libm::sincos(self.0[1] * theta + self.0[3])
+    }
+
+    /// ∂T/∂φ at angle θ.
+    fn phase_derivative(&self, theta: f64) -> f64 {
+        let (c, s) = self.factors();
+        let (sin, cos) = self.sin_cos(theta);
+        s * cos - c * sin
+    }
 }
 
 impl Term for KinematicError {
@@ -85,24 +97,22 @@ impl Term for KinematicError {
     }
     fn torque(&self, _x: f64, _v: f64, theta: f64) -> f64 {
         let (c, s) = self.factors();
-        let (sin, cos) = libm::sincos(self.0[1] * theta + self.0[3]);
+        let (sin, cos) = self.sin_cos(theta);
         c * cos + s * sin
     }
     fn gradient(&self, _x: f64, _v: f64, theta: f64) -> [f64; 3] {
-        let (c, s) = self.factors();
-        let (sin, cos) = libm::sincos(self.0[1] * theta + self.0[3]);
-        [0.0, 0.0, self.0[1] * (s * cos - c * sin)]
+        [0.0, 0.0, self.0[1] * self.phase_derivative(theta)]
     }
     fn param_derivative(&self, i: usize, _x: f64, _v: f64, theta: f64) -> f64 {
         let [a, k, w, _] = self.0;
-        let (sin, cos) = libm::sincos(k * theta + self.0[3]);
+        let (sin, cos) = self.sin_cos(theta);
         let f = k * w;
         match i {
             0 => f * cos - f * f * sin,
             // through the frequency kΩ_in and, for k, the phase kθ
-            1 => a * w * (cos - 2.0 * f * sin) + theta * self.gradient(0.0, 0.0, theta)[2] / k,
+            1 => a * w * (cos - 2.0 * f * sin) + theta * self.phase_derivative(theta),
             2 => a * k * (cos - 2.0 * f * sin),
-            _ => self.gradient(0.0, 0.0, theta)[2] / k,
+            _ => self.phase_derivative(theta),
         }
     }
     /// φ = kθ + ψ (row 2), sin φ (row 0) and cos φ (row 1) by their recurrences.
