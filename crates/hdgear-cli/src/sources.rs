@@ -113,10 +113,9 @@ fn config_help() -> String {
 }
 
 impl ParamArgs {
-    /// Whether the flag of parameter `name` was given.
-    pub fn given(&self, name: &str) -> bool {
-        name.parse::<Param>()
-            .is_ok_and(|q| self.values.0.get(q).is_some())
+    /// Whether the flag of parameter `param` was given.
+    pub fn given(&self, param: Param) -> bool {
+        self.values.0.get(param).is_some()
     }
 
     /// The parameter set these sources give, validated, with its warnings. A scenario file with

@@ -207,3 +207,69 @@ fn the_library_module_graph_has_no_cycle_and_output_is_the_bottom_layer() {
         }
     }
 }
+
+/// The lines of `text`, comments aside, that hold a study parameter's name as a string literal
+/// (`"gamma"`): where a column list, a flag, a key or a message would restate the name.
+fn name_literals(text: &str) -> Vec<&str> {
+    let names = hdgear::params::Param::NAMES.map(|n| format!("\"{n}\""));
+    text.lines()
+        .filter(|l| !l.trim_start().starts_with("//"))
+        .filter(|l| names.iter().any(|n| l.contains(n.as_str())))
+        .collect()
+}
+
+/// Whether a line is an arm of a table of names (`Param::Gamma => "gamma",`), the one place a
+/// name is written: the study's `Param::name`, or a parameter table of its own whose name
+/// happens to be the same (the drive's Ω in rad/s, `DriveParam::Omega => "omega"`).
+fn is_name_definition(line: &str) -> bool {
+    let l = line.trim();
+    (l.starts_with("Param::") || l.starts_with("DriveParam::"))
+        && l.contains(" => \"")
+        && l.ends_with("\",")
+}
+
+/// The study's parameter names are written once, in `Param::name`: every flag, column list,
+/// table key and message of every crate's sources derives from it (issue 38: nothing outside
+/// the definitions names a parameter by hand).
+#[test]
+fn the_study_s_parameter_names_are_written_only_where_they_are_defined() {
+    // the scan flags a restated name and passes a definition
+    let planted = "crate::record!(Row: \"index\", \"gamma\", \"mode\");\n// \"gamma\" in a comment";
+    assert_eq!(name_literals(planted).len(), 1);
+    assert!(!is_name_definition(name_literals(planted)[0]));
+    assert!(is_name_definition("            Param::Gamma => \"gamma\","));
+
+    let crates = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let mut stack: Vec<_> = ["hdgear/src", "hdgear-cli/src", "hdgear-py/src"]
+        .iter()
+        .map(|d| crates.join(d))
+        .collect();
+    let (mut definitions, mut restated) = (0, Vec::new());
+    while let Some(dir) = stack.pop() {
+        for e in std::fs::read_dir(&dir).unwrap().flatten() {
+            let path = e.path();
+            if path.is_dir() {
+                stack.push(path);
+                continue;
+            }
+            if path.extension().is_none_or(|x| x != "rs") {
+                continue;
+            }
+            let text = std::fs::read_to_string(&path).unwrap();
+            for line in name_literals(&text) {
+                if is_name_definition(line) {
+                    definitions += 1;
+                } else {
+                    restated.push(format!("{}: {}", path.display(), line.trim()));
+                }
+            }
+        }
+    }
+    assert!(
+        restated.is_empty(),
+        "names restated:\n{}",
+        restated.join("\n")
+    );
+    // the six arms of Param::name (and the drive's Ω): the scan saw the sources
+    assert_eq!(definitions, 7);
+}

@@ -3,11 +3,13 @@
 use crate::cli::{BifurcationArgs, check_out};
 use crate::sink::{warn, write_records};
 use anyhow::Result;
+use hdgear::params::Param;
 
 pub fn run(a: BifurcationArgs) -> Result<()> {
-    if a.params.given("gamma") {
+    let gamma = Param::Gamma;
+    if a.params.given(gamma) {
         anyhow::bail!(
-            "--gamma does not apply to bifurcation: it varies gamma from --gamma-min to the cusp"
+            "--{gamma} does not apply to bifurcation: it varies {gamma} from --gamma-min to the cusp"
         );
     }
     let (p, warnings) = a.params.resolve()?;

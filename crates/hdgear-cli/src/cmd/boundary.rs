@@ -48,7 +48,7 @@ struct Doc<'a> {
 
 pub fn run(a: BoundaryArgs) -> Result<()> {
     let (p, [r1, r2], box2, warnings) = a.plane.resolve()?;
-    if a.plane.params.given(r2.param.name()) {
+    if a.plane.params.given(r2.param) {
         bail!("--{0} does not apply: --param sets {0} itself", r2.param);
     }
     let kinds: Vec<BoundaryKind> = if a.kinds.is_empty() {

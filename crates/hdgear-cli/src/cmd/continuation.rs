@@ -21,7 +21,7 @@ struct Doc<'a> {
 
 pub fn run(a: ContinueArgs) -> Result<()> {
     let range = Range::parse(&a.range).context("--param")?;
-    if a.params.given(range.param.name()) {
+    if a.params.given(range.param) {
         anyhow::bail!(
             "--{0} does not apply: --param {1} sets {0} itself",
             range.param,

@@ -108,7 +108,7 @@ impl PlaneArgs {
                 r1.param
             );
         }
-        if params.given(r1.param.name()) {
+        if params.given(r1.param) {
             bail!("--{0} does not apply: --param sets {0} itself", r1.param);
         }
         let (p, warnings) = params.resolve()?;

@@ -29,7 +29,7 @@ struct Meta<'a> {
 
 pub fn run(a: OrbitDiagramArgs) -> Result<()> {
     let axis = Axis::parse(&a.axis).context("--param")?;
-    if a.params.given(axis.param.name()) {
+    if a.params.given(axis.param) {
         anyhow::bail!(
             "--{0} does not apply: --param {1} varies {0} itself",
             axis.param,

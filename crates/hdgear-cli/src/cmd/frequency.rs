@@ -4,11 +4,15 @@
 use crate::cli::FrequencyResponseArgs;
 use crate::sink::warn;
 use anyhow::{Context, Result};
+use hdgear::params::Param;
 use hdgear::periodic::{BranchRow, ContinuationOptions, Special, frequency_response};
 
 pub fn run(a: FrequencyResponseArgs) -> Result<()> {
-    if a.params.given("omega") {
-        anyhow::bail!("--omega does not apply: the curve varies omega itself (see --omega-range)");
+    let omega = Param::Omega;
+    if a.params.given(omega) {
+        anyhow::bail!(
+            "--{omega} does not apply: the curve varies {omega} itself (see --omega-range)"
+        );
     }
     let range = crate::cli::parse_frequency_range("--omega-range", a.omega_range.as_deref())?;
     let (p, warnings) = a.params.resolve()?;

@@ -22,7 +22,7 @@ pub fn run(a: LyapunovMapArgs) -> Result<()> {
         .collect::<hdgear::Result<Vec<_>>>()
         .context("--param")?;
     for ax in &axes {
-        if a.params.given(ax.param.name()) {
+        if a.params.given(ax.param) {
             anyhow::bail!("--{0} does not apply: an axis varies {0}", ax.param);
         }
     }

@@ -10,7 +10,7 @@ pub fn run(a: crate::cli::PlotArgs) -> Result<()> {
     crate::cli::check_figure_path("--out", &a.out)?;
     // figures that vary a parameter themselves would silently ignore its flag
     for param in kind.varies() {
-        if a.params.given(param.name()) {
+        if a.params.given(*param) {
             anyhow::bail!(
                 "--{param} does not apply to plot {kind}: the figure varies {param} itself"
             );

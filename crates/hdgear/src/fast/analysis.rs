@@ -13,7 +13,7 @@ use super::predict::{
     predicted_gamma_boundary,
 };
 use crate::error::{Error, Result};
-use crate::params::Params;
+use crate::params::{Param, Params};
 use serde::Serialize;
 
 /// A point (a, x) of the (a, x) plane.
@@ -401,7 +401,7 @@ pub fn analyze(p: &Params, a_range: (f64, f64)) -> Result<Analysis> {
     check_a_range(a_range)?;
     if p.delta == 0.0 {
         return Err(Error::InvalidParameter {
-            name: "delta".into(),
+            name: Param::Delta.name().into(),
             value: 0.0,
             reason: "must be > 0 for the fast-slow analysis (with δ = 0 the slow variable does \
                      not move the equilibria)",
@@ -495,7 +495,7 @@ pub fn fold_curves(p: &Params, gamma_min: f64, points: usize) -> Result<Vec<Fold
     crate::params::check_magnitude("gamma-min", gamma_min)?;
     if p.delta == 0.0 {
         return Err(Error::InvalidParameter {
-            name: "delta".into(),
+            name: Param::Delta.name().into(),
             value: 0.0,
             reason: "must be > 0: with δ = 0 the folds have no a-coordinate",
         });
@@ -541,4 +541,4 @@ pub fn fold_curves(p: &Params, gamma_min: f64, points: usize) -> Result<Vec<Fold
         .collect()
 }
 
-crate::record!(FoldRow: "gamma", "a_lower", "x_lower", "a_upper", "x_upper");
+crate::record!(FoldRow: Param::Gamma.name(), "a_lower", "x_lower", "a_upper", "x_upper");

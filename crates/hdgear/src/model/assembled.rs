@@ -6,7 +6,7 @@
 use super::terms::{AnyTerm, Damping, Domain, MAX_ROWS, ParamInfo, Scratch, Side, Stiffness, Term};
 use crate::error::{Error, Result};
 use crate::integrate::System;
-use crate::params::Params;
+use crate::params::{Param, Params};
 use serde::Serialize;
 use std::fmt;
 
@@ -20,7 +20,7 @@ pub const MAX_STATES: usize = 2;
 /// The forcing's parameters: μ, δ, ω of μ + δ sin ωτ.
 pub const FORCING: [ParamInfo; 3] = [
     ParamInfo {
-        name: "mu",
+        name: Param::Mu.name(),
         symbol: "μ",
         latex: r"\mu",
         meaning: "mean load",
@@ -29,7 +29,7 @@ pub const FORCING: [ParamInfo; 3] = [
         si: "k2·φ·J_eq²·T_m/C⁴",
     },
     ParamInfo {
-        name: "delta",
+        name: Param::Delta.name(),
         symbol: "δ",
         latex: r"\delta",
         meaning: "amplitude of the slow disturbance",
@@ -38,7 +38,7 @@ pub const FORCING: [ParamInfo; 3] = [
         si: "k2·φ·J_eq³·T_am/(J_o·C⁴)",
     },
     ParamInfo {
-        name: "omega",
+        name: Param::Omega.name(),
         symbol: "ω",
         latex: r"\omega",
         meaning: "frequency of the slow disturbance",

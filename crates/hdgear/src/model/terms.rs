@@ -11,6 +11,7 @@ use super::jet::{
 pub use super::memory::{BoucWen, LuGre};
 pub use super::mesh::KinematicError;
 use crate::error::{Error, Result};
+use crate::params::Param;
 use serde::Serialize;
 
 /// Rows kept per Taylor coefficient row: orders 0..=[`crate::integrate::taylor::MAX_ORDER`].
@@ -315,7 +316,7 @@ impl Term for Stiffness {
     const ABOUT: &'static str = "cubic stiffness with backlash offset, αx³ − x² + γ(x − ε)";
     const PARAMS: &'static [ParamInfo] = &[
         ParamInfo {
-            name: "alpha",
+            name: Param::Alpha.name(),
             symbol: "α",
             latex: r"\alpha",
             meaning: "cubic stiffness (what confines the motion)",
@@ -324,7 +325,7 @@ impl Term for Stiffness {
             si: "C²/(k2·φ²·J_eq)",
         },
         ParamInfo {
-            name: "gamma",
+            name: Param::Gamma.name(),
             symbol: "γ",
             latex: r"\gamma",
             meaning: "linear stiffness",
@@ -333,7 +334,7 @@ impl Term for Stiffness {
             si: "k1·J_eq/C²",
         },
         ParamInfo {
-            name: "eps",
+            name: Param::Eps.name(),
             symbol: "ε",
             latex: r"\varepsilon",
             meaning: "backlash offset of the linear term",

@@ -382,10 +382,51 @@ impl<W: Write + Send, T: Record> RecordWriter<W, T> {
     }
 }
 
-/// Implements [`Record`] for a type with the given column names.
+/// The column names of `parts`, in order, as one array of `N` names (`N` their total count,
+/// [`column_count`]): how [`crate::record!`] splices a list of names into a row's columns at compile
+/// time.
+pub const fn join_columns<const N: usize>(parts: &[&[&'static str]]) -> [&'static str; N] {
+    let mut out = [""; N];
+    let (mut k, mut p) = (0, 0);
+    while p < parts.len() {
+        let mut i = 0;
+        while i < parts[p].len() {
+            out[k] = parts[p][i];
+            (k, i) = (k + 1, i + 1);
+        }
+        p += 1;
+    }
+    assert!(k == N, "N must be the parts' total count");
+    out
+}
+
+/// The total count of the column names in `parts`.
+pub const fn column_count(parts: &[&[&str]]) -> usize {
+    let (mut n, mut p) = (0, 0);
+    while p < parts.len() {
+        n += parts[p].len();
+        p += 1;
+    }
+    n
+}
+
+/// Implements [`Record`] for a type with the given column names (constant expressions, so a
+/// column can be a name the library defines elsewhere). In a list of literals, `..NAMES` splices
+/// in the constant array of names at the path `NAMES` (a row's flattened parameter set: its
+/// columns are the parameters' names, listed once where the parameters are defined).
 #[macro_export]
 macro_rules! record {
-    ($t:ty: $($c:literal),+ $(,)?) => {
+    ($t:ty: $($pre:literal,)* ..$names:path $(, $post:literal)* $(,)?) => {
+        impl $crate::output::Record for $t {
+            const COLUMNS: &'static [&'static str] = {
+                const PARTS: &[&[&str]] = &[&[$($pre),*], &$names, &[$($post),*]];
+                const COLUMNS: [&str; $crate::output::column_count(PARTS)] =
+                    $crate::output::join_columns(PARTS);
+                &COLUMNS
+            };
+        }
+    };
+    ($t:ty: $($c:expr),+ $(,)?) => {
         impl $crate::output::Record for $t {
             const COLUMNS: &'static [&'static str] = &[$($c),+];
         }

@@ -74,6 +74,18 @@ impl Param {
         Param::Omega,
     ];
 
+    /// The six names in [`Param::ALL`]'s order: the columns of every table row that carries a
+    /// parameter set ([`crate::record!`]'s `..Param::NAMES`).
+    pub const NAMES: [&'static str; 6] = {
+        let mut names = [""; 6];
+        let mut i = 0;
+        while i < names.len() {
+            names[i] = Param::ALL[i].name();
+            i += 1;
+        }
+        names
+    };
+
     /// The name users write (`alpha`, `gamma`, `eps`, `mu`, `delta`, `omega`).
     pub const fn name(self) -> &'static str {
         match self {
@@ -191,17 +203,17 @@ impl Params {
         }
         if self.alpha <= 0.0 {
             return Err(invalid(
-                "alpha",
+                Param::Alpha.name(),
                 self.alpha,
                 "must be > 0 (the cubic stiffness confines the motion)",
             ));
         }
         if self.omega <= 0.0 {
-            return Err(invalid("omega", self.omega, "must be > 0"));
+            return Err(invalid(Param::Omega.name(), self.omega, "must be > 0"));
         }
         if self.delta < 0.0 {
             return Err(invalid(
-                "delta",
+                Param::Delta.name(),
                 self.delta,
                 "must be ≥ 0 (its sign is the phase of the disturbance)",
             ));

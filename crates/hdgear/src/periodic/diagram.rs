@@ -211,7 +211,7 @@ pub struct LyapunovRow {
     pub error: String,
 }
 crate::record!(
-    LyapunovRow: "index", "alpha", "gamma", "eps", "mu", "delta", "omega", "lyapunov",
+    LyapunovRow: "index", ..crate::params::Param::NAMES, "lyapunov",
     "period", "error"
 );
 

@@ -175,26 +175,17 @@ impl PhysicalParams {
             }
             check_magnitude(name, v)?;
         }
-        for (name, v) in [
-            ("j_in", self.j_in),
-            ("j_out", self.j_out),
-            ("ratio", self.ratio),
-            ("c_eq", self.c_eq),
-            ("omega", self.omega),
-        ] {
-            if v <= 0.0 {
-                return Err(invalid(name, v, "must be > 0"));
-            }
-        }
-        for (name, v) in [
-            ("k1", self.k1),
-            ("k2", self.k2),
-            ("backlash", self.backlash),
-            ("t_am", self.t_am),
-        ] {
-            if v < 0.0 {
-                return Err(invalid(name, v, "must be ≥ 0"));
-            }
+        use DriveParam::{Backlash, CEq, JIn, JOut, K1, K2, Omega, Ratio, TAm};
+        let positive =
+            [JIn, JOut, Ratio, CEq, Omega].map(|q| (q, self.value(q) > 0.0, "must be > 0"));
+        let non_negative =
+            [K1, K2, Backlash, TAm].map(|q| (q, self.value(q) >= 0.0, "must be ≥ 0"));
+        let broken = positive
+            .iter()
+            .chain(&non_negative)
+            .find(|(_, holds, _)| !holds);
+        if let Some(&(param, _, reason)) = broken {
+            return Err(invalid(param.name(), self.value(param), reason));
         }
         Ok(())
     }

@@ -8,7 +8,7 @@ use super::periodic::{BUBBLE_GAMMA, BUBBLE_OMEGA};
 use super::{PHYSICAL_DRIVE, Report};
 use crate::burst::{BOUNDARY_REL_TOL, RINGING_DECAY_TIME, TIME_SCALE_SEPARATION};
 use crate::fast::{FOCUS_GPRIME, FORCING_RATE_THRESHOLD, NO_HOPF_REASON};
-use crate::params::Params;
+use crate::params::{Param, Params};
 use std::fmt::Write as _;
 
 /// `index.html` of `r`, with the figures' SVG texts `svgs` (in [`super::FIGURES`] order) inline.
@@ -218,7 +218,7 @@ fn gamma_table(h: &mut String, r: &Report) {
             h,
             "<tr data-gamma=\"{}\">{}<td>{}</td>{}{}{}{}{}<td data-key=\"mode\">{}</td><td>{}</td><td>{}{}</td></tr>",
             r.gamma,
-            cell("gamma", r.gamma),
+            cell(Param::Gamma.name(), r.gamma),
             esc(r.shape),
             cell("max_slope", r.max_slope),
             cell("slope_at_a0", r.slope_at_a0),
@@ -612,7 +612,7 @@ fn periodic(h: &mut String, r: &Report) {
         let _ = writeln!(
             h,
             "<tr>{}{}{}<td>{}</td>{}{}<td>{}</td><td>{}</td></tr>",
-            cell("gamma", o.gamma),
+            cell(Param::Gamma.name(), o.gamma),
             cell("ln_m1", o.log_abs_multipliers[0]),
             cell("ln_m2", o.log_abs_multipliers[1]),
             if o.complex {

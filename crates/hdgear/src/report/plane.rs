@@ -64,7 +64,12 @@ impl PlaneEvidence {
     pub fn figure(&self) -> Figure {
         let mut curves = self.folds.clone();
         curves.extend(self.doublings.iter().cloned());
-        crate::figures::plane_figure(&curves, &self.boundaries, ["omega", "delta"], [true, true])
+        crate::figures::plane_figure(
+            &curves,
+            &self.boundaries,
+            [Param::Omega.name(), Param::Delta.name()],
+            [true, true],
+        )
     }
 
     /// The cusps of the fold curves, (ω, δ).

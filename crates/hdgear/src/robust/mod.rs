@@ -439,7 +439,7 @@ pub struct SampleRow {
     pub error: String,
 }
 crate::record!(
-    SampleRow: "index", "alpha", "gamma", "eps", "mu", "delta", "omega", "verdict", "burst",
+    SampleRow: "index", ..crate::params::Param::NAMES, "verdict", "burst",
     "peak_abs_xdot", "max_overshoot", "max_ringing_swing", "speed_ratio", "error"
 );
 

@@ -537,4 +537,4 @@ fn flatten(prefix: &str, v: &serde_json::Value, out: &mut BTreeMap<String, Strin
     }
 }
 
-crate::record!(SweepRow: "index", "alpha", "gamma", "eps", "mu", "delta", "omega", "mode", "mechanism", "bursts_per_period", "spikes_per_burst", "burst_amplitude", "peak_abs_xdot", "quiescent_duration", "quiescent_fraction", "max_tracking_error", "max_slope", "error");
+crate::record!(SweepRow: "index", ..crate::params::Param::NAMES, "mode", "mechanism", "bursts_per_period", "spikes_per_burst", "burst_amplitude", "peak_abs_xdot", "quiescent_duration", "quiescent_fraction", "max_tracking_error", "max_slope", "error");

@@ -1,6 +1,7 @@
 //! Markdown and CSV renderings of the study's tables.
 
 use super::Tables;
+use crate::params::Param;
 use std::fmt::Write;
 
 fn g(v: f64) -> String {
@@ -82,7 +83,7 @@ pub fn markdown(t: &Tables) -> String {
 pub fn csv(t: &Tables) -> std::io::Result<String> {
     let mut w = csv::Writer::from_writer(Vec::new());
     w.write_record([
-        "gamma",
+        Param::Gamma.name(),
         "shape",
         "max_slope",
         "slope_at_a0",
