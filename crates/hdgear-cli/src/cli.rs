@@ -708,10 +708,10 @@ pub struct SimulateArgs {
     /// Initial x (default: the stable equilibrium at a = 0).
     #[arg(long, allow_negative_numbers = true, conflicts_with = "from_rest")]
     pub x0: Option<f64>,
-    /// Initial x' (default 0).
+    /// Initial x' (default: at rest, 0; with a kinematic error e, −e'(0), the total twist at rest).
     #[arg(long, allow_negative_numbers = true, conflicts_with = "from_rest")]
     pub v0: Option<f64>,
-    /// Start at rest: x0 = v0 = 0.
+    /// Start at rest at x0 = 0 (x' as --v0's default).
     #[arg(long)]
     pub from_rest: bool,
     /// Output spacing (sampled from dense output).
@@ -817,7 +817,8 @@ impl SimulateArgs {
                             None => hdgear::fast::stable_equilibrium(&params, 0.0),
                         },
                     };
-                    let v0 = check_finite("v0", v0.unwrap_or(0.0))?;
+                    let rest = model.as_ref().map_or(0.0, |m| m.rest_rate());
+                    let v0 = check_finite("v0", v0.unwrap_or(rest))?;
                     Start::Given { x0, v0 }
                 }
             }

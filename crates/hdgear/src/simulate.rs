@@ -5,7 +5,7 @@ use crate::fast::stable_equilibrium;
 use crate::integrate::events::{Detector, Direction};
 use crate::integrate::{DenseOutput, Grid, Options, Stats, Stepper, System, stepper};
 use crate::model::delay::Delayed;
-use crate::model::switching::{Mode, Pieces, Switching, SwitchingDense};
+use crate::model::switching::{Mode, Pieces, Switching};
 use crate::model::{Description, Dimensionless, Model};
 use crate::params::Params;
 use serde::Serialize;
@@ -14,10 +14,12 @@ use serde::Serialize;
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Start {
-    /// On the stable equilibrium of the fast subsystem at a(0) = 0 with x' = 0 (see
-    /// [`stable_equilibrium`]): no start-up transient beyond the slow drift.
+    /// On the stable equilibrium of the fast subsystem at a(0) = 0, at rest (see
+    /// [`stable_equilibrium`]): no start-up transient beyond the slow drift. At rest is x' = 0,
+    /// or for a model with a kinematic error the rate that holds the total twist at rest
+    /// ([`crate::model::Model::rest_rate`]).
     Equilibrium,
-    /// x = x' = 0 (the reference trajectories in `tests/data/` start here).
+    /// x = 0, at rest as above (the reference trajectories in `tests/data/` start here).
     Rest,
     /// A given (x0, x'0).
     Given {
@@ -193,8 +195,8 @@ pub fn simulate_model_steps(
     crate::integrate::check_budget(opts.t_end, &opts.tol)?;
     opts.start.check(&opts.tol)?;
     let (x0, v0) = match opts.start {
-        Start::Equilibrium => (m.stable_equilibrium(0.0)?, 0.0),
-        Start::Rest => (0.0, 0.0),
+        Start::Equilibrium => (m.stable_equilibrium(0.0)?, m.rest_rate()),
+        Start::Rest => (0.0, m.rest_rate()),
         Start::Given { x0, v0 } => (x0, v0),
     };
     let [z0, z1] = m.rest_states(x0);
@@ -234,8 +236,8 @@ fn model_run<const N: usize>(
     let mut solver = Switching::new(&pieces, 0.0, y0, opts.tol)?;
     let accel = |t: f64, y: &[f64; N]| pieces.model().rhs(t, y)[1];
     let mut summary = run(&mut solver, accel, opts, y0, |d, s| {
-        if let SwitchingDense::Stuck { t0, t1, .. } = d {
-            sticking.time_stuck += t1 - t0;
+        if d.is_stuck() {
+            sticking.time_stuck += d.t_end() - d.t_start();
         }
         if let Some(w) = s.last_switch() {
             sticking.switches += 1;

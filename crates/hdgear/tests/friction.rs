@@ -348,3 +348,137 @@ fn regularised_terms_taylor_agrees_with_dop853() {
         );
     }
 }
+
+/// The first τ > τ₀ at which |a(τ)| leaves the static band `band`: scanned every 1e-4 (a fifth
+/// of the fastest period below, 2π/40 ≈ 0.157, over 300: no crossing and return is missed), then
+/// bisected to rounding.
+fn breakaway(a: impl Fn(f64) -> f64, t0: f64, band: f64) -> f64 {
+    let out = |t: f64| a(t).abs() > band;
+    let mut t = t0;
+    while !out(t + 1e-4) {
+        t += 1e-4;
+        assert!(t < t0 + 100.0, "no breakaway");
+    }
+    let (mut lo, mut hi) = (t, t + 1e-4);
+    while hi - lo > 1e-15 * hi.max(1.0) {
+        let mid = 0.5 * (lo + hi);
+        if out(mid) { hi = mid } else { lo = mid }
+    }
+    0.5 * (lo + hi)
+}
+
+/// While the motion sticks, the internal states whose rates do not vanish at rest move on by
+/// their own equations with x held: the wave generator turns (θ_wg = Ω_in·τ) and a washout's
+/// filter relaxes (ξ = x + (ξ₀ − x)·e^{−ω_w τ}). The breakaway comes when the applied torque —
+/// the error's base excitation A(kΩ_in cos φ − (kΩ_in)² sin φ) or the washout's k_w(x − ξ)
+/// included — leaves the static band ±f_s: that instant is found here from those closed forms by
+/// [`breakaway`], and the stepper's switch equals it to 1e-9 (its events are located to 1e-13;
+/// the states' closed forms are met to 1e-10), by Taylor and by DOP853; a simulation's summary
+/// counts that drifting rest as time stuck.
+#[test]
+fn the_internal_states_move_on_while_the_motion_sticks() {
+    let p = Params {
+        gamma: 1.0,
+        delta: 1.0,
+        omega: 0.5,
+        ..Params::default()
+    };
+    let g = |x: f64| p.alpha * x.powi(3) - x * x + p.gamma * (x - p.eps);
+    let (fc, fs) = (0.3, 0.9);
+    let coulomb = AnyTerm::new("coulomb", &[fc, fs, 0.1, 0.0]).unwrap();
+    let study = Model::study(&p).with_term(coulomb).unwrap();
+    let x0 = study.stable_equilibrium(0.0).unwrap();
+    let load = |t: f64| p.mu + p.delta * (p.omega * t).sin() - g(x0);
+    // (term, z0, the state's closed form while stuck, the term's torque on it)
+    let (ak, k, w_in, psi) = (5e-4, 2.0, 20.0, 0.4);
+    let f = k * w_in;
+    let kinematic = |t: f64| {
+        let phi = f * t + psi;
+        ak * f * phi.cos() - ak * f * f * phi.sin()
+    };
+    let (kw, ww, xi0) = (0.5, 0.3, x0 - 0.8);
+    let xi = |t: f64| x0 + (xi0 - x0) * (-ww * t).exp();
+    type Case<'a> = (AnyTerm, f64, &'a dyn Fn(f64) -> f64, &'a dyn Fn(f64) -> f64);
+    let cases: [Case; 2] = [
+        (
+            AnyTerm::new("kinematic", &[ak, k, w_in, psi]).unwrap(),
+            0.0,
+            &|t| w_in * t,
+            &kinematic,
+        ),
+        (
+            AnyTerm::new("washout", &[kw, ww]).unwrap(),
+            xi0,
+            &xi,
+            &|t| kw * (x0 - xi(t)),
+        ),
+    ];
+    for (i, (term, z0, state, torque)) in cases.into_iter().enumerate() {
+        let m = study.with_term(term).unwrap();
+        let expected = breakaway(|t| load(t) - torque(t), 0.0, fs);
+        if i == 0 {
+            // a simulation's summary counts the drifting rest as time stuck (the washout starts
+            // on its own rest, ξ = x, where it does not drift)
+            let opts = SimOptions {
+                t_end: expected,
+                dt: expected,
+                start: Start::Given { x0, v0: 0.0 },
+                tol: Options::default(),
+            };
+            let summary = simulate_model(&m, &opts, |_, _| {}).unwrap();
+            let stuck = summary.sticking.unwrap().time_stuck;
+            assert!(
+                (stuck - expected).abs() < 1e-9,
+                "time stuck {stuck} vs {expected}"
+            );
+        }
+        // the pre-fix behaviour (the state held at z0) would break away elsewhere
+        let held = breakaway(|t| load(t) - torque(0.0), 0.0, fs);
+        assert!(
+            (held - expected).abs() > 1e-3,
+            "{}: {held} vs {expected}",
+            term.kind()
+        );
+        for method in [Method::Taylor, Method::Dop853] {
+            let t = first_stick_end(&m, [x0, 0.0, z0], state, method);
+            eprintln!(
+                "{} {method:?}: breakaway {t} − {expected} = {:e} (held state: {held})",
+                term.kind(),
+                t - expected
+            );
+            assert!(
+                (t - expected).abs() < 1e-9,
+                "{}: {t} vs {expected}",
+                term.kind()
+            );
+        }
+    }
+}
+
+/// The end of the stick `m` starts in at y0 (t = 0), by `method` at 1e-13: x held and the internal
+/// state equal to its closed form `state` to 1e-10 at nine points of every step of the rest.
+fn first_stick_end(m: &Model, y0: [f64; 3], state: &dyn Fn(f64) -> f64, method: Method) -> f64 {
+    use hdgear::integrate::{DenseOutput, Stepper};
+    use hdgear::model::switching::{Pieces, Switching};
+    let tol = Options {
+        rtol: 1e-13,
+        atol: 1e-13,
+        method,
+        ..Options::default()
+    };
+    let pieces = Pieces::new(m).unwrap();
+    let mut s = Switching::new(&pieces, 0.0, y0, tol).unwrap();
+    assert_eq!(s.mode(), Mode::Stuck);
+    while s.mode() == Mode::Stuck {
+        s.step(100.0).unwrap();
+        let d = s.dense();
+        for i in 0..=8 {
+            let t = d.t_start() + (d.t_end() - d.t_start()) * f64::from(i) / 8.0;
+            let y = d.eval(t);
+            assert_eq!([y[0], y[1]], [y0[0], 0.0], "x held at {t}");
+            let err = (y[2] - state(t)).abs();
+            assert!(err < 1e-10 * state(t).abs().max(1.0), "{} at {t}", y[2]);
+        }
+    }
+    s.last_switch().expect("the stick ends on a switch").t
+}

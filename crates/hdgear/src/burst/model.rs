@@ -233,10 +233,11 @@ pub fn response_model(m: &Model, opts: &BurstOptions) -> Result<Response> {
     })?;
     let x0 = crate::fast::stable_equilibrium(&p, 0.0);
     let z: [f64; MAX_STATES] = m.rest_states(x0);
+    let v0 = m.rest_rate();
     match m.dim() {
-        2 => run::<2>(m, &p, opts, [x0, 0.0]),
-        3 => run::<3>(m, &p, opts, [x0, 0.0, z[0]]),
-        _ => run::<4>(m, &p, opts, [x0, 0.0, z[0], z[1]]),
+        2 => run::<2>(m, &p, opts, [x0, v0]),
+        3 => run::<3>(m, &p, opts, [x0, v0, z[0]]),
+        _ => run::<4>(m, &p, opts, [x0, v0, z[0], z[1]]),
     }
 }
 

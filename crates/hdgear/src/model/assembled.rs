@@ -68,6 +68,9 @@ pub struct Model {
     /// μ, δ, ω.
     forcing: [f64; 3],
     terms: [Option<AnyTerm>; MAX_TERMS],
+    /// The motion held at rest (x' = x'' = 0), only the internal states moving
+    /// ([`Model::held`]).
+    held: bool,
 }
 
 /// One parameter of a [`Model`]: the forcing's (`term` = None) or term `term`'s `index`-th.
@@ -189,6 +192,7 @@ impl Model {
         Model {
             forcing: [p.mu, p.delta, p.omega],
             terms,
+            held: false,
         }
     }
 
@@ -479,6 +483,12 @@ impl Model {
         })
     }
 
+    /// x' of the drive at rest: the sum of the terms' [`AnyTerm::twist_rate_at_rest`] (0 but for
+    /// a kinematic error, which moves the elastic twist against itself).
+    pub fn rest_rate(&self) -> f64 {
+        self.terms().map(|t| t.twist_rate_at_rest()).sum()
+    }
+
     /// The internal states at rest at twist x, in state order ([`AnyTerm::state_at_rest`]).
     pub fn rest_states(&self, x: f64) -> [f64; MAX_STATES] {
         let mut z = [0.0; MAX_STATES];
@@ -534,6 +544,25 @@ impl Model {
         self.terms()
             .find_map(|t| t.dither())
             .filter(|[d, _]| *d > 0.0)
+    }
+
+    /// The model with the motion held at rest: x' = x'' = 0, and each internal state moving by
+    /// its own equation z' = r(x, 0, z) at the held x. What a sticking term's static band holds
+    /// ([`super::switching`]): a memory term's state rests with the motion (its rate vanishes at
+    /// x' = 0), but a wave generator keeps turning and a washout's filter keeps relaxing.
+    pub fn held(&self) -> Model {
+        Model {
+            held: true,
+            ..*self
+        }
+    }
+
+    /// Whether an internal state moves while the motion is held at the state `y` (x' taken as
+    /// 0): a rate r(x, 0, z) ≠ 0. The rates do not depend on time, so where none moves at the
+    /// start of a rest, none moves during it.
+    pub fn moves_at_rest(&self, y: &[f64]) -> bool {
+        self.slots()
+            .any(|(t, at)| at.is_some_and(|i| t.rate(y[0], 0.0, y[i]) != 0.0))
     }
 
     /// The model without its fast periodic torque ([`Model::dither`]): what that torque's
@@ -679,8 +708,10 @@ impl<const N: usize> System<N> for Model {
     fn rhs(&self, t: f64, y: &[f64; N]) -> [f64; N] {
         debug_assert_eq!(N, self.dim());
         let mut f = [0.0; N];
-        f[0] = y[1];
-        f[1] = self.accel_at(self.forcing[2] * t, y);
+        if !self.held {
+            f[0] = y[1];
+            f[1] = self.accel_at(self.forcing[2] * t, y);
+        }
         for (term, at) in self.slots() {
             if let Some(i) = at {
                 f[i] = term.rate(y[0], y[1], y[i]);
@@ -701,6 +732,9 @@ impl<const N: usize> System<N> for Model {
                 let [rx, rv, rz] = term.rate_gradient(y[0], y[1], z);
                 (j[i][0], j[i][1], j[i][i]) = (rx, rv, rz);
             }
+        }
+        if self.held {
+            (j[0], j[1]) = ([0.0; N], [0.0; N]);
         }
         Some(j)
     }
@@ -781,10 +815,12 @@ impl Model {
             }
             (acc, rates)
         };
+        // held: x and v keep their rows 1.. at 0
+        let moving = if self.held { 0.0 } else { 1.0 };
         for k in 0..n {
             let (acc, rates) = row(k, &s);
-            s[0][k + 1] = s[1][k] * INV[k];
-            s[1][k + 1] = acc * INV[k];
+            s[0][k + 1] = moving * s[1][k] * INV[k];
+            s[1][k + 1] = moving * acc * INV[k];
             for i in 2..N {
                 s[i][k + 1] = rates[i] * INV[k];
             }

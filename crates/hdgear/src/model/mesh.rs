@@ -145,6 +145,12 @@ impl Term for KinematicError {
     fn rate_latex(&self) -> Option<String> {
         Some(r"\dot\theta_{wg} = \Omega_{in}".into())
     }
+    /// −e' = −A·kΩ_in·cos ψ at the wave generator's angle at rest, θ_wg = 0: the elastic twist
+    /// moves against the error, so that the output, on the total twist x + e, starts at rest. A
+    /// start at x' = 0 would start the output at e' instead, a transient of about A·kΩ_in in x'.
+    fn twist_rate_at_rest(&self) -> f64 {
+        -self.factors().0 * self.sin_cos(self.state_at_rest(0.0)).1
+    }
     /// The torque's amplitude A·kΩ_in·√(1 + (kΩ_in)²) at kΩ_in, for the verdict's averaging
     /// (at A = 0 the model is the one without the error: [`super::Model::dither`]).
     fn dither(&self) -> Option<[f64; 2]> {

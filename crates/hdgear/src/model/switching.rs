@@ -9,10 +9,12 @@
 //! takes z's new sign from the direction z leaves 0 in (its first nonzero Taylor row). Where x'
 //! reaches 0 the motion is at rest and the rest of the torque, A(t, y) = μ + δ sin ωt −
 //! Σ T(x, 0, z) (the sticking terms' sign part left out), decides what follows: |A| ≤ the static
-//! band ([`Model::breakaway`], 0 without a sticking term) sticks — x and the internal states held
-//! (their rates vanish at x' = 0), x' = 0, until |A| reaches the band, an event located on A
-//! itself — and |A| > band slips again in the direction of A (at x' = 0 the acceleration is
-//! A − sgn(A)·band, of A's sign).
+//! band ([`Model::breakaway`], 0 without a sticking term) sticks — x held, x' = 0, until |A|
+//! reaches the band, an event located on A itself — and |A| > band slips again in the direction
+//! of A (at x' = 0 the acceleration is A − sgn(A)·band, of A's sign). While it sticks, an
+//! internal state whose rate vanishes at x' = 0 (a memory term's) is held with x; one that moves
+//! on (a wave generator's angle, a washout's filter) is integrated by its own equation with x
+//! held ([`Model::held`]), and A, which it enters, is followed along that motion.
 //!
 //! No regularisation constant enters: the events are located to a bracket of 1e-13·max(1, |t|)
 //! ([`refine_root`]). A tangency of x' with 0 inside one eighth of a step, or of |A| with the band
@@ -47,7 +49,8 @@ use serde::Serialize;
 
 /// Sub-intervals per step in which s·x' (and sgn z·z) is sampled for its fall through 0.
 const SUBDIVISIONS: usize = 8;
-/// Samples of |A(t, y)| − band per forcing period while stuck.
+/// Samples of |A(t, y)| − band per forcing period while stuck (and per period of a fast periodic
+/// torque, [`Model::dither`], while an internal state moves on).
 const STICK_SAMPLES: f64 = 64.0;
 /// Switches in a row without the time advancing before the run is refused as chattering.
 const MAX_STALLS: u32 = 8;
@@ -59,6 +62,9 @@ const SIGNS: usize = 1 << MAX_STATES;
 #[derive(Clone, Copy, Debug)]
 pub struct Pieces {
     free: Model,
+    /// `free` with the motion held ([`Model::held`]): the rest of a model whose internal states
+    /// move on.
+    held: Model,
     /// [x' > 0, x' < 0][bit j set: sgn z_j = −1].
     slipping: [[Model; SIGNS]; 2],
     band: f64,
@@ -74,8 +80,10 @@ impl Pieces {
             let z = std::array::from_fn(|j| if bits >> j & 1 == 1 { -1.0 } else { 1.0 });
             model.directed(v, z)
         };
+        let free = model.directed(0.0, [0.0; MAX_STATES]);
         Some(Pieces {
-            free: model.directed(0.0, [0.0; MAX_STATES]),
+            free,
+            held: free.held(),
             slipping: [
                 std::array::from_fn(|b| piece(1.0, b)),
                 std::array::from_fn(|b| piece(-1.0, b)),
@@ -103,6 +111,18 @@ impl Pieces {
         at_rest[1] = 0.0;
         self.free
             .accel_at(self.free.forcing()[2] * t, &at_rest[..y.len()])
+    }
+
+    /// |A(t, y)| − band: positive where the motion at rest breaks away.
+    fn excess(&self, t: f64, y: &[f64]) -> f64 {
+        self.applied(t, y).abs() - self.band
+    }
+
+    /// The spacing of the samples of [`Pieces::excess`] while stuck: 1/[`STICK_SAMPLES`] of the
+    /// forcing's period, and of the fast periodic torque's where there is one.
+    fn stick_spacing(&self) -> f64 {
+        let fastest = self.free.dither().map_or(0.0, |[_, w]| w);
+        std::f64::consts::TAU / self.free.forcing()[2].max(fastest) / STICK_SAMPLES
     }
 
     /// What the motion does from rest at (t, y): sticks while |A| ≤ band, else slips along A.
@@ -208,6 +228,16 @@ pub enum SwitchingDense<const N: usize> {
         /// The state there.
         y_end: [f64; N],
     },
+    /// At rest with internal states that move on: a step of the held model ([`Model::held`]),
+    /// cut at `t_end` where the motion breaks away.
+    Drift {
+        /// The held model's step.
+        inner: AnyDense<N>,
+        /// Where the step ends (the breakaway, or the inner step's end).
+        t_end: f64,
+        /// The state there.
+        y_end: [f64; N],
+    },
     /// At rest: the state held (x' = 0).
     Stuck {
         /// Start.
@@ -219,42 +249,58 @@ pub enum SwitchingDense<const N: usize> {
     },
 }
 
+impl<const N: usize> SwitchingDense<N> {
+    /// Whether the motion is at rest on this step (held, or drifting with moving internal
+    /// states).
+    pub fn is_stuck(&self) -> bool {
+        !matches!(self, SwitchingDense::Slip { .. })
+    }
+}
+
 impl<const N: usize> DenseOutput<N> for SwitchingDense<N> {
     fn t_start(&self) -> f64 {
         match self {
-            SwitchingDense::Slip { inner, .. } => inner.t_start(),
+            SwitchingDense::Slip { inner, .. } | SwitchingDense::Drift { inner, .. } => {
+                inner.t_start()
+            }
             SwitchingDense::Stuck { t0, .. } => *t0,
         }
     }
     fn t_end(&self) -> f64 {
         match self {
-            SwitchingDense::Slip { t_end, .. } => *t_end,
+            SwitchingDense::Slip { t_end, .. } | SwitchingDense::Drift { t_end, .. } => *t_end,
             SwitchingDense::Stuck { t1, .. } => *t1,
         }
     }
     fn eval(&self, t: f64) -> [f64; N] {
         match self {
-            SwitchingDense::Slip { inner, .. } => inner.eval(t),
+            SwitchingDense::Slip { inner, .. } | SwitchingDense::Drift { inner, .. } => {
+                inner.eval(t)
+            }
             SwitchingDense::Stuck { y, .. } => *y,
         }
     }
     fn end_state(&self) -> [f64; N] {
         match self {
-            SwitchingDense::Slip { y_end, .. } => *y_end,
+            SwitchingDense::Slip { y_end, .. } | SwitchingDense::Drift { y_end, .. } => *y_end,
             SwitchingDense::Stuck { y, .. } => *y,
         }
     }
     /// The inner step's bound (over its whole step, so over the cut one too).
     fn abs_bound(&self, i: usize) -> Option<f64> {
         match self {
-            SwitchingDense::Slip { inner, .. } => inner.abs_bound(i),
+            SwitchingDense::Slip { inner, .. } | SwitchingDense::Drift { inner, .. } => {
+                inner.abs_bound(i)
+            }
             SwitchingDense::Stuck { y, .. } => Some(y.get(i)?.abs()),
         }
     }
     /// The inner step's floor (over its whole step, so over the cut one too).
     fn abs_floor(&self, i: usize) -> Option<f64> {
         match self {
-            SwitchingDense::Slip { inner, .. } => inner.abs_floor(i),
+            SwitchingDense::Slip { inner, .. } | SwitchingDense::Drift { inner, .. } => {
+                inner.abs_floor(i)
+            }
             SwitchingDense::Stuck { y, .. } => Some(y.get(i)?.abs()),
         }
     }
@@ -327,7 +373,12 @@ impl<'p, const N: usize> Switching<'p, N> {
         self.inner = match mode {
             Mode::Stuck => {
                 self.y[1] = 0.0;
-                None
+                let p = self.pieces;
+                if p.held.moves_at_rest(&self.y) {
+                    Some(stepper(&p.held, self.t, self.y, self.opts)?)
+                } else {
+                    None
+                }
             }
             _ => {
                 self.bits = self.pieces.signs(mode, self.t, &self.y);
@@ -370,21 +421,12 @@ impl<'p, const N: usize> Switching<'p, N> {
     /// A) or `t_bound`.
     fn hold(&mut self, t_bound: f64) -> Result<()> {
         let (p, y) = (self.pieces, self.y);
-        let [_, delta, omega] = p.free.forcing();
-        let g = |t: f64| p.applied(t, &y).abs() - p.band;
-        let spacing = std::f64::consts::TAU / omega / STICK_SAMPLES;
-        let (mut ta, mut ga) = (self.t, g(self.t));
-        let mut unstick = (ga > 0.0).then_some(ta);
+        let [_, delta, _] = p.free.forcing();
+        let g = |t: f64| p.excess(t, &y);
         // with δ = 0 the applied torque is constant: stuck for good
-        while unstick.is_none() && delta != 0.0 && ta < t_bound {
-            let tb = (ta + spacing).min(t_bound);
-            let gb = g(tb);
-            self.done.rhs_evals += 1;
-            if gb > 0.0 {
-                unstick = Some(refine_root(g, ta, ga, tb, gb));
-            }
-            (ta, ga) = (tb, gb);
-        }
+        let end = if delta == 0.0 { self.t } else { t_bound };
+        let (unstick, samples) = first_rise(g, self.t, end, p.stick_spacing());
+        self.done.rhs_evals += samples;
         let t1 = unstick.unwrap_or(t_bound);
         self.done.steps += 1;
         self.dense = SwitchingDense::Stuck { t0: self.t, t1, y };
@@ -397,6 +439,49 @@ impl<'p, const N: usize> Switching<'p, N> {
             }
         }
     }
+
+    /// A step `d` of the held model while stuck ([`Model::held`]), ending at (t1, y1): the stick
+    /// ends where |A| reaches the band along it ([`first_rise`]).
+    fn drift(&mut self, d: AnyDense<N>, (t1, y1): (f64, [f64; N])) -> Result<()> {
+        let p = self.pieces;
+        let (unstick, samples) =
+            first_rise(|t| p.excess(t, &d.eval(t)), self.t, t1, p.stick_spacing());
+        self.done.rhs_evals += samples;
+        let (t_end, y_end) = unstick.map_or((t1, y1), |t| (t, d.eval(t)));
+        self.dense = SwitchingDense::Drift {
+            inner: d,
+            t_end,
+            y_end,
+        };
+        self.last = None;
+        match unstick {
+            Some(t) => self.switch(t, y_end, Mode::slipping(p.applied(t, &y_end))),
+            None => {
+                (self.t, self.y) = (t1, y1);
+                Ok(())
+            }
+        }
+    }
+}
+
+/// The first t in [t0, t1] where g rises above 0 (t0 itself where g(t0) > 0), from samples
+/// `spacing` apart, located on g ([`refine_root`]); with the number of samples taken after t0.
+fn first_rise(g: impl Fn(f64) -> f64, t0: f64, t1: f64, spacing: f64) -> (Option<f64>, u64) {
+    let (mut ta, mut ga) = (t0, g(t0));
+    if ga > 0.0 {
+        return (Some(t0), 0);
+    }
+    let mut samples = 0;
+    while ta < t1 {
+        let tb = (ta + spacing).min(t1);
+        let gb = g(tb);
+        samples += 1;
+        if gb > 0.0 {
+            return (Some(refine_root(&g, ta, ga, tb, gb)), samples);
+        }
+        (ta, ga) = (tb, gb);
+    }
+    (None, samples)
 }
 
 impl<const N: usize> Stepper<N> for Switching<'_, N> {
@@ -416,6 +501,10 @@ impl<const N: usize> Stepper<N> for Switching<'_, N> {
         };
         inner.step(t_bound)?;
         let d = inner.dense();
+        if self.mode == Mode::Stuck {
+            let end = (inner.t(), *inner.y());
+            return self.drift(d, end);
+        }
         // the first fall through 0 of s·x' (i = 1) or of a switching state's sgn z·z
         let mut first: Option<(usize, crate::integrate::events::Crossing<N>)> = None;
         let watched = std::iter::once((1, self.mode.side())).chain(

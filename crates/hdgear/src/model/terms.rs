@@ -258,6 +258,12 @@ pub trait Term: Copy {
     fn state_at_rest(&self, _x: f64) -> f64 {
         0.0
     }
+    /// The elastic twist's rate x' of a drive at rest with the term's state at rest: 0 (the
+    /// default), or −e' for a kinematic error e, whose total twist x + e is then at rest
+    /// ([`super::mesh::KinematicError`]).
+    fn twist_rate_at_rest(&self) -> f64 {
+        0.0
+    }
     /// A sinusoidal torque the term applies whatever the motion, of amplitude D at the angular
     /// frequency Ω_d (its phase the term's state), as [D, Ω_d]: a dither
     /// ([`super::control::Dither`]) or a kinematic error ([`super::mesh::KinematicError`]), whose
@@ -811,6 +817,10 @@ macro_rules! any_term {
             /// Its delay [K, τ_d], if it is a delayed feedback ([`Term::delay`]).
             pub fn delay(&self) -> Option<[f64; 2]> {
                 match self { $(AnyTerm::$variant(t) => t.delay(),)* }
+            }
+            /// x' at rest ([`Term::twist_rate_at_rest`]).
+            pub fn twist_rate_at_rest(&self) -> f64 {
+                match self { $(AnyTerm::$variant(t) => t.twist_rate_at_rest(),)* }
             }
             /// Its internal state at rest at twist x ([`Term::state_at_rest`]).
             pub fn state_at_rest(&self, x: f64) -> f64 {

@@ -267,8 +267,12 @@ impl Params {
 /// underflow, and the error would name a derived value instead of the user's.
 pub const MAGNITUDE_LIMIT: f64 = 1e100;
 
-/// Checks one value against [`MAGNITUDE_LIMIT`].
+/// Checks one value against [`MAGNITUDE_LIMIT`] (an infinite one is refused as not finite, which
+/// says more than its magnitude).
 pub(crate) fn check_magnitude(name: &str, v: f64) -> Result<()> {
+    if v.is_infinite() {
+        return Err(invalid(name, v, "must be finite"));
+    }
     if v.abs() > MAGNITUDE_LIMIT {
         return Err(invalid(
             name,
