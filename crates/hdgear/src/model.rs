@@ -11,6 +11,7 @@
 
 pub mod control;
 pub mod delay;
+pub mod excitation;
 pub mod jet;
 pub mod memory;
 pub mod mesh;

@@ -196,6 +196,20 @@ impl Model {
         }
     }
 
+    /// A unit inertia and damping under the load μ + δ sin ωτ, with no stiffness of its own: the
+    /// terms added give it all ([`Model::with_term`]). For systems that are not the study's drive,
+    /// such as an identification benchmark; the fast-slow analysis and the burst verdict, which
+    /// need the study's cubic, refuse it ([`Model::equivalent_params`] is `None`).
+    pub fn damped(mu: f64, delta: f64, omega: f64) -> Model {
+        let mut terms = [None; MAX_TERMS];
+        terms[0] = Some(AnyTerm::Damping(Damping::default()));
+        Model {
+            forcing: [mu, delta, omega],
+            terms,
+            held: false,
+        }
+    }
+
     /// The model with one more term; refused when a term of its kind is already there, when a
     /// parameter name would be taken twice, or when the model is full ([`MAX_TERMS`]).
     pub fn with_term(mut self, term: AnyTerm) -> Result<Model> {
@@ -418,11 +432,12 @@ impl Model {
 
     /// The static torque g(x) = Σ T(x, 0, z_rest(x)): the fast subsystem's equilibria solve
     /// g(x) = a, each internal state at rest ([`AnyTerm::state_at_rest`]: 0, the virgin state, for
-    /// a model with memory; x for a washout filter). A fast periodic torque ([`Model::dither`])
-    /// has no static part (its mean over a period is 0) and is left out.
+    /// a model with memory; x for a washout filter). A load whatever the motion
+    /// ([`AnyTerm::is_load`]: a dither, a kinematic error, a multisine) has no static part (its
+    /// mean is 0) and is left out.
     pub fn static_torque(&self, x: f64) -> f64 {
         self.terms()
-            .filter(|t| t.dither().is_none())
+            .filter(|t| !t.is_load())
             .map(|t| t.torque(x, 0.0, t.state_at_rest(x)))
             .sum()
     }

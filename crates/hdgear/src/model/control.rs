@@ -214,6 +214,7 @@ impl Term for Dither {
             si: "Ω_d·J_eq/C",
         },
     ];
+    const LOAD: bool = true;
     fn from_values(v: &[f64]) -> Self {
         Dither([v[0], v[1]])
     }

@@ -89,6 +89,7 @@ impl Term for KinematicError {
             si: "rad",
         },
     ];
+    const LOAD: bool = true;
     fn from_values(v: &[f64]) -> Self {
         KinematicError([v[0], v[1], v[2], v[3]])
     }

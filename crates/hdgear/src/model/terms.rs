@@ -5,6 +5,7 @@
 
 pub use super::control::{Dither, VirtualDamping, VirtualStiffness, Washout};
 pub use super::delay::Delay;
+pub use super::excitation::Multisine;
 use super::jet::{
     exp_coefficient, exp_step_limit, square_coefficient, tanh_coefficient, tanh_step_limit,
 };
@@ -42,7 +43,14 @@ pub enum Domain {
     Fraction,
     /// A whole number from 1 to 4 (an exponent a Taylor recurrence takes as repeated products).
     Exponent,
+    /// A whole number from 1 to [`MAX_LINE`] (a line of a multisine: each costs a sine and a
+    /// cosine per step).
+    Line,
 }
+
+/// The highest line a multisine may have ([`Domain::Line`]): beyond it one step's lines would
+/// cost far more than the rest of the model (the benchmark multisines have a few thousand).
+pub const MAX_LINE: f64 = 1e4;
 
 impl Domain {
     /// The rule in words, as error messages and `hdgear model` show it.
@@ -53,6 +61,7 @@ impl Domain {
             Domain::NonNegative => "≥ 0",
             Domain::Fraction => "[0, 1]",
             Domain::Exponent => "1,2,3,4",
+            Domain::Line => "1 … 10⁴",
         }
     }
 
@@ -65,6 +74,7 @@ impl Domain {
                 Domain::NonNegative => value >= 0.0,
                 Domain::Fraction => (0.0..=1.0).contains(&value),
                 Domain::Exponent => (1.0..=4.0).contains(&value) && value.fract() == 0.0,
+                Domain::Line => (1.0..=MAX_LINE).contains(&value) && value.fract() == 0.0,
             };
         if ok {
             Ok(())
@@ -78,6 +88,7 @@ impl Domain {
                     Domain::NonNegative => "must be finite and ≥ 0",
                     Domain::Fraction => "must lie in [0, 1]",
                     Domain::Exponent => "must be a whole number from 1 to 4",
+                    Domain::Line => "must be a whole number from 1 to 10000",
                 },
             })
         }
@@ -190,6 +201,10 @@ pub trait Term: Copy {
     const SWITCHES_AT_REST: bool = false;
     /// Whether its law is not analytic across z = 0 (|z|): steps are cut there too.
     const SWITCHES_AT_ZERO_STATE: bool = false;
+    /// Whether it is a load that acts whatever the motion, of mean 0 (a dither, a kinematic
+    /// error, a multisine): it has no static part, so the fast subsystem's equilibria leave it
+    /// out ([`super::Model::static_torque`]).
+    const LOAD: bool = false;
     /// The term with these parameter values (in [`Term::PARAMS`] order; the caller checks
     /// their count and domains).
     fn from_values(values: &[f64]) -> Self;
@@ -739,6 +754,10 @@ macro_rules! any_term {
             pub fn switches_at_rest(&self) -> bool {
                 match self { $(AnyTerm::$variant(_) => $variant::SWITCHES_AT_REST,)* }
             }
+            /// Whether it is a load of mean 0 whatever the motion ([`Term::LOAD`]).
+            pub fn is_load(&self) -> bool {
+                match self { $(AnyTerm::$variant(_) => $variant::LOAD,)* }
+            }
             /// Whether its law is not analytic across z = 0
             /// ([`Term::SWITCHES_AT_ZERO_STATE`]).
             pub fn switches_at_zero_state(&self) -> bool {
@@ -848,6 +867,7 @@ any_term!(
     Dither,
     Delay,
     KinematicError,
+    Multisine,
 );
 
 /// Checks a term's values against its parameter list: each within the magnitude limit every
