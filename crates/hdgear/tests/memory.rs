@@ -139,10 +139,9 @@ impl Reference<'_> {
                 }
                 continue;
             }
-            // a step clipped to the sample lands on it exactly (t + (next − t) may round off it)
-            let reached = h == next - t;
-            (t, y) = (if reached { next } else { t + h }, y1);
-            if reached {
+            // a step clipped to the sample lands on it (t + (next − t) may round off it)
+            (t, y) = (if h == next - t { next } else { t + h }, y1);
+            if t == next {
                 out.push(y);
                 k += 1;
             }
@@ -160,12 +159,7 @@ fn hdgear_run(p: &Params, law: Law, method: Method, t_end: f64, dt: f64) -> Vec<
         t_end,
         dt,
         start: Start::Rest,
-        tol: Options {
-            rtol: 1e-13,
-            atol: 1e-13,
-            method,
-            ..Options::default()
-        },
+        tol: crate::common::tight(method),
     };
     let mut out = vec![];
     simulate_model(&model(p, law), &opts, |_, y| out.push([y[0], y[1], y[2]])).unwrap();
@@ -353,11 +347,7 @@ fn bouc_wen_energy_balance_holds_per_period() {
     };
     let m = model(&p, law);
     let pieces = Pieces::new(&m).unwrap();
-    let tol = Options {
-        rtol: 1e-13,
-        atol: 1e-13,
-        ..Options::default()
-    };
+    let tol = crate::common::tight(Method::Taylor);
     let period = std::f64::consts::TAU / p.omega;
     let stored = |y: [f64; 3]| {
         let x = y[0];
@@ -448,11 +438,7 @@ fn a_zero_hysteresis_term_leaves_the_study_model() {
         t_end,
         dt: 0.05,
         start: Start::Rest,
-        tol: Options {
-            rtol: 1e-13,
-            atol: 1e-13,
-            ..Options::default()
-        },
+        tol: crate::common::tight(Method::Taylor),
     };
     let mut without = vec![];
     simulate_model(&Model::study(&p), &opts, |_, y| without.push([y[0], y[1]])).unwrap();
@@ -626,12 +612,7 @@ fn the_bouc_wen_benchmark_under_a_multisine_matches_an_independent_integration()
     });
     assert!(own < 1e-10, "reference not converged: {own:e}");
     for method in [Method::Taylor, Method::Dop853] {
-        let tol = Options {
-            rtol: 1e-13,
-            atol: 1e-13,
-            method,
-            ..Options::default()
-        };
+        let tol = crate::common::tight(method);
         let opts = SimOptions {
             t_end,
             dt,

@@ -122,48 +122,55 @@ fn a_failed_commit_leaves_no_temporary() {
     assert_eq!(crate::common::files_in(dir.path()), ["x.csv"]);
 }
 
-/// The library's top-level modules and the ones each names in code (`crate::m`, `record!`).
-fn module_graph() -> std::collections::BTreeMap<String, std::collections::BTreeSet<String>> {
-    let src = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../hdgear/src");
-    let mut graph = std::collections::BTreeMap::new();
-    let mut stack = vec![src.clone()];
+/// The files under `dir`, at any depth.
+fn files_under(dir: &std::path::Path) -> Vec<std::path::PathBuf> {
+    let (mut files, mut stack) = (Vec::new(), vec![dir.to_path_buf()]);
     while let Some(dir) = stack.pop() {
         for e in std::fs::read_dir(&dir).unwrap().flatten() {
             let path = e.path();
             if path.is_dir() {
                 stack.push(path);
-                continue;
+            } else {
+                files.push(path);
             }
-            let rel = path
-                .strip_prefix(&src)
-                .unwrap()
-                .to_string_lossy()
-                .into_owned();
-            let top = rel
-                .split('/')
-                .next()
-                .unwrap()
-                .trim_end_matches(".rs")
-                .to_string();
-            if top == "lib" {
-                continue;
+        }
+    }
+    files
+}
+
+/// The library's top-level modules and the ones each names in code (`crate::m`, `record!`).
+fn module_graph() -> std::collections::BTreeMap<String, std::collections::BTreeSet<String>> {
+    let src = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../hdgear/src");
+    let mut graph = std::collections::BTreeMap::new();
+    for path in files_under(&src) {
+        let rel = path
+            .strip_prefix(&src)
+            .unwrap()
+            .to_string_lossy()
+            .into_owned();
+        let top = rel
+            .split('/')
+            .next()
+            .unwrap()
+            .trim_end_matches(".rs")
+            .to_string();
+        if top == "lib" {
+            continue;
+        }
+        let text = std::fs::read_to_string(&path).unwrap();
+        let deps: &mut std::collections::BTreeSet<String> = graph.entry(top.clone()).or_default();
+        for line in text.lines().filter(|l| !l.trim_start().starts_with("//")) {
+            for part in line.split("crate::").skip(1) {
+                let name: String = part
+                    .chars()
+                    .take_while(|c| c.is_ascii_lowercase() || *c == '_')
+                    .collect();
+                if !name.is_empty() && name != top && name != "record" {
+                    deps.insert(name);
+                }
             }
-            let text = std::fs::read_to_string(&path).unwrap();
-            let deps: &mut std::collections::BTreeSet<String> =
-                graph.entry(top.clone()).or_default();
-            for line in text.lines().filter(|l| !l.trim_start().starts_with("//")) {
-                for part in line.split("crate::").skip(1) {
-                    let name: String = part
-                        .chars()
-                        .take_while(|c| c.is_ascii_lowercase() || *c == '_')
-                        .collect();
-                    if !name.is_empty() && name != top && name != "record" {
-                        deps.insert(name);
-                    }
-                }
-                if line.contains("crate::record!") {
-                    deps.insert("output".into());
-                }
+            if line.contains("crate::record!") {
+                deps.insert("output".into());
             }
         }
     }
@@ -240,28 +247,18 @@ fn the_study_s_parameter_names_are_written_only_where_they_are_defined() {
     assert!(is_name_definition("            Param::Gamma => \"gamma\","));
 
     let crates = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
-    let mut stack: Vec<_> = ["hdgear/src", "hdgear-cli/src", "hdgear-py/src"]
-        .iter()
-        .map(|d| crates.join(d))
-        .collect();
     let (mut definitions, mut restated) = (0, Vec::new());
-    while let Some(dir) = stack.pop() {
-        for e in std::fs::read_dir(&dir).unwrap().flatten() {
-            let path = e.path();
-            if path.is_dir() {
-                stack.push(path);
-                continue;
-            }
-            if path.extension().is_none_or(|x| x != "rs") {
-                continue;
-            }
-            let text = std::fs::read_to_string(&path).unwrap();
-            for line in name_literals(&text) {
-                if is_name_definition(line) {
-                    definitions += 1;
-                } else {
-                    restated.push(format!("{}: {}", path.display(), line.trim()));
-                }
+    let sources = ["hdgear/src", "hdgear-cli/src", "hdgear-py/src"]
+        .iter()
+        .flat_map(|d| files_under(&crates.join(d)))
+        .filter(|p| p.extension().is_some_and(|x| x == "rs"));
+    for path in sources {
+        let text = std::fs::read_to_string(&path).unwrap();
+        for line in name_literals(&text) {
+            if is_name_definition(line) {
+                definitions += 1;
+            } else {
+                restated.push(format!("{}: {}", path.display(), line.trim()));
             }
         }
     }

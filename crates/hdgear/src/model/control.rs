@@ -215,6 +215,7 @@ impl Term for Dither {
         },
     ];
     const LOAD: bool = true;
+    const PHASE_RATE: Option<usize> = Some(1);
     fn from_values(v: &[f64]) -> Self {
         Dither([v[0], v[1]])
     }
@@ -235,15 +236,6 @@ impl Term for Dither {
         let [s, c, ..] = &mut rows.0;
         (s[k], c[k]) = sin_cos_coefficients(theta, s, c, k);
         -self.0[0] * s[k]
-    }
-    fn rate(&self, _x: f64, _v: f64, _theta: f64) -> f64 {
-        self.0[1]
-    }
-    fn rate_param_derivative(&self, i: usize, _x: f64, _v: f64, _theta: f64) -> f64 {
-        if i == 1 { 1.0 } else { 0.0 }
-    }
-    fn rate_taylor(&self, k: usize, _x: &[f64], _v: &[f64], _t: &[f64], _r: &mut Scratch) -> f64 {
-        if k == 0 { self.0[1] } else { 0.0 }
     }
     fn text(&self) -> String {
         " − D·sin θ".into()

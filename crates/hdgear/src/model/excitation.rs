@@ -94,6 +94,7 @@ impl Term for Multisine {
         },
     ];
     const LOAD: bool = true;
+    const PHASE_RATE: Option<usize> = Some(1);
     fn from_values(v: &[f64]) -> Self {
         Multisine([v[0], v[1], v[2], v[3]])
     }
@@ -135,15 +136,6 @@ impl Term for Multisine {
             }
         }
         out[k]
-    }
-    fn rate(&self, _x: f64, _v: f64, _theta: f64) -> f64 {
-        self.0[1]
-    }
-    fn rate_param_derivative(&self, i: usize, _x: f64, _v: f64, _theta: f64) -> f64 {
-        if i == 1 { 1.0 } else { 0.0 }
-    }
-    fn rate_taylor(&self, k: usize, _x: &[f64], _v: &[f64], _t: &[f64], _r: &mut Scratch) -> f64 {
-        if k == 0 { self.0[1] } else { 0.0 }
     }
     fn text(&self) -> String {
         " − a·Σ_{k=k₁..k₂} cos(kθ_ms + φ_k)".into()

@@ -90,6 +90,7 @@ impl Term for KinematicError {
         },
     ];
     const LOAD: bool = true;
+    const PHASE_RATE: Option<usize> = Some(2);
     fn from_values(v: &[f64]) -> Self {
         KinematicError([v[0], v[1], v[2], v[3]])
     }
@@ -123,15 +124,6 @@ impl Term for KinematicError {
         (s[k], c[k]) = sin_cos_coefficients(phi, s, c, k);
         let (fc, fs) = self.factors();
         fc * c[k] + fs * s[k]
-    }
-    fn rate(&self, _x: f64, _v: f64, _theta: f64) -> f64 {
-        self.0[2]
-    }
-    fn rate_param_derivative(&self, i: usize, _x: f64, _v: f64, _theta: f64) -> f64 {
-        if i == 2 { 1.0 } else { 0.0 }
-    }
-    fn rate_taylor(&self, k: usize, _x: &[f64], _v: &[f64], _t: &[f64], _r: &mut Scratch) -> f64 {
-        if k == 0 { self.0[2] } else { 0.0 }
     }
     fn text(&self) -> String {
         " + A·kΩ_in·cos(kθ_wg + ψ) − A·(kΩ_in)²·sin(kθ_wg + ψ)".into()

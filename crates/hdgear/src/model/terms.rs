@@ -221,22 +221,34 @@ pub trait Term: Copy {
     /// (called for k = 0, 1, 2, … in turn with the same `rows`, each after
     /// [`Term::rate_taylor`] of the same k).
     fn taylor(&self, k: usize, x: &[f64], v: &[f64], z: &[f64], rows: &mut Scratch) -> f64;
-    /// z' = r(x, v, z), the internal state's equation (0 for a stateless term).
+    /// For a term whose state is a phase turning at a constant rate (a dither's, a wave
+    /// generator's, a multisine's): the index of that rate among its parameters. The defaults of
+    /// the state's equation z' = p_i (its rate, derivatives and Taylor rows) follow from it.
+    const PHASE_RATE: Option<usize> = None;
+    /// z' = r(x, v, z), the internal state's equation (0 for a stateless term; the phase rate
+    /// for a phase, [`Term::PHASE_RATE`]).
     fn rate(&self, _x: f64, _v: f64, _z: f64) -> f64 {
-        0.0
+        Self::PHASE_RATE.map_or(0.0, |i| self.values()[i])
     }
     /// (∂r/∂x, ∂r/∂v, ∂r/∂z).
     fn rate_gradient(&self, _x: f64, _v: f64, _z: f64) -> [f64; 3] {
         [0.0; 3]
     }
     /// ∂r/∂p for parameter `i`.
-    fn rate_param_derivative(&self, _i: usize, _x: f64, _v: f64, _z: f64) -> f64 {
-        0.0
+    fn rate_param_derivative(&self, i: usize, _x: f64, _v: f64, _z: f64) -> f64 {
+        if Self::PHASE_RATE == Some(i) {
+            1.0
+        } else {
+            0.0
+        }
     }
     /// Row k of r's Taylor coefficients (called before [`Term::taylor`] of the same k, with
     /// the same `rows`).
-    fn rate_taylor(&self, _k: usize, _x: &[f64], _v: &[f64], _z: &[f64], _r: &mut Scratch) -> f64 {
-        0.0
+    fn rate_taylor(&self, k: usize, _x: &[f64], _v: &[f64], _z: &[f64], _r: &mut Scratch) -> f64 {
+        match Self::PHASE_RATE {
+            Some(i) if k == 0 => self.values()[i],
+            _ => 0.0,
+        }
     }
     /// The term in the equation's text (`x'` the velocity), with a leading sign.
     fn text(&self) -> String;

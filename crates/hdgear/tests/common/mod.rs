@@ -163,3 +163,14 @@ pub fn uniform(seed: u64) -> impl FnMut() -> f64 {
         (s >> 11) as f64 / (1u64 << 53) as f64
     }
 }
+
+/// rtol = atol = 1e-13 with `method`: the tolerance the comparisons against independent
+/// integrations run hdgear at.
+pub fn tight(method: hdgear::integrate::Method) -> hdgear::integrate::Options {
+    hdgear::integrate::Options {
+        rtol: 1e-13,
+        atol: 1e-13,
+        method,
+        ..hdgear::integrate::Options::default()
+    }
+}
