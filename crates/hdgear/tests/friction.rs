@@ -364,10 +364,10 @@ fn breakaway(a: impl Fn(f64) -> f64, t0: f64, band: f64) -> f64 {
 }
 
 /// While the motion sticks, the internal states whose rates do not vanish at rest move on by
-/// their own equations with x held: the wave generator turns (θ_wg = Ω_in·τ) and a washout's
-/// filter relaxes (ξ = x + (ξ₀ − x)·e^{−ω_w τ}). The breakaway comes when the applied torque —
-/// the error's base excitation A(kΩ_in cos φ − (kΩ_in)² sin φ) or the washout's k_w(x − ξ)
-/// included — leaves the static band ±f_s: that instant is found here from those closed forms by
+/// their own equations with x held: the wave generator turns (θ_wg = Ω_in·τ), a washout's
+/// filter relaxes (ξ = x + (ξ₀ − x)·e^{−ω_w τ}) and a multisine's phase turns (θ = Ω_m·τ). The
+/// breakaway comes when the applied torque — the error's base excitation
+/// A(kΩ_in cos φ − (kΩ_in)² sin φ), the washout's k_w(x − ξ) or the multisine's included — leaves the static band ±f_s: that instant is found here from those closed forms by
 /// [`breakaway`], and the stepper's switch equals it to 1e-9 (its events are located to 1e-13;
 /// the states' closed forms are met to 1e-10), by Taylor and by DOP853; a simulation's summary
 /// counts that drifting rest as time stuck.
@@ -395,7 +395,11 @@ fn the_internal_states_move_on_while_the_motion_sticks() {
     let (kw, ww, xi0) = (0.5, 0.3, x0 - 0.8);
     let xi = |t: f64| x0 + (xi0 - x0) * (-ww * t).exp();
     type Case<'a> = (AnyTerm, f64, &'a dyn Fn(f64) -> f64, &'a dyn Fn(f64) -> f64);
-    let cases: [Case; 2] = [
+    // a multisine a·Σ_{k=1}^{8} cos(kΩ_m τ + φ_k), φ_k = −π(k − 1)k/8, whose top line (40) is
+    // faster than the forcing's sampling alone would resolve
+    let (am, wm) = (0.15, 5.0);
+    let multisine = |t: f64| -crate::common::schroeder(am, wm, 8, t);
+    let cases: [Case; 3] = [
         (
             AnyTerm::new("kinematic", &[ak, k, w_in, psi]).unwrap(),
             0.0,
@@ -407,6 +411,12 @@ fn the_internal_states_move_on_while_the_motion_sticks() {
             xi0,
             &xi,
             &|t| kw * (x0 - xi(t)),
+        ),
+        (
+            AnyTerm::new("multisine", &[am, wm, 1.0, 8.0]).unwrap(),
+            0.0,
+            &|t| wm * t,
+            &multisine,
         ),
     ];
     for (i, (term, z0, state, torque)) in cases.into_iter().enumerate() {

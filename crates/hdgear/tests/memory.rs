@@ -575,15 +575,7 @@ fn lugre_steady_sliding_friction_is_the_stribeck_curve() {
 #[test]
 fn the_bouc_wen_benchmark_under_a_multisine_matches_an_independent_integration() {
     let (a, w0, lines) = (1000.0 / 15f64.sqrt(), std::f64::consts::TAU, 30);
-    let load = move |t: f64| {
-        (1..=lines)
-            .map(|k| {
-                let j = f64::from(k - 1);
-                let phi = -std::f64::consts::PI * j * (j + 1.0) / f64::from(lines);
-                a * (f64::from(k) * w0 * t + phi).cos()
-            })
-            .sum::<f64>()
-    };
+    let load = move |t: f64| crate::common::schroeder(a, w0, lines, t);
     let law = [2000.0, 0.5, 1.0, 0.8, -1.1, 1.0];
     let (t_end, dt) = (2.0, 0.01);
     let reference = |h| {

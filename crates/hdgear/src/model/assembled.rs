@@ -186,14 +186,9 @@ impl Model {
 
     /// The study's model x'' + x' + αx³ − x² + γ(x − ε) = μ + δ sin ωτ with `p`'s values.
     pub fn study(p: &Params) -> Model {
-        let mut terms = [None; MAX_TERMS];
-        terms[0] = Some(AnyTerm::Damping(Damping::default()));
-        terms[1] = Some(AnyTerm::Stiffness(Stiffness([p.alpha, p.gamma, p.eps])));
-        Model {
-            forcing: [p.mu, p.delta, p.omega],
-            terms,
-            held: false,
-        }
+        let mut m = Model::damped(p.mu, p.delta, p.omega);
+        m.terms[1] = Some(AnyTerm::Stiffness(Stiffness([p.alpha, p.gamma, p.eps])));
+        m
     }
 
     /// A unit inertia and damping under the load μ + δ sin ωτ, with no stiffness of its own: the
@@ -559,6 +554,12 @@ impl Model {
         self.terms()
             .find_map(|t| t.dither())
             .filter(|[d, _]| *d > 0.0)
+    }
+
+    /// The highest angular frequency of the model's loads that act whatever the motion
+    /// ([`AnyTerm::load_frequency`]), 0 without one.
+    pub fn load_frequency(&self) -> f64 {
+        self.terms().map(|t| t.load_frequency()).fold(0.0, f64::max)
     }
 
     /// The model with the motion held at rest: x' = x'' = 0, and each internal state moving by

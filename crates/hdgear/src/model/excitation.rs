@@ -137,6 +137,10 @@ impl Term for Multisine {
         }
         out[k]
     }
+    /// Its last line's, k₂·Ω₀ (0 without lines).
+    fn load_frequency(&self) -> f64 {
+        self.lines().last().map_or(0.0, |(k, _)| k * self.0[1])
+    }
     fn text(&self) -> String {
         " − a·Σ_{k=k₁..k₂} cos(kθ_ms + φ_k)".into()
     }

@@ -49,8 +49,8 @@ use serde::Serialize;
 
 /// Sub-intervals per step in which s·x' (and sgn z·z) is sampled for its fall through 0.
 const SUBDIVISIONS: usize = 8;
-/// Samples of |A(t, y)| − band per forcing period while stuck (and per period of a fast periodic
-/// torque, [`Model::dither`], while an internal state moves on).
+/// Samples of |A(t, y)| − band per forcing period while stuck (and per period of the fastest load
+/// that acts whatever the motion, [`Model::load_frequency`], while an internal state moves on).
 const STICK_SAMPLES: f64 = 64.0;
 /// Switches in a row without the time advancing before the run is refused as chattering.
 const MAX_STALLS: u32 = 8;
@@ -119,9 +119,9 @@ impl Pieces {
     }
 
     /// The spacing of the samples of [`Pieces::excess`] while stuck: 1/[`STICK_SAMPLES`] of the
-    /// forcing's period, and of the fast periodic torque's where there is one.
+    /// forcing's period, and of the fastest load's where there is one.
     fn stick_spacing(&self) -> f64 {
-        let fastest = self.free.dither().map_or(0.0, |[_, w]| w);
+        let fastest = self.free.load_frequency();
         std::f64::consts::TAU / self.free.forcing()[2].max(fastest) / STICK_SAMPLES
     }
 

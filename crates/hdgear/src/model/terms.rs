@@ -298,6 +298,11 @@ pub trait Term: Copy {
     fn dither(&self) -> Option<[f64; 2]> {
         None
     }
+    /// The highest angular frequency of a load that acts whatever the motion ([`Term::LOAD`]): its
+    /// [`Term::dither`]'s Ω by default, 0 for a term of the motion.
+    fn load_frequency(&self) -> f64 {
+        self.dither().map_or(0.0, |[_, w]| w)
+    }
     /// A delayed feedback's [K, τ_d]: its state is the twist τ_d ago, which only the run's history
     /// gives ([`super::delay::Delayed`]). `None` (the default) for every other term.
     fn delay(&self) -> Option<[f64; 2]> {
@@ -848,6 +853,10 @@ macro_rules! any_term {
             /// Its delay [K, τ_d], if it is a delayed feedback ([`Term::delay`]).
             pub fn delay(&self) -> Option<[f64; 2]> {
                 match self { $(AnyTerm::$variant(t) => t.delay(),)* }
+            }
+            /// Its highest load frequency ([`Term::load_frequency`]).
+            pub fn load_frequency(&self) -> f64 {
+                match self { $(AnyTerm::$variant(t) => t.load_frequency(),)* }
             }
             /// x' at rest ([`Term::twist_rate_at_rest`]).
             pub fn twist_rate_at_rest(&self) -> f64 {

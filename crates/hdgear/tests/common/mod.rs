@@ -174,3 +174,15 @@ pub fn tight(method: hdgear::integrate::Method) -> hdgear::integrate::Options {
         ..hdgear::integrate::Options::default()
     }
 }
+
+/// A multisine a·Σ_{k=1}^{lines} cos(k·w·t + φ_k) with Schroeder's phases φ_k = −π(k − 1)k/lines,
+/// written from the formula (independent of hdgear's multisine term).
+pub fn schroeder(a: f64, w: f64, lines: u32, t: f64) -> f64 {
+    (1..=lines)
+        .map(|k| {
+            let j = f64::from(k - 1);
+            let phi = -std::f64::consts::PI * j * (j + 1.0) / f64::from(lines);
+            a * (f64::from(k) * w * t + phi).cos()
+        })
+        .sum()
+}
