@@ -12,6 +12,7 @@
 pub mod control;
 pub mod delay;
 pub mod excitation;
+pub mod friction;
 pub mod jet;
 pub mod memory;
 pub mod mesh;
