@@ -1,6 +1,6 @@
 //! Friction on the twist's rate x': smooth Coulomb friction (tanh), the Stribeck law with a
 //! regularised sign, and Coulomb–Stribeck friction with sticking, whose sign switches at x' = 0
-//! ([`super::switching`]). The Stribeck curve they share with LuGre ([`Level`]) is defined here.
+//! ([`super::switching`]). The Stribeck curve they share with LuGre is defined here.
 
 use super::jet::{
     exp_coefficient, exp_step_limit, square_coefficient, tanh_coefficient, tanh_step_limit,
