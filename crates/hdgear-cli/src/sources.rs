@@ -105,7 +105,7 @@ fn config_help() -> String {
         .map(|(kind, ..)| format!("[{kind}]"))
         .collect();
     format!(
-        "TOML scenario file: a [params] table (keys {}) and, for model and simulate, a table per \
+        "TOML scenario file: a [params] table (keys {}) and, for model, simulate and bursts, a table per \
          extra term ({})",
         keys.join(", "),
         tables.join(", ")
@@ -127,7 +127,7 @@ impl ParamArgs {
         {
             anyhow::bail!(
                 "scenario file {}: its [{name}] table is a term of the model, which only hdgear \
-                 model and hdgear simulate read (this command runs the study's model)",
+                 model, simulate and bursts read (this command runs the study's model)",
                 path.display()
             );
         }

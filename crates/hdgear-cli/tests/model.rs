@@ -176,3 +176,57 @@ fn the_trajectory_has_a_column_per_internal_state() {
     columns.sort_unstable();
     assert_eq!(keys, columns);
 }
+
+/// `hdgear bursts` judges a scenario's model: with sticking friction its JSON `meta` gives the
+/// stick-slip classification and the rests; the study's model alone has no `sticking` in it
+/// (its output is what it was), and a switching model with a dither is refused with one line.
+#[test]
+fn bursts_judges_a_scenario_with_sticking_friction() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = scenario(
+        dir.path(),
+        "stick.toml",
+        "[params]\ngamma = 30.0\n\n[coulomb]\nfc = 0.5\nfs = 2.0\nvst = 0.001\n",
+    );
+    let out = dir.path().join("slips.json");
+    hdgear()
+        .args(["bursts", "--config", &f, "--out"])
+        .arg(&out)
+        .assert()
+        .success();
+    let doc: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    let meta = &doc["meta"];
+    assert_eq!(meta["classification"]["verdict"], "stick-slip");
+    assert_eq!(meta["classification"]["mechanism"], "stick-slip");
+    let sticking = &meta["sticking"];
+    assert!(
+        sticking["sticks_per_period"].as_f64().unwrap() > 2.0,
+        "{sticking}"
+    );
+    assert_eq!(sticking["slip_dominates"], true);
+
+    let study = dir.path().join("study.json");
+    hdgear()
+        .args(["bursts", "--gamma", "30", "--out"])
+        .arg(&study)
+        .assert()
+        .success();
+    let doc: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&study).unwrap()).unwrap();
+    assert!(doc["meta"].get("sticking").is_none(), "{}", doc["meta"]);
+    assert_eq!(doc["meta"]["classification"]["verdict"], "no-bursts");
+
+    let d = scenario(
+        dir.path(),
+        "dither.toml",
+        "[coulomb]\nfc = 0.5\nfs = 1.0\n\n[dither]\ndd = 1.0\nwd = 20.0\n",
+    );
+    hdgear()
+        .args(["bursts", "--config", &d])
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains(
+            "takes neither a dither nor a delay",
+        ));
+}

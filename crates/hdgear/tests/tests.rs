@@ -25,3 +25,4 @@ mod plane;
 mod reference;
 mod robust;
 mod simd;
+mod stick_slip;

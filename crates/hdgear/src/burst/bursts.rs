@@ -282,6 +282,7 @@ pub(super) fn assemble(
         x_extent,
         group_gap: gap,
         bursts,
+        sticking: None,
     }
 }
 

@@ -2,7 +2,8 @@
 
 use super::*;
 
-/// The strongest signature of a response (order: fold-jump > overshoot > ringing > no-bursts).
+/// The strongest signature of a response (order: fold-jump > stick-slip > overshoot > ringing >
+/// no-bursts).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Verdict {
@@ -12,6 +13,9 @@ pub enum Verdict {
     Ringing,
     /// The state gets ahead of the equilibrium it follows.
     Overshoot,
+    /// The motion sticks, and the largest burst is a slip after a breakaway (a model with
+    /// sticking friction: [`Sticking`]).
+    StickSlip,
     /// The state jumps across the unstable band between two folds.
     FoldJump,
 }
@@ -35,6 +39,8 @@ pub enum Mode {
     Relaxation,
     /// Outside the fast-slow domain: the forcing is not slow against the fast subsystem.
     NotFastSlow,
+    /// The motion rests in the friction band, breaks away and slips in a burst.
+    StickSlip,
 }
 
 /// The mechanism behind the bursts.
@@ -47,6 +53,8 @@ pub enum Mechanism {
     SharpQuantitativeChange,
     /// A measured jump across the folds.
     FoldHysteresis,
+    /// Static friction holds the motion while the load builds up, and releases it in a slip.
+    StickSlip,
 }
 
 impl Mode {
@@ -59,6 +67,7 @@ impl Mode {
             Mode::PronouncedBursting => "pronounced-bursting",
             Mode::Relaxation => "relaxation",
             Mode::NotFastSlow => "not-fast-slow",
+            Mode::StickSlip => "stick-slip",
         }
     }
 }
@@ -70,6 +79,7 @@ impl Mechanism {
             Mechanism::None => "none",
             Mechanism::SharpQuantitativeChange => "sharp-quantitative-change",
             Mechanism::FoldHysteresis => "fold-hysteresis",
+            Mechanism::StickSlip => "stick-slip",
         }
     }
 }
@@ -81,6 +91,7 @@ impl Verdict {
             Verdict::NoBursts => "no-bursts",
             Verdict::Ringing => "ringing",
             Verdict::Overshoot => "overshoot",
+            Verdict::StickSlip => "stick-slip",
             Verdict::FoldJump => "fold-jump",
         }
     }
@@ -200,17 +211,20 @@ pub fn turning_point_rate(p: &Params) -> f64 {
 
 /// Verdict, mode and mechanism of a measured response.
 ///
-/// * verdict: the strongest signature (fold-jump > overshoot > ringing > no-bursts); bursting when
-///   any is present;
-/// * mechanism: `fold-hysteresis` when a jump is measured, `sharp-quantitative-change` for
+/// * verdict: the strongest signature (fold-jump > stick-slip > overshoot > ringing > no-bursts);
+///   bursting when any is present;
+/// * mechanism: `fold-hysteresis` when a jump is measured, `stick-slip` when the largest burst
+///   is a slip from a breakaway ([`Sticking::slip_dominates`]), `sharp-quantitative-change` for
 ///   overshoot or ringing on a single branch, `none` otherwise;
-/// * mode: `not-fast-slow` outside [`fast_slow_domain`]; else `relaxation` (jump),
+/// * mode: `not-fast-slow` outside [`fast_slow_domain`]; else `relaxation` (jump), `stick-slip`,
 ///   `pronounced-bursting` (overshoot, slowest traversed point a node: g' ≤ 1/4), `fast-slow`
 ///   (overshoot, a focus there), `transitional` (ringing only), `normal` (nothing).
 pub fn classify(p: &Params, r: &Response) -> Classification {
     let s = &r.signatures;
     let verdict = if s.jump {
         Verdict::FoldJump
+    } else if r.sticking.is_some_and(|k| k.slip_dominates) {
+        Verdict::StickSlip
     } else if s.overshoot {
         Verdict::Overshoot
     } else if s.ringing {
@@ -224,6 +238,7 @@ pub fn classify(p: &Params, r: &Response) -> Classification {
     } else {
         match verdict {
             Verdict::FoldJump => Mode::Relaxation,
+            Verdict::StickSlip => Mode::StickSlip,
             Verdict::Overshoot if min_traversed_gprime(p) <= fast::FOCUS_GPRIME => {
                 Mode::PronouncedBursting
             }
@@ -238,6 +253,7 @@ pub fn classify(p: &Params, r: &Response) -> Classification {
         mode,
         mechanism: match verdict {
             Verdict::FoldJump => Mechanism::FoldHysteresis,
+            Verdict::StickSlip => Mechanism::StickSlip,
             Verdict::Overshoot | Verdict::Ringing => Mechanism::SharpQuantitativeChange,
             Verdict::NoBursts => Mechanism::None,
         },

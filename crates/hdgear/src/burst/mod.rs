@@ -308,6 +308,41 @@ pub struct Response {
     pub group_gap: f64,
     /// The bursts whose pulse lies in the window.
     pub bursts: Vec<Burst>,
+    /// How the motion stuck and slipped, for a model with sticking friction (absent from the
+    /// JSON otherwise).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sticking: Option<Sticking>,
+}
+
+/// How a model with sticking friction rested and slipped over the window ([`Response::sticking`]).
+/// A rest counts when its breakaway lies in the window; a *slip burst* is a burst whose pulse is
+/// the first extremum of x' after a breakaway: the motion the breakaway released, before any
+/// other. (A breakaway always releases some: at rest x' = 0, while the equilibrium the slip
+/// follows moves on; whether that is a burst is the scan's usual floors' decision.)
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Sticking {
+    /// Rests per slow period.
+    pub sticks_per_period: f64,
+    /// Their mean duration (0 without rests).
+    pub mean_stick: f64,
+    /// The longest rest.
+    pub max_stick: f64,
+    /// Fraction of the window spent at rest.
+    pub stuck_fraction: f64,
+    /// Largest |x'| at the first extremum after a breakaway (0 without rests).
+    pub slip_peak_speed: f64,
+    /// Slip bursts per slow period.
+    pub slip_bursts_per_period: f64,
+    /// Whether the window's largest burst (by its pulse |x'|) is a slip burst: then stick-slip
+    /// is the response's mechanism ([`classify`]).
+    pub slip_dominates: bool,
+}
+
+impl Sticking {
+    /// The stick-slip signature: a slip burst in the window.
+    pub fn stick_slip(&self) -> bool {
+        self.slip_bursts_per_period > 0.0
+    }
 }
 
 /// The x-extent X of the equilibrium curve over a ∈ [−1, 1].
@@ -559,6 +594,9 @@ pub struct BurstsSetup {
     pub bursts_per_period: Option<f64>,
     /// The analysed window [start, end).
     pub window: (f64, f64),
+    /// The rests and slips, for a model with sticking friction (absent from the JSON otherwise).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sticking: Option<Sticking>,
 }
 
 impl BurstsSetup {
@@ -570,6 +608,7 @@ impl BurstsSetup {
             classification: classify(params, r),
             bursts_per_period: r.rates.bursts_per_period,
             window: (r.window_start, r.window_end),
+            sticking: r.sticking,
         }
     }
 }

@@ -3,32 +3,53 @@
 //! ([`Model::equivalent_params`]): its further terms (friction, control laws) act on the motion
 //! and enter x'' as an extra torque, measured against that set's equilibrium curve.
 
-use super::scan::{History, ScanStep};
-use super::{BurstOptions, Plan, Response};
+use super::scan::{History, Pivot, Scan, ScanStep};
+use super::{BurstOptions, Plan, Response, Sticking};
 use crate::error::{Error, Result};
 use crate::integrate::{AnyDense, DenseOutput, Stepper, stepper};
 use crate::model::delay::Delayed;
+use crate::model::switching::{Pieces, Switching, SwitchingDense};
 use crate::model::{MAX_STATES, Model};
 use std::collections::VecDeque;
 use std::f64::consts::TAU;
 
-/// A step of the model's N-component dense output read as x, x' and the torque of its terms
+/// A step of the model's N-component dense output `D` read as x, x' and the torque of its terms
 /// beyond the equivalent parameter set's cubic and unit damping.
 #[derive(Clone, Copy, Debug)]
-struct Projected<'m, const N: usize> {
-    inner: AnyDense<N>,
+struct Projected<'m, D, const N: usize> {
+    inner: D,
     model: &'m Model,
     params: &'m crate::Params,
+    /// Which piece the step lies on.
+    piece: OnPiece,
 }
 
-impl<const N: usize> Projected<'_, N> {
-    fn extra_at(&self, y: &[f64; N]) -> f64 {
+/// The piece a step of a model lies on, which decides its torque.
+#[derive(Clone, Copy, Debug)]
+enum OnPiece {
+    /// A smooth model: its own torque.
+    Smooth,
+    /// A switching model at rest: x'' = 0.
+    Rest,
+    /// A switching model slipping with sgn x' = ±1: the torque of that piece.
+    Slip(f64),
+}
+
+impl<D, const N: usize> Projected<'_, D, N> {
+    fn extra_at(&self, t: f64, y: &[f64; N]) -> f64 {
+        let p = self.params;
         // the model's torque less the study's x' + g(x)
-        self.model.torque_at(y) - y[1] - self.params.g(y[0])
+        let study = y[1] + p.g(y[0]);
+        match self.piece {
+            OnPiece::Smooth => self.model.torque_at(y) - study,
+            // at rest x'' = 0: the friction takes up whatever the rest leaves
+            OnPiece::Rest => p.forcing((p.omega * t).sin()) - study,
+            OnPiece::Slip(s) => self.model.directed(s, [0.0; MAX_STATES]).torque_at(y) - study,
+        }
     }
 }
 
-impl<const N: usize> DenseOutput<2> for Projected<'_, N> {
+impl<D: DenseOutput<N>, const N: usize> DenseOutput<2> for Projected<'_, D, N> {
     fn t_start(&self) -> f64 {
         self.inner.t_start()
     }
@@ -51,14 +72,14 @@ impl<const N: usize> DenseOutput<2> for Projected<'_, N> {
     }
 }
 
-impl<const N: usize> ScanStep for Projected<'_, N> {
+impl<D: DenseOutput<N>, const N: usize> ScanStep for Projected<'_, D, N> {
     fn state_at(&self, t: f64) -> ([f64; 2], f64) {
         let y = self.inner.eval(t);
-        ([y[0], y[1]], self.extra_at(&y))
+        ([y[0], y[1]], self.extra_at(t, &y))
     }
     fn end(&self) -> ([f64; 2], f64) {
         let y = self.inner.end_state();
-        ([y[0], y[1]], self.extra_at(&y))
+        ([y[0], y[1]], self.extra_at(self.inner.t_end(), &y))
     }
 }
 
@@ -200,9 +221,12 @@ impl<const N: usize> ScanStep for Averaged<'_, N> {
 /// dither's period T (a triangular window 2T wide, which removes the ripple and its harmonics),
 /// against the averaged model's equilibria: the ripple is the control's own motion, not a burst.
 ///
+/// A model with switching terms (sticking friction, LuGre, Bouc–Wen) is run piece by piece
+/// ([`Switching`]) and scanned on its pieces, at rest with x'' = 0; its rests are measured
+/// ([`Response::sticking`]), and a burst released by a breakaway is a slip ([`Sticking`]).
+///
 /// Refused for a model whose static torque is not a study cubic (its equilibria are not a
-/// parameter set's) and for one integrated piece by piece (sticking friction): its verdict would
-/// need the scan to follow the pieces.
+/// parameter set's), and for a switching model with a dither or a delay.
 ///
 /// ```
 /// use hdgear::{Params, burst::{BurstOptions, Verdict, classify, response_model}};
@@ -223,9 +247,9 @@ pub fn response_model(m: &Model, opts: &BurstOptions) -> Result<Response> {
         text: m.equation(),
         reason: reason.into(),
     };
-    if m.switches() {
+    if m.switches() && (m.dither().is_some() || m.delay().is_some()) {
         return Err(refuse(
-            "the burst verdict needs a smooth model (a term with sticking is integrated piece by piece)",
+            "the burst verdict on a switching model (integrated piece by piece) takes neither a dither nor a delay",
         ));
     }
     let p = m.equivalent_params().ok_or_else(|| {
@@ -234,10 +258,13 @@ pub fn response_model(m: &Model, opts: &BurstOptions) -> Result<Response> {
     let x0 = crate::fast::stable_equilibrium(&p, 0.0);
     let z: [f64; MAX_STATES] = m.rest_states(x0);
     let v0 = m.rest_rate();
-    match m.dim() {
-        2 => run::<2>(m, &p, opts, [x0, v0]),
-        3 => run::<3>(m, &p, opts, [x0, v0, z[0]]),
-        _ => run::<4>(m, &p, opts, [x0, v0, z[0], z[1]]),
+    match (m.dim(), m.switches()) {
+        (2, false) => run::<2>(m, &p, opts, [x0, v0]),
+        (3, false) => run::<3>(m, &p, opts, [x0, v0, z[0]]),
+        (_, false) => run::<4>(m, &p, opts, [x0, v0, z[0], z[1]]),
+        (2, true) => run_switching::<2>(m, &p, opts, [x0, v0]),
+        (3, true) => run_switching::<3>(m, &p, opts, [x0, v0, z[0]]),
+        (_, true) => run_switching::<4>(m, &p, opts, [x0, v0, z[0], z[1]]),
     }
 }
 
@@ -283,9 +310,20 @@ fn scan_model<St: Stepper<N, Dense = AnyDense<N>>, const N: usize>(
                 inner: d,
                 model: m,
                 params: p,
+                piece: OnPiece::Smooth,
             })
         };
-        return scan_steps(plan, solver, p, opts, x0, taken.is_some(), project);
+        let scan = scan_steps(
+            plan,
+            solver,
+            p,
+            opts,
+            x0,
+            taken.is_some(),
+            |_| None,
+            project,
+        )?;
+        return Ok(plan.assemble(p, opts, scan));
     };
     let period = TAU / wd;
     let mut pieces: VecDeque<Piece<N>> = VecDeque::new();
@@ -308,35 +346,168 @@ fn scan_model<St: Stepper<N, Dense = AnyDense<N>>, const N: usize>(
             params: p,
         })
     };
-    scan_steps(plan, solver, p, opts, x0, true, average)
+    let scan = scan_steps(plan, solver, p, opts, x0, true, |_| None, average)?;
+    Ok(plan.assemble(p, opts, scan))
 }
 
 /// The scan over `solver`'s steps to the plan's end: each step's dense output, with whether it
 /// ends inside the scanned span, goes to `view`, and what `view` returns is scanned. Steps before
-/// the span are shown only when `every_step` (a view or a history that needs them).
-fn scan_steps<St: Stepper<N, Dense = AnyDense<N>>, V: ScanStep, const N: usize>(
+/// the span are shown only when `every_step` (a view or a history that needs them). `rest` is
+/// shown every step first, and returns the raw extremum of x' the step starts on where the sign
+/// test on x'' cannot see it ([`Rests::see`]).
+#[allow(clippy::too_many_arguments)]
+fn scan_steps<St: Stepper<N>, V: ScanStep, const N: usize>(
     plan: &Plan,
     mut solver: St,
     p: &crate::Params,
     opts: &BurstOptions,
     x0: f64,
     every_step: bool,
-    mut view: impl FnMut(AnyDense<N>, bool) -> Option<V>,
-) -> Result<Response> {
+    mut rest: impl FnMut(&St::Dense) -> Option<(f64, bool)>,
+    mut view: impl FnMut(St::Dense, bool) -> Option<V>,
+) -> Result<Scan> {
     let mut scanner = plan.scanner(p, opts, x0);
     let mut history = History::new(plan.history_span());
     while solver.t() < plan.scan.1 {
         solver.step(plan.scan.1)?;
         let scanned = solver.t() > plan.scan.0;
+        let d = solver.dense();
+        let extremum = rest(&d);
         if !scanned && !every_step {
             continue;
         }
-        if let Some(v) = view(solver.dense(), scanned) {
+        if let Some(v) = view(d, scanned) {
+            if let Some((t, is_max)) = extremum {
+                scanner.extremum(t, 0.0, is_max, &history);
+            }
             history.push(v);
             if let Some(d) = history.latest() {
                 scanner.push(d, &history);
             }
         }
     }
-    Ok(plan.assemble(p, opts, scanner.finish(&history)))
+    Ok(scanner.finish(&history))
+}
+
+/// The rests of a switching model's run, seen step by step ([`Rests::see`]).
+#[derive(Clone, Debug, Default)]
+struct Rests {
+    /// (start, breakaway) of every rest that ended.
+    ended: Vec<(f64, f64)>,
+    /// The start of the rest under way.
+    open: Option<f64>,
+    /// sgn x' of the last slipping step (0 before the first).
+    side: f64,
+}
+
+impl Rests {
+    /// Records step `d` and returns the raw extremum of x' it starts on, if any: a slip that
+    /// leaves a rest in the direction the motion came from starts on a minimum of |x'| (x' = 0
+    /// at the breakaway; a maximum of x' when x' < 0), which the sign test on x'' misses (x'' = 0
+    /// throughout the rest).
+    fn see<const N: usize>(&mut self, d: &SwitchingDense<N>) -> Option<(f64, bool)> {
+        if d.is_stuck() {
+            self.open.get_or_insert(d.t_start());
+            return None;
+        }
+        let side = slip_side(d);
+        let arrived = std::mem::replace(&mut self.side, side);
+        let t0 = self.open.take()?;
+        let tb = d.t_start();
+        self.ended.push((t0, tb));
+        (arrived == side).then_some((tb, side < 0.0))
+    }
+
+    /// The measures over the window `(w0, w1)` of `periods` slow periods, from the scan's
+    /// extrema of x' and the response's bursts.
+    fn measure(
+        &self,
+        (w0, w1): (f64, f64),
+        periods: f64,
+        pivots: &[Pivot],
+        r: &Response,
+    ) -> Sticking {
+        let broke: Vec<(f64, f64)> = self
+            .ended
+            .iter()
+            .copied()
+            .filter(|&(_, tb)| tb >= w0 && tb <= w1)
+            .collect();
+        let durations = || broke.iter().map(|(t0, tb)| tb - t0);
+        let open = self.open.map(|t0| (t0, w1));
+        let at_rest = self
+            .ended
+            .iter()
+            .chain(open.iter())
+            .fold(0.0, |sum, &(t0, t1)| {
+                sum + (t1.min(w1) - t0.max(w0)).max(0.0)
+            });
+        // each breakaway's first extremum of x' after it: the slip it released
+        let firsts: Vec<Pivot> = broke
+            .iter()
+            .filter_map(|&(_, tb)| pivots.iter().find(|q| q.t > tb).copied())
+            .collect();
+        let is_slip = |b: &&super::Burst| firsts.iter().any(|q| q.t == b.t_peak);
+        let slips = r.bursts.iter().filter(is_slip).count();
+        let largest = r
+            .bursts
+            .iter()
+            .max_by(|a, b| a.peak_abs_xdot.total_cmp(&b.peak_abs_xdot));
+        Sticking {
+            sticks_per_period: broke.len() as f64 / periods,
+            mean_stick: if broke.is_empty() {
+                0.0
+            } else {
+                durations().sum::<f64>() / broke.len() as f64
+            },
+            max_stick: durations().fold(0.0, f64::max),
+            stuck_fraction: at_rest / (w1 - w0),
+            slip_peak_speed: firsts.iter().fold(0.0, |m: f64, q| m.max(q.v.abs())),
+            slip_bursts_per_period: slips as f64 / periods,
+            slip_dominates: largest.as_ref().is_some_and(is_slip),
+        }
+    }
+}
+
+/// sgn x' on a slipping step (x' keeps one sign inside it: steps end where it reaches 0).
+fn slip_side<const N: usize>(d: &SwitchingDense<N>) -> f64 {
+    let mid = 0.5 * (d.t_start() + d.t_end());
+    let v = d.eval(mid)[1];
+    if v == 0.0 {
+        d.end_state()[1].signum()
+    } else {
+        v.signum()
+    }
+}
+
+/// The scan of a switching model's run from `y0`, piece by piece ([`Switching`]), with its rests
+/// measured ([`Sticking`]).
+fn run_switching<const N: usize>(
+    m: &Model,
+    p: &crate::Params,
+    opts: &BurstOptions,
+    y0: [f64; N],
+) -> Result<Response> {
+    let plan = Plan::new(p, opts)?;
+    let pieces = Pieces::new(m).expect("a switching model has pieces");
+    let solver = Switching::new(&pieces, 0.0, y0, opts.tol)?;
+    let mut rests = Rests::default();
+    let view = |d: SwitchingDense<N>, scanned: bool| {
+        scanned.then(|| Projected {
+            inner: d,
+            model: m,
+            params: p,
+            piece: if d.is_stuck() {
+                OnPiece::Rest
+            } else {
+                OnPiece::Slip(slip_side(&d))
+            },
+        })
+    };
+    let scan = scan_steps(&plan, solver, p, opts, y0[0], true, |d| rests.see(d), view)?;
+    let pivots = scan.pivots.clone();
+    let mut r = plan.assemble(p, opts, scan);
+    let window = (r.window_start, r.window_end);
+    r.sticking = Some(rests.measure(window, f64::from(opts.periods), &pivots, &r));
+    Ok(r)
 }

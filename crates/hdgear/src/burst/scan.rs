@@ -441,6 +441,15 @@ impl Scanner {
         }
     }
 
+    /// A raw extremum of x' at `t` that the sign test on x'' cannot see: a rest of a model with
+    /// sticking friction (x' = x'' = 0 throughout it) which the motion leaves in the direction it
+    /// came from, a minimum of |x'| at 0.
+    pub(crate) fn extremum(&mut self, t: f64, v: f64, is_max: bool, past: &impl Past) {
+        if let Some((tp, vp)) = self.zigzag.push(t, v, is_max) {
+            self.emit_pivot(tp, vp, past);
+        }
+    }
+
     fn emit_pivot(&mut self, t: f64, v: f64, past: &impl Past) {
         let onset = past.onset(t, v.abs());
         self.out.pivots.push(Pivot { t, v, onset });

@@ -270,16 +270,22 @@ async fn compute<T: Send + 'static>(
                 )
             })
         };
-    match tokio::time::timeout(limit, work).await {
-        Ok(r) => Ok(r??),
-        Err(_) => Err(ApiError(
+    let too_long = || {
+        ApiError(
             StatusCode::SERVICE_UNAVAILABLE,
             format!(
                 "refused: the computation took longer than {} s (waiting for a free worker \
                  included)",
                 limit.as_secs()
             ),
-        )),
+        )
+    };
+    match tokio::time::timeout(limit, work).await {
+        // the integrations' own deadline is the same limit, seen from inside: whichever notices
+        // first, the answer is the timeout's
+        Ok(Ok(Err(hdgear::Error::Solver(hdgear::error::SolverError::Deadline { .. }))))
+        | Err(_) => Err(too_long()),
+        Ok(r) => Ok(r??),
     }
 }
 
