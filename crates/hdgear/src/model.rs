@@ -9,6 +9,7 @@
 //!   hand-scheduled Taylor recurrence on 1 and 16 lanes, the fast path every command of the
 //!   study runs on; the tests hold it to [`Model::study`]'s coefficients.
 
+pub mod branches;
 pub mod control;
 pub mod delay;
 pub mod excitation;

@@ -4,6 +4,7 @@
 
 mod common;
 
+mod branches;
 mod burst;
 mod cards;
 mod control;

@@ -264,7 +264,7 @@ impl Model {
     }
 
     /// The terms, each with the index of its internal state ([`Model::state_slots`]).
-    fn slots(&self) -> impl Iterator<Item = (&AnyTerm, Option<usize>)> {
+    pub(super) fn slots(&self) -> impl Iterator<Item = (&AnyTerm, Option<usize>)> {
         self.terms
             .iter()
             .zip(self.state_slots())
