@@ -115,11 +115,9 @@ impl Model {
             text: self.equation(),
             reason: reason.into(),
         };
-        let probe = |t: &super::terms::AnyTerm| t.rate(0.3, 0.0, 0.2) != 0.0;
-        if self
-            .terms()
-            .any(|t| t.is_load() || t.delay().is_some() || probe(t))
-        {
+        // a state that moves at a held twist (probed away from 0, where every rate may vanish)
+        let moving = self.moves_at_rest(&[0.3, 0.0, 0.2, 0.2][..self.dim()]);
+        if moving || self.terms().any(|t| t.is_load() || t.delay().is_some()) {
             return Err(refuse(
                 "its quasi-static branches need every torque to follow the motion and every state to rest with it (no load term, delay or moving state)",
             ));
