@@ -332,7 +332,18 @@ pub fn design_text(c: &hdgear::physical::design::DesignCheck) -> String {
         "steepest point of the equilibrium curve at a = {:.4} (the slow variable covers [-1, 1]; distance {:.4})",
         c.steepest_point_a, c.distance_in_a
     );
-    for m in &c.margins {
+    margin_lines(&mut s, &c.margins, c.judgement.bursting);
+    s
+}
+
+/// One line per margin: the change that crosses the bursting boundary, with the verdicts just
+/// inside and just outside, or why there is none (the drive bursting now or not).
+pub fn margin_lines<P: std::fmt::Display>(
+    s: &mut String,
+    margins: &[hdgear::physical::design::Margin<P>],
+    bursting: bool,
+) {
+    for m in margins {
         match (m.factor, m.boundary_value) {
             (Some(f), Some(v)) => {
                 let side = |x: &Option<hdgear::physical::design::Side>| {
@@ -355,7 +366,7 @@ pub fn design_text(c: &hdgear::physical::design::DesignCheck) -> String {
                 let why = m.refused.clone().unwrap_or_else(|| {
                     format!(
                         "no single change within x1/64..x64 {}",
-                        if c.judgement.bursting {
+                        if bursting {
                             "stops the bursts"
                         } else {
                             "makes it burst"
@@ -366,7 +377,6 @@ pub fn design_text(c: &hdgear::physical::design::DesignCheck) -> String {
             }
         }
     }
-    s
 }
 
 /// `, supercritical (c = …)` at a period doubling with its normal-form coefficient, empty

@@ -781,10 +781,14 @@ fn card_map_writes_one_row_per_load() {
     let mut lines = text.lines();
     assert_eq!(
         lines.next(),
-        Some("t_am_nm,frequency_hz,bursting,verdict,basis,fast_slow_domain")
+        Some(
+            "t_am_nm,frequency_hz,bursting,verdict,basis,fast_slow_domain,friction_bursting,friction_verdict"
+        )
     );
     let rows: Vec<&str> = lines.collect();
     assert_eq!(rows.len(), 9);
+    // no friction law on a built-in card: its two columns are empty
+    assert!(rows.iter().all(|r| r.ends_with(",,")), "{rows:?}");
     assert!(
         rows[0].starts_with("11.0,0.1,") && rows[8].starts_with("33.0,1.0,"),
         "{rows:?}"
@@ -792,4 +796,54 @@ fn card_map_writes_one_row_per_load() {
     fails_with(&["card", "map", "CSG-20-50", "--points", "0"], "amplitudes");
     fails_with(&["card", "map", "CSG-20-50", "--hz", "0:1"], "0:1");
     fails_with(&["card", "map", "CSG-20-50", "--t-am-max=-1"], "t_am_max");
+}
+
+/// A card with a fitted friction law: `card check` answers with it (the verdict, the rests and
+/// one margin per knob), `card map` fills the friction columns, and a law that does not hold
+/// together is refused with its key and value.
+#[test]
+fn card_check_answers_with_the_cards_friction() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("joint.toml");
+    let p = path.to_str().unwrap();
+    hdgear()
+        .args([
+            "card",
+            "new",
+            "JOINT-20-50",
+            "--from",
+            "CSG-20-50",
+            "--out",
+            p,
+        ])
+        .assert()
+        .success();
+    let card = std::fs::read_to_string(&path).unwrap();
+    let law = "\n[card.friction]\nsource = \"hd-torsional-csg\"\ncoulomb = 1.0\nbreakaway = 3.0\nstribeck_speed = 1e-3\n";
+    std::fs::write(&path, format!("{card}{law}")).unwrap();
+    let text = stdout_of(&["card", "check", p]);
+    assert!(text.contains("with friction: not bursting"), "{text}");
+    assert!(
+        text.contains("the sticking band holds the slow load"),
+        "{text}"
+    );
+    let j = json_of(&["card", "check", p, "--json"]);
+    let f = &j["friction"];
+    assert_eq!(f["law"]["breakaway"], 3.0);
+    assert_eq!(f["outcome"]["verdict"], "no-bursts");
+    let margins = f["margins"].as_array().unwrap();
+    assert_eq!(margins.len(), 5);
+    let t_am = margins.iter().find(|m| m["parameter"] == "t_am").unwrap();
+    assert_eq!(t_am["outside"]["judgement"]["verdict"], "stick-slip");
+    let map = stdout_of(&["card", "map", p, "--points", "1", "--hz", "0.2:0.3"]);
+    assert!(
+        map.lines().nth(1).unwrap().ends_with(",true,stick-slip"),
+        "{map}"
+    );
+    let bad = dir.path().join("bad.toml");
+    std::fs::write(&bad, format!("{card}{}", law.replace("3.0", "0.5"))).unwrap();
+    fails_with(
+        &["card", "check", bad.to_str().unwrap()],
+        "friction.breakaway = 0.5",
+    );
 }

@@ -6,6 +6,7 @@ mod common;
 
 mod branches;
 mod burst;
+mod card_friction;
 mod cards;
 mod control;
 mod curve2;

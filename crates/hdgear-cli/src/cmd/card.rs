@@ -162,9 +162,14 @@ struct MapRow {
     verdict: &'static str,
     basis: &'static str,
     fast_slow_domain: bool,
+    /// Empty without a friction law on the card.
+    friction_bursting: Option<bool>,
+    /// `not-judged` where the model with friction could not be simulated.
+    friction_verdict: Option<&'static str>,
 }
 hdgear::record!(
-    MapRow: "t_am_nm", "frequency_hz", "bursting", "verdict", "basis", "fast_slow_domain"
+    MapRow: "t_am_nm", "frequency_hz", "bursting", "verdict", "basis", "fast_slow_domain",
+    "friction_bursting", "friction_verdict"
 );
 
 /// The metadata of `hdgear card map`'s table.
@@ -173,6 +178,9 @@ struct MapMeta<'a> {
     card: &'a str,
     grid: MapGrid,
     damping: DampingChoice,
+    /// The card's friction law, with where it is taken to act.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    friction: Option<(hdgear::physical::friction::FrictionLaw, &'static str)>,
 }
 
 /// Runs `hdgear card`.
@@ -233,6 +241,8 @@ fn map(a: CardMapArgs) -> Result<()> {
         grid.t_am_max = t;
     }
     let map = load_map(&l.card, &l.sources, choice, &grid, &opts)?;
+    let law = hdgear::physical::friction::law(&l.card)?;
+    let has_friction = law.is_some();
     let rows = map.iter().map(|p| MapRow {
         t_am_nm: p.t_am,
         frequency_hz: p.frequency_hz,
@@ -243,11 +253,14 @@ fn map(a: CardMapArgs) -> Result<()> {
             hdgear::physical::design::Basis::Prediction => "prediction",
         },
         fast_slow_domain: p.judgement.fast_slow_domain,
+        friction_bursting: p.friction.map(|j| j.bursting),
+        friction_verdict: has_friction.then(|| p.friction.map_or("not-judged", |j| j.label())),
     });
     let meta = MapMeta {
         card: &l.card.name,
         grid,
         damping: choice,
+        friction: law.map(|law| (law, hdgear::physical::friction::ASSUMPTION)),
     };
     crate::sink::write_records(out.as_deref(), &meta, rows)?;
     if out.is_some() {
@@ -264,6 +277,20 @@ fn map(a: CardMapArgs) -> Result<()> {
             l.card.name,
             map.len()
         );
+        if has_friction {
+            let with: Vec<_> = map.iter().filter_map(|p| p.friction).collect();
+            let bursting = with.iter().filter(|j| j.bursting).count();
+            let slips = with
+                .iter()
+                .filter(|j| j.verdict == Some(hdgear::burst::Verdict::StickSlip))
+                .count();
+            crate::sink::outln!(
+                "with its friction: {bursting} of {} judged points burst, {slips} of them by \
+                 stick-slip; {} points not judged",
+                with.len(),
+                map.len() - with.len()
+            );
+        }
     }
     Ok(())
 }
@@ -468,7 +495,85 @@ fn check_text(r: &CardCheck) -> String {
     }
     mode_lines(&mut s, r);
     s.push_str(&crate::summary::physical_text(&r.summary));
+    if let Some(f) = &r.friction {
+        friction_lines(&mut s, f, &r.sources);
+    }
     s
+}
+
+/// The friction lines of `card check`: the law, where it acts, the verdict with it and what
+/// changes that verdict.
+fn friction_lines(
+    s: &mut String,
+    f: &hdgear::physical::friction::FrictionCheck,
+    sources: &BTreeMap<&'static str, Source>,
+) {
+    let l = &f.law;
+    let _ = writeln!(
+        s,
+        "friction ({}): F_c = {} N m, F_s = {} N m, v_s = {} rad/s, c_v = {} N m s/rad",
+        sources.get("friction").map_or("-", |src| src.kind.name()),
+        l.coulomb,
+        l.breakaway,
+        l.stribeck_speed,
+        l.viscous
+    );
+    let _ = writeln!(s, "  assumed: {}", f.assumption);
+    let r = &f.reduced;
+    let _ = writeln!(
+        s,
+        "  reduced: f_c = {:.6}, f_s = {:.6}, v_st = {:.6}, c_v = {:.6}{}",
+        r.fc,
+        r.fs,
+        r.vst,
+        r.cv,
+        match f.load_over_breakaway {
+            Some(q) if q <= 1.0 => format!(
+                "; delta/f_s = T_am (J_eq/J_o)/F_s = {q:.4}: the sticking band holds the slow load, no slip"
+            ),
+            Some(q) => format!("; delta/f_s = T_am (J_eq/J_o)/F_s = {q:.4}"),
+            None => String::new(),
+        }
+    );
+    let Some(o) = &f.outcome else {
+        let _ = writeln!(
+            s,
+            "with friction: not judged (the reduced load frequency is too low, or the response              too long, to simulate)"
+        );
+        return;
+    };
+    let j = &o.outcome.judgement;
+    let _ = writeln!(
+        s,
+        "with friction: {} (signature {}, mode {}, mechanism {}){}",
+        if j.bursting {
+            "bursting"
+        } else {
+            "not bursting"
+        },
+        j.label(),
+        o.outcome.mode.map_or("-", |m| m.name()),
+        o.outcome.mechanism.map_or("-", |m| m.name()),
+        if j.fast_slow_domain {
+            ""
+        } else {
+            " (outside the fast-slow domain)"
+        }
+    );
+    if let Some(st) = &o.sticking {
+        let _ = writeln!(
+            s,
+            "  rests: {:.2} per period, stuck {:.1} % of the time; largest slip {:.4e} rad/s",
+            st.sticks_per_period,
+            100.0 * st.stuck_fraction,
+            o.slip_peak_rate
+        );
+    }
+    let _ = writeln!(
+        s,
+        "what changes the verdict with friction (one change at a time):"
+    );
+    crate::summary::margin_lines(s, &f.margins, j.bursting);
 }
 
 /// The damping, torsional-mode and fold lines of `card check`.

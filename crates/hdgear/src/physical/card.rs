@@ -422,6 +422,7 @@ impl Card {
         {
             return Err(bad("stiffness.k3".into(), fmt(k3), "must be ≥ k2"));
         }
+        super::friction::law(self)?;
         Ok(())
     }
 }

@@ -16,6 +16,7 @@ use super::catalogue::{Fit, assemble, fit};
 use super::design::{CatalogueOrigin, DriveSummary, summarize};
 use crate::burst::BurstOptions;
 use crate::error::Result;
+use rayon::prelude::*;
 use serde::Serialize;
 use std::collections::BTreeMap;
 
@@ -137,6 +138,9 @@ pub struct CardCheck {
     pub folds: Folds,
     /// The drive built from the card and the verdict on it.
     pub summary: DriveSummary,
+    /// The verdict with the card's fitted friction law, when it has one.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub friction: Option<super::friction::FrictionCheck>,
 }
 
 /// The damping ratio the card's hysteresis loss implies for a ±rated-torque cycle (±T2 without
@@ -195,6 +199,7 @@ pub fn check_card(
         assumptions: a.assumptions,
     };
     let summary = summarize(&d, origin, opts)?;
+    let friction = super::friction::check(card, &d, opts)?;
     Ok(CardCheck {
         name: card.name.clone(),
         missing: card.missing(),
@@ -220,6 +225,7 @@ pub fn check_card(
             fold_backlash: (3.0 * d.k1 / d.k2).sqrt(),
         },
         summary,
+        friction,
     })
 }
 
@@ -306,10 +312,14 @@ pub struct MapPoint {
     pub frequency_hz: f64,
     /// The verdict there ([`super::design::judge`]).
     pub judgement: super::design::Judgement,
+    /// The verdict with the card's friction law ([`super::friction::judge`]); `None` without a
+    /// law, or where it could not be simulated.
+    pub friction: Option<super::design::Judgement>,
 }
 
 /// The verdict on the drive built from `card` (as [`check_card`] builds it, with `damping`) for
-/// every amplitude and frequency of `grid`, amplitude-major, computed on all cores.
+/// every amplitude and frequency of `grid`, amplitude-major, computed on all cores; with the
+/// card's friction law too, when it has one.
 pub fn load_map(
     card: &Card,
     sources: &BTreeMap<String, Source>,
@@ -336,13 +346,22 @@ pub fn load_map(
         })
         .collect();
     let judgements = super::design::judge_many(&drives, opts)?;
+    let with_friction: Vec<Option<super::design::Judgement>> = match super::friction::law(card)? {
+        None => vec![None; drives.len()],
+        Some(law) => drives
+            .par_iter()
+            .map(|d| Ok(super::friction::judge(d, &law, opts)?.map(|o| o.outcome.judgement)))
+            .collect::<Result<_>>()?,
+    };
     Ok(points
         .iter()
         .zip(judgements)
-        .map(|(&(t_am, frequency_hz), judgement)| MapPoint {
+        .zip(with_friction)
+        .map(|((&(t_am, frequency_hz), judgement), friction)| MapPoint {
             t_am,
             frequency_hz,
             judgement,
+            friction,
         })
         .collect())
 }

@@ -83,11 +83,12 @@ impl std::fmt::Display for Side {
     }
 }
 
-/// How one parameter moves the drive across the bursting boundary.
+/// How one parameter moves the drive across the bursting boundary. `P` names the parameter: a
+/// drive parameter here, a friction parameter in [`super::friction`].
 #[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct Margin {
+pub struct Margin<P = DriveParam> {
     /// Parameter name.
-    pub parameter: DriveParam,
+    pub parameter: P,
     /// Its current value (SI).
     pub current: f64,
     /// Multiplicative factor that crosses the boundary (null if none within 1/64…64, or refused).
@@ -102,7 +103,8 @@ pub struct Margin {
     pub inside: Option<Side>,
     /// The end of the bracket with the other verdict.
     pub outside: Option<Side>,
-    /// Why no factor is given although the search went on: the move leaves the fast-slow domain.
+    /// Why no factor is given although the search went on: the move leaves the fast-slow domain,
+    /// or a changed drive could not be judged.
     pub refused: Option<String>,
 }
 
@@ -188,7 +190,7 @@ fn judge_classified(
 }
 
 /// The options of one verdict: the step budget capped at [`SEARCH_MAX_STEPS`].
-fn search_options(opts: &BurstOptions) -> BurstOptions {
+pub(crate) fn search_options(opts: &BurstOptions) -> BurstOptions {
     let mut o = *opts;
     o.tol.max_steps = o.tol.max_steps.min(SEARCH_MAX_STEPS);
     o
@@ -260,38 +262,74 @@ fn margin(
     now: Judgement,
     opts: &BurstOptions,
 ) -> Result<Margin> {
-    let current = d.value(param);
-    let at = |lf: f64| judge(&scaled(d, param, lf.exp2()), opts);
-    let mut found: Option<(f64, f64)> = None; // (inside, outside) in log2 f
+    search_margin(param, d.value(param), now, |f| {
+        judge(&scaled(d, param, f), opts).map(Some)
+    })
+}
+
+/// A search's bracket in log2 of the factor (`None`: no crossing), and why it stopped short.
+type Crossing = (Option<(f64, f64)>, Option<String>);
+
+/// Why a factor has no verdict.
+fn unjudged(f: f64) -> String {
+    format!("x{f} cannot be judged (its response needs more steps than a search allows)")
+}
+
+/// The first f = 2^k, k = ±1 … ±6 (nearer to 1 first), whose verdict differs from `now`, as the
+/// bracket (log2 of the last f with `now`'s verdict, log2 f) — or none, with why the search
+/// stopped on a side (the first such reason).
+fn first_crossing(
+    now: Judgement,
+    at_log: impl Fn(f64) -> Result<Option<Judgement>>,
+) -> Result<Crossing> {
     let mut refused: Option<String> = None;
-    if current != 0.0 {
-        let mut blocked = [false, false];
-        'search: for k in 1..=6 {
-            for (i, sign) in [-1.0, 1.0].into_iter().enumerate() {
-                if blocked[i] {
-                    continue;
-                }
-                let lf = sign * f64::from(k);
-                let j = at(lf)?;
-                if !j.fast_slow_domain {
-                    blocked[i] = true;
-                    refused.get_or_insert_with(|| {
-                        format!(
-                            "x{} leaves the fast-slow domain before the verdict changes",
-                            lf.exp2()
-                        )
-                    });
-                    continue;
-                }
-                if j.bursting != now.bursting {
-                    found = Some((lf - sign, lf));
-                    break 'search;
-                }
+    let mut blocked = [false, false];
+    for k in 1..=6 {
+        for (i, sign) in [-1.0, 1.0].into_iter().enumerate() {
+            if blocked[i] {
+                continue;
+            }
+            let lf = sign * f64::from(k);
+            let Some(j) = at_log(lf)? else {
+                blocked[i] = true;
+                refused.get_or_insert_with(|| unjudged(lf.exp2()));
+                continue;
+            };
+            if !j.fast_slow_domain {
+                blocked[i] = true;
+                refused.get_or_insert_with(|| {
+                    format!(
+                        "x{} leaves the fast-slow domain before the verdict changes",
+                        lf.exp2()
+                    )
+                });
+                continue;
+            }
+            if j.bursting != now.bursting {
+                return Ok((Some((lf - sign, lf)), None));
             }
         }
     }
+    Ok((None, refused))
+}
+
+/// The margin of `parameter`, now `current` with verdict `now`, where `at(f)` judges the drive
+/// with the parameter ×f (`None`: it cannot be judged, which stops the search on that side):
+/// the search of the module docs, on f = 2^k, k = ±1 … ±6, then 12 bisections in log f.
+pub(crate) fn search_margin<P>(
+    parameter: P,
+    current: f64,
+    now: Judgement,
+    at: impl Fn(f64) -> Result<Option<Judgement>>,
+) -> Result<Margin<P>> {
+    let at_log = |lf: f64| at(lf.exp2());
+    let (found, refused) = if current == 0.0 {
+        (None, Some("it is 0, which no factor changes".to_string()))
+    } else {
+        first_crossing(now, at_log)?
+    };
     let mut margin = Margin {
-        parameter: param,
+        parameter,
         current,
         factor: None,
         boundary_value: None,
@@ -309,18 +347,40 @@ fn margin(
         margin.refused = refused;
         return Ok(margin);
     };
-    let (mut ja, mut jb) = (if a == 0.0 { now } else { at(a)? }, at(b)?);
+    // the bracket's ends were judged in the search; a point between them that cannot be judged
+    // ends the margin without a factor (`Err(None)` below), as an unjudged end would
+    let judged = |lf: f64| -> std::result::Result<Judgement, Option<crate::Error>> {
+        at_log(lf).map_err(Some)?.ok_or(None)
+    };
+    let (mut ja, mut jb) = (
+        if a == 0.0 {
+            now
+        } else {
+            at_log(a)?.unwrap_or(now)
+        },
+        at_log(b)?.unwrap_or(now),
+    );
+    let mut last = b;
     // twelve halvings in log2 of the factor: the bracket's ends are simulated and kept
-    let (a, b) = crate::roots::try_bisect(a, b, 12, crate::roots::all_rounds, |m| {
-        let j = at(m)?;
+    let bracket = crate::roots::try_bisect(a, b, 12, crate::roots::all_rounds, |m| {
+        last = m;
+        let j = judged(m)?;
         let same = j.bursting == now.bursting;
         if same {
             ja = j
         } else {
             jb = j
         }
-        Ok::<_, crate::Error>(same)
-    })?;
+        Ok(same)
+    });
+    let (a, b) = match bracket {
+        Ok(ab) => ab,
+        Err(Some(e)) => return Err(e),
+        Err(None) => {
+            margin.refused = Some(unjudged(last.exp2()));
+            return Ok(margin);
+        }
+    };
     let f = (0.5 * (a + b)).exp2();
     margin.factor = Some(f);
     margin.boundary_value = Some(f * current);

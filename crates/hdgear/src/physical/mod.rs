@@ -21,6 +21,7 @@ pub mod card;
 pub mod catalogue;
 pub mod check;
 pub mod design;
+pub mod friction;
 pub mod model;
 pub mod simulate;
 
@@ -330,6 +331,11 @@ impl Reduction {
     /// Torsion rate θ' \[rad/s\] of dimensionless x' (= dx/dτ).
     pub fn theta_dot(&self, xdot: f64) -> f64 {
         self.length_scale * xdot / self.time_scale
+    }
+    /// Torque \[N m\] per unit of the dimensionless model's torques (μ, δ, a friction level):
+    /// J_eq·L/T² = C⁴/(k2 φ J_eq²), so that μ = T_m/unit.
+    pub fn torque_unit(&self) -> f64 {
+        self.j_eq * self.length_scale / (self.time_scale * self.time_scale)
     }
 }
 

@@ -1,0 +1,328 @@
+//! A card's fitted friction law in its drive's reduced model, the verdict with it, and what
+//! change of the friction or of the load would change that verdict.
+//!
+//! The law is the card's Coulomb–Stribeck–viscous fit with sticking,
+//! (F_c + (F_s − F_c)·e^{−(θ'/v_s)²})·sgn θ' + c_v·θ', applied across the compliance, on the
+//! twist rate θ' ([`ASSUMPTION`]). In the reduced model it is the `coulomb` term
+//! ([`crate::model::terms::Coulomb`]) with its torques over [`super::Reduction::torque_unit`],
+//! its speed over L/T and c_v over C; the drive sticks while the rest of the torque stays within
+//! ±F_s. The response is integrated piece by piece and judged as every model with sticking
+//! friction is ([`crate::burst::response_model`]): a slip that is the window's largest burst
+//! makes the verdict stick-slip.
+//!
+//! ```
+//! use hdgear::physical::{card, check, friction};
+//! let mut c = card::builtin_card("CSG-20-50").unwrap().clone();
+//! c.friction = Some(card::Friction { source: "hd-torsional-csg".into(), coulomb: Some(1.0),
+//!     breakaway: Some(1.5), stribeck_speed: Some(0.01), ..Default::default() });
+//! let law = friction::law(&c).unwrap().unwrap();
+//! assert_eq!((law.coulomb, law.breakaway, law.viscous), (1.0, 1.5, 0.0));
+//! ```
+
+use super::PhysicalParams;
+use super::card::Card;
+use super::design::{Basis, Judgement, Margin, Outcome, search_margin, search_options};
+use crate::burst::{BurstOptions, Sticking, classify, response_model};
+use crate::error::{Error, Result, SolverError};
+use crate::model::Model;
+use crate::model::terms::AnyTerm;
+use rayon::prelude::*;
+use serde::Serialize;
+
+/// Where the card's friction is taken to act, stated in every output that uses it.
+pub const ASSUMPTION: &str = "the card's friction acts across the compliance, on the twist rate \
+    θ' (the reduction to one equation holds for such friction only; friction on the input or \
+    output rotation alone moves the rigid-body mode too, which this verdict does not model)";
+
+/// The Stribeck speed a card without a Stribeck drop is given: with F_s = F_c it has no effect.
+const NO_DROP_SPEED: f64 = 1.0;
+
+/// A fitted Coulomb–Stribeck–viscous friction law with sticking, at the output, in SI units.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct FrictionLaw {
+    /// F_c: Coulomb (sliding) friction \[N m\].
+    pub coulomb: f64,
+    /// F_s ≥ F_c: static (breakaway) friction \[N m\], the sticking band.
+    pub breakaway: f64,
+    /// v_s: Stribeck speed \[rad/s\] of the drop from F_s to F_c.
+    pub stribeck_speed: f64,
+    /// c_v: viscous friction \[N m s/rad\].
+    pub viscous: f64,
+}
+
+/// The law in the reduced model's units: the `coulomb` term's f_c, f_s, v_st and c_v.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct ReducedFriction {
+    /// f_c = F_c/unit torque.
+    pub fc: f64,
+    /// f_s = F_s/unit torque.
+    pub fs: f64,
+    /// v_st = v_s·T/L.
+    pub vst: f64,
+    /// c_v = c_v/C.
+    pub cv: f64,
+}
+
+/// What a designer can change in the friction check, each as a factor.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FrictionKnob {
+    /// The Stribeck drop F_s − F_c (F_c kept): what releases a slip.
+    Drop,
+    /// F_c, with the drop kept.
+    Coulomb,
+    /// c_v.
+    Viscous,
+    /// v_s.
+    StribeckSpeed,
+    /// The slow load's amplitude T_am.
+    TAm,
+}
+
+impl FrictionKnob {
+    /// Every knob, in the order reported.
+    pub const ALL: [FrictionKnob; 5] = [
+        FrictionKnob::Drop,
+        FrictionKnob::Coulomb,
+        FrictionKnob::Viscous,
+        FrictionKnob::StribeckSpeed,
+        FrictionKnob::TAm,
+    ];
+
+    /// Its name in the output.
+    pub fn name(self) -> &'static str {
+        match self {
+            FrictionKnob::Drop => "drop",
+            FrictionKnob::Coulomb => "coulomb",
+            FrictionKnob::Viscous => "viscous",
+            FrictionKnob::StribeckSpeed => "stribeck_speed",
+            FrictionKnob::TAm => "t_am",
+        }
+    }
+}
+
+impl std::fmt::Display for FrictionKnob {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.pad(self.name())
+    }
+}
+
+/// The card's fitted law, `None` when the card has no fitted Coulomb level. A fit needs F_c;
+/// F_s defaults to F_c, c_v to 0; a drop (F_s > F_c) needs its Stribeck speed; F_s < F_c is
+/// refused. Measured torques alone (starting, back-driving, no-load running) are not turned
+/// into a law: they are friction of the rigid-body rotation, not of the twist.
+pub fn law(card: &Card) -> Result<Option<FrictionLaw>> {
+    let Some(f) = &card.friction else {
+        return Ok(None);
+    };
+    let bad = |field: &str, value: Option<f64>, reason: &'static str| Error::Card {
+        card: card.name.clone(),
+        field: format!("friction.{field}"),
+        value: value.map_or("(absent)".into(), |v| v.to_string()),
+        reason,
+    };
+    let Some(coulomb) = f.coulomb else {
+        return match (f.breakaway, f.stribeck_speed, f.viscous) {
+            (None, None, None) => Ok(None),
+            _ => Err(bad(
+                "coulomb",
+                None,
+                "a fitted friction law needs its Coulomb level",
+            )),
+        };
+    };
+    let breakaway = f.breakaway.unwrap_or(coulomb);
+    if breakaway < coulomb {
+        return Err(bad(
+            "breakaway",
+            Some(breakaway),
+            "must be ≥ the Coulomb level",
+        ));
+    }
+    let stribeck_speed = match f.stribeck_speed {
+        Some(v) if v > 0.0 => v,
+        None if breakaway == coulomb => NO_DROP_SPEED,
+        v => {
+            return Err(bad(
+                "stribeck_speed",
+                v,
+                "must be > 0 where the breakaway exceeds the Coulomb level",
+            ));
+        }
+    };
+    Ok(Some(FrictionLaw {
+        coulomb,
+        breakaway,
+        stribeck_speed,
+        viscous: f.viscous.unwrap_or(0.0),
+    }))
+}
+
+impl FrictionLaw {
+    /// The law in the units of `r`.
+    pub fn reduced(&self, d: &PhysicalParams, r: &super::Reduction) -> ReducedFriction {
+        let unit = r.torque_unit();
+        ReducedFriction {
+            fc: self.coulomb / unit,
+            fs: self.breakaway / unit,
+            vst: self.stribeck_speed / r.theta_dot(1.0),
+            cv: self.viscous / d.c_eq,
+        }
+    }
+
+    /// The law with `knob` ×`f` (T_am is the drive's, not the law's: unchanged here).
+    pub fn scaled(&self, knob: FrictionKnob, f: f64) -> FrictionLaw {
+        let drop = self.breakaway - self.coulomb;
+        let mut l = *self;
+        match knob {
+            FrictionKnob::Drop => l.breakaway = self.coulomb + f * drop,
+            FrictionKnob::Coulomb => {
+                l.coulomb *= f;
+                l.breakaway = l.coulomb + drop;
+            }
+            FrictionKnob::Viscous => l.viscous *= f,
+            FrictionKnob::StribeckSpeed => l.stribeck_speed *= f,
+            FrictionKnob::TAm => {}
+        }
+        l
+    }
+
+    /// The knob's current value (SI).
+    pub fn value(&self, knob: FrictionKnob, d: &PhysicalParams) -> f64 {
+        match knob {
+            FrictionKnob::Drop => self.breakaway - self.coulomb,
+            FrictionKnob::Coulomb => self.coulomb,
+            FrictionKnob::Viscous => self.viscous,
+            FrictionKnob::StribeckSpeed => self.stribeck_speed,
+            FrictionKnob::TAm => d.t_am,
+        }
+    }
+}
+
+/// The reduced model of drive `d` with friction `law`: the study's equation and the `coulomb`
+/// term.
+pub fn drive_model(d: &PhysicalParams, law: &FrictionLaw) -> Result<Model> {
+    let r = d.reduce()?;
+    let f = law.reduced(d, &r);
+    Model::study(&r.params).with_term(AnyTerm::new("coulomb", &[f.fc, f.fs, f.vst, f.cv])?)
+}
+
+/// The verdict on a drive with friction.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct FrictionOutcome {
+    /// The verdict, mode and mechanism (its fields at the top level).
+    #[serde(flatten)]
+    pub outcome: Outcome,
+    /// The rests and slips of the response.
+    pub sticking: Option<Sticking>,
+    /// The largest slip's peak twist rate \[rad/s\] (0 without rests).
+    pub slip_peak_rate: f64,
+}
+
+/// The verdict on `d` with `law`, `None` when it cannot be simulated: the reduced ω below
+/// [`super::design::MIN_SIMULATED_OMEGA`] (no equilibrium-curve prediction covers friction), or
+/// more steps than a search allows.
+pub fn judge(
+    d: &PhysicalParams,
+    law: &FrictionLaw,
+    opts: &BurstOptions,
+) -> Result<Option<FrictionOutcome>> {
+    let m = drive_model(d, law)?;
+    let r = d.reduce()?;
+    if r.params.omega < super::design::MIN_SIMULATED_OMEGA {
+        return Ok(None);
+    }
+    let resp = match response_model(&m, &search_options(opts)) {
+        Ok(resp) => resp,
+        Err(Error::Solver(SolverError::TooManySteps { .. })) => return Ok(None),
+        Err(e) => return Err(e),
+    };
+    let c = classify(&r.params, &resp);
+    Ok(Some(FrictionOutcome {
+        outcome: Outcome {
+            judgement: Judgement {
+                bursting: c.bursting,
+                verdict: Some(c.verdict),
+                fast_slow_domain: c.fast_slow_domain,
+                basis: Basis::Simulation,
+            },
+            mode: Some(c.mode),
+            mechanism: Some(c.mechanism),
+        },
+        sticking: resp.sticking,
+        slip_peak_rate: resp
+            .sticking
+            .map_or(0.0, |s| r.theta_dot(s.slip_peak_speed)),
+    }))
+}
+
+/// The friction check of a card's drive.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct FrictionCheck {
+    /// The card's law.
+    pub law: FrictionLaw,
+    /// The source key of the card's friction section.
+    pub source: String,
+    /// The law in the reduced model.
+    pub reduced: ReducedFriction,
+    /// Where the friction is taken to act ([`ASSUMPTION`]).
+    pub assumption: &'static str,
+    /// δ/f_s = T_am·(J_eq/J_o)/F_s: the slow load's swing that twists the drive (the rest,
+    /// T_am·(1 − J_eq/J_o), swings the rigid-body mode) over the sticking band. At most 1, the
+    /// band holds the swing from rest and the drive never slips. `None` without a band (F_s = 0).
+    pub load_over_breakaway: Option<f64>,
+    /// The verdict with the friction (`None` when it could not be simulated).
+    pub outcome: Option<FrictionOutcome>,
+    /// For each knob, the single change that changes the verdict (none without an outcome).
+    pub margins: Vec<Margin<FrictionKnob>>,
+}
+
+/// Checks drive `d` (built from `card`) with the card's friction law; `None` when the card has
+/// no fitted law. The knobs' searches run side by side.
+pub fn check(
+    card: &Card,
+    d: &PhysicalParams,
+    opts: &BurstOptions,
+) -> Result<Option<FrictionCheck>> {
+    let Some(law) = law(card)? else {
+        return Ok(None);
+    };
+    let r = d.reduce()?;
+    let outcome = judge(d, &law, opts)?;
+    let margins = match outcome {
+        None => Vec::new(),
+        Some(now) => FrictionKnob::ALL
+            .par_iter()
+            .map(|&knob| {
+                search_margin(knob, law.value(knob, d), now.outcome.judgement, |f| {
+                    let (dd, l) = match knob {
+                        FrictionKnob::TAm => (
+                            PhysicalParams {
+                                t_am: d.t_am * f,
+                                ..*d
+                            },
+                            law,
+                        ),
+                        _ => (*d, law.scaled(knob, f)),
+                    };
+                    Ok(judge(&dd, &l, opts)?.map(|o| o.outcome.judgement))
+                })
+            })
+            .collect::<Vec<_>>()
+            .into_iter()
+            .collect::<Result<_>>()?,
+    };
+    let reduced = law.reduced(d, &r);
+    Ok(Some(FrictionCheck {
+        law,
+        source: card
+            .friction
+            .as_ref()
+            .map_or(String::new(), |f| f.source.clone()),
+        reduced,
+        assumption: ASSUMPTION,
+        load_over_breakaway: (reduced.fs > 0.0).then(|| r.params.delta / reduced.fs),
+        outcome,
+        margins,
+    }))
+}

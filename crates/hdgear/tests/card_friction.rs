@@ -1,0 +1,206 @@
+//! A card's fitted friction law in its drive's reduced model ([`hdgear::physical::friction`]):
+//! the law read and refused, its scaling, the sticking band's closed-form threshold, the study's
+//! verdict without friction, and the load map's friction column.
+
+use hdgear::Params;
+use hdgear::burst::{BurstOptions, Verdict};
+use hdgear::physical::card::{Card, Friction, builtin, builtin_card};
+use hdgear::physical::check::{DampingChoice, MapGrid, check_card, load_map};
+use hdgear::physical::design::judge;
+use hdgear::physical::friction::{FrictionKnob, FrictionLaw, check, judge as judge_friction, law};
+use hdgear::physical::{PhysicalParams, catalogue::assemble};
+
+/// CSG-20-50 with a friction section (its source one the file has).
+fn with_friction(f: Friction) -> Card {
+    let mut c = builtin_card("CSG-20-50").unwrap().clone();
+    c.friction = Some(Friction {
+        source: "hd-torsional-csg".into(),
+        ..f
+    });
+    c
+}
+
+fn fitted(coulomb: f64, breakaway: f64, stribeck_speed: f64) -> Friction {
+    Friction {
+        coulomb: Some(coulomb),
+        breakaway: Some(breakaway),
+        stribeck_speed: Some(stribeck_speed),
+        ..Default::default()
+    }
+}
+
+/// The law takes F_c, with F_s = F_c and c_v = 0 by default; a drop needs its speed, F_s < F_c
+/// and a law without F_c are refused with the key and the value; measured torques alone are no
+/// law (they are friction of the rigid-body rotation).
+#[test]
+fn a_cards_friction_law_is_read_and_refused() {
+    let only_coulomb = with_friction(Friction {
+        coulomb: Some(2.0),
+        ..Default::default()
+    });
+    let l = law(&only_coulomb).unwrap().unwrap();
+    assert_eq!((l.coulomb, l.breakaway, l.viscous), (2.0, 2.0, 0.0));
+    let measured = with_friction(Friction {
+        starting: Some(0.04),
+        backdriving: Some(3.9),
+        ..Default::default()
+    });
+    assert_eq!(law(&measured).unwrap(), None);
+    let sources = &builtin().sources;
+    for (f, key, value) in [
+        (fitted(2.0, 1.0, 0.1), "friction.breakaway", "1"),
+        (
+            Friction {
+                stribeck_speed: None,
+                ..fitted(1.0, 2.0, 0.1)
+            },
+            "friction.stribeck_speed",
+            "(absent)",
+        ),
+        (
+            Friction {
+                viscous: Some(0.3),
+                ..Default::default()
+            },
+            "friction.coulomb",
+            "(absent)",
+        ),
+    ] {
+        let c = with_friction(f);
+        let e = c.validate(sources).unwrap_err().to_string();
+        assert!(
+            e.contains(key) && e.contains(value) && e.contains("CSG-20-50"),
+            "{e}"
+        );
+    }
+}
+
+/// The reduced law, against the scales written out here from the drive: a torque over
+/// C⁴/(k2 φ J_eq²) (μ's scale), a speed over L/T = C³/(k2 φ J_eq²), c_v over C.
+#[test]
+fn the_reduced_friction_scales_as_the_load() {
+    let c = with_friction(Friction {
+        viscous: Some(0.29),
+        ..fitted(1.0, 6.0, 0.13)
+    });
+    let d = assemble(&c, None, None).unwrap().drive;
+    let l = law(&c).unwrap().unwrap();
+    let n2ji = d.ratio * d.ratio * d.j_in;
+    let j = n2ji * d.j_out / (n2ji + d.j_out);
+    let (c4, kpj2) = (d.c_eq.powi(4), d.k2 * d.backlash * j * j);
+    let r = l.reduced(&d, &d.reduce().unwrap());
+    let rel = |a: f64, b: f64| ((a - b) / b).abs();
+    assert!(rel(r.fc, 1.0 * kpj2 / c4) < 1e-12, "{}", r.fc);
+    assert!(rel(r.fs, 6.0 * kpj2 / c4) < 1e-12, "{}", r.fs);
+    assert!(
+        rel(r.vst, 0.13 * kpj2 / d.c_eq.powi(3)) < 1e-12,
+        "{}",
+        r.vst
+    );
+    assert!(rel(r.cv, 0.29 / d.c_eq) < 1e-12, "{}", r.cv);
+    // μ = T_m on the same scale
+    let p = d.reduce().unwrap().params;
+    assert!(rel(p.mu, d.t_m * kpj2 / c4) < 1e-12);
+}
+
+/// At rest the load's swing that twists the drive is T_am·J_eq/J_o (the rest swings the
+/// rigid-body mode): from rest at the mean load the drive first slips when it exceeds F_s. With
+/// a sharp Stribeck drop (2 N m over v_s ≪ the slip's speed) the first slip is a large burst, so
+/// the T_am margin lands on that closed form within the search's resolution (12 halvings of a
+/// factor-2 bracket in log2: 2^(2^-12) − 1 = 1.7e-4), the same for v_s = 1e-3 and 1e-4 rad/s;
+/// below it the drive sticks throughout, above it the verdict is stick-slip.
+#[test]
+fn the_sticking_band_sets_the_load_of_the_first_slip() {
+    let resolution = (2f64.powf(2f64.powi(-12)) - 1.0) * 1.01;
+    for vs in [1e-3, 1e-4] {
+        let c = with_friction(fitted(1.0, 3.0, vs));
+        let d = assemble(&c, None, None).unwrap().drive;
+        let r = check(&c, &d, &BurstOptions::default()).unwrap().unwrap();
+        let now = r.outcome.unwrap();
+        let q = r.load_over_breakaway.unwrap();
+        assert!(q < 1.0, "{q}");
+        assert_eq!(now.outcome.judgement.verdict, Some(Verdict::NoBursts));
+        assert_eq!(now.sticking.unwrap().stuck_fraction, 1.0);
+        let j_eq = d.reduce().unwrap().j_eq;
+        let threshold = 3.0 * d.j_out / j_eq;
+        let m = r
+            .margins
+            .iter()
+            .find(|m| m.parameter == FrictionKnob::TAm)
+            .unwrap();
+        let b = m.boundary_value.unwrap();
+        println!("v_s = {vs}: T_am boundary {b:.6} N m, F_s J_o/J_eq = {threshold:.6} N m");
+        assert!(((b - threshold) / threshold).abs() < resolution, "{b}");
+        assert_eq!(
+            m.outside.unwrap().judgement.verdict,
+            Some(Verdict::StickSlip)
+        );
+        assert_eq!(m.inside.unwrap().judgement.verdict, Some(Verdict::NoBursts));
+    }
+}
+
+/// Without friction (F_c = F_s = 0) the verdict with the law is the study's, on drives whose
+/// reduction is one of the study's four points, with ε = 1/α (two bursting, two not).
+#[test]
+fn without_friction_the_verdict_is_the_studys() {
+    let law = FrictionLaw {
+        coulomb: 0.0,
+        breakaway: 0.0,
+        stribeck_speed: 1.0,
+        viscous: 0.0,
+    };
+    let opts = BurstOptions::default();
+    let mut bursting = 0;
+    for gamma in [30.0, 10.0, 1.0, 0.1] {
+        // the study's point with ε = 1/α: a physical drive reduces to α·ε = 1 only
+        let s = Params::default();
+        let p = Params {
+            gamma,
+            eps: 1.0 / s.alpha,
+            ..s
+        };
+        let d = PhysicalParams::from_dimensionless(&p, 5e-5, 0.05, 50.0, 2.0, 2.9e-4).unwrap();
+        let study = judge(&d, &opts).unwrap();
+        let with = judge_friction(&d, &law, &opts).unwrap().unwrap();
+        println!("γ = {gamma}: {}", study.label());
+        assert_eq!(with.outcome.judgement, study, "γ = {gamma}");
+        bursting += usize::from(study.bursting);
+    }
+    assert_eq!(bursting, 2);
+}
+
+/// The load map gives, at each point, the verdict with the card's friction (the one
+/// [`judge_friction`] gives there), and none for a card without a law.
+#[test]
+fn the_load_map_carries_the_friction_verdict() {
+    let c = with_friction(fitted(1.0, 6.0, 0.13));
+    let sources = &builtin().sources;
+    let opts = BurstOptions::default();
+    let grid = MapGrid {
+        t_am_max: 33.0,
+        amplitudes: 2,
+        hz: (0.1, 0.3),
+        frequencies: 2,
+    };
+    let map = load_map(&c, sources, DampingChoice::HysteresisLoss, &grid, &opts).unwrap();
+    let check = check_card(&c, sources, DampingChoice::HysteresisLoss, &opts).unwrap();
+    let l = law(&c).unwrap().unwrap();
+    let mut slips = 0;
+    for p in &map {
+        let d = PhysicalParams {
+            t_am: p.t_am,
+            omega: std::f64::consts::TAU * p.frequency_hz,
+            ..check.summary.drive
+        };
+        let j = judge_friction(&d, &l, &opts)
+            .unwrap()
+            .map(|o| o.outcome.judgement);
+        assert_eq!(p.friction, j);
+        slips += usize::from(j.unwrap().verdict == Some(Verdict::StickSlip));
+    }
+    // 16.5 and 33 N m swing the twist by far more than F_s = 6 N m: every point slips
+    assert_eq!(slips, 4);
+    let plain = builtin_card("CSG-20-50").unwrap();
+    let map = load_map(plain, sources, DampingChoice::HysteresisLoss, &grid, &opts).unwrap();
+    assert!(map.iter().all(|p| p.friction.is_none()));
+}
