@@ -149,3 +149,58 @@ fn slow_simulations_follow_the_branches_at_first_order_in_omega() {
         );
     }
 }
+
+/// The spiking areas the branches predict — each branch's steepest point (its smallest tangent
+/// stiffness) and its start (the breakaway after a reversal) — are where the simulated bursts
+/// start: every burst's onset a lies within 0.15 (15 % of the slow variable's amplitude) of the
+/// nearest prediction on its own branch (loading while a rises), for Coulomb friction, Bouc–Wen
+/// hysteresis and LuGre friction, and nearer at a load twice as slow (the onset lags the
+/// steepest point by a time the slower load turns into less a).
+#[test]
+fn bursts_start_where_the_branches_predict_spiking() {
+    let cases: [(f64, &str, &[f64]); 7] = [
+        (1.0, "coulomb", &[0.5, 0.5, 0.1, 0.0]),
+        (1.0, "coulomb", &[2.0, 2.0, 0.1, 0.0]),
+        (0.5, "coulomb", &[1.0, 1.0, 0.1, 0.0]),
+        (0.3, "coulomb", &[0.2, 0.2, 0.1, 0.0]),
+        (1.0, "boucwen", &[0.5, 0.0, 1.0, 0.5, 0.5, 1.0]),
+        (0.5, "boucwen", &[1.0, 0.0, 1.0, 0.5, 0.5, 2.0]),
+        (1.0, "lugre", &[0.5, 0.8, 0.05, 100.0, 2.0, 0.0]),
+    ];
+    let opts = hdgear::burst::BurstOptions::default();
+    let mut worst = Vec::new();
+    for omega in [0.01, 0.005] {
+        let mut max_err: f64 = 0.0;
+        for (gamma, kind, values) in cases {
+            let m = with(&at(gamma, omega), kind, values);
+            let b = m.branches().unwrap();
+            let predicted = |br: &Branch| -> Vec<f64> {
+                br.min_stiffness
+                    .map(|(a, _)| a)
+                    .into_iter()
+                    .chain(br.breakaway)
+                    .collect()
+            };
+            let (up, down) = (predicted(&b.loading), predicted(&b.unloading));
+            let r = hdgear::burst::response_model(&m, &opts).unwrap();
+            assert!(!r.bursts.is_empty(), "γ = {gamma} {kind}: no bursts");
+            for burst in &r.bursts {
+                let rising = (omega * burst.t_peak).cos() > 0.0;
+                let near = if rising { &up } else { &down };
+                let err = near
+                    .iter()
+                    .map(|a| (burst.a_onset - a).abs())
+                    .fold(f64::INFINITY, f64::min);
+                assert!(
+                    err <= 0.15,
+                    "ω = {omega}, γ = {gamma} {kind}: onset {} vs {near:?}",
+                    burst.a_onset
+                );
+                max_err = max_err.max(err);
+            }
+        }
+        println!("ω = {omega}: largest distance of an onset from its prediction {max_err:.4}");
+        worst.push(max_err);
+    }
+    assert!(worst[1] < worst[0], "{worst:?}");
+}

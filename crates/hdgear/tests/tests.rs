@@ -15,6 +15,7 @@ mod dither;
 mod domain;
 mod fast;
 mod friction;
+mod friction_reference;
 mod integrate;
 mod kinematic;
 mod memory;
