@@ -106,6 +106,10 @@ impl Command {
 pub struct ModelArgs {
     #[command(flatten)]
     pub params: ParamArgs,
+    /// Also give the quasi-static loading and unloading branches x±(a) of the steady loop under
+    /// a ∈ [−1, 1]: breakaways, steepest points (spiking areas), folds; with --json every point.
+    #[arg(long)]
+    pub branches: bool,
     /// Print JSON (for programs) instead of text.
     #[arg(long)]
     pub json: bool,

@@ -1,7 +1,7 @@
 //! `hdgear model` and the scenario's term tables: the assembled model printed, simulated, and
 //! refused where a command runs the study's model only.
 
-use crate::common::{hdgear, json_of};
+use crate::common::{hdgear, json_of, stdout_of};
 use predicates::prelude::*;
 
 fn scenario(dir: &std::path::Path, name: &str, text: &str) -> String {
@@ -229,4 +229,28 @@ fn bursts_judges_a_scenario_with_sticking_friction() {
         .stderr(predicate::str::contains(
             "takes neither a dither nor a delay",
         ));
+}
+
+/// `model --branches` summarises the quasi-static branches (and gives every point in JSON):
+/// with Coulomb friction f the drive leaves rest after a reversal once the load has moved 2f.
+#[test]
+fn model_prints_the_quasi_static_branches() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = dir.path().join("c.toml");
+    std::fs::write(&f, "[params]\ngamma = 1.0\n[coulomb]\nfc = 0.5\nfs = 0.5\n").unwrap();
+    let p = f.to_str().unwrap();
+    let text = stdout_of(&["model", "--config", p, "--branches"]);
+    assert!(
+        text.contains("loading   leaves rest at a = -0.933333"),
+        "{text}"
+    );
+    let j = json_of(&["model", "--config", p, "--branches", "--json"]);
+    let b = &j["branches"]["unloading"];
+    assert!((b["breakaway"].as_f64().unwrap() - (1.0 - 1.0 / 15.0)).abs() < 1e-9);
+    assert!(b["points"].as_array().unwrap().len() > 1000);
+    assert!(
+        json_of(&["model", "--config", p, "--json"])
+            .get("branches")
+            .is_none()
+    );
 }

@@ -204,3 +204,31 @@ fn bursts_start_where_the_branches_predict_spiking() {
     }
     assert!(worst[1] < worst[0], "{worst:?}");
 }
+
+/// The steepest point of a branch, against the closed form: with Coulomb friction f_c = f_s = f
+/// the branches are the study's curve shifted by ∓f, so the smallest tangent stiffness is
+/// γ − 1/(3α), at x = 1/(3α) and a = (g(1/(3α)) ± f − μ)/δ. The points near a steep point lie far
+/// apart in x (dx/da = δ/K_t); the parabola through the smallest and its neighbours gives K_t
+/// exactly (g' is quadratic) and the Hermite interpolant of x(a) its a to a few 1e-6.
+#[test]
+fn the_steepest_point_is_located_between_the_points() {
+    for (gamma, f) in [(1.0, 0.5), (0.1, 0.0), (0.3, 2.0)] {
+        let p = at(gamma, 0.01);
+        let m = with(&p, "coulomb", &[f, f, 0.1, 0.0]);
+        let b = m.branches().unwrap();
+        let x = 1.0 / (3.0 * p.alpha);
+        let g = p.alpha * x * x * x - x * x + p.gamma * (x - p.eps);
+        for (br, sign) in [(&b.loading, 1.0), (&b.unloading, -1.0)] {
+            let (a, k) = br.min_stiffness.unwrap();
+            let a_exact = (g + sign * f - p.mu) / p.delta;
+            let k_exact = p.gamma - 1.0 / (3.0 * p.alpha);
+            println!(
+                "γ = {gamma}, f = {f}, side {sign}: a error {:.1e}, K_t error {:.1e}",
+                a - a_exact,
+                k - k_exact
+            );
+            assert!((a - a_exact).abs() < 1e-5, "{a} vs {a_exact}");
+            assert!((k - k_exact).abs() < 1e-9 * k_exact, "{k} vs {k_exact}");
+        }
+    }
+}

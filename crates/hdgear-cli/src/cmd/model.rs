@@ -5,6 +5,7 @@ use crate::sink::{outln, warn};
 use anyhow::Result;
 use hdgear::control::Averaging;
 use hdgear::model::Description;
+use hdgear::model::branches::Branches;
 use serde::Serialize;
 
 /// What `model --json` prints: the description and, for a model with a fast periodic torque,
@@ -15,6 +16,8 @@ struct Doc {
     description: Description,
     #[serde(skip_serializing_if = "Option::is_none")]
     averaged: Option<Averaging>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    branches: Option<Branches>,
 }
 
 pub fn run(a: ModelArgs) -> Result<()> {
@@ -22,10 +25,12 @@ pub fn run(a: ModelArgs) -> Result<()> {
     warn(&warnings);
     let d = model.describe();
     let averaged = Averaging::of(&model);
+    let branches = a.branches.then(|| model.branches()).transpose()?;
     if a.json {
         let doc = Doc {
             description: d,
             averaged,
+            branches,
         };
         outln!("{}", serde_json::to_string_pretty(&doc)?);
         return Ok(());
@@ -66,6 +71,34 @@ pub fn run(a: ModelArgs) -> Result<()> {
     print_facts(&d.facts)?;
     if let (Some(av), Some(fast)) = (averaged, model.dither()) {
         print_averaging(&av, fast)?;
+    }
+    if let Some(b) = &branches {
+        print_branches(b)?;
+    }
+    Ok(())
+}
+
+/// The summary of the quasi-static branches.
+fn print_branches(b: &Branches) -> Result<()> {
+    outln!();
+    outln!(
+        "quasi-static branches under a from -1 to 1 and back (the steady loop, closed to {:.1e}):",
+        b.closure
+    );
+    for (name, br) in [("loading", &b.loading), ("unloading", &b.unloading)] {
+        outln!(
+            "  {name:<9} {}; steepest at {}; {}; {} points",
+            br.breakaway.map_or(
+                "never leaves rest (the band holds the whole load)".into(),
+                |a| format!("leaves rest at a = {a:.6}")
+            ),
+            br.min_stiffness
+                .map_or("-".into(), |(a, k)| format!("a = {a:.6} (K_t = {k:.6})")),
+            br.fold.map_or("no fold".into(), |a| format!(
+                "a fold (a jump) at a = {a:.6}"
+            )),
+            br.points.len()
+        );
     }
     Ok(())
 }

@@ -180,9 +180,6 @@ impl Model {
         let push = |a: f64, y: &[f64; 1 + MAX_STATES], b: &mut Branch| {
             let z = std::array::from_fn(|j| y[1 + j]);
             let k = self.creep(s, y[0], &z).1;
-            if b.min_stiffness.is_none_or(|(_, m)| k < m) {
-                b.min_stiffness = Some((a, k));
-            }
             b.points.push(BranchPoint {
                 a,
                 x: y[0],
@@ -197,13 +194,64 @@ impl Model {
                 Some(next) => y = next,
                 None => {
                     branch.fold = Some(a);
+                    branch.min_stiffness = steepest(&branch.points, delta);
                     return branch;
                 }
             }
             push(a + h, &y, &mut branch);
         }
+        branch.min_stiffness = steepest(&branch.points, delta);
         branch
     }
+}
+
+/// The smallest tangent stiffness on a branch, with its a: the smallest of the points, refined
+/// by the parabola in x through it and its two neighbours (exact where K_t is quadratic in x, as
+/// the study's g'(x) is; near a steep point the points lie far apart in x, since dx/da = δ/K_t).
+/// a at the vertex is where the segment's cubic Hermite x(a) (slopes δ/K_t) reaches it.
+fn steepest(points: &[BranchPoint], delta: f64) -> Option<(f64, f64)> {
+    let i =
+        (0..points.len()).min_by(|&i, &j| points[i].stiffness.total_cmp(&points[j].stiffness))?;
+    let sample = Some((points[i].a, points[i].stiffness));
+    if i == 0 || i + 1 == points.len() {
+        return sample;
+    }
+    let [p, q, r] = [&points[i - 1], &points[i], &points[i + 1]];
+    let (d1, d2) = (
+        (q.stiffness - p.stiffness) / (q.x - p.x),
+        (r.stiffness - q.stiffness) / (r.x - q.x),
+    );
+    let curvature = (d2 - d1) / (r.x - p.x);
+    if !(curvature > 0.0 && curvature.is_finite()) {
+        return sample;
+    }
+    // K(x) = K_q + d1 (x − x_q) + c (x − x_q)(x − x_p): its vertex
+    let xv = 0.5 * (q.x + p.x) - d1 / (2.0 * curvature);
+    let (lo, hi) = if (xv - q.x) * (p.x - q.x) > 0.0 {
+        (p, q)
+    } else {
+        (q, r)
+    };
+    if !((lo.x.min(hi.x)..=lo.x.max(hi.x)).contains(&xv)) {
+        return sample;
+    }
+    let k = q.stiffness + d1 * (xv - q.x) + curvature * (xv - q.x) * (xv - p.x);
+    // a where x = xv on the segment: x(a) as the cubic Hermite of its ends, whose slopes
+    // dx/da = δ/K_t are the field's (fourth order in the step, as the points are)
+    let (h, slope) = (hi.a - lo.a, |b: &BranchPoint| delta / b.stiffness);
+    let x_at = |t: f64| {
+        let (t2, t3) = (t * t, t * t * t);
+        (2.0 * t3 - 3.0 * t2 + 1.0) * lo.x
+            + (t3 - 2.0 * t2 + t) * h * slope(lo)
+            + (-2.0 * t3 + 3.0 * t2) * hi.x
+            + (t3 - t2) * h * slope(hi)
+    };
+    let rising = hi.x > lo.x;
+    let (t0, t1) = crate::roots::bisect(0.0, 1.0, 60, crate::roots::at_resolution, |t| {
+        (x_at(t) < xv) == rising
+    });
+    let a = lo.a + h * 0.5 * (t0 + t1);
+    Some((a, k.min(q.stiffness)))
 }
 
 /// One classical RK4 step of `f` (None where the field is, at a fold).
