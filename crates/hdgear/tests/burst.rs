@@ -14,30 +14,9 @@ fn paper(gamma: f64) -> Params {
 
 /// The 20 parameter sets of `tests/data/burst_cases.json` with their reference block.
 fn reference_cases() -> Vec<(String, Params, serde_json::Value)> {
-    let path = crate::common::data("burst_cases.json");
-    let text = std::fs::read_to_string(&path).unwrap();
-    let v: serde_json::Value = serde_json::from_str(&text).unwrap();
-    v["cases"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|c| {
-            let q = &c["params"];
-            let f = |k: &str| q[k].as_f64().unwrap();
-            let p = Params {
-                alpha: f("alpha"),
-                gamma: f("gamma"),
-                eps: f("eps"),
-                mu: f("mu"),
-                delta: f("delta"),
-                omega: f("omega"),
-            };
-            (
-                c["id"].as_str().unwrap().to_string(),
-                p,
-                c["reference"].clone(),
-            )
-        })
+    crate::common::reference_cases("burst_cases.json")
+        .into_iter()
+        .map(|(id, p, c)| (id, p, c["reference"].clone()))
         .collect()
 }
 

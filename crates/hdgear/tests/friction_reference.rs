@@ -3,30 +3,15 @@
 //! stick/slip loop for sticking friction, the signatures written from the guide's definitions),
 //! on cases drawn at random from ranges fixed before any was run.
 
-use hdgear::Params;
 use hdgear::burst::{BurstOptions, classify, response_model};
 use hdgear::model::Model;
 use hdgear::model::terms::AnyTerm;
 
 /// Every case: the model, its term's kind and the reference block.
 fn cases() -> Vec<(String, Model, serde_json::Value)> {
-    let text = std::fs::read_to_string(crate::common::data("friction_cases.json")).unwrap();
-    let v: serde_json::Value = serde_json::from_str(&text).unwrap();
-    v["cases"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|c| {
-            let q = &c["params"];
-            let f = |k: &str| q[k].as_f64().unwrap();
-            let p = Params {
-                alpha: f("alpha"),
-                gamma: f("gamma"),
-                eps: f("eps"),
-                mu: f("mu"),
-                delta: f("delta"),
-                omega: f("omega"),
-            };
+    crate::common::reference_cases("friction_cases.json")
+        .into_iter()
+        .map(|(id, p, c)| {
             let values: Vec<f64> = c["values"]
                 .as_array()
                 .unwrap()
@@ -35,11 +20,7 @@ fn cases() -> Vec<(String, Model, serde_json::Value)> {
                 .collect();
             let term = AnyTerm::new(c["term"].as_str().unwrap(), &values).unwrap();
             let m = Model::study(&p).with_term(term).unwrap();
-            (
-                c["id"].as_str().unwrap().to_string(),
-                m,
-                c["reference"].clone(),
-            )
+            (id, m, c["reference"].clone())
         })
         .collect()
 }

@@ -11,6 +11,31 @@ pub fn data(name: &str) -> PathBuf {
         .join(name)
 }
 
+/// The cases of a reference file (`tests/data/NAME`, a JSON document with a `cases` list), each
+/// with its id, its parameter set (`params`) and the whole case.
+pub fn reference_cases(name: &str) -> Vec<(String, hdgear::Params, serde_json::Value)> {
+    let text = std::fs::read_to_string(data(name)).unwrap();
+    let v: serde_json::Value = serde_json::from_str(&text).unwrap();
+    v["cases"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| {
+            let q = &c["params"];
+            let f = |k: &str| q[k].as_f64().unwrap();
+            let p = hdgear::Params {
+                alpha: f("alpha"),
+                gamma: f("gamma"),
+                eps: f("eps"),
+                mu: f("mu"),
+                delta: f("delta"),
+                omega: f("omega"),
+            };
+            (c["id"].as_str().unwrap().to_string(), p, c.clone())
+        })
+        .collect()
+}
+
 /// The reference trajectories of the study's four γ (`tests/data/paper_trajectories.csv`):
 /// rows (gamma, x0, v0, t, x, xdot).
 pub fn reference_rows() -> Vec<[f64; 6]> {
