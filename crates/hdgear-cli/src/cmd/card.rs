@@ -538,7 +538,8 @@ fn friction_lines(
     let Some(o) = &f.outcome else {
         let _ = writeln!(
             s,
-            "with friction: not judged (the reduced load frequency is too low, or the response              too long, to simulate)"
+            "with friction: not judged (the reduced load frequency is too low, or the response \
+             too long, to simulate)"
         );
         return;
     };
