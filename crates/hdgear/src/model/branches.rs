@@ -190,14 +190,11 @@ impl Model {
         push(a0, &y, &mut branch);
         for i in 0..n {
             let a = a0 + h * i as f64;
-            match rk4(&field, &y, h) {
-                Some(next) => y = next,
-                None => {
-                    branch.fold = Some(a);
-                    branch.min_stiffness = steepest(&branch.points, delta);
-                    return branch;
-                }
-            }
+            let Some(next) = rk4(&field, &y, h) else {
+                branch.fold = Some(a);
+                break;
+            };
+            y = next;
             push(a + h, &y, &mut branch);
         }
         branch.min_stiffness = steepest(&branch.points, delta);

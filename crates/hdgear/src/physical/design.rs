@@ -57,6 +57,16 @@ pub struct Judgement {
 }
 
 impl Judgement {
+    /// The verdict of a simulated response, as its classification gives it.
+    pub fn simulated(c: &crate::burst::Classification) -> Judgement {
+        Judgement {
+            bursting: c.bursting,
+            verdict: Some(c.verdict),
+            fast_slow_domain: c.fast_slow_domain,
+            basis: Basis::Simulation,
+        }
+    }
+
     /// The verdict's name, or `bursting (predicted)` / `no-bursts (predicted)` when predicted.
     pub fn label(&self) -> &'static str {
         match (self.verdict, self.bursting) {
@@ -210,13 +220,7 @@ fn decide(p: &crate::Params, simulated: Option<Result<crate::burst::Response>>) 
     match simulated {
         Some(Ok(resp)) => {
             let c = classify(p, &resp);
-            let j = Judgement {
-                bursting: c.bursting,
-                verdict: Some(c.verdict),
-                fast_slow_domain: c.fast_slow_domain,
-                basis: Basis::Simulation,
-            };
-            return Ok((j, Some(c), Some(resp)));
+            return Ok((Judgement::simulated(&c), Some(c), Some(resp)));
         }
         Some(Err(crate::Error::Solver(crate::error::SolverError::TooManySteps { .. }))) | None => {}
         Some(Err(e)) => return Err(e),
@@ -267,16 +271,20 @@ fn margin(
     })
 }
 
-/// A search's bracket in log2 of the factor (`None`: no crossing), and why it stopped short.
-type Crossing = (Option<(f64, f64)>, Option<String>);
+/// The two ends of a search's bracket, each as (log2 of the factor, its verdict): the last one
+/// with the drive's verdict and the first one with the other.
+type Bracket = [(f64, Judgement); 2];
+
+/// A search's bracket (`None`: no crossing), and why it stopped short.
+type Crossing = (Option<Bracket>, Option<String>);
 
 /// Why a factor has no verdict.
 fn unjudged(f: f64) -> String {
     format!("x{f} cannot be judged (its response needs more steps than a search allows)")
 }
 
-/// The first f = 2^k, k = ±1 … ±6 (nearer to 1 first), whose verdict differs from `now`, as the
-/// bracket (log2 of the last f with `now`'s verdict, log2 f) — or none, with why the search
+/// The first f = 2^k, k = ±1 … ±6 (nearer to 1 first), whose verdict differs from `now`, with
+/// the last f before it on that side (f = 1 is `now` itself) — or none, with why the search
 /// stopped on a side (the first such reason).
 fn first_crossing(
     now: Judgement,
@@ -284,6 +292,7 @@ fn first_crossing(
 ) -> Result<Crossing> {
     let mut refused: Option<String> = None;
     let mut blocked = [false, false];
+    let mut inside = [(0.0, now); 2];
     for k in 1..=6 {
         for (i, sign) in [-1.0, 1.0].into_iter().enumerate() {
             if blocked[i] {
@@ -306,8 +315,9 @@ fn first_crossing(
                 continue;
             }
             if j.bursting != now.bursting {
-                return Ok((Some((lf - sign, lf)), None));
+                return Ok((Some([inside[i], (lf, j)]), None));
             }
+            inside[i] = (lf, j);
         }
     }
     Ok((None, refused))
@@ -343,7 +353,7 @@ pub(crate) fn search_margin<P>(
         outside: None,
         refused: None,
     };
-    let Some((a, b)) = found else {
+    let Some([(a, mut ja), (b, mut jb)]) = found else {
         margin.refused = refused;
         return Ok(margin);
     };
@@ -352,14 +362,6 @@ pub(crate) fn search_margin<P>(
     let judged = |lf: f64| -> std::result::Result<Judgement, Option<crate::Error>> {
         at_log(lf).map_err(Some)?.ok_or(None)
     };
-    let (mut ja, mut jb) = (
-        if a == 0.0 {
-            now
-        } else {
-            at_log(a)?.unwrap_or(now)
-        },
-        at_log(b)?.unwrap_or(now),
-    );
     let mut last = b;
     // twelve halvings in log2 of the factor: the bracket's ends are simulated and kept
     let bracket = crate::roots::try_bisect(a, b, 12, crate::roots::all_rounds, |m| {

@@ -21,7 +21,7 @@
 
 use super::PhysicalParams;
 use super::card::Card;
-use super::design::{Basis, Judgement, Margin, Outcome, search_margin, search_options};
+use super::design::{Judgement, Margin, Outcome, search_margin, search_options};
 use crate::burst::{BurstOptions, Sticking, classify, response_model};
 use crate::error::{Error, Result, SolverError};
 use crate::model::Model;
@@ -202,8 +202,12 @@ impl FrictionLaw {
 /// The reduced model of drive `d` with friction `law`: the study's equation and the `coulomb`
 /// term.
 pub fn drive_model(d: &PhysicalParams, law: &FrictionLaw) -> Result<Model> {
-    let r = d.reduce()?;
-    let f = law.reduced(d, &r);
+    reduced_model(d, law, &d.reduce()?)
+}
+
+/// [`drive_model`] with `d`'s reduction `r` at hand.
+fn reduced_model(d: &PhysicalParams, law: &FrictionLaw, r: &super::Reduction) -> Result<Model> {
+    let f = law.reduced(d, r);
     Model::study(&r.params).with_term(AnyTerm::new("coulomb", &[f.fc, f.fs, f.vst, f.cv])?)
 }
 
@@ -227,8 +231,8 @@ pub fn judge(
     law: &FrictionLaw,
     opts: &BurstOptions,
 ) -> Result<Option<FrictionOutcome>> {
-    let m = drive_model(d, law)?;
     let r = d.reduce()?;
+    let m = reduced_model(d, law, &r)?;
     if r.params.omega < super::design::MIN_SIMULATED_OMEGA {
         return Ok(None);
     }
@@ -240,12 +244,7 @@ pub fn judge(
     let c = classify(&r.params, &resp);
     Ok(Some(FrictionOutcome {
         outcome: Outcome {
-            judgement: Judgement {
-                bursting: c.bursting,
-                verdict: Some(c.verdict),
-                fast_slow_domain: c.fast_slow_domain,
-                basis: Basis::Simulation,
-            },
+            judgement: Judgement::simulated(&c),
             mode: Some(c.mode),
             mechanism: Some(c.mechanism),
         },
