@@ -284,8 +284,8 @@ fn notes(s: &mut String, doc: &Comparison) {
         );
     }
     s.push_str(
-        "peak: closed-loop peak |x'| over the open loop's; energy: the fast mode's about the moving \
-         equilibrium, closed over open; ũ: the control torque on μ's scale (a non-zero mean drives \
+        "peak: closed-loop peak |x'| over the open loop's; energy: the fast mode's, the mean \
+         kinetic energy x'²/2, closed over open; ũ: the control torque on μ's scale (a non-zero mean drives \
          the rigid-body mode); shift: the change of x over the curve's extent X at the load's \
          extremes and anywhere; robust gain ×: the gain that keeps every plant within the model \
          error burst-free, over the least gain\n",

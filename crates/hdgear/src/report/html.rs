@@ -482,8 +482,8 @@ fn control(h: &mut String, r: &Report) {
          the model, tuned to the least gain that removes the bursts (the gain below it still \
          bursts): virtual stiffness ũ = −k<sub>p</sub>x, virtual damping ũ = −k<sub>d</sub>x', \
          washout ũ = −k<sub>w</sub>(x − ξ), ξ' = ω<sub>w</sub>(x − ξ) with ω<sub>w</sub> = 0.1. \
-         Peak: closed-loop peak |x'| over the open loop's; energy: the fast mode's about the \
-         moving equilibrium, closed over open; shift: the change of x over the curve's extent at \
+         Peak: closed-loop peak |x'| over the open loop's; energy: the fast mode's, the mean \
+         kinetic energy x'²/2, closed over open; shift: the change of x over the curve's extent at \
          the load's extremes and anywhere; robust: the gain that keeps every plant with α, γ, ε, \
          μ, δ within ±20 % burst-free, over the least gain (figure <a href=\"#fig-control-xdot\">\
          control-xdot</a>).</p>\n",
