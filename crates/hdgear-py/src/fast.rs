@@ -3,8 +3,10 @@
 use crate::convert::{Detection, err, invalid, to_py};
 use crate::params::Params;
 use numpy::IntoPyArray;
+use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
+use std::collections::BTreeMap;
 
 /// The equilibria at `a`, as a dict.
 #[pyfunction]
@@ -53,6 +55,27 @@ pub(crate) fn curve<'py>(
         .collect();
     d.set_item("branch", branch)?;
     Ok(d)
+}
+
+/// The quasi-static branches of the study's model with extra `terms` ({kind: {key: value}}, as a
+/// scenario file's tables), as `hdgear model --branches --json` prints them.
+#[pyfunction]
+#[pyo3(signature = (params, terms))]
+pub(crate) fn branches<'py>(
+    py: Python<'py>,
+    params: &Params,
+    terms: BTreeMap<String, BTreeMap<String, f64>>,
+) -> PyResult<Bound<'py, PyAny>> {
+    let mut model = hdgear::model::Model::study(&params.inner);
+    for (name, table) in &terms {
+        let named = table.iter().map(|(k, &v)| (k.as_str(), v));
+        let (kind, values) = hdgear::scenario::term_values(name, named)
+            .map_err(|e| PyValueError::new_err(format!("invalid terms: {e}")))?;
+        let term = hdgear::model::terms::AnyTerm::new(kind, &values).map_err(err)?;
+        model = model.with_term(term).map_err(err)?;
+    }
+    let b = py.detach(|| model.branches()).map_err(err)?;
+    to_py(py, &b)
 }
 
 /// What `hdgear analyze --json` prints, as a dict.

@@ -34,6 +34,7 @@ fn _hdgear(m: &Bound<'_, PyModule>) -> PyResult<()> {
         wrap_pyfunction!(simulate::time_simulate_in_rust, m)?,
         wrap_pyfunction!(fast::equilibria, m)?,
         wrap_pyfunction!(fast::curve, m)?,
+        wrap_pyfunction!(fast::branches, m)?,
         wrap_pyfunction!(fast::analyze, m)?,
         wrap_pyfunction!(sweep::sweep, m)?,
         wrap_pyfunction!(sweep::bursts, m)?,

@@ -182,6 +182,29 @@ def test_equilibria_and_curve():
         hdgear.curve(points=1)
 
 
+def test_branches_equal_the_cli_and_the_closed_form(tmp_path):
+    """With sticking Coulomb friction the loading branch is the equilibrium curve with the load
+    less f_c: g(x) + f_c = mu + delta*a at every point, g written out here."""
+    p = hdgear.Params(gamma=1.0)
+    terms = {"coulomb": {"fc": 0.5, "fs": 0.5}}
+    b = hdgear.branches(terms, p)
+    (tmp_path / "b.toml").write_text("[params]\ngamma = 1.0\n\n[coulomb]\nfc = 0.5\nfs = 0.5\n")
+    doc = cli_json("model", "--config", str(tmp_path / "b.toml"), "--branches", "--json")
+    assert b.to_dict() == doc["branches"]
+    a, x = np.array([q["a"] for q in b.loading.points]), np.array([q["x"] for q in b.loading.points])
+    g = p.alpha * x**3 - x**2 + p.gamma * (x - p.eps)
+    assert len(a) > 1000
+    assert np.max(np.abs(g + 0.5 - p.mu - p.delta * a)) < 1e-9
+    with pytest.raises(ValueError, match="unknown term pid"):
+        hdgear.branches({"pid": {}}, p)
+    with pytest.raises(ValueError, match="unknown key f_c in \\[coulomb\\]"):
+        hdgear.branches({"coulomb": {"f_c": 0.5}}, p)
+    with pytest.raises(ValueError, match="fc"):
+        hdgear.branches({"coulomb": {"fc": -1.0}}, p)
+    with pytest.raises(TypeError):
+        hdgear.branches([("coulomb", {})], p)
+
+
 def test_analyze_equals_the_cli_json():
     for g in ("30", "1", "0.1"):
         r = hdgear.analyze(hdgear.Params(gamma=float(g)))

@@ -69,54 +69,111 @@ impl Scenario {
 /// its defaults for the others).
 type TermTable = (&'static str, Vec<f64>);
 
+/// Why a term's named values cannot be read ([`term_values`]).
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum TermTableError {
+    /// No extra term has this kind.
+    #[error("unknown term {name} (known: {})", known.join(", "))]
+    UnknownKind {
+        /// The kind given.
+        name: String,
+        /// The extra terms' kinds.
+        known: Vec<&'static str>,
+    },
+    /// The term has no parameter of this name.
+    #[error("unknown key {key} in [{name}] (known: {})", known.join(", "))]
+    UnknownKey {
+        /// The term's kind.
+        name: String,
+        /// The key given.
+        key: String,
+        /// The term's parameters.
+        known: Vec<&'static str>,
+    },
+}
+
+/// The kinds of the terms a model may add to the study's own (whose values come from
+/// [`crate::Params`]).
+pub fn extra_kinds() -> impl Iterator<Item = &'static str> {
+    crate::model::terms::AnyTerm::KINDS
+        .iter()
+        .map(|k| k.0)
+        .filter(|k| crate::model::Model::is_extra_kind(k))
+}
+
+/// An extra term's kind and its parameter values from named values, the names it does not set
+/// at their defaults: what a scenario file's table and Python's `terms` give. The values are
+/// not checked here ([`crate::model::terms::AnyTerm::new`] checks their domains).
+///
+/// ```
+/// use hdgear::scenario::{term_values, TermTableError};
+/// let (kind, values) = term_values("coulomb", [("fs", 0.6)]).unwrap();
+/// assert_eq!((kind, values[1]), ("coulomb", 0.6));
+/// assert!(matches!(term_values("coulomb", [("f_s", 0.6)]), Err(TermTableError::UnknownKey { .. })));
+/// ```
+pub fn term_values<'a>(
+    name: &str,
+    named: impl IntoIterator<Item = (&'a str, f64)>,
+) -> std::result::Result<TermTable, TermTableError> {
+    let found = crate::model::terms::AnyTerm::KINDS
+        .iter()
+        .find(|k| k.0 == name && crate::model::Model::is_extra_kind(k.0));
+    let Some(&(kind, _, params)) = found else {
+        return Err(TermTableError::UnknownKind {
+            name: name.to_string(),
+            known: extra_kinds().collect(),
+        });
+    };
+    let mut values: Vec<f64> = params.iter().map(|q| q.default).collect();
+    for (key, v) in named {
+        let Some(i) = params.iter().position(|p| p.name == key) else {
+            return Err(TermTableError::UnknownKey {
+                name: name.to_string(),
+                key: key.to_string(),
+                known: params.iter().map(|p| p.name).collect(),
+            });
+        };
+        values[i] = v;
+    }
+    Ok((kind, values))
+}
+
 impl Scenario {
     /// The extra terms' tables as (kind, values), each checked: a known kind, a table, and known
     /// keys with numbers (errors name the table and the key).
     fn term_tables(&self, path: &Path) -> Result<Vec<TermTable>> {
-        use crate::model::{Model, terms::AnyTerm};
         let err = |message: String| Error::Config {
             path: path.to_path_buf(),
             message,
         };
         let mut out = Vec::new();
         for (name, value) in &self.terms {
-            // the study's own terms (damping, stiffness) take their values from [params]
-            let found = AnyTerm::KINDS
-                .iter()
-                .find(|k| k.0 == name && Model::is_extra_kind(k.0));
-            let Some(&(kind, _, params)) = found else {
-                let known: Vec<&str> = ["params", "physical"]
-                    .into_iter()
-                    .chain(
-                        AnyTerm::KINDS
-                            .iter()
-                            .map(|k| k.0)
-                            .filter(|k| Model::is_extra_kind(k)),
-                    )
-                    .collect();
-                return Err(err(format!(
-                    "unknown table [{name}] (known: {})",
-                    known.join(", ")
-                )));
-            };
-            let table = value
-                .as_table()
-                .ok_or_else(|| err(format!("[{name}] must be a table of numbers")))?;
-            let mut values: Vec<f64> = params.iter().map(|q| q.default).collect();
-            for (key, v) in table {
-                let Some(i) = params.iter().position(|p| p.name == key) else {
-                    let known: Vec<&str> = params.iter().map(|p| p.name).collect();
+            let table = value.as_table();
+            let mut named = Vec::new();
+            for (key, v) in table.into_iter().flatten() {
+                let number = v.as_float().or_else(|| v.as_integer().map(|n| n as f64));
+                named.push((key.as_str(), number));
+            }
+            let read = term_values(name, named.iter().map(|&(k, v)| (k, v.unwrap_or(f64::NAN))));
+            match read {
+                Err(TermTableError::UnknownKind { known, .. }) => {
+                    let known: Vec<&str> =
+                        ["params", "physical"].into_iter().chain(known).collect();
                     return Err(err(format!(
-                        "unknown key {key} in [{name}] (known: {})",
+                        "unknown table [{name}] (known: {})",
                         known.join(", ")
                     )));
-                };
-                values[i] = v
-                    .as_float()
-                    .or_else(|| v.as_integer().map(|n| n as f64))
-                    .ok_or_else(|| err(format!("[{name}] {key} must be a number")))?;
+                }
+                Err(e) => return Err(err(e.to_string())),
+                Ok(_) if table.is_none() => {
+                    return Err(err(format!("[{name}] must be a table of numbers")));
+                }
+                Ok(_) if named.iter().any(|(_, v)| v.is_none()) => {
+                    let (key, _) = named.iter().find(|(_, v)| v.is_none()).expect("one is");
+                    return Err(err(format!("[{name}] {key} must be a number")));
+                }
+                Ok(kv) => out.push(kv),
             }
-            out.push((kind, values));
         }
         Ok(out)
     }

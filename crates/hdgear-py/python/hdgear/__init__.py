@@ -23,7 +23,7 @@ from . import _hdgear
 from ._hdgear import Params
 
 __version__ = _hdgear.__version__
-__all__ = ["Params", "Trajectory", "Result", "Drive", "simulate", "equilibria", "curve",
+__all__ = ["Params", "Trajectory", "Result", "Drive", "simulate", "equilibria", "curve", "branches",
            "analyze", "bursts", "sweep", "periodic", "continuation", "continuation2",
            "frequency_response", "boundary", "control", "robust"]
 
@@ -110,6 +110,30 @@ def curve(params=None, points=401, a_range=(-1.0, 1.0)):
     """The equilibrium curve x*(a) sampled at ``points`` points over ``a_range``: a dict of
     arrays ``a, x, slope (dx/da), gprime, stable`` and lists ``type, branch``."""
     return _hdgear.curve(_params(params), int(points), float(a_range[0]), float(a_range[1]))
+
+
+def branches(terms, params=None):
+    """The quasi-static branches x±(a) that replace the equilibrium curve when the model has
+    friction or hysteresis: the study's model with ``params`` and the extra ``terms``, a dict
+    ``{kind: {key: value}}`` as a scenario file's tables (``{"coulomb": {"fc": 0.5, "fs": 0.5}}``;
+    keys left out take their defaults). Returns a :class:`Result` with ``loading`` and
+    ``unloading`` (each with ``breakaway``, ``fold``, ``min_stiffness`` and ``points``) and
+    ``closure``, as ``hdgear model --branches --json`` prints them.
+
+        >>> import hdgear
+        >>> p = hdgear.Params(gamma=2.0)
+        >>> b = hdgear.branches({"coulomb": {"fc": 0.5, "fs": 0.5}}, p)
+        >>> round((1.0 - b.unloading.breakaway) * p.delta, 9)  # the load falls by 2 f_s first
+        1.0
+    """
+    if not isinstance(terms, dict):
+        raise TypeError(f"terms: expected a dict {{kind: {{key: value}}}}, got {type(terms).__name__}")
+    tables = {}
+    for kind, table in terms.items():
+        if not isinstance(table, dict):
+            raise TypeError(f"terms[{kind!r}]: expected a dict {{key: value}}, got {type(table).__name__}")
+        tables[str(kind)] = {str(k): float(v) for k, v in table.items()}
+    return Result(_hdgear.branches(_params(params), tables))
 
 
 def _detection(discard, window_periods, rtol, atol, method):
