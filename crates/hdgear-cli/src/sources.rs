@@ -99,10 +99,8 @@ fn preset_help() -> String {
 /// library's lists.
 fn config_help() -> String {
     let keys: Vec<&str> = Param::ALL.iter().map(|q| q.name()).collect();
-    let tables: Vec<String> = hdgear::model::terms::AnyTerm::KINDS
-        .iter()
-        .filter(|(kind, ..)| hdgear::model::Model::is_extra_kind(kind))
-        .map(|(kind, ..)| format!("[{kind}]"))
+    let tables: Vec<String> = hdgear::scenario::extra_kinds()
+        .map(|kind| format!("[{kind}]"))
         .collect();
     format!(
         "TOML scenario file: a [params] table (keys {}) and, for model, simulate and bursts, a table per \

@@ -168,11 +168,10 @@ impl Scenario {
                 Ok(_) if table.is_none() => {
                     return Err(err(format!("[{name}] must be a table of numbers")));
                 }
-                Ok(_) if named.iter().any(|(_, v)| v.is_none()) => {
-                    let (key, _) = named.iter().find(|(_, v)| v.is_none()).expect("one is");
-                    return Err(err(format!("[{name}] {key} must be a number")));
-                }
-                Ok(kv) => out.push(kv),
+                Ok(kv) => match named.iter().find(|(_, v)| v.is_none()) {
+                    Some((key, _)) => return Err(err(format!("[{name}] {key} must be a number"))),
+                    None => out.push(kv),
+                },
             }
         }
         Ok(out)

@@ -864,10 +864,6 @@ mod tests {
             .unwrap();
             let trapezoid = (sum - ends) * dt / (w1 - w0);
             let rel = (run.fast_energy / trapezoid - 1.0).abs();
-            eprintln!(
-                "MEASURED gamma {gamma} {} {trapezoid} {rel:e}",
-                run.fast_energy
-            );
             assert!(
                 run.fast_energy.is_finite() && rel < 1e-9,
                 "γ = {gamma}: {} against {trapezoid}: {rel:e}",
