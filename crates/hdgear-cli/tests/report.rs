@@ -13,6 +13,7 @@ fn figures() -> Vec<&'static str> {
         .chain(hdgear::report::PERIODIC_FIGURES.iter().map(|f| f.1))
         .chain([hdgear::report::control::CONTROL_FIGURE])
         .chain(hdgear::report::robust::ROBUST_FIGURES)
+        .chain([hdgear::report::memory::MEMORY_FIGURE])
         .collect()
 }
 
@@ -74,6 +75,7 @@ fn report_has_every_section_and_figure_inline() {
         "periodic",
         "control",
         "robust",
+        "memory",
         "methods",
     ] {
         assert!(
@@ -479,4 +481,69 @@ fn report_robust_section_is_its_data() {
     ]);
     assert_eq!(cli["probability"], a["probability"]);
     assert!(p > 0.05 && p < 0.5, "the drive is near its boundary: {p}");
+}
+
+/// The memory section's rows are its data file's: each case's verdict, and its worst distance
+/// of a burst's onset from the branches' prediction recomputed from the onsets listed (within
+/// the 15 % of the load's range where bursts are not slips); and `hdgear bursts` gives
+/// each case's model, written as a scenario file, the same verdict.
+#[test]
+fn report_memory_section_is_its_data() {
+    use hdgear::report::memory::MEMORY_CASES;
+    let h = html();
+    let doc: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(report_dir().join("data/memory.json")).unwrap(),
+    )
+    .unwrap();
+    let cases = doc["cases"].as_array().unwrap();
+    assert_eq!(cases.len(), MEMORY_CASES.len());
+    let section = &h[h.find("<section id=\"memory\">").unwrap()..];
+    let dir = tempfile::tempdir().unwrap();
+    for (i, (c, (gamma, kind, values, _))) in cases.iter().zip(MEMORY_CASES).enumerate() {
+        let at = section.find(&format!("<tr data-case=\"{i}\">")).unwrap();
+        let row = &section[at..at + section[at..].find("</tr>").unwrap()];
+        let verdict = c["classification"]["verdict"].as_str().unwrap();
+        assert!(row.contains(&format!("<td>{verdict}</td>")), "{row}");
+        let worst = c["onsets"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter_map(|o| Some((o["a"].as_f64()? - o["predicted"].as_f64()?).abs()))
+            .fold(0.0, f64::max);
+        if c["sticking"]["slip_dominates"] == true {
+            assert_eq!(verdict, "stick-slip");
+            assert!(row.contains("data-value=\"NaN\""), "{row}");
+        } else {
+            assert!(worst > 0.0 && worst <= 0.15, "case {i}: {worst}");
+            assert!(row.contains(&format!("data-value=\"{worst}\"")), "{row}");
+        }
+        // the same model from a scenario file, judged by `hdgear bursts`
+        let term = hdgear::model::terms::AnyTerm::new(kind, values).unwrap();
+        let keys: String = term
+            .params()
+            .iter()
+            .zip(values)
+            .map(|(p, v)| format!("{} = {v:?}\n", p.name))
+            .collect();
+        let scenario = dir.path().join(format!("case{i}.toml"));
+        std::fs::write(
+            &scenario,
+            format!("[params]\ngamma = {gamma:?}\n\n[{kind}]\n{keys}"),
+        )
+        .unwrap();
+        let out = dir.path().join(format!("case{i}.json"));
+        hdgear()
+            .args(["--quiet", "bursts", "--config"])
+            .arg(&scenario)
+            .arg("--out")
+            .arg(&out)
+            .assert()
+            .success();
+        let bursts: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+        assert_eq!(
+            bursts["meta"]["classification"]["verdict"], verdict,
+            "case {i}"
+        );
+    }
 }

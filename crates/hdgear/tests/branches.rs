@@ -174,27 +174,17 @@ fn bursts_start_where_the_branches_predict_spiking() {
         for (gamma, kind, values) in cases {
             let m = with(&at(gamma, omega), kind, values);
             let b = m.branches().unwrap();
-            let predicted = |br: &Branch| -> Vec<f64> {
-                br.min_stiffness
-                    .map(|(a, _)| a)
-                    .into_iter()
-                    .chain(br.breakaway)
-                    .collect()
-            };
-            let (up, down) = (predicted(&b.loading), predicted(&b.unloading));
             let r = hdgear::burst::response_model(&m, &opts).unwrap();
             assert!(!r.bursts.is_empty(), "γ = {gamma} {kind}: no bursts");
             for burst in &r.bursts {
                 let rising = (omega * burst.t_peak).cos() > 0.0;
-                let near = if rising { &up } else { &down };
-                let err = near
-                    .iter()
-                    .map(|a| (burst.a_onset - a).abs())
-                    .fold(f64::INFINITY, f64::min);
+                let near = if rising { &b.loading } else { &b.unloading };
+                let err = (burst.a_onset - near.nearest_prediction(burst.a_onset).unwrap()).abs();
                 assert!(
                     err <= 0.15,
-                    "ω = {omega}, γ = {gamma} {kind}: onset {} vs {near:?}",
-                    burst.a_onset
+                    "ω = {omega}, γ = {gamma} {kind}: onset {} vs {:?}",
+                    burst.a_onset,
+                    near.predicted_onsets()
                 );
                 max_err = max_err.max(err);
             }

@@ -63,6 +63,26 @@ pub struct Branch {
     pub min_stiffness: Option<(f64, f64)>,
 }
 
+impl Branch {
+    /// Where the branch predicts bursts to start: its steepest point (the smallest tangent
+    /// stiffness: a spiking area where it nears 0⁺) and its breakaway (the slip after the rest
+    /// that follows a reversal), in a.
+    pub fn predicted_onsets(&self) -> Vec<f64> {
+        self.min_stiffness
+            .map(|(a, _)| a)
+            .into_iter()
+            .chain(self.breakaway)
+            .collect()
+    }
+
+    /// The prediction ([`Branch::predicted_onsets`]) nearest to `a`, if there is one.
+    pub fn nearest_prediction(&self, a: f64) -> Option<f64> {
+        self.predicted_onsets()
+            .into_iter()
+            .min_by(|u, v| (u - a).abs().total_cmp(&(v - a).abs()))
+    }
+}
+
 /// The loading and unloading branches of a model's steady loop under a ∈ [−1, 1].
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Branches {

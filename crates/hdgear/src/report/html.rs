@@ -29,6 +29,7 @@ pub fn render(r: &Report, svgs: &[String]) -> String {
     periodic(&mut h, r);
     control(&mut h, r);
     super::robust::html(&mut h, &r.robust);
+    super::memory::html(&mut h, &r.memory);
     methods(&mut h, r);
     h
 }

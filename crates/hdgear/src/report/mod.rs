@@ -10,6 +10,7 @@
 pub mod control;
 mod files;
 pub mod html;
+pub mod memory;
 pub mod periodic;
 pub mod plane;
 pub mod robust;
@@ -270,9 +271,11 @@ pub struct Report {
     pub control: control::ControlEvidence,
     /// The section on design under manufacturing spread.
     pub robust: robust::RobustEvidence,
+    /// The section on friction and hysteresis.
+    pub memory: memory::MemoryEvidence,
     /// The figures, in [`FIGURES`] order, then the periodic section's, then the control
     /// section's ([`control::CONTROL_FIGURE`]), then the spread section's
-    /// ([`robust::ROBUST_FIGURES`]).
+    /// ([`robust::ROBUST_FIGURES`]), then the memory section's ([`memory::MEMORY_FIGURE`]).
     #[serde(skip)]
     pub figures: Vec<Figure>,
 }
@@ -316,11 +319,13 @@ impl Report {
 
         observer.stage(Stage::PhysicalAndPeriodic);
         let (physical, bounds, periodic, control, robust) = side_sections(opts, &mut study)?;
+        let memory = memory::MemoryEvidence::compute(&base, &opts.burst)?;
         observer.stage(Stage::Figures);
         let mut figures = study_figures(&base, &mut study)?;
         figures.extend(periodic.figures(&base));
         figures.push(control.figure());
         figures.extend(robust.figures());
+        figures.push(memory.figure());
         Ok(Report {
             version: env!("CARGO_PKG_VERSION"),
             options: *opts,
@@ -334,6 +339,7 @@ impl Report {
             periodic,
             control,
             robust,
+            memory,
             figures,
         })
     }
@@ -382,6 +388,7 @@ impl Report {
         out.json("data/periodic.json", pe)?;
         out.json("data/control.json", &self.control)?;
         out.json("data/robust.json", &self.robust)?;
+        out.json("data/memory.json", &self.memory)?;
         // every figure's two files listed first (see `Files::claim`), then the figures drawn
         // and written on all cores: drawing is most of this stage's time, and one figure's
         // files do not depend on another's
