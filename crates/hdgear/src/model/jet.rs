@@ -61,7 +61,12 @@ pub fn exp_step_limit(
     amplitude: f64,
     negligible: f64,
 ) -> f64 {
-    let converged = own_step(e[0].abs(), e[order - 1].abs(), e[order].abs(), order);
+    let converged = within_tolerance(
+        own_step(e[0].abs(), e[order - 1].abs(), e[order].abs(), order),
+        amplitude * e[order].abs(),
+        order,
+        negligible,
+    );
     let start = u[0].exp();
     shorten(h, converged, |h| {
         amplitude * ((u[0] + tail_bound(u, order, h)).exp() - start) > negligible
@@ -83,7 +88,12 @@ pub fn tanh_step_limit(
 ) -> f64 {
     let sech2 = 1.0 / (u[0].cosh() * u[0].cosh());
     let converged = if sech2 > 1e-14 {
-        own_step(sech2, sq[order - 1].abs(), sq[order].abs(), order)
+        within_tolerance(
+            own_step(sech2, sq[order - 1].abs(), sq[order].abs(), order),
+            amplitude * sq[order].abs(),
+            order,
+            negligible,
+        )
     } else {
         0.0
     };
@@ -110,6 +120,21 @@ fn own_step(scale: f64, n1: f64, n2: f64, p: usize) -> f64 {
         return 0.0;
     }
     crate::integrate::taylor::step_from_norms::<false, false>(p, 2.0, n1 / scale, n2 / scale)
+}
+
+/// The step a series allows with its truncation held below `negligible`, from its Jorba–Zou step
+/// `converged` (the radius ρ its rows show, times e^{−2 − 0.7/(p − 1)}: [`own_step`]) and its
+/// last row `last` (times the term's amplitude) at order p = `order`: the first dropped row is
+/// about `last`·h^p, and within ρ/2 the rows past it shrink at least geometrically by half, so a
+/// step with `last`·h^p ≤ `negligible` and h ≤ ρ/2 truncates the term by about that much. Never
+/// below `converged`: a series whose rows are large keeps Jorba–Zou's step.
+fn within_tolerance(converged: f64, last: f64, order: usize, negligible: f64) -> f64 {
+    if converged <= 0.0 || last <= 0.0 {
+        return converged;
+    }
+    let rho = converged * (2.0 + 0.7 / (order - 1) as f64).exp();
+    let by_tolerance = (negligible / last).powf(1.0 / order as f64);
+    converged.max(by_tolerance.min(0.5 * rho))
 }
 
 /// `h` halved until it is at most `converged` or `relevant(h)` is false (which it is as h → 0:
