@@ -55,6 +55,12 @@ fn report_dir() -> &'static Path {
     })
 }
 
+/// The report's data file `data/NAME`, parsed.
+fn data(name: &str) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(report_dir().join("data").join(name)).unwrap())
+        .unwrap()
+}
+
 fn html() -> String {
     std::fs::read_to_string(report_dir().join("index.html")).unwrap()
 }
@@ -401,10 +407,7 @@ fn decimation_keeps_the_points_the_direct_check_keeps() {
 #[test]
 fn report_control_section_is_its_data() {
     let h = html();
-    let doc: serde_json::Value = serde_json::from_str(
-        &std::fs::read_to_string(report_dir().join("data/control.json")).unwrap(),
-    )
-    .unwrap();
+    let doc = data("control.json");
     let f = |v: &serde_json::Value| v.as_f64().unwrap();
     let study = doc["study"].as_array().unwrap();
     assert_eq!(study.len(), 2);
@@ -445,10 +448,7 @@ fn report_control_section_is_its_data() {
 #[test]
 fn report_robust_section_is_its_data() {
     let h = html();
-    let doc: serde_json::Value = serde_json::from_str(
-        &std::fs::read_to_string(report_dir().join("data/robust.json")).unwrap(),
-    )
-    .unwrap();
+    let doc = data("robust.json");
     let a = &doc["analysis"];
     let p = a["probability"]["p"].as_f64().unwrap();
     let section = &h[h.find("<section id=\"robust\">").unwrap()..];
@@ -491,10 +491,7 @@ fn report_robust_section_is_its_data() {
 fn report_memory_section_is_its_data() {
     use hdgear::report::memory::MEMORY_CASES;
     let h = html();
-    let doc: serde_json::Value = serde_json::from_str(
-        &std::fs::read_to_string(report_dir().join("data/memory.json")).unwrap(),
-    )
-    .unwrap();
+    let doc = data("memory.json");
     let cases = doc["cases"].as_array().unwrap();
     assert_eq!(cases.len(), MEMORY_CASES.len());
     let section = &h[h.find("<section id=\"memory\">").unwrap()..];

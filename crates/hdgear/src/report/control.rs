@@ -128,7 +128,7 @@ impl ControlEvidence {
 }
 
 /// Spacing of the traces' samples (as the control measures').
-const TRACE_DT: f64 = crate::control::SAMPLE_DT;
+pub(super) const TRACE_DT: f64 = crate::control::SAMPLE_DT;
 
 /// Time shown before the open loop's first burst's onset and after it.
 const TRACE_SPAN: (f64, f64) = (20.0, 60.0);
@@ -148,20 +148,28 @@ fn traces(cmp: &Comparison, opts: &BurstOptions) -> Result<Vec<Trace>> {
     }
     loops
         .into_iter()
-        .map(|(label, m)| {
-            let sim = SimOptions {
-                t_end: t1,
-                dt: TRACE_DT,
-                start: Start::Equilibrium,
-                tol: opts.tol,
-            };
-            let mut pts = Vec::new();
-            simulate_model(&m, &sim, |t, y| {
-                if t >= t0 {
-                    pts.push((t, y[1]));
-                }
-            })?;
-            Ok((label, pts))
-        })
+        .map(|(label, m)| Ok((label, samples(&m, (t0, t1), opts, 1)?)))
         .collect()
+}
+
+/// (τ, y\[i\]) of `m` run from its equilibrium, every [`TRACE_DT`] from t0 to t1.
+pub(super) fn samples(
+    m: &Model,
+    (t0, t1): (f64, f64),
+    opts: &BurstOptions,
+    i: usize,
+) -> Result<Vec<(f64, f64)>> {
+    let sim = SimOptions {
+        t_end: t1,
+        dt: TRACE_DT,
+        start: Start::Equilibrium,
+        tol: opts.tol,
+    };
+    let mut pts = Vec::new();
+    simulate_model(m, &sim, |t, y| {
+        if t >= t0 {
+            pts.push((t, y[i]));
+        }
+    })?;
+    Ok(pts)
 }

@@ -3,6 +3,7 @@
 //! ([`crate::model::Model::branches`]), and where the simulated bursts start against what the
 //! branches predict ([`crate::model::branches::Branch::predicted_onsets`]).
 
+use super::control::TRACE_DT;
 use super::html::{cell, esc, num};
 use crate::burst::{BurstOptions, Classification, Sticking, classify, response_model, window};
 use crate::error::Result;
@@ -12,7 +13,6 @@ use crate::model::branches::{Branch, Branches};
 use crate::model::terms::AnyTerm;
 use crate::output::plot::{Figure, Panel, Series, Style};
 use crate::params::Params;
-use crate::simulate::{SimOptions, Start, simulate_model};
 use serde::Serialize;
 use std::fmt::Write as _;
 
@@ -44,9 +44,6 @@ pub const MEMORY_CASES: [(f64, &str, &[f64], &str); 3] = [
 
 /// Points in the (a, x) plane.
 pub type Points = Vec<(f64, f64)>;
-
-/// Spacing of the trajectory's samples (as the control section's).
-const TRACE_DT: f64 = crate::control::SAMPLE_DT;
 
 /// Where a simulated burst starts, against the predictions of the branch it starts on.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -197,18 +194,7 @@ fn trajectory(
     onsets: &[f64],
 ) -> Result<(Points, Points)> {
     let (w0, w1) = window(p, opts);
-    let sim = SimOptions {
-        t_end: w1,
-        dt: TRACE_DT,
-        start: Start::Equilibrium,
-        tol: opts.tol,
-    };
-    let mut samples = Vec::new();
-    simulate_model(m, &sim, |t, y| {
-        if t >= w0 - TRACE_DT {
-            samples.push((t, y[0]));
-        }
-    })?;
+    let samples = super::control::samples(m, (w0 - TRACE_DT, w1), opts, 0)?;
     let a = |t: f64| (p.omega * t).sin();
     let at = |t: f64| {
         let i = samples
