@@ -94,6 +94,18 @@ pub struct Branches {
     pub closure: f64,
 }
 
+impl Branches {
+    /// The branch a burst of a response under the load μ + δ sin ωτ starts on: the loading one
+    /// while the load rises at the burst's pulse, else the unloading one.
+    pub fn of_burst(&self, burst: &crate::burst::Burst, omega: f64) -> &Branch {
+        if (omega * burst.t_peak).cos() > 0.0 {
+            &self.loading
+        } else {
+            &self.unloading
+        }
+    }
+}
+
 impl Model {
     /// The creep torque T_s(x, z), the tangent stiffness K_t and dz/dx on side `s` at (x, z).
     fn creep(&self, s: f64, x: f64, z: &[f64; MAX_STATES]) -> (f64, f64, [f64; MAX_STATES]) {

@@ -128,15 +128,10 @@ impl MemoryCase {
             .bursts
             .iter()
             .map(|b| {
-                let loading = (params.omega * b.t_peak).cos() > 0.0;
-                let branch = if loading {
-                    &branches.loading
-                } else {
-                    &branches.unloading
-                };
+                let branch = branches.of_burst(b, params.omega);
                 Onset {
                     a: b.a_onset,
-                    loading,
+                    loading: branch.side > 0.0,
                     predicted: branch.nearest_prediction(b.a_onset),
                 }
             })
@@ -238,8 +233,8 @@ impl MemoryEvidence {
                       the unloading branch x₋(a), resting between them after each reversal. \
                       Thin: the simulated response over the window; crosses: what the branches \
                       predict (each branch's steepest point and its breakaway); circles: where \
-                      the simulated bursts start. At the stiff point the breakaway is the whole \
-                      story: the drive sticks and slips in a staircase between the branches."
+                      the simulated bursts start. At the stiff point the drive sticks and slips \
+                      in a staircase between the branches."
                 .into(),
             size: (1000, 1400),
             panels,
