@@ -177,7 +177,7 @@ fn bursts_start_where_the_branches_predict_spiking() {
             let r = hdgear::burst::response_model(&m, &opts).unwrap();
             assert!(!r.bursts.is_empty(), "γ = {gamma} {kind}: no bursts");
             for burst in &r.bursts {
-                let near = b.of_burst(burst, omega);
+                let near = b.at(burst.t_peak, omega);
                 let err = (burst.a_onset - near.nearest_prediction(burst.a_onset).unwrap()).abs();
                 assert!(
                     err <= 0.15,

@@ -95,10 +95,11 @@ pub struct Branches {
 }
 
 impl Branches {
-    /// The branch a burst of a response under the load μ + δ sin ωτ starts on: the loading one
-    /// while the load rises at the burst's pulse, else the unloading one.
-    pub fn of_burst(&self, burst: &crate::burst::Burst, omega: f64) -> &Branch {
-        if (omega * burst.t_peak).cos() > 0.0 {
+    /// The branch a response under the load μ + δ sin ωτ follows at time τ: the loading one
+    /// while the load rises, else the unloading one. A burst starts on the branch at its pulse,
+    /// `branches.at(burst.t_peak, omega)`.
+    pub fn at(&self, tau: f64, omega: f64) -> &Branch {
+        if (omega * tau).cos() > 0.0 {
             &self.loading
         } else {
             &self.unloading

@@ -128,7 +128,7 @@ impl MemoryCase {
             .bursts
             .iter()
             .map(|b| {
-                let branch = branches.of_burst(b, params.omega);
+                let branch = branches.at(b.t_peak, params.omega);
                 Onset {
                     a: b.a_onset,
                     loading: branch.side > 0.0,
