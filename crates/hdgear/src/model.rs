@@ -17,6 +17,7 @@ pub mod friction;
 pub mod jet;
 pub mod memory;
 pub mod mesh;
+pub mod piecewise;
 pub mod switching;
 pub mod terms;
 

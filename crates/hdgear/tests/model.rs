@@ -27,12 +27,20 @@ fn random_params(u: &mut impl FnMut() -> f64) -> Params {
     }
 }
 
-/// A random model: the study's terms and, with even odds each, smooth friction or
-/// Coulomb–Stribeck–viscous friction (not both: they share f_c).
+/// A random model: the study's terms and, with even odds each, smooth friction,
+/// Coulomb–Stribeck–viscous friction (not both: they share f_c) or a piecewise-linear stiffness.
 fn random_model(u: &mut impl FnMut() -> f64) -> Model {
     let m = Model::study(&random_params(u));
-    match (u() * 3.0) as u32 {
+    match (u() * 4.0) as u32 {
         0 => m,
+        3 => {
+            let mut v: Vec<f64> = [(0.1, 5.0), (0.1, 5.0), (0.1, 5.0), (0.1, 1.0), (0.1, 1.0)]
+                .iter()
+                .map(|&(a, b)| between(u, a, b))
+                .collect();
+            v.push(between(u, -0.5, 0.5));
+            m.with_term(AnyTerm::new("piecewise", &v).unwrap()).unwrap()
+        }
         1 => m
             .with_term(
                 AnyTerm::new("friction", &[between(u, 0.0, 0.5), between(u, 0.02, 0.5)]).unwrap(),

@@ -24,6 +24,7 @@ mod normal_form;
 mod output;
 mod periodic;
 mod physical;
+mod piecewise;
 mod plane;
 mod reference;
 mod robust;

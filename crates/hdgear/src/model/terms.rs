@@ -12,6 +12,7 @@ pub(super) use super::friction::{FRICTION_FC, FRICTION_FS, STRIBECK_VELOCITY};
 use super::jet::square_coefficient;
 pub use super::memory::{BoucWen, LuGre};
 pub use super::mesh::KinematicError;
+pub use super::piecewise::Piecewise;
 use crate::error::{Error, Result};
 use crate::params::Param;
 use serde::Serialize;
@@ -557,6 +558,7 @@ any_term!(
     Delay,
     KinematicError,
     Multisine,
+    Piecewise,
 );
 
 /// Checks a term's values against its parameter list: each within the magnitude limit every

@@ -1,0 +1,251 @@
+//! The catalogue's stiffness law as a term: piecewise linear in the twist, with its kinks located
+//! as events by the Taylor steps ([`Piecewise`]).
+//!
+//! A harmonic drive's catalogue gives its torque–twist curve as three straight segments, K₁ up to
+//! T₁, K₂ up to T₂ and K₃ beyond. Such a law is not analytic at a kink: its slope jumps, and no
+//! Taylor series (nor a Runge–Kutta step's error estimate) straddles one. On a segment it is
+//! linear, so a Taylor step computes its rows with the segment the step starts on and ends where
+//! the twist leaves that segment, located on the step's own polynomial
+//! ([`Term::step_limit`]); the next step starts on the kink and takes the segment the motion
+//! enters. DOP853 steps are not cut: its error control shortens the steps about a kink instead
+//! (the tests compare the two).
+//!
+//! ```
+//! use hdgear::model::{Model, terms::AnyTerm};
+//! use hdgear::simulate::{SimOptions, Start, simulate_model};
+//! // a slow load swept across both kinks of a three-segment law (kinks at |x| = 0.5 and 1.5)
+//! let law = AnyTerm::new("piecewise", &[1.0, 2.0, 4.0, 0.5, 1.0, 0.0]).unwrap();
+//! let m = Model::damped(3.0, 2.0, 0.05).with_term(law).unwrap();
+//! let opts = SimOptions { t_end: 60.0, dt: 1.0, start: Start::Rest, ..SimOptions::default() };
+//! let mut top = 0.0_f64;
+//! simulate_model(&m, &opts, |_, y| top = top.max(y[0])).unwrap();
+//! // quasi-static at the load's peak 5: P(x) = 0.5 + 2 + 4(x − 1.5) = 5 at x = 2.125
+//! assert!(top > 1.5 && top < 2.2);
+//! //! ```
+
+use super::terms::{Domain, ParamInfo, Scratch, Term};
+use serde::Serialize;
+
+/// Sub-intervals of a step in which the twist is sampled for leaving its segment: an excursion
+/// across a kink and back inside one eighth of a step is not seen (the motion would have to
+/// turn round within it).
+const SUBDIVISIONS: usize = 8;
+
+/// Piecewise-linear stiffness T(x) = P(x − x₀), P odd, with slope k₁ for |u| ≤ x₁, k₂ for
+/// x₁ < |u| ≤ x₁ + w₂ and k₃ beyond (u = x − x₀): the catalogue's three-segment torque–twist
+/// curve, continuous, its slope jumping at the kinks |u| = x₁ and |u| = x₁ + w₂. Its values are
+/// [k₁, k₂, k₃, x₁, w₂, x₀].
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Piecewise(pub [f64; 6]);
+
+/// One segment of the law: where it lies and the line on it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Segment {
+    /// Its twist interval [lo, hi] in u (±∞ at the ends).
+    lo: f64,
+    hi: f64,
+    /// The slope on it.
+    slope: f64,
+}
+
+impl Piecewise {
+    /// The kinks in u ≥ 0: x₁ and x₁ + w₂.
+    fn kinks(&self) -> [f64; 2] {
+        let [_, _, _, x1, w2, _] = self.0;
+        [x1, x1 + w2]
+    }
+
+    /// P(u) for u ≥ 0.
+    fn positive(&self, u: f64) -> f64 {
+        let [k1, k2, k3, ..] = self.0;
+        let [a, b] = self.kinks();
+        if u <= a {
+            k1 * u
+        } else if u <= b {
+            k1 * a + k2 * (u - a)
+        } else {
+            k1 * a + k2 * (b - a) + k3 * (u - b)
+        }
+    }
+
+    /// The segment holding u; on a kink (to a few rounding errors) the one `direction` points
+    /// into (its sign; 0 takes the segment below).
+    fn segment(&self, u: f64, direction: f64) -> Segment {
+        let [k1, k2, k3, ..] = self.0;
+        let [a, b] = self.kinks();
+        let edges = [-b, -a, a, b];
+        let slopes = [k3, k2, k1, k2, k3];
+        let on = |e: f64| (u - e).abs() <= 8.0 * f64::EPSILON * e.abs().max(1.0);
+        // the number of edges below u, an edge u sits on counting as below when moving up
+        let i = edges
+            .iter()
+            .filter(|&&e| if on(e) { direction > 0.0 } else { e < u })
+            .count();
+        let lo = if i == 0 {
+            f64::NEG_INFINITY
+        } else {
+            edges[i - 1]
+        };
+        let hi = if i == 4 { f64::INFINITY } else { edges[i] };
+        Segment {
+            lo,
+            hi,
+            slope: slopes[i],
+        }
+    }
+}
+
+impl Term for Piecewise {
+    const KIND: &'static str = "piecewise";
+    const ABOUT: &'static str = "piecewise-linear stiffness of the catalogue: slopes k₁, k₂, k₃ \
+         with kinks at |x − x₀| = x₁ and x₁ + w₂, located as events";
+    const PARAMS: &'static [ParamInfo] = &[
+        ParamInfo {
+            name: "k1",
+            symbol: "k₁",
+            latex: "k_1",
+            meaning: "stiffness of the first segment (|x − x₀| ≤ x₁)",
+            domain: Domain::Positive,
+            default: 1.0,
+            si: "K₁·J_eq/C² (a stiffness on γ's scale)",
+        },
+        ParamInfo {
+            name: "k2",
+            symbol: "k₂",
+            latex: "k_2",
+            meaning: "stiffness of the second segment",
+            domain: Domain::Positive,
+            default: 1.5,
+            si: "K₂·J_eq/C²",
+        },
+        ParamInfo {
+            name: "k3",
+            symbol: "k₃",
+            latex: "k_3",
+            meaning: "stiffness beyond the second kink",
+            domain: Domain::Positive,
+            default: 2.0,
+            si: "K₃·J_eq/C²",
+        },
+        ParamInfo {
+            name: "x1",
+            symbol: "x₁",
+            latex: "x_1",
+            meaning: "twist at the first kink (T₁/K₁ on x's scale)",
+            domain: Domain::Positive,
+            default: 0.5,
+            si: "θ₁/L (L = C²/(J_eq·k2·φ), x's length scale)",
+        },
+        ParamInfo {
+            name: "w2",
+            symbol: "w₂",
+            latex: "w_2",
+            meaning: "twist width of the second segment ((T₂ − T₁)/K₂ on x's scale)",
+            domain: Domain::Positive,
+            default: 1.0,
+            si: "(θ₂ − θ₁)/L",
+        },
+        ParamInfo {
+            name: "x0",
+            symbol: "x₀",
+            latex: "x_0",
+            meaning: "twist at zero torque (an offset such as the study's backlash ε)",
+            domain: Domain::Any,
+            default: 0.0,
+            si: "θ₀/L",
+        },
+    ];
+    fn from_values(v: &[f64]) -> Self {
+        Piecewise([v[0], v[1], v[2], v[3], v[4], v[5]])
+    }
+    fn values(&self) -> &[f64] {
+        &self.0
+    }
+    fn torque(&self, x: f64, _v: f64, _z: f64) -> f64 {
+        let u = x - self.0[5];
+        u.signum() * self.positive(u.abs())
+    }
+    /// The slope of the segment holding x (at a kink, the one below in |x − x₀|).
+    fn gradient(&self, x: f64, _v: f64, _z: f64) -> [f64; 3] {
+        let u = x - self.0[5];
+        [self.segment(u, -u.signum()).slope, 0.0, 0.0]
+    }
+    fn param_derivative(&self, i: usize, x: f64, _v: f64, _z: f64) -> f64 {
+        let [k1, k2, k3, ..] = self.0;
+        let u = x - self.0[5];
+        let (s, w) = (u.signum(), u.abs());
+        let [a, b] = self.kinks();
+        // P(w) for w ≥ 0 on its segment, differentiated by each value (P odd in u)
+        let d = if w <= a {
+            [w, 0.0, 0.0, 0.0, 0.0]
+        } else if w <= b {
+            [a, w - a, 0.0, k1 - k2, 0.0]
+        } else {
+            [a, b - a, w - b, k1 - k3, k2 - k3]
+        };
+        match i {
+            0..=4 => s * d[i],
+            // ∂/∂x₀ = −P'(u)
+            _ => -self.gradient(x, 0.0, 0.0)[0],
+        }
+    }
+    /// Row 0 is P at the step's start; rows k ≥ 1 are the slope of the segment the motion is on
+    /// times x's rows (chosen at row 1, on a kink by x' or, at rest, by x''). Keeps x's rows and
+    /// the segment for [`Term::step_limit`].
+    fn taylor(&self, k: usize, x: &[f64], v: &[f64], _z: &[f64], rows: &mut Scratch) -> f64 {
+        let [xs, seg, ..] = &mut rows.0;
+        xs[k] = x[k];
+        match k {
+            0 => self.torque(x[0], 0.0, 0.0),
+            _ => {
+                if k == 1 {
+                    let direction = if x[1] != 0.0 { x[1] } else { v[1] };
+                    let s = self.segment(x[0] - self.0[5], direction);
+                    seg[..3].copy_from_slice(&[s.lo, s.hi, s.slope]);
+                }
+                seg[2] * x[k]
+            }
+        }
+    }
+    const LIMITS_STEPS: bool = true;
+    /// The step ends where the twist leaves the segment it started on: the first of
+    /// eight samples of x's polynomial off the segment brackets the crossing, which
+    /// bisection narrows to the last bits of the step, ending on the crossing's far side (so the
+    /// next step starts on the kink or just past it, and its segment follows from where x is).
+    fn step_limit(&self, rows: &Scratch, order: usize, h: f64, _negligible: f64) -> f64 {
+        let [xs, seg, ..] = &rows.0;
+        if order == 0 {
+            return h;
+        }
+        let (lo, hi) = (seg[0] + self.0[5], seg[1] + self.0[5]);
+        let on = |tau: f64| {
+            let x = xs[..=order].iter().rev().fold(0.0, |acc, &c| acc * tau + c);
+            (lo..=hi).contains(&x)
+        };
+        // at `inside` the twist is on the segment (at 0 on its edge at most)
+        let mut inside = 0.0;
+        for j in 1..=SUBDIVISIONS {
+            let mut off = h * j as f64 / SUBDIVISIONS as f64;
+            if on(off) {
+                inside = off;
+                continue;
+            }
+            while off - inside > 2.0 * f64::EPSILON * off {
+                let mid = 0.5 * (inside + off);
+                if on(mid) {
+                    inside = mid;
+                } else {
+                    off = mid;
+                }
+            }
+            return off;
+        }
+        h
+    }
+    fn text(&self) -> String {
+        " + P(x − x₀) (piecewise linear: k₁ to x₁, k₂ to x₁ + w₂, k₃ beyond)".into()
+    }
+    fn latex(&self) -> String {
+        r" + P(x - x_0)".into()
+    }
+}
