@@ -243,7 +243,7 @@ impl Term for Piecewise {
         h
     }
     fn text(&self) -> String {
-        " + P(x − x₀) (piecewise linear: k₁ to x₁, k₂ to x₁ + w₂, k₃ beyond)".into()
+        " + P(x − x₀)".into()
     }
     fn latex(&self) -> String {
         r" + P(x - x_0)".into()
