@@ -3,6 +3,8 @@
 //! closed form (the forced response plus the damped free one), and the kinks are located on
 //! that closed form by bisection, independently of hdgear's polynomial.
 
+use hdgear::Params;
+use hdgear::burst::{BurstOptions, response_model};
 use hdgear::integrate::{Method, Options};
 use hdgear::model::Model;
 use hdgear::model::terms::AnyTerm;
@@ -274,4 +276,33 @@ fn the_law_is_the_catalogue_curve() {
         let (below, above) = (p(e - 1e-12), p(e + 1e-12));
         assert!((above - below).abs() < 1e-10, "continuous at {e}");
     }
+}
+
+/// A piecewise stiffness on the study's model is linear where its kinks are far, and the study's
+/// verdict then holds with γ + k₁: its equilibria are a parameter set's only while they stay on
+/// the first segment. Kinks at |x| = 3.5, beyond every fixed sample point: a load that keeps the
+/// equilibria within |x| < 1.2 gives γ' = γ + k₁; one that takes them past the kink (δ = 800,
+/// x* ≈ 3.7 at a = 1) gives no set, and the burst verdict is refused rather than judged against
+/// a curve that is not the model's.
+#[test]
+fn the_study_set_of_a_piecewise_model_holds_only_where_its_equilibria_lie() {
+    let law = AnyTerm::new("piecewise", &[0.5, 3.0, 9.0, 3.5, 1.0, 0.0]).unwrap();
+    let p = Params::default();
+    let m = Model::study(&p).with_term(law).unwrap();
+    let q = m
+        .equivalent_params()
+        .expect("equilibria on the first segment");
+    assert_eq!(
+        (q.alpha, q.eps),
+        (p.alpha, p.gamma * p.eps / (p.gamma + 0.5))
+    );
+    assert!((q.gamma - (p.gamma + 0.5)).abs() < 1e-15);
+    let far = Model::study(&Params { delta: 800.0, ..p })
+        .with_term(law)
+        .unwrap();
+    let top = far.stable_equilibrium(1.0).unwrap();
+    assert!(top > 3.5, "{top}");
+    assert_eq!(far.equivalent_params(), None);
+    let e = response_model(&far, &BurstOptions::default()).unwrap_err();
+    assert!(e.to_string().contains("not a study cubic"), "{e}");
 }

@@ -441,7 +441,8 @@ impl Model {
     /// static torque ([`Model::static_torque`]) and whose forcing is the model's: what the fast
     /// subsystem's analysis of this model's equilibria is. The study's stiffness term gives α, γ
     /// and ε; the other terms' static torque must be affine in x, a₁x + a₀ (to 1e-12 of its size
-    /// at six points), and folds in: γ' = γ + a₁, ε' = (γε − a₀)/γ'. With no static torque of
+    /// at six points, and at 33 across the x-range of the set's equilibria over a ∈ [−1, 1], ends
+    /// included), and folds in: γ' = γ + a₁, ε' = (γε − a₀)/γ'. With no static torque of
     /// their own (friction, damping, a washout) the set is the stiffness term's exactly; with
     /// virtual stiffness k_p it is γ + k_p, γε/(γ + k_p). `None` otherwise (a static torque not
     /// affine in x, or γ' = 0 with a₀ ≠ γε).
@@ -458,11 +459,14 @@ impl Model {
         let study = Stiffness([alpha, gamma, eps]);
         let rest = |x: f64| self.static_torque(x) - study.torque(x, 0.0, 0.0);
         let (a0, a1) = (rest(0.0), rest(1.0) - rest(0.0));
-        let affine = [-2.7, -0.61, 0.37, 1.3, 3.1, 0.0_f64].iter().all(|&x| {
+        let affine_at = |x: f64| {
             let size = a1.abs() * x.abs() + a0.abs() + study.torque(x, 0.0, 0.0).abs();
             (rest(x) - (a1 * x + a0)).abs() <= 1e-12 * size.max(1.0)
-        });
-        if !affine {
+        };
+        if ![-2.7, -0.61, 0.37, 1.3, 3.1, 0.0_f64]
+            .into_iter()
+            .all(affine_at)
+        {
             return None;
         }
         let (a0, a1) = match self.dither() {
@@ -483,14 +487,29 @@ impl Model {
         } else {
             return None;
         };
-        Some(Params {
+        let p = Params {
             alpha,
             gamma,
             eps,
             mu,
             delta,
             omega,
-        })
+        };
+        // the set's equilibria are the model's only if the rest is affine wherever they lie too:
+        // from the lowest at a = −1 to the highest at a = 1, which a kink beyond the six points
+        // above (a piecewise stiffness's) would otherwise change unseen
+        let end = |a: f64, last: bool| {
+            let r = crate::fast::equilibria(&p, a).roots;
+            if last { r.last() } else { r.first() }.map(|e| e.x)
+        };
+        if let (Some(lo), Some(hi)) = (end(-1.0, false), end(1.0, true)) {
+            const SAMPLES: usize = 32;
+            let x = |i: usize| lo + (hi - lo) * i as f64 / SAMPLES as f64;
+            if !(0..=SAMPLES).map(x).all(affine_at) {
+                return None;
+            }
+        }
+        Some(p)
     }
 
     /// x' of the drive at rest: the sum of the terms' [`AnyTerm::twist_rate_at_rest`] (0 but for
