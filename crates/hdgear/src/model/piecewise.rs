@@ -225,20 +225,11 @@ impl Term for Piecewise {
         // at `inside` the twist is on the segment (at 0 on its edge at most)
         let mut inside = 0.0;
         for j in 1..=SUBDIVISIONS {
-            let mut off = h * j as f64 / SUBDIVISIONS as f64;
-            if on(off) {
-                inside = off;
-                continue;
+            let off = h * j as f64 / SUBDIVISIONS as f64;
+            if !on(off) {
+                return crate::roots::bisect(inside, off, 64, crate::roots::at_resolution, on).1;
             }
-            while off - inside > 2.0 * f64::EPSILON * off {
-                let mid = 0.5 * (inside + off);
-                if on(mid) {
-                    inside = mid;
-                } else {
-                    off = mid;
-                }
-            }
-            return off;
+            inside = off;
         }
         h
     }
