@@ -55,17 +55,11 @@ impl Piecewise {
         [x1, x1 + w2]
     }
 
-    /// P(u) for u ≥ 0.
-    fn positive(&self, u: f64) -> f64 {
-        let [k1, k2, k3, ..] = self.0;
+    /// The twist w ≥ 0 spends on each segment: P(w) = k₁·s₁ + k₂·s₂ + k₃·s₃ with [s₁, s₂, s₃]
+    /// these, so they are also ∂P/∂k_i.
+    fn spans(&self, w: f64) -> [f64; 3] {
         let [a, b] = self.kinks();
-        if u <= a {
-            k1 * u
-        } else if u <= b {
-            k1 * a + k2 * (u - a)
-        } else {
-            k1 * a + k2 * (b - a) + k3 * (u - b)
-        }
+        [w.min(a), (w - a).clamp(0.0, b - a), (w - b).max(0.0)]
     }
 
     /// The segment holding u; on a kink (to a few rounding errors) the one `direction` points
@@ -163,7 +157,9 @@ impl Term for Piecewise {
     }
     fn torque(&self, x: f64, _v: f64, _z: f64) -> f64 {
         let u = x - self.0[5];
-        u.signum() * self.positive(u.abs())
+        let [k1, k2, k3, ..] = self.0;
+        let [s1, s2, s3] = self.spans(u.abs());
+        u.signum() * (k1 * s1 + k2 * s2 + k3 * s3)
     }
     /// The slope of the segment holding x (at a kink, the one below in |x − x₀|).
     fn gradient(&self, x: f64, _v: f64, _z: f64) -> [f64; 3] {
@@ -173,18 +169,16 @@ impl Term for Piecewise {
     fn param_derivative(&self, i: usize, x: f64, _v: f64, _z: f64) -> f64 {
         let [k1, k2, k3, ..] = self.0;
         let u = x - self.0[5];
-        let (s, w) = (u.signum(), u.abs());
+        let (sign, w) = (u.signum(), u.abs());
+        let spans = self.spans(w);
         let [a, b] = self.kinks();
-        // P(w) for w ≥ 0 on its segment, differentiated by each value (P odd in u)
-        let d = if w <= a {
-            [w, 0.0, 0.0, 0.0, 0.0]
-        } else if w <= b {
-            [a, w - a, 0.0, k1 - k2, 0.0]
-        } else {
-            [a, b - a, w - b, k1 - k3, k2 - k3]
-        };
+        // moving a kink out moves the twist beyond it from the outer slope to the inner one
+        let (beyond_a, beyond_b) = (f64::from(u8::from(w > a)), f64::from(u8::from(w > b)));
         match i {
-            0..=4 => s * d[i],
+            0..=2 => sign * spans[i],
+            // x₁ moves both kinks, w₂ the second
+            3 => sign * ((k1 - k2) * beyond_a + (k2 - k3) * beyond_b),
+            4 => sign * (k2 - k3) * beyond_b,
             // ∂/∂x₀ = −P'(u)
             _ => -self.gradient(x, 0.0, 0.0)[0],
         }
