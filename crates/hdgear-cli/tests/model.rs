@@ -231,6 +231,34 @@ fn bursts_judges_a_scenario_with_sticking_friction() {
         ));
 }
 
+/// `hdgear bursts` judges a scenario whose stiffness is no study cubic (a piecewise law whose
+/// kink at x = 3.5 the equilibria pass at δ = 800) against the model's own equilibrium curve: a
+/// verdict and bursts, where it used to refuse the model.
+#[test]
+fn bursts_judges_a_piecewise_stiffness_against_its_own_curve() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = scenario(
+        dir.path(),
+        "kink.toml",
+        "[params]\ndelta = 800.0\n\n[piecewise]\nk1 = 0.5\nk2 = 3.0\nk3 = 9.0\nx1 = 3.5\nw2 = 1.0\nx0 = 0.0\n",
+    );
+    let out = dir.path().join("kink.json");
+    hdgear()
+        .args(["bursts", "--config", &f, "--out"])
+        .arg(&out)
+        .assert()
+        .success();
+    let doc: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    let meta = &doc["meta"];
+    assert_eq!(meta["params"]["delta"], 800.0);
+    let verdict = meta["classification"]["verdict"].as_str().unwrap();
+    assert!(
+        ["no-bursts", "ringing", "overshoot", "fold-jump"].contains(&verdict),
+        "{meta}"
+    );
+}
+
 /// `model --branches` summarises the quasi-static branches (and gives every point in JSON):
 /// with Coulomb friction f the drive leaves rest after a reversal once the load has moved 2f.
 #[test]

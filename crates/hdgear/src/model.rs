@@ -4,7 +4,9 @@
 //!   state z of their own): x'' + Σ T_i(x, x', z_i) = μ + δ sin ωτ, z_i' = r_i(x, x', z_i), each
 //!   term defined once with its value, derivatives, Taylor recurrence ([`jet`]) and parameters,
 //!   every method of the model derived from them; [`Model::facts`] derives what the fast
-//!   subsystem's analysis needs (damping at rest, focus/node threshold, decay time).
+//!   subsystem's analysis needs (damping at rest, focus/node threshold, decay time);
+//!   [`ModelCurve`] its equilibrium curve for the burst verdict, from a root finder on its static
+//!   torque where that is no study cubic.
 //! * [`Dimensionless`]: the study's model x'' + x' + αx³ − x² + γ(x − ε) = μ + δ sin ωτ with its
 //!   hand-scheduled Taylor recurrence on 1 and 16 lanes, the fast path every command of the
 //!   study runs on; the tests hold it to [`Model::study`]'s coefficients.
@@ -22,9 +24,11 @@ pub mod switching;
 pub mod terms;
 
 mod assembled;
+mod curve;
 pub use assembled::{
     Description, FORCING, Facts, MAX_STATES, MAX_TERMS, Model, ModelParam, ParamValue, study_param,
 };
+pub use curve::{ModelCurve, ModelFollower};
 
 use crate::integrate::System;
 use crate::integrate::taylor::mul_add;

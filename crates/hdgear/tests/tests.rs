@@ -29,4 +29,5 @@ mod plane;
 mod reference;
 mod robust;
 mod simd;
+mod static_curve;
 mod stick_slip;

@@ -9,17 +9,19 @@ pub fn run(a: BurstsArgs) -> Result<()> {
     let opts = a.burst.options()?;
     check_out(&a.out)?;
     warn(&warnings);
-    // a scenario's terms: the model's verdict, against its equivalent parameter set's curve
-    let (p, r) = if model.has_extra_terms() {
+    // a scenario's terms: the model's verdict, against its equivalent parameter set's curve or,
+    // where its static torque is no study cubic, its own
+    let (r, meta) = if model.has_extra_terms() {
         let r = hdgear::burst::response_model(&model, &opts)?;
-        let p = model
-            .equivalent_params()
-            .expect("response_model checked it");
-        (p, r)
+        let c = hdgear::burst::classify_model(&model, &r)?;
+        let p = model.equivalent_params().unwrap_or(p);
+        let meta = hdgear::burst::BurstsSetup::classified(&p, &opts, &r, c);
+        (r, meta)
     } else {
-        (p, hdgear::burst::response(&p, &opts)?)
+        let r = hdgear::burst::response(&p, &opts)?;
+        let meta = hdgear::burst::BurstsSetup::new(&p, &opts, &r);
+        (r, meta)
     };
     crate::sink::tolerance_note(&r, &opts.tol);
-    let meta = hdgear::burst::BurstsSetup::new(&p, &opts, &r);
     write_records(a.out.as_deref(), &meta, r.bursts)
 }

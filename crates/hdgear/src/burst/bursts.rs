@@ -17,13 +17,13 @@ fn noise_floor(opts: &BurstOptions, x_extent: f64) -> f64 {
 /// The swing floor of x' actually used: [`BurstOptions::swing_floor`]·ω·X, but never below
 /// [`NOISE_FACTOR`]·(atol + rtol·X), the level the integration itself resolves. Without the
 /// second term a loose tolerance at small ω turns truncation error into "ringing".
-pub fn swing_floor(p: &Params, opts: &BurstOptions, x_extent: f64) -> f64 {
+pub fn swing_floor(p: &impl StaticCurve, opts: &BurstOptions, x_extent: f64) -> f64 {
     physical_swing_floor(p, opts, x_extent).max(noise_floor(opts, x_extent))
 }
 
 /// The ringing floor the physics sets: [`BurstOptions::swing_floor`]·ω·X.
-fn physical_swing_floor(p: &Params, opts: &BurstOptions, x_extent: f64) -> f64 {
-    opts.swing_floor * p.omega * x_extent
+fn physical_swing_floor(p: &impl StaticCurve, opts: &BurstOptions, x_extent: f64) -> f64 {
+    opts.swing_floor * p.omega() * x_extent
 }
 
 /// The overshoot floor the physics sets: [`BurstOptions::overshoot_floor`]·X.
@@ -65,7 +65,11 @@ impl std::fmt::Display for ToleranceLimit {
 }
 
 /// The [`ToleranceLimit`] of a run with `opts` on `p`, if any.
-pub fn tolerance_limit(p: &Params, opts: &BurstOptions, x_extent: f64) -> Option<ToleranceLimit> {
+pub fn tolerance_limit(
+    p: &impl StaticCurve,
+    opts: &BurstOptions,
+    x_extent: f64,
+) -> Option<ToleranceLimit> {
     let physical =
         physical_swing_floor(p, opts, x_extent).min(physical_overshoot_floor(opts, x_extent));
     let noise = noise_floor(opts, x_extent);
@@ -136,7 +140,7 @@ fn group_events(scan: &Scan, floor: f64, gap: f64) -> Vec<Group> {
 /// The bursts of `groups` with their pulse in the window, and whether any group is continuous
 /// fast motion (longer than half a slow period).
 fn bursts_of(
-    p: &Params,
+    p: &impl StaticCurve,
     opts: &BurstOptions,
     groups: &[Group],
     (t_w0, t_w1): (f64, f64),
@@ -145,7 +149,7 @@ fn bursts_of(
     x_extent: f64,
 ) -> (Vec<Burst>, bool) {
     let period = p.slow_period();
-    let omega_x = p.omega * x_extent;
+    let omega_x = p.omega() * x_extent;
     let mut bursts = Vec::new();
     let mut continuous = false;
     for g in groups {
@@ -178,10 +182,10 @@ fn bursts_of(
         bursts.push(Burst {
             onset,
             end,
-            a_onset: (p.omega * onset).sin(),
+            a_onset: (p.omega() * onset).sin(),
             duration: end - onset,
             t_peak: pulse.t,
-            a_peak: (p.omega * pulse.t).sin(),
+            a_peak: (p.omega() * pulse.t).sin(),
             peak_abs_xdot: peak,
             spikes: spikes(&g.pivots, opts.spike_fraction),
             extrema: g.pivots.len() as u32,
@@ -228,7 +232,7 @@ fn signatures(
 
 /// Groups the scanned events into bursts and computes the response's statistics.
 pub(super) fn assemble(
-    p: &Params,
+    p: &impl StaticCurve,
     opts: &BurstOptions,
     scan: Scan,
     (t_w0, t_w1): (f64, f64),
@@ -259,7 +263,7 @@ pub(super) fn assemble(
     };
     let signatures = signatures(&bursts, &scan, (t_w0, t_w1), n_periods, x_extent);
     let measures = Measures {
-        speed_ratio: scan.peak_abs_xdot / fast::max_equilibrium_speed(p),
+        speed_ratio: scan.peak_abs_xdot / p.max_equilibrium_speed(),
         lag_ratio: scan.max_lag / scan.max_first_order_lag,
         relative_lag: scan.max_lag / x_extent,
     };

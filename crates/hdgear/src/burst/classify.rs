@@ -138,13 +138,13 @@ pub struct Classification {
 ///   chosen margin: a node part is where bursts start (the state creeps behind the equilibrium,
 ///   then snaps ahead), so asking for a decade there would exclude the bursting the picture is
 ///   meant to explain (the study's γ = 0.1 example passes a node with ω/r = 0.12).
-pub fn fast_slow_domain(p: &Params, r: &Response) -> bool {
-    !r.continuous_fast_motion && p.omega <= fast_slow_omega_max(p)
+pub fn fast_slow_domain(p: &impl StaticCurve, r: &Response) -> bool {
+    !r.continuous_fast_motion && p.omega() <= fast_slow_omega_max(p)
 }
 
 /// The largest ω of the fast-slow domain: the smaller of r_q/[`TIME_SCALE_SEPARATION`] and the
 /// slowest relaxation rate on the path (see [`fast_slow_domain`]).
-pub fn fast_slow_omega_max(p: &Params) -> f64 {
+pub fn fast_slow_omega_max(p: &impl StaticCurve) -> f64 {
     fast_slow_edge(p).omega_max
 }
 
@@ -181,13 +181,13 @@ pub struct DomainEdge {
 /// assert_eq!(e.limit, DomainLimit::Settling);
 /// assert_eq!(e.omega_max, e.turning_point_rate / 10.0);
 /// ```
-pub fn fast_slow_edge(p: &Params) -> DomainEdge {
-    let slowest = fast::slowest_relaxation(p);
+pub fn fast_slow_edge(p: &impl StaticCurve) -> DomainEdge {
+    let slowest = p.slowest_relaxation();
     // taken at the turning points already when the path is not followed (both folds in range)
     let turning = if slowest.along == fast::Along::TurningPoints {
         slowest
     } else {
-        fast::turning_point_relaxation(p)
+        p.turning_point_relaxation()
     };
     let settling = turning.rate / TIME_SCALE_SEPARATION;
     let limit = if slowest.rate < settling {
@@ -205,8 +205,8 @@ pub fn fast_slow_edge(p: &Params) -> DomainEdge {
 
 /// The slowest relaxation rate of the fast subsystem at the stable equilibria at the turning
 /// points a = ±1 (the smaller of the two).
-pub fn turning_point_rate(p: &Params) -> f64 {
-    fast::turning_point_relaxation(p).rate
+pub fn turning_point_rate(p: &impl StaticCurve) -> f64 {
+    p.turning_point_relaxation().rate
 }
 
 /// Verdict, mode and mechanism of a measured response.
@@ -219,7 +219,7 @@ pub fn turning_point_rate(p: &Params) -> f64 {
 /// * mode: `not-fast-slow` outside [`fast_slow_domain`]; else `relaxation` (jump), `stick-slip`,
 ///   `pronounced-bursting` (overshoot, slowest traversed point a node: g' ≤ 1/4), `fast-slow`
 ///   (overshoot, a focus there), `transitional` (ringing only), `normal` (nothing).
-pub fn classify(p: &Params, r: &Response) -> Classification {
+pub fn classify(p: &impl StaticCurve, r: &Response) -> Classification {
     let s = &r.signatures;
     let verdict = if s.jump {
         Verdict::FoldJump
@@ -239,7 +239,7 @@ pub fn classify(p: &Params, r: &Response) -> Classification {
         match verdict {
             Verdict::FoldJump => Mode::Relaxation,
             Verdict::StickSlip => Mode::StickSlip,
-            Verdict::Overshoot if min_traversed_gprime(p) <= fast::FOCUS_GPRIME => {
+            Verdict::Overshoot if min_traversed_gprime(p) <= p.focus_gprime() => {
                 Mode::PronouncedBursting
             }
             Verdict::Overshoot => Mode::FastSlow,

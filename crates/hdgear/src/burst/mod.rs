@@ -59,7 +59,7 @@ pub use classify::{
     Classification, DomainEdge, DomainLimit, Mechanism, Mode, Verdict, classify, fast_slow_domain,
     fast_slow_edge, fast_slow_omega_max, turning_point_rate,
 };
-pub use model::response_model;
+pub use model::{classify_model, response_model, response_model_on};
 pub use plane::{
     BoundaryKind, CURVE_TOL, EDGE_SAMPLES, MAX_TURN, PlaneCurve, PlaneEnd, PlaneOptions,
     PlanePoint, PlaneRow, ROUND, plane_boundaries,
@@ -68,6 +68,7 @@ pub use plane::{
 use scan::{History, Pivot, Scan, Scanner};
 
 use crate::error::{Error, Result};
+use crate::fast::StaticCurve;
 use crate::fast::{self, stable_equilibrium};
 use crate::integrate::{DenseOutput, Options, Stepper, stepper};
 use crate::model::Dimensionless;
@@ -155,9 +156,16 @@ impl BurstOptions {
         self.tol.validate()
     }
 
-    /// The group gap G = min(gap_decay_times·τ_r, T/8) for slow period `period`.
+    /// The group gap G = min(gap_decay_times·τ_r, T/8) for slow period `period`, at the study's
+    /// decay time τ_r = [`RINGING_DECAY_TIME`].
     pub fn group_gap(&self, period: f64) -> f64 {
-        (self.gap_decay_times * RINGING_DECAY_TIME).min(period / 8.0)
+        self.group_gap_for(period, RINGING_DECAY_TIME)
+    }
+
+    /// [`BurstOptions::group_gap`] for a fast subsystem of decay time `decay_time` (2/c at
+    /// damping c: [`StaticCurve::decay_time`]).
+    pub fn group_gap_for(&self, period: f64, decay_time: f64) -> f64 {
+        (self.gap_decay_times * decay_time).min(period / 8.0)
     }
 }
 
@@ -346,22 +354,22 @@ impl Sticking {
 }
 
 /// The x-extent X of the equilibrium curve over a ∈ [−1, 1].
-pub fn curve_extent(p: &Params) -> f64 {
-    fast::x_extent(p, fast::A_RANGE)
+pub fn curve_extent(p: &impl StaticCurve) -> f64 {
+    p.x_extent()
 }
 
 /// The smallest g' over the stable part of the curve traversed by a ∈ [−1, 1] (0 with a fold
 /// in range): its slowest, steepest point.
-pub fn min_traversed_gprime(p: &Params) -> f64 {
-    fast::min_gprime(p, &fast::x_intervals(p, crate::fast::A_RANGE))
+pub fn min_traversed_gprime(p: &impl StaticCurve) -> f64 {
+    p.min_traversed_gprime()
 }
 
 /// The window [t_w0, t_w1): whole slow periods from the first turning point of a after the
 /// discarded transient.
-pub fn window(p: &Params, opts: &BurstOptions) -> (f64, f64) {
+pub fn window(p: &impl StaticCurve, opts: &BurstOptions) -> (f64, f64) {
     let t_discard = opts.discard_periods * p.slow_period();
-    let k = ((p.omega * t_discard - FRAC_PI_2) / PI).ceil().max(0.0);
-    let t_w0 = (FRAC_PI_2 + k * PI) / p.omega;
+    let k = ((p.omega() * t_discard - FRAC_PI_2) / PI).ceil().max(0.0);
+    let t_w0 = (FRAC_PI_2 + k * PI) / p.omega();
     (t_w0, t_w0 + f64::from(opts.periods) * p.slow_period())
 }
 
@@ -536,11 +544,11 @@ struct Plan {
 }
 
 impl Plan {
-    fn new(p: &Params, opts: &BurstOptions) -> Result<Plan> {
-        p.validate()?;
+    fn new(p: &impl StaticCurve, opts: &BurstOptions) -> Result<Plan> {
+        p.check()?;
         opts.validate()?;
         let period = p.slow_period();
-        let gap = opts.group_gap(period);
+        let gap = opts.group_gap_for(period, p.decay_time());
         let (t_w0, t_w1) = window(p, opts);
         let margin = (period / 4.0).min(5.0 * gap);
         let scan = ((t_w0 - margin).max(0.0), t_w1 + margin);
@@ -553,7 +561,7 @@ impl Plan {
         })
     }
 
-    fn scanner(&self, p: &Params, opts: &BurstOptions, x_eq: f64) -> Scanner {
+    fn scanner<C: StaticCurve>(&self, p: &C, opts: &BurstOptions, x_eq: f64) -> Scanner<C> {
         Scanner::new(
             p,
             x_eq,
@@ -568,7 +576,7 @@ impl Plan {
         4.0 * self.gap
     }
 
-    fn assemble(&self, p: &Params, opts: &BurstOptions, scan: Scan) -> Response {
+    fn assemble(&self, p: &impl StaticCurve, opts: &BurstOptions, scan: Scan) -> Response {
         assemble(
             p,
             opts,
@@ -602,10 +610,21 @@ pub struct BurstsSetup {
 impl BurstsSetup {
     /// The setup of response `r` at `params` measured with `options`.
     pub fn new(params: &Params, options: &BurstOptions, r: &Response) -> BurstsSetup {
+        BurstsSetup::classified(params, options, r, classify(params, r))
+    }
+
+    /// The setup of response `r` of a model assembled from terms, classified against its own
+    /// curve ([`classify_model`]); `params` are the study parameters it was built from.
+    pub fn classified(
+        params: &Params,
+        options: &BurstOptions,
+        r: &Response,
+        classification: Classification,
+    ) -> BurstsSetup {
         BurstsSetup {
             params: *params,
             options: *options,
-            classification: classify(params, r),
+            classification,
             bursts_per_period: r.rates.bursts_per_period,
             window: (r.window_start, r.window_end),
             sticking: r.sticking,

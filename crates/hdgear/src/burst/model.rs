@@ -6,20 +6,21 @@
 use super::scan::{History, Pivot, Scan, ScanStep};
 use super::{BurstOptions, Plan, Response, Sticking};
 use crate::error::{Error, Result};
+use crate::fast::StaticCurve;
 use crate::integrate::{AnyDense, DenseOutput, Stepper, stepper};
 use crate::model::delay::Delayed;
 use crate::model::switching::{Pieces, Switching, SwitchingDense};
-use crate::model::{MAX_STATES, Model};
+use crate::model::{MAX_STATES, Model, ModelCurve};
 use std::collections::VecDeque;
 use std::f64::consts::TAU;
 
 /// A step of the model's N-component dense output `D` read as x, x' and the torque of its terms
 /// beyond the equivalent parameter set's cubic and unit damping.
 #[derive(Clone, Copy, Debug)]
-struct Projected<'m, D, const N: usize> {
+struct Projected<'m, C, D, const N: usize> {
     inner: D,
     model: &'m Model,
-    params: &'m crate::Params,
+    params: &'m C,
     /// Which piece the step lies on.
     piece: OnPiece,
 }
@@ -35,7 +36,7 @@ enum OnPiece {
     Slip(f64),
 }
 
-impl<D, const N: usize> Projected<'_, D, N> {
+impl<C: StaticCurve, D, const N: usize> Projected<'_, C, D, N> {
     fn extra_at(&self, t: f64, y: &[f64; N]) -> f64 {
         let p = self.params;
         // the model's torque less the study's x' + g(x)
@@ -43,13 +44,13 @@ impl<D, const N: usize> Projected<'_, D, N> {
         match self.piece {
             OnPiece::Smooth => self.model.torque_at(y) - study,
             // at rest x'' = 0: the friction takes up whatever the rest leaves
-            OnPiece::Rest => p.forcing((p.omega * t).sin()) - study,
+            OnPiece::Rest => p.forcing((p.omega() * t).sin()) - study,
             OnPiece::Slip(s) => self.model.directed(s, [0.0; MAX_STATES]).torque_at(y) - study,
         }
     }
 }
 
-impl<D: DenseOutput<N>, const N: usize> DenseOutput<2> for Projected<'_, D, N> {
+impl<C: StaticCurve, D: DenseOutput<N>, const N: usize> DenseOutput<2> for Projected<'_, C, D, N> {
     fn t_start(&self) -> f64 {
         self.inner.t_start()
     }
@@ -72,7 +73,7 @@ impl<D: DenseOutput<N>, const N: usize> DenseOutput<2> for Projected<'_, D, N> {
     }
 }
 
-impl<D: DenseOutput<N>, const N: usize> ScanStep for Projected<'_, D, N> {
+impl<C: StaticCurve, D: DenseOutput<N>, const N: usize> ScanStep for Projected<'_, C, D, N> {
     fn state_at(&self, t: f64) -> ([f64; 2], f64) {
         let y = self.inner.eval(t);
         ([y[0], y[1]], self.extra_at(t, &y))
@@ -127,14 +128,14 @@ struct Piece<const N: usize> {
 /// x̿, x̿' and, for the scan, the torque that makes x̿'' the scan's x'' against `params` (the
 /// averaged model's).
 #[derive(Clone, Debug)]
-struct Averaged<'p, const N: usize> {
+struct Averaged<'p, C, const N: usize> {
     /// The run's steps from the one holding t_start − 2T to this one (the last).
     pieces: Vec<Piece<N>>,
     period: f64,
-    params: &'p crate::Params,
+    params: &'p C,
 }
 
-impl<const N: usize> Averaged<'_, N> {
+impl<C: StaticCurve, const N: usize> Averaged<'_, C, N> {
     fn piece(&self, t: f64) -> &AnyDense<N> {
         &self
             .pieces
@@ -185,12 +186,12 @@ impl<const N: usize> Averaged<'_, N> {
     fn scanned(&self, t: f64) -> ([f64; 2], f64) {
         let [x, v, acc] = self.averaged(t);
         let p = self.params;
-        let extra = p.forcing((p.omega * t).sin()) - v - p.g(x) - acc;
+        let extra = p.forcing((p.omega() * t).sin()) - v - p.g(x) - acc;
         ([x, v], extra)
     }
 }
 
-impl<const N: usize> DenseOutput<2> for Averaged<'_, N> {
+impl<C: StaticCurve, const N: usize> DenseOutput<2> for Averaged<'_, C, N> {
     fn t_start(&self) -> f64 {
         self.pieces[self.pieces.len() - 1].d.t_start()
     }
@@ -203,7 +204,7 @@ impl<const N: usize> DenseOutput<2> for Averaged<'_, N> {
     }
 }
 
-impl<const N: usize> ScanStep for Averaged<'_, N> {
+impl<C: StaticCurve, const N: usize> ScanStep for Averaged<'_, C, N> {
     fn state_at(&self, t: f64) -> ([f64; 2], f64) {
         self.scanned(t)
     }
@@ -215,7 +216,9 @@ impl<const N: usize> ScanStep for Averaged<'_, N> {
 /// Simulates the model from its lowest stable equilibrium at a = 0 (at rest, its internal
 /// states at rest there: [`Model::rest_states`]) and measures the response as [`super::response`]
 /// does the study's: the signatures against the equilibrium curve of
-/// [`Model::equivalent_params`], x'' the model's own.
+/// [`Model::equivalent_params`] where the model's static torque is a study cubic, else against
+/// the model's own curve ([`ModelCurve`]: a catalogue's piecewise-linear stiffness, a cubic with
+/// an end stop); x'' the model's own. Classify it with [`classify_model`].
 ///
 /// A dithered model ([`Model::dither`]) is scanned on its motion averaged twice over the
 /// dither's period T (a triangular window 2T wide, which removes the ripple and its harmonics),
@@ -225,8 +228,9 @@ impl<const N: usize> ScanStep for Averaged<'_, N> {
 /// ([`Switching`]) and scanned on its pieces, at rest with x'' = 0; its rests are measured
 /// ([`Response::sticking`]), and a burst released by a breakaway is a slip ([`Sticking`]).
 ///
-/// Refused for a model whose static torque is not a study cubic (its equilibria are not a
-/// parameter set's), and for a switching model with a dither or a delay.
+/// Refused for a switching model with a dither or a delay, for a dithered model whose static
+/// torque is no study cubic (its averaged equilibria are not known), and where [`ModelCurve::new`]
+/// refuses the model's curve.
 ///
 /// ```
 /// use hdgear::{Params, burst::{BurstOptions, Verdict, classify, response_model}};
@@ -242,38 +246,81 @@ impl<const N: usize> ScanStep for Averaged<'_, N> {
 /// ```
 pub fn response_model(m: &Model, opts: &BurstOptions) -> Result<Response> {
     m.check()?;
-    let refuse = |reason: &str| Error::InvalidInput {
+    match m.equivalent_params() {
+        Some(p) => response_model_on(m, &p, opts),
+        None if m.dither().is_some() => Err(refusal(
+            m,
+            "the burst verdict on a dithered model needs its averaged equilibria, known only for a static torque that is a study cubic",
+        )),
+        None => response_model_on(m, &ModelCurve::new(m)?, opts),
+    }
+}
+
+/// The error refusing model `m` a verdict, for `reason`.
+fn refusal(m: &Model, reason: &str) -> Error {
+    Error::InvalidInput {
         what: "model",
         text: m.equation(),
         reason: reason.into(),
-    };
+    }
+}
+
+/// The classification ([`super::classify`]) of a model's response ([`response_model`]), against
+/// the same equilibrium curve the response was measured on: the equivalent study set's where
+/// there is one ([`Model::equivalent_params`]), else the model's own ([`ModelCurve`]).
+///
+/// ```
+/// use hdgear::burst::{BurstOptions, classify_model, response_model};
+/// use hdgear::model::{Model, terms::AnyTerm};
+/// // a soft middle (slope 0.05 for |x| ≤ 0.3) between stiffer segments: no cubic, one curve
+/// let law = AnyTerm::new("piecewise", &[0.05, 0.5, 5.0, 0.3, 0.5, 0.0]).unwrap();
+/// let m = Model::damped(0.0, 1.0, 0.01).with_term(law).unwrap();
+/// assert_eq!(m.equivalent_params(), None);
+/// let r = response_model(&m, &BurstOptions::default()).unwrap();
+/// let c = classify_model(&m, &r).unwrap();
+/// assert!(c.fast_slow_domain); // ω = 0.01 below the soft middle's relaxation rate 0.053
+/// ```
+pub fn classify_model(m: &Model, r: &Response) -> Result<super::Classification> {
+    Ok(match m.equivalent_params() {
+        Some(p) => super::classify(&p, r),
+        None => super::classify(&ModelCurve::new(m)?, r),
+    })
+}
+
+/// [`response_model`] measured against the equilibrium curve `p` (whose x'' the scan reads is the
+/// model's own whatever `p`; the signatures are measured against `p`'s equilibria): for a study
+/// model both [`crate::Params`] and [`ModelCurve`] apply, which the tests compare.
+pub fn response_model_on<C: StaticCurve>(
+    m: &Model,
+    p: &C,
+    opts: &BurstOptions,
+) -> Result<Response> {
+    m.check()?;
     if m.switches() && (m.dither().is_some() || m.delay().is_some()) {
-        return Err(refuse(
+        return Err(refusal(
+            m,
             "the burst verdict on a switching model (integrated piece by piece) takes neither a dither nor a delay",
         ));
     }
-    let p = m.equivalent_params().ok_or_else(|| {
-        refuse("its static torque is not a study cubic αx³ − x² + γ(x − ε), so its equilibria are no parameter set's")
-    })?;
-    let x0 = crate::fast::stable_equilibrium(&p, 0.0);
+    let x0 = p.start();
     let z: [f64; MAX_STATES] = m.rest_states(x0);
     let v0 = m.rest_rate();
     match (m.dim(), m.switches()) {
-        (2, false) => run::<2>(m, &p, opts, [x0, v0]),
-        (3, false) => run::<3>(m, &p, opts, [x0, v0, z[0]]),
-        (_, false) => run::<4>(m, &p, opts, [x0, v0, z[0], z[1]]),
-        (2, true) => run_switching::<2>(m, &p, opts, [x0, v0]),
-        (3, true) => run_switching::<3>(m, &p, opts, [x0, v0, z[0]]),
-        (_, true) => run_switching::<4>(m, &p, opts, [x0, v0, z[0], z[1]]),
+        (2, false) => run::<C, 2>(m, p, opts, [x0, v0]),
+        (3, false) => run::<C, 3>(m, p, opts, [x0, v0, z[0]]),
+        (_, false) => run::<C, 4>(m, p, opts, [x0, v0, z[0], z[1]]),
+        (2, true) => run_switching::<C, 2>(m, p, opts, [x0, v0]),
+        (3, true) => run_switching::<C, 3>(m, p, opts, [x0, v0, z[0]]),
+        (_, true) => run_switching::<C, 4>(m, p, opts, [x0, v0, z[0], z[1]]),
     }
 }
 
 /// The scan of the model's run from `y0`: by the method of steps for a delayed model
 /// ([`Delayed`]), of the motion averaged over the dither's period for a dithered one
 /// ([`Averaged`]), of the motion itself otherwise ([`Projected`]).
-fn run<const N: usize>(
+fn run<C: StaticCurve, const N: usize>(
     m: &Model,
-    p: &crate::Params,
+    p: &C,
     opts: &BurstOptions,
     y0: [f64; N],
 ) -> Result<Response> {
@@ -292,11 +339,11 @@ fn run<const N: usize>(
 }
 
 /// [`run`] on `solver`'s steps, each shown to `taken` where given (a delayed model's history).
-fn scan_model<St: Stepper<N, Dense = AnyDense<N>>, const N: usize>(
+fn scan_model<C: StaticCurve, St: Stepper<N, Dense = AnyDense<N>>, const N: usize>(
     plan: &Plan,
     solver: St,
     m: &Model,
-    p: &crate::Params,
+    p: &C,
     opts: &BurstOptions,
     x0: f64,
     taken: Option<&dyn Fn(AnyDense<N>)>,
@@ -356,10 +403,10 @@ fn scan_model<St: Stepper<N, Dense = AnyDense<N>>, const N: usize>(
 /// shown every step first, and returns the raw extremum of x' the step starts on where the sign
 /// test on x'' cannot see it ([`Rests::see`]).
 #[allow(clippy::too_many_arguments)]
-fn scan_steps<St: Stepper<N>, V: ScanStep, const N: usize>(
+fn scan_steps<C: StaticCurve, St: Stepper<N>, V: ScanStep, const N: usize>(
     plan: &Plan,
     mut solver: St,
-    p: &crate::Params,
+    p: &C,
     opts: &BurstOptions,
     x0: f64,
     every_step: bool,
@@ -482,9 +529,9 @@ fn slip_side<const N: usize>(d: &SwitchingDense<N>) -> f64 {
 
 /// The scan of a switching model's run from `y0`, piece by piece ([`Switching`]), with its rests
 /// measured ([`Sticking`]).
-fn run_switching<const N: usize>(
+fn run_switching<C: StaticCurve, const N: usize>(
     m: &Model,
-    p: &crate::Params,
+    p: &C,
     opts: &BurstOptions,
     y0: [f64; N],
 ) -> Result<Response> {

@@ -3,7 +3,7 @@
 //! e = x − x*(a) on the leading side, and the jumps across the unstable band. Every event is a
 //! root located on the step's interpolant, so nothing depends on where the steps land.
 
-use crate::fast::{EquilibriumTracker, fold_abscissae};
+use crate::fast::{Follower, StaticCurve};
 use crate::integrate::DenseOutput;
 use crate::integrate::events::refine_root;
 use crate::params::Params;
@@ -125,9 +125,9 @@ pub(crate) struct Scan {
 /// in order with [`Scanner::push`] (or, with the samples measured elsewhere,
 /// [`Scanner::push_sampled`]), keeping the steps in a [`Past`] for the pulse onsets.
 #[derive(Clone, Debug)]
-pub(crate) struct Scanner {
-    p: Params,
-    follower: EquilibriumTracker,
+pub(crate) struct Scanner<C: StaticCurve = Params> {
+    p: C,
+    follower: C::Follower,
     zigzag: ZigZag,
     /// Lobes smaller than this are not kept (they can never matter; avoids storing rounding).
     lobe_keep: f64,
@@ -139,25 +139,25 @@ pub(crate) struct Scanner {
     out: Scan,
 }
 
-impl Scanner {
+impl<C: StaticCurve> Scanner<C> {
     /// `swing_floor`: the smallest swing of x' that counts; `lobe_keep`: the smallest lobe kept;
     /// `window`: where the window statistics are taken.
     pub(crate) fn new(
-        p: &Params,
+        p: &C,
         x0: f64,
         swing_floor: f64,
         lobe_keep: f64,
         window: (f64, f64),
-    ) -> Scanner {
+    ) -> Scanner<C> {
         Scanner {
-            p: *p,
-            follower: EquilibriumTracker::new(p, x0),
+            p: p.clone(),
+            follower: p.follower(x0),
             zigzag: ZigZag {
                 floor: swing_floor,
                 cand: None,
             },
             lobe_keep,
-            band: fold_abscissae(p),
+            band: p.fold_band(),
             window,
             last: None,
             side: 0,
@@ -167,7 +167,7 @@ impl Scanner {
     }
 
     fn sample(&mut self, t: f64, y: [f64; 2], extra: f64) -> Sample {
-        let (s, c) = (self.p.omega * t).sin_cos();
+        let (s, c) = (self.p.omega() * t).sin_cos();
         self.sample_with(t, y, s, c, extra)
     }
 
@@ -185,12 +185,12 @@ impl Scanner {
     }
 
     /// The tracker of the equilibrium (for scanners that follow it elsewhere and hand it back).
-    pub(crate) fn follower(&mut self) -> &mut EquilibriumTracker {
+    pub(crate) fn follower(&mut self) -> &mut C::Follower {
         &mut self.follower
     }
 
     /// [`Scanner::follower`], to read.
-    pub(crate) fn follower_ref(&self) -> &EquilibriumTracker {
+    pub(crate) fn follower_ref(&self) -> &C::Follower {
         &self.follower
     }
 
@@ -203,8 +203,8 @@ impl Scanner {
         let (t0, t1) = (d.t_start(), d.t_end());
         self.start(d);
         // sin and cos of ωt at the step's end, the midpoint's from them: one sine per step
-        let (s1, c1) = (self.p.omega * t1).sin_cos();
-        let (tm, (sm, cm)) = midpoint(self.p.omega, t0, t1, (s1, c1));
+        let (s1, c1) = (self.p.omega() * t1).sin_cos();
+        let (tm, (sm, cm)) = midpoint(self.p.omega(), t0, t1, (s1, c1));
         // the step's end: the state the integrator ended on (and starts the next step from)
         let (ym, em) = d.state_at(tm);
         let (y1, e1) = d.end();
@@ -310,7 +310,7 @@ impl Scanner {
 
     /// Processes the sub-interval between two samples.
     fn interval<D: ScanStep>(&mut self, d: &D, a: &Sample, b: &Sample, past: &impl Past) {
-        if !eventful(self.p.omega, self.band(), a, b) {
+        if !eventful(self.p.omega(), self.band(), a, b) {
             #[cfg(test)]
             tests::check_quiet(self, d, a, b, past);
             return self.quiet(a, b);
@@ -320,9 +320,9 @@ impl Scanner {
 
     /// [`Scanner::interval`] where [`eventful`] found something.
     fn events<D: ScanStep>(&mut self, d: &D, a: &Sample, b: &Sample, past: &impl Past) {
-        let p = self.p;
+        let p = self.p.clone();
         // sin ωt and cos ωt inside the sub-interval from their values at its end
-        let sc = |t: f64| sin_cos_near(p.omega, t, b.t, (b.s, b.c));
+        let sc = |t: f64| sin_cos_near(p.omega(), t, b.t, (b.s, b.c));
         // --- extrema of x': sign changes of x''
         if (a.acc > 0.0) != (b.acc > 0.0) && a.acc != 0.0 {
             let acc = |t: f64| {
@@ -357,8 +357,8 @@ impl Scanner {
     /// The breakpoints of the leading-side lobes of e in (a.t, b.t]: zeros of e and of cos ωt
     /// (turning points of a), and the extrema of e (zeros of e'), which measure the lobe.
     fn lobe_marks<D: DenseOutput<2>>(&mut self, d: &D, a: &Sample, b: &Sample) {
-        let p = self.p;
-        let sc = |t: f64| sin_cos_near(p.omega, t, b.t, (b.s, b.c));
+        let p = self.p.clone();
+        let sc = |t: f64| sin_cos_near(p.omega(), t, b.t, (b.s, b.c));
         // extrema of e (zeros of e') measure the lobe
         let mut marks: Vec<(f64, Mark)> = Vec::new();
         if (a.e > 0.0) != (b.e > 0.0) && a.e != 0.0 {
@@ -374,7 +374,7 @@ impl Scanner {
         // cannot hide), and the interval is shorter than the π/ω two zeros would need
         let (ca, cb) = (a.c, b.c);
         let one_sign = (ca > 0.0) == (cb > 0.0) && ca.abs().min(cb.abs()) > 1e-6;
-        if !(one_sign && p.omega * (b.t - a.t) < 1.0) {
+        if !(one_sign && p.omega() * (b.t - a.t) < 1.0) {
             self.turning_points(a.t, b.t, &mut marks);
         }
         if (a.ed > 0.0) != (b.ed > 0.0) && a.ed.is_finite() && b.ed.is_finite() {
@@ -383,7 +383,7 @@ impl Scanner {
                 let y = d.eval(t);
                 let (s, c) = sc(t);
                 let xs = f.at(s, y[0]);
-                y[1] - p.omega * c * p.delta / p.g_prime(xs)
+                y[1] - p.omega() * c * p.delta() / p.g_prime(xs)
             };
             let t = refine_root(ed, a.t, a.ed, b.t, b.ed);
             let y = d.eval(t);
@@ -396,7 +396,7 @@ impl Scanner {
 
     /// The turning points of a (zeros of cos ωt) in (t0, t1].
     fn turning_points(&self, t0: f64, t1: f64, marks: &mut Vec<(f64, Mark)>) {
-        let omega = self.p.omega;
+        let omega = self.p.omega();
         let mut k = ((omega * t0 - FRAC_PI_2) / PI).floor() + 1.0;
         loop {
             let tk = (FRAC_PI_2 + k * PI) / omega;
@@ -485,7 +485,7 @@ pub(crate) fn eventful(omega: f64, (xm, xp): (f64, f64), a: &Sample, b: &Sample)
 /// x'' at the state `y` = (x, x') with sin ωt = `s` and the extra torque `extra`
 /// ([`ScanStep::state_at`]).
 #[inline(always)]
-fn accel(p: &Params, s: f64, y: [f64; 2], extra: f64) -> f64 {
+fn accel<C: StaticCurve>(p: &C, s: f64, y: [f64; 2], extra: f64) -> f64 {
     p.forcing(s) - y[1] - p.g(y[0]) - extra
 }
 
@@ -493,8 +493,8 @@ fn accel(p: &Params, s: f64, y: [f64; 2], extra: f64) -> f64 {
 /// equilibrium `xs` the state follows there and the extra torque `extra` ([`ScanStep::state_at`])
 /// (one function for the scanners of one step and of many).
 #[inline(always)]
-pub(crate) fn measure(
-    p: &Params,
+pub(crate) fn measure<C: StaticCurve>(
+    p: &C,
     t: f64,
     y: [f64; 2],
     (s, c): (f64, f64),
@@ -503,7 +503,7 @@ pub(crate) fn measure(
 ) -> Sample {
     let acc = accel(p, s, y, extra);
     let inv_gp = 1.0 / p.g_prime(xs);
-    let xs_dot = p.omega * c * p.delta * inv_gp;
+    let xs_dot = p.omega() * c * p.delta() * inv_gp;
     Sample {
         t,
         x: y[0],
@@ -684,8 +684,8 @@ mod tests {
 
     /// Called by [`Scanner::interval`] (in this crate's unit tests) on each sub-interval it
     /// treats as quiet: the full treatment changes the scanner exactly as the quiet one does.
-    pub(super) fn check_quiet<D: ScanStep>(
-        s: &Scanner,
+    pub(super) fn check_quiet<C: crate::fast::StaticCurve, D: ScanStep>(
+        s: &Scanner<C>,
         d: &D,
         a: &Sample,
         b: &Sample,

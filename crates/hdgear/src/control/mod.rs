@@ -8,7 +8,7 @@
 //! equilibria are a study parameter set's; the measures come from a second pass sampled every
 //! [`SAMPLE_DT`] over the same window.
 
-use crate::burst::{BurstOptions, Verdict, classify, response_model, window};
+use crate::burst::{BurstOptions, Verdict, classify, classify_model, response_model};
 use crate::error::{Error, Result};
 use crate::model::Model;
 use crate::model::control::{Dither, VirtualDamping, VirtualStiffness, Washout};
@@ -281,12 +281,11 @@ impl Run {
     /// The loop `m` (the open loop `open` with a law's term, or `open` itself).
     fn of(m: &Model, open: &Model, opts: &BurstOptions, sample_dt: f64) -> Result<Run> {
         let r = response_model(m, opts)?;
-        let p = m.equivalent_params().expect("response_model checked it");
-        let verdict = classify(&p, &r).verdict;
+        let verdict = classify_model(m, &r)?.verdict;
         let continuous = r.continuous_fast_motion;
-        let (w0, w1) = window(&p, opts);
+        let (w0, w1) = (r.window_start, r.window_end);
         // a grid on which every turning point of a, τ = (2k + 1)·π/(2ω), is a sample
-        let quarter = std::f64::consts::FRAC_PI_2 / p.omega;
+        let quarter = std::f64::consts::FRAC_PI_2 / m.forcing()[2];
         let per_quarter = (quarter / sample_dt).ceil();
         let dt = quarter / per_quarter;
         // ũ = −(the law's torque): the loop's terms' torque less the open loop's, with the size
@@ -380,7 +379,7 @@ fn no_control_needed(p: &Params, law: &str) -> Error {
 fn bursts_at(p: &Params, law: &str, gain: f64, rest: &[f64], opts: &BurstOptions) -> Result<bool> {
     let m = closed_loop(p, law_term(law, gain, rest)?)?;
     let r = response_model(&m, opts)?;
-    Ok(classify(&m.equivalent_params().expect("checked"), &r).bursting || r.continuous_fast_motion)
+    Ok(classify_model(&m, &r)?.bursting || r.continuous_fast_motion)
 }
 
 /// The least gain of law `law` (other parameters `rest`) that removes the bursts of `p`: gains
@@ -771,6 +770,7 @@ pub fn feedforward(p: &Params, opts: &BurstOptions, rel_tol: f64) -> Result<Feed
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::burst::window;
 
     /// [`SAMPLE_DT`] a decade either way, for three laws that remove the bursts. What the grid
     /// cannot change does not: the verdicts (the burst scan's), the static shift (the turning

@@ -7,7 +7,7 @@
 //! of the curve); their boundaries are located by bisection on the exact curve a(x) to 1e-12 in x.
 
 use super::curve::{check_a_range, x_intervals};
-use super::equilibria::{eigenvalues, fold_abscissae};
+use super::equilibria::fold_abscissae;
 use super::predict::{
     FORCING_RATE_THRESHOLD, Prediction, focus_pieces, forcing_rate, predict,
     predicted_gamma_boundary,
@@ -152,13 +152,10 @@ pub struct Analysis {
     pub equilibria: EquilibriaSummary,
 }
 
-/// The slowest relaxation rate min |Re λ| for g' > 0 (0 otherwise).
+/// The slowest relaxation rate min |Re λ| for g' > 0 (0 otherwise), at the study's unit damping
+/// ([`super::relaxation_rate_with`] at c = 1).
 pub fn relaxation_rate(gp: f64) -> f64 {
-    if gp <= 0.0 {
-        return 0.0;
-    }
-    let [(r1, _), (r2, _)] = eigenvalues(gp);
-    r1.abs().min(r2.abs())
+    super::relaxation_rate_with(gp, 1.0)
 }
 
 fn a_of(p: &Params, x: f64) -> f64 {

@@ -34,6 +34,8 @@ pub use passage::{
     ramp_threshold, ramp_threshold_at,
 };
 mod predict;
+mod static_curve;
+pub use static_curve::{Follower, StaticCurve, relaxation_rate_with};
 
 pub use analysis::{
     Analysis, Cusp, EquilibriaSummary, Fold, FoldRow, Interval, NO_HOPF_REASON, Point, Regime,
@@ -46,11 +48,11 @@ pub use equilibria::{
     EqType, Equilibria, Equilibrium, EquilibriumTracker, eigenvalues, equilibria, fold_abscissae,
     nearest_stable_equilibrium, stable_equilibrium,
 };
-pub(crate) use predict::min_gprime;
 pub use predict::{
     FORCING_RATE_THRESHOLD, Prediction, SettledBranch, focus_pieces, forcing_rate,
     max_equilibrium_speed, predict, predicted_gamma_boundary, settled_branch,
 };
+pub(crate) use predict::{max_on, min_gprime};
 
 /// What produced an equilibrium curve: the `meta` of `hdgear equilibria`'s JSON output.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]

@@ -201,7 +201,7 @@ pub(crate) fn least_gprime(p: &Params, intervals: &[(f64, f64)]) -> (f64, f64) {
 
 /// The largest κ on [l, r], with its x: a dense scan, then golden-section refinement around the
 /// best sample (κ is smooth on a focus piece).
-fn max_on(f: impl Fn(f64) -> f64, l: f64, r: f64) -> (f64, f64) {
+pub(crate) fn max_on(f: impl Fn(f64) -> f64, l: f64, r: f64) -> (f64, f64) {
     const N: usize = 512;
     let x = |j: usize| l + (r - l) * j as f64 / N as f64;
     // every sample first (independent evaluations, which the compiler vectorises: on the widest

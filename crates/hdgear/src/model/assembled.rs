@@ -192,9 +192,10 @@ impl Model {
     }
 
     /// A unit inertia and damping under the load μ + δ sin ωτ, with no stiffness of its own: the
-    /// terms added give it all ([`Model::with_term`]). For systems that are not the study's drive,
-    /// such as an identification benchmark; the fast-slow analysis and the burst verdict, which
-    /// need the study's cubic, refuse it ([`Model::equivalent_params`] is `None`).
+    /// terms added give it all ([`Model::with_term`]). For drives whose stiffness is not the
+    /// study's cubic (a catalogue's piecewise-linear curve) and for systems that are not a drive,
+    /// such as an identification benchmark; [`Model::equivalent_params`] is `None`, and the burst
+    /// verdict measures against the model's own equilibrium curve ([`super::ModelCurve`]).
     pub fn damped(mu: f64, delta: f64, omega: f64) -> Model {
         let mut terms = [None; MAX_TERMS];
         terms[0] = Some(AnyTerm::Damping(Damping::default()));
@@ -635,14 +636,27 @@ impl Model {
             .all(|t| t.kind() != kind)
     }
 
-    /// The lowest stable equilibrium of the fast subsystem at slow variable a: the lowest root of
-    /// g(x) = μ + δa with g'(x) > 0 and damping c(x) > 0 (g = [`Model::static_torque`]). Found
-    /// without the cubic's closed forms, so for any terms: the range [−R, R] doubled until g
-    /// brackets the level there (the confining stiffness makes it), 4096 samples across it, each
-    /// sign change refined by Brent's method to the resolution of f64.
-    pub fn stable_equilibrium(&self, a: f64) -> Result<f64> {
-        let [mu, delta, _] = self.forcing;
-        let level = mu + delta * a;
+    /// The slope g'(x) of the static torque ([`Model::static_torque`]): each term's ∂T/∂x plus
+    /// ∂T/∂z times the slope of its state at rest (0 for a memory term's virgin state, 1 for a
+    /// washout's or a delay's, which rest at x: every term's rest state is affine in x).
+    pub fn static_stiffness(&self, x: f64) -> f64 {
+        self.terms()
+            .filter(|t| !t.is_load())
+            .map(|t| {
+                let z = t.state_at_rest(x);
+                let [gx, _, gz] = t.gradient(x, 0.0, z);
+                let dz = t.state_at_rest(1.0) - t.state_at_rest(0.0);
+                if dz == 0.0 { gx } else { gx + gz * dz }
+            })
+            .sum()
+    }
+
+    /// Every root of g(x) = `level` (g = [`Model::static_torque`]), increasing: the fast
+    /// subsystem's equilibria at that torque. Found without the cubic's closed forms, so for any
+    /// terms: the range [−R, R] doubled until g brackets the level there (the confining stiffness
+    /// makes it), 4096 samples across it, each sign change refined by Brent's method to the
+    /// resolution of f64 (two roots closer than a sample apart are not told apart).
+    pub fn equilibria_at(&self, level: f64) -> Result<Vec<f64>> {
         let f = |x: f64| self.static_torque(x) - level;
         let mut r = 1.0_f64;
         while !(f(-r) < 0.0 && f(r) > 0.0) {
@@ -652,7 +666,7 @@ impl Model {
                     what: "model",
                     text: self.equation(),
                     reason: format!(
-                        "its static torque does not confine x: no equilibrium at a = {a}"
+                        "its static torque does not confine x: no equilibrium at the torque {level}"
                     ),
                 });
             }
@@ -671,6 +685,14 @@ impl Model {
             }
             lo = hi;
         }
+        Ok(roots)
+    }
+
+    /// The lowest stable equilibrium of the fast subsystem at slow variable a: the lowest root of
+    /// g(x) = μ + δa ([`Model::equilibria_at`]) with g'(x) > 0 and damping c(x) > 0.
+    pub fn stable_equilibrium(&self, a: f64) -> Result<f64> {
+        let [mu, delta, _] = self.forcing;
+        let roots = self.equilibria_at(mu + delta * a)?;
         let stable = |x: f64| {
             let [ax, av] = self.accel_gradient(x, 0.0);
             -ax > 0.0 && -av > 0.0

@@ -1,0 +1,146 @@
+//! The seam between the burst scan and the equilibrium curve it measures against: what the scan
+//! and its verdict read of a fast subsystem x'' + c·x' + g(x) = μ + δa with a = sin ωτ frozen.
+//! The study's cubic ([`Params`]) answers from its closed forms; a model assembled from terms
+//! (`model::ModelCurve`) from a root finder on its static torque. The scan is generic over it, so
+//! the cubic keeps its fast path and any other stiffness law gets the same verdict.
+
+use super::{A_RANGE, EquilibriumTracker, SlowestRelaxation};
+use crate::error::Result;
+use crate::params::Params;
+
+/// Follows the stable equilibrium a state tracks while a moves.
+pub trait Follower: Clone + std::fmt::Debug {
+    /// x*(a) for a state at x: the stable equilibrium at a that the state follows.
+    fn at(&mut self, a: f64, x: f64) -> f64;
+}
+
+/// The equilibrium curve g(x) = μ + δa of a fast subsystem x'' + c·x' + g(x) = μ + δa, and the
+/// facts of it the burst verdict reads ([`crate::burst`]).
+pub trait StaticCurve: Clone + std::fmt::Debug {
+    /// What follows the equilibrium a state tracks.
+    type Follower: Follower;
+    /// The slow forcing's angular frequency ω.
+    fn omega(&self) -> f64;
+    /// The slow forcing's amplitude δ.
+    fn delta(&self) -> f64;
+    /// The forcing μ + δa at slow variable a.
+    fn forcing(&self, a: f64) -> f64;
+    /// The static torque g(x).
+    fn g(&self, x: f64) -> f64;
+    /// Its slope g'(x).
+    fn g_prime(&self, x: f64) -> f64;
+    /// Whether the curve's parameters are valid.
+    fn check(&self) -> Result<()>;
+    /// The fold abscissae x− < x+ bounding the unstable band (g' < 0 between them), if any.
+    fn fold_band(&self) -> Option<(f64, f64)>;
+    /// A follower starting from the equilibrium guess `x0`.
+    fn follower(&self, x0: f64) -> Self::Follower;
+    /// The default start: the lowest stable equilibrium at a = 0.
+    fn start(&self) -> f64;
+    /// The x-extent X of the curve over a ∈ [−1, 1] (the unit of x-distances in detection).
+    fn x_extent(&self) -> f64;
+    /// The smallest g' over the curve traversed by a ∈ [−1, 1] (0 with a fold in range).
+    fn min_traversed_gprime(&self) -> f64;
+    /// The damping at rest c: −trace of the fast Jacobian [[0, 1], [−g', −c]].
+    fn damping(&self) -> f64;
+    /// The slope above which a stable equilibrium is a focus (complex eigenvalues): c²/4.
+    fn focus_gprime(&self) -> f64 {
+        let c = self.damping();
+        c * c / 4.0
+    }
+    /// The e-folding time 2/c of a ringing about a focus (its amplitude decays as e^{−cτ/2}).
+    fn decay_time(&self) -> f64 {
+        2.0 / self.damping()
+    }
+    /// The largest speed |dx*/dτ| of the equilibrium on the branch the response settles on
+    /// (infinite when the state must jump).
+    fn max_equilibrium_speed(&self) -> f64;
+    /// The slowest relaxation met on the path the state follows ([`super::slowest_relaxation`]).
+    fn slowest_relaxation(&self) -> SlowestRelaxation;
+    /// The slowest relaxation at the stable equilibria at a = ±1.
+    fn turning_point_relaxation(&self) -> SlowestRelaxation;
+    /// The slow period 2π/ω.
+    fn slow_period(&self) -> f64 {
+        std::f64::consts::TAU / self.omega()
+    }
+}
+
+/// The slowest relaxation rate min |Re λ| of λ² + cλ + g' = 0 for g' > 0 (0 otherwise): c/2 on
+/// a focus (g' ≥ c²/4), (c/2)·(1 − √(1 − 4g'/c²)) on a node.
+pub fn relaxation_rate_with(gp: f64, c: f64) -> f64 {
+    if gp <= 0.0 {
+        return 0.0;
+    }
+    let disc = 1.0 - 4.0 * gp / (c * c);
+    if disc >= 0.0 {
+        0.5 * c * (1.0 - disc.sqrt())
+    } else {
+        0.5 * c
+    }
+}
+
+impl Follower for EquilibriumTracker {
+    #[inline]
+    fn at(&mut self, a: f64, x: f64) -> f64 {
+        EquilibriumTracker::at(self, a, x)
+    }
+}
+
+/// The study's cubic: every answer from its closed forms.
+impl StaticCurve for Params {
+    type Follower = EquilibriumTracker;
+    #[inline(always)]
+    fn omega(&self) -> f64 {
+        self.omega
+    }
+    #[inline(always)]
+    fn delta(&self) -> f64 {
+        self.delta
+    }
+    #[inline(always)]
+    fn forcing(&self, a: f64) -> f64 {
+        Params::forcing(self, a)
+    }
+    #[inline(always)]
+    fn g(&self, x: f64) -> f64 {
+        Params::g(self, x)
+    }
+    #[inline(always)]
+    fn g_prime(&self, x: f64) -> f64 {
+        Params::g_prime(self, x)
+    }
+    fn check(&self) -> Result<()> {
+        self.validate().map(|_| ())
+    }
+    fn fold_band(&self) -> Option<(f64, f64)> {
+        super::fold_abscissae(self)
+    }
+    fn follower(&self, x0: f64) -> EquilibriumTracker {
+        EquilibriumTracker::new(self, x0)
+    }
+    fn start(&self) -> f64 {
+        super::stable_equilibrium(self, 0.0)
+    }
+    fn x_extent(&self) -> f64 {
+        super::x_extent(self, A_RANGE)
+    }
+    fn min_traversed_gprime(&self) -> f64 {
+        super::min_gprime(self, &super::x_intervals(self, A_RANGE))
+    }
+    /// Unit damping: the study's x' (so [`super::FOCUS_GPRIME`] = 1/4 and a decay time of 2).
+    fn damping(&self) -> f64 {
+        1.0
+    }
+    fn max_equilibrium_speed(&self) -> f64 {
+        super::max_equilibrium_speed(self)
+    }
+    fn slowest_relaxation(&self) -> SlowestRelaxation {
+        super::slowest_relaxation(self)
+    }
+    fn turning_point_relaxation(&self) -> SlowestRelaxation {
+        super::turning_point_relaxation(self)
+    }
+    fn slow_period(&self) -> f64 {
+        Params::slow_period(self)
+    }
+}

@@ -1,0 +1,330 @@
+//! The equilibrium curve of a model assembled from terms ([`ModelCurve`]), for the burst verdict
+//! where the model's static torque is not a study cubic (a catalogue's piecewise-linear
+//! stiffness, a cubic with a stiffer end stop): g(x) = μ + δa solved by a root finder on the
+//! model's [`Model::static_torque`], every fact the verdict reads derived from g, g' and the
+//! damping at rest c as the study's closed forms derive them from the cubic.
+
+use super::Model;
+use crate::error::{Error, Result};
+use crate::fast::{A_RANGE, Along, Follower, SlowestRelaxation, StaticCurve, relaxation_rate_with};
+
+/// Samples of g' across the traversed x-range that locate the folds (sign changes of g'): a
+/// fold pair closer than a sample apart (a decreasing piece narrower than 1/4096 of the range)
+/// is not seen.
+const FOLD_SAMPLES: usize = 4096;
+
+/// The equilibrium curve of a [`Model`]: its static torque g, its slope g' and its damping at
+/// rest c ([`super::Facts::damping_at_rest`]), over the x-range [x_lo, x_hi] that a ∈ [−1, 1]
+/// traverses (the lowest equilibrium at a = −1 to the highest at a = 1; g lies below μ − δ to the
+/// left of it and above μ + δ to the right, so nothing beyond it is an equilibrium in range).
+/// At most one pair of folds (one hysteresis band) is followed.
+///
+/// ```
+/// use hdgear::fast::StaticCurve;
+/// use hdgear::model::{Model, ModelCurve, terms::AnyTerm};
+/// // a three-segment catalogue law, slopes 0.05, 0.5 and 5, kinks at |x| = 0.3 and 0.8
+/// let law = AnyTerm::new("piecewise", &[0.05, 0.5, 5.0, 0.3, 0.5, 0.0]).unwrap();
+/// let c = ModelCurve::new(&Model::damped(0.0, 1.0, 0.01).with_term(law).unwrap()).unwrap();
+/// assert_eq!(c.fold_band(), None); // monotone: one branch
+/// assert!((c.min_traversed_gprime() - 0.05).abs() < 1e-12); // the soft middle
+/// assert_eq!(c.focus_gprime(), 0.25); // unit damping: c²/4
+/// ```
+#[derive(Clone, Copy, Debug)]
+pub struct ModelCurve {
+    model: Model,
+    /// c, the damping at rest.
+    damping: f64,
+    /// [x_lo, x_hi], the traversed x-range.
+    range: (f64, f64),
+    /// The fold abscissae x− < x+ (g' < 0 between them), if any.
+    band: Option<(f64, f64)>,
+}
+
+impl ModelCurve {
+    /// The curve of `m`; refused (naming the model) for damping at rest c ≤ 0 (no relaxation:
+    /// no equilibrium is followed), a static torque that does not confine x, or more than one
+    /// pair of folds in the traversed range.
+    pub fn new(m: &Model) -> Result<ModelCurve> {
+        m.check()?;
+        let refuse = |reason: String| Error::InvalidInput {
+            what: "model",
+            text: m.equation(),
+            reason,
+        };
+        let damping = m.facts().damping_at_rest;
+        if damping.is_nan() || damping <= 0.0 {
+            return Err(refuse(format!(
+                "its damping at rest c = {damping} is not positive: the fast subsystem does not relax onto an equilibrium curve"
+            )));
+        }
+        let [mu, delta, _] = m.forcing();
+        let lo = m.equilibria_at(mu + delta * A_RANGE.0)?;
+        let hi = m.equilibria_at(mu + delta * A_RANGE.1)?;
+        let (x_lo, x_hi) = (lo[0], hi[hi.len() - 1]);
+        let gp = |x: f64| m.static_stiffness(x);
+        // the folds: sign changes of g' across the range, each narrowed to f64's resolution
+        let x = |i: usize| x_lo + (x_hi - x_lo) * i as f64 / FOLD_SAMPLES as f64;
+        let mut folds = Vec::new();
+        for i in 0..FOLD_SAMPLES {
+            let (a, b) = (x(i), x(i + 1));
+            let rising = gp(a) > 0.0;
+            if rising != (gp(b) > 0.0) {
+                let same = |t: f64| (gp(t) > 0.0) == rising;
+                let (l, r) = crate::roots::bisect(a, b, 200, crate::roots::at_resolution, same);
+                folds.push(0.5 * (l + r));
+            }
+        }
+        let band = match folds.as_slice() {
+            [] => None,
+            &[xm, xp] => Some((xm, xp)),
+            _ => {
+                return Err(refuse(format!(
+                    "its equilibrium curve has {} folds over a ∈ [−1, 1]; the verdict follows one hysteresis band (two folds) at most",
+                    folds.len()
+                )));
+            }
+        };
+        Ok(ModelCurve {
+            model: *m,
+            damping,
+            range: (x_lo, x_hi),
+            band,
+        })
+    }
+
+    /// The slow variable at which x is an equilibrium: a(x) = (g(x) − μ)/δ.
+    fn a_at(&self, x: f64) -> f64 {
+        let [mu, delta, _] = self.model.forcing();
+        (self.g(x) - mu) / delta
+    }
+
+    /// The increasing branches (g' > 0 inside), as x-intervals: the range, or the two pieces
+    /// outside the band.
+    fn branches(&self) -> Vec<(f64, f64)> {
+        let (l, r) = self.range;
+        match self.band {
+            None => vec![(l, r)],
+            Some((xm, xp)) => vec![(l, xm), (xp, r)],
+        }
+    }
+
+    /// The root of g = `level` on the increasing branch [l, r], if the level is within g's values
+    /// there. The outer ends move outwards until they bracket the level: g is below μ − δ left
+    /// of the range and above μ + δ right of it, up to the rounding of the range's ends.
+    fn root_on(&self, (mut l, mut r): (f64, f64), level: f64, outer: (bool, bool)) -> Option<f64> {
+        let f = |x: f64| self.g(x) - level;
+        let width = (self.range.1 - self.range.0).max(f64::MIN_POSITIVE);
+        let (mut fl, mut fr) = (f(l), f(r));
+        let mut step = width;
+        while outer.0 && fl > 0.0 && step.is_finite() {
+            l -= step;
+            fl = f(l);
+            step *= 2.0;
+        }
+        let mut step = width;
+        while outer.1 && fr < 0.0 && step.is_finite() {
+            r += step;
+            fr = f(r);
+            step *= 2.0;
+        }
+        if fl > 0.0 || fr < 0.0 {
+            return None;
+        }
+        let tol = 4.0 * f64::EPSILON * l.abs().max(r.abs());
+        Some(crate::roots::brent(f, l, fl, r, fr, tol))
+    }
+
+    /// The stable equilibria at a, increasing (one per branch whose values reach μ + δa, unless
+    /// it is the branch's end at a fold, where g' = 0: a fold point is not stable).
+    fn stable_roots(&self, a: f64) -> Vec<f64> {
+        let level = self.forcing(a);
+        let b = self.branches();
+        let last = b.len() - 1;
+        b.iter()
+            .enumerate()
+            .filter_map(|(i, &iv)| self.root_on(iv, level, (i == 0, i == last)))
+            .filter(|&x| self.g_prime(x) > 0.0)
+            .collect()
+    }
+
+    /// The x-intervals of the stable branches that a ∈ [−1, 1] traverses, increasing.
+    fn traversed(&self) -> Vec<(f64, f64)> {
+        let (a0, a1) = A_RANGE;
+        let (lo, hi) = (self.forcing(a0), self.forcing(a1));
+        let b = self.branches();
+        let last = b.len() - 1;
+        b.iter()
+            .enumerate()
+            .filter_map(|(i, &(l, r))| {
+                let outer = (i == 0, i == last);
+                let start = if self.g(l) < lo {
+                    self.root_on((l, r), lo, outer)?
+                } else {
+                    l
+                };
+                let end = if self.g(r) > hi {
+                    self.root_on((l, r), hi, outer)?
+                } else {
+                    r
+                };
+                (start <= end).then_some((start, end))
+            })
+            .collect()
+    }
+
+    /// The branch the response settles on (as the cubic's [`crate::fast::settled_branch`]):
+    /// its x-intervals, and whether the state must jump (both folds in range).
+    fn settled(&self) -> (Vec<(f64, f64)>, bool) {
+        let all = self.traversed();
+        let Some((xm, xp)) = self.band else {
+            return (all, false);
+        };
+        let keep = |f: &dyn Fn(f64) -> bool| -> Vec<(f64, f64)> {
+            all.iter()
+                .copied()
+                .filter(|&(l, r)| f(0.5 * (l + r)))
+                .collect()
+        };
+        let (am, ap) = (self.a_at(xm), self.a_at(xp));
+        if am > A_RANGE.1 {
+            (keep(&|x| x < xm), false)
+        } else if ap < A_RANGE.0 {
+            (keep(&|x| x > xp), false)
+        } else {
+            (all, true)
+        }
+    }
+
+    /// The least g' over the intervals and where (512 samples and a golden-section refinement on
+    /// each: a segment of the law narrower than 1/512 of an interval can be missed).
+    fn least_gprime(&self, intervals: &[(f64, f64)]) -> (f64, f64) {
+        intervals
+            .iter()
+            .map(|&(l, r)| {
+                let (x, neg) = crate::fast::max_on(|x| -self.g_prime(x), l, r);
+                (-neg, x)
+            })
+            .fold(
+                (f64::INFINITY, f64::NAN),
+                |m, c| if c.0 < m.0 { c } else { m },
+            )
+    }
+}
+
+/// The stable equilibrium of a [`ModelCurve`] nearest a state: the root on each increasing
+/// branch by Brent's method.
+#[derive(Clone, Copy, Debug)]
+pub struct ModelFollower(ModelCurve);
+
+impl Follower for ModelFollower {
+    fn at(&mut self, a: f64, x: f64) -> f64 {
+        self.0
+            .stable_roots(a)
+            .into_iter()
+            .min_by(|u, v| (u - x).abs().total_cmp(&(v - x).abs()))
+            .unwrap_or(x)
+    }
+}
+
+impl StaticCurve for ModelCurve {
+    type Follower = ModelFollower;
+    fn omega(&self) -> f64 {
+        self.model.forcing()[2]
+    }
+    fn delta(&self) -> f64 {
+        self.model.forcing()[1]
+    }
+    fn forcing(&self, a: f64) -> f64 {
+        let [mu, delta, _] = self.model.forcing();
+        mu + delta * a
+    }
+    fn g(&self, x: f64) -> f64 {
+        self.model.static_torque(x)
+    }
+    fn g_prime(&self, x: f64) -> f64 {
+        self.model.static_stiffness(x)
+    }
+    fn check(&self) -> Result<()> {
+        self.model.check()
+    }
+    fn fold_band(&self) -> Option<(f64, f64)> {
+        self.band
+    }
+    fn follower(&self, _x0: f64) -> ModelFollower {
+        ModelFollower(*self)
+    }
+    fn start(&self) -> f64 {
+        self.stable_roots(0.0)
+            .first()
+            .copied()
+            .unwrap_or(self.range.0)
+    }
+    fn x_extent(&self) -> f64 {
+        (self.range.1 - self.range.0).max(f64::MIN_POSITIVE)
+    }
+    fn min_traversed_gprime(&self) -> f64 {
+        // a fold in range: the curve's slope passes 0 on the traversed path
+        let fold_in_range = self.band.is_some_and(|(xm, xp)| {
+            [xm, xp]
+                .iter()
+                .any(|&x| (A_RANGE.0..=A_RANGE.1).contains(&self.a_at(x)))
+        });
+        if fold_in_range {
+            return 0.0;
+        }
+        self.least_gprime(&self.traversed()).0.max(0.0)
+    }
+    fn damping(&self) -> f64 {
+        self.damping
+    }
+    fn max_equilibrium_speed(&self) -> f64 {
+        let (intervals, must_jump) = self.settled();
+        if must_jump {
+            return f64::INFINITY;
+        }
+        let [_, delta, omega] = self.model.forcing();
+        let speed = |x: f64| {
+            let a = self.a_at(x);
+            omega * delta * (1.0 - a * a).max(0.0).sqrt() / self.g_prime(x)
+        };
+        intervals
+            .iter()
+            .map(|&(l, r)| crate::fast::max_on(speed, l, r).1)
+            .fold(0.0, f64::max)
+    }
+    fn slowest_relaxation(&self) -> SlowestRelaxation {
+        let (intervals, must_jump) = self.settled();
+        if self.delta() > 0.0 && !must_jump && !intervals.is_empty() {
+            let (gp, x) = self.least_gprime(&intervals);
+            return SlowestRelaxation {
+                rate: relaxation_rate_with(gp, self.damping),
+                a: self.a_at(x),
+                x,
+                along: Along::SettledBranch,
+            };
+        }
+        self.turning_point_relaxation()
+    }
+    fn turning_point_relaxation(&self) -> SlowestRelaxation {
+        let mut best = SlowestRelaxation {
+            rate: f64::INFINITY,
+            a: f64::NAN,
+            x: f64::NAN,
+            along: Along::TurningPoints,
+        };
+        for a in [A_RANGE.0, A_RANGE.1] {
+            for x in self.stable_roots(a) {
+                let rate = relaxation_rate_with(self.g_prime(x), self.damping);
+                if rate < best.rate {
+                    best = SlowestRelaxation {
+                        rate,
+                        a,
+                        x,
+                        along: Along::TurningPoints,
+                    };
+                }
+            }
+        }
+        best
+    }
+}
