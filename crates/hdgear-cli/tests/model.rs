@@ -10,6 +10,18 @@ fn scenario(dir: &std::path::Path, name: &str, text: &str) -> String {
     path.to_str().unwrap().to_string()
 }
 
+/// `hdgear bursts --config` on the scenario `text` (written in `dir`): its JSON output.
+fn bursts_of_scenario(dir: &std::path::Path, text: &str) -> serde_json::Value {
+    let f = scenario(dir, "scenario.toml", text);
+    let out = dir.join("bursts.json");
+    hdgear()
+        .args(["bursts", "--config", &f, "--out"])
+        .arg(&out)
+        .assert()
+        .success();
+    serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap()
+}
+
 #[test]
 fn model_prints_the_study_and_its_derived_facts() {
     let d = json_of(&["model", "--json"]);
@@ -183,19 +195,10 @@ fn the_trajectory_has_a_column_per_internal_state() {
 #[test]
 fn bursts_judges_a_scenario_with_sticking_friction() {
     let dir = tempfile::tempdir().unwrap();
-    let f = scenario(
+    let doc = bursts_of_scenario(
         dir.path(),
-        "stick.toml",
         "[params]\ngamma = 30.0\n\n[coulomb]\nfc = 0.5\nfs = 2.0\nvst = 0.001\n",
     );
-    let out = dir.path().join("slips.json");
-    hdgear()
-        .args(["bursts", "--config", &f, "--out"])
-        .arg(&out)
-        .assert()
-        .success();
-    let doc: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
     let meta = &doc["meta"];
     assert_eq!(meta["classification"]["verdict"], "stick-slip");
     assert_eq!(meta["classification"]["mechanism"], "stick-slip");
@@ -237,19 +240,10 @@ fn bursts_judges_a_scenario_with_sticking_friction() {
 #[test]
 fn bursts_judges_a_piecewise_stiffness_against_its_own_curve() {
     let dir = tempfile::tempdir().unwrap();
-    let f = scenario(
+    let doc = bursts_of_scenario(
         dir.path(),
-        "kink.toml",
         "[params]\ndelta = 800.0\n\n[piecewise]\nk1 = 0.5\nk2 = 3.0\nk3 = 9.0\nx1 = 3.5\nw2 = 1.0\nx0 = 0.0\n",
     );
-    let out = dir.path().join("kink.json");
-    hdgear()
-        .args(["bursts", "--config", &f, "--out"])
-        .arg(&out)
-        .assert()
-        .success();
-    let doc: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
     let meta = &doc["meta"];
     assert_eq!(meta["params"]["delta"], 800.0);
     let verdict = meta["classification"]["verdict"].as_str().unwrap();
