@@ -255,19 +255,27 @@ pub(crate) fn max_on(f: impl Fn(f64) -> f64, l: f64, r: f64) -> (f64, f64) {
 /// The largest speed of the equilibrium, max |dx*/dτ| = max ω·δ·√(1 − a²)/g'(x) over the settled
 /// branch (a ∈ [−1, 1]): the quasi-static bound on |x'| (infinite when the state must jump).
 pub fn max_equilibrium_speed(p: &Params) -> f64 {
-    let speed = |x: f64| {
-        let a = p.a_at(x);
-        p.omega * p.delta * (1.0 - a * a).max(0.0).sqrt() / p.g_prime(x)
-    };
     let branch = settled_branch(p);
-    if branch.must_jump {
+    max_speed_on(p, &branch.intervals, branch.must_jump)
+}
+
+/// [`max_equilibrium_speed`] of any curve, over the x-intervals of the branch it settles on
+/// (infinite when the state must jump).
+pub(crate) fn max_speed_on(
+    c: &impl super::StaticCurve,
+    intervals: &[(f64, f64)],
+    must_jump: bool,
+) -> f64 {
+    if must_jump {
         return f64::INFINITY;
     }
-    let mut best = 0.0f64;
-    for (l, r) in branch.intervals {
-        best = best.max(max_on(speed, l, r).1);
-    }
-    best
+    let speed = |x: f64| {
+        let a = c.a_at(x);
+        c.omega() * c.delta() * (1.0 - a * a).max(0.0).sqrt() / c.g_prime(x)
+    };
+    intervals
+        .iter()
+        .fold(0.0, |best: f64, &(l, r)| best.max(max_on(speed, l, r).1))
 }
 
 /// Predicts bursting from the equilibrium curve (δ > 0).

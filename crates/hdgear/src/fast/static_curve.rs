@@ -29,6 +29,8 @@ pub trait StaticCurve: Clone + std::fmt::Debug {
     fn g(&self, x: f64) -> f64;
     /// Its slope g'(x).
     fn g_prime(&self, x: f64) -> f64;
+    /// The slow variable at which x is an equilibrium: a(x) = (g(x) − μ)/δ.
+    fn a_at(&self, x: f64) -> f64;
     /// Whether the curve's parameters are valid.
     fn check(&self) -> Result<()>;
     /// The fold abscissae x− < x+ bounding the unstable band (g' < 0 between them), if any.
@@ -108,6 +110,10 @@ impl StaticCurve for Params {
     #[inline(always)]
     fn g_prime(&self, x: f64) -> f64 {
         Params::g_prime(self, x)
+    }
+    #[inline(always)]
+    fn a_at(&self, x: f64) -> f64 {
+        Params::a_at(self, x)
     }
     fn check(&self) -> Result<()> {
         self.validate().map(|_| ())

@@ -65,14 +65,16 @@ impl ModelCurve {
         // the folds: sign changes of g' across the range, each narrowed to f64's resolution
         let x = |i: usize| x_lo + (x_hi - x_lo) * i as f64 / FOLD_SAMPLES as f64;
         let mut folds = Vec::new();
-        for i in 0..FOLD_SAMPLES {
-            let (a, b) = (x(i), x(i + 1));
-            let rising = gp(a) > 0.0;
-            if rising != (gp(b) > 0.0) {
+        let (mut a, mut rising) = (x(0), gp(x(0)) > 0.0);
+        for i in 1..=FOLD_SAMPLES {
+            let b = x(i);
+            let rising_b = gp(b) > 0.0;
+            if rising != rising_b {
                 let same = |t: f64| (gp(t) > 0.0) == rising;
                 let (l, r) = crate::roots::bisect(a, b, 200, crate::roots::at_resolution, same);
                 folds.push(0.5 * (l + r));
             }
+            (a, rising) = (b, rising_b);
         }
         let band = match folds.as_slice() {
             [] => None,
@@ -92,20 +94,19 @@ impl ModelCurve {
         })
     }
 
-    /// The slow variable at which x is an equilibrium: a(x) = (g(x) − μ)/δ.
-    fn a_at(&self, x: f64) -> f64 {
-        let [mu, delta, _] = self.model.forcing();
-        (self.g(x) - mu) / delta
-    }
-
     /// The increasing branches (g' > 0 inside), as x-intervals: the range, or the two pieces
-    /// outside the band.
-    fn branches(&self) -> Vec<(f64, f64)> {
+    /// outside the band; each with whether it is outermost on the left and on the right (where
+    /// [`ModelCurve::root_on`] may look beyond it).
+    fn branches(&self) -> impl Iterator<Item = ((f64, f64), (bool, bool))> + use<> {
         let (l, r) = self.range;
-        match self.band {
-            None => vec![(l, r)],
-            Some((xm, xp)) => vec![(l, xm), (xp, r)],
-        }
+        let pieces = match self.band {
+            None => [Some(((l, r), (true, true))), None],
+            Some((xm, xp)) => [
+                Some(((l, xm), (true, false))),
+                Some(((xp, r), (false, true))),
+            ],
+        };
+        pieces.into_iter().flatten()
     }
 
     /// The root of g = `level` on the increasing branch [l, r], if the level is within g's values
@@ -136,27 +137,19 @@ impl ModelCurve {
 
     /// The stable equilibria at a, increasing (one per branch whose values reach μ + δa, unless
     /// it is the branch's end at a fold, where g' = 0: a fold point is not stable).
-    fn stable_roots(&self, a: f64) -> Vec<f64> {
+    fn stable_roots(&self, a: f64) -> impl Iterator<Item = f64> + '_ {
         let level = self.forcing(a);
-        let b = self.branches();
-        let last = b.len() - 1;
-        b.iter()
-            .enumerate()
-            .filter_map(|(i, &iv)| self.root_on(iv, level, (i == 0, i == last)))
+        self.branches()
+            .filter_map(move |(iv, outer)| self.root_on(iv, level, outer))
             .filter(|&x| self.g_prime(x) > 0.0)
-            .collect()
     }
 
     /// The x-intervals of the stable branches that a ∈ [−1, 1] traverses, increasing.
     fn traversed(&self) -> Vec<(f64, f64)> {
         let (a0, a1) = A_RANGE;
         let (lo, hi) = (self.forcing(a0), self.forcing(a1));
-        let b = self.branches();
-        let last = b.len() - 1;
-        b.iter()
-            .enumerate()
-            .filter_map(|(i, &(l, r))| {
-                let outer = (i == 0, i == last);
+        self.branches()
+            .filter_map(|((l, r), outer)| {
                 let start = if self.g(l) < lo {
                     self.root_on((l, r), lo, outer)?
                 } else {
@@ -220,7 +213,6 @@ impl Follower for ModelFollower {
     fn at(&mut self, a: f64, x: f64) -> f64 {
         self.0
             .stable_roots(a)
-            .into_iter()
             .min_by(|u, v| (u - x).abs().total_cmp(&(v - x).abs()))
             .unwrap_or(x)
     }
@@ -244,6 +236,10 @@ impl StaticCurve for ModelCurve {
     fn g_prime(&self, x: f64) -> f64 {
         self.model.static_stiffness(x)
     }
+    fn a_at(&self, x: f64) -> f64 {
+        let [mu, delta, _] = self.model.forcing();
+        (self.g(x) - mu) / delta
+    }
     fn check(&self) -> Result<()> {
         self.model.check()
     }
@@ -254,10 +250,7 @@ impl StaticCurve for ModelCurve {
         ModelFollower(*self)
     }
     fn start(&self) -> f64 {
-        self.stable_roots(0.0)
-            .first()
-            .copied()
-            .unwrap_or(self.range.0)
+        self.stable_roots(0.0).next().unwrap_or(self.range.0)
     }
     fn x_extent(&self) -> f64 {
         (self.range.1 - self.range.0).max(f64::MIN_POSITIVE)
@@ -279,18 +272,7 @@ impl StaticCurve for ModelCurve {
     }
     fn max_equilibrium_speed(&self) -> f64 {
         let (intervals, must_jump) = self.settled();
-        if must_jump {
-            return f64::INFINITY;
-        }
-        let [_, delta, omega] = self.model.forcing();
-        let speed = |x: f64| {
-            let a = self.a_at(x);
-            omega * delta * (1.0 - a * a).max(0.0).sqrt() / self.g_prime(x)
-        };
-        intervals
-            .iter()
-            .map(|&(l, r)| crate::fast::max_on(speed, l, r).1)
-            .fold(0.0, f64::max)
+        crate::fast::max_speed_on(self, &intervals, must_jump)
     }
     fn slowest_relaxation(&self) -> SlowestRelaxation {
         let (intervals, must_jump) = self.settled();
