@@ -259,3 +259,28 @@ fn a_dithered_model_without_a_cubic_is_refused() {
     let e = response_model(&m, &BurstOptions::default()).unwrap_err();
     assert!(e.to_string().contains("dithered"), "{e}");
 }
+
+/// The independent reference's twenty burst cases (`tests/data/burst_cases.json`, not used to
+/// build the root finder's curve), judged against that curve on the study's model: the
+/// reference's verdict, and its bursts per period where it bursts.
+#[test]
+fn the_model_curve_verdict_agrees_with_the_independent_reference() {
+    let cases = crate::common::reference_cases("burst_cases.json");
+    assert_eq!(cases.len(), 20);
+    let opts = BurstOptions::default();
+    for (id, p, case) in cases {
+        let rf = &case["reference"];
+        let m = Model::study(&p);
+        let c = ModelCurve::new(&m).unwrap();
+        let r = response_model_on(&m, &c, &opts).unwrap();
+        let v = classify(&c, &r);
+        assert_eq!(v.verdict.name(), rf["verdict"].as_str().unwrap(), "{id}");
+        if v.bursting {
+            assert_eq!(
+                r.rates.bursts_per_period,
+                rf["bursts_per_period"].as_f64(),
+                "{id}"
+            );
+        }
+    }
+}
