@@ -340,6 +340,32 @@ fn verdicts_do_not_depend_on_the_tolerance() {
     }
 }
 
+/// The lag ratio's denominator, the largest first-order lag, comes from the curve, not from the
+/// steps: on the 200-point γ sweep the ratio at rtol = atol 1e-8 and 1e-12 agrees to what sampling
+/// the lag itself at the step points allows (the lag is slow where the state settles: a step h
+/// misses its peak by about (ωh)²/8 of it), and with a fold in range it is 0, the first-order lag
+/// being unbounded.
+#[test]
+fn the_lag_ratio_does_not_depend_on_the_step_grid() {
+    for p in sweep_200() {
+        let ratio = |tol: f64| {
+            let mut o = BurstOptions::default();
+            o.tol.rtol = tol;
+            o.tol.atol = tol;
+            verdict_of(&p, &o).1.measures.lag_ratio
+        };
+        let (coarse, fine) = (ratio(1e-8), ratio(1e-12));
+        if hdgear::fast::settled_branch(&p).must_jump {
+            assert_eq!((coarse, fine), (0.0, 0.0), "{p:?}");
+        } else {
+            assert!(
+                (coarse - fine).abs() <= 1e-3 * fine,
+                "{p:?}: {coarse} vs {fine}"
+            );
+        }
+    }
+}
+
 #[test]
 fn spike_counts_do_not_depend_on_the_tolerance() {
     let spikes = |p: &Params, tol: f64| {

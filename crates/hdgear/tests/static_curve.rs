@@ -68,8 +68,8 @@ fn close(a: f64, b: f64, rel: f64) -> bool {
 /// Every fact the verdict reads, from the root finder and from the cubic's closed forms, agree:
 /// to rounding where both solve the same equation (1e-12: the equilibria, the x-extent, the
 /// turning points' rates, the folds), to 1e-9 where both search an interval for an extremum (the
-/// least slope and the equilibrium's largest speed: a golden-section search locates x to
-/// √ε ≈ 1e-8 of the interval, which moves a quadratic extremum's value by ε).
+/// least slope, the equilibrium's largest speed and its largest first-order lag: a golden-section
+/// search locates x to √ε ≈ 1e-8 of the interval, which moves a quadratic extremum's value by ε).
 #[test]
 fn the_model_curve_of_a_study_model_is_the_cubic_closed_forms() {
     for p in sets() {
@@ -83,6 +83,8 @@ fn the_model_curve_of_a_study_model_is_the_cubic_closed_forms() {
         assert!(close(gm, gp, 1e-9), "{at}: least g' {gm} vs {gp}");
         let (vm, vp) = (c.max_equilibrium_speed(), p.max_equilibrium_speed());
         assert!(close(vm, vp, 1e-9), "{at}: speed {vm} vs {vp}");
+        let (lm, lp) = (c.max_first_order_lag(), p.max_first_order_lag());
+        assert!(close(lm, lp, 1e-9), "{at}: first-order lag {lm} vs {lp}");
         let (sm, sp) = (c.slowest_relaxation(), p.slowest_relaxation());
         assert_eq!(sm.along, sp.along, "{at}");
         assert!(close(sm.rate, sp.rate, 1e-9), "{at}: {sm:?} vs {sp:?}");
@@ -126,9 +128,8 @@ fn the_model_curve_of_a_study_model_is_the_cubic_closed_forms() {
 /// measures it gives against the cubic's. The two runs start from the same equilibrium found by
 /// two solvers (equal to rounding), and their step sequences drift apart over thousands of steps,
 /// so what is compared is what the scan locates on the dense output, to 1e-8 (the tolerance is
-/// 1e-10): the bursts' peaks and sizes, the peak speed and the largest lag. (The lag ratio's
-/// denominator, the largest first-order lag, is taken at the step samples, not located, so it
-/// depends on the step grid and is not compared.)
+/// 1e-10): the bursts' peaks and sizes, the peak speed and the largest lag, and the lag ratio,
+/// whose denominator (the largest first-order lag) both take from their curves.
 #[test]
 fn the_verdict_against_the_model_curve_is_the_cubics() {
     let opts = BurstOptions::default();
@@ -169,6 +170,7 @@ fn the_verdict_against_the_model_curve_is_the_cubics() {
         let (mp, mc) = (rp.measures, rc.measures);
         assert!(close(mp.speed_ratio, mc.speed_ratio, 1e-8), "{at}");
         assert!(close(mp.relative_lag, mc.relative_lag, 1e-8), "{at}");
+        assert!(close(mp.lag_ratio, mc.lag_ratio, 1e-8), "{at}");
         let (sp, sc) = (rp.signatures, rc.signatures);
         assert_eq!(
             (sp.jump, sp.overshoot, sp.ringing, sp.jumps_per_period),
@@ -182,7 +184,8 @@ fn the_verdict_against_the_model_curve_is_the_cubics() {
 /// A catalogue law whose kinks lie beyond the traversed range is a linear spring k there, and
 /// x'' + x' + kx = μ + δ sin ωτ has the closed form x = (μ + δ·Im(k·H·e^{iωτ}))/k with
 /// H = 1/(k − ω² + iω): no bursts, the peak speed k|H| times the equilibrium's ωδ/k, the lag
-/// δ|H − 1/k| over the extent 2δ/k. The window starts a slow period in, where the free motion
+/// δ|H − 1/k| over the extent 2δ/k, and over the largest first-order lag ωδ/k² it is
+/// k|kH − 1|/ω. The window starts a slow period in, where the free motion
 /// has decayed by e^{−157}; what is left is the integration's error (tolerance 1e-10).
 #[test]
 fn a_linear_spring_has_the_linear_oscillators_closed_form_verdict() {
@@ -193,6 +196,11 @@ fn a_linear_spring_has_the_linear_oscillators_closed_form_verdict() {
     let c = ModelCurve::new(&m).unwrap();
     assert!(close(c.x_extent(), 2.0 * delta / k, 1e-12));
     assert!(close(c.max_equilibrium_speed(), omega * delta / k, 1e-12));
+    assert!(close(
+        c.max_first_order_lag(),
+        omega * delta / (k * k),
+        1e-12
+    ));
     let r = response_model(&m, &BurstOptions::default()).unwrap();
     let v = classify_model(&m, &r).unwrap();
     assert_eq!((v.verdict, v.mode), (Verdict::NoBursts, Mode::Normal));
@@ -208,6 +216,8 @@ fn a_linear_spring_has_the_linear_oscillators_closed_form_verdict() {
         (rel - lag).abs() <= 1e-7 * lag,
         "relative lag {rel} vs {lag}"
     );
+    let (ratio, want) = (r.measures.lag_ratio, 2.0 * k * lag / omega);
+    assert!(close(ratio, want, 1e-7), "lag ratio {ratio} vs {want}");
 }
 
 /// A cubic with folds whose outer part (beyond |x| = 0.3, past both folds) is stiffened by a

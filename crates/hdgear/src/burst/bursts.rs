@@ -264,7 +264,7 @@ pub(super) fn assemble(
     let signatures = signatures(&bursts, &scan, (t_w0, t_w1), n_periods, x_extent);
     let measures = Measures {
         speed_ratio: scan.peak_abs_xdot / p.max_equilibrium_speed(),
-        lag_ratio: scan.max_lag / scan.max_first_order_lag,
+        lag_ratio: scan.max_lag / p.max_first_order_lag(),
         relative_lag: scan.max_lag / x_extent,
     };
     Response {

@@ -221,11 +221,10 @@ struct Quiet {
     /// Each lane's fold abscissae (NaN without folds) and window.
     band: (V, V),
     window: (V, V),
-    /// The window's largest |x'|, |e|, |e₁| and the largest |e| (an open lobe's growth) since the
+    /// The window's largest |x'| and |e|, and the largest |e| (an open lobe's growth), since the
     /// lane was last handed over.
     peak: V,
     lag: V,
-    lag1: V,
     lobe: V,
 }
 
@@ -242,7 +241,6 @@ impl Quiet {
             window: pick(Scanner::window),
             peak: [0.0; LANES],
             lag: [0.0; LANES],
-            lag1: [0.0; LANES],
             lobe: [0.0; LANES],
         }
     }
@@ -271,15 +269,14 @@ impl Quiet {
             // the maxima in registers through the three samples, stored once: updated in place,
             // each was stored under a mask and read back at once by the next sample's update,
             // the read waiting on the store
-            let (mut peak, mut lag, mut lag1) = (self.peak[l], self.lag[l], self.lag1[l]);
+            let (mut peak, mut lag) = (self.peak[l], self.lag[l]);
             for s in [a, m, b] {
                 let counted = quiet & (s.t >= lo) & (s.t <= hi);
                 let grow = |max: f64, x: f64| if counted { max.max(x.abs()) } else { max };
                 peak = grow(peak, s.v);
                 lag = grow(lag, s.e);
-                lag1 = grow(lag1, s.e1);
             }
-            (self.peak[l], self.lag[l], self.lag1[l]) = (peak, lag, lag1);
+            (self.peak[l], self.lag[l]) = (peak, lag);
             let grown = self.lobe[l].max(m.e.abs()).max(b.e.abs());
             self.lobe[l] = if quiet { grown } else { self.lobe[l] };
         }
@@ -293,12 +290,8 @@ impl Quiet {
 
     /// Hands lane `l`'s quiet steps to its scanner ([`Scanner::resume`]) and starts afresh.
     fn hand_over(&mut self, l: usize, s: &mut Scanner) {
-        s.resume(
-            self.last.get(l),
-            self.lobe[l],
-            [self.peak[l], self.lag[l], self.lag1[l]],
-        );
-        (self.peak[l], self.lag[l], self.lag1[l], self.lobe[l]) = (0.0, 0.0, 0.0, 0.0);
+        s.resume(self.last.get(l), self.lobe[l], [self.peak[l], self.lag[l]]);
+        (self.peak[l], self.lag[l], self.lobe[l]) = (0.0, 0.0, 0.0);
     }
 }
 
@@ -388,7 +381,6 @@ struct Samples {
     c: V,
     e: V,
     ed: V,
-    e1: V,
 }
 
 impl Samples {
@@ -402,13 +394,12 @@ impl Samples {
             c: self.c[l],
             e: self.e[l],
             ed: self.ed[l],
-            e1: self.e1[l],
         }
     }
 
     fn set(&mut self, l: usize, s: &Sample) {
         (self.t[l], self.x[l], self.v[l], self.acc[l]) = (s.t, s.x, s.v, s.acc);
-        (self.s[l], self.c[l], self.e[l], self.ed[l], self.e1[l]) = (s.s, s.c, s.e, s.ed, s.e1);
+        (self.s[l], self.c[l], self.e[l], self.ed[l]) = (s.s, s.c, s.e, s.ed);
     }
 
     /// Takes `other`'s sample in the lanes `which`, by selects over all lanes (stores made lane
@@ -425,7 +416,6 @@ impl Samples {
             (&mut self.c, &other.c),
             (&mut self.e, &other.e),
             (&mut self.ed, &other.ed),
-            (&mut self.e1, &other.e1),
         ];
         // from copies: on the references themselves (a table of them, whose targets the
         // compiler cannot tell apart) it chose lane by lane, a scalar load and store each, a

@@ -246,8 +246,10 @@ pub struct Measures {
     /// with the equilibrium, above 1 when it overshoots (0 with a fold in range, where the
     /// equilibrium's speed is unbounded).
     pub speed_ratio: f64,
-    /// max|x − x*| / max|e₁|, e₁ = −(dx*/dτ)/g'(x*) the first-order adiabatic lag: → 1 as ω → 0
-    /// on a normally hyperbolic branch (Fenichel); far from 1 when the state leaves the curve.
+    /// max|x − x*| / max|e₁|, e₁ = −c·(dx*/dτ)/g'(x*) the first-order adiabatic lag (c the
+    /// damping), its maximum taken over the branch the response settles on: → 1 as ω → 0 on a
+    /// normally hyperbolic branch (Fenichel); far from 1 when the state leaves the curve (0 with
+    /// a fold in range, where e₁ is unbounded).
     pub lag_ratio: f64,
     /// max|x − x*| / X.
     pub relative_lag: f64,

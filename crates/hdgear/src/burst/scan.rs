@@ -48,8 +48,6 @@ pub(crate) struct Sample {
     pub e: f64,
     /// e' = x' − dx*/dt.
     pub ed: f64,
-    /// The first-order adiabatic lag e₁ = −(dx*/dt)/g'(x*).
-    pub e1: f64,
 }
 
 /// An extremum of x' that survived pruning.
@@ -117,8 +115,6 @@ pub(crate) struct Scan {
     pub peak_abs_xdot: f64,
     /// Largest |e| inside the window.
     pub max_lag: f64,
-    /// Largest |e₁| inside the window.
-    pub max_first_order_lag: f64,
 }
 
 /// The streaming scanner (`Debug` and `Clone` for its tests). Feed it every step's dense output
@@ -276,8 +272,8 @@ impl<C: StaticCurve> Scanner<C> {
     /// Takes the lane back after steps without events were scanned elsewhere (see
     /// [`Scanner::quiet`]): `last` is the latest of them's end, `lobe_growth` the largest |e| at
     /// their samples (the growth of a lobe open throughout them), and `maxima` the window's
-    /// largest |x'|, |e| and |e₁| over them.
-    pub(crate) fn resume(&mut self, last: Sample, lobe_growth: f64, maxima: [f64; 3]) {
+    /// largest |x'| and |e| over them.
+    pub(crate) fn resume(&mut self, last: Sample, lobe_growth: f64, maxima: [f64; 2]) {
         self.last = Some(last);
         if let Some(l) = self.lobe.as_mut() {
             l.2 = l.2.max(lobe_growth);
@@ -285,7 +281,6 @@ impl<C: StaticCurve> Scanner<C> {
         let o = &mut self.out;
         o.peak_abs_xdot = o.peak_abs_xdot.max(maxima[0]);
         o.max_lag = o.max_lag.max(maxima[1]);
-        o.max_first_order_lag = o.max_first_order_lag.max(maxima[2]);
     }
 
     /// Counts a sample in the window statistics.
@@ -293,7 +288,6 @@ impl<C: StaticCurve> Scanner<C> {
         if self.in_window(s.t) {
             self.out.peak_abs_xdot = self.out.peak_abs_xdot.max(s.v.abs());
             self.out.max_lag = self.out.max_lag.max(s.e.abs());
-            self.out.max_first_order_lag = self.out.max_first_order_lag.max(s.e1.abs());
         }
     }
 
@@ -502,8 +496,7 @@ pub(crate) fn measure<C: StaticCurve>(
     extra: f64,
 ) -> Sample {
     let acc = accel(p, s, y, extra);
-    let inv_gp = 1.0 / p.g_prime(xs);
-    let xs_dot = p.omega() * c * p.delta() * inv_gp;
+    let xs_dot = p.omega() * c * p.delta() / p.g_prime(xs);
     Sample {
         t,
         x: y[0],
@@ -513,7 +506,6 @@ pub(crate) fn measure<C: StaticCurve>(
         c,
         e: y[0] - xs,
         ed: y[1] - xs_dot,
-        e1: -xs_dot * inv_gp,
     }
 }
 

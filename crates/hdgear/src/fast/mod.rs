@@ -50,9 +50,9 @@ pub use equilibria::{
 };
 pub use predict::{
     FORCING_RATE_THRESHOLD, Prediction, SettledBranch, focus_pieces, forcing_rate,
-    max_equilibrium_speed, predict, predicted_gamma_boundary, settled_branch,
+    max_equilibrium_speed, max_first_order_lag, predict, predicted_gamma_boundary, settled_branch,
 };
-pub(crate) use predict::{max_on, max_speed_on, min_gprime};
+pub(crate) use predict::{max_first_order_lag_on, max_on, max_speed_on, min_gprime};
 
 /// What produced an equilibrium curve: the `meta` of `hdgear equilibria`'s JSON output.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]

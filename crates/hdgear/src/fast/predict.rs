@@ -259,6 +259,15 @@ pub fn max_equilibrium_speed(p: &Params) -> f64 {
     max_speed_on(p, &branch.intervals, branch.must_jump)
 }
 
+/// The largest first-order adiabatic lag |e₁| = |dx*/dτ|/g'(x) over the settled branch (a ∈
+/// [−1, 1], unit damping): what the lag x − x* tends to as ω → 0 on a normally hyperbolic branch
+/// (infinite when the state must jump). Taken from the curve, so it does not depend on where a
+/// response happens to be sampled.
+pub fn max_first_order_lag(p: &Params) -> f64 {
+    let branch = settled_branch(p);
+    max_first_order_lag_on(p, &branch.intervals, branch.must_jump)
+}
+
 /// [`max_equilibrium_speed`] of any curve, over the x-intervals of the branch it settles on
 /// (infinite when the state must jump).
 pub(crate) fn max_speed_on(
@@ -266,16 +275,43 @@ pub(crate) fn max_speed_on(
     intervals: &[(f64, f64)],
     must_jump: bool,
 ) -> f64 {
+    max_on_branch(c, intervals, must_jump, |speed, _| speed)
+}
+
+/// The largest first-order adiabatic lag |e₁| = c·|dx*/dτ|/g'(x) over the x-intervals of the
+/// branch a curve settles on (infinite when the state must jump): x = x* + e in
+/// x'' + c·x' + g(x) = μ + δa gives c·dx*/dτ + g'(x*)·e₁ = 0 at first order in ω.
+pub(crate) fn max_first_order_lag_on(
+    c: &impl super::StaticCurve,
+    intervals: &[(f64, f64)],
+    must_jump: bool,
+) -> f64 {
+    let damping = c.damping();
+    max_on_branch(c, intervals, must_jump, |speed, gp| damping * speed / gp)
+}
+
+/// The largest f(|dx*/dτ|, g') over the settled branch's x-intervals, |dx*/dτ| =
+/// ω·δ·√(1 − a²)/g'(x) (infinite when the state must jump).
+fn max_on_branch(
+    c: &impl super::StaticCurve,
+    intervals: &[(f64, f64)],
+    must_jump: bool,
+    f: impl Fn(f64, f64) -> f64,
+) -> f64 {
     if must_jump {
         return f64::INFINITY;
     }
-    let speed = |x: f64| {
+    let value = |x: f64| {
         let a = c.a_at(x);
-        c.omega() * c.delta() * (1.0 - a * a).max(0.0).sqrt() / c.g_prime(x)
+        let gp = c.g_prime(x);
+        f(
+            c.omega() * c.delta() * (1.0 - a * a).max(0.0).sqrt() / gp,
+            gp,
+        )
     };
     intervals
         .iter()
-        .fold(0.0, |best: f64, &(l, r)| best.max(max_on(speed, l, r).1))
+        .fold(0.0, |best: f64, &(l, r)| best.max(max_on(value, l, r).1))
 }
 
 /// Predicts bursting from the equilibrium curve (δ > 0).

@@ -57,6 +57,9 @@ pub trait StaticCurve: Clone + std::fmt::Debug {
     /// The largest speed |dx*/dτ| of the equilibrium on the branch the response settles on
     /// (infinite when the state must jump).
     fn max_equilibrium_speed(&self) -> f64;
+    /// The largest first-order adiabatic lag |e₁| = c·|dx*/dτ|/g' on the branch the response
+    /// settles on (infinite when the state must jump).
+    fn max_first_order_lag(&self) -> f64;
     /// The slowest relaxation met on the path the state follows ([`super::slowest_relaxation`]).
     fn slowest_relaxation(&self) -> SlowestRelaxation;
     /// The slowest relaxation at the stable equilibria at a = ±1.
@@ -139,6 +142,9 @@ impl StaticCurve for Params {
     }
     fn max_equilibrium_speed(&self) -> f64 {
         super::max_equilibrium_speed(self)
+    }
+    fn max_first_order_lag(&self) -> f64 {
+        super::max_first_order_lag(self)
     }
     fn slowest_relaxation(&self) -> SlowestRelaxation {
         super::slowest_relaxation(self)

@@ -274,6 +274,10 @@ impl StaticCurve for ModelCurve {
         let (intervals, must_jump) = self.settled();
         crate::fast::max_speed_on(self, &intervals, must_jump)
     }
+    fn max_first_order_lag(&self) -> f64 {
+        let (intervals, must_jump) = self.settled();
+        crate::fast::max_first_order_lag_on(self, &intervals, must_jump)
+    }
     fn slowest_relaxation(&self) -> SlowestRelaxation {
         let (intervals, must_jump) = self.settled();
         if self.delta() > 0.0 && !must_jump && !intervals.is_empty() {
