@@ -20,6 +20,7 @@ pub mod jet;
 pub mod memory;
 pub mod mesh;
 pub mod piecewise;
+pub mod schedule;
 pub mod switching;
 pub mod terms;
 

@@ -28,6 +28,7 @@ mod piecewise;
 mod plane;
 mod reference;
 mod robust;
+mod schedule;
 mod simd;
 mod static_curve;
 mod stick_slip;

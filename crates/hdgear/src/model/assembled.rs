@@ -426,6 +426,12 @@ impl Model {
         }
     }
 
+    /// Whether a term's torque at rest depends on the load's phase ([`AnyTerm::is_scheduled`]): the
+    /// equilibria move with a ([`Model::static_torque`] is at a = 0; no equivalent study set).
+    pub fn is_scheduled(&self) -> bool {
+        self.terms().any(|t| t.is_scheduled())
+    }
+
     /// The static torque g(x) = Σ T(x, 0, z_rest(x)): the fast subsystem's equilibria solve
     /// g(x) = a, each internal state at rest ([`AnyTerm::state_at_rest`]: 0, the virgin state, for
     /// a model with memory; x for a washout filter). A load whatever the motion
@@ -446,14 +452,14 @@ impl Model {
     /// included), and folds in: γ' = γ + a₁, ε' = (γε − a₀)/γ'. With no static torque of
     /// their own (friction, damping, a washout) the set is the stiffness term's exactly; with
     /// virtual stiffness k_p it is γ + k_p, γε/(γ + k_p). `None` otherwise (a static torque not
-    /// affine in x, or γ' = 0 with a₀ ≠ γε).
+    /// affine in x, γ' = 0 with a₀ ≠ γε, or a scheduled stiffness).
     ///
     /// With a dither ([`Model::dither`]) it is the averaged model's: the ripple A it leaves
     /// ([`super::control::dither_ripple`], at the model's damping at rest) adds 1.5αA² to a₁ and
     /// −A²/2 to a₀.
     pub fn equivalent_params(&self) -> Option<Params> {
         let [alpha, gamma, eps] = self.terms().find_map(|t| match t {
-            AnyTerm::Stiffness(s) => Some(s.0),
+            AnyTerm::Stiffness(s) if !self.is_scheduled() => Some(s.0),
             _ => None,
         })?;
         let [mu, delta, omega] = self.forcing;

@@ -41,7 +41,8 @@ pub struct ModelCurve {
 }
 
 impl ModelCurve {
-    /// The curve of `m`; refused (naming the model) for damping at rest c ≤ 0 (no relaxation:
+    /// The curve of `m`; refused (naming the model) for a scheduled stiffness (no curve of x
+    /// alone, [`Model::is_scheduled`]), damping at rest c ≤ 0 (no relaxation:
     /// no equilibrium is followed), a static torque that does not confine x, or more than one
     /// pair of folds in the traversed range.
     pub fn new(m: &Model) -> Result<ModelCurve> {
@@ -51,6 +52,11 @@ impl ModelCurve {
             text: m.equation(),
             reason,
         };
+        if m.is_scheduled() {
+            return Err(refuse(
+                "a scheduled stiffness moves the equilibria with the load's phase a: there is no curve g(x) = μ + δa of x alone".into(),
+            ));
+        }
         let damping = m.facts().damping_at_rest;
         if damping.is_nan() || damping <= 0.0 {
             return Err(refuse(format!(

@@ -13,6 +13,7 @@ use super::jet::square_coefficient;
 pub use super::memory::{BoucWen, LuGre};
 pub use super::mesh::KinematicError;
 pub use super::piecewise::Piecewise;
+pub use super::schedule::Scheduled;
 use crate::error::{Error, Result};
 use crate::params::Param;
 use serde::Serialize;
@@ -169,6 +170,10 @@ pub trait Term: Copy {
     /// error, a multisine): it has no static part, so the fast subsystem's equilibria leave it
     /// out ([`super::Model::static_torque`]).
     const LOAD: bool = false;
+    /// Whether its torque at rest depends on the slow load's phase (a scheduled stiffness,
+    /// [`super::schedule::Scheduled`]): its fast subsystem's equilibria then move with a, so
+    /// there is no static torque of x alone ([`super::Model::static_torque`] holds it at a = 0).
+    const SCHEDULED: bool = false;
     /// The term with these parameter values (in [`Term::PARAMS`] order; the caller checks
     /// their count and domains).
     fn from_values(values: &[f64]) -> Self;
@@ -444,6 +449,10 @@ macro_rules! any_term {
             pub fn is_load(&self) -> bool {
                 match self { $(AnyTerm::$variant(_) => $variant::LOAD,)* }
             }
+            /// Whether its torque at rest depends on the load's phase ([`Term::SCHEDULED`]).
+            pub fn is_scheduled(&self) -> bool {
+                match self { $(AnyTerm::$variant(_) => $variant::SCHEDULED,)* }
+            }
             /// Whether its law is not analytic across z = 0
             /// ([`Term::SWITCHES_AT_ZERO_STATE`]).
             pub fn switches_at_zero_state(&self) -> bool {
@@ -559,6 +568,7 @@ any_term!(
     KinematicError,
     Multisine,
     Piecewise,
+    Scheduled,
 );
 
 /// Checks a term's values against its parameter list: each within the magnitude limit every
