@@ -40,18 +40,23 @@ fn plants() -> Vec<Params> {
 
 const TARGETS: [f64; 3] = [0.01, 0.05, 0.3];
 
-/// The real root of αs³ + m·s = b (m > 0: monotone), by bisection.
-fn reference_root(alpha: f64, m: f64, b: f64) -> f64 {
-    let (mut lo, mut hi) = (-1e3_f64, 1e3_f64);
+/// The root of f in [lo, hi], where f changes sign, by bisection to the last bits.
+fn bisect(f: impl Fn(f64) -> f64, (mut lo, mut hi): (f64, f64)) -> f64 {
+    let below = f(lo) < 0.0;
     for _ in 0..200 {
         let mid = 0.5 * (lo + hi);
-        if alpha * mid.powi(3) + m * mid < b {
+        if (f(mid) < 0.0) == below {
             lo = mid;
         } else {
             hi = mid;
         }
     }
     0.5 * (lo + hi)
+}
+
+/// The real root of αs³ + m·s = b (m > 0: monotone), by bisection.
+fn reference_root(alpha: f64, m: f64, b: f64) -> f64 {
+    bisect(|s| alpha * s.powi(3) + m * s - b, (-1e3, 1e3))
 }
 
 /// The term's defaults are the schedule for the study's default set with g'_min = 0.3, as its
@@ -93,7 +98,8 @@ fn the_schedule_is_its_closed_form() {
 /// The closed loop's equilibrium, followed by Newton's method from the lowest one at a = −1 up to
 /// a = 1 and from the highest at a = 1 back down, never folds (each step of a, 1/2000 or halved
 /// down to 2⁻⁴⁰ of it, moves x by less than a thousandth of the curve's extent) and keeps the
-/// slope g'(x) + k(a) at least g'_min. The bursting plants' own curves fold, so the schedule has work to do there.
+/// slope g'(x) + k(a) at least g'_min. The bursting plants' own curves fold, so the schedule has
+/// work to do there.
 #[test]
 fn the_closed_loop_keeps_the_least_slope() {
     for p in plants() {
@@ -109,18 +115,7 @@ fn the_closed_loop_keeps_the_least_slope() {
                 let x = |j: usize| lo + (hi - lo) * j as f64 / n as f64;
                 (0..n)
                     .filter(|&j| residual(x(j), a).signum() != residual(x(j + 1), a).signum())
-                    .map(|j| {
-                        let (mut l, mut r) = (x(j), x(j + 1));
-                        for _ in 0..100 {
-                            let mid = 0.5 * (l + r);
-                            if residual(mid, a).signum() == residual(l, a).signum() {
-                                l = mid;
-                            } else {
-                                r = mid;
-                            }
-                        }
-                        0.5 * (l + r)
-                    })
+                    .map(|j| bisect(|x| residual(x, a), (x(j), x(j + 1))))
                     .collect::<Vec<f64>>()
             };
             let (low, high) = (roots(-1.0), roots(1.0));
