@@ -87,8 +87,12 @@ impl Scheduled {
 
     /// The gain k(a) = max(0, D − 3α·s₀(a)²).
     pub fn gain(&self, a: f64) -> f64 {
-        let s = self.reference(a);
-        (self.deficit() - 3.0 * self.0[1] * s * s).max(0.0)
+        self.unclamped(self.reference(a)).max(0.0)
+    }
+
+    /// D − 3α·s²: the gain at the reference point s before it is clamped at 0.
+    fn unclamped(&self, s: f64) -> f64 {
+        self.deficit() - 3.0 * self.0[1] * s * s
     }
 
     /// D = g'_min − g'_c: the gain at the softest point (≤ 0: no gain anywhere).
@@ -201,7 +205,7 @@ impl Term for Scheduled {
     fn gradient(&self, x: f64, _v: f64, theta: f64) -> [f64; 3] {
         let (sin, cos) = libm::sincos(theta);
         let s = self.reference(sin);
-        let k = self.gain(sin);
+        let k = self.unclamped(s).max(0.0);
         // dk/dθ = −6α·s₀·ds₀/dθ on the active piece, ds₀/dθ = δ·cos θ/(3αs₀² + g'_min)
         let dk = if k > 0.0 {
             -6.0 * self.0[1] * s * self.0[5] * cos * self.reference_slope(s)
@@ -212,7 +216,8 @@ impl Term for Scheduled {
     }
     fn param_derivative(&self, i: usize, x: f64, _v: f64, theta: f64) -> f64 {
         let sin = libm::sin(theta);
-        let k = self.gain(sin);
+        let s = self.reference(sin);
+        let k = self.unclamped(s).max(0.0);
         let u = x - self.0[2];
         if i == 2 {
             return -k;
@@ -221,7 +226,6 @@ impl Term for Scheduled {
             return 0.0;
         }
         let [_, alpha, ..] = self.0;
-        let s = self.reference(sin);
         let ds = self.reference_slope(s);
         // k = g'_min − g'_c − 3αs₀²; s₀ moves with g'_min, α, b₀ and δ through
         // αs₀³ + g'_min·s₀ = b₀ + δa
@@ -249,7 +253,7 @@ impl Term for Scheduled {
             let s = self.reference(sk);
             (r[S][0], r[S2][0]) = (s, s * s);
             r[PIECE][1] = theta[0];
-            let value = self.deficit() - 3.0 * alpha * s * s;
+            let value = self.unclamped(s);
             // on a kink to rounding (a step ends on one, [`Term::step_limit`]): decided at row 1,
             // by the way the motion goes
             let on_kink = self.levels().is_some_and(|levels| {
