@@ -29,7 +29,7 @@ mod curve;
 pub use assembled::{
     Description, FORCING, Facts, MAX_STATES, MAX_TERMS, Model, ModelParam, ParamValue, study_param,
 };
-pub use curve::{ModelCurve, ModelFollower};
+pub use curve::{ModelCurve, ModelFollower, StaticTorque, Statics};
 
 use crate::integrate::System;
 use crate::integrate::taylor::mul_add;

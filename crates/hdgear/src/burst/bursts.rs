@@ -137,6 +137,23 @@ fn group_events(scan: &Scan, floor: f64, gap: f64) -> Vec<Group> {
     groups
 }
 
+/// The extrema of x' in group `g` that are the fast mode's: its pivots less the equilibrium's
+/// own speed extrema beyond the first over the group's span (widened by a decay time each way,
+/// the lag of x' behind x*), both pruned to swings of `floor`. The ringing rule (three extrema
+/// or more) allows the one hump of the equilibrium's speed that a passage of the cubic has; a
+/// curve whose speed has several (a scheduled stiffness, stiffest at the soft middle, gives two
+/// humps and a dip between) would otherwise count its quasi-static motion as ringing.
+fn fast_extrema(p: &impl StaticCurve, g: &Group, floor: f64) -> usize {
+    let n = g.pivots.len();
+    if n < 3 {
+        return n;
+    }
+    let margin = p.decay_time();
+    let raw = p.speed_extrema(g.start - margin, g.end + margin);
+    let humps = super::scan::pruned_count(floor, &raw);
+    n - humps.saturating_sub(1).min(n)
+}
+
 /// The bursts of `groups` with their pulse in the window, and whether any group is continuous
 /// fast motion (longer than half a slow period).
 fn bursts_of(
@@ -152,8 +169,10 @@ fn bursts_of(
     let omega_x = p.omega() * x_extent;
     let mut bursts = Vec::new();
     let mut continuous = false;
+    let floor = swing_floor(p, opts, x_extent);
     for g in groups {
-        let ringing = g.pivots.len() >= 3;
+        let extrema = fast_extrema(p, g, floor);
+        let ringing = extrema >= 3;
         if !(ringing || g.jumps > 0 || !g.lobes.is_empty()) {
             continue;
         }
@@ -188,7 +207,7 @@ fn bursts_of(
             a_peak: (p.omega() * pulse.t).sin(),
             peak_abs_xdot: peak,
             spikes: spikes(&g.pivots, opts.spike_fraction),
-            extrema: g.pivots.len() as u32,
+            extrema: extrema as u32,
             ringing_swing: swing / omega_x,
             overshoot: g.lobes.iter().fold(0.0, |m: f64, &a| m.max(a)) / x_extent,
             overshoot_lobes: g.lobes.len() as u32,

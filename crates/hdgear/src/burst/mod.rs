@@ -20,7 +20,10 @@
 //! * **ringing**: the fast mode oscillates about the moving equilibrium, so x' has extra extrema.
 //!   Extrema of x' are zeros of x'' (located); swings smaller than
 //!   [`BurstOptions::swing_floor`]·ω·X are pruned with the extremum they would create (ω·X is the
-//!   scale of the slow drift's own speed). Ringing is three or more extrema in one group.
+//!   scale of the slow drift's own speed). Ringing is three or more extrema in one group, not
+//!   counting the equilibrium's own speed extrema beyond its first (a passage of the cubic has
+//!   one hump of dx*/dτ; a curve with several, such as a scheduled stiffness's, would otherwise
+//!   ring by quasi-static motion alone).
 //!
 //! Events closer than the *group gap* G = min(10·τ_r, T/8) form one group (τ_r = 2 is the decay
 //! time of every oscillatory fast motion: its eigenvalues have real part −1/2 for any g' > 1/4;
@@ -190,7 +193,8 @@ pub struct Burst {
     /// fall and the echoes that stand out of it (≥ 1; unlike the count of all extrema it does not
     /// depend on the swing floor).
     pub spikes: u32,
-    /// Extrema of x' in the burst after pruning (ringing when ≥ 3).
+    /// Extrema of x' in the burst after pruning, less the equilibrium's own speed extrema beyond
+    /// its first (ringing when ≥ 3).
     pub extrema: u32,
     /// Largest swing of x' between consecutive extrema after the pulse, in units of ω·X.
     pub ringing_swing: f64,

@@ -9,6 +9,7 @@ use crate::error::{Error, Result};
 use crate::fast::StaticCurve;
 use crate::integrate::{AnyDense, DenseOutput, Stepper, stepper};
 use crate::model::delay::Delayed;
+use crate::model::schedule::ScheduledTorque;
 use crate::model::switching::{Pieces, Switching, SwitchingDense};
 use crate::model::{MAX_STATES, Model, ModelCurve};
 use std::collections::VecDeque;
@@ -228,9 +229,13 @@ impl<C: StaticCurve, const N: usize> ScanStep for Averaged<'_, C, N> {
 /// ([`Switching`]) and scanned on its pieces, at rest with x'' = 0; its rests are measured
 /// ([`Response::sticking`]), and a burst released by a breakaway is a slip ([`Sticking`]).
 ///
+/// A model with a scheduled stiffness ([`Model::is_scheduled`]) is measured against its closed
+/// loop's curve ([`ModelCurve::scheduled`]), whose equilibria move with the load through the
+/// gain as well.
+///
 /// Refused for a switching model with a dither or a delay, for a dithered model whose static
-/// torque is no study cubic (its averaged equilibria are not known), and where [`ModelCurve::new`]
-/// refuses the model's curve.
+/// torque is no study cubic (its averaged equilibria are not known), and where
+/// [`ModelCurve::new`] or [`ModelCurve::scheduled`] refuses the model's curve.
 ///
 /// ```
 /// use hdgear::{Params, burst::{BurstOptions, Verdict, classify, response_model}};
@@ -246,13 +251,35 @@ impl<C: StaticCurve, const N: usize> ScanStep for Averaged<'_, C, N> {
 /// ```
 pub fn response_model(m: &Model, opts: &BurstOptions) -> Result<Response> {
     m.check()?;
-    match m.equivalent_params() {
-        Some(p) => response_model_on(m, &p, opts),
-        None if m.dither().is_some() => Err(refusal(
+    if m.dither().is_some() && m.equivalent_params().is_none() {
+        return Err(refusal(
             m,
             "the burst verdict on a dithered model needs its averaged equilibria, known only for a static torque that is a study cubic",
-        )),
-        None => response_model_on(m, &ModelCurve::new(m)?, opts),
+        ));
+    }
+    match Curve::of(m)? {
+        Curve::Study(p) => response_model_on(m, &p, opts),
+        Curve::Torque(c) => response_model_on(m, &c, opts),
+        Curve::Scheduled(c) => response_model_on(m, &c, opts),
+    }
+}
+
+/// The equilibrium curve a model's response is measured against: the equivalent study set's
+/// where there is one ([`Model::equivalent_params`]), the closed loop's of a scheduled stiffness
+/// ([`ModelCurve::scheduled`]), else the model's static torque's ([`ModelCurve::new`]).
+enum Curve {
+    Study(crate::Params),
+    Torque(ModelCurve),
+    Scheduled(ModelCurve<ScheduledTorque>),
+}
+
+impl Curve {
+    fn of(m: &Model) -> Result<Curve> {
+        Ok(match m.equivalent_params() {
+            Some(p) => Curve::Study(p),
+            None if m.is_scheduled() => Curve::Scheduled(ModelCurve::scheduled(m)?),
+            None => Curve::Torque(ModelCurve::new(m)?),
+        })
     }
 }
 
@@ -266,8 +293,7 @@ fn refusal(m: &Model, reason: &str) -> Error {
 }
 
 /// The classification ([`super::classify`]) of a model's response ([`response_model`]), against
-/// the same equilibrium curve the response was measured on: the equivalent study set's where
-/// there is one ([`Model::equivalent_params`]), else the model's own ([`ModelCurve`]).
+/// the same equilibrium curve the response was measured on ([`response_model`]).
 ///
 /// ```
 /// use hdgear::burst::{BurstOptions, classify_model, response_model};
@@ -281,9 +307,10 @@ fn refusal(m: &Model, reason: &str) -> Error {
 /// assert!(c.fast_slow_domain); // ω = 0.01 below the soft middle's relaxation rate 0.053
 /// ```
 pub fn classify_model(m: &Model, r: &Response) -> Result<super::Classification> {
-    Ok(match m.equivalent_params() {
-        Some(p) => super::classify(&p, r),
-        None => super::classify(&ModelCurve::new(m)?, r),
+    Ok(match Curve::of(m)? {
+        Curve::Study(p) => super::classify(&p, r),
+        Curve::Torque(c) => super::classify(&c, r),
+        Curve::Scheduled(c) => super::classify(&c, r),
     })
 }
 

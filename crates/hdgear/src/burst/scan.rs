@@ -105,6 +105,17 @@ impl ZigZag {
     }
 }
 
+/// How many of the raw extrema `raw` (τ, v, is_max), in order, survive pruning to the swings
+/// of at least `floor` (the scan's own pruning of x', [`ZigZag`]).
+pub(crate) fn pruned_count(floor: f64, raw: &[(f64, f64, bool)]) -> usize {
+    let mut zigzag = ZigZag { floor, cand: None };
+    let confirmed = raw
+        .iter()
+        .filter(|&&(t, v, is_max)| zigzag.push(t, v, is_max).is_some())
+        .count();
+    confirmed + usize::from(zigzag.cand.is_some())
+}
+
 /// Everything the scan found.
 #[derive(Clone, Debug, Default)]
 pub(crate) struct Scan {

@@ -278,19 +278,21 @@ pub(crate) fn max_speed_on(
     max_on_branch(c, intervals, must_jump, |speed, _| speed)
 }
 
-/// The largest first-order adiabatic lag |e₁| = c·|dx*/dτ|/g'(x) over the x-intervals of the
-/// branch a curve settles on (infinite when the state must jump): x = x* + e in
-/// x'' + c·x' + g(x) = μ + δa gives c·dx*/dτ + g'(x*)·e₁ = 0 at first order in ω.
+/// The largest first-order adiabatic lag |e₁| = c·|dx*/dτ|/k(x) over the x-intervals of the
+/// branch a curve settles on, k the fast stiffness (infinite when the state must jump):
+/// x = x* + e in x'' + c·x' + G(x) = 0 gives c·dx*/dτ + k(x*)·e₁ = 0 at first order in ω.
 pub(crate) fn max_first_order_lag_on(
     c: &impl super::StaticCurve,
     intervals: &[(f64, f64)],
     must_jump: bool,
 ) -> f64 {
     let damping = c.damping();
-    max_on_branch(c, intervals, must_jump, |speed, gp| damping * speed / gp)
+    max_on_branch(c, intervals, must_jump, |speed, x| {
+        damping * speed / c.stiffness(x)
+    })
 }
 
-/// The largest f(|dx*/dτ|, g') over the settled branch's x-intervals, |dx*/dτ| =
+/// The largest f(|dx*/dτ|, x) over the settled branch's x-intervals, |dx*/dτ| =
 /// ω·δ·√(1 − a²)/g'(x) (infinite when the state must jump).
 fn max_on_branch(
     c: &impl super::StaticCurve,
@@ -303,10 +305,9 @@ fn max_on_branch(
     }
     let value = |x: f64| {
         let a = c.a_at(x);
-        let gp = c.g_prime(x);
         f(
-            c.omega() * c.delta() * (1.0 - a * a).max(0.0).sqrt() / gp,
-            gp,
+            c.omega() * c.delta() * (1.0 - a * a).max(0.0).sqrt() / c.g_prime(x),
+            x,
         )
     };
     intervals

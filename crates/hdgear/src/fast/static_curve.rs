@@ -27,8 +27,14 @@ pub trait StaticCurve: Clone + std::fmt::Debug {
     fn forcing(&self, a: f64) -> f64;
     /// The static torque g(x).
     fn g(&self, x: f64) -> f64;
-    /// Its slope g'(x).
+    /// Its slope g'(x): the equilibrium moves at dx*/da = δ/g'.
     fn g_prime(&self, x: f64) -> f64;
+    /// The fast subsystem's stiffness at the equilibrium x, which sets its stability and its
+    /// relaxation: g'(x) unless the static torque moves with the load (a scheduled stiffness,
+    /// whose equilibria move with a both through the load and through the gain).
+    fn stiffness(&self, x: f64) -> f64 {
+        self.g_prime(x)
+    }
     /// The slow variable at which x is an equilibrium: a(x) = (g(x) − μ)/δ.
     fn a_at(&self, x: f64) -> f64;
     /// Whether the curve's parameters are valid.
@@ -57,8 +63,9 @@ pub trait StaticCurve: Clone + std::fmt::Debug {
     /// The largest speed |dx*/dτ| of the equilibrium on the branch the response settles on
     /// (infinite when the state must jump).
     fn max_equilibrium_speed(&self) -> f64;
-    /// The largest first-order adiabatic lag |e₁| = c·|dx*/dτ|/g' on the branch the response
-    /// settles on (infinite when the state must jump).
+    /// The largest first-order adiabatic lag |e₁| = c·|dx*/dτ|/k on the branch the response
+    /// settles on, k the fast stiffness ([`StaticCurve::stiffness`]; infinite when the state must
+    /// jump).
     fn max_first_order_lag(&self) -> f64;
     /// The slowest relaxation met on the path the state follows ([`super::slowest_relaxation`]).
     fn slowest_relaxation(&self) -> SlowestRelaxation;
@@ -67,6 +74,39 @@ pub trait StaticCurve: Clone + std::fmt::Debug {
     /// The slow period 2π/ω.
     fn slow_period(&self) -> f64 {
         std::f64::consts::TAU / self.omega()
+    }
+    /// The extrema (τ, dx*/dτ, is_max) of the followed equilibrium's speed
+    /// dx*/dτ = ω·cos ωτ·δ/g'(x*) over [t0, t1] (a = sin ωτ), sampled at least every quarter of
+    /// the decay time (its humps are slow: each lasts a fraction of the slow period); none when
+    /// the state must jump (the speed is unbounded at the fold).
+    fn speed_extrema(&self, t0: f64, t1: f64) -> Vec<(f64, f64, bool)> {
+        if t1.partial_cmp(&t0) != Some(std::cmp::Ordering::Greater)
+            || !self.max_equilibrium_speed().is_finite()
+        {
+            return Vec::new();
+        }
+        let n = ((t1 - t0) / (0.25 * self.decay_time()))
+            .ceil()
+            .clamp(64.0, 4096.0) as usize;
+        let mut follower = self.follower(self.start());
+        let mut x = self.start();
+        let mut speed = |t: f64| {
+            let (a, c) = (self.omega() * t).sin_cos();
+            x = follower.at(a, x);
+            self.omega() * c * self.delta() / self.g_prime(x)
+        };
+        let h = (t1 - t0) / n as f64;
+        let mut out = Vec::new();
+        let (mut before, mut now) = (speed(t0), speed(t0 + h));
+        for i in 2..=n {
+            let t = t0 + h * i as f64;
+            let next = speed(t);
+            if (now - before) * (next - now) < 0.0 {
+                out.push((t - h, now, next < now));
+            }
+            (before, now) = (now, next);
+        }
+        out
     }
 }
 

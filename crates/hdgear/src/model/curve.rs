@@ -1,8 +1,11 @@
 //! The equilibrium curve of a model assembled from terms ([`ModelCurve`]), for the burst verdict
 //! where the model's static torque is not a study cubic (a catalogue's piecewise-linear
-//! stiffness, a cubic with a stiffer end stop): g(x) = μ + δa solved by a root finder on the
-//! model's [`Model::static_torque`], every fact the verdict reads derived from g, g' and the
-//! damping at rest c as the study's closed forms derive them from the cubic.
+//! stiffness, a cubic with a stiffer end stop, a stiffness the load's phase schedules):
+//! g(x) = μ + δa solved by a root finder, every fact the verdict reads derived from g, g', the
+//! fast subsystem's stiffness and the damping at rest c as the study's closed forms derive them
+//! from the cubic. What g is comes from a [`Statics`]: the model's [`Model::static_torque`]
+//! ([`StaticTorque`]), or the closed loop of a scheduled stiffness
+//! ([`super::schedule::ScheduledTorque`]).
 
 use super::Model;
 use crate::error::{Error, Result};
@@ -12,6 +15,50 @@ use crate::fast::{A_RANGE, Along, Follower, SlowestRelaxation, StaticCurve, rela
 /// fold pair closer than a sample apart (a decreasing piece narrower than 1/4096 of the range)
 /// is not seen.
 const FOLD_SAMPLES: usize = 4096;
+
+/// What a [`ModelCurve`]'s equilibria are: the curve g with g(x*) = μ + δa at the equilibria x*
+/// at load a, and the fast subsystem's stiffness there.
+pub trait Statics: Clone + Copy + std::fmt::Debug {
+    /// The model (its forcing, its damping at rest, its check).
+    fn model(&self) -> &Model;
+    /// The curve g(x) = μ + δa(x), a(x) the load at which x is an equilibrium.
+    fn g(&self, x: f64) -> f64;
+    /// Its slope g'(x) = δ/(dx*/da).
+    fn g_prime(&self, x: f64) -> f64;
+    /// The fast subsystem's stiffness at the equilibrium x (the linearisation's −∂x''/∂x), which
+    /// sets its stability and relaxation: g' itself where the static torque does not move with
+    /// the load.
+    fn stiffness(&self, x: f64) -> f64 {
+        self.g_prime(x)
+    }
+    /// Every equilibrium at load a, increasing.
+    fn equilibria(&self, a: f64) -> Result<Vec<f64>>;
+    /// The stable equilibria at load a in closed form, where the law has one (else `None`: the
+    /// curve finds them on its branches by Brent's method).
+    fn stable_roots(&self, _a: f64) -> Option<Vec<f64>> {
+        None
+    }
+}
+
+/// A model's static torque g(x) ([`Model::static_torque`]), the same at every load.
+#[derive(Clone, Copy, Debug)]
+pub struct StaticTorque(pub Model);
+
+impl Statics for StaticTorque {
+    fn model(&self) -> &Model {
+        &self.0
+    }
+    fn g(&self, x: f64) -> f64 {
+        self.0.static_torque(x)
+    }
+    fn g_prime(&self, x: f64) -> f64 {
+        self.0.static_stiffness(x)
+    }
+    fn equilibria(&self, a: f64) -> Result<Vec<f64>> {
+        let [mu, delta, _] = self.0.forcing();
+        self.0.equilibria_at(mu + delta * a)
+    }
+}
 
 /// The equilibrium curve of a [`Model`]: its static torque g, its slope g' and its damping at
 /// rest c ([`super::Facts::damping_at_rest`]), over the x-range [x_lo, x_hi] that a ∈ [−1, 1]
@@ -30,8 +77,8 @@ const FOLD_SAMPLES: usize = 4096;
 /// assert_eq!(c.focus_gprime(), 0.25); // unit damping: c²/4
 /// ```
 #[derive(Clone, Copy, Debug)]
-pub struct ModelCurve {
-    model: Model,
+pub struct ModelCurve<S: Statics = StaticTorque> {
+    law: S,
     /// c, the damping at rest.
     damping: f64,
     /// [x_lo, x_hi], the traversed x-range.
@@ -41,34 +88,59 @@ pub struct ModelCurve {
 }
 
 impl ModelCurve {
-    /// The curve of `m`; refused (naming the model) for a scheduled stiffness (no curve of x
-    /// alone, [`Model::is_scheduled`]), damping at rest c ≤ 0 (no relaxation:
-    /// no equilibrium is followed), a static torque that does not confine x, or more than one
-    /// pair of folds in the traversed range.
+    /// The curve of `m`'s static torque; refused (naming the model) for a scheduled stiffness
+    /// (whose curve is [`ModelCurve::scheduled`]'s), damping at rest c ≤ 0 (no relaxation: no
+    /// equilibrium is followed), a static torque that does not confine x, or more than one pair
+    /// of folds in the traversed range.
     pub fn new(m: &Model) -> Result<ModelCurve> {
-        m.check()?;
-        let refuse = |reason: String| Error::InvalidInput {
-            what: "model",
-            text: m.equation(),
-            reason,
-        };
         if m.is_scheduled() {
-            return Err(refuse(
-                "a scheduled stiffness moves the equilibria with the load's phase a: there is no curve g(x) = μ + δa of x alone".into(),
+            return Err(refusal(
+                m,
+                "a scheduled stiffness moves the equilibria with the load's phase a: its curve is the closed loop's (ModelCurve::scheduled)".into(),
             ));
         }
+        ModelCurve::of(StaticTorque(*m))
+    }
+}
+
+impl ModelCurve<super::schedule::ScheduledTorque> {
+    /// The curve of `m`'s closed loop with its scheduled stiffness
+    /// ([`super::schedule::ScheduledTorque`]); refused as [`ModelCurve::new`] and
+    /// [`super::schedule::ScheduledTorque::new`] say.
+    pub fn scheduled(m: &Model) -> Result<ModelCurve<super::schedule::ScheduledTorque>> {
+        ModelCurve::of(super::schedule::ScheduledTorque::new(m)?)
+    }
+}
+
+/// The error refusing model `m` a curve, for `reason`.
+pub(super) fn refusal(m: &Model, reason: String) -> Error {
+    Error::InvalidInput {
+        what: "model",
+        text: m.equation(),
+        reason,
+    }
+}
+
+impl<S: Statics> ModelCurve<S> {
+    /// The curve `law` makes; refused as [`ModelCurve::new`] says.
+    pub fn of(law: S) -> Result<ModelCurve<S>> {
+        let m = law.model();
+        m.check()?;
         let damping = m.facts().damping_at_rest;
         if damping.is_nan() || damping <= 0.0 {
-            return Err(refuse(format!(
-                "its damping at rest c = {damping} is not positive: the fast subsystem does not relax onto an equilibrium curve"
-            )));
+            return Err(refusal(
+                m,
+                format!(
+                    "its damping at rest c = {damping} is not positive: the fast subsystem does not relax onto an equilibrium curve"
+                ),
+            ));
         }
-        let [mu, delta, _] = m.forcing();
-        let lo = m.equilibria_at(mu + delta * A_RANGE.0)?;
-        let hi = m.equilibria_at(mu + delta * A_RANGE.1)?;
+        let lo = law.equilibria(A_RANGE.0)?;
+        let hi = law.equilibria(A_RANGE.1)?;
         let (x_lo, x_hi) = (lo[0], hi[hi.len() - 1]);
-        let gp = |x: f64| m.static_stiffness(x);
-        // the folds: sign changes of g' across the range, each narrowed to f64's resolution
+        let gp = |x: f64| law.stiffness(x);
+        // the folds: sign changes of the stiffness across the range, each narrowed to f64's
+        // resolution
         let x = |i: usize| x_lo + (x_hi - x_lo) * i as f64 / FOLD_SAMPLES as f64;
         let mut folds = Vec::new();
         let (mut a, mut rising) = (x(0), gp(x(0)) > 0.0);
@@ -86,14 +158,17 @@ impl ModelCurve {
             [] => None,
             &[xm, xp] => Some((xm, xp)),
             _ => {
-                return Err(refuse(format!(
-                    "its equilibrium curve has {} folds over a ∈ [−1, 1]; the verdict follows one hysteresis band (two folds) at most",
-                    folds.len()
-                )));
+                return Err(refusal(
+                    m,
+                    format!(
+                        "its equilibrium curve has {} folds over a ∈ [−1, 1]; the verdict follows one hysteresis band (two folds) at most",
+                        folds.len()
+                    ),
+                ));
             }
         };
         Ok(ModelCurve {
-            model: *m,
+            law,
             damping,
             range: (x_lo, x_hi),
             band,
@@ -103,7 +178,7 @@ impl ModelCurve {
     /// The increasing branches (g' > 0 inside), as x-intervals: the range, or the two pieces
     /// outside the band; each with whether it is outermost on the left and on the right (where
     /// [`ModelCurve::root_on`] may look beyond it).
-    fn branches(&self) -> impl Iterator<Item = ((f64, f64), (bool, bool))> + use<> {
+    fn branches(&self) -> impl Iterator<Item = ((f64, f64), (bool, bool))> + use<S> {
         let (l, r) = self.range;
         let pieces = match self.band {
             None => [Some(((l, r), (true, true))), None],
@@ -143,11 +218,15 @@ impl ModelCurve {
 
     /// The stable equilibria at a, increasing (one per branch whose values reach μ + δa, unless
     /// it is the branch's end at a fold, where g' = 0: a fold point is not stable).
-    fn stable_roots(&self, a: f64) -> impl Iterator<Item = f64> + '_ {
+    fn stable_roots(&self, a: f64) -> Vec<f64> {
+        if let Some(roots) = self.law.stable_roots(a) {
+            return roots;
+        }
         let level = self.forcing(a);
         self.branches()
             .filter_map(move |(iv, outer)| self.root_on(iv, level, outer))
-            .filter(|&x| self.g_prime(x) > 0.0)
+            .filter(|&x| self.law.stiffness(x) > 0.0)
+            .collect()
     }
 
     /// The x-intervals of the stable branches that a ∈ [−1, 1] traverses, increasing.
@@ -194,13 +273,13 @@ impl ModelCurve {
         }
     }
 
-    /// The least g' over the intervals and where (512 samples and a golden-section refinement on
-    /// each: a segment of the law narrower than 1/512 of an interval can be missed).
+    /// The least stiffness over the intervals and where (512 samples and a golden-section
+    /// refinement on each: a segment of the law narrower than 1/512 of an interval can be missed).
     fn least_gprime(&self, intervals: &[(f64, f64)]) -> (f64, f64) {
         intervals
             .iter()
             .map(|&(l, r)| {
-                let (x, neg) = crate::fast::max_on(|x| -self.g_prime(x), l, r);
+                let (x, neg) = crate::fast::max_on(|x| -self.law.stiffness(x), l, r);
                 (-neg, x)
             })
             .fold(
@@ -213,50 +292,57 @@ impl ModelCurve {
 /// The stable equilibrium of a [`ModelCurve`] nearest a state: the root on each increasing
 /// branch by Brent's method.
 #[derive(Clone, Copy, Debug)]
-pub struct ModelFollower(ModelCurve);
+pub struct ModelFollower<S: Statics = StaticTorque>(ModelCurve<S>);
 
-impl Follower for ModelFollower {
+impl<S: Statics> Follower for ModelFollower<S> {
     fn at(&mut self, a: f64, x: f64) -> f64 {
         self.0
             .stable_roots(a)
+            .into_iter()
             .min_by(|u, v| (u - x).abs().total_cmp(&(v - x).abs()))
             .unwrap_or(x)
     }
 }
 
-impl StaticCurve for ModelCurve {
-    type Follower = ModelFollower;
+impl<S: Statics> StaticCurve for ModelCurve<S> {
+    type Follower = ModelFollower<S>;
     fn omega(&self) -> f64 {
-        self.model.forcing()[2]
+        self.law.model().forcing()[2]
     }
     fn delta(&self) -> f64 {
-        self.model.forcing()[1]
+        self.law.model().forcing()[1]
     }
     fn forcing(&self, a: f64) -> f64 {
-        let [mu, delta, _] = self.model.forcing();
+        let [mu, delta, _] = self.law.model().forcing();
         mu + delta * a
     }
     fn g(&self, x: f64) -> f64 {
-        self.model.static_torque(x)
+        self.law.g(x)
     }
     fn g_prime(&self, x: f64) -> f64 {
-        self.model.static_stiffness(x)
+        self.law.g_prime(x)
+    }
+    fn stiffness(&self, x: f64) -> f64 {
+        self.law.stiffness(x)
     }
     fn a_at(&self, x: f64) -> f64 {
-        let [mu, delta, _] = self.model.forcing();
+        let [mu, delta, _] = self.law.model().forcing();
         (self.g(x) - mu) / delta
     }
     fn check(&self) -> Result<()> {
-        self.model.check()
+        self.law.model().check()
     }
     fn fold_band(&self) -> Option<(f64, f64)> {
         self.band
     }
-    fn follower(&self, _x0: f64) -> ModelFollower {
+    fn follower(&self, _x0: f64) -> ModelFollower<S> {
         ModelFollower(*self)
     }
     fn start(&self) -> f64 {
-        self.stable_roots(0.0).next().unwrap_or(self.range.0)
+        self.stable_roots(0.0)
+            .first()
+            .copied()
+            .unwrap_or(self.range.0)
     }
     fn x_extent(&self) -> f64 {
         (self.range.1 - self.range.0).max(f64::MIN_POSITIVE)
@@ -306,7 +392,7 @@ impl StaticCurve for ModelCurve {
         };
         for a in [A_RANGE.0, A_RANGE.1] {
             for x in self.stable_roots(a) {
-                let rate = relaxation_rate_with(self.g_prime(x), self.damping);
+                let rate = relaxation_rate_with(self.law.stiffness(x), self.damping);
                 if rate < best.rate {
                     best = SlowestRelaxation {
                         rate,

@@ -10,54 +10,85 @@
 //!
 //! k(a) = max(0, D − 3α·s₀(a)²), D = g'_min − g'_c,
 //!
-//! the least gain that gives the reference point s₀(a) the slope g'_min. The closed loop's
-//! followed equilibrium then lies at |s| ≥ |s₀| on s₀'s side: at s₀ the residual is
-//! (k − D)·s₀, of the sign opposite to s₀ whenever k ≤ D, so the root lies beyond s₀, and its
-//! slope is g'_c + k + 3αs² ≥ g'_c + k + 3αs₀² ≥ g'_min. (With D ≤ 0 the plant is steep
-//! enough: k ≡ 0 and every slope is at least g'_c ≥ g'_min.) With no fold on the closed loop's
-//! path the fast-slow passage has no jump.
+//! the least gain that gives the reference point s₀(a) the slope g'_min. Any gain k ≥ that
+//! keeps the closed loop's followed equilibrium at least that steep. The root lies on s₀'s side
+//! of x_c (the residual at s = 0 is −(b₀ + δa), of the sign opposite to s₀). Where k ≤ D the
+//! residual at s₀ is (k − D)·s₀, also of the sign opposite to s₀, so the root lies beyond s₀
+//! and its slope is g'_c + k + 3αs² ≥ g'_c + k + 3αs₀² ≥ g'_min; where k > D the slope is at least
+//! g'_c + k > g'_min. (With D ≤ 0 the plant is steep enough: k ≡ 0 and every slope is at least
+//! g'_c ≥ g'_min.) With no fold on the closed loop's path the fast-slow passage has no jump.
+//!
+//! The least gain switches on and off with a kink: dk/da jumps there, and so does the speed
+//! dx*/dτ of the equilibrium the state follows, by the share −k'·(x − x_c)/(g' + k) of it. A
+//! jump in the equilibrium's speed kicks the fast mode as a step in velocity would, and the
+//! closed loop rings after each switch. Measured at the study's γ = 0.1: with g'_min = 3 (every
+//! slope ≥ 3, past the open loop's boundary γ ≈ 2.2) the kinked schedule still overshoots, each
+//! burst starting where the gain switches on. So the gain is the least one passed through a
+//! ramp that is C¹: with κ = D − 3α·s₀² (the least gain before the clamp) and a width
+//! w = ρ·D,
+//!
+//! k = 0 for κ ≤ −w, (κ + w)²/(4w) for |κ| < w, κ for κ ≥ w,
+//!
+//! which is at least max(0, κ) (so the slope promise holds) and whose slope in κ runs from 0 to 1
+//! without a jump. ρ = 0 is the least gain itself.
 //!
 //! The schedule is the controller's: its parameters are the plant model it was built from (α, x_c,
-//! g'_c, b₀, δ, ω), which a model error leaves behind.
+//! g'_c, b₀, δ, ω), which a model error leaves behind, and its ramp ρ.
 
+use super::Model;
+use super::curve::{Statics, refusal};
 use super::jet::sin_cos_coefficients;
-use super::terms::{Domain, ParamInfo, Scratch, Term};
+use super::terms::{AnyTerm, Domain, ParamInfo, Scratch, Term};
+use crate::error::Result;
 use crate::params::Params;
 use serde::Serialize;
 
-/// Scheduled stiffness ũ = −k(a)·(x − x_c), a = sin θ, θ' = ω (the load's phase), k(a) =
-/// max(0, g'_min − g'_c − 3α·s₀(a)²) with s₀ the root of αs₀³ + g'_min·s₀ = b₀ + δa (see the
-/// [module](self)). Parameters: g'_min (the gain a tuner searches), then the plant model α,
-/// x_c, g'_c, b₀, δ, ω. Their defaults are the schedule for the study's default set with
-/// g'_min = 0.3.
+/// Scheduled stiffness ũ = −k(a)·(x − x_c), a = sin θ, θ' = ω (the load's phase), k(a) the
+/// least gain max(0, g'_min − g'_c − 3α·s₀(a)²) through a C¹ ramp of width ρ·D, s₀ the root of
+/// αs₀³ + g'_min·s₀ = b₀ + δa (see the [module](self)). Parameters: g'_min (the gain a tuner
+/// searches), the plant model α, x_c, g'_c, b₀, δ, ω, and the ramp ρ. Their defaults are the
+/// schedule for the study's default set with g'_min = 0.3.
 ///
 /// ```
 /// use hdgear::Params;
 /// use hdgear::model::schedule::Scheduled;
 /// let p = Params::default(); // least slope γ − 1/(3α) ≈ 0.079
-/// let law = Scheduled::for_plant(&p, 0.3);
+/// let law = Scheduled::for_plant(&p, 0.3, 0.0); // the least gain, no ramp
 /// // largest at the softest point, zero where the curve is stiff enough on its own
 /// let x_c = 1.0 / (3.0 * p.alpha);
 /// let at_xc = p.a_at(x_c);
 /// assert!((law.gain(at_xc) - (0.3 - p.g_prime(x_c))).abs() < 1e-12);
 /// assert_eq!(law.gain(1.0), 0.0);
+/// // the ramp never gives less
+/// let ramped = Scheduled::for_plant(&p, 0.3, 0.5);
+/// assert!((-1.0..=1.0).contains(&0.2) && ramped.gain(0.2) >= law.gain(0.2));
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct Scheduled(pub [f64; 7]);
+pub struct Scheduled(pub [f64; 8]);
 
 /// Where the schedule keeps its rows in [`Scratch`]: sin θ, cos θ, s₀, s₀², and the piece (at 0:
-/// 1 where the gain is on, 0 where it is off) with θ₀ (at 1).
+/// [`OFF`], [`RAMP`] or [`ON`]) with θ₀ (at 1).
 const SIN: usize = 0;
 const COS: usize = 1;
 const S: usize = 2;
 const S2: usize = 3;
 const PIECE: usize = 4;
-/// The piece of a step that starts on the gain's kink, until its row 1 shows which way it goes.
-const UNDECIDED: f64 = 2.0;
+/// The gain's pieces in κ: off (κ ≤ −w), the ramp (|κ| < w), on (κ ≥ w: k = κ).
+const OFF: f64 = 0.0;
+const RAMP: f64 = 1.0;
+const ON: f64 = 2.0;
+/// The piece of a step that starts on a kink, until its row 1 shows which way it goes.
+const UNDECIDED: f64 = 3.0;
+
+/// The ramp's default width ρ, in units of the deficit D: at the study's γ = 0.01, 0.1 and 1
+/// with g'_min = 3, the closed loop still rings with ρ = 1 and no longer with ρ = 3 (with ρ = 0
+/// it overshoots, each burst starting where the gain switches on).
+pub const RAMP_DEFAULT: f64 = 3.0;
 
 impl Scheduled {
-    /// The schedule for the study plant `p` with the target least slope `gmin`.
-    pub fn for_plant(p: &Params, gmin: f64) -> Scheduled {
+    /// The schedule for the study plant `p` with the target least slope `gmin` and the ramp
+    /// `ramp` (ρ).
+    pub fn for_plant(p: &Params, gmin: f64, ramp: f64) -> Scheduled {
         let xc = 1.0 / (3.0 * p.alpha);
         Scheduled([
             gmin,
@@ -67,6 +98,7 @@ impl Scheduled {
             p.mu - p.g(xc),
             p.delta,
             p.omega,
+            ramp,
         ])
     }
 
@@ -75,7 +107,7 @@ impl Scheduled {
     /// u = sgn(r)·∛(|r| + √(r² + (p/3)³)), p = g'_min/α, r = (b₀ + δa)/(2α), then one Newton
     /// step, which restores the digits the subtraction loses near r = 0.
     pub fn reference(&self, a: f64) -> f64 {
-        let [m, alpha, _, _, b0, delta, _] = self.0;
+        let [m, alpha, _, _, b0, delta, ..] = self.0;
         let (p, r) = (m / alpha, 0.5 * (b0 + delta * a) / alpha);
         let root = (r * r + (p / 3.0).powi(3)).sqrt();
         let u = (r.abs() + root)
@@ -85,9 +117,56 @@ impl Scheduled {
         s - (alpha * s * s * s + m * s - 2.0 * alpha * r) / (3.0 * alpha * s * s + m)
     }
 
-    /// The gain k(a) = max(0, D − 3α·s₀(a)²).
+    /// The gain k(a): κ = D − 3α·s₀(a)² through the ramp.
     pub fn gain(&self, a: f64) -> f64 {
-        self.unclamped(self.reference(a)).max(0.0)
+        self.ramp(self.unclamped(self.reference(a)))[0]
+    }
+
+    /// The gain k(a) and its slope dk/da = (dk/dκ)·dκ/da, dκ/da = −6α·s₀·δ/(3αs₀² + g'_min).
+    pub fn gain_slope(&self, a: f64) -> [f64; 2] {
+        let s = self.reference(a);
+        let [k, dk] = self.ramp(self.unclamped(s));
+        [k, dk * self.kappa_slope(s)]
+    }
+
+    /// The largest gain, at κ = D (s₀ = 0).
+    pub fn max_gain(&self) -> f64 {
+        self.ramp(self.deficit())[0]
+    }
+
+    /// The ramp's width w = ρ·D (0 where D ≤ 0: the gain is off everywhere).
+    pub fn width(&self) -> f64 {
+        self.0[7] * self.deficit().max(0.0)
+    }
+
+    /// The piece of the ramp κ lies on.
+    fn piece(&self, kappa: f64) -> f64 {
+        let w = self.width();
+        if kappa <= -w {
+            OFF
+        } else if kappa < w {
+            RAMP
+        } else {
+            ON
+        }
+    }
+
+    /// The gain at κ and its slope dk/dκ.
+    fn ramp(&self, kappa: f64) -> [f64; 2] {
+        let w = self.width();
+        match self.piece(kappa) {
+            OFF => [0.0, 0.0],
+            RAMP => {
+                let q = kappa + w;
+                [q * q / (4.0 * w), q / (2.0 * w)]
+            }
+            _ => [kappa, 1.0],
+        }
+    }
+
+    /// dκ/da = −6α·s₀·ds₀/da, ds₀/da = δ/(3αs₀² + g'_min).
+    fn kappa_slope(&self, s: f64) -> f64 {
+        -6.0 * self.0[1] * s * self.0[5] * self.reference_slope(s)
     }
 
     /// D − 3α·s²: the gain at the reference point s before it is clamped at 0.
@@ -100,16 +179,28 @@ impl Scheduled {
         self.0[0] - self.0[3]
     }
 
-    /// The load levels a₋ < a₊ between which the gain is on (s₀ = ∓√(D/(3α))); `None` when it is
-    /// never on (D ≤ 0) or the load does not move the reference (δ̂ = 0).
-    pub fn levels(&self) -> Option<[f64; 2]> {
-        let [m, alpha, _, _, b0, delta, _] = self.0;
-        let d = self.deficit();
+    /// The load levels where the gain changes piece, increasing: where κ = −w (s₀ =
+    /// ±√((D + w)/(3α)), the gain's edges) and, for w < D, where κ = w (s₀ = ±√((D − w)/(3α))).
+    /// Empty when the gain is never on (D ≤ 0) or the load does not move the reference (δ̂ = 0).
+    pub fn levels(&self) -> Vec<f64> {
+        let [m, alpha, _, _, b0, delta, ..] = self.0;
+        let (d, w) = (self.deficit(), self.width());
         if d <= 0.0 || delta == 0.0 {
-            return None;
+            return Vec::new();
         }
-        let edge = (d / (3.0 * alpha)).sqrt();
-        Some([-edge, edge].map(|s| (alpha * s * s * s + m * s - b0) / delta))
+        let edges = [d + w, d - w]
+            .into_iter()
+            .filter(|&e| e > 0.0)
+            .take(1 + usize::from(w > 0.0));
+        let mut levels: Vec<f64> = edges
+            .flat_map(|e| {
+                let s = (e / (3.0 * alpha)).sqrt();
+                [-s, s]
+            })
+            .map(|s| (alpha * s * s * s + m * s - b0) / delta)
+            .collect();
+        levels.sort_by(f64::total_cmp);
+        levels
     }
 
     /// ∂s₀/∂(b₀ + δa) = 1/(3αs₀² + g'_min).
@@ -190,11 +281,20 @@ impl Term for Scheduled {
             default: 0.01,
             si: "as ω",
         },
+        ParamInfo {
+            name: "sramp",
+            symbol: "ρ",
+            latex: r"\rho",
+            meaning: "the gain's C¹ ramp, in units of the deficit D (0: the least gain, which kinks)",
+            domain: Domain::NonNegative,
+            default: RAMP_DEFAULT,
+            si: "a ratio",
+        },
     ];
     const PHASE_RATE: Option<usize> = Some(6);
     const SCHEDULED: bool = true;
     fn from_values(v: &[f64]) -> Self {
-        Scheduled([v[0], v[1], v[2], v[3], v[4], v[5], v[6]])
+        Scheduled([v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7]])
     }
     fn values(&self) -> &[f64] {
         &self.0
@@ -204,48 +304,58 @@ impl Term for Scheduled {
     }
     fn gradient(&self, x: f64, _v: f64, theta: f64) -> [f64; 3] {
         let (sin, cos) = libm::sincos(theta);
-        let s = self.reference(sin);
-        let k = self.unclamped(s).max(0.0);
-        // dk/dθ = −6α·s₀·ds₀/dθ on the active piece, ds₀/dθ = δ·cos θ/(3αs₀² + g'_min)
-        let dk = if k > 0.0 {
-            -6.0 * self.0[1] * s * self.0[5] * cos * self.reference_slope(s)
-        } else {
-            0.0
-        };
-        [k, 0.0, dk * (x - self.0[2])]
+        let [k, dk] = self.gain_slope(sin);
+        [k, 0.0, dk * cos * (x - self.0[2])]
     }
     fn param_derivative(&self, i: usize, x: f64, _v: f64, theta: f64) -> f64 {
         let sin = libm::sin(theta);
         let s = self.reference(sin);
-        let k = self.unclamped(s).max(0.0);
-        let u = x - self.0[2];
+        let kappa = self.unclamped(s);
+        let piece = self.piece(kappa);
+        let [k, dk_dkappa] = self.ramp(kappa);
         if i == 2 {
             return -k;
         }
-        if k <= 0.0 || i == 6 {
+        if piece == OFF || i == 6 {
             return 0.0;
         }
         let [_, alpha, ..] = self.0;
         let ds = self.reference_slope(s);
-        // k = g'_min − g'_c − 3αs₀²; s₀ moves with g'_min, α, b₀ and δ through
+        // κ = g'_min − g'_c − 3αs₀²; s₀ moves with g'_min, α, b₀ and δ through
         // αs₀³ + g'_min·s₀ = b₀ + δa
-        let dk_ds = -6.0 * alpha * s;
-        let dk = match i {
-            0 => 1.0 + dk_ds * (-s * ds),
-            1 => -3.0 * s * s + dk_ds * (-s * s * s * ds),
+        let dkappa_ds = -6.0 * alpha * s;
+        let dkappa = match i {
+            0 => 1.0 + dkappa_ds * (-s * ds),
+            1 => -3.0 * s * s + dkappa_ds * (-s * s * s * ds),
             3 => -1.0,
-            4 => dk_ds * ds,
-            _ => dk_ds * sin * ds,
+            4 => dkappa_ds * ds,
+            5 => dkappa_ds * sin * ds,
+            _ => 0.0,
         };
-        dk * u
+        // the ramp's width w = ρ·D moves with g'_min, g'_c and ρ
+        let rho = self.0[7];
+        let dw = match i {
+            0 => rho,
+            3 => -rho,
+            7 => self.deficit(),
+            _ => 0.0,
+        };
+        let dk_dw = if piece == RAMP {
+            dk_dkappa - k / self.width()
+        } else {
+            0.0
+        };
+        (dk_dkappa * dkappa + dk_dw * dw) * (x - self.0[2])
     }
     /// sin θ and cos θ by their recurrences, s₀'s rows from αs₀³ + g'_min·s₀ = b₀ + δ sin θ
     /// (row k: (3αs₀² + g'_min)·s_k = δ·sin_k − α·(s₀·P_k + Q_k), P_k and Q_k the parts of
-    /// (s₀²)_k and (s₀³)_k without s_k), then k = D − 3α·s₀² on the piece the step starts on
-    /// (0 on the other), times x − x_c.
+    /// (s₀²)_k and (s₀³)_k without s_k), κ's rows D − 3α·(s₀²)_k, the gain's on the piece the
+    /// step starts on (0 off, κ's on, (κ + w)²/(4w)'s by Cauchy products on the ramp), times
+    /// x − x_c.
     fn taylor(&self, k: usize, x: &[f64], _v: &[f64], theta: &[f64], rows: &mut Scratch) -> f64 {
         let [m, alpha, xc, ..] = self.0;
         let delta = self.0[5];
+        let w = self.width();
         let r = &mut rows.0;
         let (sk, ck) = sin_cos_coefficients(theta, &r[SIN], &r[COS], k);
         (r[SIN][k], r[COS][k]) = (sk, ck);
@@ -253,19 +363,18 @@ impl Term for Scheduled {
             let s = self.reference(sk);
             (r[S][0], r[S2][0]) = (s, s * s);
             r[PIECE][1] = theta[0];
-            let value = self.unclamped(s);
+            let kappa = self.unclamped(s);
             // on a kink to rounding (a step ends on one, [`Term::step_limit`]): decided at row 1,
-            // by the way the motion goes
-            let on_kink = self.levels().is_some_and(|levels| {
-                let resolution = 64.0 * f64::EPSILON + 4.0 * f64::EPSILON * theta[0].abs();
-                levels.iter().any(|&a| (sk - a).abs() <= resolution)
-            });
+            // by the way the motion goes; the gain is continuous there, so its row 0 is either
+            // piece's
+            let resolution = 64.0 * f64::EPSILON + 4.0 * f64::EPSILON * theta[0].abs();
+            let on_kink = self.levels().iter().any(|&a| (sk - a).abs() <= resolution);
             r[PIECE][0] = if on_kink {
                 UNDECIDED
             } else {
-                f64::from(u8::from(value > 0.0))
+                self.piece(kappa)
             };
-            return value.max(0.0) * (x[0] - xc);
+            return self.ramp(kappa)[0] * (x[0] - xc);
         }
         let s0 = r[S][0];
         let p: f64 = (1..k).map(|i| r[S][i] * r[S][k - i]).sum();
@@ -273,30 +382,45 @@ impl Term for Scheduled {
         let sk = (delta * r[SIN][k] - alpha * (s0 * p + q)) / (3.0 * alpha * s0 * s0 + m);
         r[S][k] = sk;
         r[S2][k] = 2.0 * s0 * sk + p;
-        if r[PIECE][0] == UNDECIDED {
-            // D − 3αs₀² rises (the gain switches on) where s₀·s₀' < 0
-            r[PIECE][0] = f64::from(u8::from(-s0 * sk > 0.0));
-        }
-        if r[PIECE][0] == 0.0 {
-            return 0.0;
-        }
-        let gain = |i: usize| {
+        let kappa = |i: usize| {
             let base = if i == 0 { self.deficit() } else { 0.0 };
             base - 3.0 * alpha * r[S2][i]
         };
-        (0..=k)
+        let mut piece = r[PIECE][0];
+        if piece == UNDECIDED {
+            // κ rises where s₀·s₀' < 0; at the lower kink (κ = −w) rising enters the ramp (on,
+            // for w = 0), at the upper (κ = w) falling does
+            let rising = -s0 * sk > 0.0;
+            let k0 = kappa(0);
+            let lower = (k0 + w).abs() <= (k0 - w).abs();
+            piece = match (lower, rising) {
+                (true, false) => OFF,
+                (false, true) => ON,
+                (true, true) if w == 0.0 => ON,
+                _ => RAMP,
+            };
+        }
+        let gain = |i: usize| match piece {
+            OFF => 0.0,
+            ON => kappa(i),
+            _ => {
+                let q = |j: usize| kappa(j) + if j == 0 { w } else { 0.0 };
+                (0..=i).map(|j| q(j) * q(i - j)).sum::<f64>() / (4.0 * w)
+            }
+        };
+        let row = (0..=k)
             .map(|i| gain(i) * if k - i == 0 { x[0] - xc } else { x[k - i] })
-            .sum()
+            .sum();
+        r[PIECE][0] = piece;
+        row
     }
     const LIMITS_STEPS: bool = true;
-    /// The step ends where the gain switches on or off: where sin θ, θ = θ₀ + ω̂τ exactly, next
-    /// reaches a level a₋ or a₊ ([`Scheduled::levels`]), in closed form (the next step starts on
-    /// the kink, its piece decided by the way it goes).
+    /// The step ends where the gain changes piece: where sin θ, θ = θ₀ + ω̂τ exactly, next
+    /// reaches a level of [`Scheduled::levels`], in closed form (the next step starts on the
+    /// kink, its piece decided by the way it goes).
     fn step_limit(&self, rows: &Scratch, order: usize, h: f64, _negligible: f64) -> f64 {
-        let Some(levels) = self.levels() else {
-            return h;
-        };
-        if order == 0 {
+        let levels = self.levels();
+        if order == 0 || levels.is_empty() {
             return h;
         }
         let theta0 = rows.0[PIECE][1];
@@ -327,5 +451,158 @@ impl Term for Scheduled {
     }
     fn rate_latex(&self) -> Option<String> {
         Some(r"\dot\theta = \hat\omega,\ a = \sin\theta".into())
+    }
+}
+
+/// Samples across the closed loop's traversed x-range on which [`ScheduledTorque::new`] checks
+/// that each x is an equilibrium at one load only.
+const SINGLE_LOAD_SAMPLES: usize = 1024;
+
+/// The closed loop of a study plant and a [`Scheduled`] stiffness as a curve
+/// ([`super::ModelCurve::scheduled`]). With the load frozen at a, the plant's
+/// g(x) = αx³ − x² + γ(x − ε) plus k(a)·(x − x̂_c) is the study's cubic with γ + k(a) and
+/// γε + k(a)·x̂_c: its equilibria at a in closed form. The curve's g is μ + δ·a(x), a(x) the
+/// load at which x is an equilibrium, the root of
+///
+/// F(x, a) = g(x) + k(a)·(x − x̂_c) − μ − δa = 0,
+///
+/// so that dx*/da = (δ − k'(a)·(x − x̂_c))/(g'(x) + k(a)) = δ/g'_curve. The fast subsystem's
+/// stiffness at x is g'(x) + k(a(x)). Since 0 ≤ k ≤ K ([`Scheduled::max_gain`]), the root lies
+/// between a₀ + min(0, K·s)/δ and a₀ + max(0, K·s)/δ, a₀ = (g(x) − μ)/δ the open loop's load,
+/// s = x − x̂_c: F changes sign there, and Brent's method finds it. On the closed loop's branch x and the reference lie on
+/// the same side of x̂_c, so ∂F/∂a = k'·s − δ < 0 there and a(x) is single-valued; where a plant
+/// unlike the schedule's model makes it fold back, the curve is refused.
+///
+/// ```
+/// use hdgear::Params;
+/// use hdgear::fast::StaticCurve;
+/// use hdgear::model::{Model, ModelCurve, schedule::Scheduled, terms::AnyTerm};
+/// let p = Params::default(); // γ = 0.1: a soft middle, slope 0.079 at its softest
+/// let law = AnyTerm::Scheduled(Scheduled::for_plant(&p, 0.3, 0.0));
+/// let c = ModelCurve::scheduled(&Model::study(&p).with_term(law).unwrap()).unwrap();
+/// assert_eq!(c.fold_band(), None);
+/// assert!((c.min_traversed_gprime() - 0.3).abs() < 1e-9); // the schedule's target
+/// ```
+#[derive(Clone, Copy, Debug)]
+pub struct ScheduledTorque {
+    model: Model,
+    /// The plant: the model without the schedule, as a study set.
+    plant: Params,
+    law: Scheduled,
+}
+
+impl ScheduledTorque {
+    /// The closed loop `m`; refused (naming the model) when it has no scheduled stiffness, when
+    /// its plant is not a study cubic (up to terms of affine static torque,
+    /// [`Model::equivalent_params`]), when the schedule's phase does not run at the load's ω (its
+    /// gain is then no function of the load a), or when some x in the traversed range is an
+    /// equilibrium at two loads.
+    pub fn new(m: &Model) -> Result<ScheduledTorque> {
+        let refuse = |reason: &str| refusal(m, reason.into());
+        let law = m
+            .terms()
+            .find_map(|t| match t {
+                AnyTerm::Scheduled(s) => Some(*s),
+                _ => None,
+            })
+            .ok_or_else(|| refuse("it has no scheduled stiffness"))?;
+        let plant = m.without_schedule().equivalent_params().ok_or_else(|| {
+            refuse("a scheduled stiffness's closed loop is known for a plant whose static torque is a study cubic")
+        })?;
+        let omega = m.forcing()[2];
+        if law.0[6] != omega {
+            return Err(refusal(
+                m,
+                format!(
+                    "the schedule's phase runs at ω̂ = {} and the load at ω = {omega}: its gain is no function of the load a, so there is no equilibrium curve",
+                    law.0[6]
+                ),
+            ));
+        }
+        if plant.delta == 0.0 {
+            return Err(refuse(
+                "with δ = 0 the load does not move: a curve over a needs δ ≠ 0",
+            ));
+        }
+        let c = ScheduledTorque {
+            model: *m,
+            plant,
+            law,
+        };
+        let (lo, hi) = (
+            c.equilibria(-1.0)?[0],
+            *c.equilibria(1.0)?.last().unwrap_or(&0.0),
+        );
+        let single = (0..=SINGLE_LOAD_SAMPLES).all(|i| {
+            let x = lo + (hi - lo) * i as f64 / SINGLE_LOAD_SAMPLES as f64;
+            c.load_at(x).2 > 0.0
+        });
+        if !single {
+            return Err(refuse(
+                "the schedule makes some twist an equilibrium at two loads (its plant model is too far from the plant): the curve folds back in a",
+            ));
+        }
+        Ok(c)
+    }
+
+    /// The closed loop with the load frozen at a, as a study set whose equilibria at a are its
+    /// own: γ + k(a), and γε + k(a)·x̂_c moved into μ.
+    pub fn frozen(&self, a: f64) -> Params {
+        let p = &self.plant;
+        let k = self.law.gain(a);
+        Params {
+            gamma: p.gamma + k,
+            eps: 0.0,
+            mu: p.mu + p.gamma * p.eps + k * self.law.0[2],
+            ..*p
+        }
+    }
+
+    /// The load a(x) at which x is an equilibrium, k(a) there and −∂F/∂a = δ − k'(a)·(x − x̂_c).
+    fn load_at(&self, x: f64) -> (f64, f64, f64) {
+        let p = &self.plant;
+        let s = x - self.law.0[2];
+        let open = (p.g(x) - p.mu) / p.delta;
+        let f = |a: f64| p.g(x) - p.mu - p.delta * a + self.law.gain(a) * s;
+        let d = self.law.max_gain() * s / p.delta;
+        let (l, r) = (open + d.min(0.0), open + d.max(0.0));
+        let a = if l == r {
+            l
+        } else {
+            let tol = 4.0 * f64::EPSILON * l.abs().max(r.abs()).max(1.0);
+            crate::roots::brent(f, l, f(l), r, f(r), tol)
+        };
+        let [k, dk] = self.law.gain_slope(a);
+        (a, k, p.delta - dk * s)
+    }
+}
+
+impl Statics for ScheduledTorque {
+    fn model(&self) -> &Model {
+        &self.model
+    }
+    fn g(&self, x: f64) -> f64 {
+        self.plant.forcing(self.load_at(x).0)
+    }
+    fn g_prime(&self, x: f64) -> f64 {
+        let (_, k, da) = self.load_at(x);
+        self.plant.delta * (self.plant.g_prime(x) + k) / da
+    }
+    fn stiffness(&self, x: f64) -> f64 {
+        self.plant.g_prime(x) + self.load_at(x).1
+    }
+    fn equilibria(&self, a: f64) -> Result<Vec<f64>> {
+        let roots = crate::fast::equilibria(&self.frozen(a), a).roots;
+        Ok(roots.iter().map(|r| r.x).collect())
+    }
+    fn stable_roots(&self, a: f64) -> Option<Vec<f64>> {
+        let roots = crate::fast::equilibria(&self.frozen(a), a).roots;
+        Some(
+            roots
+                .iter()
+                .filter(|r| r.kind.is_stable())
+                .map(|r| r.x)
+                .collect(),
+        )
     }
 }

@@ -1,0 +1,147 @@
+//! The model as a first-order system ([`System`]): its right-hand side, Jacobian and Taylor
+//! coefficients, each from the terms' own definitions.
+
+use super::{MAX_STATES, MAX_TERMS, Model};
+use crate::integrate::System;
+use crate::model::terms::{MAX_ROWS, Scratch};
+
+/// Component `at` of the state `y`, 0 where there is none.
+#[inline(always)]
+pub(super) fn state(y: &[f64], at: Option<usize>) -> f64 {
+    at.and_then(|i| y.get(i).copied()).unwrap_or(0.0)
+}
+
+/// The model as a first-order system in (x, v = x', z…), N = [`Model::dim`] (the caller
+/// chooses N by it), every method derived from the terms.
+impl<const N: usize> System<N> for Model {
+    #[inline]
+    fn rhs(&self, t: f64, y: &[f64; N]) -> [f64; N] {
+        debug_assert_eq!(N, self.dim());
+        let mut f = [0.0; N];
+        if !self.held {
+            f[0] = y[1];
+            f[1] = self.accel_at(self.forcing[2] * t, y);
+        }
+        for (term, at) in self.slots() {
+            if let Some(i) = at {
+                f[i] = term.rate(y[0], y[1], y[i]);
+            }
+        }
+        f
+    }
+    fn jacobian(&self, _t: f64, y: &[f64; N]) -> Option<[[f64; N]; N]> {
+        let mut j = [[0.0; N]; N];
+        j[0][1] = 1.0;
+        for (term, at) in self.slots() {
+            let z = state(y, at);
+            let [tx, tv, tz] = term.gradient(y[0], y[1], z);
+            j[1][0] -= tx;
+            j[1][1] -= tv;
+            if let Some(i) = at {
+                j[1][i] -= tz;
+                let [rx, rv, rz] = term.rate_gradient(y[0], y[1], z);
+                (j[i][0], j[i][1], j[i][i]) = (rx, rv, rz);
+            }
+        }
+        if self.held {
+            (j[0], j[1]) = ([0.0; N], [0.0; N]);
+        }
+        Some(j)
+    }
+    /// x_{k+1} = v_k/(k+1), v_{k+1} = (μ[k=0] + δ s_k − Σ_i T_{i,k})/(k+1),
+    /// z_{k+1} = r_k/(k+1), each term's T_k and r_k by its own recurrences
+    /// ([`crate::model::terms::Term::taylor`]), s_k sin ωt's in closed form.
+    fn taylor(&self, t: f64, y: &[f64; N], order: usize, c: &mut [[f64; N]]) -> bool {
+        self.taylor_rows(t, y, order, c, &mut [Scratch::default(); MAX_TERMS]);
+        true
+    }
+    fn taylor_limits_steps(&self) -> bool {
+        self.terms().any(|t| t.limits_steps())
+    }
+    /// `step` on the state's rows, shortened by the terms' own limits
+    /// ([`crate::model::terms::Term::step_limit`]) on the terms' rows of the same pass, a
+    /// contribution of 1e-3·atol negligible.
+    fn taylor_step<F: FnOnce(&[[f64; N]]) -> f64>(
+        &self,
+        t: f64,
+        y: &[f64; N],
+        order: usize,
+        c: &mut [[f64; N]],
+        atol: f64,
+        step: F,
+    ) -> Option<f64> {
+        let mut rows = [Scratch::default(); MAX_TERMS];
+        let n = self.taylor_rows(t, y, order, c, &mut rows);
+        let h = step(c);
+        Some(
+            self.terms
+                .iter()
+                .zip(&rows)
+                .fold(h, |h, (term, r)| match term {
+                    Some(term) => term.step_limit(r, n, h, 1e-3 * atol),
+                    _ => h,
+                }),
+        )
+    }
+}
+
+impl Model {
+    /// Rows 0..=order (capped at the integrator's) of the Taylor coefficients through (t, y)
+    /// into `c`, the terms' own rows into `rows`; returns the order reached.
+    fn taylor_rows<const N: usize>(
+        &self,
+        t: f64,
+        y: &[f64; N],
+        order: usize,
+        c: &mut [[f64; N]],
+        rows: &mut [Scratch; MAX_TERMS],
+    ) -> usize {
+        use crate::integrate::taylor::{INV, MAX_ORDER, forcing_coefficients};
+        let n = order.min(MAX_ORDER).min(c.len() - 1);
+        let [mu, delta, omega] = self.forcing;
+        let mut f = [0.0; MAX_ROWS];
+        forcing_coefficients(delta, omega, t, n, &mut f);
+        f[0] += mu;
+        // rows of x, v and the internal states (a state's absent rows stay 0)
+        let mut s = [[0.0; MAX_ROWS]; 2 + MAX_STATES];
+        for (row, &y) in s.iter_mut().zip(y) {
+            row[0] = y;
+        }
+        let at = self.state_slots();
+        // the zero rows a stateless term reads as its z
+        const NONE: [f64; MAX_ROWS] = [0.0; MAX_ROWS];
+        // row k of the acceleration and of the states' rates, the terms' rows kept in `rows`
+        let mut row = |k: usize, s: &[[f64; MAX_ROWS]; 2 + MAX_STATES]| {
+            let mut acc = f[k];
+            let mut rates = [0.0; 2 + MAX_STATES];
+            let [x, v, ..] = s;
+            for ((term, r), at) in self.terms.iter().zip(rows.iter_mut()).zip(at) {
+                let Some(term) = term else { continue };
+                let z = at.map_or(&NONE, |i| &s[i]);
+                if let Some(i) = at {
+                    rates[i] = term.rate_taylor(k, x, v, z, r);
+                }
+                acc -= term.taylor(k, x, v, z, r);
+            }
+            (acc, rates)
+        };
+        // held: x and v keep their rows 1.. at 0
+        let moving = if self.held { 0.0 } else { 1.0 };
+        for k in 0..n {
+            let (acc, rates) = row(k, &s);
+            s[0][k + 1] = moving * s[1][k] * INV[k];
+            s[1][k + 1] = moving * acc * INV[k];
+            for i in 2..N {
+                s[i][k + 1] = rates[i] * INV[k];
+            }
+        }
+        // the terms' rows at order n too (the step limits read them)
+        row(n, &s);
+        for (k, ck) in c.iter_mut().enumerate().take(n + 1) {
+            for (i, v) in ck.iter_mut().enumerate() {
+                *v = s[i][k];
+            }
+        }
+        n
+    }
+}
