@@ -485,3 +485,24 @@ fn the_curve_is_refused_where_it_is_not_known() {
     let err = ModelCurve::scheduled(&m).unwrap_err().to_string();
     assert!(err.contains("study cubic"), "{err}");
 }
+
+/// The tuner on the scheduled law ([`hdgear::control::tune`]) at the study's bursting set: the
+/// least g'_min lies between the verdict table's last bursting and first burst-free targets
+/// (2 and 3 with the default ramp), its lower end still bursts, and the tuned schedule leaves the
+/// state where the open loop has it at the load's extremes (its gain is zero there).
+#[test]
+fn the_tuner_finds_the_least_target() {
+    use hdgear::control::{ControlOptions, law_rest, tune};
+    let p = Params::default();
+    let rest = law_rest(Scheduled::KIND, &p, &ControlOptions::default());
+    assert_eq!(rest, Scheduled::for_plant(&p, 1.0, RAMP_DEFAULT).0[1..]);
+    let t = tune(&p, Scheduled::KIND, &rest, &BurstOptions::default(), 1e-2).unwrap();
+    assert!(
+        2.0 < t.below.gain && t.tuned.gain <= 3.0,
+        "{} {}",
+        t.below.gain,
+        t.tuned.gain
+    );
+    assert!(!t.below.removes_bursts() && t.tuned.removes_bursts());
+    assert!(t.tuned.static_shift < 1e-6, "{}", t.tuned.static_shift);
+}

@@ -164,12 +164,14 @@ def bursts(params=None, discard=1.0, window_periods=2, rtol=1e-10, atol=1e-10, m
 def control(laws=None, params=None, gain=None, ww=None, wd=None, taud=None, rel_tol=1e-3, spread=0.2, discard=1.0,
             window_periods=2, rtol=1e-10, atol=1e-10, method="taylor"):
     """Feedback laws against the bursts (what ``hdgear control --json`` prints), as a
-    :class:`Result`: each of ``laws`` ("vstiffness", "vdamping", "washout", "dither", "delay"; the first three
-    by default)
+    :class:`Result`: each of ``laws`` ("vstiffness", "vdamping", "washout", "dither", "delay",
+    "scheduled"; the first three by default)
     tuned to its least gain that removes the bursts (``tunings``: the tuned gain and the one below
     it, each assessed), or assessed at ``gain`` (``assessments``); ``ww`` is the washout's corner
     frequency; "dither" (run only on request) is ``wd``'s dither at amplitude ``gain``, "delay"
-    (on request) the feedback K·(x(τ − ``taud``) − x(τ)) with K = ``gain``; with ``spread`` (0.2: ±20 %, as ``hdgear control``; None: not checked) each tuned law's
+    (on request) the feedback K·(x(τ − ``taud``) − x(τ)) with K = ``gain``, "scheduled" (on
+    request) the stiffness scheduled on the load's phase for ``params``, whose gain is the least
+    slope g'_min it keeps; with ``spread`` (0.2: ±20 %, as ``hdgear control``; None: not checked) each tuned law's
     ``robustness``, the least gain
     that keeps every plant within that model error of α, γ, ε, μ, δ burst-free."""
     laws = [] if laws is None else ([laws] if isinstance(laws, str) else list(laws))

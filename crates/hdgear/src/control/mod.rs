@@ -13,6 +13,7 @@ use crate::error::{Error, Result};
 use crate::model::Model;
 use crate::model::control::{Dither, VirtualDamping, VirtualStiffness, Washout};
 use crate::model::delay::Delay;
+use crate::model::schedule::Scheduled;
 use crate::model::terms::{AnyTerm, Term};
 use crate::params::{Param, Params};
 use crate::simulate::{ModelStep, SimOptions, Start, simulate_model_steps};
@@ -27,12 +28,13 @@ pub use search::{GAIN_MAX, GAIN_MIN, GAIN_START, MIN_REL_TOL};
 use search::{check_fraction, check_rel_tol, crossing};
 
 /// The control laws, by their terms' kinds: the one list `hdgear control` and [`tune`] offer.
-pub const LAWS: [&str; 5] = [
+pub const LAWS: [&str; 6] = [
     VirtualStiffness::KIND,
     VirtualDamping::KIND,
     Washout::KIND,
     Dither::KIND,
     Delay::KIND,
+    Scheduled::KIND,
 ];
 
 /// The laws [`compare`] runs when given none: every law of [`LAWS`] but the dither, whose
@@ -435,7 +437,10 @@ fn tune_against(
         text: law.to_string(),
         reason,
     };
-    if !bursts(0.0)? {
+    // the open loop's own verdict (a zero gain is not the open loop for every law: a schedule
+    // with g'_min = 0 still stiffens a folding plant)
+    let o = &open.0;
+    if o.verdict == Verdict::NoBursts && !o.continuous {
         return Err(no_control_needed(p, law));
     }
     let (lo, hi) = crossing(bursts, GAIN_START, GAIN_MIN, GAIN_MAX, rel_tol)?
@@ -550,10 +555,15 @@ pub fn robustness(
     })
 }
 
-/// The parameters of `law` after its gain: its term's defaults, with `c.ww` for a washout's
-/// corner frequency, `c.wd` for a dither's frequency and `c.taud` for a delayed feedback's
-/// delay where given.
-pub fn law_rest(law: &str, c: &ControlOptions) -> Vec<f64> {
+/// The parameters of `law` after its gain on the plant `p`: its term's defaults, with `c.ww` for
+/// a washout's corner frequency, `c.wd` for a dither's frequency and `c.taud` for a delayed
+/// feedback's delay where given; for a scheduled stiffness, the plant model `p` itself
+/// ([`Scheduled::for_plant`], with the default ramp), which a model error then leaves behind.
+pub fn law_rest(law: &str, p: &Params, c: &ControlOptions) -> Vec<f64> {
+    if law == Scheduled::KIND {
+        let ramp = Scheduled::PARAMS[7].default;
+        return Scheduled::for_plant(p, 0.0, ramp).0[1..].to_vec();
+    }
     let params = AnyTerm::KINDS
         .iter()
         .find(|k| k.0 == law)
@@ -648,7 +658,7 @@ pub fn compare(
     };
     let terms = laws
         .iter()
-        .map(|l| law_term(l, c.gain.unwrap_or(0.0), &law_rest(l, c)))
+        .map(|l| law_term(l, c.gain.unwrap_or(GAIN_START), &law_rest(l, p, c)))
         .collect::<Result<Vec<_>>>()?;
     for (name, value, law, what) in [
         ("ww", c.ww, Washout::KIND, "a corner frequency"),
@@ -678,7 +688,7 @@ pub fn compare(
     };
     if c.gain.is_none() {
         for law in &laws {
-            static_jumps_refused(p, law, &law_rest(law, c))?;
+            static_jumps_refused(p, law, &law_rest(law, p, c))?;
         }
     }
     let open = OpenLoop::of(p, opts)?;
@@ -690,7 +700,7 @@ pub fn compare(
         }
         None => {
             for law in &laws {
-                let t = tune_against(p, law, &law_rest(law, c), opts, c.rel_tol, &open)?;
+                let t = tune_against(p, law, &law_rest(law, p, c), opts, c.rel_tol, &open)?;
                 if let Some(s) = c.spread {
                     out.robustness.push(robustness(p, &t, s, opts, c.rel_tol)?);
                 }
