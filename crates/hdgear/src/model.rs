@@ -29,6 +29,7 @@ mod curve;
 pub use assembled::{
     Description, FORCING, Facts, MAX_STATES, MAX_TERMS, Model, ModelParam, ParamValue, study_param,
 };
+pub(crate) use curve::refusal;
 pub use curve::{ModelCurve, ModelFollower, StaticTorque, Statics};
 
 use crate::integrate::System;

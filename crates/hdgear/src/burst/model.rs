@@ -5,13 +5,13 @@
 
 use super::scan::{History, Pivot, Scan, ScanStep};
 use super::{BurstOptions, Plan, Response, Sticking};
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::fast::StaticCurve;
 use crate::integrate::{AnyDense, DenseOutput, Stepper, stepper};
 use crate::model::delay::Delayed;
 use crate::model::schedule::ScheduledTorque;
 use crate::model::switching::{Pieces, Switching, SwitchingDense};
-use crate::model::{MAX_STATES, Model, ModelCurve};
+use crate::model::{MAX_STATES, Model, ModelCurve, refusal};
 use std::collections::VecDeque;
 use std::f64::consts::TAU;
 
@@ -284,14 +284,6 @@ impl Curve {
 }
 
 /// The error refusing model `m` a verdict, for `reason`.
-fn refusal(m: &Model, reason: &str) -> Error {
-    Error::InvalidInput {
-        what: "model",
-        text: m.equation(),
-        reason: reason.into(),
-    }
-}
-
 /// The classification ([`super::classify`]) of a model's response ([`response_model`]), against
 /// the same equilibrium curve the response was measured on ([`response_model`]).
 ///

@@ -13,7 +13,7 @@ use crate::error::{Error, Result};
 use crate::model::Model;
 use crate::model::control::{Dither, VirtualDamping, VirtualStiffness, Washout};
 use crate::model::delay::Delay;
-use crate::model::schedule::Scheduled;
+use crate::model::schedule::{RAMP_DEFAULT, Scheduled};
 use crate::model::terms::{AnyTerm, Term};
 use crate::params::{Param, Params};
 use crate::simulate::{ModelStep, SimOptions, Start, simulate_model_steps};
@@ -561,8 +561,7 @@ pub fn robustness(
 /// ([`Scheduled::for_plant`], with the default ramp), which a model error then leaves behind.
 pub fn law_rest(law: &str, p: &Params, c: &ControlOptions) -> Vec<f64> {
     if law == Scheduled::KIND {
-        let ramp = Scheduled::PARAMS[7].default;
-        return Scheduled::for_plant(p, 0.0, ramp).0[1..].to_vec();
+        return Scheduled::for_plant(p, 0.0, RAMP_DEFAULT).0[1..].to_vec();
     }
     let params = AnyTerm::KINDS
         .iter()

@@ -88,8 +88,8 @@ pub trait StaticCurve: Clone + std::fmt::Debug {
         let n = ((t1 - t0) / (0.25 * self.decay_time()))
             .ceil()
             .clamp(64.0, 4096.0) as usize;
-        let mut follower = self.follower(self.start());
         let mut x = self.start();
+        let mut follower = self.follower(x);
         let mut speed = |t: f64| {
             let (a, c) = (self.omega() * t).sin_cos();
             x = follower.at(a, x);

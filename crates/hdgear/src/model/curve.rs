@@ -96,7 +96,7 @@ impl ModelCurve {
         if m.is_scheduled() {
             return Err(refusal(
                 m,
-                "a scheduled stiffness moves the equilibria with the load's phase a: its curve is the closed loop's (ModelCurve::scheduled)".into(),
+                "a scheduled stiffness moves the equilibria with the load's phase a: its curve is the closed loop's (ModelCurve::scheduled)",
             ));
         }
         ModelCurve::of(StaticTorque(*m))
@@ -112,12 +112,12 @@ impl ModelCurve<super::schedule::ScheduledTorque> {
     }
 }
 
-/// The error refusing model `m` a curve, for `reason`.
-pub(super) fn refusal(m: &Model, reason: String) -> Error {
+/// The error refusing model `m` (a curve, a verdict), for `reason`.
+pub(crate) fn refusal(m: &Model, reason: impl Into<String>) -> Error {
     Error::InvalidInput {
         what: "model",
         text: m.equation(),
-        reason,
+        reason: reason.into(),
     }
 }
 

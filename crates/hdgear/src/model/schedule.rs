@@ -498,7 +498,7 @@ impl ScheduledTorque {
     /// gain is then no function of the load a), or when some x in the traversed range is an
     /// equilibrium at two loads.
     pub fn new(m: &Model) -> Result<ScheduledTorque> {
-        let refuse = |reason: &str| refusal(m, reason.into());
+        let refuse = |reason: &str| refusal(m, reason);
         let law = m
             .terms()
             .find_map(|t| match t {
@@ -558,6 +558,17 @@ impl ScheduledTorque {
         }
     }
 
+    /// The frozen closed loop's equilibria at load a, increasing (only the stable ones with
+    /// `stable`).
+    fn roots_at(&self, a: f64, stable: bool) -> Vec<f64> {
+        let e = crate::fast::equilibria(&self.frozen(a), a);
+        e.roots
+            .iter()
+            .filter(|r| !stable || r.kind.is_stable())
+            .map(|r| r.x)
+            .collect()
+    }
+
     /// The load a(x) at which x is an equilibrium, k(a) there and −∂F/∂a = δ − k'(a)·(x − x̂_c).
     fn load_at(&self, x: f64) -> (f64, f64, f64) {
         let p = &self.plant;
@@ -592,17 +603,9 @@ impl Statics for ScheduledTorque {
         self.plant.g_prime(x) + self.load_at(x).1
     }
     fn equilibria(&self, a: f64) -> Result<Vec<f64>> {
-        let roots = crate::fast::equilibria(&self.frozen(a), a).roots;
-        Ok(roots.iter().map(|r| r.x).collect())
+        Ok(self.roots_at(a, false))
     }
     fn stable_roots(&self, a: f64) -> Option<Vec<f64>> {
-        let roots = crate::fast::equilibria(&self.frozen(a), a).roots;
-        Some(
-            roots
-                .iter()
-                .filter(|r| r.kind.is_stable())
-                .map(|r| r.x)
-                .collect(),
-        )
+        Some(self.roots_at(a, true))
     }
 }
