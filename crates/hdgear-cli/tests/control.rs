@@ -11,7 +11,7 @@ fn control_tunes_each_law_to_its_least_gain() {
     let doc = json_of(&["control", "--json", "--rel-tol", "1e-2"]);
     let tunings = doc["tunings"].as_array().unwrap();
     let kinds: Vec<&str> = tunings.iter().map(|t| t["law"].as_str().unwrap()).collect();
-    assert_eq!(kinds, ["vstiffness", "vdamping", "washout"]);
+    assert_eq!(kinds, hdgear::control::DEFAULT_LAWS);
     for t in tunings {
         assert_eq!(t["tuned"]["verdict"], "no-bursts", "{t}");
         assert_ne!(t["below"]["verdict"], "no-bursts", "{t}");
@@ -51,6 +51,8 @@ fn control_assesses_a_law_at_a_given_gain() {
 fn control_bad_input_exits_2() {
     fails_with(&["control", "pid"], "'pid'");
     fails_with(&["control", "vstiffness", "--gain", "-1"], "-1");
+    // the gain is refused as the option the user typed, for the law whose domain it leaves
+    fails_with(&["control", "scheduled", "--gain", "0"], "gain = 0");
     fails_with(&["control", "washout", "--ww", "0"], "ww");
     fails_with(&["control", "vdamping", "--ww", "0.3"], "'0.3'");
     fails_with(&["control", "--gamma", "30"], "does not burst");
@@ -88,8 +90,12 @@ fn control_on_a_drive_reads_the_effort_in_newton_metres() {
     assert!((f(&doc["torque_scale"]) / scale - 1.0).abs() < 1e-12);
     let tunings = doc["comparison"]["tunings"].as_array().unwrap();
     let efforts = doc["efforts"].as_array().unwrap();
-    assert_eq!(efforts.len(), 3);
-    assert_eq!(doc["comparison"]["robustness"].as_array().unwrap().len(), 3);
+    let laws = hdgear::control::DEFAULT_LAWS.len();
+    assert_eq!(efforts.len(), laws);
+    assert_eq!(
+        doc["comparison"]["robustness"].as_array().unwrap().len(),
+        laws
+    );
     for (t, e) in tunings.iter().zip(efforts) {
         let out = scale * f(&t["tuned"]["effort_peak"]);
         assert!((f(&e["output_peak"]) / out - 1.0).abs() < 1e-12, "{e}");

@@ -203,7 +203,7 @@ impl LaneScan {
                 Point::End => (t1, d.end_state(), end_sc),
             };
             s.follower().set_state(trackers.get(l));
-            out.set(l, &s.sample_with(t, y, sc.0, sc.1, 0.0));
+            out.set(l, &s.sample_with(t, y, sc.0, sc.1, None));
             trackers.set(l, s.follower().state());
         }
     }
@@ -545,7 +545,7 @@ fn samples<const FMA: bool>(
         tr.last_a[l] = pick(a, tr.last_a[l]);
         tr.slope[l] = pick(slope[l], tr.slope[l]);
         tr.curvature[l] = pick(curvature[l], tr.curvature[l]);
-        out.set(l, &measure(p, t[l], [x[l], v[l]], (s[l], c[l]), y[l], 0.0));
+        out.set(l, &measure(p, t[l], [x[l], v[l]], (s[l], c[l]), y[l], None));
     }
     ok
 }

@@ -1,7 +1,7 @@
 //! The burst verdict on a model assembled from terms ([`Model`]): the same scan and
 //! classification as the study's model, of a model whose equilibria are a study parameter set's
 //! ([`Model::equivalent_params`]): its further terms (friction, control laws) act on the motion
-//! and enter x'' as an extra torque, measured against that set's equilibrium curve.
+//! and enter its own x'', measured against that set's equilibrium curve.
 
 use super::scan::{History, Pivot, Scan, ScanStep};
 use super::{BurstOptions, Plan, Response, Sticking};
@@ -15,8 +15,7 @@ use crate::model::{MAX_STATES, Model, ModelCurve, refusal};
 use std::collections::VecDeque;
 use std::f64::consts::TAU;
 
-/// A step of the model's N-component dense output `D` read as x, x' and the torque of its terms
-/// beyond the equivalent parameter set's cubic and unit damping.
+/// A step of the model's N-component dense output `D` read as x, x' and the model's own x''.
 #[derive(Clone, Copy, Debug)]
 struct Projected<'m, C, D, const N: usize> {
     inner: D,
@@ -38,15 +37,16 @@ enum OnPiece {
 }
 
 impl<C: StaticCurve, D, const N: usize> Projected<'_, C, D, N> {
-    fn extra_at(&self, t: f64, y: &[f64; N]) -> f64 {
+    /// x'' at t and y: the curve's forcing less the model's torque (read directly, so a curve
+    /// whose g takes a solve, [`ScheduledTorque`]'s, is not evaluated for it).
+    fn accel_at(&self, t: f64, y: &[f64; N]) -> f64 {
         let p = self.params;
-        // the model's torque less the study's x' + g(x)
-        let study = y[1] + p.g(y[0]);
+        let forcing = || p.forcing((p.omega() * t).sin());
         match self.piece {
-            OnPiece::Smooth => self.model.torque_at(y) - study,
+            OnPiece::Smooth => forcing() - self.model.torque_at(y),
             // at rest x'' = 0: the friction takes up whatever the rest leaves
-            OnPiece::Rest => p.forcing((p.omega() * t).sin()) - study,
-            OnPiece::Slip(s) => self.model.directed(s, [0.0; MAX_STATES]).torque_at(y) - study,
+            OnPiece::Rest => 0.0,
+            OnPiece::Slip(s) => forcing() - self.model.directed(s, [0.0; MAX_STATES]).torque_at(y),
         }
     }
 }
@@ -75,13 +75,13 @@ impl<C: StaticCurve, D: DenseOutput<N>, const N: usize> DenseOutput<2> for Proje
 }
 
 impl<C: StaticCurve, D: DenseOutput<N>, const N: usize> ScanStep for Projected<'_, C, D, N> {
-    fn state_at(&self, t: f64) -> ([f64; 2], f64) {
+    fn state_at(&self, t: f64) -> ([f64; 2], Option<f64>) {
         let y = self.inner.eval(t);
-        ([y[0], y[1]], self.extra_at(t, &y))
+        ([y[0], y[1]], Some(self.accel_at(t, &y)))
     }
-    fn end(&self) -> ([f64; 2], f64) {
+    fn end(&self) -> ([f64; 2], Option<f64>) {
         let y = self.inner.end_state();
-        ([y[0], y[1]], self.extra_at(self.inner.t_end(), &y))
+        ([y[0], y[1]], Some(self.accel_at(self.inner.t_end(), &y)))
     }
 }
 
@@ -126,17 +126,15 @@ struct Piece<const N: usize> {
 /// along the motion (A(t)·sin Ω_d t averaged once leaves −A'(t)·cos(Ω_d t)/Ω_d, whose slope
 /// A'·sin would give x̿'' a sign change every half period where the motion is slow). A slower
 /// swing of angular frequency ν keeps sinc²(πν/Ω_d) of its size: 0.99 at ν/Ω_d = 0.05. Read as
-/// x̿, x̿' and, for the scan, the torque that makes x̿'' the scan's x'' against `params` (the
-/// averaged model's).
+/// x̿, x̿' and, for the scan, x̿''.
 #[derive(Clone, Debug)]
-struct Averaged<'p, C, const N: usize> {
+struct Averaged<const N: usize> {
     /// The run's steps from the one holding t_start − 2T to this one (the last).
     pieces: Vec<Piece<N>>,
     period: f64,
-    params: &'p C,
 }
 
-impl<C: StaticCurve, const N: usize> Averaged<'_, C, N> {
+impl<const N: usize> Averaged<N> {
     fn piece(&self, t: f64) -> &AnyDense<N> {
         &self
             .pieces
@@ -184,15 +182,13 @@ impl<C: StaticCurve, const N: usize> Averaged<'_, C, N> {
         ]
     }
 
-    fn scanned(&self, t: f64) -> ([f64; 2], f64) {
+    fn scanned(&self, t: f64) -> ([f64; 2], Option<f64>) {
         let [x, v, acc] = self.averaged(t);
-        let p = self.params;
-        let extra = p.forcing((p.omega() * t).sin()) - v - p.g(x) - acc;
-        ([x, v], extra)
+        ([x, v], Some(acc))
     }
 }
 
-impl<C: StaticCurve, const N: usize> DenseOutput<2> for Averaged<'_, C, N> {
+impl<const N: usize> DenseOutput<2> for Averaged<N> {
     fn t_start(&self) -> f64 {
         self.pieces[self.pieces.len() - 1].d.t_start()
     }
@@ -205,11 +201,11 @@ impl<C: StaticCurve, const N: usize> DenseOutput<2> for Averaged<'_, C, N> {
     }
 }
 
-impl<C: StaticCurve, const N: usize> ScanStep for Averaged<'_, C, N> {
-    fn state_at(&self, t: f64) -> ([f64; 2], f64) {
+impl<const N: usize> ScanStep for Averaged<N> {
+    fn state_at(&self, t: f64) -> ([f64; 2], Option<f64>) {
         self.scanned(t)
     }
-    fn end(&self) -> ([f64; 2], f64) {
+    fn end(&self) -> ([f64; 2], Option<f64>) {
         self.scanned(self.t_end())
     }
 }
@@ -409,7 +405,6 @@ fn scan_model<C: StaticCurve, St: Stepper<N, Dense = AnyDense<N>>, const N: usiz
         (scanned && t0 >= 2.0 * period).then(|| Averaged {
             pieces: pieces.iter().copied().collect(),
             period,
-            params: p,
         })
     };
     let scan = scan_steps(plan, solver, p, opts, x0, true, |_| None, average)?;

@@ -16,17 +16,18 @@ use std::f64::consts::{FRAC_PI_2, PI};
 /// [`Scanner::push`] samples the midpoint and the end; the onset search uses the same split.
 const SUBDIVISIONS: usize = 2;
 
-/// A step's dense output as the scan reads it: x and x' ([`DenseOutput<2>`]) and the torque
-/// of the model's terms beyond those of the study's parameter set it is scanned against (0, the
-/// default, for the study's model), which enters x''. Both come from one evaluation.
+/// A step's dense output as the scan reads it: x and x' ([`DenseOutput<2>`]) and, for a model
+/// with terms beyond the curve it is scanned against, its own x'' (None, the default, for the
+/// study's model: x'' is then the curve's forcing − x' − g(x)). Both come from one evaluation.
 pub(crate) trait ScanStep: DenseOutput<2> {
-    /// (x, x') at t in the step and the extra torque there.
-    fn state_at(&self, t: f64) -> ([f64; 2], f64) {
-        (self.eval(t), 0.0)
+    /// (x, x') at t in the step and x'' there where the step knows it.
+    fn state_at(&self, t: f64) -> ([f64; 2], Option<f64>) {
+        (self.eval(t), None)
     }
-    /// The state the step ended on ([`DenseOutput::end_state`]) and the extra torque there.
-    fn end(&self) -> ([f64; 2], f64) {
-        (self.end_state(), 0.0)
+    /// The state the step ended on ([`DenseOutput::end_state`]) and x'' there where the step
+    /// knows it.
+    fn end(&self) -> ([f64; 2], Option<f64>) {
+        (self.end_state(), None)
     }
 }
 
@@ -173,22 +174,22 @@ impl<C: StaticCurve> Scanner<C> {
         }
     }
 
-    fn sample(&mut self, t: f64, y: [f64; 2], extra: f64) -> Sample {
+    fn sample(&mut self, t: f64, y: [f64; 2], acc: Option<f64>) -> Sample {
         let (s, c) = (self.p.omega() * t).sin_cos();
-        self.sample_with(t, y, s, c, extra)
+        self.sample_with(t, y, s, c, acc)
     }
 
-    /// [`Scanner::sample`] with sin ωt and cos ωt given (`extra`: [`ScanStep::state_at`]'s there).
+    /// [`Scanner::sample`] with sin ωt and cos ωt given (`acc`: [`ScanStep::state_at`]'s x'').
     pub(crate) fn sample_with(
         &mut self,
         t: f64,
         y: [f64; 2],
         s: f64,
         c: f64,
-        extra: f64,
+        acc: Option<f64>,
     ) -> Sample {
         let xs = self.follower.at(s, y[0]);
-        measure(&self.p, t, y, (s, c), xs, extra)
+        measure(&self.p, t, y, (s, c), xs, acc)
     }
 
     /// The tracker of the equilibrium (for scanners that follow it elsewhere and hand it back).
@@ -331,8 +332,8 @@ impl<C: StaticCurve> Scanner<C> {
         // --- extrema of x': sign changes of x''
         if (a.acc > 0.0) != (b.acc > 0.0) && a.acc != 0.0 {
             let acc = |t: f64| {
-                let (y, extra) = d.state_at(t);
-                accel(&p, sc(t).0, y, extra)
+                let (y, acc) = d.state_at(t);
+                accel(&p, sc(t).0, y, acc)
             };
             let te = refine_root(acc, a.t, a.acc, b.t, b.acc);
             let ve = d.eval(te)[1];
@@ -487,15 +488,18 @@ pub(crate) fn eventful(omega: f64, (xm, xp): (f64, f64), a: &Sample, b: &Sample)
     acc | side | e | turn | ed
 }
 
-/// x'' at the state `y` = (x, x') with sin ωt = `s` and the extra torque `extra`
-/// ([`ScanStep::state_at`]).
+/// x'' at the state `y` = (x, x') with sin ωt = `s`: the step's own `acc`
+/// ([`ScanStep::state_at`]) where it has one, else the curve's.
 #[inline(always)]
-fn accel<C: StaticCurve>(p: &C, s: f64, y: [f64; 2], extra: f64) -> f64 {
-    p.forcing(s) - y[1] - p.g(y[0]) - extra
+fn accel<C: StaticCurve>(p: &C, s: f64, y: [f64; 2], acc: Option<f64>) -> f64 {
+    match acc {
+        Some(acc) => acc,
+        None => p.forcing(s) - y[1] - p.g(y[0]),
+    }
 }
 
 /// The measures of a sample at time `t`, state `y`, (sin ωt, cos ωt) = `(s, c)`, from the
-/// equilibrium `xs` the state follows there and the extra torque `extra` ([`ScanStep::state_at`])
+/// equilibrium `xs` the state follows there and the step's own x'' `acc` ([`ScanStep::state_at`])
 /// (one function for the scanners of one step and of many).
 #[inline(always)]
 pub(crate) fn measure<C: StaticCurve>(
@@ -504,9 +508,9 @@ pub(crate) fn measure<C: StaticCurve>(
     y: [f64; 2],
     (s, c): (f64, f64),
     xs: f64,
-    extra: f64,
+    acc: Option<f64>,
 ) -> Sample {
-    let acc = accel(p, s, y, extra);
+    let acc = accel(p, s, y, acc);
     let xs_dot = p.omega() * c * p.delta() / p.g_prime(xs);
     Sample {
         t,

@@ -25,7 +25,7 @@ mod search;
 pub use averaging::Averaging;
 pub use drive::{DriveControl, DriveEffort, RatingCheck, Ratings, compare_drive};
 pub use search::{GAIN_MAX, GAIN_MIN, GAIN_START, MIN_REL_TOL};
-use search::{check_fraction, check_rel_tol, crossing};
+use search::{check_fraction, check_gain, check_rel_tol, crossing};
 
 /// The control laws, by their terms' kinds: the one list `hdgear control` and [`tune`] offer.
 pub const LAWS: [&str; 6] = [
@@ -41,7 +41,12 @@ pub const LAWS: [&str; 6] = [
 /// verdicts each integrate the ripple (steps a fraction of its period, some 10–100 times the
 /// others' work), and the delayed feedback, whose gain depends on a delay the caller chooses;
 /// both run on request.
-pub const DEFAULT_LAWS: [&str; 3] = [VirtualStiffness::KIND, VirtualDamping::KIND, Washout::KIND];
+pub const DEFAULT_LAWS: [&str; 4] = [
+    VirtualStiffness::KIND,
+    VirtualDamping::KIND,
+    Washout::KIND,
+    Scheduled::KIND,
+];
 
 /// Spacing of the samples the measures are taken from (the fast mode's period at the study's
 /// sets is ≥ 2π/√(g'max) ≈ 1: 20 samples or more per oscillation; the peaks of x' are the
@@ -655,6 +660,11 @@ pub fn compare(
     } else {
         laws.to_vec()
     };
+    if let Some(gain) = c.gain {
+        for law in &laws {
+            check_gain(law, gain)?;
+        }
+    }
     let terms = laws
         .iter()
         .map(|l| law_term(l, c.gain.unwrap_or(GAIN_START), &law_rest(l, p, c)))

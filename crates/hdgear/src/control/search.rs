@@ -2,6 +2,7 @@
 //! doubled or halved, then bisected geometrically, and the checks of its options.
 
 use crate::error::{Error, Result};
+use crate::model::terms::AnyTerm;
 
 /// The first gain tried: 1/64, below the study's least gains (of order 1). The bracket the
 /// search ends on does not depend on it: gains double upward from it while the closed loop
@@ -24,6 +25,24 @@ pub(super) fn check_fraction(name: &'static str, value: f64) -> Result<()> {
             value,
             reason: "must lie in (0, 1)",
         })
+    }
+}
+
+/// `gain` against the domain of `law`'s gain (its first parameter), refused as the option the
+/// caller gave it by ([`super::ControlOptions::gain`]) rather than as the term's parameter.
+pub(super) fn check_gain(law: &str, gain: f64) -> Result<()> {
+    let params = AnyTerm::KINDS.iter().find(|k| k.0 == law).map(|k| k.2);
+    match params.and_then(|ps| ps.first()) {
+        Some(first) => first.domain.check(first.name, gain).map_err(|e| match e {
+            Error::InvalidParameter { reason, .. } => Error::InvalidOption {
+                name: "gain",
+                value: gain,
+                reason,
+            },
+            other => other,
+        }),
+        // an unknown law is refused by name where its term is built
+        None => Ok(()),
     }
 }
 

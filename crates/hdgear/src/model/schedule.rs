@@ -124,9 +124,20 @@ impl Scheduled {
 
     /// The gain k(a) and its slope dk/da = (dk/dκ)·dκ/da, dκ/da = −6α·s₀·δ/(3αs₀² + g'_min).
     pub fn gain_slope(&self, a: f64) -> [f64; 2] {
-        let s = self.reference(a);
+        self.gain_slope_at(self.reference(a))
+    }
+
+    /// [`Scheduled::gain_slope`] where the reference's offset is s₀ = `s`.
+    fn gain_slope_at(&self, s: f64) -> [f64; 2] {
         let [k, dk] = self.ramp(self.unclamped(s));
         [k, dk * self.kappa_slope(s)]
+    }
+
+    /// The load a at which the reference's offset is s₀ = `s` (the inverse of
+    /// [`Scheduled::reference`], for δ̂ ≠ 0): (αs₀³ + g'_min·s₀ − b₀)/δ̂.
+    fn load_of(&self, s: f64) -> f64 {
+        let [m, alpha, _, _, b0, delta, ..] = self.0;
+        (alpha * s * s * s + m * s - b0) / delta
     }
 
     /// The largest gain, at κ = D (s₀ = 0).
@@ -183,24 +194,32 @@ impl Scheduled {
     /// ±√((D + w)/(3α)), the gain's edges) and, for w < D, where κ = w (s₀ = ±√((D − w)/(3α))).
     /// Empty when the gain is never on (D ≤ 0) or the load does not move the reference (δ̂ = 0).
     pub fn levels(&self) -> Vec<f64> {
-        let [m, alpha, _, _, b0, delta, ..] = self.0;
+        let (levels, n) = self.level_array();
+        levels[..n].to_vec()
+    }
+
+    /// [`Scheduled::levels`] without an allocation (the Taylor step reads them): the first `n`.
+    fn level_array(&self) -> ([f64; 4], usize) {
+        let mut levels = [0.0; 4];
+        let [_, alpha, _, _, _, delta, ..] = self.0;
         let (d, w) = (self.deficit(), self.width());
         if d <= 0.0 || delta == 0.0 {
-            return Vec::new();
+            return (levels, 0);
         }
         let edges = [d + w, d - w]
             .into_iter()
             .filter(|&e| e > 0.0)
             .take(1 + usize::from(w > 0.0));
-        let mut levels: Vec<f64> = edges
-            .flat_map(|e| {
-                let s = (e / (3.0 * alpha)).sqrt();
-                [-s, s]
-            })
-            .map(|s| (alpha * s * s * s + m * s - b0) / delta)
-            .collect();
-        levels.sort_by(f64::total_cmp);
-        levels
+        let mut n = 0;
+        for e in edges {
+            let s = (e / (3.0 * alpha)).sqrt();
+            for s in [-s, s] {
+                levels[n] = self.load_of(s);
+                n += 1;
+            }
+        }
+        levels[..n].sort_by(f64::total_cmp);
+        (levels, n)
     }
 
     /// ∂s₀/∂(b₀ + δa) = 1/(3αs₀² + g'_min).
@@ -368,7 +387,8 @@ impl Term for Scheduled {
             // by the way the motion goes; the gain is continuous there, so its row 0 is either
             // piece's
             let resolution = 64.0 * f64::EPSILON + 4.0 * f64::EPSILON * theta[0].abs();
-            let on_kink = self.levels().iter().any(|&a| (sk - a).abs() <= resolution);
+            let (levels, n) = self.level_array();
+            let on_kink = levels[..n].iter().any(|&a| (sk - a).abs() <= resolution);
             r[PIECE][0] = if on_kink {
                 UNDECIDED
             } else {
@@ -419,7 +439,8 @@ impl Term for Scheduled {
     /// reaches a level of [`Scheduled::levels`], in closed form (the next step starts on the
     /// kink, its piece decided by the way it goes).
     fn step_limit(&self, rows: &Scratch, order: usize, h: f64, _negligible: f64) -> f64 {
-        let levels = self.levels();
+        let (levels, n) = self.level_array();
+        let levels = &levels[..n];
         if order == 0 || levels.is_empty() {
             return h;
         }
@@ -569,21 +590,45 @@ impl ScheduledTorque {
             .collect()
     }
 
-    /// The load a(x) at which x is an equilibrium, k(a) there and −∂F/∂a = δ − k'(a)·(x − x̂_c).
+    /// The load a(x) at which x is an equilibrium, k(a) there and −∂F/∂a = δ − k'(a)·(x − x̂_c),
+    /// F(x, a) = g(x) + k(a)·(x − x̂_c) − μ − δa. F falls with a (the single-load check of
+    /// [`ScheduledTorque::new`]) and its root lies where 0 ≤ k ≤ k_max puts it. It is solved for
+    /// the reference's offset s₀ rather than for a: a(s₀) ([`Scheduled::load_of`]) and k(s₀)
+    /// are polynomials, where k(a) takes a cube root per evaluation.
     fn load_at(&self, x: f64) -> (f64, f64, f64) {
-        let p = &self.plant;
-        let s = x - self.law.0[2];
-        let open = (p.g(x) - p.mu) / p.delta;
-        let f = |a: f64| p.g(x) - p.mu - p.delta * a + self.law.gain(a) * s;
-        let d = self.law.max_gain() * s / p.delta;
+        let (p, law) = (&self.plant, &self.law);
+        let s = x - law.0[2];
+        let torque = p.g(x) - p.mu;
+        if law.0[5] == 0.0 {
+            // the load does not move the reference: k is one constant and F linear in a
+            let k = law.gain(0.0);
+            return ((torque + k * s) / p.delta, k, p.delta);
+        }
+        let open = torque / p.delta;
+        let d = law.max_gain() * s / p.delta;
         let (l, r) = (open + d.min(0.0), open + d.max(0.0));
-        let a = if l == r {
-            l
+        // (a, s₀(a))
+        let (a, s0) = if l == r {
+            (l, law.reference(l))
         } else {
-            let tol = 4.0 * f64::EPSILON * l.abs().max(r.abs()).max(1.0);
-            crate::roots::brent(f, l, f(l), r, f(r), tol)
+            let f = |s0: f64| torque - p.delta * law.load_of(s0) + law.gain_slope_at(s0)[0] * s;
+            let (sl, sr) = (law.reference(l), law.reference(r));
+            let (fl, fr) = (f(sl), f(sr));
+            if (fl > 0.0) == (fr > 0.0) && fl != 0.0 && fr != 0.0 {
+                // a root on an end of [l, r] (the gain off, or at its largest) that the
+                // rounding of s₀ at the ends moved outside: that end
+                if fl.abs() <= fr.abs() {
+                    (l, sl)
+                } else {
+                    (r, sr)
+                }
+            } else {
+                let tol = 4.0 * f64::EPSILON * sl.abs().max(sr.abs()).max(1.0);
+                let s0 = crate::roots::brent(f, sl, fl, sr, fr, tol);
+                (law.load_of(s0), s0)
+            }
         };
-        let [k, dk] = self.law.gain_slope(a);
+        let [k, dk] = law.gain_slope_at(s0);
         (a, k, p.delta - dk * s)
     }
 }

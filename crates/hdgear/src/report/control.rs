@@ -113,12 +113,13 @@ impl ControlEvidence {
         Figure {
             name: CONTROL_FIGURE.into(),
             caption: "x'(τ) through the open loop's first burst at γ = 1 and 0.1: the open loop \
-                      (thin: the pulse, then ringing) against virtual stiffness, virtual damping \
-                      and washout, each at its least gain that removes the bursts. Virtual \
-                      stiffness flattens the curve: its pulse comes earlier and is the lowest. \
+                      (thin: the pulse, then ringing) against virtual stiffness, virtual damping, \
+                      washout and scheduled stiffness, each at its least gain that removes the \
+                      bursts. Virtual stiffness flattens the curve: its pulse comes earlier. \
                       Virtual damping keeps the pulse's time and ends the ringing. The washout \
                       keeps the curve and lags it: its pulse comes latest, with small ripples \
-                      after it."
+                      after it. The scheduled stiffness stiffens the curve's soft middle only: \
+                      the passage spreads into two shallow humps, the lowest peak of the four."
                 .into(),
             size: (1000, 800),
             panels,

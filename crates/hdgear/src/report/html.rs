@@ -479,10 +479,12 @@ fn physical(h: &mut String, r: &Report) {
 fn control(h: &mut String, r: &Report) {
     let ce = &r.control;
     h.push_str(
-        "<section id=\"control\"><h2>Burst control</h2><p>Three feedback laws, each a term of \
+        "<section id=\"control\"><h2>Burst control</h2><p>Four feedback laws, each a term of \
          the model, tuned to the least gain that removes the bursts (the gain below it still \
          bursts): virtual stiffness ũ = −k<sub>p</sub>x, virtual damping ũ = −k<sub>d</sub>x', \
-         washout ũ = −k<sub>w</sub>(x − ξ), ξ' = ω<sub>w</sub>(x − ξ) with ω<sub>w</sub> = 0.1. \
+         washout ũ = −k<sub>w</sub>(x − ξ), ξ' = ω<sub>w</sub>(x − ξ) with ω<sub>w</sub> = 0.1, \
+         and the scheduled stiffness ũ = −k(a)(x − x<sub>c</sub>), a = sin ωτ, whose gain is \
+         g'<sub>min</sub>, the least slope it gives the closed loop's equilibrium curve. \
          Peak: closed-loop peak |x'| over the open loop's; energy: the fast mode's, the mean \
          kinetic energy x'²/2, closed over open; shift: the change of x over the curve's extent at \
          the load's extremes and anywhere; robust: the gain that keeps every plant with α, γ, ε, \
