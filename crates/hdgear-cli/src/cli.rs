@@ -71,8 +71,9 @@ pub enum Command {
     Physical(PhysicalArgs),
     /// Drive cards: a drive's catalogue numbers with their sources (list, show, check, map, new).
     Card(CardArgs),
-    /// Feedback laws against the bursts (virtual stiffness, virtual damping, washout): each
-    /// tuned to its least gain that removes them, or assessed at --gain, with what it costs.
+    /// Feedback laws against the bursts (virtual stiffness and damping, washout, scheduled
+    /// stiffness, dither, delay): each tuned to its least gain that removes them, or assessed at
+    /// --gain, with what it costs.
     Control(ControlArgs),
     /// The design check under manufacturing spread: P(burst) with its interval, the worst
     /// corner and the margin, which tolerance matters (Sobol indices), the resonance rule.

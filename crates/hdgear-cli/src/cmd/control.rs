@@ -14,7 +14,7 @@ pub struct ControlArgs {
     /// ξ' = ω_w (x − ξ)), dither (ũ = D sin Ω_d τ, the gain D; its verdict is of the motion
     /// averaged over the dither's period), delay (ũ = K (x(τ − τ_d) − x(τ)), the gain K),
     /// scheduled (ũ = −k(a) (x − x_c), built for the given parameter set, the gain the least
-    /// slope g'_min it keeps); the first three without any.
+    /// slope g'_min it keeps); every law but dither and delay without any.
     #[arg(value_name = "LAW")]
     pub laws: Vec<String>,
     /// Assess each law at this gain instead of tuning it to its least gain that removes the

@@ -165,7 +165,7 @@ def control(laws=None, params=None, gain=None, ww=None, wd=None, taud=None, rel_
             window_periods=2, rtol=1e-10, atol=1e-10, method="taylor"):
     """Feedback laws against the bursts (what ``hdgear control --json`` prints), as a
     :class:`Result`: each of ``laws`` ("vstiffness", "vdamping", "washout", "dither", "delay",
-    "scheduled"; the first three by default)
+    "scheduled"; all but "dither" and "delay" by default)
     tuned to its least gain that removes the bursts (``tunings``: the tuned gain and the one below
     it, each assessed), or assessed at ``gain`` (``assessments``); ``ww`` is the washout's corner
     frequency; "dither" (run only on request) is ``wd``'s dither at amplitude ``gain``, "delay"
