@@ -512,7 +512,7 @@ pub fn model_error_plants(p: &Params, spread: f64) -> Vec<Params> {
 
 /// The least gain of `tuned`'s law (its other parameters kept) without bursts on every plant
 /// within ±`spread` of `p` ([`Robustness`]), bisected to `rel_tol` from the nominal least gain
-/// upward (the plants checked in parallel).
+/// upward (the plants checked in parallel, in order, up to the first that bursts).
 pub fn robustness(
     p: &Params,
     tuned: &Tuning,
@@ -526,13 +526,17 @@ pub fn robustness(
     let plants = model_error_plants(p, spread);
     let rest = &tuned.tuned.term.values()[1..];
     let law = tuned.law;
-    // the first plant that bursts at `gain`, if any
+    // the first plant (in the list's order) that bursts at `gain`, if any, or the first error:
+    // the plants after it are not judged, which a gain that fails leaves most of
     let bursting = |gain: f64| -> Result<Option<Params>> {
-        let found = plants
+        plants
             .par_iter()
-            .map(|q| Ok(bursts_at(q, law, gain, rest, opts)?.then_some(*q)))
-            .collect::<Result<Vec<_>>>()?;
-        Ok(found.into_iter().flatten().next())
+            .find_map_first(|q| match bursts_at(q, law, gain, rest, opts) {
+                Ok(false) => None,
+                Ok(true) => Some(Ok(*q)),
+                Err(e) => Some(Err(e)),
+            })
+            .transpose()
     };
     let start = tuned.tuned.gain;
     let (lo, hi) = crossing(
