@@ -572,11 +572,8 @@ pub fn law_rest(law: &str, p: &Params, c: &ControlOptions) -> Vec<f64> {
     if law == Scheduled::KIND {
         return Scheduled::for_plant(p, 0.0, RAMP_DEFAULT).0[1..].to_vec();
     }
-    let params = AnyTerm::KINDS
-        .iter()
-        .find(|k| k.0 == law)
-        .map_or(&[][..], |k| k.2);
-    params
+    AnyTerm::params_of(law)
+        .unwrap_or_default()
         .iter()
         .skip(1)
         .map(|p| match (p.name, c.ww, c.wd, c.taud) {

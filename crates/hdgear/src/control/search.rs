@@ -31,8 +31,7 @@ pub(super) fn check_fraction(name: &'static str, value: f64) -> Result<()> {
 /// `gain` against the domain of `law`'s gain (its first parameter), refused as the option the
 /// caller gave it by ([`super::ControlOptions::gain`]) rather than as the term's parameter.
 pub(super) fn check_gain(law: &str, gain: f64) -> Result<()> {
-    let params = AnyTerm::KINDS.iter().find(|k| k.0 == law).map(|k| k.2);
-    match params.and_then(|ps| ps.first()) {
+    match AnyTerm::params_of(law).and_then(|ps| ps.first()) {
         Some(first) => first.domain.check(first.name, gain).map_err(|e| match e {
             Error::InvalidParameter { reason, .. } => Error::InvalidOption {
                 name: "gain",

@@ -414,6 +414,11 @@ macro_rules! any_term {
             pub const KINDS: &'static [(&'static str, &'static str, &'static [ParamInfo])] =
                 &[$(($variant::KIND, $variant::ABOUT, $variant::PARAMS)),*];
 
+            /// The parameters of the term of kind `kind` (None for no such kind).
+            pub fn params_of(kind: &str) -> Option<&'static [ParamInfo]> {
+                AnyTerm::KINDS.iter().find(|k| k.0 == kind).map(|k| k.2)
+            }
+
             /// The term of kind `kind` with these values (checked: their count and domains).
             pub fn new(kind: &str, values: &[f64]) -> Result<AnyTerm> {
                 $(
