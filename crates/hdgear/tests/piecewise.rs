@@ -317,3 +317,29 @@ fn the_study_set_of_a_piecewise_model_holds_only_where_its_equilibria_lie() {
     );
     hdgear::burst::classify_model(&far, &r).unwrap();
 }
+
+/// A start a rounding error past a kink, with the acceleration pointing back across it (a drive
+/// whose mean load is its knee torque, the quasi-static start rounding to the far side): the
+/// Taylor steps start on the segment the motion enters rather than stalling at the edge, and
+/// follow DOP853 to 1e-8.
+#[test]
+fn a_start_a_rounding_error_past_a_kink_steps_on() {
+    let kink = LAW[3] + LAW[5];
+    let x0 = kink + 2.0 * f64::EPSILON * kink.abs().max(1.0);
+    let probe = AnyTerm::new("piecewise", &LAW).unwrap();
+    // the mean load a little below the torque at x0: x'' < 0 at the start, the sine then rising
+    let mu = probe.torque(x0, 0.0, 0.0) - 1e-13;
+    let m = Model::damped(mu, 0.3, 0.05)
+        .with_term(AnyTerm::new("piecewise", &LAW).unwrap())
+        .unwrap();
+    let run = |method| {
+        let mut o = opts(method, 1e-11, 0.5);
+        o.t_end = 20.0;
+        o.start = Start::Given { x0, v0: 0.0 };
+        let mut out = vec![];
+        simulate_model(&m, &o, |t, y| out.push([t, y[0], y[1]])).unwrap();
+        out
+    };
+    let (taylor, dop) = (run(Method::Taylor), run(Method::Dop853));
+    assert!(worst(&taylor, &dop) < 1e-8, "{}", worst(&taylor, &dop));
+}

@@ -6,6 +6,7 @@ mod common;
 
 mod branches;
 mod burst;
+mod card_curve_law;
 mod card_friction;
 mod cards;
 mod control;

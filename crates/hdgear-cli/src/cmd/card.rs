@@ -495,6 +495,27 @@ fn check_text(r: &CardCheck) -> String {
     }
     mode_lines(&mut s, r);
     s.push_str(&crate::summary::physical_text(&r.summary));
+    let law = &r.catalogue_law;
+    let _ = writeln!(
+        s,
+        "with the catalogue's curve (K1, K2, K3 segments, knees returned to {:.1e}): {}",
+        law.knee_residual,
+        law.outcome
+            .as_ref()
+            .map_or("not judged (the reduced load frequency is too low, or the response too long, to simulate)".into(), outcome_text)
+    );
+    let _ = writeln!(s, "  assumed: {}", law.assumption);
+    if let (Some(o), Some(g)) = (&law.outcome, &law.signatures) {
+        let _ = writeln!(
+            s,
+            "  largest overshoot {:.3e} X, largest ringing swing of the twist rate {:.3e} omega X, \
+             {} ringing bursts per period",
+            g.max_overshoot, g.max_ringing_swing, g.ringing_bursts_per_period
+        );
+        if o.judgement.bursting {
+            let _ = writeln!(s, "  {}", hdgear::physical::curve_law::KNEES);
+        }
+    }
     if let Some(f) = &r.friction {
         friction_lines(&mut s, f, &r.sources);
     }
@@ -544,23 +565,7 @@ fn friction_lines(
         return;
     };
     let j = &o.outcome.judgement;
-    let _ = writeln!(
-        s,
-        "with friction: {} (signature {}, mode {}, mechanism {}){}",
-        if j.bursting {
-            "bursting"
-        } else {
-            "not bursting"
-        },
-        j.label(),
-        o.outcome.mode.map_or("-", |m| m.name()),
-        o.outcome.mechanism.map_or("-", |m| m.name()),
-        if j.fast_slow_domain {
-            ""
-        } else {
-            " (outside the fast-slow domain)"
-        }
-    );
+    let _ = writeln!(s, "with friction: {}", outcome_text(&o.outcome));
     if let Some(st) = &o.sticking {
         let _ = writeln!(
             s,
@@ -575,6 +580,28 @@ fn friction_lines(
         "what changes the verdict with friction (one change at a time):"
     );
     crate::summary::margin_lines(s, &f.margins, j.bursting);
+}
+
+/// A simulated verdict in `card check`'s words: bursting or not, its signature, mode and
+/// mechanism, and whether it lies outside the fast-slow domain.
+fn outcome_text(o: &hdgear::physical::design::Outcome) -> String {
+    let j = &o.judgement;
+    format!(
+        "{} (signature {}, mode {}, mechanism {}){}",
+        if j.bursting {
+            "bursting"
+        } else {
+            "not bursting"
+        },
+        j.label(),
+        o.mode.map_or("-", |m| m.name()),
+        o.mechanism.map_or("-", |m| m.name()),
+        if j.fast_slow_domain {
+            ""
+        } else {
+            " (outside the fast-slow domain)"
+        }
+    )
 }
 
 /// The damping, torsional-mode and fold lines of `card check`.

@@ -31,6 +31,13 @@ use serde::Serialize;
 /// turn round within it).
 const SUBDIVISIONS: usize = 8;
 
+/// How near an edge `e` a twist counts as on it (a few rounding errors of e): there the
+/// segment is chosen by the direction of motion, and a step that starts that near an edge of its
+/// segment, on either side, starts on the segment.
+fn on_kink(e: f64) -> f64 {
+    8.0 * f64::EPSILON * e.abs().max(1.0)
+}
+
 /// Piecewise-linear stiffness T(x) = P(x − x₀), P odd, with slope k₁ for |u| ≤ x₁, k₂ for
 /// x₁ < |u| ≤ x₁ + w₂ and k₃ beyond (u = x − x₀): the catalogue's three-segment torque–twist
 /// curve, continuous, its slope jumping at the kinks |u| = x₁ and |u| = x₁ + w₂. Its values are
@@ -69,7 +76,7 @@ impl Piecewise {
         let [a, b] = self.kinks();
         let edges = [-b, -a, a, b];
         let slopes = [k3, k2, k1, k2, k3];
-        let on = |e: f64| (u - e).abs() <= 8.0 * f64::EPSILON * e.abs().max(1.0);
+        let on = |e: f64| (u - e).abs() <= on_kink(e);
         // the number of edges below u, an edge u sits on counting as below when moving up
         let i = edges
             .iter()
@@ -211,7 +218,11 @@ impl Term for Piecewise {
         if order == 0 {
             return h;
         }
-        let (lo, hi) = (seg[0] + self.0[5], seg[1] + self.0[5]);
+        // widened as `segment` reads an edge: a start a rounding error past one is on it
+        let (lo, hi) = (
+            seg[0] - on_kink(seg[0]) + self.0[5],
+            seg[1] + on_kink(seg[1]) + self.0[5],
+        );
         let on = |tau: f64| {
             let x = xs[..=order].iter().rev().fold(0.0, |acc, &c| acc * tau + c);
             (lo..=hi).contains(&x)

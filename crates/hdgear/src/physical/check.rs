@@ -138,6 +138,8 @@ pub struct CardCheck {
     pub folds: Folds,
     /// The drive built from the card and the verdict on it.
     pub summary: DriveSummary,
+    /// The verdict with the catalogue's own piecewise-linear law in place of the cubic fit.
+    pub catalogue_law: super::curve_law::CatalogueLaw,
     /// The verdict with the card's fitted friction law, when it has one.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub friction: Option<super::friction::FrictionCheck>,
@@ -199,6 +201,7 @@ pub fn check_card(
         assumptions: a.assumptions,
     };
     let summary = summarize(&d, origin, opts)?;
+    let catalogue_law = super::curve_law::check(card, &d, opts)?;
     let friction = super::friction::check(card, &d, opts)?;
     Ok(CardCheck {
         name: card.name.clone(),
@@ -225,6 +228,7 @@ pub fn check_card(
             fold_backlash: (3.0 * d.k1 / d.k2).sqrt(),
         },
         summary,
+        catalogue_law,
         friction,
     })
 }

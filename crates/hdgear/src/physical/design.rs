@@ -206,6 +206,33 @@ pub(crate) fn search_options(opts: &BurstOptions) -> BurstOptions {
     o
 }
 
+/// The simulated verdict on a drive's reduced model `m` with terms beyond the study's, and its
+/// response; `None` when its load frequency is below [`MIN_SIMULATED_OMEGA`] (no
+/// equilibrium-curve prediction covers such a model) or the response needs more steps than a
+/// search allows ([`search_options`]).
+pub(crate) fn judge_model(
+    m: &crate::model::Model,
+    opts: &BurstOptions,
+) -> Result<Option<(Outcome, crate::burst::Response)>> {
+    if m.forcing()[2] < MIN_SIMULATED_OMEGA {
+        return Ok(None);
+    }
+    let resp = match crate::burst::response_model(m, &search_options(opts)) {
+        Ok(resp) => resp,
+        Err(crate::Error::Solver(crate::error::SolverError::TooManySteps { .. })) => {
+            return Ok(None);
+        }
+        Err(e) => return Err(e),
+    };
+    let c = crate::burst::classify_model(m, &resp)?;
+    let outcome = Outcome {
+        judgement: Judgement::simulated(&c),
+        mode: Some(c.mode),
+        mechanism: Some(c.mechanism),
+    };
+    Ok(Some((outcome, resp)))
+}
+
 /// A verdict, its classification and its response (when simulated).
 pub(crate) type Judged = (
     Judgement,

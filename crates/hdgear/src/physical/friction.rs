@@ -21,9 +21,9 @@
 
 use super::PhysicalParams;
 use super::card::Card;
-use super::design::{Judgement, Margin, Outcome, search_margin, search_options};
-use crate::burst::{BurstOptions, Sticking, classify, response_model};
-use crate::error::{Error, Result, SolverError};
+use super::design::{Margin, Outcome, judge_model, search_margin};
+use crate::burst::{BurstOptions, Sticking};
+use crate::error::{Error, Result};
 use crate::model::Model;
 use crate::model::terms::AnyTerm;
 use rayon::prelude::*;
@@ -233,26 +233,15 @@ pub fn judge(
 ) -> Result<Option<FrictionOutcome>> {
     let r = d.reduce()?;
     let m = reduced_model(d, law, &r)?;
-    if r.params.omega < super::design::MIN_SIMULATED_OMEGA {
-        return Ok(None);
-    }
-    let resp = match response_model(&m, &search_options(opts)) {
-        Ok(resp) => resp,
-        Err(Error::Solver(SolverError::TooManySteps { .. })) => return Ok(None),
-        Err(e) => return Err(e),
-    };
-    let c = classify(&r.params, &resp);
-    Ok(Some(FrictionOutcome {
-        outcome: Outcome {
-            judgement: Judgement::simulated(&c),
-            mode: Some(c.mode),
-            mechanism: Some(c.mechanism),
-        },
-        sticking: resp.sticking,
-        slip_peak_rate: resp
-            .sticking
-            .map_or(0.0, |s| r.theta_dot(s.slip_peak_speed)),
-    }))
+    Ok(
+        judge_model(&m, opts)?.map(|(outcome, resp)| FrictionOutcome {
+            outcome,
+            sticking: resp.sticking,
+            slip_peak_rate: resp
+                .sticking
+                .map_or(0.0, |s| r.theta_dot(s.slip_peak_speed)),
+        }),
+    )
 }
 
 /// The friction check of a card's drive.

@@ -20,6 +20,7 @@
 pub mod card;
 pub mod catalogue;
 pub mod check;
+pub mod curve_law;
 pub mod design;
 pub mod friction;
 pub mod model;

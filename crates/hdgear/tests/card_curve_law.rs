@@ -1,0 +1,130 @@
+//! The verdict with the catalogue's own piecewise-linear stiffness law
+//! (`hdgear::physical::curve_law`): the reduced law returns every card's catalogue rows, the two
+//! integrators agree on it, and its bursts are the knees'.
+
+use hdgear::burst::BurstOptions;
+use hdgear::integrate::Method;
+use hdgear::physical::PhysicalParams;
+use hdgear::physical::card::{Card, builtin, builtin_card};
+use hdgear::physical::catalogue::assemble;
+use hdgear::physical::curve_law::{self, CatalogueLaw};
+
+/// The drive `check_card` builds from `c` with the assumed damping.
+fn drive(c: &Card) -> PhysicalParams {
+    assemble(c, None, None).unwrap().drive
+}
+
+/// For every built-in card, the reduced law back in N m at twist θ + φ equals the catalogue's
+/// torque at θ, computed here from the card's own T1, T2, K1, K2, K3 (K2 beyond T2 without a K3):
+/// at both knees (to 1e-12: the knees are where the rows are defined) and on each segment.
+#[test]
+fn the_reduced_law_returns_every_cards_catalogue_rows() {
+    let f = builtin();
+    for c in &f.card {
+        let s = &c.stiffness;
+        let (t1, t2, k1, k2) = (s.t1.unwrap(), s.t2.unwrap(), s.k1.unwrap(), s.k2.unwrap());
+        let k3 = s.k3.unwrap_or(k2);
+        let (th1, th2) = (t1 / k1, t1 / k1 + (t2 - t1) / k2);
+        let catalogue = |th: f64| {
+            if th <= th1 {
+                k1 * th
+            } else if th <= th2 {
+                t1 + k2 * (th - th1)
+            } else {
+                t2 + k3 * (th - th2)
+            }
+        };
+        let d = drive(c);
+        let r = d.reduce().unwrap();
+        let law = curve_law::term(c, &d, &r).unwrap();
+        let unit = r.torque_unit();
+        let back = |th: f64| law.torque((th + d.backlash) / r.length_scale, 0.0, 0.0) * unit;
+        for th in [th1, th2] {
+            let rel = (back(th) - catalogue(th)).abs() / catalogue(th);
+            assert!(rel < 1e-12, "{}: θ = {th}: {rel:e}", c.name);
+        }
+        for th in [0.5 * th1, 0.5 * (th1 + th2), 1.5 * th2] {
+            let rel = (back(th) - catalogue(th)).abs() / catalogue(th);
+            assert!(rel < 1e-9, "{}: θ = {th}: {rel:e}", c.name);
+        }
+        // and the law is odd about the offset: the other side of the backlash is the mirror
+        let (lo, hi) = (back(-th1), back(th1));
+        assert!((lo + hi).abs() < 1e-9 * hi, "{}", c.name);
+    }
+}
+
+fn checked(c: &Card, d: &PhysicalParams, method: Method) -> CatalogueLaw {
+    let mut o = BurstOptions::default();
+    o.tol.method = method;
+    curve_law::check(c, d, &o).unwrap()
+}
+
+/// CSF-20-50 at its card's loads (T_m = T1, crossing the first knee both ways): the Taylor steps,
+/// which end on the kinks, and DOP853, whose error control shortens its steps about them, give
+/// the same verdict and the same sizes (1e-6 relative: both at their default 1e-10).
+#[test]
+fn taylor_and_dop853_agree_on_the_catalogue_law() {
+    let c = builtin_card("CSF-20-50").unwrap();
+    let d = drive(c);
+    let (a, b) = (
+        checked(c, &d, Method::Taylor),
+        checked(c, &d, Method::Dop853),
+    );
+    let (oa, ob) = (a.outcome.unwrap(), b.outcome.unwrap());
+    assert_eq!(oa, ob);
+    assert!(a.knee_residual < 1e-12);
+    let (ga, gb) = (a.signatures.unwrap(), b.signatures.unwrap());
+    for (x, y) in [
+        (ga.max_overshoot, gb.max_overshoot),
+        (ga.max_ringing_swing, gb.max_ringing_swing),
+    ] {
+        assert!((x - y).abs() <= 1e-6 * x.abs().max(1e-12), "{x} vs {y}");
+    }
+    assert_eq!(ga.ringing_bursts_per_period, gb.ringing_bursts_per_period);
+}
+
+/// The bursts are the knees': the same drive and loads ring where the load crosses a knee
+/// (twice a period here), not where the knees are removed (every slope K1: a linear law, tracked
+/// adiabatically), nor where the load stays below the first knee.
+#[test]
+fn the_catalogue_laws_bursts_are_its_knees() {
+    let c = builtin_card("CSF-20-50").unwrap();
+    let d = drive(c);
+    let t1 = c.stiffness.t1.unwrap();
+    let with = checked(c, &d, Method::Taylor);
+    assert!(with.outcome.unwrap().judgement.bursting);
+    assert_eq!(with.signatures.unwrap().ringing_bursts_per_period, 2.0);
+
+    let mut linear = c.clone();
+    linear.stiffness.k2 = linear.stiffness.k1;
+    linear.stiffness.k3 = linear.stiffness.k1;
+    let without = checked(&linear, &d, Method::Taylor);
+    assert!(!without.outcome.unwrap().judgement.bursting);
+
+    // the load T_m ± T_am within 0.4 … 0.6 T1: on the first segment throughout
+    let below = PhysicalParams {
+        t_m: 0.5 * t1,
+        t_am: 0.1 * t1,
+        ..d
+    };
+    let low = checked(c, &below, Method::Taylor);
+    assert!(!low.outcome.unwrap().judgement.bursting);
+}
+
+/// Every built-in card gets a verdict with its catalogue law, with the damping from its
+/// hysteresis loss and with the assumed 10 %: the assumed mean load T1 puts many a start on the
+/// first knee to a rounding error, on either side.
+#[test]
+fn every_builtin_card_is_judged_with_its_catalogue_law() {
+    let f = builtin();
+    for c in &f.card {
+        let from_loss = hdgear::physical::check::loss_damping(c, &f.sources).map(|l| l.zeta);
+        for zeta in [from_loss, None] {
+            let d = assemble(c, None, zeta).unwrap().drive;
+            let law = curve_law::check(c, &d, &BurstOptions::default())
+                .unwrap_or_else(|e| panic!("{} (zeta {zeta:?}): {e}", c.name));
+            assert!(law.outcome.is_some(), "{} (zeta {zeta:?})", c.name);
+            assert!(law.knee_residual < 1e-12, "{}", c.name);
+        }
+    }
+}
