@@ -500,9 +500,7 @@ fn check_text(r: &CardCheck) -> String {
         s,
         "with the catalogue's curve (K1, K2, K3 segments, knees returned to {:.1e}): {}",
         law.knee_residual,
-        law.outcome
-            .as_ref()
-            .map_or("not judged (the reduced load frequency is too low, or the response too long, to simulate)".into(), outcome_text)
+        law.outcome.as_ref().map_or(NOT_JUDGED.into(), outcome_text)
     );
     let _ = writeln!(s, "  assumed: {}", law.assumption);
     if let (Some(o), Some(g)) = (&law.outcome, &law.signatures) {
@@ -557,11 +555,7 @@ fn friction_lines(
         }
     );
     let Some(o) = &f.outcome else {
-        let _ = writeln!(
-            s,
-            "with friction: not judged (the reduced load frequency is too low, or the response \
-             too long, to simulate)"
-        );
+        let _ = writeln!(s, "with friction: {NOT_JUDGED}");
         return;
     };
     let j = &o.outcome.judgement;
@@ -581,6 +575,10 @@ fn friction_lines(
     );
     crate::summary::margin_lines(s, &f.margins, j.bursting);
 }
+
+/// What `card check` says of a model it could not simulate (a verdict of `None`).
+const NOT_JUDGED: &str =
+    "not judged (the reduced load frequency is too low, or the response too long, to simulate)";
 
 /// A simulated verdict in `card check`'s words: bursting or not, its signature, mode and
 /// mechanism, and whether it lies outside the fast-slow domain.
