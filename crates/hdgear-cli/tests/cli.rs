@@ -782,17 +782,38 @@ fn card_map_writes_one_row_per_load() {
     assert_eq!(
         lines.next(),
         Some(
-            "t_am_nm,frequency_hz,bursting,verdict,basis,fast_slow_domain,friction_bursting,friction_verdict"
+            "t_am_nm,frequency_hz,bursting,verdict,basis,fast_slow_domain,friction_bursting,friction_verdict,catalogue_bursting,catalogue_verdict"
         )
     );
     let rows: Vec<&str> = lines.collect();
     assert_eq!(rows.len(), 9);
-    // no friction law on a built-in card: its two columns are empty
-    assert!(rows.iter().all(|r| r.ends_with(",,")), "{rows:?}");
+    // no friction law on a built-in card: its two columns are empty; the catalogue's curve
+    // judges every point
+    for r in &rows {
+        let cells: Vec<&str> = r.split(',').collect();
+        assert_eq!(cells.len(), 10, "{r}");
+        assert_eq!(cells[6..8], ["", ""], "{r}");
+        assert!(["true", "false"].contains(&cells[8]), "{r}");
+    }
     assert!(
         rows[0].starts_with("11.0,0.1,") && rows[8].starts_with("33.0,1.0,"),
         "{rows:?}"
     );
+    // --fit-only: the catalogue's two columns left empty
+    let fit = stdout_of(&[
+        "card",
+        "map",
+        "CSG-20-50",
+        "--points",
+        "3",
+        "--hz",
+        "0.1:1",
+        "--fit-only",
+    ]);
+    for (r, f) in rows.iter().zip(fit.lines().skip(1)) {
+        let cells: Vec<&str> = r.split(',').collect();
+        assert_eq!(f, format!("{},,", cells[..8].join(",")));
+    }
     fails_with(&["card", "map", "CSG-20-50", "--points", "0"], "amplitudes");
     fails_with(&["card", "map", "CSG-20-50", "--hz", "0:1"], "0:1");
     fails_with(&["card", "map", "CSG-20-50", "--t-am-max=-1"], "t_am_max");
@@ -837,7 +858,7 @@ fn card_check_answers_with_the_cards_friction() {
     assert_eq!(t_am["outside"]["judgement"]["verdict"], "stick-slip");
     let map = stdout_of(&["card", "map", p, "--points", "1", "--hz", "0.2:0.3"]);
     assert!(
-        map.lines().nth(1).unwrap().ends_with(",true,stick-slip"),
+        map.lines().nth(1).unwrap().contains(",true,stick-slip,"),
         "{map}"
     );
     let bad = dir.path().join("bad.toml");

@@ -128,3 +128,34 @@ fn every_builtin_card_is_judged_with_its_catalogue_law() {
         }
     }
 }
+
+/// The load map's catalogue column is, at every point, the verdict `curve_law::check` gives on
+/// that point's drive; on CSG-20-50 (a card whose fit never bursts at these loads) the knees
+/// make it burst.
+#[test]
+fn the_load_map_carries_the_catalogue_verdict() {
+    use hdgear::physical::check::{DampingChoice, MapGrid, check_card, load_map};
+    let c = builtin_card("CSG-20-50").unwrap();
+    let sources = &builtin().sources;
+    let opts = BurstOptions::default();
+    let grid = MapGrid {
+        t_am_max: 33.0,
+        amplitudes: 2,
+        hz: (0.1, 1.0),
+        frequencies: 2,
+    };
+    let choice = DampingChoice::HysteresisLoss;
+    let map = load_map(c, sources, choice, &grid, &opts, true).unwrap();
+    let drive = check_card(c, sources, choice, &opts).unwrap().summary.drive;
+    for p in &map {
+        let d = PhysicalParams {
+            t_am: p.t_am,
+            omega: std::f64::consts::TAU * p.frequency_hz,
+            ..drive
+        };
+        let law = curve_law::check(c, &d, &opts).unwrap();
+        assert_eq!(p.catalogue, law.outcome.map(|o| o.judgement), "{p:?}");
+        assert!(!p.judgement.bursting, "{p:?}");
+        assert!(p.catalogue.unwrap().bursting, "{p:?}");
+    }
+}

@@ -182,7 +182,18 @@ fn the_load_map_carries_the_friction_verdict() {
         hz: (0.1, 0.3),
         frequencies: 2,
     };
-    let map = load_map(&c, sources, DampingChoice::HysteresisLoss, &grid, &opts).unwrap();
+    let map_of = |c: &Card| {
+        load_map(
+            c,
+            sources,
+            DampingChoice::HysteresisLoss,
+            &grid,
+            &opts,
+            false,
+        )
+        .unwrap()
+    };
+    let map = map_of(&c);
     let check = check_card(&c, sources, DampingChoice::HysteresisLoss, &opts).unwrap();
     let l = law(&c).unwrap().unwrap();
     let mut slips = 0;
@@ -201,6 +212,6 @@ fn the_load_map_carries_the_friction_verdict() {
     // 16.5 and 33 N m swing the twist by far more than F_s = 6 N m: every point slips
     assert_eq!(slips, 4);
     let plain = builtin_card("CSG-20-50").unwrap();
-    let map = load_map(plain, sources, DampingChoice::HysteresisLoss, &grid, &opts).unwrap();
+    let map = map_of(plain);
     assert!(map.iter().all(|p| p.friction.is_none()));
 }

@@ -261,9 +261,10 @@ fn load_map_judges_the_cards_drive_at_every_load() {
     assert!(((f[1] / f[0]) - (f[2] / f[1])).abs() < 1e-12);
     assert_eq!(grid.amplitude_values(), [8.25, 16.5, 24.75, 33.0]);
     let opts = hdgear::burst::BurstOptions::default();
-    let map = load_map(c, sources, DampingChoice::HysteresisLoss, &grid, &opts).unwrap();
+    let loss = DampingChoice::HysteresisLoss;
+    let map = load_map(c, sources, loss, &grid, &opts, false).unwrap();
     assert_eq!(map.len(), 16);
-    let check = check_card(c, sources, DampingChoice::HysteresisLoss, &opts).unwrap();
+    let check = check_card(c, sources, loss, &opts).unwrap();
     for p in &map {
         let d = hdgear::physical::PhysicalParams {
             t_am: p.t_am,
@@ -274,6 +275,8 @@ fn load_map_judges_the_cards_drive_at_every_load() {
             hdgear::physical::design::judge(&d, &opts).unwrap(),
             p.judgement
         );
+        // not asked for: no verdict with the catalogue's curve
+        assert_eq!(p.catalogue, None);
     }
     for bad in [
         MapGrid {
@@ -289,6 +292,6 @@ fn load_map_judges_the_cards_drive_at_every_load() {
             ..grid
         },
     ] {
-        assert!(load_map(c, sources, DampingChoice::Assumed, &bad, &opts).is_err());
+        assert!(load_map(c, sources, DampingChoice::Assumed, &bad, &opts, true).is_err());
     }
 }

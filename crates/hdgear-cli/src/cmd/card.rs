@@ -5,6 +5,7 @@ use anyhow::{Context, Result, bail};
 use clap::{Args, Subcommand};
 use hdgear::physical::card::{self, Card, CardFile, Source};
 use hdgear::physical::check::{CardCheck, DampingChoice, MapGrid, check_card, load_map};
+use hdgear::physical::design::Judgement;
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::io::{Read, Write};
@@ -90,6 +91,10 @@ pub struct CardMapArgs {
     /// Damping of the torsional mode: loss or assumed (as for check).
     #[arg(long, default_value = "loss")]
     pub damping: String,
+    /// Leave out the verdict with the catalogue's own curve (its two columns left empty): the
+    /// fitted model alone, far faster (its knees make every response ring).
+    #[arg(long)]
+    pub fit_only: bool,
     /// The table (.csv, .json or .parquet; CSV on standard output without it).
     #[arg(long, value_name = "FILE")]
     pub out: Option<PathBuf>,
@@ -166,10 +171,15 @@ struct MapRow {
     friction_bursting: Option<bool>,
     /// `not-judged` where the model with friction could not be simulated.
     friction_verdict: Option<&'static str>,
+    /// With the catalogue's curve in place of the fit; empty where not judged.
+    catalogue_bursting: Option<bool>,
+    /// `not-judged` where the model with the catalogue's curve could not be simulated; empty
+    /// with `--fit-only`.
+    catalogue_verdict: Option<&'static str>,
 }
 hdgear::record!(
     MapRow: "t_am_nm", "frequency_hz", "bursting", "verdict", "basis", "fast_slow_domain",
-    "friction_bursting", "friction_verdict"
+    "friction_bursting", "friction_verdict", "catalogue_bursting", "catalogue_verdict"
 );
 
 /// The metadata of `hdgear card map`'s table.
@@ -181,6 +191,10 @@ struct MapMeta<'a> {
     /// The card's friction law, with where it is taken to act.
     #[serde(skip_serializing_if = "Option::is_none")]
     friction: Option<(hdgear::physical::friction::FrictionLaw, &'static str)>,
+    /// How the catalogue's curve enters the model of the `catalogue_` columns (none with
+    /// `--fit-only`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    catalogue_law: Option<&'static str>,
 }
 
 /// Runs `hdgear card`.
@@ -226,6 +240,7 @@ fn map(a: CardMapArgs) -> Result<()> {
         hz,
         t_am_max,
         damping,
+        fit_only,
         out,
         burst,
     } = a;
@@ -240,7 +255,7 @@ fn map(a: CardMapArgs) -> Result<()> {
     if let Some(t) = t_am_max {
         grid.t_am_max = t;
     }
-    let map = load_map(&l.card, &l.sources, choice, &grid, &opts)?;
+    let map = load_map(&l.card, &l.sources, choice, &grid, &opts, !fit_only)?;
     let law = hdgear::physical::friction::law(&l.card)?;
     let has_friction = law.is_some();
     let rows = map.iter().map(|p| MapRow {
@@ -254,43 +269,70 @@ fn map(a: CardMapArgs) -> Result<()> {
         },
         fast_slow_domain: p.judgement.fast_slow_domain,
         friction_bursting: p.friction.map(|j| j.bursting),
-        friction_verdict: has_friction.then(|| p.friction.map_or("not-judged", |j| j.label())),
+        friction_verdict: has_friction.then(|| p.friction.map_or(NOT_JUDGED_LABEL, |j| j.label())),
+        catalogue_bursting: p.catalogue.map(|j| j.bursting),
+        catalogue_verdict: (!fit_only).then(|| p.catalogue.map_or(NOT_JUDGED_LABEL, |j| j.label())),
     });
     let meta = MapMeta {
         card: &l.card.name,
         grid,
         damping: choice,
         friction: law.map(|law| (law, hdgear::physical::friction::ASSUMPTION)),
+        catalogue_law: (!fit_only).then_some(hdgear::physical::curve_law::ASSUMPTION),
     };
     crate::sink::write_records(out.as_deref(), &meta, rows)?;
     if out.is_some() {
-        let burst = |p: &&hdgear::physical::check::MapPoint| p.judgement.bursting;
-        let n = map.iter().filter(burst).count();
-        let outside = map
+        map_summary(&l.card.name, &map, has_friction, fit_only)?;
+    }
+    Ok(())
+}
+
+/// What `hdgear card map --out` prints beside the file: how many points burst, with the fit, the
+/// card's friction (when it has a law) and the catalogue's curve (unless `--fit-only`).
+fn map_summary(
+    name: &str,
+    map: &[hdgear::physical::check::MapPoint],
+    has_friction: bool,
+    fit_only: bool,
+) -> Result<()> {
+    let burst = |p: &&hdgear::physical::check::MapPoint| p.judgement.bursting;
+    let n = map.iter().filter(burst).count();
+    let outside = map
+        .iter()
+        .filter(burst)
+        .filter(|p| !p.judgement.fast_slow_domain)
+        .count();
+    crate::sink::outln!(
+        "{name}: {n} of {} points burst, {outside} of them outside the fast-slow domain \
+         (the slow variation not slow against the drive's relaxation)",
+        map.len()
+    );
+    let judged = |of: fn(&hdgear::physical::check::MapPoint) -> Option<Judgement>| {
+        let with: Vec<Judgement> = map.iter().filter_map(of).collect();
+        let bursting = with.iter().filter(|j| j.bursting).count();
+        (with, bursting)
+    };
+    if has_friction {
+        let (with, bursting) = judged(|p| p.friction);
+        let slips = with
             .iter()
-            .filter(burst)
-            .filter(|p| !p.judgement.fast_slow_domain)
+            .filter(|j| j.verdict == Some(hdgear::burst::Verdict::StickSlip))
             .count();
         crate::sink::outln!(
-            "{}: {n} of {} points burst, {outside} of them outside the fast-slow domain \
-                     (the slow variation not slow against the drive's relaxation)",
-            l.card.name,
-            map.len()
+            "with its friction: {bursting} of {} judged points burst, {slips} of them by \
+             stick-slip; {} points not judged",
+            with.len(),
+            map.len() - with.len()
         );
-        if has_friction {
-            let with: Vec<_> = map.iter().filter_map(|p| p.friction).collect();
-            let bursting = with.iter().filter(|j| j.bursting).count();
-            let slips = with
-                .iter()
-                .filter(|j| j.verdict == Some(hdgear::burst::Verdict::StickSlip))
-                .count();
-            crate::sink::outln!(
-                "with its friction: {bursting} of {} judged points burst, {slips} of them by \
-                 stick-slip; {} points not judged",
-                with.len(),
-                map.len() - with.len()
-            );
-        }
+    }
+    if !fit_only {
+        let (with, bursting) = judged(|p| p.catalogue);
+        crate::sink::outln!(
+            "with the catalogue's curve: {bursting} of {} judged points burst; {} points \
+             not judged",
+            with.len(),
+            map.len() - with.len()
+        );
     }
     Ok(())
 }
@@ -579,6 +621,9 @@ fn friction_lines(
 /// What `card check` says of a model it could not simulate (a verdict of `None`).
 const NOT_JUDGED: &str =
     "not judged (the reduced load frequency is too low, or the response too long, to simulate)";
+
+/// A map column's verdict where the model could not be simulated.
+const NOT_JUDGED_LABEL: &str = "not-judged";
 
 /// A simulated verdict in `card check`'s words: bursting or not, its signature, mode and
 /// mechanism, and whether it lies outside the fast-slow domain.

@@ -319,17 +319,26 @@ pub struct MapPoint {
     /// The verdict with the card's friction law ([`super::friction::judge`]); `None` without a
     /// law, or where it could not be simulated.
     pub friction: Option<super::design::Judgement>,
+    /// The verdict with the catalogue's piecewise-linear curve in place of the cubic fit, the
+    /// rest of the drive the same ([`super::curve_law`]); `None` when not asked for, or where it
+    /// could not be simulated (the reduced ω below [`super::design::MIN_SIMULATED_OMEGA`], or more steps than
+    /// a search allows).
+    pub catalogue: Option<super::design::Judgement>,
 }
 
 /// The verdict on the drive built from `card` (as [`check_card`] builds it, with `damping`) for
-/// every amplitude and frequency of `grid`, amplitude-major, computed on all cores; with the
-/// card's friction law too, when it has one.
+/// every amplitude and frequency of `grid`, amplitude-major, computed on all cores: with the
+/// cubic fit, with the catalogue's own curve ([`super::curve_law`]), and with the card's
+/// friction law too, when it has one. `catalogue_curve` false leaves the catalogue's verdict out
+/// (`None` at every point): the piecewise law's knees make each response ring, and its
+/// simulation costs far more than the fit's.
 pub fn load_map(
     card: &Card,
     sources: &BTreeMap<String, Source>,
     damping: DampingChoice,
     grid: &MapGrid,
     opts: &BurstOptions,
+    catalogue_curve: bool,
 ) -> Result<Vec<MapPoint>> {
     card.validate(sources)?;
     grid.validate()?;
@@ -357,15 +366,30 @@ pub fn load_map(
             .map(|d| Ok(super::friction::judge(d, &law, opts)?.map(|o| o.outcome.judgement)))
             .collect::<Result<_>>()?,
     };
+    let with_curve: Vec<Option<super::design::Judgement>> = if catalogue_curve {
+        drives
+            .par_iter()
+            .map(|d| {
+                let m = super::curve_law::model(card, d)?;
+                Ok(super::design::judge_model(&m, opts)?.map(|(o, _)| o.judgement))
+            })
+            .collect::<Result<_>>()?
+    } else {
+        vec![None; drives.len()]
+    };
     Ok(points
         .iter()
         .zip(judgements)
         .zip(with_friction)
-        .map(|((&(t_am, frequency_hz), judgement), friction)| MapPoint {
-            t_am,
-            frequency_hz,
-            judgement,
-            friction,
-        })
+        .zip(with_curve)
+        .map(
+            |(((&(t_am, frequency_hz), judgement), friction), catalogue)| MapPoint {
+                t_am,
+                frequency_hz,
+                judgement,
+                friction,
+                catalogue,
+            },
+        )
         .collect())
 }
