@@ -544,3 +544,26 @@ fn report_memory_section_is_its_data() {
         );
     }
 }
+
+/// The physical section judges its drive with the catalogue's own curve too: the verdict and
+/// overshoot it states are what `curve_law::check` gives for the same card and drive.
+#[test]
+fn report_physical_section_judges_the_catalogue_curve() {
+    use hdgear::physical::{card::builtin_card, catalogue::preset, curve_law};
+    let h = html();
+    let name = hdgear::report::PHYSICAL_DRIVE;
+    let (drive, _) = preset(name, None).unwrap();
+    let opts = hdgear::burst::BurstOptions::default();
+    let law = curve_law::check(builtin_card(name).unwrap(), &drive, &opts).unwrap();
+    let o = law.outcome.unwrap();
+    // CSF-20-50's mean load sits on its first knee: the corner makes it burst
+    assert!(o.judgement.bursting);
+    let at = h.find("With the catalogue's own curve").unwrap();
+    let p = &h[at..at + h[at..].find("</p>").unwrap()];
+    let stated = format!(
+        "the same drive bursts ({}, largest overshoot {:.1e} of the slow swing X)",
+        o.judgement.label(),
+        law.signatures.unwrap().max_overshoot
+    );
+    assert!(p.contains(&stated), "{p}");
+}

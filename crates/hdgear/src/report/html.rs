@@ -408,6 +408,26 @@ fn boundaries(h: &mut String, r: &Report) {
     );
 }
 
+/// The verdict on the physical drive with the catalogue's own curve, as a paragraph.
+fn catalogue_law(law: &crate::physical::curve_law::CatalogueLaw) -> String {
+    let verdict = match (&law.outcome, &law.signatures) {
+        (Some(o), Some(sig)) if o.judgement.bursting => format!(
+            "bursts ({}, largest overshoot {:.1e} of the slow swing X); {}.",
+            o.judgement.label(),
+            sig.max_overshoot,
+            crate::physical::curve_law::KNEES
+        ),
+        (Some(o), _) => format!("does not burst ({}).", o.judgement.label()),
+        (None, _) => "could not be simulated.".into(),
+    };
+    format!(
+        "<p>With the catalogue's own curve, the three straight segments in place of the fit \
+         (assumed: {}), the same drive {}</p>",
+        esc(law.assumption),
+        esc(&verdict)
+    )
+}
+
 /// The physical drive: reduction, design check, and a variant that bursts.
 fn physical(h: &mut String, r: &Report) {
     let ph = &r.physical;
@@ -455,9 +475,10 @@ fn physical(h: &mut String, r: &Report) {
     let (vd, vc) = (&ph.variant, &ph.variant_check);
     let _ = write!(
         h,
-        "</table><p>The same drive made softer and more disturbed (k1 = {} N m/rad, T_am = {} N m; \
+        "</table>{}<p>The same drive made softer and more disturbed (k1 = {} N m/rad, T_am = {} N m; \
          reduced γ = {:.3}, δ = {:.2}) {} ({}, {}); the single changes that end the bursts:</p>\
          <table><tr><th>parameter</th><th>current</th><th>boundary</th><th>change</th><th>inside</th><th>outside</th></tr>\n",
+        catalogue_law(&ph.catalogue_law),
         num(vd.k1),
         num(vd.t_am),
         vc.reduced.params.gamma,

@@ -202,6 +202,9 @@ pub struct PhysicalEvidence {
     pub fit: Fit,
     /// Its design check (which includes the reduction).
     pub check: DesignCheck,
+    /// The same drive judged with the catalogue's own piecewise-linear curve in place of the fit
+    /// ([`crate::physical::curve_law`]).
+    pub catalogue_law: crate::physical::curve_law::CatalogueLaw,
     /// The same drive made to burst (softer k1, larger disturbance).
     pub variant: PhysicalParams,
     /// The variant's design check.
@@ -236,6 +239,11 @@ impl PhysicalEvidence {
             drive,
             fit,
             check: design_check(&drive, opts)?,
+            catalogue_law: crate::physical::curve_law::check(
+                crate::physical::card::builtin_card(PHYSICAL_DRIVE)?,
+                &drive,
+                opts,
+            )?,
             variant,
             variant_check: design_check(&variant, opts)?,
             reduction_check: check_reduction(&drive, span, 1.0, tol)?,
