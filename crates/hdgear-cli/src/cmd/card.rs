@@ -258,20 +258,24 @@ fn map(a: CardMapArgs) -> Result<()> {
     let map = load_map(&l.card, &l.sources, choice, &grid, &opts, !fit_only)?;
     let law = hdgear::physical::friction::law(&l.card)?;
     let has_friction = law.is_some();
-    let rows = map.iter().map(|p| MapRow {
-        t_am_nm: p.t_am,
-        frequency_hz: p.frequency_hz,
-        bursting: p.judgement.bursting,
-        verdict: p.judgement.label(),
-        basis: match p.judgement.basis {
-            hdgear::physical::design::Basis::Simulation => "simulation",
-            hdgear::physical::design::Basis::Prediction => "prediction",
-        },
-        fast_slow_domain: p.judgement.fast_slow_domain,
-        friction_bursting: p.friction.map(|j| j.bursting),
-        friction_verdict: has_friction.then(|| p.friction.map_or(NOT_JUDGED_LABEL, |j| j.label())),
-        catalogue_bursting: p.catalogue.map(|j| j.bursting),
-        catalogue_verdict: (!fit_only).then(|| p.catalogue.map_or(NOT_JUDGED_LABEL, |j| j.label())),
+    let rows = map.iter().map(|p| {
+        let (friction_bursting, friction_verdict) = verdict_columns(has_friction, p.friction);
+        let (catalogue_bursting, catalogue_verdict) = verdict_columns(!fit_only, p.catalogue);
+        MapRow {
+            t_am_nm: p.t_am,
+            frequency_hz: p.frequency_hz,
+            bursting: p.judgement.bursting,
+            verdict: p.judgement.label(),
+            basis: match p.judgement.basis {
+                hdgear::physical::design::Basis::Simulation => "simulation",
+                hdgear::physical::design::Basis::Prediction => "prediction",
+            },
+            fast_slow_domain: p.judgement.fast_slow_domain,
+            friction_bursting,
+            friction_verdict,
+            catalogue_bursting,
+            catalogue_verdict,
+        }
     });
     let meta = MapMeta {
         card: &l.card.name,
@@ -622,8 +626,13 @@ fn friction_lines(
 const NOT_JUDGED: &str =
     "not judged (the reduced load frequency is too low, or the response too long, to simulate)";
 
-/// A map column's verdict where the model could not be simulated.
-const NOT_JUDGED_LABEL: &str = "not-judged";
+/// A map's two columns of a verdict beside the fit's (with friction, with the catalogue's
+/// curve): bursting, and its label, `not-judged` where asked for but not simulated; both empty
+/// where not asked for.
+fn verdict_columns(asked: bool, j: Option<Judgement>) -> (Option<bool>, Option<&'static str>) {
+    let label = asked.then(|| j.map_or("not-judged", |j| j.label()));
+    (j.map(|j| j.bursting), label)
+}
 
 /// A simulated verdict in `card check`'s words: bursting or not, its signature, mode and
 /// mechanism, and whether it lies outside the fast-slow domain.

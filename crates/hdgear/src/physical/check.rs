@@ -321,8 +321,8 @@ pub struct MapPoint {
     pub friction: Option<super::design::Judgement>,
     /// The verdict with the catalogue's piecewise-linear curve in place of the cubic fit, the
     /// rest of the drive the same ([`super::curve_law`]); `None` when not asked for, or where it
-    /// could not be simulated (the reduced ω below [`super::design::MIN_SIMULATED_OMEGA`], or more steps than
-    /// a search allows).
+    /// could not be simulated (the reduced ω below [`super::design::MIN_SIMULATED_OMEGA`], or
+    /// more steps than a search allows).
     pub catalogue: Option<super::design::Judgement>,
 }
 
