@@ -36,7 +36,7 @@ impl<R: Record> std::fmt::Debug for Export<R> {
 }
 
 /// `--out`'s help: the columns, in order, as the file will have them.
-fn out_help(columns: &[&str]) -> String {
+pub fn out_help(columns: &[&str]) -> String {
     format!(
         "The rows ({}) to a .csv, .json or .parquet file",
         columns.join(",")

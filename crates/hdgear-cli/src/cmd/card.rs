@@ -3,6 +3,7 @@
 use crate::cli::BurstArgs;
 use anyhow::{Context, Result, bail};
 use clap::{Args, Subcommand};
+use hdgear::output::Record;
 use hdgear::physical::card::{self, Card, CardFile, Source};
 use hdgear::physical::check::{CardCheck, DampingChoice, MapGrid, check_card, load_map};
 use hdgear::physical::design::Judgement;
@@ -58,8 +59,8 @@ pub enum CardAction {
         burst: BurstArgs,
     },
     /// The verdict over slow output-torque amplitudes up to the rated torque (T2 without a
-    /// rating) and frequencies from 0.01 to 10 Hz (log-spaced): one row per point
-    /// (t_am_nm,frequency_hz,bursting,verdict,basis,fast_slow_domain).
+    /// rating) and frequencies from 0.01 to 10 Hz (log-spaced): one row per point (its columns
+    /// in `--out`'s help).
     Map(CardMapArgs),
     /// Write a new card file: a commented template, or a copy of --from under a new name.
     New {
@@ -95,8 +96,7 @@ pub struct CardMapArgs {
     /// fitted model alone, far faster (its knees make every response ring).
     #[arg(long)]
     pub fit_only: bool,
-    /// The table (.csv, .json or .parquet; CSV on standard output without it).
-    #[arg(long, value_name = "FILE")]
+    #[arg(long, value_name = "FILE", help = crate::export::out_help(MapRow::COLUMNS))]
     pub out: Option<PathBuf>,
     #[command(flatten)]
     pub burst: BurstArgs,
