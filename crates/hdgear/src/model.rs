@@ -13,6 +13,7 @@
 
 pub mod branches;
 pub mod control;
+pub mod dahl;
 pub mod delay;
 pub mod excitation;
 pub mod friction;

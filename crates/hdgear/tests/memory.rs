@@ -1,9 +1,10 @@
-//! Terms with an internal state (LuGre friction, Bouc–Wen hysteresis) in the drive's model:
-//! against an independent event-driven integration written here from the equations (classical
+//! Terms with an internal state (LuGre friction, Bouc–Wen and Dahl hysteresis) in the drive's
+//! model: against an independent event-driven integration written here from the equations (classical
 //! RK4 with the signs of x' and z fixed on each piece, restarts at every sign change located by
 //! bisection on a single RK4 step), the derived Jacobian against finite differences, LuGre's
 //! presliding stiffness against the linear response it implies, Bouc–Wen's energy balance and
-//! rate independence, and Noël & Schoukens' Bouc–Wen benchmark under a multisine.
+//! rate independence, Noël & Schoukens' Bouc–Wen benchmark under a multisine, and Dahl's law
+//! against its closed-form branch and the two laws it equals at exponent 1.
 
 use hdgear::Params;
 use hdgear::integrate::{DenseOutput, Method, Options, Stepper, System};
@@ -19,6 +20,8 @@ enum Law {
     LuGre([f64; 6]),
     /// k_h, ρ, A, β, γ_h, n.
     BoucWen([f64; 6]),
+    /// σ, T_c, n.
+    Dahl([f64; 3]),
 }
 
 impl Law {
@@ -26,6 +29,7 @@ impl Law {
         match self {
             Law::LuGre(v) => AnyTerm::new("lugre", &v).unwrap(),
             Law::BoucWen(v) => AnyTerm::new("boucwen", &v).unwrap(),
+            Law::Dahl(v) => AnyTerm::new("dahl", &v).unwrap(),
         }
     }
     /// (torque, z') at (x, v, z) on the piece sgn x' = sv, sgn z = sz.
@@ -42,6 +46,7 @@ impl Law {
                     a * v - beta * (sv * v) * abs_z.powf(n - 1.0) * z - gamma * v * abs_z.powf(n);
                 (kh * (rho * x + (1.0 - rho) * z), rate)
             }
+            Law::Dahl([sigma, tc, n]) => (z, sigma * v * (1.0 - sv * z / tc).powf(n)),
         }
     }
     fn switches_at_zero_state(self) -> bool {
@@ -93,17 +98,21 @@ impl Reference<'_> {
     }
     /// Samples every `dt` from (0, y0) to `t_end`.
     fn run(&self, y0: [f64; 3], t_end: f64, dt: f64) -> Vec<[f64; 3]> {
-        let (mut t, mut y) = (0.0, y0);
-        let mut sv = if y[1] != 0.0 {
-            y[1].signum()
+        let sv = if y0[1] != 0.0 {
+            y0[1].signum()
         } else {
-            self.leaving(t, y, 1, 1.0)
+            self.leaving(0.0, y0, 1, 1.0)
         };
-        let mut sz = if y[2] != 0.0 {
-            y[2].signum()
+        let sz = if y0[2] != 0.0 {
+            y0[2].signum()
         } else {
-            self.leaving(t, y, 2, sv)
+            self.leaving(0.0, y0, 2, sv)
         };
+        self.run_on(y0, t_end, dt, (sv, sz))
+    }
+    /// [`Reference::run`] from the piece of the given signs (sgn x', sgn z).
+    fn run_on(&self, y0: [f64; 3], t_end: f64, dt: f64, (sv, sz): (f64, f64)) -> Vec<[f64; 3]> {
+        let (mut t, mut y, mut sv, mut sz) = (0.0, y0, sv, sz);
         let mut out = vec![y];
         let mut k = 1;
         while t < t_end {
@@ -175,8 +184,8 @@ fn worst(a: &[[f64; 3]], b: &[[f64; 3]]) -> f64 {
 }
 
 /// LuGre in stick-slip (the motion reverses and rests in presliding), Bouc–Wen with n = 1 and
-/// n = 2 through many loops.
-fn cases() -> [(Params, Law, f64); 3] {
+/// n = 2 and Dahl with n = 3 through many loops.
+fn cases() -> [(Params, Law, f64); 4] {
     let p = Params::default();
     let slow = Params {
         delta: 1.0,
@@ -193,6 +202,7 @@ fn cases() -> [(Params, Law, f64); 3] {
         (slow, Law::LuGre([0.3, 0.4, 0.1, 20.0, 2.0, 0.1]), 40.0),
         (loops, Law::BoucWen([0.8, 0.2, 1.0, 0.6, 0.3, 1.0]), 40.0),
         (loops, Law::BoucWen([0.8, 0.0, 1.5, 0.5, -0.2, 2.0]), 40.0),
+        (loops, Law::Dahl([2.0, 0.5, 3.0]), 40.0),
     ]
 }
 
@@ -245,12 +255,13 @@ fn the_cases_cross_their_switches() {
 }
 
 /// The Jacobian derived from the terms equals a central finite difference of the right-hand
-/// side, for LuGre and Bouc–Wen alone and together, at states away from the switches.
+/// side, for LuGre and Bouc–Wen alone and together and for Dahl, at states away from the switches.
 #[test]
 fn stateful_jacobian_matches_finite_differences() {
     let p = Params::default();
     let lugre = Law::LuGre([0.3, 0.4, 0.1, 20.0, 2.0, 0.1]).term();
     let bw = Law::BoucWen([0.8, 0.2, 1.0, 0.6, 0.3, 2.0]).term();
+    let dahl = Law::Dahl([2.0, 0.5, 3.0]).term();
     let one = |term| Model::study(&p).with_term(term).unwrap();
     let both = one(lugre).with_term(bw).unwrap();
     let check = |m: &Model, y: &[f64]| {
@@ -281,6 +292,8 @@ fn stateful_jacobian_matches_finite_differences() {
         assert!(check(&one(bw), &yz) < 1e-7, "boucwen at {yz:?}");
         let all = [y[0], y[1], y[2], 0.7 * y[0] + 0.1];
         assert!(check(&both, &all) < 1e-7, "both at {all:?}");
+        let yd = [y[0], y[1], 0.2 * y[0] + 0.1];
+        assert!(check(&one(dahl), &yd) < 1e-7, "dahl at {yd:?}");
     }
 }
 
@@ -450,11 +463,12 @@ fn a_zero_hysteresis_term_leaves_the_study_model() {
     assert!(e < 1e-10, "{e:e}");
 }
 
-/// Random models with memory (LuGre, Bouc–Wen with n from 1 to 4, or both) at random parameters
-/// and forcings: Taylor's method and DOP853, each piece by piece, agree to 1e-8 at τ = 10, 20 and
-/// 30 (both at 1e-12; the seed is fixed so failures repeat). The states are compared where a step
-/// ends, not between: DOP853's interpolant is not error-controlled, and on a stiff bristle state
-/// (σ₀/f_c ≈ 300) its values between step ends are off by up to 1e-6 at this tolerance.
+/// Random models with memory (LuGre, Bouc–Wen with n from 1 to 4, or both; Dahl with n from 1 to
+/// 4, alone or with LuGre) at random parameters and forcings: Taylor's method and DOP853, each
+/// piece by piece, agree to 1e-8 at τ = 10, 20 and 30 (both at 1e-12; the seed is fixed so
+/// failures repeat). The states are compared where a step ends, not between: DOP853's
+/// interpolant is not error-controlled, and on a stiff bristle state (σ₀/f_c ≈ 300) its values
+/// between step ends are off by up to 1e-6 at this tolerance.
 #[test]
 fn random_models_with_memory_agree_across_methods() {
     let mut state = 0x2545_f491_4f6c_dd1d_u64;
@@ -465,7 +479,7 @@ fn random_models_with_memory_agree_across_methods() {
         (state >> 11) as f64 / (1u64 << 53) as f64
     };
     let mut between = |lo: f64, hi: f64| lo + (hi - lo) * u();
-    for case in 0..12 {
+    for case in 0..16 {
         let p = Params {
             gamma: between(0.1, 2.0),
             delta: between(0.5, 4.0),
@@ -492,6 +506,19 @@ fn random_models_with_memory_agree_across_methods() {
         ])
         .term();
         let m = match case % 3 {
+            // the last four: Dahl, alone or with LuGre (drawn after the others, so that the
+            // first twelve cases keep their values)
+            _ if case >= 12 => {
+                let dahl =
+                    Law::Dahl([between(0.5, 5.0), between(0.05, 0.5), (1 + case % 4) as f64])
+                        .term();
+                let m = Model::study(&p).with_term(dahl).unwrap();
+                if case % 2 == 0 {
+                    m
+                } else {
+                    m.with_term(lugre).unwrap()
+                }
+            }
             0 => Model::study(&p).with_term(lugre).unwrap(),
             1 => Model::study(&p).with_term(bw).unwrap(),
             _ => Model::study(&p)
@@ -500,35 +527,40 @@ fn random_models_with_memory_agree_across_methods() {
                 .with_term(bw)
                 .unwrap(),
         };
-        let run = |method, t_end| {
-            let opts = SimOptions {
-                t_end,
-                dt: t_end,
-                start: Start::Rest,
-                tol: Options {
-                    rtol: 1e-12,
-                    atol: 1e-12,
-                    method,
-                    ..Options::default()
-                },
-            };
-            let mut out = vec![];
-            simulate_model(&m, &opts, |_, y| out.extend_from_slice(y)).unwrap();
-            out
-        };
         for t_end in [10.0, 20.0, 30.0] {
-            let (a, b) = (run(Method::Taylor, t_end), run(Method::Dop853, t_end));
-            let worst = a
-                .iter()
-                .zip(&b)
-                .map(|(a, b)| (a - b).abs())
-                .fold(0.0, f64::max);
+            let worst = methods_differ(&m, t_end);
             assert!(
                 worst < 1e-8,
                 "case {case} {m:?}: methods differ by {worst:e}"
             );
         }
     }
+}
+
+/// The largest difference of the states at `t_end` between Taylor's method and DOP853, both at
+/// 1e-12, each piece by piece.
+fn methods_differ(m: &Model, t_end: f64) -> f64 {
+    let run = |method| {
+        let opts = SimOptions {
+            t_end,
+            dt: t_end,
+            start: Start::Rest,
+            tol: Options {
+                rtol: 1e-12,
+                atol: 1e-12,
+                method,
+                ..Options::default()
+            },
+        };
+        let mut out = vec![];
+        simulate_model(m, &opts, |_, y| out.extend_from_slice(y)).unwrap();
+        out
+    };
+    let (a, b) = (run(Method::Taylor), run(Method::Dop853));
+    a.iter()
+        .zip(&b)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max)
 }
 
 /// LuGre's steady sliding: at a constant speed v the bristle state, integrated from rest with
@@ -624,4 +656,135 @@ fn the_bouc_wen_benchmark_under_a_multisine_matches_an_independent_integration()
         eprintln!("benchmark {method:?}: worst relative difference {worst:e} (scales {scale:?})");
         assert!(worst < 1e-8, "{method:?}: {worst:e}");
     }
+}
+
+/// Dahl's law with exponent 1 is two other terms in disguise: Bouc–Wen with A = σ, β = σ/T_c,
+/// γ_h = 0, k_h = 1, ρ = 0 (z = T_h), and LuGre with f_s = f_c = T_c and σ₀ = σ, σ₁ = σ₂ = 0
+/// (s = T_h/σ). The three runs, each through its own recurrences, agree to 1e-9.
+#[test]
+fn dahl_with_exponent_one_is_bouc_wen_and_lugre() {
+    let (p, _, t_end) = cases()[3];
+    let (sigma, tc) = (2.0, 0.5);
+    let dahl = hdgear_run(&p, Law::Dahl([sigma, tc, 1.0]), Method::Taylor, t_end, 0.05);
+    let bw = Law::BoucWen([1.0, 0.0, sigma, sigma / tc, 0.0, 1.0]);
+    let lugre = Law::LuGre([tc, tc, 0.1, sigma, 0.0, 0.0]);
+    let scaled = |run: Vec<[f64; 3]>, k: f64| -> Vec<[f64; 3]> {
+        run.into_iter().map(|[x, v, z]| [x, v, k * z]).collect()
+    };
+    for (name, other) in [
+        ("boucwen", hdgear_run(&p, bw, Method::Taylor, t_end, 0.05)),
+        (
+            "lugre",
+            scaled(hdgear_run(&p, lugre, Method::Taylor, t_end, 0.05), sigma),
+        ),
+    ] {
+        let e = worst(&dahl, &other);
+        assert!(e < 1e-9, "{name}: differs by {e:e}");
+    }
+    let swing = dahl.iter().map(|y| y[2].abs()).fold(0.0, f64::max);
+    assert!(
+        swing > 0.5 * tc,
+        "the hysteresis torque barely moves: {swing}"
+    );
+}
+
+/// On the virgin branch (from T_h = 0 at the start, x' ≥ 0 until the first reversal) Dahl's law
+/// integrates in closed form: T_h = T_c·(1 − e^{−σΔx/T_c}) for n = 1, and
+/// (1 − T_h/T_c)^{1−n} = 1 + (n − 1)·σΔx/T_c for n > 1 (Δx the twist since the start). Every
+/// sample of that branch satisfies it to 1e-9, for n = 1 … 4: the torque depends on the path of
+/// x alone, not on its speed.
+#[test]
+fn dahl_virgin_branch_is_the_closed_form() {
+    let (p, _, _) = cases()[3];
+    let (sigma, tc) = (2.0, 0.5);
+    for n in 1..=4 {
+        let run = hdgear_run(
+            &p,
+            Law::Dahl([sigma, tc, f64::from(n)]),
+            Method::Taylor,
+            4.0,
+            1e-3,
+        );
+        let x0 = run[0][0];
+        let branch: Vec<&[f64; 3]> = run.iter().take_while(|y| y[1] >= 0.0).collect();
+        let closed = |dx: f64| match n {
+            1 => tc * (1.0 - (-sigma * dx / tc).exp()),
+            _ => {
+                let m = f64::from(n - 1);
+                tc * (1.0 - (1.0 + m * sigma * dx / tc).powf(-1.0 / m))
+            }
+        };
+        let e = branch
+            .iter()
+            .map(|y| (y[2] - closed(y[0] - x0)).abs())
+            .fold(0.0, f64::max);
+        let reached = branch.last().map_or(0.0, |y| y[2]);
+        eprintln!(
+            "n = {n}: {} samples, T_h up to {reached:.4}, worst {e:.1e}",
+            branch.len()
+        );
+        assert!(
+            reached > 0.3 * tc,
+            "n = {n}: the branch is too short ({reached})"
+        );
+        assert!(e < 1e-9, "n = {n}: off the closed form by {e:e}");
+    }
+}
+
+/// A run from the fast subsystem's equilibrium (`simulate`'s default start), where the applied
+/// torque A vanishes to its rounding, leaves rest as the rising load pushes (x' > 0): on the
+/// other piece Dahl's base 1 − sgn(x')·T_h/T_c would grow instead of shrink, and with n = 3 T_h
+/// would run past T_c and blow up within a unit of time. Both methods keep |T_h| < T_c over many
+/// loops and agree to 1e-8.
+#[test]
+fn an_equilibrium_start_leaves_rest_as_the_load_pushes() {
+    let (p, law, t_end) = cases()[3];
+    let Law::Dahl([_, tc, _]) = law else {
+        unreachable!()
+    };
+    let run = |method| {
+        let opts = SimOptions {
+            t_end,
+            dt: 0.05,
+            start: Start::Equilibrium,
+            tol: crate::common::tight(method),
+        };
+        let mut out = vec![];
+        simulate_model(&model(&p, law), &opts, |_, y| out.push([y[0], y[1], y[2]])).unwrap();
+        out
+    };
+    let (taylor, dop853) = (run(Method::Taylor), run(Method::Dop853));
+    assert!(taylor[1][1] > 0.0, "left rest backwards: {:?}", taylor[1]);
+    let peak = taylor.iter().map(|y| y[2].abs()).fold(0.0, f64::max);
+    assert!(
+        peak < tc && peak > 0.5 * tc,
+        "|T_h| up to {peak} (T_c = {tc})"
+    );
+    let e = worst(&taylor, &dop853);
+    assert!(e < 1e-8, "methods differ by {e:e}");
+}
+
+/// Bouc–Wen from the equilibrium start against the independent integration started there on
+/// the piece the rising load drives (x' > 0, and z > 0, which leaves 0 as A·x'): to 1e-9. Its
+/// x'(0) = 0 with A(0) a rounding error from 0, so the reference is told the piece rather than
+/// reading it off A's sign.
+#[test]
+fn an_equilibrium_start_matches_the_independent_integration() {
+    let (p, law, t_end) = cases()[1];
+    let opts = SimOptions {
+        t_end,
+        dt: 0.05,
+        start: Start::Equilibrium,
+        tol: crate::common::tight(Method::Taylor),
+    };
+    let mut ours = vec![];
+    simulate_model(&model(&p, law), &opts, |_, y| ours.push([y[0], y[1], y[2]])).unwrap();
+    let reference = Reference {
+        drive: Drive::Study(p),
+        law,
+        h: 1e-4,
+    }
+    .run_on(ours[0], t_end, 0.05, (1.0, 1.0));
+    let e = worst(&ours, &reference);
+    assert!(e < 1e-9, "differs by {e:e}");
 }

@@ -289,7 +289,7 @@ fn models_refuse_bad_assemblies_and_values_naming_them() {
     );
     let e = AnyTerm::new("friction", &[0.1, 0.0]).unwrap_err();
     assert!(e.to_string().contains("vs = 0.0"), "{e}");
-    let e = AnyTerm::new("dahl", &[]).unwrap_err();
+    let e = AnyTerm::new("preisach", &[]).unwrap_err();
     assert!(
         e.to_string()
             .contains("known: damping, stiffness, friction, stribeck, coulomb, lugre, boucwen"),

@@ -135,6 +135,28 @@ impl Pieces {
         }
     }
 
+    /// What the motion does at the start of a run from rest at (t, y), and the time whose
+    /// Taylor rows give the internal states' signs ([`Pieces::signs`]): as
+    /// [`Pieces::mode_at_rest`] at t, except where A changes sign within 1/64 of a stick
+    /// sample's spacing h (1/4096 of the forcing's period). That is a start on an equilibrium,
+    /// where A vanishes to its rounding and its sign says nothing: the motion leaves rest as A
+    /// pushes at t + h (before that, the drive moves by at most |A|·h²/2), and a state at 0
+    /// leaves it as that push moves it, its signs read at t + h.
+    fn mode_leaving_rest(&self, t: f64, y: &[f64]) -> (Mode, f64) {
+        match self.mode_at_rest(t, y) {
+            Mode::Stuck => (Mode::Stuck, t),
+            slipping => {
+                let later_t = t + self.stick_spacing() / 64.0;
+                let later = self.applied(later_t, y);
+                if later * slipping.side() < 0.0 {
+                    (Mode::slipping(later), later_t)
+                } else {
+                    (slipping, t)
+                }
+            }
+        }
+    }
+
     /// The piece of a slipping `mode` with the internal states' signs `bits`.
     fn piece(&self, mode: Mode, bits: usize) -> &Model {
         match mode {
@@ -326,13 +348,14 @@ pub struct Switching<'p, const N: usize> {
 }
 
 impl<'p, const N: usize> Switching<'p, N> {
-    /// Starts at (t0, y0): slipping along x' if it is ≠ 0, else as [`Pieces::mode_at_rest`].
+    /// Starts at (t0, y0): slipping along x' if it is ≠ 0, else as [`Pieces::mode_at_rest`]
+    /// (the direction of leaving an equilibrium start taken from A a moment later).
     pub fn new(pieces: &'p Pieces, t0: f64, y0: [f64; N], opts: Options) -> Result<Self> {
         opts.validate()?;
-        let mode = if y0[1] == 0.0 {
-            pieces.mode_at_rest(t0, &y0)
+        let (mode, signs_at) = if y0[1] == 0.0 {
+            pieces.mode_leaving_rest(t0, &y0)
         } else {
-            Mode::slipping(y0[1])
+            (Mode::slipping(y0[1]), t0)
         };
         let mut s = Switching {
             pieces,
@@ -347,7 +370,7 @@ impl<'p, const N: usize> Switching<'p, N> {
             last: None,
             stalls: 0,
         };
-        s.enter(mode)?;
+        s.enter_reading_signs_at(mode, signs_at)?;
         Ok(s)
     }
 
@@ -363,6 +386,12 @@ impl<'p, const N: usize> Switching<'p, N> {
 
     /// Enters `mode` at the current (t, y): a fresh stepper on its piece when it slips.
     fn enter(&mut self, mode: Mode) -> Result<()> {
+        self.enter_reading_signs_at(mode, self.t)
+    }
+
+    /// [`Switching::enter`], the internal states' signs read from the piece's Taylor rows at
+    /// `signs_at` (the current t but at an equilibrium start, [`Pieces::mode_leaving_rest`]).
+    fn enter_reading_signs_at(&mut self, mode: Mode, signs_at: f64) -> Result<()> {
         self.mode = mode;
         if let Some(inner) = self.inner.take() {
             let s = inner.stats();
@@ -381,7 +410,7 @@ impl<'p, const N: usize> Switching<'p, N> {
                 }
             }
             _ => {
-                self.bits = self.pieces.signs(mode, self.t, &self.y);
+                self.bits = self.pieces.signs(mode, signs_at, &self.y);
                 let piece = self.pieces.piece(mode, self.bits);
                 Some(stepper(piece, self.t, self.y, self.opts)?)
             }

@@ -4,6 +4,7 @@
 //! ([`Term`]).
 
 pub use super::control::{Dither, VirtualDamping, VirtualStiffness, Washout};
+pub use super::dahl::Dahl;
 pub use super::delay::Delay;
 pub use super::excitation::Multisine;
 pub(crate) use super::friction::Level;
@@ -565,6 +566,7 @@ any_term!(
     Coulomb,
     LuGre,
     BoucWen,
+    Dahl,
     VirtualStiffness,
     VirtualDamping,
     Washout,
