@@ -342,10 +342,13 @@ fn an_interrupted_report_leaves_only_complete_files() {
             }
         }
         // and the report can then be written there: the manifest lists what it wrote so far
-        hdgear()
-            .current_dir(dir.path())
-            .args(["report", "--out", "r", "--quiet"])
-            .assert()
-            .success();
+        // (checked after the interruption while writing: the one that leaves files behind)
+        if marker == "[6/6" {
+            hdgear()
+                .current_dir(dir.path())
+                .args(["report", "--out", "r", "--quiet"])
+                .assert()
+                .success();
+        }
     }
 }
