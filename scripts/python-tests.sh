@@ -10,47 +10,30 @@
 #      LocalCluster map, the notebook run top to bottom) and the overhead benchmark;
 #   4. the same wheel installed into fresh environments of two other Python versions (pyenv's
 #      3.9 and 3.13) and tested there (without pandas: the plain-dict path).
-#
-#   scripts/python-tests.sh [--build-only | --test-only]
-# --build-only does steps 1 and 2, --test-only steps 3 and 4 on the wheel step 2 left in
-# target/wheels (.ci/run builds the wheel in the background while the rest of CI runs). The wheel
-# is compiled in its own target directory (target/wheel), so that it never waits for the lock of
-# a cargo build running beside it.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
 export PIP_DISABLE_PIP_VERSION_CHECK=1
-mode=${1:-all}
-case "$mode" in
-    all | --build-only | --test-only) ;;
-    *) echo "usage: scripts/python-tests.sh [--build-only | --test-only]"; exit 2 ;;
-esac
-venv="$root/target/py-venv"
-
-if [ "$mode" != --test-only ]; then
-    [ -x "$venv/bin/python" ] || python3 -m venv "$venv"
-    "$venv/bin/pip" install -q maturin numpy pandas pytest matplotlib "dask[distributed]" nbclient nbformat ipykernel ziglang
-    echo "== pip wheel ./crates/hdgear-py: one manylinux2014 wheel, linked with zig"
-    rm -rf target/wheels
-    # pip runs maturin (the package's build backend) in an isolated environment; MATURIN_PEP517_ARGS
-    # passes it the zig options, and maturin finds the `zig` that the venv's ziglang package holds
-    zig_dir=$("$venv/bin/python" -c 'import os, ziglang; print(os.path.dirname(ziglang.__file__))')
-    PATH="$zig_dir:$PATH" MATURIN_PEP517_ARGS="--zig --compatibility manylinux2014" \
-        CARGO_TARGET_DIR="$root/target/wheel" \
-        "$venv/bin/pip" wheel -q --no-deps -w target/wheels ./crates/hdgear-py
-    wheel=$(ls target/wheels/hdgear-*.whl)
-    echo "built $(basename "$wheel")"
-    case "$wheel" in
-        *manylinux2014*abi3* | *abi3*manylinux2014*) ;;
-        *) echo "not a manylinux2014 abi3 wheel: $wheel"; exit 1 ;;
-    esac
-fi
-[ "$mode" != --build-only ] || exit 0
-
 bin="$root/target/release/hdgear"
 [ -x "$bin" ] || cargo build --release --quiet
 export HDGEAR_BIN="$bin"
+
+venv="$root/target/py-venv"
+[ -x "$venv/bin/python" ] || python3 -m venv "$venv"
+"$venv/bin/pip" install -q maturin numpy pandas pytest matplotlib "dask[distributed]" nbclient nbformat ipykernel ziglang
+echo "== pip wheel ./crates/hdgear-py: one manylinux2014 wheel, linked with zig"
+rm -rf target/wheels
+# pip runs maturin (the package's build backend) in an isolated environment; MATURIN_PEP517_ARGS
+# passes it the zig options, and maturin finds the `zig` that the venv's ziglang package holds
+zig_dir=$("$venv/bin/python" -c 'import os, ziglang; print(os.path.dirname(ziglang.__file__))')
+PATH="$zig_dir:$PATH" MATURIN_PEP517_ARGS="--zig --compatibility manylinux2014" \
+    "$venv/bin/pip" wheel -q --no-deps -w target/wheels ./crates/hdgear-py
 wheel=$(ls target/wheels/hdgear-*.whl)
+echo "built $(basename "$wheel")"
+case "$wheel" in
+    *manylinux2014*abi3* | *abi3*manylinux2014*) ;;
+    *) echo "not a manylinux2014 abi3 wheel: $wheel"; exit 1 ;;
+esac
 echo "== the wheel in $("$venv/bin/python" --version)"
 "$venv/bin/pip" install -q --force-reinstall --no-deps "$wheel"
 "$venv/bin/python" -m pytest -q crates/hdgear-py/tests
