@@ -316,22 +316,7 @@ fn regularised_terms_taylor_agrees_with_dop853() {
     ];
     for term in terms {
         let m = Model::study(&p).with_term(term).unwrap();
-        let run = |method| {
-            let opts = SimOptions {
-                t_end,
-                dt: 0.05,
-                start: Start::Rest,
-                tol: Options {
-                    rtol: 1e-12,
-                    atol: 1e-12,
-                    method,
-                    ..Options::default()
-                },
-            };
-            let mut xs = vec![];
-            simulate_model(&m, &opts, |_, y| xs.push([y[0], y[1]])).unwrap();
-            xs
-        };
+        let run = |method| crate::common::states_from_rest(&m, method, 1e-12, t_end, 0.05);
         let (a, b) = (run(Method::Taylor), run(Method::Dop853));
         let worst = a
             .iter()

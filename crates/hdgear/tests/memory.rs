@@ -540,22 +540,7 @@ fn random_models_with_memory_agree_across_methods() {
 /// The largest difference of the states at `t_end` between Taylor's method and DOP853, both at
 /// 1e-12, each piece by piece.
 fn methods_differ(m: &Model, t_end: f64) -> f64 {
-    let run = |method| {
-        let opts = SimOptions {
-            t_end,
-            dt: t_end,
-            start: Start::Rest,
-            tol: Options {
-                rtol: 1e-12,
-                atol: 1e-12,
-                method,
-                ..Options::default()
-            },
-        };
-        let mut out = vec![];
-        simulate_model(m, &opts, |_, y| out.extend_from_slice(y)).unwrap();
-        out
-    };
+    let run = |method| crate::common::states_from_rest(m, method, 1e-12, t_end, t_end).concat();
     let (a, b) = (run(Method::Taylor), run(Method::Dop853));
     a.iter()
         .zip(&b)

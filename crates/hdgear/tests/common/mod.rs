@@ -200,6 +200,31 @@ pub fn tight(method: hdgear::integrate::Method) -> hdgear::integrate::Options {
     }
 }
 
+/// The states of `m` sampled every `dt` from rest (x = 0) to `t_end` with `method` at tolerance
+/// `tol` (relative and absolute), one vector per sample.
+pub fn states_from_rest(
+    m: &hdgear::model::Model,
+    method: hdgear::integrate::Method,
+    tol: f64,
+    t_end: f64,
+    dt: f64,
+) -> Vec<Vec<f64>> {
+    let opts = hdgear::simulate::SimOptions {
+        t_end,
+        dt,
+        start: hdgear::simulate::Start::Rest,
+        tol: hdgear::integrate::Options {
+            rtol: tol,
+            atol: tol,
+            method,
+            ..hdgear::integrate::Options::default()
+        },
+    };
+    let mut out = vec![];
+    hdgear::simulate::simulate_model(m, &opts, |_, y| out.push(y.to_vec())).unwrap();
+    out
+}
+
 /// A multisine a·Σ_{k=1}^{lines} cos(k·w·t + φ_k) with Schroeder's phases φ_k = −π(k − 1)k/lines,
 /// written from the formula (independent of hdgear's multisine term).
 pub fn schroeder(a: f64, w: f64, lines: u32, t: f64) -> f64 {
