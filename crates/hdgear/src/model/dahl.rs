@@ -5,7 +5,7 @@
 //! slower one). Rate-independent, like Bouc–Wen ([`super::memory::BoucWen`]): T_h depends on the
 //! path of x, not on its speed.
 
-use super::jet::{cauchy, square_coefficient};
+use super::jet::{cauchy, whole_power_rows};
 use super::terms::{Domain, ParamInfo, Scratch, Side, StateInfo, Term, piece_sign};
 use serde::Serialize;
 
@@ -118,17 +118,9 @@ impl Term for Dahl {
     fn rate_taylor(&self, k: usize, _x: &[f64], v: &[f64], th: &[f64], rows: &mut Scratch) -> f64 {
         let [sigma, tc, _] = self.values;
         let (sv, _, n) = self.base(v[0], th[0]);
-        let p = &mut rows.0;
-        p[0][k] = if k == 0 { 1.0 } else { 0.0 } - sv * th[k] / tc;
-        for m in 1..n as usize {
-            let (done, next) = p.split_at_mut(m);
-            next[0][k] = if m == 1 {
-                square_coefficient(&done[0], k)
-            } else {
-                cauchy(&done[m - 1], &done[0], k)
-            };
-        }
-        sigma * cauchy(v, &p[n as usize - 1], k)
+        let (base, powers) = rows.0.split_at_mut(1);
+        base[0][k] = if k == 0 { 1.0 } else { 0.0 } - sv * th[k] / tc;
+        sigma * cauchy(v, whole_power_rows(&base[0], n as usize, powers, k), k)
     }
     fn taylor(&self, k: usize, _x: &[f64], _v: &[f64], th: &[f64], _rows: &mut Scratch) -> f64 {
         th[k]

@@ -16,6 +16,7 @@
 //! Each function takes the argument's rows 0..=k and the result's rows 0..k (computed at the
 //! earlier orders) and returns row k, so a recurrence runs order by order beside the state's.
 
+use super::terms::MAX_ROWS;
 pub use crate::integrate::taylor::{cauchy, square_coefficient};
 
 /// Σ_{j=1..=k} j·u_j·w_{k−j} / k: the sum every recurrence of this module shares.
@@ -194,6 +195,37 @@ pub fn pow_coefficient(u: &[f64], a: f64, p: &[f64], k: usize) -> f64 {
         s += (a * j as f64 - (k - j) as f64) * u[j] * p[k - j];
     }
     s / (k as f64 * u[0])
+}
+
+/// Row k of a whole power uⁿ (n = 1 … 4) by repeated products, from u's rows 0..=k: the rows
+/// of u², …, uⁿ are kept in `powers[0..n − 1]` (their rows 0..k from the earlier orders, row k
+/// written here). Returns uⁿ's rows, u's own for n = 1.
+///
+/// ```
+/// use hdgear::model::jet::whole_power_rows;
+/// // (1 + t)³ = 1 + 3t + 3t² + t³
+/// let u = [1.0, 1.0, 0.0, 0.0];
+/// let mut powers = [[0.0; hdgear::model::terms::MAX_ROWS]; 2];
+/// for k in 0..4 {
+///     let cube = whole_power_rows(&u, 3, &mut powers, k);
+///     assert_eq!(cube[k], [1.0, 3.0, 3.0, 1.0][k]);
+/// }
+/// ```
+#[inline(always)]
+pub fn whole_power_rows<'a>(
+    u: &'a [f64],
+    n: usize,
+    powers: &'a mut [[f64; MAX_ROWS]],
+    k: usize,
+) -> &'a [f64] {
+    for m in 0..n.saturating_sub(1) {
+        let (done, next) = powers.split_at_mut(m);
+        next[0][k] = match done.last() {
+            None => square_coefficient(u, k),
+            Some(lower) => cauchy(lower, u, k),
+        };
+    }
+    if n <= 1 { u } else { &powers[n - 2] }
 }
 
 #[cfg(test)]

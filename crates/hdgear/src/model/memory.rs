@@ -7,7 +7,7 @@
 //! analytic, and a switching integration ([`super::switching`]) cuts steps where a sign changes.
 //! Both states' rates vanish at x' = 0, so a state is held while the motion rests.
 
-use super::jet::{cauchy, exp_step_limit, quotient_coefficient, square_coefficient};
+use super::jet::{cauchy, exp_step_limit, quotient_coefficient, whole_power_rows};
 use super::terms::{
     Domain, FRICTION_FC, FRICTION_FS, Level, ParamInfo, STRIBECK_VELOCITY, Scratch, Side,
     StateInfo, Term, piece_sign,
@@ -340,15 +340,7 @@ impl Term for BoucWen {
     fn rate_taylor(&self, k: usize, _x: &[f64], v: &[f64], z: &[f64], rows: &mut Scratch) -> f64 {
         let a = self.values[2];
         let (sv, sz, n) = self.signs(v[0], z[0]);
-        let p = &mut rows.0;
-        for m in 0..(n as usize).saturating_sub(1) {
-            let (done, next) = p.split_at_mut(m);
-            next[0][k] = match done.last() {
-                None => square_coefficient(z, k),
-                Some(lower) => cauchy(lower, z, k),
-            };
-        }
-        let zn: &[f64] = if n == 1 { z } else { &p[n as usize - 2] };
+        let zn = whole_power_rows(z, n as usize, &mut rows.0, k);
         a * v[k] - self.coefficient(sv, sz, n) * cauchy(v, zn, k)
     }
     fn taylor(&self, k: usize, x: &[f64], _v: &[f64], z: &[f64], _rows: &mut Scratch) -> f64 {
