@@ -61,7 +61,7 @@ impl System<4> for Physical {
         let d = &self.d;
         let th = z[0];
         let thd = z[1] / self.t_c;
-        let spring = (d.k1 + d.k2 * th * th) * (th - d.backlash);
+        let spring = d.spring(th);
         let damper = d.c_eq * thd;
         let acc_out = (d.t_m + d.t_am * libm::sin(d.omega * t) - damper - spring) / d.j_out;
         let acc_in = (-d.t_m + damper + spring) / (d.ratio * d.j_in);
@@ -74,12 +74,10 @@ impl System<4> for Physical {
         ]
     }
 
-    /// The same equations order by order: the spring (k1 + k2θ²)(θ − φ) from Cauchy sums of θ,
+    /// The same equations order by order: the spring's rows ([`super::PhysicalParams::spring_row`]),
     /// the disturbance from the coefficients of sin Ωt.
     fn taylor(&self, t: f64, z: &[f64; 4], order: usize, c: &mut [[f64; 4]]) -> bool {
-        use crate::integrate::taylor::{
-            INV, MAX_ORDER, cauchy, sine_coefficients, square_coefficient,
-        };
+        use crate::integrate::taylor::{INV, MAX_ORDER, sine_coefficients, square_coefficient};
         let d = &self.d;
         let n = order.min(MAX_ORDER).min(c.len() - 1);
         let (mut th, mut th2, mut s) = (
@@ -92,9 +90,8 @@ impl System<4> for Physical {
         th[0] = z[0];
         for k in 0..n {
             th2[k] = square_coefficient(&th, k);
-            let th3 = cauchy(&th2, &th, k);
             let first = if k == 0 { 1.0 } else { 0.0 };
-            let spring = d.k1 * (th[k] - first * d.backlash) + d.k2 * (th3 - d.backlash * th2[k]);
+            let spring = d.spring_row(&th, &th2, k);
             let damper = d.c_eq * c[k][1] / self.t_c;
             let acc_out = (first * d.t_m + d.t_am * s[k] - damper - spring) / d.j_out;
             let acc_in = (-first * d.t_m + damper + spring) / (d.ratio * d.j_in);
