@@ -164,10 +164,22 @@ fn model(p: &Params, law: Law) -> Model {
 }
 
 fn hdgear_run(p: &Params, law: Law, method: Method, t_end: f64, dt: f64) -> Vec<[f64; 3]> {
+    hdgear_run_from(Start::Rest, p, law, method, t_end, dt)
+}
+
+/// [`hdgear_run`] from the start `start`.
+fn hdgear_run_from(
+    start: Start,
+    p: &Params,
+    law: Law,
+    method: Method,
+    t_end: f64,
+    dt: f64,
+) -> Vec<[f64; 3]> {
     let opts = SimOptions {
         t_end,
         dt,
-        start: Start::Rest,
+        start,
         tol: crate::common::tight(method),
     };
     let mut out = vec![];
@@ -727,17 +739,7 @@ fn an_equilibrium_start_leaves_rest_as_the_load_pushes() {
     let Law::Dahl([_, tc, _]) = law else {
         unreachable!()
     };
-    let run = |method| {
-        let opts = SimOptions {
-            t_end,
-            dt: 0.05,
-            start: Start::Equilibrium,
-            tol: crate::common::tight(method),
-        };
-        let mut out = vec![];
-        simulate_model(&model(&p, law), &opts, |_, y| out.push([y[0], y[1], y[2]])).unwrap();
-        out
-    };
+    let run = |method| hdgear_run_from(Start::Equilibrium, &p, law, method, t_end, 0.05);
     let (taylor, dop853) = (run(Method::Taylor), run(Method::Dop853));
     assert!(taylor[1][1] > 0.0, "left rest backwards: {:?}", taylor[1]);
     let peak = taylor.iter().map(|y| y[2].abs()).fold(0.0, f64::max);
@@ -756,14 +758,7 @@ fn an_equilibrium_start_leaves_rest_as_the_load_pushes() {
 #[test]
 fn an_equilibrium_start_matches_the_independent_integration() {
     let (p, law, t_end) = cases()[1];
-    let opts = SimOptions {
-        t_end,
-        dt: 0.05,
-        start: Start::Equilibrium,
-        tol: crate::common::tight(Method::Taylor),
-    };
-    let mut ours = vec![];
-    simulate_model(&model(&p, law), &opts, |_, y| ours.push([y[0], y[1], y[2]])).unwrap();
+    let ours = hdgear_run_from(Start::Equilibrium, &p, law, Method::Taylor, t_end, 0.05);
     let reference = Reference {
         drive: Drive::Study(p),
         law,
