@@ -330,6 +330,49 @@ fn regularised_terms_taylor_agrees_with_dop853() {
     }
 }
 
+/// A term's step limit holds its truncation to the absolute tolerance per time unit, what the
+/// state's own rule aims at: the regularised friction's run follows the tolerance (60 time units
+/// against DOP853 at 1e-13, within tol per time unit; without the limits the state's rule alone
+/// steps across tanh's turn and misses by far more), and tightening the tolerance costs steps
+/// only as Taylor's reach does: from 1e-12 to 1e-15 the order rises to 19 and a truncation
+/// bound (δ/last)^{1/p} shrinks by at most 1000^{1/16} ≈ 1.5, so at most twice the steps.
+#[test]
+fn regularised_friction_follows_the_tolerance_at_bounded_cost() {
+    use hdgear::integrate::{Stepper, stepper};
+    let (p, f, t_end) = cases()[0];
+    for vr in [1e-2, 1e-3] {
+        let term = AnyTerm::new("stribeck", &[f.fc, f.fs, f.vst, 0.05, vr]).unwrap();
+        let m = Model::study(&p).with_term(term).unwrap();
+        let end = |method, tol: f64| {
+            let o = Options {
+                rtol: tol,
+                atol: tol,
+                method,
+                ..Options::default()
+            };
+            let mut s = stepper(&m, 0.0, [0.0, 0.0], o).unwrap();
+            while s.t() < t_end {
+                s.step(t_end).unwrap();
+            }
+            (*s.y(), s.stats().steps)
+        };
+        let (reference, _) = end(Method::Dop853, 1e-13);
+        let mut steps = vec![];
+        for tol in [1e-8, 1e-12, 1e-15] {
+            let (y, n) = end(Method::Taylor, tol);
+            let error = (y[0] - reference[0]).abs().max((y[1] - reference[1]).abs());
+            // below 1e-12 the reference's own error decides
+            let allowed = tol.max(1e-12) * t_end;
+            assert!(error < allowed, "v_r {vr}, tol {tol}: error {error:e}");
+            steps.push(n);
+        }
+        assert!(
+            steps[2] <= 2 * steps[1],
+            "v_r {vr}: steps at 1e-8, 1e-12, 1e-15 {steps:?}"
+        );
+    }
+}
+
 /// The first τ > τ₀ at which |a(τ)| leaves the static band `band`: scanned every 1e-4 (a fifth
 /// of the fastest period below, 2π/40 ≈ 0.157, over 300: no crossing and return is missed), then
 /// bisected to rounding.

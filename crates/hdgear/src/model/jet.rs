@@ -62,6 +62,7 @@ pub fn exp_step_limit(
     amplitude: f64,
     negligible: f64,
 ) -> f64 {
+    let negligible = resolvable(negligible, amplitude);
     let converged = within_tolerance(
         own_step(e[0].abs(), e[order - 1].abs(), e[order].abs(), order),
         amplitude * e[order].abs(),
@@ -87,6 +88,7 @@ pub fn tanh_step_limit(
     amplitude: f64,
     negligible: f64,
 ) -> f64 {
+    let negligible = resolvable(negligible, amplitude);
     let sech2 = 1.0 / (u[0].cosh() * u[0].cosh());
     let converged = if sech2 > 1e-14 {
         within_tolerance(
@@ -103,6 +105,13 @@ pub fn tanh_step_limit(
     shorten(h, converged, |h| {
         amplitude * (bound(u[0].abs() - tail_bound(u, order, h)) - start) > negligible
     })
+}
+
+/// `negligible`, or the rounding of the term's own value (ε·`amplitude`) where that is larger: a
+/// change below it is below what any step resolves, and asking for one would shrink the steps
+/// without bound at the tightest tolerances.
+fn resolvable(negligible: f64, amplitude: f64) -> f64 {
+    negligible.max(f64::EPSILON * amplitude)
 }
 
 /// Σ_{k=1}^{order} |u_k|·h^k, by Horner's rule.

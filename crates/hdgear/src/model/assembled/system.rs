@@ -59,8 +59,10 @@ impl<const N: usize> System<N> for Model {
         self.terms().any(|t| t.limits_steps())
     }
     /// `step` on the state's rows, shortened by the terms' own limits
-    /// ([`crate::model::terms::Term::step_limit`]) on the terms' rows of the same pass, a
-    /// contribution of 1e-3·atol negligible.
+    /// ([`crate::model::terms::Term::step_limit`]) on the terms' rows of the same pass. A term's
+    /// truncation δ over a step of length h moves x' by at most δ·h: held to atol per time unit
+    /// (atol itself on steps up to a time unit, the fast subsystem's scale), that is the
+    /// absolute error the state's own rule aims at, so a smaller δ is negligible.
     fn taylor_step<F: FnOnce(&[[f64; N]]) -> f64>(
         &self,
         t: f64,
@@ -73,12 +75,13 @@ impl<const N: usize> System<N> for Model {
         let mut rows = [Scratch::default(); MAX_TERMS];
         let n = self.taylor_rows(t, y, order, c, &mut rows);
         let h = step(c);
+        let negligible = atol / h.max(1.0);
         Some(
             self.terms
                 .iter()
                 .zip(&rows)
                 .fold(h, |h, (term, r)| match term {
-                    Some(term) => term.step_limit(r, n, h, 1e-3 * atol),
+                    Some(term) => term.step_limit(r, n, h, negligible),
                     _ => h,
                 }),
         )
