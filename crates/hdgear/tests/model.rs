@@ -28,7 +28,8 @@ fn random_params(u: &mut impl FnMut() -> f64) -> Params {
 }
 
 /// A random model: the study's terms and, with even odds each, smooth friction,
-/// Coulomb–Stribeck–viscous friction (not both: they share f_c) or a piecewise-linear stiffness.
+/// Coulomb–Stribeck–viscous friction (not both: they share f_c) or a piecewise-linear stiffness
+/// (sharp or with rounded knees).
 fn random_model(u: &mut impl FnMut() -> f64) -> Model {
     let m = Model::study(&random_params(u));
     match (u() * 4.0) as u32 {
@@ -39,6 +40,13 @@ fn random_model(u: &mut impl FnMut() -> f64) -> Model {
                 .map(|&(a, b)| between(u, a, b))
                 .collect();
             v.push(between(u, -0.5, 0.5));
+            // sharp knees, or knees rounded over up to a third of the first segment
+            let rounding = u();
+            v.push(if rounding < 0.5 {
+                0.0
+            } else {
+                rounding * 0.3 * v[3]
+            });
             m.with_term(AnyTerm::new("piecewise", &v).unwrap()).unwrap()
         }
         1 => m

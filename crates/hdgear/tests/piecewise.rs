@@ -10,16 +10,16 @@ use hdgear::model::Model;
 use hdgear::model::terms::AnyTerm;
 use hdgear::simulate::{SimOptions, Start, simulate_model, simulate_model_steps};
 
-/// The law's values [k₁, k₂, k₃, x₁, w₂, x₀]; every slope above 1/4, so each segment's free
-/// motion is a damped oscillation (the closed form below has that case only).
-const LAW: [f64; 6] = [1.0, 2.5, 6.0, 0.4, 0.6, 0.15];
+/// The law's values [k₁, k₂, k₃, x₁, w₂, x₀, x_r] (sharp knees); every slope above 1/4, so each
+/// segment's free motion is a damped oscillation (the closed form below has that case only).
+const LAW: [f64; 7] = [1.0, 2.5, 6.0, 0.4, 0.6, 0.15, 0.0];
 /// μ, δ, ω: the load swings x across both kinks on both sides.
 const FORCING: [f64; 3] = [0.6, 3.2, 0.4];
 const T_END: f64 = 80.0;
 
 /// The segment of u = x − x₀ (0 … 4 from below) for a state moving in `direction` on a kink.
 fn segment(u: f64, direction: f64) -> usize {
-    let [_, _, _, x1, w2, _] = LAW;
+    let [_, _, _, x1, w2, ..] = LAW;
     let edges = [-(x1 + w2), -x1, x1, x1 + w2];
     edges
         .iter()
@@ -35,7 +35,7 @@ fn segment(u: f64, direction: f64) -> usize {
 
 /// The line P(u) = k·u + b on segment i.
 fn line(i: usize) -> (f64, f64) {
-    let [k1, k2, k3, x1, w2, _] = LAW;
+    let [k1, k2, k3, x1, w2, ..] = LAW;
     let b2 = (k1 - k2) * x1;
     let b3 = b2 + (k2 - k3) * (x1 + w2);
     [(k3, -b3), (k2, -b2), (k1, 0.0), (k2, b2), (k3, b3)][i]
@@ -98,7 +98,7 @@ impl Piece {
 
 /// The interval of u on segment i.
 fn bounds(i: usize) -> (f64, f64) {
-    let [_, _, _, x1, w2, _] = LAW;
+    let [_, _, _, x1, w2, ..] = LAW;
     let edges = [
         f64::NEG_INFINITY,
         -(x1 + w2),
@@ -202,7 +202,7 @@ fn worst(a: &[[f64; 3]], b: &[[f64; 3]]) -> f64 {
 fn taylor_steps_end_on_the_kinks_and_follow_the_exact_solution() {
     let (reference, kinks) = exact(0.5);
     assert!(kinks.len() >= 12, "{} crossings", kinks.len());
-    let [_, _, _, x1, w2, x0] = LAW;
+    let [_, _, _, x1, w2, x0, _] = LAW;
     for (_, x) in &kinks {
         let u = (x - x0).abs();
         assert!((u - x1).abs() < 1e-12 || (u - x1 - w2).abs() < 1e-12, "{x}");
@@ -253,7 +253,7 @@ fn dop853_follows_the_exact_solution_to_its_tolerance() {
 #[test]
 fn the_law_is_the_catalogue_curve() {
     let t = AnyTerm::new("piecewise", &LAW).unwrap();
-    let [k1, k2, k3, x1, w2, x0] = LAW;
+    let [k1, k2, k3, x1, w2, x0, _] = LAW;
     let p = |u: f64| t.torque(x0 + u, 0.0, 0.0);
     assert_eq!(p(0.0), 0.0);
     assert!((p(x1) - k1 * x1).abs() < 1e-15);
@@ -286,7 +286,7 @@ fn the_law_is_the_catalogue_curve() {
 /// curve, not the cubic's.
 #[test]
 fn the_study_set_of_a_piecewise_model_holds_only_where_its_equilibria_lie() {
-    let law = AnyTerm::new("piecewise", &[0.5, 3.0, 9.0, 3.5, 1.0, 0.0]).unwrap();
+    let law = AnyTerm::new("piecewise", &[0.5, 3.0, 9.0, 3.5, 1.0, 0.0, 0.0]).unwrap();
     let p = Params::default();
     let m = Model::study(&p).with_term(law).unwrap();
     let q = m
@@ -342,4 +342,128 @@ fn a_start_a_rounding_error_past_a_kink_steps_on() {
     };
     let (taylor, dop) = (run(Method::Taylor), run(Method::Dop853));
     assert!(worst(&taylor, &dop) < 1e-8, "{}", worst(&taylor, &dop));
+}
+
+/// The rounded law written out here from its definition, apart from the term's code: each
+/// max(y, 0) = (y + |y|)/2 of the sharp law with |y| replaced by √(y² + r²),
+/// P_r(u) = k₁u + (k₂ − k₁)(h(u − x₁) − h(−u − x₁)) + (k₃ − k₂)(h(u − x₂) − h(−u − x₂)).
+fn rounded_by_hand(u: f64, r: f64) -> f64 {
+    let [k1, k2, k3, x1, w2, ..] = LAW;
+    let h = |y: f64| 0.5 * (y + (y * y + r * r).sqrt());
+    let x2 = x1 + w2;
+    k1 * u + (k2 - k1) * (h(u - x1) - h(-u - x1)) + (k3 - k2) * (h(u - x2) - h(-u - x2))
+}
+
+/// The law with its knees rounded over `r`.
+fn rounded(r: f64) -> [f64; 7] {
+    let mut law = LAW;
+    law[6] = r;
+    law
+}
+
+/// x'' + x' + P_r(x − x₀) = μ + δ sin ωt by hand.
+struct RoundedByHand(f64);
+
+impl hdgear::integrate::System<2> for RoundedByHand {
+    fn rhs(&self, t: f64, y: &[f64; 2]) -> [f64; 2] {
+        let [mu, delta, w] = FORCING;
+        let torque = rounded_by_hand(y[0] - LAW[5], self.0);
+        [y[1], mu + delta * (w * t).sin() - y[1] - torque]
+    }
+}
+
+/// The rounded law is its definition (to rounding, over both knees on both sides), and within
+/// (|k₂ − k₁| + |k₃ − k₂|)·x_r of the sharp law everywhere: each |y| moves by at most x_r.
+#[test]
+fn rounded_knees_are_their_definition_and_near_the_sharp_law() {
+    let sharp = AnyTerm::new("piecewise", &LAW).unwrap();
+    let [k1, k2, k3, x1, w2, x0, _] = LAW;
+    for r in [0.2, 0.01, 1e-4] {
+        let term = AnyTerm::new("piecewise", &rounded(r)).unwrap();
+        for i in 0..=400 {
+            let u = -3.0 + 6.0 * f64::from(i) / 400.0;
+            let t = term.torque(u + x0, 0.0, 0.0);
+            let by_hand = rounded_by_hand(u, r);
+            assert!(
+                (t - by_hand).abs() < 1e-13 * (1.0 + t.abs()),
+                "{u}: {t} vs {by_hand}"
+            );
+            let gap = (t - sharp.torque(u + x0, 0.0, 0.0)).abs();
+            assert!(
+                gap <= ((k2 - k1).abs() + (k3 - k2).abs()) * r * (1.0 + 1e-12),
+                "{u}: {gap}"
+            );
+        }
+        // at the first knee the gap is about half the slope change times the rounding
+        let knee = term.torque(x1 + x0, 0.0, 0.0) - sharp.torque(x1 + x0, 0.0, 0.0);
+        let x2 = x1 + w2;
+        let expected = 0.5 * (k2 - k1) * (r - ((2.0 * x1).powi(2) + r * r).sqrt() + 2.0 * x1)
+            + 0.5
+                * (k3 - k2)
+                * (((x1 - x2).powi(2) + r * r).sqrt()
+                    - ((x1 + x2).powi(2) + r * r).sqrt()
+                    - (x2 - x1)
+                    + (x1 + x2));
+        assert!((knee - expected).abs() < 1e-12, "{knee} vs {expected}");
+    }
+}
+
+/// The state at T_END from rest of `sys` with `method` at 1e-12.
+fn final_state<S: hdgear::integrate::System<2>>(sys: &S, method: Method) -> [f64; 2] {
+    use hdgear::integrate::{Stepper, stepper};
+    let o = Options {
+        method,
+        rtol: 1e-12,
+        atol: 1e-12,
+        ..Options::default()
+    };
+    let mut s = stepper(sys, 0.0, [0.0, 0.0], o).unwrap();
+    while s.t() < T_END {
+        s.step(T_END).unwrap();
+    }
+    *s.y()
+}
+
+/// Taylor's method on the rounded law (√'s recurrence, no events) against DOP853 on the law
+/// written by hand, both at 1e-12, over the run that crosses both knees on both sides.
+#[test]
+fn rounded_knees_follow_their_equation_written_by_hand() {
+    let [mu, delta, w] = FORCING;
+    for r in [0.2, 0.02] {
+        let m = Model::damped(mu, delta, w)
+            .with_term(AnyTerm::new("piecewise", &rounded(r)).unwrap())
+            .unwrap();
+        let a = final_state(&m, Method::Taylor);
+        let b = final_state(&RoundedByHand(r), Method::Dop853);
+        let scale = 1.0 + a[0].abs().max(a[1].abs());
+        assert!(
+            (a[0] - b[0]).abs().max((a[1] - b[1]).abs()) < 1e-8 * scale,
+            "x_r {r}: {a:?} vs {b:?}"
+        );
+    }
+}
+
+/// As the rounding shrinks the trajectory converges to the sharp law's closed form: at least
+/// first order in x_r (the torques differ by O(x_r) within O(x_r) of a knee, by O(x_r²) off it).
+#[test]
+fn rounded_knees_converge_to_the_sharp_law() {
+    let (exact_samples, _) = exact(0.5);
+    let [mu, delta, w] = FORCING;
+    let errors: Vec<f64> = [1e-2, 1e-3, 1e-4]
+        .iter()
+        .map(|&r| {
+            let m = Model::damped(mu, delta, w)
+                .with_term(AnyTerm::new("piecewise", &rounded(r)).unwrap())
+                .unwrap();
+            let mut out = vec![];
+            simulate_model(&m, &opts(Method::Taylor, 1e-12, 0.5), |t, y| {
+                out.push([t, y[0], y[1]])
+            })
+            .unwrap();
+            worst(&out, &exact_samples)
+        })
+        .collect();
+    for pair in errors.windows(2) {
+        assert!(pair[1] < pair[0] / 3.0, "{errors:?}");
+    }
 }

@@ -475,7 +475,7 @@ fn the_curve_is_refused_where_it_is_not_known() {
         .unwrap_err()
         .to_string();
     assert!(err.contains("no function of the load"), "{err}");
-    let piecewise = AnyTerm::new("piecewise", &[0.05, 0.5, 5.0, 0.3, 0.5, 0.0]).unwrap();
+    let piecewise = AnyTerm::new("piecewise", &[0.05, 0.5, 5.0, 0.3, 0.5, 0.0, 0.0]).unwrap();
     let law = Scheduled::for_plant(&p, 0.3, RAMP_DEFAULT);
     let m = Model::damped(p.mu, p.delta, p.omega)
         .with_term(piecewise)

@@ -190,7 +190,7 @@ fn the_verdict_against_the_model_curve_is_the_cubics() {
 #[test]
 fn a_linear_spring_has_the_linear_oscillators_closed_form_verdict() {
     let (k, mu, delta, omega) = (2.0, 0.3, 1.0, 0.02);
-    let law = AnyTerm::new("piecewise", &[k, 3.0, 4.0, 10.0, 1.0, 0.0]).unwrap();
+    let law = AnyTerm::new("piecewise", &[k, 3.0, 4.0, 10.0, 1.0, 0.0, 0.0]).unwrap();
     let m = Model::damped(mu, delta, omega).with_term(law).unwrap();
     assert_eq!(m.equivalent_params(), None);
     let c = ModelCurve::new(&m).unwrap();
@@ -231,7 +231,7 @@ fn a_cubic_with_a_stiffer_outer_part_keeps_the_folds_of_its_inner_cubic() {
         ..Params::default()
     };
     let k1 = 0.004;
-    let law = AnyTerm::new("piecewise", &[k1, 0.5, 1.0, 0.3, 0.2, 0.0]).unwrap();
+    let law = AnyTerm::new("piecewise", &[k1, 0.5, 1.0, 0.3, 0.2, 0.0, 0.0]).unwrap();
     let m = Model::study(&p).with_term(law).unwrap();
     assert_eq!(m.equivalent_params(), None);
     let inner = Params {
@@ -260,7 +260,7 @@ fn a_cubic_with_a_stiffer_outer_part_keeps_the_folds_of_its_inner_cubic() {
 /// are known only for the cubic), naming the model.
 #[test]
 fn a_dithered_model_without_a_cubic_is_refused() {
-    let law = AnyTerm::new("piecewise", &[1.0, 2.0, 4.0, 0.5, 1.0, 0.0]).unwrap();
+    let law = AnyTerm::new("piecewise", &[1.0, 2.0, 4.0, 0.5, 1.0, 0.0, 0.0]).unwrap();
     let dither = AnyTerm::new("dither", &[0.5, 50.0]).unwrap();
     let m = Model::damped(0.0, 1.0, 0.01)
         .with_term(law)

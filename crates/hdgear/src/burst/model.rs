@@ -287,7 +287,7 @@ impl Curve {
 /// use hdgear::burst::{BurstOptions, classify_model, response_model};
 /// use hdgear::model::{Model, terms::AnyTerm};
 /// // a soft middle (slope 0.05 for |x| ≤ 0.3) between stiffer segments: no cubic, one curve
-/// let law = AnyTerm::new("piecewise", &[0.05, 0.5, 5.0, 0.3, 0.5, 0.0]).unwrap();
+/// let law = AnyTerm::new("piecewise", &[0.05, 0.5, 5.0, 0.3, 0.5, 0.0, 0.0]).unwrap();
 /// let m = Model::damped(0.0, 1.0, 0.01).with_term(law).unwrap();
 /// assert_eq!(m.equivalent_params(), None);
 /// let r = response_model(&m, &BurstOptions::default()).unwrap();

@@ -70,7 +70,7 @@ impl Statics for StaticTorque {
 /// use hdgear::fast::StaticCurve;
 /// use hdgear::model::{Model, ModelCurve, terms::AnyTerm};
 /// // a three-segment catalogue law, slopes 0.05, 0.5 and 5, kinks at |x| = 0.3 and 0.8
-/// let law = AnyTerm::new("piecewise", &[0.05, 0.5, 5.0, 0.3, 0.5, 0.0]).unwrap();
+/// let law = AnyTerm::new("piecewise", &[0.05, 0.5, 5.0, 0.3, 0.5, 0.0, 0.0]).unwrap();
 /// let c = ModelCurve::new(&Model::damped(0.0, 1.0, 0.01).with_term(law).unwrap()).unwrap();
 /// assert_eq!(c.fold_band(), None); // monotone: one branch
 /// assert!((c.min_traversed_gprime() - 0.05).abs() < 1e-12); // the soft middle

@@ -12,6 +12,7 @@
 //!   k·c_k = −Σ j·u_j·s_{k−j};
 //! * p = u^a (u₀ > 0): u·p' = a·p·u', so k·u₀·p_k = Σ_{j=1..k} (a·j − k + j)·u_j·p_{k−j};
 //! * q = n/d: n = q·d, so d₀·q_k = n_k − Σ_{j=1..k} d_j·q_{k−j}.
+//! * p = √w: p² = w, so 2p₀·p_k = w_k − Σ_{j=1..k−1} p_j·p_{k−j}.
 //!
 //! Each function takes the argument's rows 0..=k and the result's rows 0..k (computed at the
 //! earlier orders) and returns row k, so a recurrence runs order by order beside the state's.
@@ -193,6 +194,27 @@ pub fn quotient_coefficient(n: &[f64], d: &[f64], q: &[f64], k: usize) -> f64 {
     s / d[0]
 }
 
+/// Row k of p = √w (w₀ > 0) from w's row k and p's rows 0..k: p² = w, so
+/// 2p₀p_k = w_k − Σ_{j=1..k−1} p_j p_{k−j}. Only row k of w is read, so w's rows need not be
+/// kept (a sum of squares can be formed row by row).
+///
+/// ```
+/// use hdgear::model::jet::sqrt_coefficient;
+/// // √(1 + 2t + t²) = 1 + t
+/// let w = [1.0, 2.0, 1.0, 0.0];
+/// let mut p = [0.0; 4];
+/// for k in 0..4 { p[k] = sqrt_coefficient(w[k], &p, k); }
+/// assert_eq!(p, [1.0, 1.0, 0.0, 0.0]);
+/// ```
+#[inline(always)]
+pub fn sqrt_coefficient(w_k: f64, p: &[f64], k: usize) -> f64 {
+    if k == 0 {
+        return w_k.sqrt();
+    }
+    let inner: f64 = (1..k).map(|j| p[j] * p[k - j]).sum();
+    (w_k - inner) / (2.0 * p[0])
+}
+
 /// Row k of u^a (u₀ > 0) from u's rows 0..=k and u^a's rows 0..k.
 #[inline(always)]
 pub fn pow_coefficient(u: &[f64], a: f64, p: &[f64], k: usize) -> f64 {
@@ -291,6 +313,14 @@ mod tests {
                 q[k] = quotient_coefficient(&s, &e, &q, k);
             }
             q
+        });
+        check(|x| (x * x + 0.09).sqrt(), &|u| {
+            let (mut w, mut p) = (vec![0.0; 5], vec![0.0; 5]);
+            for k in 0..5 {
+                w[k] = square_coefficient(u, k) + if k == 0 { 0.09 } else { 0.0 };
+                p[k] = sqrt_coefficient(w[k], &p, k);
+            }
+            p
         });
         check(|x| x.powf(2.5), &|u| {
             let mut p = vec![0.0; 5];

@@ -10,11 +10,18 @@
 //! enters. DOP853 steps are not cut: its error control shortens the steps about a kink instead
 //! (the tests compare the two).
 //!
+//! A measured curve has no corners: its knees turn over some twist. With a rounding x_r > 0 the
+//! law is P_r(u) = k₃u + ½(k₂ − k₁)(q(u − x₁) − q(u + x₁)) + ½(k₃ − k₂)(q(u − x₂) − q(u + x₂)),
+//! q(y) = √(y² + x_r²), x₂ = x₁ + w₂: each kink |y| replaced by a hyperbola, so the law is
+//! analytic, within (|k₂ − k₁| + |k₃ − k₂|)·x_r of the sharp one everywhere, and the sharp one
+//! itself at x_r = 0 (q(y) = |y|: P on each segment). Its Taylor rows follow from √'s
+//! recurrence ([`crate::model::jet::sqrt_coefficient`]) and need no events.
+//!
 //! ```
 //! use hdgear::model::{Model, terms::AnyTerm};
 //! use hdgear::simulate::{SimOptions, Start, simulate_model};
 //! // a slow load swept across both kinks of a three-segment law (kinks at |x| = 0.5 and 1.5)
-//! let law = AnyTerm::new("piecewise", &[1.0, 2.0, 4.0, 0.5, 1.0, 0.0]).unwrap();
+//! let law = AnyTerm::new("piecewise", &[1.0, 2.0, 4.0, 0.5, 1.0, 0.0, 0.0]).unwrap();
 //! let m = Model::damped(3.0, 2.0, 0.05).with_term(law).unwrap();
 //! let opts = SimOptions { t_end: 60.0, dt: 1.0, start: Start::Rest, ..SimOptions::default() };
 //! let mut top = 0.0_f64;
@@ -40,10 +47,11 @@ fn on_kink(e: f64) -> f64 {
 
 /// Piecewise-linear stiffness T(x) = P(x − x₀), P odd, with slope k₁ for |u| ≤ x₁, k₂ for
 /// x₁ < |u| ≤ x₁ + w₂ and k₃ beyond (u = x − x₀): the catalogue's three-segment torque–twist
-/// curve, continuous, its slope jumping at the kinks |u| = x₁ and |u| = x₁ + w₂. Its values are
-/// [k₁, k₂, k₃, x₁, w₂, x₀].
+/// curve, continuous, its slope jumping at the kinks |u| = x₁ and |u| = x₁ + w₂; with a knee
+/// rounding x_r > 0 the rounded law P_r of the module's text. Its values are
+/// [k₁, k₂, k₃, x₁, w₂, x₀, x_r].
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct Piecewise(pub [f64; 6]);
+pub struct Piecewise(pub [f64; 7]);
 
 /// One segment of the law: where it lies and the line on it.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -55,10 +63,54 @@ struct Segment {
     slope: f64,
 }
 
+/// q(y) = √(y² + r²): |y| with its corner rounded over r.
+fn hyperbola(y: f64, r: f64) -> f64 {
+    (y * y + r * r).sqrt()
+}
+
 impl Piecewise {
+    /// The knee rounding x_r when the knees are rounded.
+    fn rounding(&self) -> Option<f64> {
+        (self.0[6] > 0.0).then_some(self.0[6])
+    }
+
+    /// The rounded law's halves: for each kink c ∈ {x₁, x₂}, the weight ½Δk and
+    /// (q(u − c), q(u + c)).
+    fn knees(&self, u: f64, r: f64) -> [(f64, f64, f64); 2] {
+        let [k1, k2, k3, ..] = self.0;
+        let [a, b] = self.kinks();
+        [(0.5 * (k2 - k1), a), (0.5 * (k3 - k2), b)]
+            .map(|(w, c)| (w, hyperbola(u - c, r), hyperbola(u + c, r)))
+    }
+
+    /// P_r(u) and its slope.
+    fn rounded(&self, u: f64, r: f64) -> (f64, f64) {
+        let [a, b] = self.kinks();
+        let k3 = self.0[2];
+        self.knees(u, r).iter().zip([a, b]).fold(
+            (k3 * u, k3),
+            |(value, slope), (&(w, minus, plus), c)| {
+                (
+                    value + w * (minus - plus),
+                    slope + w * ((u - c) / minus - (u + c) / plus),
+                )
+            },
+        )
+    }
+
+    /// ∂P_r/∂(x₁, w₂, x_r): a kink's place moves q(u − c) − q(u + c) by
+    /// −(u − c)/q(u − c) − (u + c)/q(u + c) per unit of c, and the rounding by r/q each.
+    fn rounded_shape_derivatives(&self, u: f64, r: f64) -> [f64; 3] {
+        let [a, b] = self.kinks();
+        let [(wa, ma, pa), (wb, mb, pb)] = self.knees(u, r);
+        let along = |m: f64, p: f64, c: f64| -(u - c) / m - (u + c) / p;
+        let (da, db) = (wa * along(ma, pa, a), wb * along(mb, pb, b));
+        [da + db, db, wa * (r / ma - r / pa) + wb * (r / mb - r / pb)]
+    }
+
     /// The kinks in u ≥ 0: x₁ and x₁ + w₂.
     fn kinks(&self) -> [f64; 2] {
-        let [_, _, _, x1, w2, _] = self.0;
+        let [_, _, _, x1, w2, ..] = self.0;
         [x1, x1 + w2]
     }
 
@@ -99,7 +151,7 @@ impl Piecewise {
 impl Term for Piecewise {
     const KIND: &'static str = "piecewise";
     const ABOUT: &'static str = "piecewise-linear stiffness of the catalogue: slopes k₁, k₂, k₃ \
-         with kinks at |x − x₀| = x₁ and x₁ + w₂, located as events";
+         with kinks at |x − x₀| = x₁ and x₁ + w₂, located as events, or rounded over x_r";
     const PARAMS: &'static [ParamInfo] = &[
         ParamInfo {
             name: "k1",
@@ -155,27 +207,61 @@ impl Term for Piecewise {
             default: 0.0,
             si: "θ₀/L",
         },
+        ParamInfo {
+            name: "xr",
+            symbol: "x_r",
+            latex: "x_r",
+            meaning: "knee rounding: the twist over which each kink turns (0: sharp kinks, \
+                      located as events)",
+            domain: Domain::NonNegative,
+            default: 0.0,
+            si: "θ_r/L",
+        },
     ];
     fn from_values(v: &[f64]) -> Self {
-        Piecewise([v[0], v[1], v[2], v[3], v[4], v[5]])
+        Piecewise([v[0], v[1], v[2], v[3], v[4], v[5], v[6]])
     }
     fn values(&self) -> &[f64] {
         &self.0
     }
     fn torque(&self, x: f64, _v: f64, _z: f64) -> f64 {
         let u = x - self.0[5];
+        if let Some(r) = self.rounding() {
+            return self.rounded(u, r).0;
+        }
         let [k1, k2, k3, ..] = self.0;
         let [s1, s2, s3] = self.spans(u.abs());
         u.signum() * (k1 * s1 + k2 * s2 + k3 * s3)
     }
-    /// The slope of the segment holding x (at a kink, the one below in |x − x₀|).
+    /// The slope of the segment holding x (at a kink, the one below in |x − x₀|); the rounded
+    /// law's slope with rounded knees.
     fn gradient(&self, x: f64, _v: f64, _z: f64) -> [f64; 3] {
         let u = x - self.0[5];
-        [self.segment(u, -u.signum()).slope, 0.0, 0.0]
+        let slope = match self.rounding() {
+            Some(r) => self.rounded(u, r).1,
+            None => self.segment(u, -u.signum()).slope,
+        };
+        [slope, 0.0, 0.0]
     }
     fn param_derivative(&self, i: usize, x: f64, _v: f64, _z: f64) -> f64 {
         let [k1, k2, k3, ..] = self.0;
         let u = x - self.0[5];
+        if let Some(r) = self.rounding() {
+            let [(_, ma, pa), (_, mb, pb)] = self.knees(u, r);
+            let (da, db) = (ma - pa, mb - pb);
+            return match i {
+                0 => -0.5 * da,
+                1 => 0.5 * (da - db),
+                2 => u + 0.5 * db,
+                3..=4 => self.rounded_shape_derivatives(u, r)[i - 3],
+                5 => -self.rounded(u, r).1,
+                _ => self.rounded_shape_derivatives(u, r)[2],
+            };
+        }
+        if i == 6 {
+            // |y| + r²/(2|y|) off the kinks: flat in r at r = 0
+            return 0.0;
+        }
         let (sign, w) = (u.signum(), u.abs());
         let spans = self.spans(w);
         let [a, b] = self.kinks();
@@ -192,8 +278,29 @@ impl Term for Piecewise {
     }
     /// Row 0 is P at the step's start; rows k ≥ 1 are the slope of the segment the motion is on
     /// times x's rows (chosen at row 1, on a kink by x' or, at rest, by x''). Keeps x's rows and
-    /// the segment for [`Term::step_limit`].
+    /// the segment for [`Term::step_limit`]. With rounded knees: x²'s rows (row 0 of the
+    /// scratch), from which each (u ∓ c)² + x_r² = x² + 2d·x + d² + x_r² (d = −x₀ ∓ c) is
+    /// formed row by row, and the rows of the four square roots (rows 1 to 4).
     fn taylor(&self, k: usize, x: &[f64], v: &[f64], _z: &[f64], rows: &mut Scratch) -> f64 {
+        if let Some(r) = self.rounding() {
+            let [sq, roots @ ..] = &mut rows.0;
+            sq[k] = super::jet::square_coefficient(x, k);
+            let [k1, k2, k3, _, _, x0, _] = self.0;
+            let [a, b] = self.kinks();
+            let mut t = k3 * x[k] - if k == 0 { k3 * x0 } else { 0.0 };
+            for (root, (c, weight)) in roots.iter_mut().zip([
+                (a, 0.5 * (k2 - k1)),
+                (-a, -0.5 * (k2 - k1)),
+                (b, 0.5 * (k3 - k2)),
+                (-b, -0.5 * (k3 - k2)),
+            ]) {
+                let d = -x0 - c;
+                let w = sq[k] + 2.0 * d * x[k] + if k == 0 { d * d + r * r } else { 0.0 };
+                root[k] = super::jet::sqrt_coefficient(w, root, k);
+                t += weight * root[k];
+            }
+            return t;
+        }
         let [xs, seg, ..] = &mut rows.0;
         xs[k] = x[k];
         match k {
@@ -215,7 +322,7 @@ impl Term for Piecewise {
     /// next step starts on the kink or just past it, and its segment follows from where x is).
     fn step_limit(&self, rows: &Scratch, order: usize, h: f64, _negligible: f64) -> f64 {
         let [xs, seg, ..] = &rows.0;
-        if order == 0 {
+        if order == 0 || self.rounding().is_some() {
             return h;
         }
         // widened as `segment` reads an edge: a start a rounding error past one is on it

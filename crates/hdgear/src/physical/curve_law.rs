@@ -38,8 +38,9 @@ pub const ASSUMPTION: &str = "the catalogue's piecewise-linear curve P takes the
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct CatalogueLaw {
     /// The `piecewise` term's values in the drive's reduced units:
-    /// [K₁, K₂, K₃]·J_eq/C², θ(T₁)/L, (θ(T₂) − θ(T₁))/L and φ/L.
-    pub reduced: [f64; 6],
+    /// [K₁, K₂, K₃]·J_eq/C², θ(T₁)/L, (θ(T₂) − θ(T₁))/L, φ/L and the knee rounding (0: the
+    /// catalogue's corners).
+    pub reduced: [f64; 7],
     /// max over T₁ and T₂ of |P_reduced(θ(T)/L + φ/L)·unit − T|/T: the reduced law at the
     /// catalogue's twists, back in N m, against the catalogue's torques.
     pub knee_residual: f64,
@@ -75,6 +76,8 @@ pub fn term(card: &Card, d: &PhysicalParams, r: &Reduction) -> Result<AnyTerm> {
             th1 / l,
             (th2 - th1) / l,
             d.backlash / l,
+            // the catalogue's own corners
+            0.0,
         ],
     )
 }
@@ -107,7 +110,7 @@ pub fn check(card: &Card, d: &PhysicalParams, opts: &BurstOptions) -> Result<Cat
         reduced: law
             .values()
             .try_into()
-            .expect("the piecewise term has six values"),
+            .expect("the piecewise term has seven values"),
         knee_residual: back(c.t1).max(back(c.t2)),
         assumption: ASSUMPTION,
         outcome: judged.as_ref().map(|(o, _)| *o),
