@@ -467,3 +467,34 @@ fn rounded_knees_converge_to_the_sharp_law() {
         assert!(pair[1] < pair[0] / 3.0, "{errors:?}");
     }
 }
+
+/// The smallest rounding accepted (the magnitude limit 1e-100; below it the value is refused,
+/// naming `xr`), started exactly on a knee at rest, where the law's √ is x_r: the series' radius
+/// is x_r's size there, and the run ends with a result or a typed error, never a panic or a
+/// non-finite state taken for a result.
+#[test]
+fn a_vanishing_rounding_started_on_a_knee_fails_cleanly() {
+    use hdgear::integrate::{Stepper, stepper};
+    let refused = AnyTerm::new("piecewise", &rounded(1e-200)).unwrap_err();
+    assert!(refused.to_string().contains("xr"), "{refused}");
+    let [mu, delta, w] = FORCING;
+    let m = Model::damped(mu, delta, w)
+        .with_term(AnyTerm::new("piecewise", &rounded(1e-100)).unwrap())
+        .unwrap();
+    let knee = LAW[3] + LAW[5];
+    let o = Options {
+        rtol: 1e-10,
+        atol: 1e-10,
+        max_steps: 100_000,
+        ..Options::default()
+    };
+    let outcome = stepper(&m, 0.0, [knee, 0.0], o).and_then(|mut s| {
+        while s.t() < 1.0 {
+            s.step(1.0)?;
+        }
+        Ok(*s.y())
+    });
+    if let Ok(y) = outcome {
+        assert!(y.iter().all(|v| v.is_finite()), "{y:?}");
+    }
+}
