@@ -74,35 +74,37 @@ impl Piecewise {
         (self.0[6] > 0.0).then_some(self.0[6])
     }
 
-    /// The rounded law's halves: for each kink c ∈ {x₁, x₂}, the weight ½Δk and
-    /// (q(u − c), q(u + c)).
-    fn knees(&self, u: f64, r: f64) -> [(f64, f64, f64); 2] {
+    /// The rounded law's two knees: each kink c ∈ {x₁, x₂} with its weight ½Δk, the slope
+    /// change there halved.
+    fn knee_weights(&self) -> [(f64, f64); 2] {
         let [k1, k2, k3, ..] = self.0;
         let [a, b] = self.kinks();
-        [(0.5 * (k2 - k1), a), (0.5 * (k3 - k2), b)]
-            .map(|(w, c)| (w, hyperbola(u - c, r), hyperbola(u + c, r)))
+        [(a, 0.5 * (k2 - k1)), (b, 0.5 * (k3 - k2))]
+    }
+
+    /// [`Piecewise::knee_weights`] with (q(u − c), q(u + c)) at u.
+    fn knees(&self, u: f64, r: f64) -> [(f64, f64, f64, f64); 2] {
+        self.knee_weights()
+            .map(|(c, w)| (c, w, hyperbola(u - c, r), hyperbola(u + c, r)))
     }
 
     /// P_r(u) and its slope.
     fn rounded(&self, u: f64, r: f64) -> (f64, f64) {
-        let [a, b] = self.kinks();
         let k3 = self.0[2];
-        self.knees(u, r).iter().zip([a, b]).fold(
-            (k3 * u, k3),
-            |(value, slope), (&(w, minus, plus), c)| {
+        self.knees(u, r)
+            .iter()
+            .fold((k3 * u, k3), |(value, slope), &(c, w, minus, plus)| {
                 (
                     value + w * (minus - plus),
                     slope + w * ((u - c) / minus - (u + c) / plus),
                 )
-            },
-        )
+            })
     }
 
     /// ∂P_r/∂(x₁, w₂, x_r): a kink's place moves q(u − c) − q(u + c) by
     /// −(u − c)/q(u − c) − (u + c)/q(u + c) per unit of c, and the rounding by r/q each.
     fn rounded_shape_derivatives(&self, u: f64, r: f64) -> [f64; 3] {
-        let [a, b] = self.kinks();
-        let [(wa, ma, pa), (wb, mb, pb)] = self.knees(u, r);
+        let [(a, wa, ma, pa), (b, wb, mb, pb)] = self.knees(u, r);
         let along = |m: f64, p: f64, c: f64| -(u - c) / m - (u + c) / p;
         let (da, db) = (wa * along(ma, pa, a), wb * along(mb, pb, b));
         [da + db, db, wa * (r / ma - r / pa) + wb * (r / mb - r / pb)]
@@ -247,7 +249,7 @@ impl Term for Piecewise {
         let [k1, k2, k3, ..] = self.0;
         let u = x - self.0[5];
         if let Some(r) = self.rounding() {
-            let [(_, ma, pa), (_, mb, pb)] = self.knees(u, r);
+            let [(_, _, ma, pa), (_, _, mb, pb)] = self.knees(u, r);
             let (da, db) = (ma - pa, mb - pb);
             return match i {
                 0 => -0.5 * da,
@@ -285,15 +287,14 @@ impl Term for Piecewise {
         if let Some(r) = self.rounding() {
             let [sq, roots @ ..] = &mut rows.0;
             sq[k] = super::jet::square_coefficient(x, k);
-            let [k1, k2, k3, _, _, x0, _] = self.0;
-            let [a, b] = self.kinks();
+            let [_, _, k3, _, _, x0, _] = self.0;
             let mut t = k3 * x[k] - if k == 0 { k3 * x0 } else { 0.0 };
-            for (root, (c, weight)) in roots.iter_mut().zip([
-                (a, 0.5 * (k2 - k1)),
-                (-a, -0.5 * (k2 - k1)),
-                (b, 0.5 * (k3 - k2)),
-                (-b, -0.5 * (k3 - k2)),
-            ]) {
+            // q(u − c) with weight w and q(u + c) with −w, for each knee
+            let halves = self
+                .knee_weights()
+                .into_iter()
+                .flat_map(|(c, w)| [(c, w), (-c, -w)]);
+            for (root, (c, weight)) in roots.iter_mut().zip(halves) {
                 let d = -x0 - c;
                 let w = sq[k] + 2.0 * d * x[k] + if k == 0 { d * d + r * r } else { 0.0 };
                 root[k] = super::jet::sqrt_coefficient(w, root, k);
