@@ -338,24 +338,11 @@ fn regularised_terms_taylor_agrees_with_dop853() {
 /// bound (δ/last)^{1/p} shrinks by at most 1000^{1/16} ≈ 1.5, so at most twice the steps.
 #[test]
 fn regularised_friction_follows_the_tolerance_at_bounded_cost() {
-    use hdgear::integrate::{Stepper, stepper};
     let (p, f, t_end) = cases()[0];
     for vr in [1e-2, 1e-3] {
         let term = AnyTerm::new("stribeck", &[f.fc, f.fs, f.vst, 0.05, vr]).unwrap();
         let m = Model::study(&p).with_term(term).unwrap();
-        let end = |method, tol: f64| {
-            let o = Options {
-                rtol: tol,
-                atol: tol,
-                method,
-                ..Options::default()
-            };
-            let mut s = stepper(&m, 0.0, [0.0, 0.0], o).unwrap();
-            while s.t() < t_end {
-                s.step(t_end).unwrap();
-            }
-            (*s.y(), s.stats().steps)
-        };
+        let end = |method, tol| crate::common::end_state(&m, method, tol, [0.0, 0.0], t_end);
         let (reference, _) = end(Method::Dop853, 1e-13);
         let mut steps = vec![];
         for tol in [1e-8, 1e-12, 1e-15] {

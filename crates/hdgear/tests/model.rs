@@ -3,7 +3,7 @@
 //! from the equations, the derived facts, and the periodic machinery run on an assembly.
 
 use hdgear::Params;
-use hdgear::integrate::{Method, Options, Stepper, System, stepper};
+use hdgear::integrate::{Method, System};
 use hdgear::model::terms::AnyTerm;
 use hdgear::model::{Dimensionless, Model};
 use hdgear::params::Param;
@@ -73,17 +73,7 @@ fn random_model(u: &mut impl FnMut() -> f64) -> Model {
 }
 
 fn run<S: System<2>>(s: &S, method: Method, y0: [f64; 2], span: f64) -> [f64; 2] {
-    let tol = Options {
-        rtol: 1e-12,
-        atol: 1e-12,
-        method,
-        ..Options::default()
-    };
-    let mut st = stepper(s, 0.0, y0, tol).unwrap();
-    while st.t() < span {
-        st.step(span).unwrap();
-    }
-    *st.y()
+    crate::common::end_state(s, method, 1e-12, y0, span).0
 }
 
 #[test]

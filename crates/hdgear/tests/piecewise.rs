@@ -410,18 +410,7 @@ fn rounded_knees_are_their_definition_and_near_the_sharp_law() {
 
 /// The state at T_END from rest of `sys` with `method` at 1e-12.
 fn final_state<S: hdgear::integrate::System<2>>(sys: &S, method: Method) -> [f64; 2] {
-    use hdgear::integrate::{Stepper, stepper};
-    let o = Options {
-        method,
-        rtol: 1e-12,
-        atol: 1e-12,
-        ..Options::default()
-    };
-    let mut s = stepper(sys, 0.0, [0.0, 0.0], o).unwrap();
-    while s.t() < T_END {
-        s.step(T_END).unwrap();
-    }
-    *s.y()
+    crate::common::end_state(sys, method, 1e-12, [0.0, 0.0], T_END).0
 }
 
 /// Taylor's method on the rounded law (√'s recurrence, no events) against DOP853 on the law

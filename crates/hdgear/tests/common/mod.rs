@@ -200,6 +200,29 @@ pub fn tight(method: hdgear::integrate::Method) -> hdgear::integrate::Options {
     }
 }
 
+/// The state at `t_end` of `sys` from `y0` at t = 0, stepped with `method` at tolerance `tol`
+/// (relative and absolute), and the steps taken.
+pub fn end_state<S: hdgear::integrate::System<2>>(
+    sys: &S,
+    method: hdgear::integrate::Method,
+    tol: f64,
+    y0: [f64; 2],
+    t_end: f64,
+) -> ([f64; 2], u64) {
+    use hdgear::integrate::Stepper;
+    let o = hdgear::integrate::Options {
+        rtol: tol,
+        atol: tol,
+        method,
+        ..hdgear::integrate::Options::default()
+    };
+    let mut s = hdgear::integrate::stepper(sys, 0.0, y0, o).unwrap();
+    while s.t() < t_end {
+        s.step(t_end).unwrap();
+    }
+    (*s.y(), s.stats().steps)
+}
+
 /// The states of `m` sampled every `dt` from rest (x = 0) to `t_end` with `method` at tolerance
 /// `tol` (relative and absolute), one vector per sample.
 pub fn states_from_rest(
