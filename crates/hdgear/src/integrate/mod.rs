@@ -23,7 +23,7 @@ pub mod taylor;
 
 pub use dop853::{Dense, Dop853};
 
-pub use taylor::{Taylor, TaylorDense};
+pub use taylor::{Scratch, Taylor, TaylorDense, Workspace};
 
 use crate::error::{Error, Result, SolverError};
 use serde::{Deserialize, Serialize};
@@ -43,6 +43,19 @@ pub trait System<const N: usize> {
     fn taylor(&self, _t: f64, _y: &[f64; N], _order: usize, _c: &mut [[f64; N]]) -> bool {
         false
     }
+    /// [`System::taylor`] with the stepper's [`Workspace`] for the system's own intermediate rows
+    /// (the default ignores it): a system that keeps such rows uses the stepper's instead of
+    /// clearing its own on every step.
+    fn taylor_in(
+        &self,
+        t: f64,
+        y: &[f64; N],
+        order: usize,
+        c: &mut [[f64; N]],
+        _work: &mut Workspace,
+    ) -> bool {
+        self.taylor(t, y, order, c)
+    }
     /// Whether [`System::taylor_step`] may shorten the step rule's step (false, the default:
     /// the stepper takes the rule's step on [`System::taylor`]'s rows).
     fn taylor_limits_steps(&self) -> bool {
@@ -54,6 +67,8 @@ pub trait System<const N: usize> {
     /// right-hand side whose own series converges later than the state's rows show,
     /// [`crate::model::jet::exp_step_limit`]). `None` when the system has no coefficients; the
     /// default is `step` on [`System::taylor`]'s rows.
+    // one pass: where (t, y), how far (order, atol), into what (c, work), by which rule
+    #[allow(clippy::too_many_arguments)]
     fn taylor_step<F: FnOnce(&[[f64; N]]) -> f64>(
         &self,
         t: f64,
@@ -61,9 +76,10 @@ pub trait System<const N: usize> {
         order: usize,
         c: &mut [[f64; N]],
         _atol: f64,
+        work: &mut Workspace,
         step: F,
     ) -> Option<f64> {
-        self.taylor(t, y, order, c).then(|| step(c))
+        self.taylor_in(t, y, order, c, work).then(|| step(c))
     }
 }
 
@@ -485,6 +501,8 @@ pub fn stepper<'s, S: System<N> + ?Sized, const N: usize>(
 }
 
 /// A stepper of either method (what [`stepper`] returns).
+// a Taylor stepper keeps its system's rows on the stack: boxing them would allocate in every run
+#[allow(clippy::large_enum_variant)]
 pub enum AnyStepper<'s, S: ?Sized, const N: usize> {
     /// Taylor's method.
     Taylor(Taylor<'s, S, N>),

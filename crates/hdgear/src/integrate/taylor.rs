@@ -35,6 +35,24 @@ pub const MAX_ORDER: usize = 20;
 /// Coefficient storage of one step: rows 0..=p.
 pub type Coefficients<const N: usize> = [[f64; N]; MAX_ORDER + 1];
 
+/// Five rows of a system's own intermediate Taylor series (a model term's: the coefficients of
+/// its inner functions, kept from order to order within one step).
+#[derive(Clone, Copy, Debug)]
+pub struct Scratch(pub [[f64; MAX_ORDER + 1]; 5]);
+
+impl Default for Scratch {
+    fn default() -> Self {
+        Scratch([[0.0; MAX_ORDER + 1]; 5])
+    }
+}
+
+/// The sets of [`Scratch`] rows a Taylor stepper keeps for its system (one per term of a model,
+/// [`crate::integrate::System::taylor_in`]): owned by the stepper, so that no step clears them.
+pub type Workspace = [Scratch; WORKSPACE_SETS];
+
+/// The number of [`Scratch`] sets in a [`Workspace`].
+pub const WORKSPACE_SETS: usize = 6;
+
 /// The order for tolerance `eps`.
 pub fn order_for(eps: f64) -> usize {
     ((-eps.ln() / 2.0 + 1.0).ceil() as usize).clamp(MIN_ORDER, MAX_ORDER)
@@ -91,18 +109,25 @@ pub const INV: [f64; MAX_ORDER + 1] = {
 /// sums it measured slower here, not faster.)
 #[inline(always)]
 pub fn cauchy(a: &[f64], b: &[f64], k: usize) -> f64 {
-    a[..=k]
-        .iter()
-        .zip(b[..=k].iter().rev())
-        .map(|(x, y)| x * y)
-        .sum()
+    // a plain loop from −0 (the sum an iterator's `sum` forms, to the bit): the iterator's fold
+    // need not be inlined into a caller's recurrence
+    let (a, b) = (&a[..=k], &b[..=k]);
+    let mut s = -0.0;
+    for j in 0..=k {
+        s += a[j] * b[k - j];
+    }
+    s
 }
 
 /// (a²)_k = Σ_{j=0..=k} a_j a_{k−j} by the symmetric half of the sum: 2·Σ_{j<k/2} a_j a_{k−j},
 /// plus a_{k/2}² for even k.
 #[inline(always)]
 pub fn square_coefficient(a: &[f64], k: usize) -> f64 {
-    let half: f64 = (0..k.div_ceil(2)).map(|j| a[j] * a[k - j]).sum();
+    let a = &a[..=k];
+    let mut half = -0.0;
+    for j in 0..k.div_ceil(2) {
+        half += a[j] * a[k - j];
+    }
     let middle = if k.is_multiple_of(2) {
         a[k / 2] * a[k / 2]
     } else {
@@ -281,6 +306,8 @@ pub struct Taylor<'s, S: ?Sized, const N: usize> {
     y: [f64; N],
     /// Coefficients of the last step (around `t_prev`).
     c: Coefficients<N>,
+    /// The system's own rows ([`System::taylor_in`]).
+    work: Workspace,
     t_prev: f64,
     stats: Stats,
 }
@@ -307,6 +334,7 @@ impl<'s, S: System<N> + ?Sized, const N: usize> Taylor<'s, S, N> {
             t: t0,
             y: y0,
             c,
+            work: [Scratch::default(); WORKSPACE_SETS],
             t_prev: t0,
             stats: Stats::default(),
         })
@@ -344,14 +372,23 @@ impl<'s, S: System<N> + ?Sized, const N: usize> Taylor<'s, S, N> {
         };
         let mut h = if self.sys.taylor_limits_steps() {
             self.sys
-                .taylor_step(self.t, &self.y, p, &mut self.c, self.opts.atol, rule)
+                .taylor_step(
+                    self.t,
+                    &self.y,
+                    p,
+                    &mut self.c,
+                    self.opts.atol,
+                    &mut self.work,
+                    rule,
+                )
                 // the system gave coefficients at the start (`Taylor::new`); without them now,
                 // no step is known good
                 .unwrap_or(f64::NAN)
         } else {
             // the rule alone: the recurrence and the rule stay apart, as the hot loop of a
             // polynomial model wants them
-            self.sys.taylor(self.t, &self.y, p, &mut self.c);
+            self.sys
+                .taylor_in(self.t, &self.y, p, &mut self.c, &mut self.work);
             rule(&self.c)
         };
         self.stats.rhs_evals += 1;
@@ -373,8 +410,12 @@ impl<'s, S: System<N> + ?Sized, const N: usize> Taylor<'s, S, N> {
         }
         // Estrin's scheme: the new state is on the chain from one step to the next, and its four
         // fused steps at order 13 wait less than Horner's thirteen
-        let y_new: [f64; N] =
-            std::array::from_fn(|i| estrin::<FMA>(|k| self.c[k][i], self.order, h));
+        // a plain loop, not `array::from_fn`: its closure may be compiled apart from this
+        // function's vector unit, where a fused multiply-add is a library call
+        let mut y_new = [0.0; N];
+        for (i, y) in y_new.iter_mut().enumerate() {
+            *y = estrin::<FMA>(|k| self.c[k][i], self.order, h);
+        }
         if let Some(v) = y_new
             .iter()
             .find(|v| !v.is_finite() || v.abs() > self.opts.blowup)

@@ -43,6 +43,7 @@ impl Term for VirtualStiffness {
     fn param_derivative(&self, _i: usize, x: f64, _v: f64, _z: f64) -> f64 {
         x
     }
+    #[inline(always)]
     fn taylor(&self, k: usize, x: &[f64], _v: &[f64], _z: &[f64], _rows: &mut Scratch) -> f64 {
         self.0[0] * x[k]
     }
@@ -85,6 +86,7 @@ impl Term for VirtualDamping {
     fn param_derivative(&self, _i: usize, _x: f64, v: f64, _z: f64) -> f64 {
         v
     }
+    #[inline(always)]
     fn taylor(&self, k: usize, _x: &[f64], v: &[f64], _z: &[f64], _rows: &mut Scratch) -> f64 {
         self.0[0] * v[k]
     }
@@ -145,6 +147,7 @@ impl Term for Washout {
     fn param_derivative(&self, i: usize, x: f64, _v: f64, xi: f64) -> f64 {
         if i == 0 { x - xi } else { 0.0 }
     }
+    #[inline(always)]
     fn taylor(&self, k: usize, x: &[f64], _v: &[f64], xi: &[f64], _rows: &mut Scratch) -> f64 {
         self.0[0] * (x[k] - xi[k])
     }
@@ -157,6 +160,7 @@ impl Term for Washout {
     fn rate_param_derivative(&self, i: usize, x: f64, _v: f64, xi: f64) -> f64 {
         if i == 1 { x - xi } else { 0.0 }
     }
+    #[inline(always)]
     fn rate_taylor(&self, k: usize, x: &[f64], _v: &[f64], xi: &[f64], _r: &mut Scratch) -> f64 {
         self.0[1] * (x[k] - xi[k])
     }
@@ -232,6 +236,7 @@ impl Term for Dither {
         if i == 0 { -libm::sin(theta) } else { 0.0 }
     }
     /// sin θ (row 0) and cos θ (row 1) by their recurrences.
+    #[inline(always)]
     fn taylor(&self, k: usize, _x: &[f64], _v: &[f64], theta: &[f64], rows: &mut Scratch) -> f64 {
         let [s, c, ..] = &mut rows.0;
         (s[k], c[k]) = sin_cos_coefficients(theta, s, c, k);

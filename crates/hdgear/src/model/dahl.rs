@@ -115,6 +115,7 @@ impl Term for Dahl {
     }
     /// The base b's row (row 0 of `rows`), its powers b², b³, b⁴ by repeated products (rows 1
     /// to n − 1), then r = σ·(v·bⁿ).
+    #[inline(always)]
     fn rate_taylor(&self, k: usize, _x: &[f64], v: &[f64], th: &[f64], rows: &mut Scratch) -> f64 {
         let [sigma, tc, _] = self.values;
         let (sv, _, n) = self.base(v[0], th[0]);
@@ -122,6 +123,7 @@ impl Term for Dahl {
         base[0][k] = if k == 0 { 1.0 } else { 0.0 } - sv * th[k] / tc;
         sigma * cauchy(v, whole_power_rows(&base[0], n as usize, powers, k), k)
     }
+    #[inline(always)]
     fn taylor(&self, k: usize, _x: &[f64], _v: &[f64], th: &[f64], _rows: &mut Scratch) -> f64 {
         th[k]
     }

@@ -68,6 +68,7 @@ impl Term for Delay {
     fn param_derivative(&self, i: usize, x: f64, _v: f64, xd: f64) -> f64 {
         if i == 0 { x - xd } else { f64::NAN }
     }
+    #[inline(always)]
     fn taylor(&self, k: usize, x: &[f64], _v: &[f64], xd: &[f64], _rows: &mut Scratch) -> f64 {
         self.0[0] * (x[k] - xd[k])
     }

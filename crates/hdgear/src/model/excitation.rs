@@ -119,6 +119,7 @@ impl Term for Multisine {
     /// The phase moves at the constant rate Ω₀, so each line's rows are in closed form:
     /// row j of cos(kθ + φ) is (kΩ₀)^j/j!·cos(kθ₀ + φ + jπ/2). All rows are summed at k = 0
     /// (one sine and cosine per line) into `rows` and read out after.
+    #[inline(always)]
     fn taylor(&self, k: usize, _x: &[f64], _v: &[f64], theta: &[f64], rows: &mut Scratch) -> f64 {
         let out = &mut rows.0[0];
         if k == 0 {

@@ -38,6 +38,7 @@ impl Level {
     }
 
     /// Row k of g from v's rows 0..=k, keeping q = −(v/v_st)² and e^q in `q` and `e`.
+    #[inline(always)]
     pub(crate) fn row(self, v: &[f64], q: &mut [f64], e: &mut [f64], k: usize) -> f64 {
         let Level { fc, fs, vst } = self;
         q[k] = -square_coefficient(v, k) / (vst * vst);
@@ -94,6 +95,7 @@ impl Term for Friction {
         [t, -fc * (1.0 - t * t) * v / (vs * vs)][i]
     }
     /// u = v/v_s (row 0), tanh u (row 1) and its square (row 2).
+    #[inline(always)]
     fn taylor(&self, k: usize, _x: &[f64], v: &[f64], _z: &[f64], rows: &mut Scratch) -> f64 {
         let [fc, vs] = self.0;
         let [u, t, sq, ..] = &mut rows.0;
@@ -218,6 +220,7 @@ impl Term for Stribeck {
     }
     /// q = −(v/v_st)² (row 0), e^q (row 1), u = v/v_r (row 2), tanh u (row 3) and its square
     /// (row 4); T_k = Σ_j (f_c[j = 0] + (f_s − f_c)e_j)·tanh_{k−j} + c_v v_k.
+    #[inline(always)]
     fn taylor(&self, k: usize, _x: &[f64], v: &[f64], _z: &[f64], rows: &mut Scratch) -> f64 {
         let [fc, fs, _, cv, vr] = self.0;
         let [q, e, u, t, sq] = &mut rows.0;
@@ -311,6 +314,7 @@ impl Term for Coulomb {
     }
     /// q = −(v/v_st)² (row 0) and e^q (row 1); T_k = s·(f_c[k = 0] + (f_s − f_c)e_k) + c_v v_k
     /// with s the piece's constant sgn x'.
+    #[inline(always)]
     fn taylor(&self, k: usize, _x: &[f64], v: &[f64], _z: &[f64], rows: &mut Scratch) -> f64 {
         let [q, e, ..] = &mut rows.0;
         let level = self.level().row(v, q, e, k);

@@ -23,6 +23,8 @@ pub use crate::integrate::taylor::{cauchy, square_coefficient};
 /// Σ_{j=1..=k} j·u_j·w_{k−j} / k: the sum every recurrence of this module shares.
 #[inline(always)]
 fn weighted(u: &[f64], w: &[f64], k: usize) -> f64 {
+    // rows 0..=k only: the loop's indices need no checks
+    let (u, w) = (&u[..=k], &w[..k]);
     let mut s = 0.0;
     for j in 1..=k {
         s += j as f64 * u[j] * w[k - j];
@@ -165,6 +167,7 @@ pub fn tanh_coefficient(u: &[f64], sq: &[f64], k: usize) -> f64 {
         return u[0].tanh();
     }
     // (1 − t²)_{k−j}: 1 − (t²)₀ at j = k, −(t²)_{k−j} below
+    let (u, sq) = (&u[..=k], &sq[..k]);
     let mut s = 0.0;
     for j in 1..=k {
         let one_minus = if j == k { 1.0 - sq[0] } else { -sq[k - j] };
@@ -211,7 +214,12 @@ pub fn sqrt_coefficient(w_k: f64, p: &[f64], k: usize) -> f64 {
     if k == 0 {
         return w_k.sqrt();
     }
-    let inner: f64 = (1..k).map(|j| p[j] * p[k - j]).sum();
+    // a plain loop from −0 (an iterator's `sum`, to the bit)
+    let p = &p[..k];
+    let mut inner = -0.0;
+    for j in 1..k {
+        inner += p[j] * p[k - j];
+    }
     (w_k - inner) / (2.0 * p[0])
 }
 

@@ -141,6 +141,7 @@ impl Term for LuGre {
     }
     /// q = −(v/v_st)² (row 0), e^q (row 1), g (row 2), w = s/g (row 3) and
     /// r = v − σ₀·sv·(v·w) (row 4), sv the piece's constant sgn x'.
+    #[inline(always)]
     fn rate_taylor(&self, k: usize, _x: &[f64], v: &[f64], s: &[f64], rows: &mut Scratch) -> f64 {
         let [fc, fs, vst, sigma0, ..] = self.values;
         let [q, e, g, w, r] = &mut rows.0;
@@ -149,6 +150,7 @@ impl Term for LuGre {
         r[k] = v[k] - sigma0 * piece_sign(self.side, v[0]) * cauchy(v, w, k);
         r[k]
     }
+    #[inline(always)]
     fn taylor(&self, k: usize, _x: &[f64], v: &[f64], s: &[f64], rows: &mut Scratch) -> f64 {
         let [.., sigma0, sigma1, sigma2] = self.values;
         sigma0 * s[k] + sigma1 * rows.0[4][k] + sigma2 * v[k]
@@ -337,12 +339,14 @@ impl Term for BoucWen {
     }
     /// zⁿ by repeated products (rows 0..n − 2 hold z², z³, z⁴), then
     /// r = A·v − c·(v·zⁿ) with the piece's constant c.
+    #[inline(always)]
     fn rate_taylor(&self, k: usize, _x: &[f64], v: &[f64], z: &[f64], rows: &mut Scratch) -> f64 {
         let a = self.values[2];
         let (sv, sz, n) = self.signs(v[0], z[0]);
         let zn = whole_power_rows(z, n as usize, &mut rows.0, k);
         a * v[k] - self.coefficient(sv, sz, n) * cauchy(v, zn, k)
     }
+    #[inline(always)]
     fn taylor(&self, k: usize, x: &[f64], _v: &[f64], z: &[f64], _rows: &mut Scratch) -> f64 {
         let [kh, rho, ..] = self.values;
         kh * (rho * x[k] + (1.0 - rho) * z[k])

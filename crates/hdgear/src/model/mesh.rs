@@ -118,6 +118,7 @@ impl Term for KinematicError {
         }
     }
     /// φ = kθ + ψ (row 2), sin φ (row 0) and cos φ (row 1) by their recurrences.
+    #[inline(always)]
     fn taylor(&self, k: usize, _x: &[f64], _v: &[f64], theta: &[f64], rows: &mut Scratch) -> f64 {
         let [s, c, phi, ..] = &mut rows.0;
         phi[k] = self.0[1] * theta[k] + if k == 0 { self.0[3] } else { 0.0 };

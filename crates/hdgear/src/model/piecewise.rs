@@ -283,6 +283,7 @@ impl Term for Piecewise {
     /// the segment for [`Term::step_limit`]. With rounded knees: x²'s rows (row 0 of the
     /// scratch), from which each (u ∓ c)² + x_r² = x² + 2d·x + d² + x_r² (d = −x₀ ∓ c) is
     /// formed row by row, and the rows of the four square roots (rows 1 to 4).
+    #[inline(always)]
     fn taylor(&self, k: usize, x: &[f64], v: &[f64], _z: &[f64], rows: &mut Scratch) -> f64 {
         if let Some(r) = self.rounding() {
             let [sq, roots @ ..] = &mut rows.0;

@@ -371,6 +371,7 @@ impl Term for Scheduled {
     /// (s₀²)_k and (s₀³)_k without s_k), κ's rows D − 3α·(s₀²)_k, the gain's on the piece the
     /// step starts on (0 off, κ's on, (κ + w)²/(4w)'s by Cauchy products on the ramp), times
     /// x − x_c.
+    #[inline(always)]
     fn taylor(&self, k: usize, x: &[f64], _v: &[f64], theta: &[f64], rows: &mut Scratch) -> f64 {
         let [m, alpha, xc, ..] = self.0;
         let delta = self.0[5];

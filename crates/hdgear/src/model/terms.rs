@@ -23,15 +23,8 @@ use serde::Serialize;
 pub const MAX_ROWS: usize = crate::integrate::taylor::MAX_ORDER + 1;
 
 /// A term's own Taylor rows (the coefficients of its intermediate functions, kept from order to
-/// order by [`Term::taylor`]).
-#[derive(Clone, Copy, Debug)]
-pub struct Scratch(pub [[f64; MAX_ROWS]; 5]);
-
-impl Default for Scratch {
-    fn default() -> Self {
-        Scratch([[0.0; MAX_ROWS]; 5])
-    }
-}
+/// order by [`Term::taylor`]): the Taylor stepper's, which keeps one set per term.
+pub use crate::integrate::taylor::Scratch;
 
 /// Where a parameter may lie.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -214,6 +207,7 @@ pub trait Term: Copy {
     }
     /// Row k of r's Taylor coefficients (called before [`Term::taylor`] of the same k, with
     /// the same `rows`).
+    #[inline(always)]
     fn rate_taylor(&self, k: usize, _x: &[f64], _v: &[f64], _z: &[f64], _r: &mut Scratch) -> f64 {
         match Self::PHASE_RATE {
             Some(i) if k == 0 => self.values()[i],
@@ -303,6 +297,7 @@ impl Term for Damping {
     fn param_derivative(&self, _i: usize, _x: f64, _v: f64, _z: f64) -> f64 {
         0.0
     }
+    #[inline(always)]
     fn taylor(&self, k: usize, _x: &[f64], v: &[f64], _z: &[f64], _rows: &mut Scratch) -> f64 {
         v[k]
     }
@@ -370,6 +365,7 @@ impl Term for Stiffness {
         [x * x * x, x - eps, -gamma][i]
     }
     /// (x²)_k by its symmetric Cauchy sum into row 0, (x³)_k = Σ (x²)_j x_{k−j}.
+    #[inline(always)]
     fn taylor(&self, k: usize, x: &[f64], _v: &[f64], _z: &[f64], rows: &mut Scratch) -> f64 {
         let [alpha, gamma, eps] = self.0;
         let sq = &mut rows.0[0];
@@ -479,7 +475,7 @@ macro_rules! any_term {
                 match self { $(AnyTerm::$variant(t) => t.param_derivative(i, x, v, z),)* }
             }
             /// Row k of T's Taylor coefficients ([`Term::taylor`]).
-            #[inline]
+            #[inline(always)]
             pub fn taylor(&self, k: usize, x: &[f64], v: &[f64], z: &[f64], rows: &mut Scratch) -> f64 {
                 match self { $(AnyTerm::$variant(t) => t.taylor(k, x, v, z, rows),)* }
             }
@@ -498,7 +494,7 @@ macro_rules! any_term {
                 match self { $(AnyTerm::$variant(t) => t.rate_param_derivative(i, x, v, z),)* }
             }
             /// Row k of r's Taylor coefficients ([`Term::rate_taylor`]).
-            #[inline]
+            #[inline(always)]
             pub fn rate_taylor(&self, k: usize, x: &[f64], v: &[f64], z: &[f64], rows: &mut Scratch) -> f64 {
                 match self { $(AnyTerm::$variant(t) => t.rate_taylor(k, x, v, z, rows),)* }
             }

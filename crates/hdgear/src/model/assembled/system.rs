@@ -2,8 +2,12 @@
 //! coefficients, each from the terms' own definitions.
 
 use super::{MAX_STATES, MAX_TERMS, Model};
-use crate::integrate::System;
+use crate::integrate::taylor::WORKSPACE_SETS;
+use crate::integrate::{System, Workspace};
 use crate::model::terms::{MAX_ROWS, Scratch};
+
+// one set of the stepper's rows per term
+const _: () = assert!(MAX_TERMS == WORKSPACE_SETS);
 
 /// Component `at` of the state `y`, 0 where there is none.
 #[inline(always)]
@@ -55,6 +59,17 @@ impl<const N: usize> System<N> for Model {
         self.taylor_rows(t, y, order, c, &mut [Scratch::default(); MAX_TERMS]);
         true
     }
+    fn taylor_in(
+        &self,
+        t: f64,
+        y: &[f64; N],
+        order: usize,
+        c: &mut [[f64; N]],
+        work: &mut Workspace,
+    ) -> bool {
+        self.taylor_rows(t, y, order, c, work);
+        true
+    }
     fn taylor_limits_steps(&self) -> bool {
         self.terms().any(|t| t.limits_steps())
     }
@@ -63,6 +78,8 @@ impl<const N: usize> System<N> for Model {
     /// truncation δ over a step of length h moves x' by at most δ·h: held to atol per time unit
     /// (atol itself on steps up to a time unit, the fast subsystem's scale), that is the
     /// absolute error the state's own rule aims at, so a smaller δ is negligible.
+    // the trait's one pass (`System::taylor_step`)
+    #[allow(clippy::too_many_arguments)]
     fn taylor_step<F: FnOnce(&[[f64; N]]) -> f64>(
         &self,
         t: f64,
@@ -70,16 +87,16 @@ impl<const N: usize> System<N> for Model {
         order: usize,
         c: &mut [[f64; N]],
         atol: f64,
+        rows: &mut Workspace,
         step: F,
     ) -> Option<f64> {
-        let mut rows = [Scratch::default(); MAX_TERMS];
-        let n = self.taylor_rows(t, y, order, c, &mut rows);
+        let n = self.taylor_rows(t, y, order, c, rows);
         let h = step(c);
         let negligible = atol / h.max(1.0);
         Some(
             self.terms
                 .iter()
-                .zip(&rows)
+                .zip(rows.iter())
                 .fold(h, |h, (term, r)| match term {
                     Some(term) => term.step_limit(r, n, h, negligible),
                     _ => h,
@@ -91,6 +108,7 @@ impl<const N: usize> System<N> for Model {
 impl Model {
     /// Rows 0..=order (capped at the integrator's) of the Taylor coefficients through (t, y)
     /// into `c`, the terms' own rows into `rows`; returns the order reached.
+    #[inline(always)]
     fn taylor_rows<const N: usize>(
         &self,
         t: f64,
