@@ -817,6 +817,14 @@ fn card_map_writes_one_row_per_load() {
     fails_with(&["card", "map", "CSG-20-50", "--points", "0"], "amplitudes");
     fails_with(&["card", "map", "CSG-20-50", "--hz", "0:1"], "0:1");
     fails_with(&["card", "map", "CSG-20-50", "--t-am-max=-1"], "t_am_max");
+    fails_with(
+        &["card", "map", "CSG-20-50", "--knee-rounding=-1"],
+        "knee_rounding",
+    );
+    fails_with(
+        &["card", "check", "CSG-20-50", "--knee-rounding", "1.5"],
+        "1.5",
+    );
 }
 
 /// A card with a fitted friction law: `card check` answers with it (the verdict, the rests and

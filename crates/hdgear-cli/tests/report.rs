@@ -554,7 +554,7 @@ fn report_physical_section_judges_the_catalogue_curve() {
     let name = hdgear::report::PHYSICAL_DRIVE;
     let (drive, _) = preset(name, None).unwrap();
     let opts = hdgear::burst::BurstOptions::default();
-    let law = curve_law::check(builtin_card(name).unwrap(), &drive, &opts).unwrap();
+    let law = curve_law::check(builtin_card(name).unwrap(), &drive, 0.0, &opts).unwrap();
     let o = law.outcome.unwrap();
     // CSF-20-50's mean load sits on its first knee: the corner makes it burst
     assert!(o.judgement.bursting);

@@ -36,7 +36,7 @@ fn the_reduced_law_returns_every_cards_catalogue_rows() {
         };
         let d = drive(c);
         let r = d.reduce().unwrap();
-        let law = curve_law::term(c, &d, &r).unwrap();
+        let law = curve_law::term(c, &d, &r, 0.0).unwrap();
         let unit = r.torque_unit();
         let back = |th: f64| law.torque((th + d.backlash) / r.length_scale, 0.0, 0.0) * unit;
         for th in [th1, th2] {
@@ -56,7 +56,7 @@ fn the_reduced_law_returns_every_cards_catalogue_rows() {
 fn checked(c: &Card, d: &PhysicalParams, method: Method) -> CatalogueLaw {
     let mut o = BurstOptions::default();
     o.tol.method = method;
-    curve_law::check(c, d, &o).unwrap()
+    curve_law::check(c, d, 0.0, &o).unwrap()
 }
 
 /// CSF-20-50 at its card's loads (T_m = T1, crossing the first knee both ways): the Taylor steps,
@@ -121,7 +121,7 @@ fn every_builtin_card_is_judged_with_its_catalogue_law() {
         let from_loss = hdgear::physical::check::loss_damping(c, &f.sources).map(|l| l.zeta);
         for zeta in [from_loss, None] {
             let d = assemble(c, None, zeta).unwrap().drive;
-            let law = curve_law::check(c, &d, &BurstOptions::default())
+            let law = curve_law::check(c, &d, 0.0, &BurstOptions::default())
                 .unwrap_or_else(|e| panic!("{} (zeta {zeta:?}): {e}", c.name));
             assert!(law.outcome.is_some(), "{} (zeta {zeta:?})", c.name);
             assert!(law.knee_residual < 1e-12, "{}", c.name);
@@ -145,17 +145,81 @@ fn the_load_map_carries_the_catalogue_verdict() {
         frequencies: 2,
     };
     let choice = DampingChoice::HysteresisLoss;
-    let map = load_map(c, sources, choice, &grid, &opts, true).unwrap();
-    let drive = check_card(c, sources, choice, &opts).unwrap().summary.drive;
+    let map = load_map(c, sources, choice, &grid, &opts, Some(0.0)).unwrap();
+    let drive = check_card(c, sources, choice, 0.0, &opts)
+        .unwrap()
+        .summary
+        .drive;
     for p in &map {
         let d = PhysicalParams {
             t_am: p.t_am,
             omega: std::f64::consts::TAU * p.frequency_hz,
             ..drive
         };
-        let law = curve_law::check(c, &d, &opts).unwrap();
+        let law = curve_law::check(c, &d, 0.0, &opts).unwrap();
         assert_eq!(p.catalogue, law.outcome.map(|o| o.judgement), "{p:?}");
         assert!(!p.judgement.bursting, "{p:?}");
         assert!(p.catalogue.unwrap().bursting, "{p:?}");
+    }
+}
+
+/// A rounded knee rings less: CSF-20-50 (its card's loads, assumed damping) judged with its knees
+/// rounded over a growing fraction of θ(T₁). The load crosses the first knee at x' ≈ δω/k₁ (in
+/// the reduced units), so it takes x_r·k₁/(δω) to pass a rounding x_r. The corner overshoots and
+/// rings; as that passage lengthens towards a torsional period 2π/√k₁ the ringing swing falls
+/// (here tenfold by half a period), and a rounding the load takes several periods to pass leaves
+/// no burst, the smooth fit's verdict. A rounding outside 0 to 1 is refused, naming it.
+#[test]
+fn rounded_knees_ring_less_than_the_catalogues_corners() {
+    let c = builtin_card("CSF-20-50").unwrap();
+    let d = drive(c);
+    let o = BurstOptions::default();
+    let judged = |rounding: f64| {
+        let law = curve_law::check(c, &d, rounding, &o).unwrap();
+        assert_eq!(law.rounding, rounding);
+        (
+            law.outcome.unwrap().judgement.bursting,
+            law.signatures.unwrap(),
+            law.reduced,
+        )
+    };
+    let (corner_bursts, corner, reduced) = judged(0.0);
+    assert!(
+        corner_bursts && corner.overshoot && corner.ringing,
+        "{corner:?}"
+    );
+    let r = d.reduce().unwrap();
+    let (k1, x1) = (reduced[0], reduced[3]);
+    let crossing_speed = r.params.delta * r.params.omega / k1;
+    let period = std::f64::consts::TAU / k1.sqrt();
+    let mut last = corner.max_ringing_swing;
+    for rounding in [0.001, 0.003, 0.01, 0.03, 0.1] {
+        let (bursts, sig, reduced) = judged(rounding);
+        assert!((reduced[6] - rounding * x1).abs() <= 1e-15 * x1);
+        let passage = rounding * x1 / crossing_speed / period;
+        println!("rounding {rounding}: passage {passage:.2} torsional periods, {bursts}, {sig:?}");
+        // the rounding removes the corner's overshoot at once; the ringing fades with it
+        assert!(
+            sig.max_overshoot < corner.max_overshoot,
+            "{rounding}: {sig:?}"
+        );
+        assert!(
+            sig.max_ringing_swing < last || sig.max_ringing_swing == 0.0,
+            "{rounding}: {sig:?} after a swing of {last:e}"
+        );
+        last = sig.max_ringing_swing;
+        if passage > 0.5 {
+            assert!(
+                sig.max_ringing_swing < 0.1 * corner.max_ringing_swing,
+                "{rounding}: {sig:?}"
+            );
+        }
+        if passage > 3.0 {
+            assert!(!bursts, "{rounding}: passage {passage} periods: {sig:?}");
+        }
+    }
+    for bad in [-0.1, 1.5, f64::NAN] {
+        let e = curve_law::check(c, &d, bad, &o).unwrap_err().to_string();
+        assert!(e.contains("knee_rounding"), "{bad}: {e}");
     }
 }

@@ -189,12 +189,12 @@ fn the_load_map_carries_the_friction_verdict() {
             DampingChoice::HysteresisLoss,
             &grid,
             &opts,
-            false,
+            None,
         )
         .unwrap()
     };
     let map = map_of(&c);
-    let check = check_card(&c, sources, DampingChoice::HysteresisLoss, &opts).unwrap();
+    let check = check_card(&c, sources, DampingChoice::HysteresisLoss, 0.0, &opts).unwrap();
     let l = law(&c).unwrap().unwrap();
     let mut slips = 0;
     for p in &map {

@@ -205,7 +205,7 @@ fn card_check_derives_damping_frequency_and_folds() {
     let f = CardFile::parse(GOOD).unwrap();
     let c = &f.card[0];
     let opts = hdgear::burst::BurstOptions::default();
-    let r = check_card(c, &f.sources, DampingChoice::HysteresisLoss, &opts).unwrap();
+    let r = check_card(c, &f.sources, DampingChoice::HysteresisLoss, 0.0, &opts).unwrap();
     let loss = r.damping.from_loss.as_ref().unwrap();
     // no rating on this card: the cycle runs to T2
     assert_eq!(loss.amplitude, 25.0);
@@ -239,7 +239,7 @@ fn card_check_derives_damping_frequency_and_folds() {
     assert!(
         (r.frequencies.natural_hz - (1.3e4 / j_eq).sqrt() / std::f64::consts::TAU).abs() < 1e-9
     );
-    let a = check_card(c, &f.sources, DampingChoice::Assumed, &opts).unwrap();
+    let a = check_card(c, &f.sources, DampingChoice::Assumed, 0.0, &opts).unwrap();
     assert_eq!(a.damping.zeta, 0.1);
     assert!((a.damping.gamma - 25.0).abs() < 1e-12);
 }
@@ -262,9 +262,9 @@ fn load_map_judges_the_cards_drive_at_every_load() {
     assert_eq!(grid.amplitude_values(), [8.25, 16.5, 24.75, 33.0]);
     let opts = hdgear::burst::BurstOptions::default();
     let loss = DampingChoice::HysteresisLoss;
-    let map = load_map(c, sources, loss, &grid, &opts, false).unwrap();
+    let map = load_map(c, sources, loss, &grid, &opts, None).unwrap();
     assert_eq!(map.len(), 16);
-    let check = check_card(c, sources, loss, &opts).unwrap();
+    let check = check_card(c, sources, loss, 0.0, &opts).unwrap();
     for p in &map {
         let d = hdgear::physical::PhysicalParams {
             t_am: p.t_am,
@@ -292,6 +292,6 @@ fn load_map_judges_the_cards_drive_at_every_load() {
             ..grid
         },
     ] {
-        assert!(load_map(c, sources, DampingChoice::Assumed, &bad, &opts, true).is_err());
+        assert!(load_map(c, sources, DampingChoice::Assumed, &bad, &opts, Some(0.0)).is_err());
     }
 }

@@ -56,6 +56,8 @@ pub enum CardAction {
         #[arg(long)]
         json: bool,
         #[command(flatten)]
+        knees: KneeArgs,
+        #[command(flatten)]
         burst: BurstArgs,
     },
     /// The verdict over slow output-torque amplitudes up to the rated torque (T2 without a
@@ -96,10 +98,26 @@ pub struct CardMapArgs {
     /// fitted model alone, far faster (its knees make every response ring).
     #[arg(long)]
     pub fit_only: bool,
+    #[command(flatten)]
+    pub knees: KneeArgs,
     #[arg(long, value_name = "FILE", help = crate::export::out_help(MapRow::COLUMNS))]
     pub out: Option<PathBuf>,
     #[command(flatten)]
     pub burst: BurstArgs,
+}
+
+/// How the catalogue curve's verdict rounds the knees (`card check` and `card map`).
+#[derive(clap::Args, Debug)]
+pub struct KneeArgs {
+    /// Round the catalogue curve's knees over this fraction of the first knee's twist theta(T1),
+    /// 0 to 1 (a hyperbola in place of each corner; 0: the catalogue's corners).
+    #[arg(
+        long,
+        default_value_t = 0.0,
+        allow_negative_numbers = true,
+        value_name = "FRACTION"
+    )]
+    pub knee_rounding: f64,
 }
 
 /// A card with the sources of the file it came from.
@@ -195,6 +213,9 @@ struct MapMeta<'a> {
     /// `--fit-only`).
     #[serde(skip_serializing_if = "Option::is_none")]
     catalogue_law: Option<&'static str>,
+    /// The catalogue curve's knee rounding, a fraction of θ(T₁) (none with `--fit-only`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    knee_rounding: Option<f64>,
 }
 
 /// Runs `hdgear card`.
@@ -207,12 +228,13 @@ pub fn run(a: CardArgs) -> Result<()> {
             damping,
             design,
             json,
+            knees,
             burst,
         } => {
             let choice = DampingChoice::parse(&damping).context("--damping")?;
             let opts = burst.options()?;
             let l = load(&card)?;
-            let check = check_card(&l.card, &l.sources, choice, &opts)?;
+            let check = check_card(&l.card, &l.sources, choice, knees.knee_rounding, &opts)?;
             let design = design
                 .then(|| hdgear::physical::design::design_check(&check.summary.drive, &opts))
                 .transpose()?;
@@ -241,6 +263,7 @@ fn map(a: CardMapArgs) -> Result<()> {
         t_am_max,
         damping,
         fit_only,
+        knees,
         out,
         burst,
     } = a;
@@ -255,7 +278,8 @@ fn map(a: CardMapArgs) -> Result<()> {
     if let Some(t) = t_am_max {
         grid.t_am_max = t;
     }
-    let map = load_map(&l.card, &l.sources, choice, &grid, &opts, !fit_only)?;
+    let curve = (!fit_only).then_some(knees.knee_rounding);
+    let map = load_map(&l.card, &l.sources, choice, &grid, &opts, curve)?;
     let law = hdgear::physical::friction::law(&l.card)?;
     let has_friction = law.is_some();
     let rows = map.iter().map(|p| {
@@ -283,6 +307,7 @@ fn map(a: CardMapArgs) -> Result<()> {
         damping: choice,
         friction: law.map(|law| (law, hdgear::physical::friction::ASSUMPTION)),
         catalogue_law: (!fit_only).then_some(hdgear::physical::curve_law::ASSUMPTION),
+        knee_rounding: curve,
     };
     crate::sink::write_records(out.as_deref(), &meta, rows)?;
     if out.is_some() {
@@ -542,9 +567,14 @@ fn check_text(r: &CardCheck) -> String {
     mode_lines(&mut s, r);
     s.push_str(&crate::summary::physical_text(&r.summary));
     let law = &r.catalogue_law;
+    let rounded = if law.rounding > 0.0 {
+        format!(", knees rounded over {} theta(T1)", law.rounding)
+    } else {
+        String::new()
+    };
     let _ = writeln!(
         s,
-        "with the catalogue's curve (K1, K2, K3 segments, knees returned to {:.1e}): {}",
+        "with the catalogue's curve (K1, K2, K3 segments{rounded}, knees returned to {:.1e}): {}",
         law.knee_residual,
         law.outcome.as_ref().map_or(NOT_JUDGED.into(), outcome_text)
     );

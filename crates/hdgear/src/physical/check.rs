@@ -171,14 +171,17 @@ fn chosen_zeta(choice: DampingChoice, from_loss: &Option<LossDamping>) -> Option
     }
 }
 
-/// Checks `card` (whose file has `sources`) and judges the drive built from it with `damping`.
+/// Checks `card` (whose file has `sources`) and judges the drive built from it with `damping`,
+/// the catalogue curve's knees rounded by `knee_rounding` ([`super::curve_law::term`]).
 pub fn check_card(
     card: &Card,
     sources: &BTreeMap<String, Source>,
     damping: DampingChoice,
+    knee_rounding: f64,
     opts: &BurstOptions,
 ) -> Result<CardCheck> {
     card.validate(sources)?;
+    super::curve_law::check_rounding(knee_rounding)?;
     let c = card.curve();
     let rated = card.rated_on_curve();
     let knee = |t: f64| (c.torque(c.twist(t)) - t).abs() / t;
@@ -201,7 +204,7 @@ pub fn check_card(
         assumptions: a.assumptions,
     };
     let summary = summarize(&d, origin, opts)?;
-    let catalogue_law = super::curve_law::check(card, &d, opts)?;
+    let catalogue_law = super::curve_law::check(card, &d, knee_rounding, opts)?;
     let friction = super::friction::check(card, &d, opts)?;
     Ok(CardCheck {
         name: card.name.clone(),
@@ -328,20 +331,22 @@ pub struct MapPoint {
 
 /// The verdict on the drive built from `card` (as [`check_card`] builds it, with `damping`) for
 /// every amplitude and frequency of `grid`, amplitude-major, computed on all cores: with the
-/// cubic fit, with the catalogue's own curve ([`super::curve_law`]), and with the card's
-/// friction law too, when it has one. `catalogue_curve` false leaves the catalogue's verdict out
-/// (`None` at every point): the piecewise law's knees make each response ring, and its
-/// simulation costs far more than the fit's.
+/// cubic fit, with the catalogue's own curve ([`super::curve_law`], its knees rounded by the
+/// given fraction of θ(T₁)), and with the card's friction law too, when it has one.
+/// `catalogue_curve` `None` leaves the catalogue's verdict out (`None` at every point): the
+/// piecewise law's knees make each response ring, and its simulation costs far more than the
+/// fit's.
 pub fn load_map(
     card: &Card,
     sources: &BTreeMap<String, Source>,
     damping: DampingChoice,
     grid: &MapGrid,
     opts: &BurstOptions,
-    catalogue_curve: bool,
+    catalogue_curve: Option<f64>,
 ) -> Result<Vec<MapPoint>> {
     card.validate(sources)?;
     grid.validate()?;
+    catalogue_curve.map_or(Ok(()), super::curve_law::check_rounding)?;
     let zeta = chosen_zeta(damping, &loss_damping(card, sources));
     let d = assemble(card, None, zeta)?.drive;
     let freqs = grid.frequency_values();
@@ -366,11 +371,12 @@ pub fn load_map(
             .map(|d| Ok(super::friction::judge(d, &law, opts)?.map(|o| o.outcome.judgement)))
             .collect::<Result<_>>()?,
     };
-    let with_curve: Vec<Option<super::design::Judgement>> = if catalogue_curve {
+    let with_curve: Vec<Option<super::design::Judgement>> = if let Some(rounding) = catalogue_curve
+    {
         drives
             .par_iter()
             .map(|d| {
-                let m = super::curve_law::model(card, d)?;
+                let m = super::curve_law::model(card, d, rounding)?;
                 Ok(super::design::judge_model(&m, opts)?.map(|(o, _)| o.judgement))
             })
             .collect::<Result<_>>()?

@@ -12,7 +12,7 @@
 //! use hdgear::physical::{card, catalogue, curve_law};
 //! let c = card::builtin_card("CSF-20-50").unwrap();
 //! let d = catalogue::assemble(c, None, None).unwrap().drive;
-//! let law = curve_law::check(c, &d, &hdgear::burst::BurstOptions::default()).unwrap();
+//! let law = curve_law::check(c, &d, 0.0, &hdgear::burst::BurstOptions::default()).unwrap();
 //! assert!(law.knee_residual < 1e-12); // T1 and T2 come back from the reduced law
 //! // the assumed mean load T1 sits on the first knee: crossing its corner, the drive rings
 //! assert!(law.outcome.unwrap().judgement.bursting);
@@ -38,11 +38,14 @@ pub const ASSUMPTION: &str = "the catalogue's piecewise-linear curve P takes the
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct CatalogueLaw {
     /// The `piecewise` term's values in the drive's reduced units:
-    /// [K₁, K₂, K₃]·J_eq/C², θ(T₁)/L, (θ(T₂) − θ(T₁))/L, φ/L and the knee rounding (0: the
+    /// [K₁, K₂, K₃]·J_eq/C², θ(T₁)/L, (θ(T₂) − θ(T₁))/L, φ/L and the knee rounding x_r (0: the
     /// catalogue's corners).
     pub reduced: [f64; 7],
+    /// The knee rounding asked for, as a fraction of θ(T₁) ([`term`]).
+    pub rounding: f64,
     /// max over T₁ and T₂ of |P_reduced(θ(T)/L + φ/L)·unit − T|/T: the reduced law at the
-    /// catalogue's twists, back in N m, against the catalogue's torques.
+    /// catalogue's twists, back in N m, against the catalogue's torques (a rounding moves the
+    /// law off the knees by about ½(K₂ − K₁)·x_r there).
     pub knee_residual: f64,
     /// How the law enters the model ([`ASSUMPTION`]).
     pub assumption: &'static str,
@@ -61,8 +64,28 @@ pub const KNEES: &str = "the catalogue's knees are corners: the load crossing on
     measured curve is rounded there, and where the load takes longer than a torsional period to \
     pass the rounding the knee rings far less (the smooth cubic fit's verdict is that limit)";
 
-/// The `piecewise` term of `card`'s curve in the units of `r` (the reduction of `d`).
-pub fn term(card: &Card, d: &PhysicalParams, r: &Reduction) -> Result<AnyTerm> {
+/// The largest knee rounding [`term`] takes: the first knee's own twist θ(T₁). A wider rounding
+/// reaches back to the origin and is no longer the catalogue's curve.
+pub const MAX_ROUNDING: f64 = 1.0;
+
+/// Checks a knee rounding (a fraction of θ(T₁), 0 to [`MAX_ROUNDING`]).
+pub fn check_rounding(rounding: f64) -> Result<()> {
+    if (0.0..=MAX_ROUNDING).contains(&rounding) {
+        Ok(())
+    } else {
+        Err(crate::Error::InvalidOption {
+            name: "knee_rounding",
+            value: rounding,
+            reason: "must be 0 (the catalogue's corners) to 1 (a fraction of the first knee's twist)",
+        })
+    }
+}
+
+/// The `piecewise` term of `card`'s curve in the units of `r` (the reduction of `d`), its knees
+/// rounded over `rounding`·θ(T₁) of twist (0: the catalogue's corners; the hyperbolic rounding
+/// of [`crate::model::piecewise::Piecewise`], whose x_r this sets).
+pub fn term(card: &Card, d: &PhysicalParams, r: &Reduction, rounding: f64) -> Result<AnyTerm> {
+    check_rounding(rounding)?;
     let c = card.curve();
     let slope = |k: f64| k * r.j_eq / (d.c_eq * d.c_eq);
     let (th1, th2) = (c.twist(c.t1), c.twist(c.t2));
@@ -76,29 +99,34 @@ pub fn term(card: &Card, d: &PhysicalParams, r: &Reduction) -> Result<AnyTerm> {
             th1 / l,
             (th2 - th1) / l,
             d.backlash / l,
-            // the catalogue's own corners
-            0.0,
+            rounding * th1 / l,
         ],
     )
 }
 
 /// The reduced model of `d` (built from `card`) with the catalogue's law for its stiffness:
-/// unit inertia and damping, the reduced load μ + δ sin ωτ, and [`term`].
-pub fn model(card: &Card, d: &PhysicalParams) -> Result<Model> {
-    Ok(on(card, d, &d.reduce()?)?.1)
+/// unit inertia and damping, the reduced load μ + δ sin ωτ, and [`term`] with `rounding`.
+pub fn model(card: &Card, d: &PhysicalParams, rounding: f64) -> Result<Model> {
+    Ok(on(card, d, &d.reduce()?, rounding)?.1)
 }
 
 /// [`term`] and [`model`] with `d`'s reduction `r` at hand.
-fn on(card: &Card, d: &PhysicalParams, r: &Reduction) -> Result<(AnyTerm, Model)> {
-    let law = term(card, d, r)?;
+fn on(card: &Card, d: &PhysicalParams, r: &Reduction, rounding: f64) -> Result<(AnyTerm, Model)> {
+    let law = term(card, d, r, rounding)?;
     let p = r.params;
     Ok((law, Model::damped(p.mu, p.delta, p.omega).with_term(law)?))
 }
 
-/// Checks drive `d` (built from `card`) with the catalogue's law.
-pub fn check(card: &Card, d: &PhysicalParams, opts: &BurstOptions) -> Result<CatalogueLaw> {
+/// Checks drive `d` (built from `card`) with the catalogue's law, its knees rounded by
+/// `rounding` ([`term`]).
+pub fn check(
+    card: &Card,
+    d: &PhysicalParams,
+    rounding: f64,
+    opts: &BurstOptions,
+) -> Result<CatalogueLaw> {
     let r = d.reduce()?;
-    let (law, m) = on(card, d, &r)?;
+    let (law, m) = on(card, d, &r, rounding)?;
     let c = card.curve();
     let unit = r.torque_unit();
     let back = |t: f64| {
@@ -111,6 +139,7 @@ pub fn check(card: &Card, d: &PhysicalParams, opts: &BurstOptions) -> Result<Cat
             .values()
             .try_into()
             .expect("the piecewise term has seven values"),
+        rounding,
         knee_residual: back(c.t1).max(back(c.t2)),
         assumption: ASSUMPTION,
         outcome: judged.as_ref().map(|(o, _)| *o),

@@ -242,6 +242,7 @@ impl PhysicalEvidence {
             catalogue_law: crate::physical::curve_law::check(
                 crate::physical::card::builtin_card(PHYSICAL_DRIVE)?,
                 &drive,
+                0.0,
                 opts,
             )?,
             variant,
