@@ -7,8 +7,9 @@
 //! use hdgear::physical::{card, check};
 //! let c = card::builtin_card("CSG-20-50").unwrap();
 //! let r = check::check_card(c, &card::builtin().sources, check::DampingChoice::HysteresisLoss,
-//!     &hdgear::burst::BurstOptions::default()).unwrap();
+//!     0.0, &hdgear::burst::BurstOptions::default()).unwrap();
 //! assert!(r.folds.three_alpha_gamma > 1.0); // no folds with a catalogue law
+//! assert_eq!(r.catalogue_law.rounding, 0.0); // the catalogue's own corners
 //! ```
 
 use super::card::{Card, Source, SourceKind};
