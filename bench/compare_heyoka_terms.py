@@ -1,20 +1,33 @@
 #!/usr/bin/env python3
 """hdgear's assembled model against heyoka (Taylor's method, LLVM JIT) in the same run, on the
-study's model with regularised Coulomb-Stribeck-viscous friction:
+study's model with regularised Coulomb-Stribeck-viscous friction, then with Bouc-Wen hysteresis
+on the twist as well:
 
     x'' + x' + alpha x^3 - x^2 + gamma (x - eps)
-        + (fc + (fs - fc) exp(-(x'/vst)^2)) tanh(x'/vr) + cv x' = mu + delta sin(omega t)
+        + (fc + (fs - fc) exp(-(x'/vst)^2)) tanh(x'/vr) + cv x' [+ kh z] = mu + delta sin(omega t)
+    [z' = ah x' - betah |x'| z - gammah x' |z|]
 
 alpha 16, gamma 0.1, eps 0.71, mu 0.07, delta 1, omega 0.5 (a sine the friction holds at times:
-stick-slip), fc 0.3, fs 0.4, vst 0.1, cv 0.05, vr in {1e-2, 1e-3}; from rest to t = 60, final
-state only, best of 5 batches. hdgear runs `hdgear::model::Model` (every recurrence derived from
-the terms) by `cargo run --release --example time_terms`; heyoka builds its own from the
-expression. Error: |x - x_ref| + |x' - x'_ref| at t = 60 against heyoka at tol 1e-16 with its
-step capped at 2e-4 (the reference: without a cap, heyoka's own steps cross the friction's
+stick-slip), fc 0.3, fs 0.4, vst 0.1, cv 0.05, vr in {1e-2, 1e-3}; Bouc-Wen kh 0.5, ah 1,
+betah 0.5, gammah 0.5 (n = 1, rho = 0). From rest (z = 0) to t = 60, final state only, best of 5
+batches. hdgear runs `hdgear::model::Model` (every recurrence derived from the terms) by `cargo
+run --release --example time_terms` (`--hysteresis`: the |x'| and |z| exact, piece by piece);
+heyoka builds its own from the expression.
+
+Friction: error |x - x_ref| + |x' - x'_ref| at t = 60 against heyoka at tol 1e-16 with its step
+capped at 2e-4 (the reference: without a cap, heyoka's own steps cross the friction's
 transitions, where tanh's series converges later than the state's rows show, and at v_r = 1e-3 its
 uncapped 1e-16 run is itself wrong by about 1e-6). "heyoka at equal error" is heyoka's fastest run
 over the tolerances 1e-8 ... 1e-14 and step caps (none, 0.1, 0.03, 0.01, 0.003) whose error is at
 most hdgear's: the two compared at equal accuracy, not only at equal tolerance.
+
+Hysteresis: heyoka has no |.| whose series it knows to end at 0, so it runs the law two ways.
+"events": the exact law piece by piece, the signs of x' and z parameters, each flipped where a
+terminal event stops the run at x' = 0 or z = 0 (this script's loop; heyoka locates the events).
+"smooth": |u| regularised as sqrt(u^2 + e^2), e in {1e-4, 1e-6, 1e-8}. The error (summed over x,
+x', z) is against heyoka's events form at 1e-16 with its step capped at 2e-4; "heyoka at equal
+error" is heyoka's fastest run of either form (tolerances and caps as above) whose error is at most
+hdgear's.
 
 Usage: python3 bench/compare_heyoka_terms.py [REPS]
 Creates its own virtual environment (target/bench-venv) with heyoka and numpy on first use.
@@ -28,37 +41,129 @@ from common import ROOT, ensure_venv
 
 ALPHA, GAMMA, EPS, MU, DELTA, OMEGA = 16.0, 0.1, 0.71, 0.07, 1.0, 0.5
 FC, FS, VST, CV = 0.3, 0.4, 0.1, 0.05
+KH, AH, BETAH, GAMMAH = 0.5, 1.0, 0.5, 0.5  # the example's HYSTERESIS (rho 0, n 1)
 VRS = (1e-2, 1e-3)
 T_END = 60.0
 TOLS = (1e-8, 1e-10, 1e-12)
 SEARCH_TOLS = (1e-8, 1e-10, 1e-12, 1e-14)
 CAPS = (None, 0.1, 0.03, 0.01, 0.003)
+REGULARISATIONS = (1e-4, 1e-6, 1e-8)
 REF_CAP = 2e-4
+# Terminal events are not looked for again within this time of firing: far below the time
+# between two real switches here (the shortest is a sizeable fraction of the load's period).
+COOLDOWN = 1e-9
 
 
-def heyoka_system():
+def heyoka_system(form):
+    """The equations for `form`: "friction" (x, x'), "events" (Bouc-Wen's signs the parameters
+    1 and 2) or "smooth" (Bouc-Wen's |u| as sqrt(u^2 + e^2), e parameter 1); parameter 0 is vr."""
     import heyoka as hy
-    x, v = hy.make_vars("x", "v")
+    x, v, z = hy.make_vars("x", "v", "z")
     vr = hy.par[0]
     friction = (FC + (FS - FC) * hy.exp(-(v / VST) * (v / VST))) * hy.tanh(v / vr) + CV * v
     stiffness = ALPHA * x * x * x - x * x + GAMMA * (x - EPS)
-    return [(x, v), (v, MU + DELTA * hy.sin(OMEGA * hy.time) - v - stiffness - friction)]
+    load = MU + DELTA * hy.sin(OMEGA * hy.time) - v - stiffness - friction
+    if form == "friction":
+        return [(x, v), (v, load)]
+    if form == "events":
+        abs_v, abs_z = hy.par[1] * v, hy.par[2] * z
+    else:
+        e = hy.par[1]
+        abs_v, abs_z = hy.sqrt(v * v + e * e), hy.sqrt(z * z + e * e)
+    return [(x, v), (v, load - KH * z), (z, AH * v - BETAH * abs_v * z - GAMMAH * v * abs_z)]
 
 
-def heyoka_run(sys_, vr, tol, reps, cap=None, batches=5):
-    import heyoka as hy
-    ta = hy.taylor_adaptive(sys_, [0.0, 0.0], tol=tol, pars=[vr])
-    best, steps = float("inf"), 0
-    kw = {} if cap is None else {"max_delta_t": cap}
-    for _ in range(batches):
-        t0 = time.perf_counter()
-        for _ in range(reps):
-            ta.time = 0.0
-            ta.state[:] = [0.0, 0.0]
+class Heyoka:
+    """One heyoka integrator of `form` at `tol`, run from rest to T_END."""
+
+    def __init__(self, form, vr, tol, e=None):
+        import heyoka as hy
+        self.hy, self.form = hy, form
+        self.dim = 2 if form == "friction" else 3
+        events = []
+        pars = [vr]
+        if form == "events":
+            v, z = hy.make_vars("v", "z")
+            events = [hy.t_event(v, cooldown=COOLDOWN), hy.t_event(z, cooldown=COOLDOWN)]
+            pars += [1.0, 1.0]
+        elif form == "smooth":
+            pars.append(e)
+        self.pars = pars
+        self.ta = hy.taylor_adaptive(heyoka_system(form), [0.0] * self.dim, tol=tol, pars=pars,
+                                     t_events=events)
+
+    def once(self, cap):
+        ta = self.ta
+        ta.time = 0.0
+        ta.state[:] = [0.0] * self.dim
+        ta.pars[:] = self.pars
+        if self.form == "events":
+            # from rest the load mu + gamma eps > 0 starts x' upwards, and z' = ah x' with it
+            ta.reset_cooldowns()
+        kw = {} if cap is None else {"max_delta_t": cap}
+        steps = 0
+        while True:
             out = ta.propagate_until(T_END, **kw)
-        best = min(best, (time.perf_counter() - t0) / reps)
-        steps = out[3]
-    return best, steps, (float(ta.state[0]), float(ta.state[1]))
+            steps += out[3]
+            if out[0] == self.hy.taylor_outcome.time_limit:
+                return steps
+            # terminal event i stops the run with outcome -(i + 1): flip sign i (parameter i + 1),
+            # except at the start, where x' and z are 0 and their signs are the start's
+            if ta.time > 0.0:
+                ta.pars[-int(out[0])] *= -1.0
+
+    def timed(self, reps, cap=None, batches=5):
+        best, steps = float("inf"), 0
+        for _ in range(batches):
+            t0 = time.perf_counter()
+            for _ in range(reps):
+                steps = self.once(cap)
+            best = min(best, (time.perf_counter() - t0) / reps)
+        return best, steps, [float(s) for s in self.ta.state]
+
+
+def hdgear_runs(reps, hysteresis):
+    example = ROOT / "target" / "release" / "examples" / "time_terms"
+    args = [str(example), str(reps), str(T_END), ",".join(map(str, VRS)), *map(str, TOLS)]
+    lines = subprocess.run(args + (["--hysteresis"] if hysteresis else []), check=True,
+                           capture_output=True, text=True).stdout.splitlines()
+    return {(r["vr"], r["rtol"]): r for r in map(json.loads, lines)}
+
+
+def table(reps, hysteresis):
+    ours = hdgear_runs(reps, hysteresis)
+    form = "events" if hysteresis else "friction"
+    print("| v_r | tol | hdgear taylor ms | steps | error | heyoka ms | steps | error "
+          "| heyoka at equal error: ms (form, tol, cap) | heyoka / hdgear at equal error |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    for vr in VRS:
+        _, _, ref = Heyoka(form, vr, 1e-16).timed(1, cap=REF_CAP, batches=1)
+        err = lambda s: sum(abs(a - b) for a, b in zip(s, ref))
+        candidates = [(form, None)]
+        if hysteresis:
+            candidates += [("smooth", e) for e in REGULARISATIONS]
+        grid = []
+        for f, e in candidates:
+            for tol in SEARCH_TOLS:
+                run = Heyoka(f, vr, tol, e)
+                for cap in CAPS:
+                    t, _, end = run.timed(max(1, reps // 5), cap=cap, batches=3)
+                    name = f if e is None else f"{f} e={e:g}"
+                    grid.append((t, err(end), name, tol, cap))
+        for tol in TOLS:
+            ht, hs, hy_end = Heyoka(form, vr, tol).timed(reps)
+            o = ours[(vr, tol)]
+            mine = err(o["y"])
+            equal = min((g for g in grid if g[1] <= mine), default=None)
+            if equal is None:
+                at_equal, ratio = "none reaches it", "—"
+            else:
+                cap = "none" if equal[4] is None else f"{equal[4]:g}"
+                at_equal = f"{equal[0] * 1e3:.3f} ({equal[2]}, {equal[3]:.0e}, {cap})"
+                ratio = f"{equal[0] / o['seconds_per_run']:.2f}"
+            print(f"| {vr:.0e} | {tol:.0e} | {o['seconds_per_run'] * 1e3:.3f} | {o['steps']} "
+                  f"| {mine:.1e} | {ht * 1e3:.3f} | {hs} | {err(hy_end):.1e} "
+                  f"| {at_equal} | {ratio} |")
 
 
 def main():
@@ -66,40 +171,17 @@ def main():
     reps = int(sys.argv[1]) if len(sys.argv) > 1 else 50
     subprocess.run(["cargo", "build", "--release", "-q", "--example", "time_terms"], cwd=ROOT,
                    check=True)
-    example = ROOT / "target" / "release" / "examples" / "time_terms"
-    lines = subprocess.run([str(example), str(reps), str(T_END), ",".join(map(str, VRS)),
-                            *map(str, TOLS)], check=True, capture_output=True,
-                           text=True).stdout.splitlines()
-    ours = {(r["vr"], r["rtol"]): r for r in map(json.loads, lines)}
     import heyoka as hy
-    sys_ = heyoka_system()
+    hy.set_logger_level_error()
     print(f"heyoka {hy.__version__}; {reps} runs per batch, best of 5 batches; t = 0 ... {T_END}")
     print()
-    print("| v_r | tol | hdgear taylor ms | steps | error | heyoka ms | steps | error "
-          "| heyoka at equal error: ms (tol, cap) | heyoka / hdgear at equal error |")
-    print("|---|---|---|---|---|---|---|---|---|---|")
-    for vr in VRS:
-        _, _, ref = heyoka_run(sys_, vr, 1e-16, 1, cap=REF_CAP, batches=1)
-        err = lambda s: abs(s[0] - ref[0]) + abs(s[1] - ref[1])
-        grid = []
-        for tol in SEARCH_TOLS:
-            for cap in CAPS:
-                t, _, end = heyoka_run(sys_, vr, tol, max(1, reps // 5), cap=cap, batches=3)
-                grid.append((t, err(end), tol, cap))
-        for tol in TOLS:
-            ht, hs, hy_end = heyoka_run(sys_, vr, tol, reps)
-            o = ours[(vr, tol)]
-            mine = err((o["x"], o["xdot"]))
-            equal = min((g for g in grid if g[1] <= mine), default=None)
-            if equal is None:
-                at_equal, ratio = "none reaches it", "—"
-            else:
-                cap = "none" if equal[3] is None else f"{equal[3]:g}"
-                at_equal = f"{equal[0] * 1e3:.3f} ({equal[2]:.0e}, {cap})"
-                ratio = f"{equal[0] / o['seconds_per_run']:.2f}"
-            print(f"| {vr:.0e} | {tol:.0e} | {o['seconds_per_run'] * 1e3:.3f} | {o['steps']} "
-                  f"| {mine:.1e} | {ht * 1e3:.3f} | {hs} | {err(hy_end):.1e} "
-                  f"| {at_equal} | {ratio} |")
+    print("Friction:")
+    print()
+    table(reps, hysteresis=False)
+    print()
+    print("Friction and Bouc-Wen hysteresis (heyoka's own column: its events form):")
+    print()
+    table(reps, hysteresis=True)
 
 
 if __name__ == "__main__":

@@ -25,10 +25,12 @@ RUNS = [
     ("hdgear against heyoka", "compare_heyoka.py", ["100"],
      "Three slow periods of the study's model from the default start, final state only, best of "
      "5 batches of 100 runs; the batch rows are per trajectory (hdgear 16 lanes, heyoka 8).", None),
-    ("hdgear against heyoka, with friction", "compare_heyoka_terms.py", ["50"],
+    ("hdgear against heyoka, with friction and hysteresis", "compare_heyoka_terms.py", ["50"],
      "The study's model with regularised Coulomb–Stribeck–viscous friction, assembled from terms, "
-     "60 time units from rest at v_r = 1e-2 and 1e-3, final state only, best of 5 batches of 50 "
-     "runs; errors against a step-capped heyoka run at 1e-16.", None),
+     "then with Bouc–Wen hysteresis as well (hdgear: its |x'| and |z| exact, piece by piece; "
+     "heyoka: the same with terminal events, or regularised), 60 time units from rest at v_r = "
+     "1e-2 and 1e-3, final state only, best of 5 batches of 50 runs; errors against a "
+     "step-capped heyoka run at 1e-16.", None),
     ("hdgear against numba", "compare_numba.py", [],
      "A 1000-point γ sweep: numba's Dormand–Prince integration alone against hdgear's whole "
      "`sweep` process with burst analysis, both on every core.", None),

@@ -1,14 +1,18 @@
 //! Times a model assembled from terms: the study's model with regularised Coulomb–Stribeck–viscous
 //! friction ((f_c + (f_s − f_c)e^{−(x'/v_st)²})·tanh(x'/v_r) + c_v·x'), integrated from rest to
 //! `t_end` with nothing sampled, Taylor's method through [`hdgear::model::Model`]'s derived
-//! recurrences. Prints one JSON line per (v_r, tolerance):
-//! `{"vr":..,"rtol":..,"seconds_per_run":..,"steps":..,"x":..,"xdot":..}`.
+//! recurrences. With `--hysteresis` the model also carries Bouc–Wen hysteresis on the twist
+//! ([`HYSTERESIS`]), whose |x'| and |z| are exact: the run goes piece by piece, each step cut at
+//! x' = 0 and z = 0 ([`hdgear::model::switching::Switching`]).
+//! Prints one JSON line per (v_r, tolerance):
+//! `{"vr":..,"rtol":..,"seconds_per_run":..,"steps":..,"y":[x, x', (z)]}`.
 //! Used by `bench/compare_heyoka_terms.py`, which runs heyoka on the same equation.
-//! Usage: `cargo run --release --example time_terms REPS T_END VR[,VR…] TOL…`.
+//! Usage: `cargo run --release --example time_terms REPS T_END VR[,VR…] TOL… [--hysteresis]`.
 
 use hdgear::Params;
-use hdgear::integrate::{Options, Stepper, stepper};
+use hdgear::integrate::{Options, Stats, Stepper, stepper};
 use hdgear::model::Model;
+use hdgear::model::switching::{Pieces, Switching};
 use hdgear::model::terms::AnyTerm;
 use std::time::Instant;
 
@@ -23,9 +27,13 @@ const PARAMS: Params = Params {
 };
 /// f_c, f_s, v_st, c_v.
 const FRICTION: [f64; 4] = [0.3, 0.4, 0.1, 0.05];
+/// Bouc–Wen's k_h, ρ, A, β, γ_h, n: ż = A·x' − β|x'|z − γ_h·x'|z|, torque k_h·z.
+const HYSTERESIS: [f64; 6] = [0.5, 0.0, 1.0, 0.5, 0.5, 1.0];
 
 fn main() {
-    let args: Vec<String> = std::env::args().skip(1).collect();
+    let mut args: Vec<String> = std::env::args().skip(1).collect();
+    let hysteresis = args.iter().any(|a| a == "--hysteresis");
+    args.retain(|a| a != "--hysteresis");
     let reps: u32 = args.first().and_then(|s| s.parse().ok()).unwrap_or(50);
     let t_end: f64 = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(60.0);
     let vrs: Vec<f64> = args
@@ -38,37 +46,63 @@ fn main() {
     }
     for &vr in &vrs {
         let [fc, fs, vst, cv] = FRICTION;
-        let m = Model::study(&PARAMS)
+        let mut m = Model::study(&PARAMS)
             .with_term(AnyTerm::new("stribeck", &[fc, fs, vst, cv, vr]).expect("valid term"))
             .expect("a free slot");
+        if hysteresis {
+            m = m
+                .with_term(AnyTerm::new("boucwen", &HYSTERESIS).expect("valid term"))
+                .expect("a free slot");
+        }
+        let pieces = Pieces::new(&m);
         for &tol in &tols {
             let o = Options {
                 rtol: tol,
                 atol: tol,
                 ..Options::default()
             };
-            let run = || {
-                let mut s = stepper(&m, 0.0, [0.0, 0.0], o).expect("valid options");
-                while s.t() < t_end {
-                    s.step(t_end).expect("the run completes");
-                }
-                (*s.y(), s.stats())
+            let (best, y, st) = match &pieces {
+                None => time(reps, t_end, || {
+                    stepper(&m, 0.0, [0.0; 2], o).expect("valid options")
+                }),
+                Some(p) => time(reps, t_end, || {
+                    Switching::<3>::new(p, 0.0, [0.0; 3], o).expect("valid options")
+                }),
             };
-            let mut last = None;
-            let mut best = f64::INFINITY;
-            // best of 5 batches: the least-disturbed estimate on a shared machine
-            for _ in 0..5 {
-                let t0 = Instant::now();
-                for _ in 0..reps {
-                    last = Some(std::hint::black_box(run()));
-                }
-                best = best.min(t0.elapsed().as_secs_f64() / f64::from(reps));
-            }
-            let Some((y, st)) = last else { return };
             println!(
-                "{{\"vr\":{vr:e},\"rtol\":{tol:e},\"seconds_per_run\":{best},\"steps\":{},\"x\":{:.17e},\"xdot\":{:.17e}}}",
-                st.steps, y[0], y[1]
+                "{{\"vr\":{vr:e},\"rtol\":{tol:e},\"seconds_per_run\":{best},\"steps\":{},\"y\":[{}]}}",
+                st.steps,
+                y.iter()
+                    .map(|v| format!("{v:.17e}"))
+                    .collect::<Vec<_>>()
+                    .join(",")
             );
         }
     }
+}
+
+/// The best time per run over 5 batches of `reps` runs (the least-disturbed estimate on a shared
+/// machine) from the stepper `start` makes to `t_end`, with the last run's final state and work.
+fn time<const N: usize, S: Stepper<N>>(
+    reps: u32,
+    t_end: f64,
+    start: impl Fn() -> S,
+) -> (f64, Vec<f64>, Stats) {
+    let run = || {
+        let mut s = start();
+        while s.t() < t_end {
+            s.step(t_end).expect("the run completes");
+        }
+        (*s.y(), s.stats())
+    };
+    let mut last = run();
+    let mut best = f64::INFINITY;
+    for _ in 0..5 {
+        let t0 = Instant::now();
+        for _ in 0..reps {
+            last = std::hint::black_box(run());
+        }
+        best = best.min(t0.elapsed().as_secs_f64() / f64::from(reps));
+    }
+    (best, last.0.to_vec(), last.1)
 }

@@ -163,6 +163,37 @@ fn the_load_map_carries_the_catalogue_verdict() {
     }
 }
 
+/// A vanishing rounding is the corner: CSF-20-50 (its card's loads, assumed damping) with its
+/// knees rounded over 1e-6, 1e-9 and 1e-12 of θ(T₁) gives the corner's verdict and ringing swing.
+/// The load passes such a rounding in 1.7e-4 torsional periods or less (the passage of
+/// `rounded_knees_ring_less_than_the_catalogues_corners`, which halves the swing at 0.17
+/// periods): a change of the swing of that order, held here to 1 %. Two things make this run:
+/// the rounding's square (x_r² down to 1e-24 of θ(T₁)²) lies far below the rounding errors of x²
+/// at the knee, so the rows are formed from the distance to the knee itself; and far from a knee
+/// the rows show no trace of it, so each step stays inside the hyperbola's radius of convergence
+/// instead of stepping over the knee.
+#[test]
+fn a_vanishing_knee_rounding_is_the_corner() {
+    let c = builtin_card("CSF-20-50").unwrap();
+    let d = drive(c);
+    let o = BurstOptions::default();
+    let corner = curve_law::check(c, &d, 0.0, &o).unwrap();
+    let corner_sig = corner.signatures.unwrap();
+    for rounding in [1e-6, 1e-9, 1e-12] {
+        let law = curve_law::check(c, &d, rounding, &o)
+            .unwrap_or_else(|e| panic!("rounding {rounding}: {e}"));
+        let sig = law.signatures.unwrap();
+        println!("rounding {rounding:e}: {sig:?}");
+        assert_eq!(
+            law.outcome.map(|o| o.judgement.bursting),
+            corner.outcome.map(|o| o.judgement.bursting),
+            "{rounding}"
+        );
+        let change = (sig.max_ringing_swing / corner_sig.max_ringing_swing - 1.0).abs();
+        assert!(change < 0.01, "{rounding}: {sig:?} against {corner_sig:?}");
+    }
+}
+
 /// A rounded knee rings less: CSF-20-50 (its card's loads, assumed damping) judged with its knees
 /// rounded over a growing fraction of θ(T₁). The load crosses the first knee at x' ≈ δω/k₁ (in
 /// the reduced units), so it takes x_r·k₁/(δω) to pass a rounding x_r. The corner overshoots and

@@ -9,8 +9,9 @@ use crate::params::{Param, Params};
 use serde::Serialize;
 use std::fmt;
 
-/// The most terms one model holds.
-pub const MAX_TERMS: usize = 6;
+/// The most terms one model holds: one set of a Taylor stepper's rows each
+/// ([`crate::integrate::Workspace`]).
+pub const MAX_TERMS: usize = crate::integrate::taylor::WORKSPACE_SETS;
 
 /// The most internal states (of its terms) one model holds beside x and x': its state has at
 /// most 2 + MAX_STATES components.

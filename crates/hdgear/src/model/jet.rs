@@ -110,6 +110,34 @@ pub fn tanh_step_limit(
     })
 }
 
+/// [`exp_step_limit`] for a term `amplitude`·√(y(t)² + r²), a corner |y| rounded over r, with
+/// y's row 0 `y0` and rows 1..=`order` in `y`. Away from the corner the rows show |y|'s straight
+/// line: the bend r²/(2|y|) stays below their rounding when r ≪ |y|, yet a step may carry y across
+/// the corner, where it bends all at once (as heyoka's issue 474 describes for a series that
+/// converges later than the rows show). The series of √(y² + r²) in y about y₀ has radius
+/// q₀ = √(y₀² + r²), the distance to its branch points y = ±ir, so its rows in y are about
+/// q₀^{1−n} and a step on which y moves by δ = Σ_{k≥1}|y_k|·h^k truncates it at order p by about
+/// `amplitude`·q₀·(δ/q₀)^{p+1}: the step is halved until that is below `negligible`. Near the
+/// corner the steps shrink to a fraction of r/|y'|, and away from it they grow with |y|.
+pub fn hyperbola_step_limit(
+    y0: f64,
+    y: &[f64],
+    r: f64,
+    order: usize,
+    h: f64,
+    amplitude: f64,
+    negligible: f64,
+) -> f64 {
+    let q0 = (y0 * y0 + r * r).sqrt();
+    let size = amplitude * q0;
+    let negligible = resolvable(negligible, size);
+    if size <= negligible {
+        return h;
+    }
+    let allowed = q0 * (negligible / size).powf(1.0 / (order + 1) as f64);
+    shorten(h, 0.0, |h| tail_bound(y, order, h) > allowed)
+}
+
 /// `negligible`, or the rounding of the term's own value (ε·`amplitude`) where that is larger: a
 /// change below it is below what any step resolves, and asking for one would shrink the steps
 /// without bound at the tightest tolerances.

@@ -280,24 +280,36 @@ impl Term for Piecewise {
     }
     /// Row 0 is P at the step's start; rows k ≥ 1 are the slope of the segment the motion is on
     /// times x's rows (chosen at row 1, on a kink by x' or, at rest, by x''). Keeps x's rows and
-    /// the segment for [`Term::step_limit`]. With rounded knees: x²'s rows (row 0 of the
-    /// scratch), from which each (u ∓ c)² + x_r² = x² + 2d·x + d² + x_r² (d = −x₀ ∓ c) is
-    /// formed row by row, and the rows of the four square roots (rows 1 to 4).
+    /// the segment for [`Term::step_limit`]. With rounded knees: x's rows (row 0 of the scratch,
+    /// for [`Term::step_limit`]) and the rows of the four square roots (rows 1 to 4), each of (u ∓ c)² + x_r² formed row by row from
+    /// y = u ∓ c itself, y₀² + x_r² at row 0 and 2y₀·x_k + Σ_{0<i<k} x_i·x_{k−i} beyond (not
+    /// as x² + 2d·x + d², whose rounding errors of order ε·x² swamp an x_r² far below them).
     #[inline(always)]
     fn taylor(&self, k: usize, x: &[f64], v: &[f64], _z: &[f64], rows: &mut Scratch) -> f64 {
         if let Some(r) = self.rounding() {
-            let [sq, roots @ ..] = &mut rows.0;
-            sq[k] = super::jet::square_coefficient(x, k);
+            let [xs, roots @ ..] = &mut rows.0;
+            xs[k] = x[k];
             let [_, _, k3, _, _, x0, _] = self.0;
-            let mut t = k3 * x[k] - if k == 0 { k3 * x0 } else { 0.0 };
+            let u = x[0] - x0;
+            let mut t = if k == 0 { k3 * u } else { k3 * x[k] };
+            // the part of y²'s row k that does not hold y₀: the same for every knee
+            let inner = if k >= 2 {
+                super::jet::square_coefficient(&x[1..], k - 2)
+            } else {
+                0.0
+            };
             // q(u − c) with weight w and q(u + c) with −w, for each knee
             let halves = self
                 .knee_weights()
                 .into_iter()
                 .flat_map(|(c, w)| [(c, w), (-c, -w)]);
             for (root, (c, weight)) in roots.iter_mut().zip(halves) {
-                let d = -x0 - c;
-                let w = sq[k] + 2.0 * d * x[k] + if k == 0 { d * d + r * r } else { 0.0 };
+                let y0 = u - c;
+                let w = if k == 0 {
+                    y0 * y0 + r * r
+                } else {
+                    2.0 * y0 * x[k] + inner
+                };
                 root[k] = super::jet::sqrt_coefficient(w, root, k);
                 t += weight * root[k];
             }
@@ -322,10 +334,22 @@ impl Term for Piecewise {
     /// eight samples of x's polynomial off the segment brackets the crossing, which
     /// bisection narrows to the last bits of the step, ending on the crossing's far side (so the
     /// next step starts on the kink or just past it, and its segment follows from where x is).
-    fn step_limit(&self, rows: &Scratch, order: usize, h: f64, _negligible: f64) -> f64 {
+    /// With rounded knees the step stays within each hyperbola's radius of convergence
+    /// ([`super::jet::hyperbola_step_limit`]).
+    fn step_limit(&self, rows: &Scratch, order: usize, h: f64, negligible: f64) -> f64 {
         let [xs, seg, ..] = &rows.0;
-        if order == 0 || self.rounding().is_some() {
+        if order == 0 {
             return h;
+        }
+        if let Some(r) = self.rounding() {
+            let u = xs[0] - self.0[5];
+            return self
+                .knee_weights()
+                .into_iter()
+                .flat_map(|(c, w)| [(c, w), (-c, w)])
+                .fold(h, |h, (c, w)| {
+                    super::jet::hyperbola_step_limit(u - c, xs, r, order, h, w.abs(), negligible)
+                });
         }
         // widened as `segment` reads an edge: a start a rounding error past one is on it
         let (lo, hi) = (

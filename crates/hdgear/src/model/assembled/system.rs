@@ -2,12 +2,8 @@
 //! coefficients, each from the terms' own definitions.
 
 use super::{MAX_STATES, MAX_TERMS, Model};
-use crate::integrate::taylor::WORKSPACE_SETS;
 use crate::integrate::{System, Workspace};
 use crate::model::terms::{MAX_ROWS, Scratch};
-
-// one set of the stepper's rows per term
-const _: () = assert!(MAX_TERMS == WORKSPACE_SETS);
 
 /// Component `at` of the state `y`, 0 where there is none.
 #[inline(always)]
@@ -56,8 +52,7 @@ impl<const N: usize> System<N> for Model {
     /// z_{k+1} = r_k/(k+1), each term's T_k and r_k by its own recurrences
     /// ([`crate::model::terms::Term::taylor`]), s_k sin ωt's in closed form.
     fn taylor(&self, t: f64, y: &[f64; N], order: usize, c: &mut [[f64; N]]) -> bool {
-        self.taylor_rows(t, y, order, c, &mut [Scratch::default(); MAX_TERMS]);
-        true
+        self.taylor_in(t, y, order, c, &mut [Scratch::default(); MAX_TERMS])
     }
     fn taylor_in(
         &self,
