@@ -545,8 +545,10 @@ fn report_memory_section_is_its_data() {
     }
 }
 
-/// The physical section judges its drive with the catalogue's own curve too: the verdict and
-/// overshoot it states are what `curve_law::check` gives for the same card and drive.
+/// The physical section judges its drive with the catalogue's own curve too: the verdicts,
+/// overshoot and swing it states are what `curve_law::check` gives for the same card and drive,
+/// with the corners and with the illustrated knee rounding, and the rounding's passage is
+/// x_r·k₁/(δω) torsional periods 2π/√k₁, computed here from the reduced law.
 #[test]
 fn report_physical_section_judges_the_catalogue_curve() {
     use hdgear::physical::{card::builtin_card, catalogue::preset, curve_law};
@@ -554,16 +556,35 @@ fn report_physical_section_judges_the_catalogue_curve() {
     let name = hdgear::report::PHYSICAL_DRIVE;
     let (drive, _) = preset(name, None).unwrap();
     let opts = hdgear::burst::BurstOptions::default();
-    let law = curve_law::check(builtin_card(name).unwrap(), &drive, 0.0, &opts).unwrap();
+    let check = |rounding| curve_law::check(builtin_card(name).unwrap(), &drive, rounding, &opts);
+    let law = check(0.0).unwrap();
     let o = law.outcome.unwrap();
     // CSF-20-50's mean load sits on its first knee: the corner makes it burst
     assert!(o.judgement.bursting);
     let at = h.find("With the catalogue's own curve").unwrap();
     let p = &h[at..at + h[at..].find("</p>").unwrap()];
+    let sig = law.signatures.unwrap();
     let stated = format!(
-        "the same drive bursts ({}, largest overshoot {:.1e} of the slow swing X)",
+        "the same drive bursts ({}, largest overshoot {:.1e} of the slow swing X, ringing swing \
+         {:.3} ωX)",
         o.judgement.label(),
-        law.signatures.unwrap().max_overshoot
+        sig.max_overshoot,
+        sig.max_ringing_swing
     );
     assert!(p.contains(&stated), "{p}");
+    let rounded = check(curve_law::ILLUSTRATED_ROUNDING).unwrap();
+    let r = drive.reduce().unwrap().params;
+    let (k1, xr) = (rounded.reduced[0], rounded.reduced[6]);
+    let passage = xr * k1 / (r.delta * r.omega) * k1.sqrt() / std::f64::consts::TAU;
+    let ro = rounded.outcome.unwrap();
+    let verdict = if ro.judgement.bursting {
+        "bursts"
+    } else {
+        "does not burst"
+    };
+    let stated = format!(
+        "which the slow load passes in {passage:.2} torsional periods, it {verdict} ({}",
+        ro.judgement.label()
+    );
+    assert!(p.contains(&stated), "{stated} not in {p}");
 }

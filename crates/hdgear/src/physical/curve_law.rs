@@ -57,6 +57,23 @@ pub struct CatalogueLaw {
     pub signatures: Option<Signatures>,
 }
 
+impl CatalogueLaw {
+    /// The torsional periods the slow load takes to pass the knee rounding, on a drive whose
+    /// reduced load is `delta`·sin(`omega`·τ): it crosses the first knee at a twist rate of about
+    /// δω/k₁ (quasi-static, on slope k₁), so it passes x_r in x_r·k₁/(δω), against the torsional
+    /// period 2π/√k₁. A passage well below one period rings as the corner does; several periods
+    /// ring no more than the smooth fit.
+    pub fn passage_periods(&self, delta: f64, omega: f64) -> f64 {
+        let (k1, xr) = (self.reduced[0], self.reduced[6]);
+        xr * k1 / (delta * omega) / (std::f64::consts::TAU / k1.sqrt())
+    }
+}
+
+/// A knee rounding the report shows beside the catalogue's corners, as a fraction of θ(T₁): an
+/// illustration of a measured curve, whose knees turn over some twist (no catalogue gives how
+/// much), not a value of the card.
+pub const ILLUSTRATED_ROUNDING: f64 = 0.01;
+
 /// What the knees do to the verdict, stated beside a bursting one: a corner of the curve is
 /// the sharpest form of the study's sharp-quantitative-change mechanism.
 pub const KNEES: &str = "the catalogue's knees are corners: the load crossing one changes the \

@@ -408,23 +408,37 @@ fn boundaries(h: &mut String, r: &Report) {
     );
 }
 
-/// The verdict on the physical drive with the catalogue's own curve, as a paragraph.
-fn catalogue_law(law: &crate::physical::curve_law::CatalogueLaw) -> String {
-    let verdict = match (&law.outcome, &law.signatures) {
-        (Some(o), Some(sig)) if o.judgement.bursting => format!(
-            "bursts ({}, largest overshoot {:.1e} of the slow swing X); {}.",
-            o.judgement.label(),
-            sig.max_overshoot,
-            crate::physical::curve_law::KNEES
-        ),
-        (Some(o), _) => format!("does not burst ({}).", o.judgement.label()),
-        (None, _) => "could not be simulated.".into(),
-    };
+/// The verdict on the physical drive with the catalogue's own curve, as a paragraph: with its
+/// corners, then with its knees rounded (`rounded`, on a drive whose reduced load has `delta`
+/// and `omega`).
+fn catalogue_law(
+    law: &crate::physical::curve_law::CatalogueLaw,
+    rounded: &crate::physical::curve_law::CatalogueLaw,
+    delta: f64,
+    omega: f64,
+) -> String {
+    let verdict =
+        |law: &crate::physical::curve_law::CatalogueLaw| match (&law.outcome, &law.signatures) {
+            (Some(o), Some(sig)) if o.judgement.bursting => format!(
+                "bursts ({}, largest overshoot {:.1e} of the slow swing X, ringing swing {:.3} ωX)",
+                o.judgement.label(),
+                sig.max_overshoot,
+                sig.max_ringing_swing
+            ),
+            (Some(o), _) => format!("does not burst ({})", o.judgement.label()),
+            (None, _) => "could not be simulated".into(),
+        };
     format!(
         "<p>With the catalogue's own curve, the three straight segments in place of the fit \
-         (assumed: {}), the same drive {}</p>",
+         (assumed: {}), the same drive {}; {}. With its knees rounded over {} of θ(T1) (an \
+         illustration of a measured curve, not a catalogue value), which the slow load passes in \
+         {:.2} torsional periods, it {}.</p>",
         esc(law.assumption),
-        esc(&verdict)
+        esc(&verdict(law)),
+        esc(crate::physical::curve_law::KNEES),
+        rounded.rounding,
+        rounded.passage_periods(delta, omega),
+        esc(&verdict(rounded))
     )
 }
 
@@ -478,7 +492,7 @@ fn physical(h: &mut String, r: &Report) {
         "</table>{}<p>The same drive made softer and more disturbed (k1 = {} N m/rad, T_am = {} N m; \
          reduced γ = {:.3}, δ = {:.2}) {} ({}, {}); the single changes that end the bursts:</p>\
          <table><tr><th>parameter</th><th>current</th><th>boundary</th><th>change</th><th>inside</th><th>outside</th></tr>\n",
-        catalogue_law(&ph.catalogue_law),
+        catalogue_law(&ph.catalogue_law, &ph.rounded_law, rp.delta, rp.omega),
         num(vd.k1),
         num(vd.t_am),
         vc.reduced.params.gamma,

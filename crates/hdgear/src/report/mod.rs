@@ -205,6 +205,9 @@ pub struct PhysicalEvidence {
     /// The same drive judged with the catalogue's own piecewise-linear curve in place of the fit
     /// ([`crate::physical::curve_law`]).
     pub catalogue_law: crate::physical::curve_law::CatalogueLaw,
+    /// The same with the curve's knees rounded over
+    /// [`crate::physical::curve_law::ILLUSTRATED_ROUNDING`] of θ(T₁).
+    pub rounded_law: crate::physical::curve_law::CatalogueLaw,
     /// The same drive made to burst (softer k1, larger disturbance).
     pub variant: PhysicalParams,
     /// The variant's design check.
@@ -234,17 +237,15 @@ impl PhysicalEvidence {
         let (drive, fit) = crate::physical::catalogue::preset(PHYSICAL_DRIVE, None)?;
         let variant = bursting_variant(&drive);
         let (span, tol) = REDUCTION_CHECK;
+        let card = crate::physical::card::builtin_card(PHYSICAL_DRIVE)?;
+        let law = |rounding| crate::physical::curve_law::check(card, &drive, rounding, opts);
         Ok(PhysicalEvidence {
             catalogue: CatalogueDrive::by_name(PHYSICAL_DRIVE)?,
             drive,
             fit,
             check: design_check(&drive, opts)?,
-            catalogue_law: crate::physical::curve_law::check(
-                crate::physical::card::builtin_card(PHYSICAL_DRIVE)?,
-                &drive,
-                0.0,
-                opts,
-            )?,
+            catalogue_law: law(0.0)?,
+            rounded_law: law(crate::physical::curve_law::ILLUSTRATED_ROUNDING)?,
             variant,
             variant_check: design_check(&variant, opts)?,
             reduction_check: check_reduction(&drive, span, 1.0, tol)?,
