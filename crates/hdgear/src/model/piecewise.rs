@@ -82,6 +82,14 @@ impl Piecewise {
         [(a, 0.5 * (k2 - k1)), (b, 0.5 * (k3 - k2))]
     }
 
+    /// The rounded law's four hyperbolas, each (c, w) standing for w·q(u − c): q(u − x₁) and
+    /// q(u + x₁) with weights ±½(k₂ − k₁), then the same at x₂ with ±½(k₃ − k₂), in the order
+    /// of the scratch's rows 1 to 4.
+    fn hyperbolas(&self) -> [(f64, f64); 4] {
+        let [(a, wa), (b, wb)] = self.knee_weights();
+        [(a, wa), (-a, -wa), (b, wb), (-b, -wb)]
+    }
+
     /// [`Piecewise::knee_weights`] with (q(u − c), q(u + c)) at u.
     fn knees(&self, u: f64, r: f64) -> [(f64, f64, f64, f64); 2] {
         self.knee_weights()
@@ -281,8 +289,9 @@ impl Term for Piecewise {
     /// Row 0 is P at the step's start; rows k ≥ 1 are the slope of the segment the motion is on
     /// times x's rows (chosen at row 1, on a kink by x' or, at rest, by x''). Keeps x's rows and
     /// the segment for [`Term::step_limit`]. With rounded knees: x's rows (row 0 of the scratch,
-    /// for [`Term::step_limit`]) and the rows of the four square roots (rows 1 to 4), each of (u ∓ c)² + x_r² formed row by row from
-    /// y = u ∓ c itself, y₀² + x_r² at row 0 and 2y₀·x_k + Σ_{0<i<k} x_i·x_{k−i} beyond (not
+    /// for [`Term::step_limit`]) and the rows of the four square roots
+    /// (rows 1 to 4: q(u ∓ x₁), then q(u ∓ x₂)), each (u ∓ c)² + x_r² formed row by row from
+    /// y = u ∓ c itself: y₀² + x_r² at row 0 and 2y₀·x_k + Σ_{0<i<k} x_i·x_{k−i} beyond (not
     /// as x² + 2d·x + d², whose rounding errors of order ε·x² swamp an x_r² far below them).
     #[inline(always)]
     fn taylor(&self, k: usize, x: &[f64], v: &[f64], _z: &[f64], rows: &mut Scratch) -> f64 {
@@ -298,12 +307,7 @@ impl Term for Piecewise {
             } else {
                 0.0
             };
-            // q(u − c) with weight w and q(u + c) with −w, for each knee
-            let halves = self
-                .knee_weights()
-                .into_iter()
-                .flat_map(|(c, w)| [(c, w), (-c, -w)]);
-            for (root, (c, weight)) in roots.iter_mut().zip(halves) {
+            for (root, (c, weight)) in roots.iter_mut().zip(self.hyperbolas()) {
                 let y0 = u - c;
                 let w = if k == 0 {
                     y0 * y0 + r * r
@@ -343,13 +347,9 @@ impl Term for Piecewise {
         }
         if let Some(r) = self.rounding() {
             let u = xs[0] - self.0[5];
-            return self
-                .knee_weights()
-                .into_iter()
-                .flat_map(|(c, w)| [(c, w), (-c, w)])
-                .fold(h, |h, (c, w)| {
-                    super::jet::hyperbola_step_limit(u - c, xs, r, order, h, w.abs(), negligible)
-                });
+            return self.hyperbolas().into_iter().fold(h, |h, (c, w)| {
+                super::jet::hyperbola_step_limit(u - c, xs, r, order, h, w.abs(), negligible)
+            });
         }
         // widened as `segment` reads an edge: a start a rounding error past one is on it
         let (lo, hi) = (
