@@ -294,3 +294,40 @@ fn the_model_curve_verdict_agrees_with_the_independent_reference() {
         }
     }
 }
+
+/// The follower on a catalogue law (three straight segments with an offset, no folds) finds the
+/// law's inverse, written here segment by segment, at every level of the load's swing (all three
+/// segments on both sides of the offset) and from states anywhere around it.
+#[test]
+fn the_follower_inverts_a_catalogue_law() {
+    let (k, x1, w2, eps) = ([0.05, 0.5, 5.0], 0.3, 0.5, 0.1);
+    let law = AnyTerm::new("piecewise", &[k[0], k[1], k[2], x1, w2, eps, 0.0]).unwrap();
+    let (mu, delta) = (0.2, 3.0);
+    let c = ModelCurve::new(&Model::damped(mu, delta, 0.01).with_term(law).unwrap()).unwrap();
+    // the twist u = x − ε at which the law's torque is t
+    let inverse = |t: f64| {
+        let (t1, t2) = (k[0] * x1, k[0] * x1 + k[1] * w2);
+        let m = t.abs();
+        let u = if m <= t1 {
+            m / k[0]
+        } else if m <= t2 {
+            x1 + (m - t1) / k[1]
+        } else {
+            x1 + w2 + (m - t2) / k[2]
+        };
+        eps + u.copysign(t)
+    };
+    let mut follower = c.follower(c.start());
+    for i in 0..=40 {
+        let a = -1.0 + 0.05 * f64::from(i);
+        let want = inverse(mu + delta * a);
+        for j in 0..=20 {
+            let x = want - 2.0 + 0.2 * f64::from(j);
+            let got = follower.at(a, x);
+            assert!(
+                (got - want).abs() <= 1e-12 * (1.0 + want.abs()),
+                "a = {a}, x = {x}: {got} vs {want}"
+            );
+        }
+    }
+}
