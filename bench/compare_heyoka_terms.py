@@ -29,7 +29,11 @@ x', z) is against heyoka's events form at 1e-16 with its step capped at 2e-4; "h
 error" is heyoka's fastest run of either form (tolerances and caps as above) whose error is at most
 hdgear's, "regularised heyoka at equal error" the same over the smooth form alone (the form issue
 39's speed criterion names; in the friction table it is the same run, friction's tanh being a
-regularisation already).
+regularisation already). The last pair is the same search over the regularised form in heyoka's
+batch mode (`taylor_adaptive_batch`, the SIMD width heyoka recommends for the CPU, every lane the
+same run, the worst lane's error), its time per trajectory: the batch half of issue 39's
+criterion. hdgear has no batch for a model beyond the study's cubic, so its own time per
+trajectory is the scalar run's.
 
 Usage: python3 bench/compare_heyoka_terms.py [REPS]
 Creates its own virtual environment (target/bench-venv) with heyoka and numpy on first use.
@@ -137,8 +141,9 @@ def table(reps, hysteresis):
     form = "events" if hysteresis else "friction"
     print("| v_r | tol | hdgear taylor ms | steps | error | heyoka ms | steps | error "
           "| heyoka at equal error: ms (form, tol, cap) | heyoka / hdgear at equal error "
-          "| regularised heyoka at equal error | its / hdgear |")
-    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
+          "| regularised heyoka at equal error | its / hdgear "
+          "| regularised heyoka batch at equal error: ms per trajectory | batch / hdgear |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     for vr in VRS:
         _, _, ref = Heyoka(form, vr, 1e-16).timed(1, cap=REF_CAP, batches=1)
         err = lambda s: sum(abs(a - b) for a, b in zip(s, ref))
@@ -153,6 +158,14 @@ def table(reps, hysteresis):
                     t, _, end = run.timed(max(1, reps // 5), cap=cap, batches=3)
                     name = f if e is None else f"{f} e={e:g}"
                     grid.append((t, err(end), name, tol, cap))
+        # the regularised form again in heyoka's batch mode, its error the worst lane's
+        batch_grid = []
+        for f, e in candidates[1:] if hysteresis else candidates:
+            for tol in SEARCH_TOLS:
+                for cap in CAPS:
+                    t, lanes = batch_time(f, vr, tol, e, cap, max(1, reps // 5))
+                    name = f if e is None else f"{f} e={e:g}"
+                    batch_grid.append((t, max(map(err, lanes)), name, tol, cap))
         for tol in TOLS:
             ht, hs, hy_end = Heyoka(form, vr, tol).timed(reps)
             o = ours[(vr, tol)]
@@ -161,9 +174,34 @@ def table(reps, hysteresis):
             cells = [at_equal(grid, mine, o["seconds_per_run"], lambda name: True),
                      at_equal(grid, mine, o["seconds_per_run"],
                               lambda name: not hysteresis or name.startswith("smooth"))]
+            batch = at_equal(batch_grid, mine, o["seconds_per_run"], lambda name: True)
             print(f"| {vr:.0e} | {tol:.0e} | {o['seconds_per_run'] * 1e3:.3f} | {o['steps']} "
                   f"| {mine:.1e} | {ht * 1e3:.3f} | {hs} | {err(hy_end):.1e} "
-                  f"| {cells[0][0]} | {cells[0][1]} | {cells[1][0]} | {cells[1][1]} |")
+                  f"| {cells[0][0]} | {cells[0][1]} | {cells[1][0]} | {cells[1][1]} "
+                  f"| {batch[0]} | {batch[1]} |")
+
+
+def batch_time(form, vr, tol, e, cap, reps):
+    """Time per trajectory of heyoka's batch mode (the SIMD width it recommends for this CPU,
+    every lane the same run) on regularised `form` at `tol` with step cap `cap`, from rest, and
+    each lane's final state."""
+    import heyoka as hy
+    import numpy as np
+    lanes = hy.recommended_simd_size()
+    dim = 2 if form == "friction" else 3
+    pars = [vr] if e is None else [vr, e]
+    ta = hy.taylor_adaptive_batch(heyoka_system(form), np.zeros((dim, lanes)), tol=tol,
+                                  pars=np.array([[p] * lanes for p in pars]))
+    kw = {} if cap is None else {"max_delta_t": [cap] * lanes}
+    best = float("inf")
+    for _ in range(5):
+        t0 = time.perf_counter()
+        for _ in range(reps):
+            ta.set_time(0.0)
+            ta.state[:] = 0.0
+            ta.propagate_until(T_END, **kw)
+        best = min(best, (time.perf_counter() - t0) / reps / lanes)
+    return best, [[float(v) for v in lane] for lane in np.array(ta.state).T]
 
 
 def at_equal(grid, mine, seconds, form_counts):
