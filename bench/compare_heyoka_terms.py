@@ -127,6 +127,41 @@ class Heyoka:
             best = min(best, (time.perf_counter() - t0) / reps)
         return best, steps, [float(s) for s in self.ta.state]
 
+    def measure(self, reps, cap):
+        """The equal-error search's measure: best time per run of 3 batches, and [final state]."""
+        t, _, end = self.timed(reps, cap=cap, batches=3)
+        return t, [end]
+
+
+class HeyokaBatch:
+    """One heyoka batch-mode integrator (`taylor_adaptive_batch`, the SIMD width heyoka
+    recommends for this CPU) of regularised `form` at `tol`, every lane the same run from rest."""
+
+    def __init__(self, form, vr, tol, e=None):
+        import heyoka as hy
+        import numpy as np
+        self.lanes = hy.recommended_simd_size()
+        dim = 2 if form == "friction" else 3
+        pars = [vr] if e is None else [vr, e]
+        self.ta = hy.taylor_adaptive_batch(heyoka_system(form), np.zeros((dim, self.lanes)),
+                                           tol=tol,
+                                           pars=np.array([[p] * self.lanes for p in pars]))
+
+    def measure(self, reps, cap):
+        """Best time per trajectory of 3 batches of `reps` runs, and each lane's final state."""
+        import numpy as np
+        ta = self.ta
+        kw = {} if cap is None else {"max_delta_t": [cap] * self.lanes}
+        best = float("inf")
+        for _ in range(3):
+            t0 = time.perf_counter()
+            for _ in range(reps):
+                ta.set_time(0.0)
+                ta.state[:] = 0.0
+                ta.propagate_until(T_END, **kw)
+            best = min(best, (time.perf_counter() - t0) / reps / self.lanes)
+        return best, [[float(v) for v in lane] for lane in np.array(ta.state).T]
+
 
 def hdgear_runs(reps, hysteresis):
     example = ROOT / "target" / "release" / "examples" / "time_terms"
@@ -150,22 +185,10 @@ def table(reps, hysteresis):
         candidates = [(form, None)]
         if hysteresis:
             candidates += [("smooth", e) for e in REGULARISATIONS]
-        grid = []
-        for f, e in candidates:
-            for tol in SEARCH_TOLS:
-                run = Heyoka(f, vr, tol, e)
-                for cap in CAPS:
-                    t, _, end = run.timed(max(1, reps // 5), cap=cap, batches=3)
-                    name = f if e is None else f"{f} e={e:g}"
-                    grid.append((t, err(end), name, tol, cap))
-        # the regularised form again in heyoka's batch mode, its error the worst lane's
-        batch_grid = []
-        for f, e in candidates[1:] if hysteresis else candidates:
-            for tol in SEARCH_TOLS:
-                for cap in CAPS:
-                    t, lanes = batch_time(f, vr, tol, e, cap, max(1, reps // 5))
-                    name = f if e is None else f"{f} e={e:g}"
-                    batch_grid.append((t, max(map(err, lanes)), name, tol, cap))
+        grid = search(Heyoka, candidates, vr, reps, err)
+        # the regularised form again in heyoka's batch mode
+        batch_grid = search(HeyokaBatch, candidates[1:] if hysteresis else candidates, vr, reps,
+                            err)
         for tol in TOLS:
             ht, hs, hy_end = Heyoka(form, vr, tol).timed(reps)
             o = ours[(vr, tol)]
@@ -181,27 +204,19 @@ def table(reps, hysteresis):
                   f"| {batch[0]} | {batch[1]} |")
 
 
-def batch_time(form, vr, tol, e, cap, reps):
-    """Time per trajectory of heyoka's batch mode (the SIMD width it recommends for this CPU,
-    every lane the same run) on regularised `form` at `tol` with step cap `cap`, from rest, and
-    each lane's final state."""
-    import heyoka as hy
-    import numpy as np
-    lanes = hy.recommended_simd_size()
-    dim = 2 if form == "friction" else 3
-    pars = [vr] if e is None else [vr, e]
-    ta = hy.taylor_adaptive_batch(heyoka_system(form), np.zeros((dim, lanes)), tol=tol,
-                                  pars=np.array([[p] * lanes for p in pars]))
-    kw = {} if cap is None else {"max_delta_t": [cap] * lanes}
-    best = float("inf")
-    for _ in range(5):
-        t0 = time.perf_counter()
-        for _ in range(reps):
-            ta.set_time(0.0)
-            ta.state[:] = 0.0
-            ta.propagate_until(T_END, **kw)
-        best = min(best, (time.perf_counter() - t0) / reps / lanes)
-    return best, [[float(v) for v in lane] for lane in np.array(ta.state).T]
+def search(runner, candidates, vr, reps, err):
+    """Every run of the equal-error search: `runner` (Heyoka or HeyokaBatch) of each candidate
+    (form, e) at each of SEARCH_TOLS and CAPS, as (time, error, form's name, tol, cap); a batch's
+    error is its worst lane's."""
+    grid = []
+    for f, e in candidates:
+        name = f if e is None else f"{f} e={e:g}"
+        for tol in SEARCH_TOLS:
+            run = runner(f, vr, tol, e)
+            for cap in CAPS:
+                t, ends = run.measure(max(1, reps // 5), cap)
+                grid.append((t, max(map(err, ends)), name, tol, cap))
+    return grid
 
 
 def at_equal(grid, mine, seconds, form_counts):
