@@ -20,6 +20,7 @@ pub mod friction;
 pub mod jet;
 pub mod memory;
 pub mod mesh;
+pub mod mesh_loss;
 pub mod piecewise;
 pub mod schedule;
 pub mod switching;

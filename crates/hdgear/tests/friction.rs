@@ -122,16 +122,8 @@ impl Reference {
             let y1 = self.rk4(t, y, h, s);
             if s * y1[1] < 0.0 {
                 // the switch: s·x' = 0 on a single RK4 step from (t, y), by bisection
-                let (mut lo, mut hi) = (0.0, h);
-                while hi - lo > 1e-16 * (t + hi) {
-                    let mid = 0.5 * (lo + hi);
-                    if s * self.rk4(t, y, mid, s)[1] > 0.0 {
-                        lo = mid
-                    } else {
-                        hi = mid
-                    }
-                }
-                let ts = t + 0.5 * (lo + hi);
+                let ts =
+                    t + crate::common::crossing(t, h, |tau| s * self.rk4(t, y, tau, s)[1] > 0.0);
                 y = [self.rk4(t, y, ts - t, s)[0], 0.0];
                 t = ts;
                 mode = self.mode_at_rest(t, y[0]);

@@ -125,16 +125,8 @@ impl Reference<'_> {
                 .into_iter()
                 .filter(|&(i, s)| (i == 1 || self.law.switches_at_zero_state()) && s * y1[i] < 0.0)
                 .map(|(i, s)| {
-                    let (mut lo, mut hi) = (0.0, h);
-                    while hi - lo > 1e-16 * (t + hi) {
-                        let mid = 0.5 * (lo + hi);
-                        if s * self.rk4(t, y, mid, sv, sz)[i] > 0.0 {
-                            lo = mid
-                        } else {
-                            hi = mid
-                        }
-                    }
-                    (i, 0.5 * (lo + hi))
+                    let before = |tau| s * self.rk4(t, y, tau, sv, sz)[i] > 0.0;
+                    (i, crate::common::crossing(t, h, before))
                 })
                 .min_by(|a, b| a.1.total_cmp(&b.1));
             if let Some((i, tau)) = crossed {

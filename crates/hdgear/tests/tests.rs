@@ -20,6 +20,7 @@ mod friction_reference;
 mod integrate;
 mod kinematic;
 mod memory;
+mod mesh_loss;
 mod model;
 mod normal_form;
 mod output;

@@ -35,14 +35,19 @@ pub const MAX_ORDER: usize = 20;
 /// Coefficient storage of one step: rows 0..=p.
 pub type Coefficients<const N: usize> = [[f64; N]; MAX_ORDER + 1];
 
-/// Five rows of a system's own intermediate Taylor series (a model term's: the coefficients of
-/// its inner functions, kept from order to order within one step).
+/// Eight rows of a system's own intermediate Taylor series (a model term's: the coefficients of
+/// its inner functions, kept from order to order within one step). A term that reads another's
+/// law (a mesh loss reads the stiffness's) leaves that law rows 0 to 4 and keeps its own in 5
+/// to 7.
 #[derive(Clone, Copy, Debug)]
-pub struct Scratch(pub [[f64; MAX_ORDER + 1]; 5]);
+pub struct Scratch(pub [[f64; MAX_ORDER + 1]; SCRATCH_ROWS]);
+
+/// Rows in a [`Scratch`].
+pub const SCRATCH_ROWS: usize = 8;
 
 impl Default for Scratch {
     fn default() -> Self {
-        Scratch([[0.0; MAX_ORDER + 1]; 5])
+        Scratch([[0.0; MAX_ORDER + 1]; SCRATCH_ROWS])
     }
 }
 

@@ -3,7 +3,8 @@
 //! facts of its fast subsystem are derived from the terms' own definitions
 //! ([`super::terms::Term`]); nothing here restates a term.
 
-use super::terms::{AnyTerm, Damping, Domain, ParamInfo, Side, Stiffness, Term};
+use super::mesh_loss::Elastic;
+use super::terms::{AnyTerm, Damping, Domain, MeshLoss, ParamInfo, Side, Stiffness, Term};
 use crate::error::{Error, Result};
 use crate::params::{Param, Params};
 use serde::Serialize;
@@ -242,6 +243,33 @@ impl Model {
         let slot = self.terms.iter_mut().find(|t| t.is_none());
         *slot.ok_or_else(|| refuse(format!("a model holds at most {MAX_TERMS} terms")))? =
             Some(term);
+        self.linked()
+    }
+
+    /// The model with each term that reads the elastic law (a mesh loss,
+    /// [`crate::model::mesh_loss::MeshLoss`]) given the model's: refused when there is none to
+    /// read, or two (the study's stiffness and a piecewise curve).
+    fn linked(mut self) -> Result<Model> {
+        let (law, second) = {
+            let mut laws = self.terms().filter_map(Elastic::of);
+            (laws.next(), laws.next())
+        };
+        for term in self.terms.iter_mut().flatten() {
+            if let AnyTerm::MeshLoss(loss) = term {
+                if law.is_none() || second.is_some() {
+                    return Err(Error::InvalidInput {
+                        what: "model term",
+                        text: MeshLoss::KIND.to_string(),
+                        reason: format!(
+                            "it reads the transmitted torque of one elastic law (stiffness or \
+                             piecewise), and the model has {}",
+                            if law.is_none() { "none" } else { "two" }
+                        ),
+                    });
+                }
+                *loss = loss.reading(law);
+            }
+        }
         Ok(self)
     }
 
@@ -373,7 +401,7 @@ impl Model {
                 m.terms[t as usize] = Some(AnyTerm::new(term.kind(), &values)?);
             }
         }
-        Ok(m)
+        m.linked()
     }
 
     /// Checks every parameter against its domain.

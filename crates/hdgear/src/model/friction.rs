@@ -223,7 +223,7 @@ impl Term for Stribeck {
     #[inline(always)]
     fn taylor(&self, k: usize, _x: &[f64], v: &[f64], _z: &[f64], rows: &mut Scratch) -> f64 {
         let [fc, fs, _, cv, vr] = self.0;
-        let [q, e, u, t, sq] = &mut rows.0;
+        let [q, e, u, t, sq, ..] = &mut rows.0;
         self.level().row(v, q, e, k);
         u[k] = v[k] / vr;
         t[k] = tanh_coefficient(u, sq, k);
@@ -235,7 +235,7 @@ impl Term for Stribeck {
     /// ([`tanh_step_limit`]).
     fn step_limit(&self, rows: &Scratch, order: usize, h: f64, negligible: f64) -> f64 {
         let [fc, fs, ..] = self.0;
-        let [q, e, u, _, sq] = &rows.0;
+        let [q, e, u, _, sq, ..] = &rows.0;
         let h = exp_step_limit(q, e, order, h, (fs - fc).abs(), negligible);
         tanh_step_limit(u, sq, order, h, fc.max(fs), negligible)
     }

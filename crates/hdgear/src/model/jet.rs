@@ -178,6 +178,36 @@ fn within_tolerance(converged: f64, last: f64, order: usize, negligible: f64) ->
     converged.max(by_tolerance.min(0.5 * rho))
 }
 
+/// Sub-intervals of a step in which a term samples a function of the step's polynomial for
+/// leaving the piece it started on ([`first_exit`]): an excursion off the piece and back inside
+/// one eighth of a step is not seen (the motion would have to turn round within it).
+const SUBDIVISIONS: usize = 8;
+
+/// The value at τ of the polynomial with rows 0..=`order` of `u`, by Horner's rule.
+#[inline]
+pub fn horner(u: &[f64], order: usize, tau: f64) -> f64 {
+    u[..=order].iter().rev().fold(0.0, |acc, &c| acc * tau + c)
+}
+
+/// The longest step, at most `h`, over which `on` (a step's polynomial still on the piece it
+/// started on, at τ) holds: the first of eight samples off the piece brackets the exit, which
+/// bisection narrows to the last bits of the step, ending on the exit's far side (so the next step
+/// starts on the boundary or just past it). `h` when every sample is on the piece. The one root
+/// finder of the terms whose law changes piece with the state (a catalogue curve's kinks, the
+/// sign of a mesh loss's transmitted torque).
+pub fn first_exit(h: f64, on: impl Fn(f64) -> bool) -> f64 {
+    // at `inside` the polynomial is on the piece (at 0 on its edge at most)
+    let mut inside = 0.0;
+    for j in 1..=SUBDIVISIONS {
+        let off = h * j as f64 / SUBDIVISIONS as f64;
+        if !on(off) {
+            return crate::roots::bisect(inside, off, 64, crate::roots::at_resolution, on).1;
+        }
+        inside = off;
+    }
+    h
+}
+
 /// `h` halved until it is at most `converged` or `relevant(h)` is false (which it is as h → 0:
 /// each test is of a change over the step).
 fn shorten(mut h: f64, converged: f64, relevant: impl Fn(f64) -> bool) -> f64 {

@@ -144,7 +144,7 @@ impl Term for LuGre {
     #[inline(always)]
     fn rate_taylor(&self, k: usize, _x: &[f64], v: &[f64], s: &[f64], rows: &mut Scratch) -> f64 {
         let [fc, fs, vst, sigma0, ..] = self.values;
-        let [q, e, g, w, r] = &mut rows.0;
+        let [q, e, g, w, r, ..] = &mut rows.0;
         g[k] = Level { fc, fs, vst }.row(v, q, e, k);
         w[k] = quotient_coefficient(s, g, w, k);
         r[k] = v[k] - sigma0 * piece_sign(self.side, v[0]) * cauchy(v, w, k);
@@ -160,7 +160,7 @@ impl Term for LuGre {
     /// f_c|/g in the rate, times (1 + σ₁) in the torque.
     fn step_limit(&self, rows: &Scratch, order: usize, h: f64, negligible: f64) -> f64 {
         let [fc, fs, _, sigma0, sigma1, _] = self.values;
-        let [q, e, g, w, _] = &rows.0;
+        let [q, e, g, w, ..] = &rows.0;
         let amplitude = (1.0 + sigma1) * sigma0 * w[0].abs() * (fs - fc).abs() / g[0];
         exp_step_limit(q, e, order, h, amplitude, negligible)
     }

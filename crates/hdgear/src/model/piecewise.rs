@@ -33,15 +33,10 @@
 use super::terms::{Domain, ParamInfo, Scratch, Term};
 use serde::Serialize;
 
-/// Sub-intervals of a step in which the twist is sampled for leaving its segment: an excursion
-/// across a kink and back inside one eighth of a step is not seen (the motion would have to
-/// turn round within it).
-const SUBDIVISIONS: usize = 8;
-
 /// How near an edge `e` a twist counts as on it (a few rounding errors of e): there the
 /// segment is chosen by the direction of motion, and a step that starts that near an edge of its
 /// segment, on either side, starts on the segment.
-fn on_kink(e: f64) -> f64 {
+pub(super) fn on_kink(e: f64) -> f64 {
     8.0 * f64::EPSILON * e.abs().max(1.0)
 }
 
@@ -334,10 +329,9 @@ impl Term for Piecewise {
         }
     }
     const LIMITS_STEPS: bool = true;
-    /// The step ends where the twist leaves the segment it started on: the first of
-    /// eight samples of x's polynomial off the segment brackets the crossing, which
-    /// bisection narrows to the last bits of the step, ending on the crossing's far side (so the
-    /// next step starts on the kink or just past it, and its segment follows from where x is).
+    /// The step ends where the twist leaves the segment it started on, located on x's polynomial
+    /// ([`super::jet::first_exit`]): the next step starts on the kink or just past it, and its
+    /// segment follows from where x is.
     /// With rounded knees the step stays within each hyperbola's radius of convergence
     /// ([`super::jet::hyperbola_step_limit`]).
     fn step_limit(&self, rows: &Scratch, order: usize, h: f64, negligible: f64) -> f64 {
@@ -356,20 +350,9 @@ impl Term for Piecewise {
             seg[0] - on_kink(seg[0]) + self.0[5],
             seg[1] + on_kink(seg[1]) + self.0[5],
         );
-        let on = |tau: f64| {
-            let x = xs[..=order].iter().rev().fold(0.0, |acc, &c| acc * tau + c);
-            (lo..=hi).contains(&x)
-        };
-        // at `inside` the twist is on the segment (at 0 on its edge at most)
-        let mut inside = 0.0;
-        for j in 1..=SUBDIVISIONS {
-            let off = h * j as f64 / SUBDIVISIONS as f64;
-            if !on(off) {
-                return crate::roots::bisect(inside, off, 64, crate::roots::at_resolution, on).1;
-            }
-            inside = off;
-        }
-        h
+        super::jet::first_exit(h, |tau| {
+            (lo..=hi).contains(&super::jet::horner(xs, order, tau))
+        })
     }
     fn text(&self) -> String {
         " + P(x − x₀)".into()

@@ -13,6 +13,7 @@ pub(super) use super::friction::{FRICTION_FC, FRICTION_FS, STRIBECK_VELOCITY};
 use super::jet::square_coefficient;
 pub use super::memory::{BoucWen, LuGre};
 pub use super::mesh::KinematicError;
+pub use super::mesh_loss::MeshLoss;
 pub use super::piecewise::Piecewise;
 pub use super::schedule::Scheduled;
 use crate::error::{Error, Result};
@@ -569,6 +570,7 @@ any_term!(
     Dither,
     Delay,
     KinematicError,
+    MeshLoss,
     Multisine,
     Piecewise,
     Scheduled,

@@ -259,3 +259,16 @@ pub fn schroeder(a: f64, w: f64, lines: u32, t: f64) -> f64 {
         })
         .sum()
 }
+
+/// Where on a step of length `h` from time `t` a watched value leaves its sign: bisection of
+/// [0, h] while `before(τ)` (the value still on its old side after a sub-step of τ) holds, to
+/// 1e-16 of the time reached; the midpoint of the last bracket. The event location of the
+/// event-driven references.
+pub fn crossing(t: f64, h: f64, before: impl Fn(f64) -> bool) -> f64 {
+    let (mut lo, mut hi) = (0.0, h);
+    while hi - lo > 1e-16 * (t + hi) {
+        let mid = 0.5 * (lo + hi);
+        if before(mid) { lo = mid } else { hi = mid }
+    }
+    0.5 * (lo + hi)
+}
