@@ -1,6 +1,6 @@
 //! A card's fitted friction law in its drive's reduced model ([`hdgear::physical::friction`]):
 //! the law read and refused, its scaling, the sticking band's closed-form threshold, the study's
-//! verdict without friction, and the load map's friction column.
+//! verdict without friction, the efficiency's mesh loss, and the load map's friction column.
 
 use hdgear::Params;
 use hdgear::burst::{BurstOptions, Verdict};
@@ -139,6 +139,29 @@ fn the_sticking_band_sets_the_load_of_the_first_slip() {
     }
 }
 
+/// Asserts that the verdict with `law` is the study's on drives whose reduction is the study's
+/// point at each γ of `gammas` with ε = 1/α (a physical drive reduces to α·ε = 1 only); returns
+/// how many burst.
+fn verdicts_are_the_studys(law: &FrictionLaw, gammas: &[f64]) -> usize {
+    let opts = BurstOptions::default();
+    let mut bursting = 0;
+    for &gamma in gammas {
+        let s = Params::default();
+        let p = Params {
+            gamma,
+            eps: 1.0 / s.alpha,
+            ..s
+        };
+        let d = PhysicalParams::from_dimensionless(&p, 5e-5, 0.05, 50.0, 2.0, 2.9e-4).unwrap();
+        let study = judge(&d, &opts).unwrap();
+        let with = judge_friction(&d, law, &opts).unwrap().unwrap();
+        println!("γ = {gamma}: {}", study.label());
+        assert_eq!(with.outcome.judgement, study, "γ = {gamma}");
+        bursting += usize::from(study.bursting);
+    }
+    bursting
+}
+
 /// Without friction (F_c = F_s = 0) the verdict with the law is the study's, on drives whose
 /// reduction is one of the study's four points, with ε = 1/α (two bursting, two not).
 #[test]
@@ -148,25 +171,54 @@ fn without_friction_the_verdict_is_the_studys() {
         breakaway: 0.0,
         stribeck_speed: 1.0,
         viscous: 0.0,
+        mesh_loss: None,
     };
-    let opts = BurstOptions::default();
-    let mut bursting = 0;
-    for gamma in [30.0, 10.0, 1.0, 0.1] {
-        // the study's point with ε = 1/α: a physical drive reduces to α·ε = 1 only
-        let s = Params::default();
-        let p = Params {
-            gamma,
-            eps: 1.0 / s.alpha,
-            ..s
-        };
-        let d = PhysicalParams::from_dimensionless(&p, 5e-5, 0.05, 50.0, 2.0, 2.9e-4).unwrap();
-        let study = judge(&d, &opts).unwrap();
-        let with = judge_friction(&d, &law, &opts).unwrap().unwrap();
-        println!("γ = {gamma}: {}", study.label());
-        assert_eq!(with.outcome.judgement, study, "γ = {gamma}");
-        bursting += usize::from(study.bursting);
+    assert_eq!(verdicts_are_the_studys(&law, &[30.0, 10.0, 1.0, 0.1]), 2);
+}
+
+/// A card's efficiency η is the mesh loss μ_m = 1/η − 1 with θ_m = 5e-5 rad of twist (alone, or
+/// beside a fitted level); η outside (0, 1] is refused naming the key. At η = 1 (μ_m = 0) the
+/// verdict is the study's on the four points of [`without_friction_the_verdict_is_the_studys`],
+/// through the piecewise integration the loss's sign state needs; with a loss the drive's
+/// reduced model carries it, and the check reports its margin.
+#[test]
+fn a_cards_efficiency_is_a_mesh_loss() {
+    let eta = |e: f64| {
+        with_friction(Friction {
+            efficiency: Some(e),
+            ..Default::default()
+        })
+    };
+    let l = law(&eta(0.8)).unwrap().unwrap();
+    assert!((l.mesh_loss.unwrap() - 0.25).abs() < 1e-15);
+    assert_eq!((l.coulomb, l.breakaway, l.viscous), (0.0, 0.0, 0.0));
+    for bad in [0.0, 1.5, -0.2] {
+        let e = law(&eta(bad)).unwrap_err().to_string();
+        assert!(e.contains("friction.efficiency"), "{e}");
     }
-    assert_eq!(bursting, 2);
+    let lossless = FrictionLaw {
+        coulomb: 0.0,
+        breakaway: 0.0,
+        stribeck_speed: 1.0,
+        viscous: 0.0,
+        mesh_loss: Some(0.0),
+    };
+    assert_eq!(verdicts_are_the_studys(&lossless, &[30.0, 1.0]), 1);
+    let opts = BurstOptions::default();
+    let card = eta(0.8);
+    let d = assemble(&card, None, None).unwrap().drive;
+    let m = hdgear::physical::friction::drive_model(&d, &l).unwrap();
+    let r = d.reduce().unwrap();
+    let mum = m.get(m.param("mum").unwrap());
+    let thetam = m.get(m.param("thetam").unwrap());
+    assert!((mum - 0.25).abs() < 1e-15);
+    assert!((thetam * r.length_scale - 5e-5).abs() < 1e-18);
+    let c = check(&card, &d, &opts).unwrap().unwrap();
+    assert!(
+        c.margins
+            .iter()
+            .any(|m| m.parameter == FrictionKnob::MeshLoss)
+    );
 }
 
 /// The load map gives, at each point, the verdict with the card's friction (the one

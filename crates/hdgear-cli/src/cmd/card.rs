@@ -614,6 +614,13 @@ fn friction_lines(
         l.viscous
     );
     let _ = writeln!(s, "  assumed: {}", f.assumption);
+    if let (Some(mu), Some([_, theta])) = (l.mesh_loss, f.reduced.mesh) {
+        let _ = writeln!(
+            s,
+            "  mesh loss: mu_m = 1/eta - 1 = {mu:.6} (reduced theta_m = {theta:.6e})\n  assumed: {}",
+            hdgear::physical::friction::MESH_ASSUMPTION
+        );
+    }
     let r = &f.reduced;
     let _ = writeln!(
         s,

@@ -173,6 +173,7 @@ section!(
         breakaway: "N m", "fitted static (breakaway) friction at the output";
         stribeck_speed: "rad/s", "fitted Stribeck speed at the output";
         viscous: "N m s/rad", "fitted viscous friction at the output";
+        efficiency: "-", "efficiency at rated torque, whose loss 1/η − 1 is taken as a torque-proportional mesh loss";
     }
 );
 section!(

@@ -34,6 +34,16 @@ pub const ASSUMPTION: &str = "the card's friction acts across the compliance, on
     θ' (the reduction to one equation holds for such friction only; friction on the input or \
     output rotation alone moves the rigid-body mode too, which this verdict does not model)";
 
+/// How a card's efficiency is taken, stated in every output that uses it.
+pub const MESH_ASSUMPTION: &str = "the card's efficiency η is a torque-proportional mesh loss \
+    μ_m = 1/η − 1 on the twist (the loss μ_m·|T_s| opposes the twist rate), its sign turning over \
+    5e-5 rad of twist after a reversal (the harmonic-drive twin's presliding length)";
+
+/// θ_m: the twist over which the mesh loss's sign turns after a reversal [rad] (the
+/// harmonic-drive twin's Dahl presliding length, REAL-DRIVES.md), an assumption
+/// ([`MESH_ASSUMPTION`]).
+pub const MESH_PRESLIDING: f64 = 5e-5;
+
 /// The Stribeck speed a card without a Stribeck drop is given: with F_s = F_c it has no effect.
 const NO_DROP_SPEED: f64 = 1.0;
 
@@ -48,6 +58,9 @@ pub struct FrictionLaw {
     pub stribeck_speed: f64,
     /// c_v: viscous friction \[N m s/rad\].
     pub viscous: f64,
+    /// μ_m = 1/η − 1: the torque-proportional mesh loss from the card's efficiency η, if it
+    /// gives one ([`MESH_ASSUMPTION`]).
+    pub mesh_loss: Option<f64>,
 }
 
 /// The law in the reduced model's units: the `coulomb` term's f_c, f_s, v_st and c_v.
@@ -61,6 +74,9 @@ pub struct ReducedFriction {
     pub vst: f64,
     /// c_v = c_v/C.
     pub cv: f64,
+    /// The mesh loss's μ_m (a ratio: the same in every unit) and θ_m = 5e-5 rad/L, if the card
+    /// gives an efficiency.
+    pub mesh: Option<[f64; 2]>,
 }
 
 /// What a designer can change in the friction check, each as a factor.
@@ -75,17 +91,20 @@ pub enum FrictionKnob {
     Viscous,
     /// v_s.
     StribeckSpeed,
+    /// The mesh loss μ_m.
+    MeshLoss,
     /// The slow load's amplitude T_am.
     TAm,
 }
 
 impl FrictionKnob {
     /// Every knob, in the order reported.
-    pub const ALL: [FrictionKnob; 5] = [
+    pub const ALL: [FrictionKnob; 6] = [
         FrictionKnob::Drop,
         FrictionKnob::Coulomb,
         FrictionKnob::Viscous,
         FrictionKnob::StribeckSpeed,
+        FrictionKnob::MeshLoss,
         FrictionKnob::TAm,
     ];
 
@@ -96,6 +115,7 @@ impl FrictionKnob {
             FrictionKnob::Coulomb => "coulomb",
             FrictionKnob::Viscous => "viscous",
             FrictionKnob::StribeckSpeed => "stribeck_speed",
+            FrictionKnob::MeshLoss => "mesh_loss",
             FrictionKnob::TAm => "t_am",
         }
     }
@@ -107,10 +127,12 @@ impl std::fmt::Display for FrictionKnob {
     }
 }
 
-/// The card's fitted law, `None` when the card has no fitted Coulomb level. A fit needs F_c;
-/// F_s defaults to F_c, c_v to 0; a drop (F_s > F_c) needs its Stribeck speed; F_s < F_c is
-/// refused. Measured torques alone (starting, back-driving, no-load running) are not turned
-/// into a law: they are friction of the rigid-body rotation, not of the twist.
+/// The card's fitted law, `None` when the card has neither a fitted Coulomb level nor an
+/// efficiency. A fit needs F_c; F_s defaults to F_c, c_v to 0; a drop (F_s > F_c) needs its
+/// Stribeck speed; F_s < F_c is refused. An efficiency η in (0, 1] gives the mesh loss
+/// μ_m = 1/η − 1 (with no fitted level the law is that loss alone, F_c = F_s = 0). Measured
+/// torques alone (starting, back-driving, no-load running) are not turned into a law: they are
+/// friction of the rigid-body rotation, not of the twist.
 pub fn law(card: &Card) -> Result<Option<FrictionLaw>> {
     let Some(f) = &card.friction else {
         return Ok(None);
@@ -121,9 +143,21 @@ pub fn law(card: &Card) -> Result<Option<FrictionLaw>> {
         value: value.map_or("(absent)".into(), |v| v.to_string()),
         reason,
     };
+    let mesh_loss = match f.efficiency {
+        Some(eta) if eta > 0.0 && eta <= 1.0 => Some(1.0 / eta - 1.0),
+        None => None,
+        eta => return Err(bad("efficiency", eta, "must lie in (0, 1]")),
+    };
     let Some(coulomb) = f.coulomb else {
-        return match (f.breakaway, f.stribeck_speed, f.viscous) {
-            (None, None, None) => Ok(None),
+        return match (f.breakaway, f.stribeck_speed, f.viscous, mesh_loss) {
+            (None, None, None, None) => Ok(None),
+            (None, None, None, Some(_)) => Ok(Some(FrictionLaw {
+                coulomb: 0.0,
+                breakaway: 0.0,
+                stribeck_speed: NO_DROP_SPEED,
+                viscous: 0.0,
+                mesh_loss,
+            })),
             _ => Err(bad(
                 "coulomb",
                 None,
@@ -155,6 +189,7 @@ pub fn law(card: &Card) -> Result<Option<FrictionLaw>> {
         breakaway,
         stribeck_speed,
         viscous: f.viscous.unwrap_or(0.0),
+        mesh_loss,
     }))
 }
 
@@ -167,6 +202,9 @@ impl FrictionLaw {
             fs: self.breakaway / unit,
             vst: self.stribeck_speed / r.theta_dot(1.0),
             cv: self.viscous / d.c_eq,
+            mesh: self
+                .mesh_loss
+                .map(|mu| [mu, MESH_PRESLIDING / r.length_scale]),
         }
     }
 
@@ -182,6 +220,7 @@ impl FrictionLaw {
             }
             FrictionKnob::Viscous => l.viscous *= f,
             FrictionKnob::StribeckSpeed => l.stribeck_speed *= f,
+            FrictionKnob::MeshLoss => l.mesh_loss = self.mesh_loss.map(|mu| mu * f),
             FrictionKnob::TAm => {}
         }
         l
@@ -194,13 +233,14 @@ impl FrictionLaw {
             FrictionKnob::Coulomb => self.coulomb,
             FrictionKnob::Viscous => self.viscous,
             FrictionKnob::StribeckSpeed => self.stribeck_speed,
+            FrictionKnob::MeshLoss => self.mesh_loss.unwrap_or(0.0),
             FrictionKnob::TAm => d.t_am,
         }
     }
 }
 
-/// The reduced model of drive `d` with friction `law`: the study's equation and the `coulomb`
-/// term.
+/// The reduced model of drive `d` with friction `law`: the study's equation, the `coulomb` term
+/// and, for a card with an efficiency, the `meshloss` term.
 pub fn drive_model(d: &PhysicalParams, law: &FrictionLaw) -> Result<Model> {
     reduced_model(d, law, &d.reduce()?)
 }
@@ -208,7 +248,12 @@ pub fn drive_model(d: &PhysicalParams, law: &FrictionLaw) -> Result<Model> {
 /// [`drive_model`] with `d`'s reduction `r` at hand.
 fn reduced_model(d: &PhysicalParams, law: &FrictionLaw, r: &super::Reduction) -> Result<Model> {
     let f = law.reduced(d, r);
-    Model::study(&r.params).with_term(AnyTerm::new("coulomb", &[f.fc, f.fs, f.vst, f.cv])?)
+    let m =
+        Model::study(&r.params).with_term(AnyTerm::new("coulomb", &[f.fc, f.fs, f.vst, f.cv])?)?;
+    match f.mesh {
+        Some(mesh) => m.with_term(AnyTerm::new("meshloss", &mesh)?),
+        None => Ok(m),
+    }
 }
 
 /// The verdict on a drive with friction.
@@ -261,7 +306,8 @@ pub struct FrictionCheck {
     pub load_over_breakaway: Option<f64>,
     /// The verdict with the friction (`None` when it could not be simulated).
     pub outcome: Option<FrictionOutcome>,
-    /// For each knob, the single change that changes the verdict (none without an outcome).
+    /// For each knob, the single change that changes the verdict (none without an outcome; the
+    /// mesh loss's only for a card with an efficiency).
     pub margins: Vec<Margin<FrictionKnob>>,
 }
 
@@ -279,8 +325,10 @@ pub fn check(
     let outcome = judge(d, &law, opts)?;
     let margins = match outcome {
         None => Vec::new(),
+        // the mesh loss's knob only where the card gives an efficiency
         Some(now) => FrictionKnob::ALL
             .par_iter()
+            .filter(|&&knob| knob != FrictionKnob::MeshLoss || law.mesh_loss.is_some())
             .map(|&knob| {
                 search_margin(knob, law.value(knob, d), now.outcome.judgement, |f| {
                     let (dd, l) = match knob {
