@@ -272,9 +272,10 @@ impl Term for MeshLoss {
         let sv = piece_sign(self.side, v[0]);
         (v[k] - sv * cauchy(v, s, k)) / self.values[1]
     }
-    /// T_s's rows from the law (its own rows in `rows` 0 to 4, T_s's in row [`TS`]), then
+    /// T_s's rows from the law (its own rows in `rows` 0 to 4, T_s's in row 5), then
     /// μ_m·sgn(T_s)·(T_s·σ)_k, the sign fixed on the step by the interval between the law's roots
-    /// it starts in ([`MeshLoss::piece`], chosen at row 1 by x', or at rest by x'').
+    /// it starts in (chosen at row 1 by x', or at rest by x''; a start within a few rounding
+    /// errors of a root lies beyond it in the direction of motion).
     #[inline(always)]
     fn taylor(&self, k: usize, x: &[f64], v: &[f64], s: &[f64], rows: &mut Scratch) -> f64 {
         let Some(law) = self.law else { return 0.0 };
@@ -295,7 +296,7 @@ impl Term for MeshLoss {
     const LIMITS_STEPS: bool = true;
     /// The law's own limit, then the step ends where the twist leaves the interval between the
     /// law's roots it started in, located on x's polynomial ([`first_exit`]; widened by a few
-    /// rounding errors, as [`MeshLoss::piece`] reads a root). A loss of μ_m = 0 never limits.
+    /// rounding errors, as the start's piece reads a root). A loss of μ_m = 0 never limits.
     fn step_limit(&self, rows: &Scratch, order: usize, h: f64, negligible: f64) -> f64 {
         let Some(law) = self.law else { return h };
         let h = law.step_limit(rows, order, h, negligible);

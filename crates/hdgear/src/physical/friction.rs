@@ -39,7 +39,7 @@ pub const MESH_ASSUMPTION: &str = "the card's efficiency η is a torque-proporti
     μ_m = 1/η − 1 on the twist (the loss μ_m·|T_s| opposes the twist rate), its sign turning over \
     5e-5 rad of twist after a reversal (the harmonic-drive twin's presliding length)";
 
-/// θ_m: the twist over which the mesh loss's sign turns after a reversal [rad] (the
+/// θ_m: the twist over which the mesh loss's sign turns after a reversal \[rad\] (the
 /// harmonic-drive twin's Dahl presliding length, REAL-DRIVES.md), an assumption
 /// ([`MESH_ASSUMPTION`]).
 pub const MESH_PRESLIDING: f64 = 5e-5;
