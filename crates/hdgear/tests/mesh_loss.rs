@@ -35,7 +35,7 @@ impl Law {
             Law::Cubic(p) => p.alpha * x * x * x - x * x + p.gamma * (x - p.eps),
             Law::Segments([k1, k2, k3, x1, x2]) => {
                 let ramp = |c: f64, s_minus: f64, s_plus: f64| {
-                    // max(0, x − c) on the side s_plus of c, min(0, x + c) on the side s_minus of −c
+                    // max(0, x − c) on side s_plus of c, min(0, x + c) on side s_minus of −c
                     let up = if s_plus > 0.0 { x - c } else { 0.0 };
                     let down = if s_minus < 0.0 { x + c } else { 0.0 };
                     up + down
