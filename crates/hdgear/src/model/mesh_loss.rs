@@ -159,9 +159,9 @@ impl MeshLoss {
         }
     }
 
-    /// The interval [lo, hi] between the law's roots that a step from x₀ moving in `direction`
-    /// lies in (a start within a few rounding errors of a root lies beyond it in the direction of
-    /// motion), and sgn T_s on it.
+    /// [sgn T_s, lo, hi] on the interval [lo, hi] between the law's roots that a step from x₀
+    /// moving in `direction` lies in (a start within a few rounding errors of a root lies beyond
+    /// it in the direction of motion).
     fn piece(&self, law: &Elastic, x0: f64, direction: f64) -> [f64; 3] {
         let (roots, n) = self.roots;
         let roots = &roots[..n];
