@@ -782,18 +782,19 @@ fn card_map_writes_one_row_per_load() {
     assert_eq!(
         lines.next(),
         Some(
-            "t_am_nm,frequency_hz,bursting,verdict,basis,fast_slow_domain,friction_bursting,friction_verdict,catalogue_bursting,catalogue_verdict"
+            "t_am_nm,frequency_hz,bursting,verdict,basis,fast_slow_domain,friction_bursting,friction_verdict,catalogue_bursting,catalogue_verdict,computed,friction_computed,catalogue_computed"
         )
     );
     let rows: Vec<&str> = lines.collect();
     assert_eq!(rows.len(), 9);
-    // no friction law on a built-in card: its two columns are empty; the catalogue's curve
-    // judges every point
+    // no friction law on a built-in card: its columns are empty; the catalogue's curve judges
+    // every point; a 3 × 3 map is simulated at every point
     for r in &rows {
         let cells: Vec<&str> = r.split(',').collect();
-        assert_eq!(cells.len(), 10, "{r}");
+        assert_eq!(cells.len(), 13, "{r}");
         assert_eq!(cells[6..8], ["", ""], "{r}");
         assert!(["true", "false"].contains(&cells[8]), "{r}");
+        assert_eq!(cells[10..], ["true", "", "true"], "{r}");
     }
     assert!(
         rows[0].starts_with("11.0,0.1,") && rows[8].starts_with("33.0,1.0,"),
@@ -812,9 +813,10 @@ fn card_map_writes_one_row_per_load() {
     ]);
     for (r, f) in rows.iter().zip(fit.lines().skip(1)) {
         let cells: Vec<&str> = r.split(',').collect();
-        assert_eq!(f, format!("{},,", cells[..8].join(",")));
+        assert_eq!(f, format!("{},,,true,,", cells[..8].join(",")));
     }
     fails_with(&["card", "map", "CSG-20-50", "--points", "0"], "amplitudes");
+    fails_with(&["card", "map", "CSG-20-50", "--coarse", "0"], "coarse = 0");
     fails_with(&["card", "map", "CSG-20-50", "--hz", "0:1"], "0:1");
     fails_with(&["card", "map", "CSG-20-50", "--t-am-max=-1"], "t_am_max");
     fails_with(

@@ -143,6 +143,7 @@ fn the_load_map_carries_the_catalogue_verdict() {
         amplitudes: 2,
         hz: (0.1, 1.0),
         frequencies: 2,
+        coarse: 1,
     };
     let choice = DampingChoice::HysteresisLoss;
     let map = load_map(c, sources, choice, &grid, &opts, Some(0.0)).unwrap();

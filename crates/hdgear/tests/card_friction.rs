@@ -6,7 +6,7 @@ use hdgear::Params;
 use hdgear::burst::{BurstOptions, Verdict};
 use hdgear::physical::card::{Card, Friction, builtin, builtin_card};
 use hdgear::physical::check::{DampingChoice, MapGrid, check_card, load_map};
-use hdgear::physical::design::judge;
+use hdgear::physical::design::{Judgement, judge};
 use hdgear::physical::friction::{FrictionKnob, FrictionLaw, check, judge as judge_friction, law};
 use hdgear::physical::{PhysicalParams, catalogue::assemble};
 
@@ -233,6 +233,7 @@ fn the_load_map_carries_the_friction_verdict() {
         amplitudes: 2,
         hz: (0.1, 0.3),
         frequencies: 2,
+        coarse: 1,
     };
     let map_of = |c: &Card| {
         load_map(
@@ -266,4 +267,79 @@ fn the_load_map_carries_the_friction_verdict() {
     let plain = builtin_card("CSG-20-50").unwrap();
     let map = map_of(plain);
     assert!(map.iter().all(|p| p.friction.is_none()));
+}
+
+/// The refined load map ([`MapGrid::coarse`]) equals the map simulated at every point, in every
+/// verdict (the fit's, with friction, with the catalogue's curve), for a card whose friction
+/// column changes with the amplitude and whose catalogue column changes with the frequency,
+/// while simulating fewer points of each. The range 0.1–10 Hz holds the catalogue curve's edge of
+/// the fast-slow domain and its turn from ringing to overshoot.
+#[test]
+fn the_refined_load_map_is_the_map_simulated_everywhere() {
+    let c = with_friction(fitted(1.0, 3.0, 1e-3));
+    let sources = &builtin().sources;
+    let opts = BurstOptions::default();
+    let grid = MapGrid {
+        t_am_max: 25.0,
+        amplitudes: 24,
+        hz: (0.1, 10.0),
+        frequencies: 24,
+        coarse: 1,
+    };
+    let map = |coarse| {
+        let g = MapGrid { coarse, ..grid };
+        load_map(
+            &c,
+            sources,
+            DampingChoice::HysteresisLoss,
+            &g,
+            &opts,
+            Some(0.0),
+        )
+        .unwrap()
+    };
+    let every = map(1);
+    assert!(
+        every
+            .iter()
+            .all(|p| p.computed && p.friction_computed && p.catalogue_computed)
+    );
+    let verdicts = |m: &[hdgear::physical::check::MapPoint]| -> Vec<_> {
+        m.iter()
+            .map(|p| (p.t_am, p.frequency_hz, p.judgement, p.friction, p.catalogue))
+            .collect()
+    };
+    // both the friction and the catalogue column have a boundary in this grid
+    type Key = Option<(bool, &'static str, bool)>;
+    let differ = |of: fn(&hdgear::physical::check::MapPoint) -> Key| {
+        every.iter().any(|p| of(p) != of(&every[0]))
+    };
+    fn key(j: Option<Judgement>) -> Key {
+        j.map(|j| (j.bursting, j.label(), j.fast_slow_domain))
+    }
+    assert!(differ(|p| key(p.friction)));
+    assert!(differ(|p| key(p.catalogue)));
+    for coarse in [2, 4] {
+        let refined = map(coarse);
+        assert_eq!(verdicts(&refined), verdicts(&every), "coarse {coarse}");
+        let count = |of: fn(&hdgear::physical::check::MapPoint) -> bool| {
+            refined.iter().filter(|p| of(p)).count()
+        };
+        for n in [
+            count(|p| p.computed),
+            count(|p| p.friction_computed),
+            count(|p| p.catalogue_computed),
+        ] {
+            assert!(
+                n < every.len() * 3 / 4,
+                "coarse {coarse}: {n} of {}",
+                every.len()
+            );
+        }
+    }
+    for coarse in [0, 65] {
+        let g = MapGrid { coarse, ..grid };
+        let e = load_map(&c, sources, DampingChoice::HysteresisLoss, &g, &opts, None);
+        assert!(e.unwrap_err().to_string().contains("coarse"));
+    }
 }

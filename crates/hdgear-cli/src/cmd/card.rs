@@ -98,12 +98,25 @@ pub struct CardMapArgs {
     /// fitted model alone, far faster (its knees make every response ring).
     #[arg(long)]
     pub fit_only: bool,
+    #[arg(long, value_name = "N", help = coarse_help())]
+    pub coarse: Option<usize>,
     #[command(flatten)]
     pub knees: KneeArgs,
     #[arg(long, value_name = "FILE", help = crate::export::out_help(MapRow::COLUMNS))]
     pub out: Option<PathBuf>,
     #[command(flatten)]
     pub burst: BurstArgs,
+}
+
+/// `--coarse`'s help, with the default lattice's size.
+fn coarse_help() -> String {
+    let n = hdgear::physical::check::MAP_LATTICE;
+    format!(
+        "Simulate every N-th point per axis first, then refine wherever neighbouring verdicts \
+         differ; the rest take their block's verdicts (the `computed` columns). 1: simulate \
+         every point. Default: the points per axis over {n} (every point up to {} per axis)",
+        2 * n - 1
+    )
 }
 
 /// How the catalogue curve's verdict rounds the knees (`card check` and `card map`).
@@ -194,10 +207,17 @@ struct MapRow {
     /// `not-judged` where the model with the catalogue's curve could not be simulated; empty
     /// with `--fit-only`.
     catalogue_verdict: Option<&'static str>,
+    /// False where the fit's verdict is its block's, from the coarse lattice (`--coarse`).
+    computed: bool,
+    /// As `computed`, for the verdict with friction; empty without a law.
+    friction_computed: Option<bool>,
+    /// As `computed`, for the verdict with the catalogue's curve; empty with `--fit-only`.
+    catalogue_computed: Option<bool>,
 }
 hdgear::record!(
     MapRow: "t_am_nm", "frequency_hz", "bursting", "verdict", "basis", "fast_slow_domain",
-    "friction_bursting", "friction_verdict", "catalogue_bursting", "catalogue_verdict"
+    "friction_bursting", "friction_verdict", "catalogue_bursting", "catalogue_verdict", "computed",
+    "friction_computed", "catalogue_computed"
 );
 
 /// The metadata of `hdgear card map`'s table.
@@ -263,6 +283,7 @@ fn map(a: CardMapArgs) -> Result<()> {
         t_am_max,
         damping,
         fit_only,
+        coarse,
         knees,
         out,
         burst,
@@ -277,6 +298,9 @@ fn map(a: CardMapArgs) -> Result<()> {
     }
     if let Some(t) = t_am_max {
         grid.t_am_max = t;
+    }
+    if let Some(n) = coarse {
+        grid.coarse = n;
     }
     let curve = (!fit_only).then_some(knees.knee_rounding);
     let map = load_map(&l.card, &l.sources, choice, &grid, &opts, curve)?;
@@ -299,6 +323,9 @@ fn map(a: CardMapArgs) -> Result<()> {
             friction_verdict,
             catalogue_bursting,
             catalogue_verdict,
+            computed: p.computed,
+            friction_computed: has_friction.then_some(p.friction_computed),
+            catalogue_computed: (!fit_only).then_some(p.catalogue_computed),
         }
     });
     let meta = MapMeta {
@@ -331,10 +358,14 @@ fn map_summary(
         .filter(burst)
         .filter(|p| !p.judgement.fast_slow_domain)
         .count();
+    let computed =
+        |of: fn(&hdgear::physical::check::MapPoint) -> bool| map.iter().filter(|p| of(p)).count();
     crate::sink::outln!(
         "{name}: {n} of {} points burst, {outside} of them outside the fast-slow domain \
-         (the slow variation not slow against the drive's relaxation)",
-        map.len()
+         (the slow variation not slow against the drive's relaxation); {} points computed, \
+         the rest given their agreeing neighbours' verdict",
+        map.len(),
+        computed(|p| p.computed)
     );
     let judged = |of: fn(&hdgear::physical::check::MapPoint) -> Option<Judgement>| {
         let with: Vec<Judgement> = map.iter().filter_map(of).collect();
@@ -349,18 +380,20 @@ fn map_summary(
             .count();
         crate::sink::outln!(
             "with its friction: {bursting} of {} judged points burst, {slips} of them by \
-             stick-slip; {} points not judged",
+             stick-slip; {} points not judged; {} computed",
             with.len(),
-            map.len() - with.len()
+            map.len() - with.len(),
+            computed(|p| p.friction_computed)
         );
     }
     if !fit_only {
         let (with, bursting) = judged(|p| p.catalogue);
         crate::sink::outln!(
             "with the catalogue's curve: {bursting} of {} judged points burst; {} points \
-             not judged",
+             not judged; {} computed",
             with.len(),
-            map.len() - with.len()
+            map.len() - with.len(),
+            computed(|p| p.catalogue_computed)
         );
     }
     Ok(())

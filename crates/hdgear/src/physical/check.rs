@@ -14,7 +14,7 @@
 
 use super::card::{Card, Source, SourceKind};
 use super::catalogue::{Fit, assemble, fit};
-use super::design::{CatalogueOrigin, DriveSummary, summarize};
+use super::design::{CatalogueOrigin, DriveSummary, Judgement, summarize};
 use crate::burst::BurstOptions;
 use crate::error::Result;
 use rayon::prelude::*;
@@ -249,11 +249,25 @@ pub struct MapGrid {
     pub hz: (f64, f64),
     /// Number of frequencies (≥ 1), log-spaced.
     pub frequencies: usize,
+    /// Spacing of the coarse lattice the map is refined from ([`crate::sweep::refine`]), in
+    /// points (1 to 64; 1: every point simulated).
+    pub coarse: usize,
 }
+
+/// Lattice points per axis a load map is refined from by default ([`MapGrid::for_card`]): the
+/// spacing is the axis's points over this, so a 300-point axis is simulated at every 8th point
+/// first and a map of 36 or fewer points per axis at every point. Verdict regions of a load map
+/// are bounded by the curves where a mechanism's threshold is crossed (the fast-slow domain's
+/// edge, the response turning from overshoot to ringing, the sticking band's edge), each a wide
+/// share of the map; 1/36 of an axis is 2.8 % of the amplitude range and 0.08 decade of the
+/// default 0.01–10 Hz. A region narrower than the spacing, inside one block and touching none of
+/// its computed points, would be missed: `coarse` 1 simulates every point.
+pub const MAP_LATTICE: usize = 36;
 
 impl MapGrid {
     /// The default grid of `card`: amplitudes up to its rated torque (T2 without a rating),
-    /// 0.01–10 Hz, `n` points per axis.
+    /// 0.01–10 Hz, `n` points per axis, refined from a lattice of about [`MAP_LATTICE`] points
+    /// per axis.
     pub fn for_card(card: &Card, n: usize) -> MapGrid {
         let c = card.curve();
         MapGrid {
@@ -261,6 +275,7 @@ impl MapGrid {
             amplitudes: n,
             hz: (0.01, 10.0),
             frequencies: n,
+            coarse: (n / MAP_LATTICE).max(1),
         }
     }
 
@@ -280,12 +295,13 @@ impl MapGrid {
         if !(lo.is_finite() && hi.is_finite() && lo > 0.0 && lo <= hi) {
             return bad("hz", lo, "must be a range 0 < LO <= HI");
         }
-        for (name, n) in [
-            ("amplitudes", self.amplitudes),
-            ("frequencies", self.frequencies),
+        for (name, n, max, reason) in [
+            ("amplitudes", self.amplitudes, 1000, "must be 1 to 1000"),
+            ("frequencies", self.frequencies, 1000, "must be 1 to 1000"),
+            ("coarse", self.coarse, 64, "must be 1 to 64"),
         ] {
-            if !(1..=1000).contains(&n) {
-                return bad(name, n as f64, "must be 1 to 1000");
+            if !(1..=max).contains(&n) {
+                return bad(name, n as f64, reason);
             }
         }
         Ok(())
@@ -328,7 +344,18 @@ pub struct MapPoint {
     /// could not be simulated (the reduced ω below [`super::design::MIN_SIMULATED_OMEGA`], or
     /// more steps than a search allows).
     pub catalogue: Option<super::design::Judgement>,
+    /// Whether [`Self::judgement`] was computed (simulated or predicted); false: the point lies
+    /// in a block of the coarse lattice whose computed points all agree, and takes their
+    /// verdict ([`MapGrid::coarse`]).
+    pub computed: bool,
+    /// Whether [`Self::friction`] was computed (false also without a law).
+    pub friction_computed: bool,
+    /// Whether [`Self::catalogue`] was computed (false also when not asked for).
+    pub catalogue_computed: bool,
 }
+
+/// How [`load_map`] judges one of its columns at many drives (`None`: not judged).
+type Column<'a> = dyn Fn(&[super::PhysicalParams]) -> Result<Vec<Option<Judgement>>> + 'a;
 
 /// The verdict on the drive built from `card` (as [`check_card`] builds it, with `damping`) for
 /// every amplitude and frequency of `grid`, amplitude-major, computed on all cores: with the
@@ -336,7 +363,9 @@ pub struct MapPoint {
 /// given fraction of θ(T₁)), and with the card's friction law too, when it has one.
 /// `catalogue_curve` `None` leaves the catalogue's verdict out (`None` at every point): the
 /// piecewise law's knees make each response ring, and its simulation costs far more than the
-/// fit's.
+/// fit's. The map is refined from a lattice of every [`MapGrid::coarse`]-th point
+/// ([`crate::sweep::refine`]), each of the three verdicts on its own: a point is simulated where
+/// its neighbours' verdicts differ, and otherwise takes theirs ([`MapPoint::computed`]).
 pub fn load_map(
     card: &Card,
     sources: &BTreeMap<String, Source>,
@@ -350,53 +379,64 @@ pub fn load_map(
     catalogue_curve.map_or(Ok(()), super::curve_law::check_rounding)?;
     let zeta = chosen_zeta(damping, &loss_damping(card, sources));
     let d = assemble(card, None, zeta)?.drive;
-    let freqs = grid.frequency_values();
-    let points: Vec<(f64, f64)> = grid
-        .amplitude_values()
-        .into_iter()
-        .flat_map(|a| freqs.iter().map(move |&f| (a, f)))
-        .collect();
-    let drives: Vec<super::PhysicalParams> = points
-        .iter()
-        .map(|&(t_am, f)| super::PhysicalParams {
-            t_am,
-            omega: std::f64::consts::TAU * f,
-            ..d
+    let law = super::friction::law(card)?;
+    let (amps, freqs) = (grid.amplitude_values(), grid.frequency_values());
+    let at = |&(i, j): &(usize, usize)| super::PhysicalParams {
+        t_am: amps[i],
+        omega: std::f64::consts::TAU * freqs[j],
+        ..d
+    };
+    // each verdict refined on its own: one model's boundaries cost the others nothing
+    let column = |judge: &Column| {
+        crate::sweep::refine::refine(amps.len(), freqs.len(), grid.coarse, |cells| {
+            judge(&cells.iter().map(at).collect::<Vec<_>>())
         })
-        .collect();
-    let judgements = super::design::judge_many(&drives, opts)?;
-    let with_friction: Vec<Option<super::design::Judgement>> = match super::friction::law(card)? {
-        None => vec![None; drives.len()],
-        Some(law) => drives
-            .par_iter()
-            .map(|d| Ok(super::friction::judge(d, &law, opts)?.map(|o| o.outcome.judgement)))
-            .collect::<Result<_>>()?,
     };
-    let with_curve: Vec<Option<super::design::Judgement>> = if let Some(rounding) = catalogue_curve
-    {
-        drives
-            .par_iter()
-            .map(|d| {
-                let m = super::curve_law::model(card, d, rounding)?;
-                Ok(super::design::judge_model(&m, opts)?.map(|(o, _)| o.judgement))
+    let fit = column(&|ds| {
+        let js = super::design::judge_many(ds, opts)?;
+        Ok(js.into_iter().map(Some).collect())
+    })?;
+    let friction = law
+        .map(|law| {
+            column(&|ds| {
+                ds.par_iter()
+                    .map(
+                        |d| Ok(super::friction::judge(d, &law, opts)?.map(|o| o.outcome.judgement)),
+                    )
+                    .collect()
             })
-            .collect::<Result<_>>()?
-    } else {
-        vec![None; drives.len()]
+        })
+        .transpose()?;
+    let catalogue = catalogue_curve
+        .map(|rounding| {
+            column(&|ds| {
+                ds.par_iter()
+                    .map(|d| {
+                        let m = super::curve_law::model(card, d, rounding)?;
+                        Ok(super::design::judge_model(&m, opts)?.map(|(o, _)| o.judgement))
+                    })
+                    .collect()
+            })
+        })
+        .transpose()?;
+    let of = |c: &Option<crate::sweep::refine::Refined<Option<Judgement>>>, k: usize| {
+        c.as_ref()
+            .map_or((None, false), |c| (c.values[k], c.computed[k]))
     };
-    Ok(points
-        .iter()
-        .zip(judgements)
-        .zip(with_friction)
-        .zip(with_curve)
-        .map(
-            |(((&(t_am, frequency_hz), judgement), friction), catalogue)| MapPoint {
-                t_am,
-                frequency_hz,
-                judgement,
+    Ok((0..amps.len() * freqs.len())
+        .map(|k| {
+            let (friction, friction_computed) = of(&friction, k);
+            let (catalogue, catalogue_computed) = of(&catalogue, k);
+            MapPoint {
+                t_am: amps[k / freqs.len()],
+                frequency_hz: freqs[k % freqs.len()],
+                judgement: fit.values[k].expect("the fit judges every point"),
                 friction,
                 catalogue,
-            },
-        )
+                computed: fit.computed[k],
+                friction_computed,
+                catalogue_computed,
+            }
+        })
         .collect())
 }

@@ -13,6 +13,7 @@ use serde::{Deserialize, Serialize};
 use std::collections::{BTreeMap, BTreeSet};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
+pub mod refine;
 mod shard;
 pub use shard::{MergeError, Plan, Shard, plan};
 
