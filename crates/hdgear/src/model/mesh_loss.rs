@@ -201,7 +201,7 @@ impl MeshLoss {
 
 impl Term for MeshLoss {
     const KIND: &'static str = "meshloss";
-    const ABOUT: &'static str = "torque-proportional mesh loss μ_m·|T_s|·σ, σ' = x'·(1 − sgn(x')·σ)/θ_m (T_s: the stiffness)";
+    const ABOUT: &'static str = "torque-proportional mesh loss μ_m·|T_s|·σ, σ' = x'·(1 − sgn(x')·σ)/θ_m (T_s: the model's elastic law)";
     const STATE: Option<StateInfo> = Some(StateInfo {
         name: "sm",
         meaning: "the mesh loss's sign σ (−1 … 1)",
@@ -315,7 +315,7 @@ impl Term for MeshLoss {
         r" + \mu_m \lvert T_s(x) \rvert \sigma".into()
     }
     fn rate_text(&self) -> Option<String> {
-        Some("σ' = x'·(1 − sgn(x')·σ)/θ_m, T_s the stiffness's torque".into())
+        Some("σ' = x'·(1 − sgn(x')·σ)/θ_m, T_s the elastic law's torque".into())
     }
     fn rate_latex(&self) -> Option<String> {
         Some(

@@ -25,7 +25,9 @@ use super::design::{Margin, Outcome, judge_model, search_margin};
 use crate::burst::{BurstOptions, Sticking};
 use crate::error::{Error, Result};
 use crate::model::Model;
-use crate::model::terms::AnyTerm;
+use crate::model::friction::Coulomb;
+use crate::model::mesh_loss::MeshLoss;
+use crate::model::terms::{AnyTerm, Term};
 use rayon::prelude::*;
 use serde::Serialize;
 
@@ -248,10 +250,10 @@ pub fn drive_model(d: &PhysicalParams, law: &FrictionLaw) -> Result<Model> {
 /// [`drive_model`] with `d`'s reduction `r` at hand.
 fn reduced_model(d: &PhysicalParams, law: &FrictionLaw, r: &super::Reduction) -> Result<Model> {
     let f = law.reduced(d, r);
-    let m =
-        Model::study(&r.params).with_term(AnyTerm::new("coulomb", &[f.fc, f.fs, f.vst, f.cv])?)?;
+    let coulomb = AnyTerm::new(Coulomb::KIND, &[f.fc, f.fs, f.vst, f.cv])?;
+    let m = Model::study(&r.params).with_term(coulomb)?;
     match f.mesh {
-        Some(mesh) => m.with_term(AnyTerm::new("meshloss", &mesh)?),
+        Some(mesh) => m.with_term(AnyTerm::new(MeshLoss::KIND, &mesh)?),
         None => Ok(m),
     }
 }
