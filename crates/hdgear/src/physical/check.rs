@@ -354,9 +354,6 @@ pub struct MapPoint {
     pub catalogue_computed: bool,
 }
 
-/// How [`load_map`] judges one of its columns at many drives (`None`: not judged).
-type Column<'a> = dyn Fn(&[super::PhysicalParams]) -> Result<Vec<Option<Judgement>>> + 'a;
-
 /// The verdict on the drive built from `card` (as [`check_card`] builds it, with `damping`) for
 /// every amplitude and frequency of `grid`, amplitude-major, computed on all cores: with the
 /// cubic fit, with the catalogue's own curve ([`super::curve_law`], its knees rounded by the
@@ -381,24 +378,16 @@ pub fn load_map(
     let d = assemble(card, None, zeta)?.drive;
     let law = super::friction::law(card)?;
     let (amps, freqs) = (grid.amplitude_values(), grid.frequency_values());
-    let at = |&(i, j): &(usize, usize)| super::PhysicalParams {
+    let at = |i: usize, j: usize| super::PhysicalParams {
         t_am: amps[i],
         omega: std::f64::consts::TAU * freqs[j],
         ..d
     };
     // each verdict refined on its own: one model's boundaries cost the others nothing
-    let column = |judge: &Column| {
-        crate::sweep::refine::refine(amps.len(), freqs.len(), grid.coarse, |cells| {
-            judge(&cells.iter().map(at).collect::<Vec<_>>())
-        })
-    };
-    let fit = column(&|ds| {
-        let js = super::design::judge_many(ds, opts)?;
-        Ok(js.into_iter().map(Some).collect())
-    })?;
+    let fit = refined(grid, &at, |ds| super::design::judge_many(ds, opts))?;
     let friction = law
         .map(|law| {
-            column(&|ds| {
+            refined(grid, &at, |ds| {
                 ds.par_iter()
                     .map(
                         |d| Ok(super::friction::judge(d, &law, opts)?.map(|o| o.outcome.judgement)),
@@ -409,7 +398,7 @@ pub fn load_map(
         .transpose()?;
     let catalogue = catalogue_curve
         .map(|rounding| {
-            column(&|ds| {
+            refined(grid, &at, |ds| {
                 ds.par_iter()
                     .map(|d| {
                         let m = super::curve_law::model(card, d, rounding)?;
@@ -430,7 +419,7 @@ pub fn load_map(
             MapPoint {
                 t_am: amps[k / freqs.len()],
                 frequency_hz: freqs[k % freqs.len()],
-                judgement: fit.values[k].expect("the fit judges every point"),
+                judgement: fit.values[k],
                 friction,
                 catalogue,
                 computed: fit.computed[k],
@@ -439,4 +428,16 @@ pub fn load_map(
             }
         })
         .collect())
+}
+
+/// One verdict of [`load_map`] over `grid`, refined ([`crate::sweep::refine`]): `judge` gives
+/// the verdicts of many drives, `at(i, j)` is the drive at amplitude `i` and frequency `j`.
+fn refined<V: Clone + PartialEq>(
+    grid: &MapGrid,
+    at: &impl Fn(usize, usize) -> super::PhysicalParams,
+    judge: impl Fn(&[super::PhysicalParams]) -> Result<Vec<V>>,
+) -> Result<crate::sweep::refine::Refined<V>> {
+    crate::sweep::refine::refine(grid.amplitudes, grid.frequencies, grid.coarse, |cells| {
+        judge(&cells.iter().map(|&(i, j)| at(i, j)).collect::<Vec<_>>())
+    })
 }
