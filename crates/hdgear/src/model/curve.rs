@@ -216,6 +216,50 @@ impl<S: Statics> ModelCurve<S> {
         Some(crate::roots::brent(f, l, fl, r, fr, tol))
     }
 
+    /// [`ModelCurve::root_on`] bracketed from `hint` (a root found on the branch a little
+    /// earlier; NaN: none): the far end of the bracket is twice Newton's step from it towards
+    /// the level, the step doubled until the bracket holds the root (g increases on the branch),
+    /// and the whole branch searched as [`ModelCurve::root_on`] does when the bracket would
+    /// reach the branch's end. The same root to the same tolerance, in a few evaluations of g
+    /// where the whole branch takes many (its kinks slow the interpolation).
+    fn root_near(
+        &self,
+        (l, r): (f64, f64),
+        level: f64,
+        outer: (bool, bool),
+        hint: f64,
+    ) -> Option<f64> {
+        if !(hint > l && hint < r) {
+            return self.root_on((l, r), level, outer);
+        }
+        let f = |x: f64| self.g(x) - level;
+        let f_hint = f(hint);
+        if f_hint == 0.0 {
+            return Some(hint);
+        }
+        let tol = 4.0 * f64::EPSILON * l.abs().max(r.abs());
+        let newton = (f_hint / self.law.g_prime(hint)).abs();
+        // towards the level: up where g is below it
+        let direction = if f_hint < 0.0 { 1.0 } else { -1.0 };
+        let (mut near, mut f_near) = (hint, f_hint);
+        let mut step = if newton.is_finite() {
+            newton.max(tol)
+        } else {
+            r - l
+        };
+        loop {
+            let far = near + direction * 2.0 * step;
+            if far <= l || far >= r {
+                return self.root_on((l, r), level, outer);
+            }
+            let f_far = f(far);
+            if (f_far > 0.0) != (f_near > 0.0) || f_far == 0.0 {
+                return Some(crate::roots::brent(f, near, f_near, far, f_far, tol));
+            }
+            (near, f_near, step) = (far, f_far, 2.0 * step);
+        }
+    }
+
     /// The stable equilibria at a, increasing (one per branch whose values reach μ + δa, unless
     /// it is the branch's end at a fold, where g' = 0: a fold point is not stable).
     fn stable_roots(&self, a: f64) -> Vec<f64> {
@@ -290,17 +334,36 @@ impl<S: Statics> ModelCurve<S> {
 }
 
 /// The stable equilibrium of a [`ModelCurve`] nearest a state: the root on each increasing
-/// branch by Brent's method.
+/// branch by Brent's method, bracketed next to the root last found on that branch
+/// ([`ModelCurve::root_near`]): a response's samples come in time order, so between two of them
+/// the equilibrium moves little.
 #[derive(Clone, Copy, Debug)]
-pub struct ModelFollower<S: Statics = StaticTorque>(ModelCurve<S>);
+pub struct ModelFollower<S: Statics = StaticTorque> {
+    curve: ModelCurve<S>,
+    /// The root last found on each branch ([`ModelCurve::branches`]'s order; NaN: none).
+    last: [f64; 2],
+}
 
 impl<S: Statics> Follower for ModelFollower<S> {
     fn at(&mut self, a: f64, x: f64) -> f64 {
-        self.0
-            .stable_roots(a)
-            .into_iter()
-            .min_by(|u, v| (u - x).abs().total_cmp(&(v - x).abs()))
-            .unwrap_or(x)
+        let c = &self.curve;
+        let nearest = |best: Option<f64>, r: f64| match best {
+            Some(b) if (b - x).abs() <= (r - x).abs() => Some(b),
+            _ => Some(r),
+        };
+        if let Some(roots) = c.law.stable_roots(a) {
+            return roots.into_iter().fold(None, nearest).unwrap_or(x);
+        }
+        let level = c.forcing(a);
+        let mut best = None;
+        for ((iv, outer), last) in c.branches().zip(&mut self.last) {
+            let root = c.root_near(iv, level, outer, *last);
+            *last = root.unwrap_or(f64::NAN);
+            if let Some(r) = root.filter(|&r| c.law.stiffness(r) > 0.0) {
+                best = nearest(best, r);
+            }
+        }
+        best.unwrap_or(x)
     }
 }
 
@@ -336,7 +399,10 @@ impl<S: Statics> StaticCurve for ModelCurve<S> {
         self.band
     }
     fn follower(&self, _x0: f64) -> ModelFollower<S> {
-        ModelFollower(*self)
+        ModelFollower {
+            curve: *self,
+            last: [f64::NAN; 2],
+        }
     }
     fn start(&self) -> f64 {
         self.stable_roots(0.0)

@@ -189,6 +189,22 @@ pub fn horner(u: &[f64], order: usize, tau: f64) -> f64 {
     u[..=order].iter().rev().fold(0.0, |acc, &c| acc * tau + c)
 }
 
+/// The longest step, at most `h`, over which the polynomial with rows 0..=`order` of `u` stays
+/// in [lo, hi] ([`first_exit`] on it). A polynomial whose reach over the step, Σ_{k≥1} |u_k|·h^k
+/// (with a margin of a few rounding errors), keeps it inside is not sampled: every sample
+/// [`first_exit`] would take lies within that reach of u₀, so it would return `h` too.
+pub fn exit_from(u: &[f64], order: usize, h: f64, (lo, hi): (f64, f64)) -> f64 {
+    let reach = u[1..=order]
+        .iter()
+        .rev()
+        .fold(0.0, |acc, &c| (acc + c.abs()) * h);
+    let margin = reach * 1e-12 + 4.0 * f64::EPSILON * u[0].abs();
+    if u[0] - reach - margin >= lo && u[0] + reach + margin <= hi {
+        return h;
+    }
+    first_exit(h, |tau| (lo..=hi).contains(&horner(u, order, tau)))
+}
+
 /// The longest step, at most `h`, over which `on` (a step's polynomial still on the piece it
 /// started on, at τ) holds: the first of eight samples off the piece brackets the exit, which
 /// bisection narrows to the last bits of the step, ending on the exit's far side (so the next step

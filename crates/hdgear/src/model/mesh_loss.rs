@@ -37,7 +37,7 @@
 //! assert!((total - (0.1 + elastic + 0.25 * elastic.abs())).abs() < 1e-14);
 //! ```
 
-use super::jet::{cauchy, first_exit, horner};
+use super::jet::{cauchy, exit_from};
 use super::piecewise::{Piecewise, on_kink};
 use super::terms::{
     AnyTerm, Domain, ParamInfo, Scratch, Side, StateInfo, Stiffness, Term, piece_sign,
@@ -295,7 +295,7 @@ impl Term for MeshLoss {
     }
     const LIMITS_STEPS: bool = true;
     /// The law's own limit, then the step ends where the twist leaves the interval between the
-    /// law's roots it started in, located on x's polynomial ([`first_exit`]; widened by a few
+    /// law's roots it started in, located on x's polynomial ([`exit_from`]; widened by a few
     /// rounding errors, as the start's piece reads a root). A loss of μ_m = 0 never limits.
     fn step_limit(&self, rows: &Scratch, order: usize, h: f64, negligible: f64) -> f64 {
         let Some(law) = self.law else { return h };
@@ -306,7 +306,7 @@ impl Term for MeshLoss {
         let [_, lo, hi] = [rows.0[PIECE][0], rows.0[PIECE][1], rows.0[PIECE][2]];
         let (lo, hi) = (lo - on_kink(lo), hi + on_kink(hi));
         let xs = &rows.0[XS];
-        first_exit(h, |tau| (lo..=hi).contains(&horner(xs, order, tau)))
+        exit_from(xs, order, h, (lo, hi))
     }
     fn text(&self) -> String {
         " + μ_m·|T_s(x)|·σ".into()

@@ -330,7 +330,7 @@ impl Term for Piecewise {
     }
     const LIMITS_STEPS: bool = true;
     /// The step ends where the twist leaves the segment it started on, located on x's polynomial
-    /// ([`super::jet::first_exit`]): the next step starts on the kink or just past it, and its
+    /// ([`super::jet::exit_from`]): the next step starts on the kink or just past it, and its
     /// segment follows from where x is.
     /// With rounded knees the step stays within each hyperbola's radius of convergence
     /// ([`super::jet::hyperbola_step_limit`]).
@@ -350,9 +350,7 @@ impl Term for Piecewise {
             seg[0] - on_kink(seg[0]) + self.0[5],
             seg[1] + on_kink(seg[1]) + self.0[5],
         );
-        super::jet::first_exit(h, |tau| {
-            (lo..=hi).contains(&super::jet::horner(xs, order, tau))
-        })
+        super::jet::exit_from(xs, order, h, (lo, hi))
     }
     fn text(&self) -> String {
         " + P(x − x₀)".into()

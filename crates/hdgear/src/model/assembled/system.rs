@@ -143,16 +143,19 @@ impl Model {
         };
         // held: x and v keep their rows 1.. at 0
         let moving = if self.held { 0.0 } else { 1.0 };
-        for k in 0..n {
+        // the terms' rows at order n too (the step limits read them), from one call site so
+        // that the row is inlined into the loop
+        for k in 0..=n {
             let (acc, rates) = row(k, &s);
+            if k == n {
+                break;
+            }
             s[0][k + 1] = moving * s[1][k] * INV[k];
             s[1][k + 1] = moving * acc * INV[k];
             for i in 2..N {
                 s[i][k + 1] = rates[i] * INV[k];
             }
         }
-        // the terms' rows at order n too (the step limits read them)
-        row(n, &s);
         for (k, ck) in c.iter_mut().enumerate().take(n + 1) {
             for (i, v) in ck.iter_mut().enumerate() {
                 *v = s[i][k];
