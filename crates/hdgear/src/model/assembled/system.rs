@@ -123,30 +123,34 @@ impl Model {
         for (row, &y) in s.iter_mut().zip(y) {
             row[0] = y;
         }
-        let at = self.state_slots();
+        // the present terms, each with its slot (its rows in `rows`) and its state's index
+        let mut live = [(0, None); MAX_TERMS];
+        let mut m = 0;
+        for (i, (term, at)) in self.terms.iter().zip(self.state_slots()).enumerate() {
+            if term.is_some() {
+                live[m] = (i, at);
+                m += 1;
+            }
+        }
+        let live = &live[..m];
         // the zero rows a stateless term reads as its z
         const NONE: [f64; MAX_ROWS] = [0.0; MAX_ROWS];
-        // row k of the acceleration and of the states' rates, the terms' rows kept in `rows`
-        let mut row = |k: usize, s: &[[f64; MAX_ROWS]; 2 + MAX_STATES]| {
-            let mut acc = f[k];
-            let mut rates = [0.0; 2 + MAX_STATES];
-            let [x, v, ..] = s;
-            for ((term, r), at) in self.terms.iter().zip(rows.iter_mut()).zip(at) {
-                let Some(term) = term else { continue };
-                let z = at.map_or(&NONE, |i| &s[i]);
-                if let Some(i) = at {
-                    rates[i] = term.rate_taylor(k, x, v, z, r);
-                }
-                acc -= term.taylor(k, x, v, z, r);
-            }
-            (acc, rates)
-        };
         // held: x and v keep their rows 1.. at 0
         let moving = if self.held { 0.0 } else { 1.0 };
-        // the terms' rows at order n too (the step limits read them), from one call site so
-        // that the row is inlined into the loop
+        // row k of the acceleration and of the states' rates, the terms' rows kept in `rows`;
+        // the terms' rows at order n too (the step limits read them)
         for k in 0..=n {
-            let (acc, rates) = row(k, &s);
+            let mut acc = f[k];
+            let mut rates = [0.0; 2 + MAX_STATES];
+            for &(i, at) in live {
+                let Some(term) = &self.terms[i] else { continue };
+                let (x, v) = (&s[0], &s[1]);
+                let z = at.map_or(&NONE, |j| &s[j]);
+                if let Some(j) = at {
+                    rates[j] = term.rate_taylor(k, x, v, z, &mut rows[i]);
+                }
+                acc -= term.taylor(k, x, v, z, &mut rows[i]);
+            }
             if k == n {
                 break;
             }
