@@ -118,7 +118,7 @@ pub fn cauchy(a: &[f64], b: &[f64], k: usize) -> f64 {
     // need not be inlined into a caller's recurrence
     let (a, b) = (&a[..=k], &b[..=k]);
     let mut s = -0.0;
-    for j in 0..=k {
+    for j in 0..k + 1 {
         s += a[j] * b[k - j];
     }
     s

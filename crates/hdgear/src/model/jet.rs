@@ -23,10 +23,11 @@ pub use crate::integrate::taylor::{cauchy, square_coefficient};
 /// Σ_{j=1..=k} j·u_j·w_{k−j} / k: the sum every recurrence of this module shares.
 #[inline(always)]
 fn weighted(u: &[f64], w: &[f64], k: usize) -> f64 {
-    // rows 0..=k only: the loop's indices need no checks
+    // rows 0..=k only: the loop's indices need no checks; the loops in this module run over
+    // half-open ranges (an inclusive range's iterator costs an extra test at every turn)
     let (u, w) = (&u[..=k], &w[..k]);
     let mut s = 0.0;
-    for j in 1..=k {
+    for j in 1..k + 1 {
         s += j as f64 * u[j] * w[k - j];
     }
     s / k as f64
@@ -243,10 +244,10 @@ pub fn tanh_coefficient(u: &[f64], sq: &[f64], k: usize) -> f64 {
     // (1 − t²)_{k−j}: 1 − (t²)₀ at j = k, −(t²)_{k−j} below
     let (u, sq) = (&u[..=k], &sq[..k]);
     let mut s = 0.0;
-    for j in 1..=k {
-        let one_minus = if j == k { 1.0 - sq[0] } else { -sq[k - j] };
-        s += j as f64 * u[j] * one_minus;
+    for j in 1..k {
+        s += j as f64 * u[j] * -sq[k - j];
     }
+    s += k as f64 * u[k] * (1.0 - sq[0]);
     s / k as f64
 }
 
@@ -265,7 +266,7 @@ pub fn sin_cos_coefficients(u: &[f64], s: &[f64], c: &[f64], k: usize) -> (f64, 
 #[inline(always)]
 pub fn quotient_coefficient(n: &[f64], d: &[f64], q: &[f64], k: usize) -> f64 {
     let mut s = n[k];
-    for j in 1..=k {
+    for j in 1..k + 1 {
         s -= d[j] * q[k - j];
     }
     s / d[0]
@@ -304,7 +305,7 @@ pub fn pow_coefficient(u: &[f64], a: f64, p: &[f64], k: usize) -> f64 {
         return u[0].powf(a);
     }
     let mut s = 0.0;
-    for j in 1..=k {
+    for j in 1..k + 1 {
         s += (a * j as f64 - (k - j) as f64) * u[j] * p[k - j];
     }
     s / (k as f64 * u[0])

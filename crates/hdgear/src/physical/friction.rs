@@ -36,15 +36,26 @@ pub const ASSUMPTION: &str = "the card's friction acts across the compliance, on
     θ' (the reduction to one equation holds for such friction only; friction on the input or \
     output rotation alone moves the rigid-body mode too, which this verdict does not model)";
 
+/// [`MESH_PRESLIDING`]'s literal, written once: the constant and [`MESH_ASSUMPTION`]'s text
+/// both take it from here.
+macro_rules! mesh_presliding {
+    () => {
+        5e-5
+    };
+}
+
 /// How a card's efficiency is taken, stated in every output that uses it.
-pub const MESH_ASSUMPTION: &str = "the card's efficiency η is a torque-proportional mesh loss \
-    μ_m = 1/η − 1 on the twist (the loss μ_m·|T_s| opposes the twist rate), its sign turning over \
-    5e-5 rad of twist after a reversal (the harmonic-drive twin's presliding length)";
+pub const MESH_ASSUMPTION: &str = concat!(
+    "the card's efficiency η is a torque-proportional mesh loss μ_m = 1/η − 1 on the twist (the \
+     loss μ_m·|T_s| opposes the twist rate), its sign turning over ",
+    mesh_presliding!(),
+    " rad of twist after a reversal (the harmonic-drive twin's presliding length)"
+);
 
 /// θ_m: the twist over which the mesh loss's sign turns after a reversal \[rad\] (the
 /// harmonic-drive twin's Dahl presliding length, REAL-DRIVES.md), an assumption
 /// ([`MESH_ASSUMPTION`]).
-pub const MESH_PRESLIDING: f64 = 5e-5;
+pub const MESH_PRESLIDING: f64 = mesh_presliding!();
 
 /// The Stribeck speed a card without a Stribeck drop is given: with F_s = F_c it has no effect.
 const NO_DROP_SPEED: f64 = 1.0;
@@ -76,7 +87,7 @@ pub struct ReducedFriction {
     pub vst: f64,
     /// c_v = c_v/C.
     pub cv: f64,
-    /// The mesh loss's μ_m (a ratio: the same in every unit) and θ_m = 5e-5 rad/L, if the card
+    /// The mesh loss's μ_m (a ratio: the same in every unit) and θ_m = [`MESH_PRESLIDING`]/L, if the card
     /// gives an efficiency.
     pub mesh: Option<[f64; 2]>,
 }
