@@ -335,7 +335,7 @@ impl<S: Statics> ModelCurve<S> {
 
 /// The stable equilibrium of a [`ModelCurve`] nearest a state: the root on each increasing
 /// branch by Brent's method, bracketed next to the root last found on that branch
-/// ([`ModelCurve::root_near`]): a response's samples come in time order, so between two of them
+/// (`ModelCurve::root_near`): a response's samples come in time order, so between two of them
 /// the equilibrium moves little.
 #[derive(Clone, Copy, Debug)]
 pub struct ModelFollower<S: Statics = StaticTorque> {
