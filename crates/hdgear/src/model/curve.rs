@@ -212,7 +212,7 @@ impl<S: Statics> ModelCurve<S> {
         if fl > 0.0 || fr < 0.0 {
             return None;
         }
-        let tol = 4.0 * f64::EPSILON * l.abs().max(r.abs());
+        let tol = bracket_tolerance(l, r);
         Some(crate::roots::brent(f, l, fl, r, fr, tol))
     }
 
@@ -237,7 +237,7 @@ impl<S: Statics> ModelCurve<S> {
         if f_hint == 0.0 {
             return Some(hint);
         }
-        let tol = 4.0 * f64::EPSILON * l.abs().max(r.abs());
+        let tol = bracket_tolerance(l, r);
         let newton = (f_hint / self.law.g_prime(hint)).abs();
         // towards the level: up where g is below it
         let direction = if f_hint < 0.0 { 1.0 } else { -1.0 };
@@ -266,11 +266,25 @@ impl<S: Statics> ModelCurve<S> {
         if let Some(roots) = self.law.stable_roots(a) {
             return roots;
         }
-        let level = self.forcing(a);
-        self.branches()
-            .filter_map(move |(iv, outer)| self.root_on(iv, level, outer))
-            .filter(|&x| self.law.stiffness(x) > 0.0)
+        self.branch_roots(a, &mut [f64::NAN; 2])
+            .into_iter()
+            .flatten()
             .collect()
+    }
+
+    /// [`ModelCurve::stable_roots`] branch by branch, without the law's own closed form: each
+    /// branch's root searched next to its entry of `hints` ([`ModelCurve::root_near`]; NaN:
+    /// none), which becomes the root found there (NaN: none); `None` where the branch has no
+    /// stable root.
+    fn branch_roots(&self, a: f64, hints: &mut [f64; 2]) -> [Option<f64>; 2] {
+        let level = self.forcing(a);
+        let mut roots = [None; 2];
+        for (((iv, outer), hint), root) in self.branches().zip(hints).zip(&mut roots) {
+            let found = self.root_near(iv, level, outer, *hint);
+            *hint = found.unwrap_or(f64::NAN);
+            *root = found.filter(|&x| self.law.stiffness(x) > 0.0);
+        }
+        roots
     }
 
     /// The x-intervals of the stable branches that a ∈ [−1, 1] traverses, increasing.
@@ -333,6 +347,11 @@ impl<S: Statics> ModelCurve<S> {
     }
 }
 
+/// Brent's tolerance on a bracket [l, r]: a few rounding errors of its larger end.
+fn bracket_tolerance(l: f64, r: f64) -> f64 {
+    4.0 * f64::EPSILON * l.abs().max(r.abs())
+}
+
 /// The stable equilibrium of a [`ModelCurve`] nearest a state: the root on each increasing
 /// branch by Brent's method, bracketed next to the root last found on that branch
 /// (`ModelCurve::root_near`): a response's samples come in time order, so between two of them
@@ -354,16 +373,11 @@ impl<S: Statics> Follower for ModelFollower<S> {
         if let Some(roots) = c.law.stable_roots(a) {
             return roots.into_iter().fold(None, nearest).unwrap_or(x);
         }
-        let level = c.forcing(a);
-        let mut best = None;
-        for ((iv, outer), last) in c.branches().zip(&mut self.last) {
-            let root = c.root_near(iv, level, outer, *last);
-            *last = root.unwrap_or(f64::NAN);
-            if let Some(r) = root.filter(|&r| c.law.stiffness(r) > 0.0) {
-                best = nearest(best, r);
-            }
-        }
-        best.unwrap_or(x)
+        c.branch_roots(a, &mut self.last)
+            .into_iter()
+            .flatten()
+            .fold(None, nearest)
+            .unwrap_or(x)
     }
 }
 

@@ -87,8 +87,8 @@ pub struct ReducedFriction {
     pub vst: f64,
     /// c_v = c_v/C.
     pub cv: f64,
-    /// The mesh loss's μ_m (a ratio: the same in every unit) and θ_m = [`MESH_PRESLIDING`]/L, if the card
-    /// gives an efficiency.
+    /// The mesh loss's μ_m (a ratio: the same in every unit) and θ_m = [`MESH_PRESLIDING`]/L,
+    /// if the card gives an efficiency.
     pub mesh: Option<[f64; 2]>,
 }
 
