@@ -336,7 +336,8 @@ impl BurstArgs {
             tol: self.tol.options()?,
             ..Default::default()
         };
-        o.validate()?;
+        o.validate()
+            .map_err(|e| as_flag(e, &[("discard", "discard"), ("periods", "window-periods")]))?;
         Ok(o)
     }
 }
@@ -687,7 +688,8 @@ impl TolArgs {
             method: self.method,
             ..Options::default()
         };
-        o.validate()?;
+        o.validate()
+            .map_err(|e| as_flag(e, &[("rtol", "rtol"), ("atol", "atol")]))?;
         Ok(o)
     }
 }
@@ -739,6 +741,22 @@ pub struct SimulateRun {
     pub opts: SimOptions,
     pub out: Option<PathBuf>,
     pub summary: bool,
+}
+
+/// The library's refusal of an option, told with the user's flag: `flags` pairs the library's
+/// option names with the flags that set them (`periods` is `--window-periods`); any other error
+/// passes unchanged, with its exit code.
+pub fn as_flag(e: hdgear::Error, flags: &[(&str, &str)]) -> anyhow::Error {
+    if let hdgear::Error::InvalidOption {
+        name,
+        value,
+        reason,
+    } = &e
+        && let Some((_, flag)) = flags.iter().find(|(n, _)| n == name)
+    {
+        return anyhow::anyhow!("invalid option --{flag} = {value:?}: {reason}");
+    }
+    e.into()
 }
 
 fn check_positive(name: &str, v: f64) -> Result<f64> {

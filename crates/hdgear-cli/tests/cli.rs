@@ -160,8 +160,8 @@ fn bad_options_exit_2_naming_the_value() {
     rejects(&["simulate", "--t-end", "0"], "t-end = 0");
     rejects(&["simulate", "--t-end=-5"], "t-end = -5");
     rejects(&["simulate", "--periods", "nan"], "periods = NaN");
-    rejects(&["simulate", "--rtol", "0"], "rtol = 0");
-    rejects(&["simulate", "--rtol=-1e-8"], "rtol = -1e-8");
+    rejects(&["simulate", "--rtol", "0"], "--rtol = 0.0");
+    rejects(&["simulate", "--rtol=-1e-8"], "--rtol = -1e-8");
     rejects(&["simulate", "--atol", "nan"], "atol = NaN");
     rejects(&["simulate", "--dt", "0"], "dt = 0");
     rejects(&["simulate", "--x0", "nan"], "x0 = NaN");
@@ -815,17 +815,20 @@ fn card_map_writes_one_row_per_load() {
         let cells: Vec<&str> = r.split(',').collect();
         assert_eq!(f, format!("{},,,true,,", cells[..8].join(",")));
     }
-    fails_with(&["card", "map", "CSG-20-50", "--points", "0"], "amplitudes");
-    fails_with(&["card", "map", "CSG-20-50", "--coarse", "0"], "coarse = 0");
-    fails_with(&["card", "map", "CSG-20-50", "--hz", "0:1"], "0:1");
-    fails_with(&["card", "map", "CSG-20-50", "--t-am-max=-1"], "t_am_max");
-    fails_with(
-        &["card", "map", "CSG-20-50", "--knee-rounding=-1"],
-        "knee_rounding",
-    );
+    // each refusal names the user's flag and value, not the library's field
+    for (args, message) in [
+        (&["--points", "0"][..], "--points = 0.0:"),
+        (&["--coarse", "0"], "--coarse = 0.0:"),
+        (&["--hz", "0:1"], "0:1"),
+        (&["--t-am-max=-1"], "--t-am-max = -1.0:"),
+        (&["--knee-rounding=-1"], "--knee-rounding = -1.0:"),
+        (&["--window-periods", "0"], "--window-periods = 0.0:"),
+    ] {
+        fails_with(&[&["card", "map", "CSG-20-50"][..], args].concat(), message);
+    }
     fails_with(
         &["card", "check", "CSG-20-50", "--knee-rounding", "1.5"],
-        "1.5",
+        "--knee-rounding = 1.5:",
     );
 }
 

@@ -1,6 +1,6 @@
 //! `hdgear card`: list, show, check and write drive cards.
 
-use crate::cli::BurstArgs;
+use crate::cli::{BurstArgs, as_flag};
 use anyhow::{Context, Result, bail};
 use clap::{Args, Subcommand};
 use hdgear::output::Record;
@@ -118,6 +118,9 @@ fn coarse_help() -> String {
         2 * n - 1
     )
 }
+
+/// The flag of [`KneeArgs`]'s option, by the library's name for it.
+const KNEE_FLAG: [(&str, &str); 1] = [("knee_rounding", "knee-rounding")];
 
 /// How the catalogue curve's verdict rounds the knees (`card check` and `card map`).
 #[derive(clap::Args, Debug)]
@@ -254,7 +257,8 @@ pub fn run(a: CardArgs) -> Result<()> {
             let choice = DampingChoice::parse(&damping).context("--damping")?;
             let opts = burst.options()?;
             let l = load(&card)?;
-            let check = check_card(&l.card, &l.sources, choice, knees.knee_rounding, &opts)?;
+            let check = check_card(&l.card, &l.sources, choice, knees.knee_rounding, &opts)
+                .map_err(|e| as_flag(e, &KNEE_FLAG))?;
             let design = design
                 .then(|| hdgear::physical::design::design_check(&check.summary.drive, &opts))
                 .transpose()?;
@@ -303,7 +307,16 @@ fn map(a: CardMapArgs) -> Result<()> {
         grid.coarse = n;
     }
     let curve = (!fit_only).then_some(knees.knee_rounding);
-    let map = load_map(&l.card, &l.sources, choice, &grid, &opts, curve)?;
+    let map = load_map(&l.card, &l.sources, choice, &grid, &opts, curve).map_err(|e| {
+        let grid_flags = [
+            ("amplitudes", "points"),
+            ("frequencies", "points"),
+            ("hz", "hz"),
+            ("t_am_max", "t-am-max"),
+            ("coarse", "coarse"),
+        ];
+        as_flag(e, &[&grid_flags[..], &KNEE_FLAG].concat())
+    })?;
     let law = hdgear::physical::friction::law(&l.card)?;
     let has_friction = law.is_some();
     let rows = map.iter().map(|p| {
