@@ -4,6 +4,7 @@
 
 mod common;
 
+mod bearings;
 mod branches;
 mod burst;
 mod card_curve_law;

@@ -1,6 +1,66 @@
-//! The two-inertia drive as a [`System`].
+//! The two-inertia drive as a [`System`], with friction at its bearings ([`Bearings`]).
 
+use crate::error::{Error, Result};
 use crate::integrate::System;
+use crate::integrate::taylor::{MAX_ORDER, Workspace};
+use crate::model::terms::{AnyTerm, Friction, Stribeck, Term};
+use serde::Serialize;
+
+/// Friction where the reduction to one equation does not hold: at the output bearing, on the
+/// output rate θo', and at the wave generator, on the input rate θi' (torques in N m, rates in
+/// rad/s). Such friction acts on one inertia alone, so it moves the rigid-body mode and the twist
+/// together: only the two-inertia model ([`Physical`]) carries it. Friction across the
+/// compliance, on the twist rate θ', is the reduced model's ([`super::friction`]).
+///
+/// Each is a term of velocity alone, analytic on the step ([`BEARING_KINDS`]: the smooth
+/// Coulomb and the regularised Stribeck laws), with its parameters in SI units.
+///
+/// ```
+/// use hdgear::model::terms::AnyTerm;
+/// use hdgear::physical::model::Bearings;
+/// // 0.8 N m of Coulomb, 1.2 N m of breakaway friction at the output bearing
+/// let output = AnyTerm::new("stribeck", &[0.8, 1.2, 0.05, 0.01, 1e-3]).unwrap();
+/// let b = Bearings::new(Some(output), None).unwrap();
+/// assert_eq!(b.torques(0.0, 0.0), [0.0, 0.0]);
+/// assert!(Bearings::new(None, Some(AnyTerm::new("coulomb", &[0.8, 1.2, 0.05, 0.0]).unwrap())).is_err());
+/// ```
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct Bearings {
+    /// Friction torque on θo', opposing the output's rotation.
+    pub output: Option<AnyTerm>,
+    /// Friction torque on θi', opposing the input's (the wave generator's) rotation.
+    pub input: Option<AnyTerm>,
+}
+
+/// The kinds of term a bearing takes: friction laws of the velocity alone, analytic along a
+/// step (a switched law's sign would need the piecewise integration of the reduced model).
+pub const BEARING_KINDS: [&str; 2] = [Friction::KIND, Stribeck::KIND];
+
+impl Bearings {
+    /// Checks that each term is one of [`BEARING_KINDS`].
+    pub fn new(output: Option<AnyTerm>, input: Option<AnyTerm>) -> Result<Bearings> {
+        for (side, term) in [("output", output), ("input", input)] {
+            if let Some(t) = term.filter(|t| !BEARING_KINDS.contains(&t.kind())) {
+                return Err(Error::InvalidInput {
+                    what: "bearing friction",
+                    text: format!("{side}: {}", t.kind()),
+                    reason: format!("a bearing takes {}", BEARING_KINDS.join(" or ")),
+                });
+            }
+        }
+        Ok(Bearings { output, input })
+    }
+
+    /// The friction torques (output, input) at the rates θo', θi'.
+    pub fn torques(&self, out_rate: f64, in_rate: f64) -> [f64; 2] {
+        let at = |t: Option<AnyTerm>, v: f64| t.map_or(0.0, |t| t.torque(0.0, v, 0.0));
+        [at(self.output, out_rate), at(self.input, in_rate)]
+    }
+
+    fn any(&self) -> bool {
+        self.output.is_some() || self.input.is_some()
+    }
+}
 
 /// The physical two-inertia drive (guide: the model and its parameters), integrated in well-conditioned coordinates.
 ///
@@ -11,14 +71,18 @@ use crate::integrate::System;
 /// gives every component the unit of an angle, so one absolute tolerance fits all. The
 /// accelerations are the two-inertia equations themselves:
 ///
-/// θo'' = (T_m + T_am sin Ωt − C θ' − K(θ)(θ − φ)) / J_o,
-/// θi'' = (−T_m/N + C θ'/N + K(θ)(θ − φ)/N) / J_i,  θ'' = θo'' − θi''/N.
+/// θo'' = (T_m + T_am sin Ωt − C θ' − K(θ)(θ − φ) − F_o(θo')) / J_o,
+/// θi'' = (−T_m/N + C θ'/N + K(θ)(θ − φ)/N − F_i(θi')) / J_i,  θ'' = θo'' − θi''/N,
+///
+/// F_o and F_i the friction at the bearings ([`Bearings`], none by default).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Physical {
     /// The drive.
     pub d: super::PhysicalParams,
     /// T_c = J_eq/C \[s\].
     pub t_c: f64,
+    /// Friction at the output bearing and the wave generator.
+    pub bearings: Bearings,
 }
 
 impl Physical {
@@ -27,7 +91,23 @@ impl Physical {
         Physical {
             t_c: d.j_eq() / d.c_eq,
             d,
+            bearings: Bearings::default(),
         }
+    }
+
+    /// The drive with friction at its bearings.
+    pub fn with_bearings(d: super::PhysicalParams, bearings: Bearings) -> Self {
+        Physical {
+            bearings,
+            ..Physical::new(d)
+        }
+    }
+
+    /// (θo', θi') from the internal state's scaled rates z₁ = T_c·θ', z₃ = T_c·θo' (or from
+    /// their Taylor rows): θi' = N(θo' − θ').
+    #[inline(always)]
+    fn rates(&self, z1: f64, z3: f64) -> (f64, f64) {
+        (z3 / self.t_c, self.d.ratio * (z3 - z1) / self.t_c)
     }
 
     /// Internal state from (θi, θi', θo, θo').
@@ -63,8 +143,14 @@ impl System<4> for Physical {
         let thd = z[1] / self.t_c;
         let spring = d.spring(th);
         let damper = d.c_eq * thd;
-        let acc_out = (d.t_m + d.t_am * libm::sin(d.omega * t) - damper - spring) / d.j_out;
-        let acc_in = (-d.t_m + damper + spring) / (d.ratio * d.j_in);
+        let mut acc_out = (d.t_m + d.t_am * libm::sin(d.omega * t) - damper - spring) / d.j_out;
+        let mut acc_in = (-d.t_m + damper + spring) / (d.ratio * d.j_in);
+        if self.bearings.any() {
+            let (v_out, v_in) = self.rates(z[1], z[3]);
+            let [f_out, f_in] = self.bearings.torques(v_out, v_in);
+            acc_out -= f_out / d.j_out;
+            acc_in -= f_in / d.j_in;
+        }
         let acc_rel = acc_out - acc_in / d.ratio;
         [
             z[1] / self.t_c,
@@ -77,7 +163,71 @@ impl System<4> for Physical {
     /// The same equations order by order: the spring's rows ([`super::PhysicalParams::spring_row`]),
     /// the disturbance from the coefficients of sin Ωt.
     fn taylor(&self, t: f64, z: &[f64; 4], order: usize, c: &mut [[f64; 4]]) -> bool {
-        use crate::integrate::taylor::{INV, MAX_ORDER, sine_coefficients, square_coefficient};
+        let mut work = [crate::integrate::Scratch::default(); 2];
+        self.rows(t, z, order, c, &mut work);
+        true
+    }
+
+    fn taylor_in(
+        &self,
+        t: f64,
+        z: &[f64; 4],
+        order: usize,
+        c: &mut [[f64; 4]],
+        work: &mut Workspace,
+    ) -> bool {
+        self.rows(t, z, order, c, work);
+        true
+    }
+
+    fn taylor_limits_steps(&self) -> bool {
+        [self.bearings.output, self.bearings.input]
+            .iter()
+            .flatten()
+            .any(|t| t.limits_steps())
+    }
+
+    /// The rows and the step rule's step, shortened where a bearing's friction law needs it
+    /// ([`AnyTerm::step_limit`]): a torque F on inertia J moves the scaled rate T_c·θ' by
+    /// T_c·F/J per second, so the torque negligible over a step h is atol·J/(T_c·h) (h at least
+    /// T_c, the time over which the damping forgets).
+    fn taylor_step<F: FnOnce(&[[f64; 4]]) -> f64>(
+        &self,
+        t: f64,
+        z: &[f64; 4],
+        order: usize,
+        c: &mut [[f64; 4]],
+        atol: f64,
+        work: &mut Workspace,
+        step: F,
+    ) -> Option<f64> {
+        let n = self.rows(t, z, order, c, work);
+        let mut h = step(c);
+        let d = &self.d;
+        let sides = [self.bearings.output, self.bearings.input];
+        for ((term, rows), j) in sides.iter().zip(work.iter()).zip([d.j_out, d.j_in]) {
+            if let Some(term) = term {
+                let negligible = atol * j / (self.t_c * h.max(self.t_c));
+                h = term.step_limit(rows, n, h, negligible);
+            }
+        }
+        Some(h)
+    }
+}
+
+impl Physical {
+    /// Rows 0..=order (capped at the integrator's) of the Taylor coefficients through (t, z)
+    /// into `c`, the bearings' own rows into `work[0]` (output) and `work[1]` (input); returns
+    /// the order reached.
+    fn rows(
+        &self,
+        t: f64,
+        z: &[f64; 4],
+        order: usize,
+        c: &mut [[f64; 4]],
+        work: &mut [crate::integrate::Scratch],
+    ) -> usize {
+        use crate::integrate::taylor::{INV, sine_coefficients, square_coefficient};
         let d = &self.d;
         let n = order.min(MAX_ORDER).min(c.len() - 1);
         let (mut th, mut th2, mut s) = (
@@ -85,6 +235,9 @@ impl System<4> for Physical {
             [0.0; MAX_ORDER + 1],
             [0.0; MAX_ORDER + 1],
         );
+        // the bearings' rates θo', θi', row by row
+        let bearings = self.bearings.any();
+        let mut v = [[0.0; MAX_ORDER + 1]; 2];
         sine_coefficients(d.omega, t, n, &mut s);
         c[0] = *z;
         th[0] = z[0];
@@ -93,8 +246,13 @@ impl System<4> for Physical {
             let first = if k == 0 { 1.0 } else { 0.0 };
             let spring = d.spring_row(&th, &th2, k);
             let damper = d.c_eq * c[k][1] / self.t_c;
-            let acc_out = (first * d.t_m + d.t_am * s[k] - damper - spring) / d.j_out;
-            let acc_in = (-first * d.t_m + damper + spring) / (d.ratio * d.j_in);
+            let mut acc_out = (first * d.t_m + d.t_am * s[k] - damper - spring) / d.j_out;
+            let mut acc_in = (-first * d.t_m + damper + spring) / (d.ratio * d.j_in);
+            if bearings {
+                let [f_out, f_in] = self.bearing_rows(k, &c[k], &mut v, work);
+                acc_out -= f_out / d.j_out;
+                acc_in -= f_in / d.j_in;
+            }
             let acc_rel = acc_out - acc_in / d.ratio;
             c[k + 1] = [
                 c[k][1] / self.t_c * INV[k],
@@ -104,6 +262,32 @@ impl System<4> for Physical {
             ];
             th[k + 1] = c[k + 1][0];
         }
-        true
+        if bearings {
+            // the step limits read the bearings' rows at order n too
+            self.bearing_rows(n, &c[n], &mut v, work);
+        }
+        n
+    }
+
+    /// Row k of the bearings' torques (output, input) from the state's row k, keeping the
+    /// rates' rows in `v` and each law's own rows in `work[0]` and `work[1]`.
+    #[inline(always)]
+    fn bearing_rows(
+        &self,
+        k: usize,
+        c_k: &[f64; 4],
+        v: &mut [[f64; MAX_ORDER + 1]; 2],
+        work: &mut [crate::integrate::Scratch],
+    ) -> [f64; 2] {
+        const NONE: [f64; MAX_ORDER + 1] = [0.0; MAX_ORDER + 1];
+        (v[0][k], v[1][k]) = self.rates(c_k[1], c_k[3]);
+        let mut f = [0.0; 2];
+        let sides = [self.bearings.output, self.bearings.input];
+        for (((term, v), rows), f) in sides.iter().zip(v.iter()).zip(work).zip(&mut f) {
+            if let Some(term) = term {
+                *f = term.taylor(k, &NONE, v, &NONE, rows);
+            }
+        }
+        f
     }
 }

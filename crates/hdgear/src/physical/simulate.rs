@@ -60,13 +60,37 @@ pub fn simulate_physical(
     t_end: f64,
     dt: f64,
     tol: Options,
+    out: impl FnMut(&PhysicalSample),
+) -> Result<PhysicalSummary> {
+    simulate_drive(&super::model::Physical::new(*d), t_end, dt, tol, out)
+}
+
+/// [`simulate_physical`] of a drive with friction at its bearings
+/// ([`super::model::Bearings`]).
+///
+/// ```
+/// use hdgear::integrate::Options;
+/// use hdgear::model::terms::AnyTerm;
+/// use hdgear::physical::{PhysicalParams, model::{Bearings, Physical}, simulate::simulate_drive};
+/// let d = PhysicalParams { j_in: 1e-4, j_out: 1.0, ratio: 50.0, k1: 2e3, k2: 1e9,
+///     backlash: 1e-3, c_eq: 5.0, t_m: 1.0, t_am: 0.5, omega: 1.0 };
+/// let output = AnyTerm::new("stribeck", &[0.8, 1.2, 0.05, 0.01, 1e-3]).unwrap();
+/// let sys = Physical::with_bearings(d, Bearings::new(Some(output), None).unwrap());
+/// let s = simulate_drive(&sys, 0.05, 0.05, Options::default(), |_| {}).unwrap();
+/// assert!(s.final_state.theta.is_finite());
+/// ```
+pub fn simulate_drive(
+    sys: &super::model::Physical,
+    t_end: f64,
+    dt: f64,
+    tol: Options,
     mut out: impl FnMut(&PhysicalSample),
 ) -> Result<PhysicalSummary> {
+    let d = &sys.d;
     d.validate()?;
     if let Ok(r) = d.reduce() {
         crate::integrate::check_budget(t_end / r.time_scale, &tol)?;
     }
-    let sys = super::model::Physical::new(*d);
     let scale = angle_scale(d);
     let tol = Options {
         atol: tol.atol * scale,
@@ -84,7 +108,7 @@ pub fn simulate_physical(
         }
     };
     let (z, stats) =
-        crate::integrate::sample(&sys, 0.0, z0, t_end, dt, tol, |t, z| out(&sample(t, z)))?;
+        crate::integrate::sample(sys, 0.0, z0, t_end, dt, tol, |t, z| out(&sample(t, z)))?;
     let s = sys.from_internal(&z);
     Ok(PhysicalSummary {
         t_end,
