@@ -53,12 +53,19 @@ impl Bearings {
 
     /// The friction torques (output, input) at the rates θo', θi'.
     pub fn torques(&self, out_rate: f64, in_rate: f64) -> [f64; 2] {
+        let [o, i] = self.sides();
         let at = |t: Option<AnyTerm>, v: f64| t.map_or(0.0, |t| t.torque(0.0, v, 0.0));
-        [at(self.output, out_rate), at(self.input, in_rate)]
+        [at(o, out_rate), at(i, in_rate)]
+    }
+
+    /// The two laws in the order every pair of this module follows: (output, input), as the
+    /// rates (θo', θi'), the inertias (J_o, J_i) and the workspace's rows 0 and 1.
+    fn sides(&self) -> [Option<AnyTerm>; 2] {
+        [self.output, self.input]
     }
 
     fn any(&self) -> bool {
-        self.output.is_some() || self.input.is_some()
+        self.sides().iter().any(Option::is_some)
     }
 }
 
@@ -181,7 +188,8 @@ impl System<4> for Physical {
     }
 
     fn taylor_limits_steps(&self) -> bool {
-        [self.bearings.output, self.bearings.input]
+        self.bearings
+            .sides()
             .iter()
             .flatten()
             .any(|t| t.limits_steps())
@@ -204,7 +212,7 @@ impl System<4> for Physical {
         let n = self.rows(t, z, order, c, work);
         let mut h = step(c);
         let d = &self.d;
-        let sides = [self.bearings.output, self.bearings.input];
+        let sides = self.bearings.sides();
         for ((term, rows), j) in sides.iter().zip(work.iter()).zip([d.j_out, d.j_in]) {
             if let Some(term) = term {
                 let negligible = atol * j / (self.t_c * h.max(self.t_c));
@@ -282,7 +290,7 @@ impl Physical {
         const NONE: [f64; MAX_ORDER + 1] = [0.0; MAX_ORDER + 1];
         (v[0][k], v[1][k]) = self.rates(c_k[1], c_k[3]);
         let mut f = [0.0; 2];
-        let sides = [self.bearings.output, self.bearings.input];
+        let sides = self.bearings.sides();
         for (((term, v), rows), f) in sides.iter().zip(v.iter()).zip(work).zip(&mut f) {
             if let Some(term) = term {
                 *f = term.taylor(k, &NONE, v, &NONE, rows);
