@@ -58,8 +58,8 @@ fn sub(a: C, b: C) -> C {
 /// Viscous bearings (c_o on θo', c_i on θi') on the linear drive (k2 = φ = T_m = 0): the
 /// steady response to T_am sin Ωt is Im(Θ e^{iΩt}) with (Θo, Θi) from
 /// [−Ω²J_o + iΩ(C + c_o) + k1]Θo − [(iΩC + k1)/N]Θi = T_am and
-/// −[(iΩC + k1)/N]Θo + [−Ω²J_i + iΩ(C/N² + c_i) + k1/N²]Θi = 0. After five periods (10.5 s) the
-/// transients (rates 4/s and faster) are below 1e-17 of it.
+/// −[(iΩC + k1)/N]Θo + [−Ω²J_i + iΩ(C/N² + c_i) + k1/N²]Θi = 0. After five periods (10.5
+/// seconds of drive time) the transients (rates 4/s and faster) are below 1e-17 of it.
 #[test]
 fn viscous_bearings_give_the_closed_form_steady_response() {
     let d = drive(0.0, 0.0);
