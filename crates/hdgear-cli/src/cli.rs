@@ -209,6 +209,16 @@ pub struct PhysicalArgs {
     /// Omega, disturbance frequency [rad/s].
     #[arg(long, allow_negative_numbers = true)]
     pub omega: Option<f64>,
+    /// Friction at the output bearing, on θo' (with --simulate): LAW:KEY=VALUE,… in SI units,
+    /// every key given, LAW friction (fc [N m], vs [rad/s]) or stribeck (fc, fs [N m], vst
+    /// [rad/s], cv [N m s/rad], vr [rad/s]); e.g. friction:fc=0.8,vs=1e-3. Replaces the
+    /// scenario's [bearings.output] table.
+    #[arg(long, value_name = "LAW")]
+    pub output_bearing: Option<String>,
+    /// Friction at the wave generator, on θi' (with --simulate): LAW:KEY=VALUE,… as
+    /// --output-bearing. Replaces the scenario's [bearings.input] table.
+    #[arg(long, value_name = "LAW")]
+    pub input_bearing: Option<String>,
     /// Print one JSON document (the reduction, or with --design the design check).
     #[arg(long, conflicts_with = "simulate")]
     pub json: bool,
@@ -285,6 +295,8 @@ impl PhysicalArgs {
             }
             match s.physical {
                 Some(ph) => ph.apply(&mut d),
+                // the drive's friction alone
+                None if s.bearings.is_some() => {}
                 None => anyhow::bail!(
                     "scenario file {} has no [physical] table{}",
                     path.display(),
@@ -311,6 +323,26 @@ impl PhysicalArgs {
         .apply(&mut d);
         d.validate()?;
         Ok((d, origin))
+    }
+
+    /// The friction at the bearings: the scenario's `[bearings]` tables, each side replaced by
+    /// its flag where given.
+    pub fn bearings(&self) -> Result<hdgear::physical::model::Bearings> {
+        use hdgear::physical::model::Bearings;
+        let from_file = match &self.config {
+            Some(path) => Scenario::load(path)?.bearings(path)?,
+            None => Bearings::default(),
+        };
+        let side = |flag: &str, text: &Option<String>, file| match text {
+            Some(text) => Bearings::parse_law(flag, text)
+                .map(Some)
+                .with_context(|| format!("--{flag}-bearing")),
+            None => Ok(file),
+        };
+        Ok(Bearings::new(
+            side("output", &self.output_bearing, from_file.output)?,
+            side("input", &self.input_bearing, from_file.input)?,
+        )?)
     }
 }
 

@@ -3,6 +3,7 @@
 
 mod common;
 
+mod bearings;
 mod cli;
 mod control;
 mod docs;

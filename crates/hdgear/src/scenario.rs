@@ -5,6 +5,7 @@
 use crate::error::{Error, Result};
 use crate::params::ParamOverrides;
 use crate::physical::PhysicalOverrides;
+use crate::physical::model::{BEARING_KINDS, Bearings};
 use serde::Deserialize;
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -21,6 +22,10 @@ pub struct Scenario {
     /// Physical drive parameters in SI units (the `[physical]` table), if the file has one.
     #[serde(default)]
     pub physical: Option<PhysicalOverrides>,
+    /// Friction at the bearings of the two-inertia drive (the `[bearings.output.LAW]` and
+    /// `[bearings.input.LAW]` tables, SI values: [`Scenario::bearings`]).
+    #[serde(default)]
+    pub bearings: Option<BearingTables>,
     /// Every other table: a term of the model each (checked by [`Scenario::parse`]).
     #[serde(flatten)]
     pub terms: BTreeMap<String, toml::Value>,
@@ -40,7 +45,50 @@ impl Scenario {
                     .unwrap_or_default(),
         })?;
         s.term_tables(path)?;
+        s.bearings(path)?;
         Ok(s)
+    }
+
+    /// The bearings' friction laws the `[bearings]` table gives (none without it): at most one
+    /// law per side, each a table named by its kind with every parameter in SI units
+    /// ([`Bearings::law`]), e.g.
+    ///
+    /// ```toml
+    /// [bearings.output.stribeck]
+    /// fc = 0.8      # N m
+    /// fs = 1.2      # N m
+    /// vst = 0.05    # rad/s
+    /// cv = 0.01     # N m s/rad
+    /// vr = 1e-3     # rad/s
+    /// ```
+    pub fn bearings(&self, path: &Path) -> Result<Bearings> {
+        let Some(tables) = &self.bearings else {
+            return Ok(Bearings::default());
+        };
+        let err = |message: String| Error::Config {
+            path: path.to_path_buf(),
+            message,
+        };
+        let side = |name: &str, laws: &Option<BTreeMap<String, BTreeMap<String, f64>>>| {
+            let Some(laws) = laws else { return Ok(None) };
+            let mut laws = laws.iter();
+            match (laws.next(), laws.next()) {
+                (Some((kind, values)), None) => {
+                    let named = values.iter().map(|(k, &v)| (k.as_str(), v));
+                    Bearings::law(name, kind, named)
+                        .map(Some)
+                        .map_err(|e| err(format!("[bearings.{name}.{kind}] {e}")))
+                }
+                _ => Err(err(format!(
+                    "[bearings.{name}] holds one law's table (one of {})",
+                    BEARING_KINDS.join(", ")
+                ))),
+            }
+        };
+        Bearings::new(
+            side("output", &tables.output)?,
+            side("input", &tables.input)?,
+        )
     }
 
     /// Reads and parses a scenario file (at most [`SCENARIO_MAX_BYTES`]).
@@ -63,6 +111,18 @@ impl Scenario {
         let text = String::from_utf8(bytes).map_err(|_| err("not UTF-8 text".into()))?;
         Scenario::parse(&text, path)
     }
+}
+
+/// The `[bearings]` table of a scenario file: per side, one law's table by its kind.
+#[derive(Clone, Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BearingTables {
+    /// The output bearing's law (on θo').
+    #[serde(default)]
+    pub output: Option<BTreeMap<String, BTreeMap<String, f64>>>,
+    /// The wave generator's law (on θi').
+    #[serde(default)]
+    pub input: Option<BTreeMap<String, BTreeMap<String, f64>>>,
 }
 
 /// A term's table from a scenario file: its kind and its parameter values (the keys it sets,

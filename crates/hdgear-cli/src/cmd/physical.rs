@@ -4,14 +4,23 @@ use crate::cli::{PhysicalArgs, check_out};
 use crate::sink::Sink;
 use anyhow::{Context, Result, bail};
 use hdgear::output::RecordWriter;
-use hdgear::physical::simulate::{PhysicalSample, simulate_physical};
+use hdgear::physical::model::Physical;
+use hdgear::physical::simulate::{PhysicalSample, simulate_drive};
 
 /// Runs the physical command.
 pub fn run(a: PhysicalArgs) -> Result<()> {
     let (d, origin) = a.drive()?;
     let opts = a.burst.options()?;
+    let bearings = a.bearings()?;
     if a.simulate {
-        return simulate(&a, &d, opts.tol);
+        return simulate(&a, &Physical::with_bearings(d, bearings), opts.tol);
+    }
+    if bearings.any() {
+        bail!(
+            "friction at the bearings (--output-bearing, --input-bearing or [bearings]) acts on \
+             one inertia alone: the reduction to one equation does not hold with it, and only \
+             --simulate runs the two-inertia model"
+        );
     }
     if a.out.is_some() && !a.frequency_response && !a.robust {
         bail!("--out needs --simulate, --frequency-response or --robust");
@@ -61,11 +70,8 @@ pub fn run(a: PhysicalArgs) -> Result<()> {
     Ok(())
 }
 
-fn simulate(
-    a: &PhysicalArgs,
-    d: &hdgear::physical::PhysicalParams,
-    tol: hdgear::integrate::Options,
-) -> Result<()> {
+fn simulate(a: &PhysicalArgs, sys: &Physical, tol: hdgear::integrate::Options) -> Result<()> {
+    let d = &sys.d;
     let Some(t_end) = a.t_end else {
         bail!("--simulate needs --t-end T (seconds)");
     };
@@ -87,17 +93,18 @@ fn simulate(
     let mut progress = crate::sink::RunProgress::new(span, t_end);
     let summary = if a.summary && a.out.is_none() {
         // no rows are written: sample only the end (progress still advances per step)
-        simulate_physical(d, t_end, t_end, tol, |s| progress.at(s.t))?
+        simulate_drive(sys, t_end, t_end, tol, |s| progress.at(s.t))?
     } else {
         let (sink, format) = Sink::open(a.out.as_deref())?;
         let meta = hdgear::physical::simulate::Setup {
             drive: *d,
+            bearings: sys.bearings,
             t_end,
             dt,
         };
         let mut w = RecordWriter::<_, PhysicalSample>::new(sink, format, &meta)?;
         let mut err = None;
-        let s = simulate_physical(d, t_end, dt, tol, |row| {
+        let s = simulate_drive(sys, t_end, dt, tol, |row| {
             progress.at(row.t);
             if err.is_none()
                 && let Err(e) = w.row(row)

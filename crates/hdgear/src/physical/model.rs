@@ -51,6 +51,85 @@ impl Bearings {
         Ok(Bearings { output, input })
     }
 
+    /// A bearing's law from its kind (one of [`BEARING_KINDS`]) and its values by name, in SI
+    /// units (N m, rad/s, N m s/rad), each of the law's parameters named once: the terms'
+    /// defaults are dimensionless and mean nothing here. What a scenario file's
+    /// `[bearings.output.stribeck]` table and the CLI's `--output-bearing stribeck:fc=…` give.
+    /// Errors name the side, the law and the key; the values' domains are the term's own
+    /// ([`AnyTerm::new`]).
+    ///
+    /// ```
+    /// use hdgear::physical::model::Bearings;
+    /// let law = Bearings::law("output", "friction", [("fc", 0.8), ("vs", 1e-3)]).unwrap();
+    /// assert_eq!(law.kind(), "friction");
+    /// // vs missing: no default in SI units
+    /// assert!(Bearings::law("output", "friction", [("fc", 0.8)]).is_err());
+    /// ```
+    pub fn law<'a>(
+        side: &str,
+        kind: &str,
+        named: impl IntoIterator<Item = (&'a str, f64)>,
+    ) -> Result<AnyTerm> {
+        let invalid = |reason: String| Error::InvalidInput {
+            what: "bearing friction",
+            text: format!("{side}: {kind}"),
+            reason,
+        };
+        if !BEARING_KINDS.contains(&kind) {
+            return Err(invalid(format!(
+                "a bearing takes {}",
+                BEARING_KINDS.join(" or ")
+            )));
+        }
+        let named: Vec<(&str, f64)> = named.into_iter().collect();
+        let (kind, values) = crate::scenario::term_values(kind, named.iter().copied())
+            .map_err(|e| invalid(e.to_string()))?;
+        let params = AnyTerm::params_of(kind).unwrap_or_default();
+        for p in params {
+            match named.iter().filter(|(k, _)| *k == p.name).count() {
+                1 => {}
+                0 => {
+                    return Err(invalid(format!(
+                        "{} missing (a bearing's law names all of {}, in SI units)",
+                        p.name,
+                        params.iter().map(|q| q.name).collect::<Vec<_>>().join(", ")
+                    )));
+                }
+                _ => return Err(invalid(format!("{} given twice", p.name))),
+            }
+        }
+        AnyTerm::new(kind, &values)
+    }
+
+    /// [`Bearings::law`] from the text `kind:key=value,key=value…` (the CLI's
+    /// `--output-bearing` and `--input-bearing`).
+    ///
+    /// ```
+    /// use hdgear::physical::model::Bearings;
+    /// let law = Bearings::parse_law("input", "stribeck:fc=0.05,fs=0.08,vst=0.5,cv=1e-4,vr=0.01").unwrap();
+    /// assert_eq!(law.values(), [0.05, 0.08, 0.5, 1e-4, 0.01]);
+    /// assert!(Bearings::parse_law("input", "stribeck:fc=a").is_err());
+    /// ```
+    pub fn parse_law(side: &str, text: &str) -> Result<AnyTerm> {
+        let invalid = |reason: &str| Error::InvalidInput {
+            what: "bearing friction",
+            text: format!("{side}: {text}"),
+            reason: reason.into(),
+        };
+        let (kind, list) = text
+            .split_once(':')
+            .ok_or_else(|| invalid("expected LAW:KEY=VALUE,… (e.g. friction:fc=0.5,vs=1e-3)"))?;
+        let mut named = Vec::new();
+        for pair in list.split(',') {
+            let value = pair
+                .split_once('=')
+                .and_then(|(k, v)| Some((k.trim(), v.trim().parse::<f64>().ok()?)))
+                .ok_or_else(|| invalid("each of KEY=VALUE,… a name and a number"))?;
+            named.push(value);
+        }
+        Bearings::law(side, kind.trim(), named)
+    }
+
     /// The friction torques (output, input) at the rates θo', θi'.
     pub fn torques(&self, out_rate: f64, in_rate: f64) -> [f64; 2] {
         let [o, i] = self.sides();
@@ -64,7 +143,8 @@ impl Bearings {
         [self.output, self.input]
     }
 
-    fn any(&self) -> bool {
+    /// Whether either bearing has a law.
+    pub fn any(&self) -> bool {
         self.sides().iter().any(Option::is_some)
     }
 }

@@ -33,6 +33,8 @@ pub struct PhysicalSummary {
     pub stats: Stats,
     /// The angle scale Θ \[rad\] the absolute tolerance was multiplied by.
     pub angle_scale: f64,
+    /// Friction at the bearings.
+    pub bearings: super::model::Bearings,
 }
 
 /// The angle scale Θ \[rad\] of a drive: the length scale L where the reduction exists, else the
@@ -116,6 +118,7 @@ pub fn simulate_drive(
         final_rates: [s[1], s[3]],
         stats,
         angle_scale: scale,
+        bearings: sys.bearings,
     })
 }
 
@@ -190,6 +193,8 @@ pub fn check_reduction(
 pub struct Setup {
     /// The drive.
     pub drive: super::PhysicalParams,
+    /// Friction at its bearings.
+    pub bearings: super::model::Bearings,
     /// Duration \[s\].
     pub t_end: f64,
     /// Sample spacing \[s\].
@@ -225,6 +230,8 @@ pub struct SummaryReport {
     pub stats: Stats,
     /// The angle scale Θ \[rad\] of the absolute tolerance.
     pub angle_scale: f64,
+    /// Friction at the bearings (none: the drive as the study has it).
+    pub bearings: super::model::Bearings,
 }
 
 impl PhysicalSummary {
@@ -243,6 +250,7 @@ impl PhysicalSummary {
             },
             stats: self.stats,
             angle_scale: self.angle_scale,
+            bearings: self.bearings,
         }
     }
 }

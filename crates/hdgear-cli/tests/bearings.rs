@@ -1,0 +1,110 @@
+//! Friction at the bearings of the two-inertia drive on the command line: `hdgear physical
+//! --simulate` with `--output-bearing`, `--input-bearing` and a scenario's `[bearings]` tables.
+
+use crate::common::{fails_with, json_of};
+
+/// Friction at the bearings reaches the two-inertia run from the flags and from a scenario's
+/// `[bearings]` tables alike (the physics is the library's `tests/bearings.rs`); a vanishing law
+/// is the drive without one; refusals name the user's law, key or table.
+#[test]
+fn physical_bearing_friction_from_flags_and_scenario() {
+    let run = |extra: &[&str]| {
+        let mut args = vec!["physical", "--simulate", "--t-end", "0.3", "--summary"];
+        args.extend_from_slice(extra);
+        json_of(&args)
+    };
+    let output = "stribeck:fc=0.8,fs=1.2,vst=0.05,cv=0.01,vr=1e-3";
+    let input = "friction:fc=0.02,vs=0.01";
+    let flags = run(&["--output-bearing", output, "--input-bearing", input]);
+    let dir = tempfile::tempdir().unwrap();
+    let toml = dir.path().join("bearings.toml");
+    std::fs::write(
+        &toml,
+        "[physical]\n\
+         [bearings.output.stribeck]\nfc = 0.8\nfs = 1.2\nvst = 0.05\ncv = 0.01\nvr = 1e-3\n\
+         [bearings.input.friction]\nfc = 0.02\nvs = 0.01\n",
+    )
+    .unwrap();
+    let file = run(&["--config", toml.to_str().unwrap()]);
+    assert_eq!(flags["final"], file["final"]);
+    assert_eq!(flags["bearings"], file["bearings"]);
+    // the laws as given, in SI units
+    let text = flags["bearings"].to_string();
+    for needle in ["stribeck", "0.8", "1.2", "0.001", "friction", "0.02"] {
+        assert!(text.contains(needle), "{needle} in {text}");
+    }
+    // the friction changes the run; a law of no torque does not
+    let none = run(&[]);
+    assert!(none["bearings"]["output"].is_null() && none["bearings"]["input"].is_null());
+    let moved = |a: &serde_json::Value, b: &serde_json::Value| {
+        (a["final"]["theta_out_dot"].as_f64().unwrap()
+            - b["final"]["theta_out_dot"].as_f64().unwrap())
+        .abs()
+    };
+    assert!(moved(&flags, &none) > 1e-6, "{flags} {none}");
+    let idle = run(&["--output-bearing", "friction:fc=0,vs=1e-3"]);
+    assert_eq!(idle["final"], none["final"]);
+    // a flag replaces its side of the scenario's table
+    let replaced = run(&[
+        "--config",
+        toml.to_str().unwrap(),
+        "--input-bearing",
+        "friction:fc=0,vs=0.01",
+    ]);
+    let output_only = run(&["--output-bearing", output]);
+    assert_eq!(replaced["final"], output_only["final"]);
+}
+
+/// A bearing law that is not one, misses a key, has a bad number or leaves its domain, a law
+/// outside `--simulate`, and a scenario table that misses a key or holds two laws are refused,
+/// naming what the user wrote.
+#[test]
+fn physical_bearing_friction_refusals_name_the_law() {
+    let input = "friction:fc=0.02,vs=0.01";
+    let dir = tempfile::tempdir().unwrap();
+    let toml = dir.path().join("bearings.toml");
+    let sim = ["physical", "--simulate", "--t-end", "0.1", "--summary"];
+    let with = |extra: &[&'static str]| [&sim[..], extra].concat();
+    fails_with(&with(&["--output-bearing", "coulomb:fc=1"]), "coulomb");
+    fails_with(
+        &with(&["--output-bearing", "friction:fc=0.8"]),
+        "vs missing",
+    );
+    fails_with(
+        &with(&["--input-bearing", "friction:fc=x,vs=1"]),
+        "friction:fc=x,vs=1",
+    );
+    fails_with(
+        &with(&["--input-bearing", "friction:fc=-1,vs=1"]),
+        "--input-bearing",
+    );
+    fails_with(&["physical", "--output-bearing", input], "only --simulate");
+    std::fs::write(&toml, "[bearings.output.friction]\nfc = 0.8\n").unwrap();
+    fails_with(
+        &[
+            "physical",
+            "--simulate",
+            "--t-end",
+            "0.1",
+            "--config",
+            toml.to_str().unwrap(),
+        ],
+        "[bearings.output.friction]",
+    );
+    std::fs::write(
+        &toml,
+        "[bearings.input.friction]\nfc = 0.8\nvs = 1\n[bearings.input.stribeck]\nfc = 0.8\n",
+    )
+    .unwrap();
+    fails_with(
+        &[
+            "physical",
+            "--simulate",
+            "--t-end",
+            "0.1",
+            "--config",
+            toml.to_str().unwrap(),
+        ],
+        "holds one law",
+    );
+}
