@@ -63,8 +63,13 @@ fn physical_bearing_friction_refusals_name_the_law() {
     let input = "friction:fc=0.02,vs=0.01";
     let dir = tempfile::tempdir().unwrap();
     let toml = dir.path().join("bearings.toml");
-    let sim = ["physical", "--simulate", "--t-end", "0.1", "--summary"];
-    let with = |extra: &[&'static str]| [&sim[..], extra].concat();
+    fn with<'a>(extra: &[&'a str]) -> Vec<&'a str> {
+        [
+            &["physical", "--simulate", "--t-end", "0.1", "--summary"][..],
+            extra,
+        ]
+        .concat()
+    }
     fails_with(&with(&["--output-bearing", "coulomb:fc=1"]), "coulomb");
     fails_with(
         &with(&["--output-bearing", "friction:fc=0.8"]),
@@ -79,32 +84,18 @@ fn physical_bearing_friction_refusals_name_the_law() {
         "--input-bearing",
     );
     fails_with(&["physical", "--output-bearing", input], "only --simulate");
-    std::fs::write(&toml, "[bearings.output.friction]\nfc = 0.8\n").unwrap();
-    fails_with(
-        &[
-            "physical",
-            "--simulate",
-            "--t-end",
-            "0.1",
-            "--config",
-            toml.to_str().unwrap(),
-        ],
-        "[bearings.output.friction]",
-    );
-    std::fs::write(
-        &toml,
-        "[bearings.input.friction]\nfc = 0.8\nvs = 1\n[bearings.input.stribeck]\nfc = 0.8\n",
-    )
-    .unwrap();
-    fails_with(
-        &[
-            "physical",
-            "--simulate",
-            "--t-end",
-            "0.1",
-            "--config",
-            toml.to_str().unwrap(),
-        ],
-        "holds one law",
-    );
+    // scenario tables: one key missing, two laws on one side
+    for (table, needle) in [
+        (
+            "[bearings.output.friction]\nfc = 0.8\n",
+            "[bearings.output.friction]",
+        ),
+        (
+            "[bearings.input.friction]\nfc = 0.8\nvs = 1\n[bearings.input.stribeck]\nfc = 0.8\n",
+            "holds one law",
+        ),
+    ] {
+        std::fs::write(&toml, table).unwrap();
+        fails_with(&with(&["--config", toml.to_str().unwrap()]), needle);
+    }
 }
