@@ -125,78 +125,7 @@ pub struct BearingTables {
     pub input: Option<BTreeMap<String, BTreeMap<String, f64>>>,
 }
 
-/// A term's table from a scenario file: its kind and its parameter values (the keys it sets,
-/// its defaults for the others).
-type TermTable = (&'static str, Vec<f64>);
-
-/// Why a term's named values cannot be read ([`term_values`]).
-#[derive(Clone, Debug, PartialEq, thiserror::Error)]
-pub enum TermTableError {
-    /// No extra term has this kind.
-    #[error("unknown term {name} (known: {})", known.join(", "))]
-    UnknownKind {
-        /// The kind given.
-        name: String,
-        /// The extra terms' kinds.
-        known: Vec<&'static str>,
-    },
-    /// The term has no parameter of this name.
-    #[error("unknown key {key} in [{name}] (known: {})", known.join(", "))]
-    UnknownKey {
-        /// The term's kind.
-        name: String,
-        /// The key given.
-        key: String,
-        /// The term's parameters.
-        known: Vec<&'static str>,
-    },
-}
-
-/// The kinds of the terms a model may add to the study's own (whose values come from
-/// [`crate::Params`]).
-pub fn extra_kinds() -> impl Iterator<Item = &'static str> {
-    crate::model::terms::AnyTerm::KINDS
-        .iter()
-        .map(|k| k.0)
-        .filter(|k| crate::model::Model::is_extra_kind(k))
-}
-
-/// An extra term's kind and its parameter values from named values, the names it does not set
-/// at their defaults: what a scenario file's table and Python's `terms` give. The values are
-/// not checked here ([`crate::model::terms::AnyTerm::new`] checks their domains).
-///
-/// ```
-/// use hdgear::scenario::{term_values, TermTableError};
-/// let (kind, values) = term_values("coulomb", [("fs", 0.6)]).unwrap();
-/// assert_eq!((kind, values[1]), ("coulomb", 0.6));
-/// assert!(matches!(term_values("coulomb", [("f_s", 0.6)]), Err(TermTableError::UnknownKey { .. })));
-/// ```
-pub fn term_values<'a>(
-    name: &str,
-    named: impl IntoIterator<Item = (&'a str, f64)>,
-) -> std::result::Result<TermTable, TermTableError> {
-    let found = crate::model::terms::AnyTerm::KINDS
-        .iter()
-        .find(|k| k.0 == name && crate::model::Model::is_extra_kind(k.0));
-    let Some(&(kind, _, params)) = found else {
-        return Err(TermTableError::UnknownKind {
-            name: name.to_string(),
-            known: extra_kinds().collect(),
-        });
-    };
-    let mut values: Vec<f64> = params.iter().map(|q| q.default).collect();
-    for (key, v) in named {
-        let Some(i) = params.iter().position(|p| p.name == key) else {
-            return Err(TermTableError::UnknownKey {
-                name: name.to_string(),
-                key: key.to_string(),
-                known: params.iter().map(|p| p.name).collect(),
-            });
-        };
-        values[i] = v;
-    }
-    Ok((kind, values))
-}
+pub use crate::model::terms::{TermTable, TermTableError, extra_kinds, term_values};
 
 impl Scenario {
     /// The extra terms' tables as (kind, values), each checked: a known kind, a table, and known
