@@ -268,13 +268,16 @@ pub struct PhysicalArgs {
 
 impl PhysicalArgs {
     /// The drive: its card, then file, then flags; validated. With it, the card's name, the
-    /// stiffness fit and what was assumed.
+    /// stiffness fit and what was assumed, and the friction at its bearings (the file's
+    /// `[bearings]` tables, each side replaced by its flag where given).
     pub fn drive(
         &self,
     ) -> Result<(
         hdgear::physical::PhysicalParams,
         hdgear::physical::design::CatalogueOrigin,
+        hdgear::physical::model::Bearings,
     )> {
+        use hdgear::physical::model::Bearings;
         let card = crate::cmd::card::load(&self.drive).context("--drive")?;
         let built = hdgear::physical::catalogue::assemble(&card.card, self.fit_torque, None)
             .context("--drive / --fit-torque")?;
@@ -284,8 +287,10 @@ impl PhysicalArgs {
             fit: built.fit,
             assumptions: built.assumptions,
         };
+        let mut from_file = Bearings::default();
         if let Some(path) = &self.config {
             let s = Scenario::load(path)?;
+            from_file = s.bearings(path)?;
             if let Some(name) = s.terms.keys().next() {
                 anyhow::bail!(
                     "scenario file {}: its [{name}] table is a term of the dimensionless model \
@@ -322,27 +327,17 @@ impl PhysicalArgs {
         }
         .apply(&mut d);
         d.validate()?;
-        Ok((d, origin))
-    }
-
-    /// The friction at the bearings: the scenario's `[bearings]` tables, each side replaced by
-    /// its flag where given.
-    pub fn bearings(&self) -> Result<hdgear::physical::model::Bearings> {
-        use hdgear::physical::model::Bearings;
-        let from_file = match &self.config {
-            Some(path) => Scenario::load(path)?.bearings(path)?,
-            None => Bearings::default(),
-        };
         let side = |flag: &str, text: &Option<String>, file| match text {
             Some(text) => Bearings::parse_law(flag, text)
                 .map(Some)
                 .with_context(|| format!("--{flag}-bearing")),
             None => Ok(file),
         };
-        Ok(Bearings::new(
+        let bearings = Bearings::new(
             side("output", &self.output_bearing, from_file.output)?,
             side("input", &self.input_bearing, from_file.input)?,
-        )?)
+        )?;
+        Ok((d, origin, bearings))
     }
 }
 

@@ -9,9 +9,8 @@ use hdgear::physical::simulate::{PhysicalSample, simulate_drive};
 
 /// Runs the physical command.
 pub fn run(a: PhysicalArgs) -> Result<()> {
-    let (d, origin) = a.drive()?;
+    let (d, origin, bearings) = a.drive()?;
     let opts = a.burst.options()?;
-    let bearings = a.bearings()?;
     if a.simulate {
         return simulate(&a, &Physical::with_bearings(d, bearings), opts.tol);
     }

@@ -631,7 +631,7 @@ pub enum TermTableError {
 /// The kinds of the terms a model may add to the study's own (whose values come from
 /// [`crate::Params`]).
 pub fn extra_kinds() -> impl Iterator<Item = &'static str> {
-    crate::model::terms::AnyTerm::KINDS
+    AnyTerm::KINDS
         .iter()
         .map(|k| k.0)
         .filter(|k| crate::model::Model::is_extra_kind(k))
@@ -639,7 +639,7 @@ pub fn extra_kinds() -> impl Iterator<Item = &'static str> {
 
 /// An extra term's kind and its parameter values from named values, the names it does not set
 /// at their defaults: what a scenario file's table and Python's `terms` give. The values are
-/// not checked here ([`crate::model::terms::AnyTerm::new`] checks their domains).
+/// not checked here ([`AnyTerm::new`] checks their domains).
 ///
 /// ```
 /// use hdgear::model::terms::{term_values, TermTableError};
@@ -651,7 +651,7 @@ pub fn term_values<'a>(
     name: &str,
     named: impl IntoIterator<Item = (&'a str, f64)>,
 ) -> std::result::Result<TermTable, TermTableError> {
-    let found = crate::model::terms::AnyTerm::KINDS
+    let found = AnyTerm::KINDS
         .iter()
         .find(|k| k.0 == name && crate::model::Model::is_extra_kind(k.0));
     let Some(&(kind, _, params)) = found else {
