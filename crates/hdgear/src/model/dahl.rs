@@ -120,7 +120,7 @@ impl Term for Dahl {
         let [sigma, tc, _] = self.values;
         let (sv, _, n) = self.base(v[0], th[0]);
         let (base, powers) = rows.0.split_at_mut(1);
-        base[0][k] = if k == 0 { 1.0 } else { 0.0 } - sv * th[k] / tc;
+        base[0][k] = if k == 0 { 1.0 } else { 0.0 } - sv * th[k] * (1.0 / tc);
         sigma * cauchy(v, whole_power_rows(&base[0], n as usize, powers, k), k)
     }
     #[inline(always)]

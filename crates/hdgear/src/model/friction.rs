@@ -41,7 +41,7 @@ impl Level {
     #[inline(always)]
     pub(crate) fn row(self, v: &[f64], q: &mut [f64], e: &mut [f64], k: usize) -> f64 {
         let Level { fc, fs, vst } = self;
-        q[k] = -square_coefficient(v, k) / (vst * vst);
+        q[k] = square_coefficient(v, k) * (-1.0 / (vst * vst));
         e[k] = exp_coefficient(q, e, k);
         (fs - fc) * e[k] + if k == 0 { fc } else { 0.0 }
     }
@@ -99,7 +99,7 @@ impl Term for Friction {
     fn taylor(&self, k: usize, _x: &[f64], v: &[f64], _z: &[f64], rows: &mut Scratch) -> f64 {
         let [fc, vs] = self.0;
         let [u, t, sq, ..] = &mut rows.0;
-        u[k] = v[k] / vs;
+        u[k] = v[k] * (1.0 / vs);
         t[k] = tanh_coefficient(u, sq, k);
         sq[k] = square_coefficient(t, k);
         fc * t[k]
@@ -225,7 +225,7 @@ impl Term for Stribeck {
         let [fc, fs, _, cv, vr] = self.0;
         let [q, e, u, t, sq, ..] = &mut rows.0;
         self.level().row(v, q, e, k);
-        u[k] = v[k] / vr;
+        u[k] = v[k] * (1.0 / vr);
         t[k] = tanh_coefficient(u, sq, k);
         sq[k] = square_coefficient(t, k);
         fc * t[k] + (fs - fc) * super::jet::cauchy(e, t, k) + cv * v[k]

@@ -16,8 +16,14 @@
 //!
 //! Each function takes the argument's rows 0..=k and the result's rows 0..k (computed at the
 //! earlier orders) and returns row k, so a recurrence runs order by order beside the state's.
+//!
+//! A step's pass is one chain: each row waits for the rows it is made of. So the rows just
+//! computed enter a sum last where the sum allows it ([`quotient_coefficient`]), and a row is
+//! divided by multiplying it with the divisor's reciprocal (1/k from a table, 1/v_r from the
+//! parameter): the reciprocal does not wait for the row, a division would.
 
 use super::terms::MAX_ROWS;
+use crate::integrate::taylor::INV;
 pub use crate::integrate::taylor::{cauchy, square_coefficient};
 
 /// Σ_{j=1..=k} j·u_j·w_{k−j} / k: the sum every recurrence of this module shares.
@@ -30,7 +36,7 @@ fn weighted(u: &[f64], w: &[f64], k: usize) -> f64 {
     for j in 1..k + 1 {
         s += j as f64 * u[j] * w[k - j];
     }
-    s / k as f64
+    s * INV[k - 1]
 }
 
 /// Row k of exp(u) from u's rows 0..=k and exp(u)'s rows 0..k.
@@ -248,7 +254,7 @@ pub fn tanh_coefficient(u: &[f64], sq: &[f64], k: usize) -> f64 {
         s += j as f64 * u[j] * -sq[k - j];
     }
     s += k as f64 * u[k] * (1.0 - sq[0]);
-    s / k as f64
+    s * INV[k - 1]
 }
 
 /// Rows k of (sin u, cos u) from u's rows 0..=k and their rows 0..k.
@@ -265,11 +271,12 @@ pub fn sin_cos_coefficients(u: &[f64], s: &[f64], c: &[f64], k: usize) -> (f64, 
 /// q_k = (n_k − Σ_{j=1..k} d_j·q_{k−j})/d₀.
 #[inline(always)]
 pub fn quotient_coefficient(n: &[f64], d: &[f64], q: &[f64], k: usize) -> f64 {
-    let mut s = n[k];
+    // n_k, the new row, last (as in `cauchy`)
+    let mut s = -0.0;
     for j in 1..k + 1 {
-        s -= d[j] * q[k - j];
+        s += d[j] * q[k - j];
     }
-    s / d[0]
+    (n[k] - s) * (1.0 / d[0])
 }
 
 /// Row k of p = √w (w₀ > 0) from w's row k and p's rows 0..k: p² = w, so
@@ -295,7 +302,7 @@ pub fn sqrt_coefficient(w_k: f64, p: &[f64], k: usize) -> f64 {
     for j in 1..k {
         inner += p[j] * p[k - j];
     }
-    (w_k - inner) / (2.0 * p[0])
+    (w_k - inner) * (0.5 / p[0])
 }
 
 /// Row k of u^a (u₀ > 0) from u's rows 0..=k and u^a's rows 0..k.
@@ -308,7 +315,7 @@ pub fn pow_coefficient(u: &[f64], a: f64, p: &[f64], k: usize) -> f64 {
     for j in 1..k + 1 {
         s += (a * j as f64 - (k - j) as f64) * u[j] * p[k - j];
     }
-    s / (k as f64 * u[0])
+    s * (INV[k - 1] / u[0])
 }
 
 /// Row k of a whole power uⁿ (n = 1 … 4) by repeated products, from u's rows 0..=k: the rows

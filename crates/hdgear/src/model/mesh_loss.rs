@@ -270,7 +270,7 @@ impl Term for MeshLoss {
     #[inline(always)]
     fn rate_taylor(&self, k: usize, _x: &[f64], v: &[f64], s: &[f64], _rows: &mut Scratch) -> f64 {
         let sv = piece_sign(self.side, v[0]);
-        (v[k] - sv * cauchy(v, s, k)) / self.values[1]
+        (v[k] - sv * cauchy(v, s, k)) * (1.0 / self.values[1])
     }
     /// T_s's rows from the law (its own rows in `rows` 0 to 4, T_s's in row 5), then
     /// μ_m·sgn(T_s)·(T_s·σ)_k, the sign fixed on the step by the interval between the law's roots
