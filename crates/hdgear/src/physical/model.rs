@@ -170,15 +170,37 @@ pub struct Physical {
     pub t_c: f64,
     /// Friction at the output bearing and the wave generator.
     pub bearings: Bearings,
+    /// The reciprocals the equations multiply by, so that no division waits on a Taylor row.
+    inv: Reciprocals,
+}
+
+/// 1/T_c, C/T_c, 1/J_o, 1/J_i, 1/(N·J_i) and 1/N of a drive.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Reciprocals {
+    t_c: f64,
+    damping: f64,
+    j_out: f64,
+    j_in: f64,
+    n_j_in: f64,
+    ratio: f64,
 }
 
 impl Physical {
     /// Wraps a (validated) drive.
     pub fn new(d: super::PhysicalParams) -> Self {
+        let t_c = d.j_eq() / d.c_eq;
         Physical {
-            t_c: d.j_eq() / d.c_eq,
+            t_c,
             d,
             bearings: Bearings::default(),
+            inv: Reciprocals {
+                t_c: 1.0 / t_c,
+                damping: d.c_eq / t_c,
+                j_out: 1.0 / d.j_out,
+                j_in: 1.0 / d.j_in,
+                n_j_in: 1.0 / (d.ratio * d.j_in),
+                ratio: 1.0 / d.ratio,
+            },
         }
     }
 
@@ -194,7 +216,25 @@ impl Physical {
     /// their Taylor rows): θi' = N(θo' − θ').
     #[inline(always)]
     fn rates(&self, z1: f64, z3: f64) -> (f64, f64) {
-        (z3 / self.t_c, self.d.ratio * (z3 - z1) / self.t_c)
+        (z3 * self.inv.t_c, self.d.ratio * (z3 - z1) * self.inv.t_c)
+    }
+
+    /// The two-inertia equations, written once for the right-hand side and for the Taylor rows
+    /// (row k of each torque gives row k of each acceleration): (θ'', θo'') from the mean torque
+    /// `load` (on both inertias), the disturbance on the output, the torque `twist` = Cθ' +
+    /// K(θ)(θ − φ) across the compliance and the bearings' friction (output, input).
+    #[inline(always)]
+    fn accelerations(
+        &self,
+        load: f64,
+        disturbance: f64,
+        twist: f64,
+        [f_out, f_in]: [f64; 2],
+    ) -> [f64; 2] {
+        let inv = &self.inv;
+        let acc_out = (load + disturbance - twist - f_out) * inv.j_out;
+        let acc_in = (twist - load) * inv.n_j_in - f_in * inv.j_in;
+        [acc_out - acc_in * inv.ratio, acc_out]
     }
 
     /// Internal state from (θi, θi', θo, θo').
@@ -226,23 +266,19 @@ impl System<4> for Physical {
     #[inline(always)]
     fn rhs(&self, t: f64, z: &[f64; 4]) -> [f64; 4] {
         let d = &self.d;
-        let th = z[0];
-        let thd = z[1] / self.t_c;
-        let spring = d.spring(th);
-        let damper = d.c_eq * thd;
-        let mut acc_out = (d.t_m + d.t_am * libm::sin(d.omega * t) - damper - spring) / d.j_out;
-        let mut acc_in = (-d.t_m + damper + spring) / (d.ratio * d.j_in);
-        if self.bearings.any() {
+        let twist = self.inv.damping * z[1] + d.spring(z[0]);
+        let friction = if self.bearings.any() {
             let (v_out, v_in) = self.rates(z[1], z[3]);
-            let [f_out, f_in] = self.bearings.torques(v_out, v_in);
-            acc_out -= f_out / d.j_out;
-            acc_in -= f_in / d.j_in;
-        }
-        let acc_rel = acc_out - acc_in / d.ratio;
+            self.bearings.torques(v_out, v_in)
+        } else {
+            [0.0; 2]
+        };
+        let disturbance = d.t_am * libm::sin(d.omega * t);
+        let [acc_rel, acc_out] = self.accelerations(d.t_m, disturbance, twist, friction);
         [
-            z[1] / self.t_c,
+            z[1] * self.inv.t_c,
             self.t_c * acc_rel,
-            z[3] / self.t_c,
+            z[3] * self.inv.t_c,
             self.t_c * acc_out,
         ]
     }
@@ -331,21 +367,18 @@ impl Physical {
         th[0] = z[0];
         for k in 0..n {
             th2[k] = square_coefficient(&th, k);
-            let first = if k == 0 { 1.0 } else { 0.0 };
-            let spring = d.spring_row(&th, &th2, k);
-            let damper = d.c_eq * c[k][1] / self.t_c;
-            let mut acc_out = (first * d.t_m + d.t_am * s[k] - damper - spring) / d.j_out;
-            let mut acc_in = (-first * d.t_m + damper + spring) / (d.ratio * d.j_in);
-            if bearings {
-                let [f_out, f_in] = self.bearing_rows(k, &c[k], &mut v, work);
-                acc_out -= f_out / d.j_out;
-                acc_in -= f_in / d.j_in;
-            }
-            let acc_rel = acc_out - acc_in / d.ratio;
+            let load = if k == 0 { d.t_m } else { 0.0 };
+            let twist = self.inv.damping * c[k][1] + d.spring_row(&th, &th2, k);
+            let friction = if bearings {
+                self.bearing_rows(k, &c[k], &mut v, work)
+            } else {
+                [0.0; 2]
+            };
+            let [acc_rel, acc_out] = self.accelerations(load, d.t_am * s[k], twist, friction);
             c[k + 1] = [
-                c[k][1] / self.t_c * INV[k],
+                c[k][1] * self.inv.t_c * INV[k],
                 self.t_c * acc_rel * INV[k],
-                c[k][3] / self.t_c * INV[k],
+                c[k][3] * self.inv.t_c * INV[k],
                 self.t_c * acc_out * INV[k],
             ];
             th[k + 1] = c[k + 1][0];
