@@ -70,7 +70,7 @@ pub fn run(a: PhysicalArgs) -> Result<()> {
 }
 
 fn simulate(a: &PhysicalArgs, sys: &Physical, tol: hdgear::integrate::Options) -> Result<()> {
-    let d = &sys.d;
+    let d = sys.drive();
     let Some(t_end) = a.t_end else {
         bail!("--simulate needs --t-end T (seconds)");
     };
@@ -97,7 +97,7 @@ fn simulate(a: &PhysicalArgs, sys: &Physical, tol: hdgear::integrate::Options) -
         let (sink, format) = Sink::open(a.out.as_deref())?;
         let meta = hdgear::physical::simulate::Setup {
             drive: *d,
-            bearings: sys.bearings,
+            bearings: sys.bearings(),
             t_end,
             dt,
         };

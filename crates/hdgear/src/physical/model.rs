@@ -161,15 +161,16 @@ impl Bearings {
 /// θo'' = (T_m + T_am sin Ωt − C θ' − K(θ)(θ − φ) − F_o(θo')) / J_o,
 /// θi'' = (−T_m/N + C θ'/N + K(θ)(θ − φ)/N − F_i(θi')) / J_i,  θ'' = θo'' − θi''/N,
 ///
-/// F_o and F_i the friction at the bearings ([`Bearings`], none by default).
+/// F_o and F_i the friction at the bearings ([`Bearings`], none by default). Its fields are
+/// read through methods: T_c and the reciprocals are derived from the drive when it is built.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Physical {
     /// The drive.
-    pub d: super::PhysicalParams,
+    d: super::PhysicalParams,
     /// T_c = J_eq/C \[s\].
-    pub t_c: f64,
+    t_c: f64,
     /// Friction at the output bearing and the wave generator.
-    pub bearings: Bearings,
+    bearings: Bearings,
     /// The reciprocals the equations multiply by, so that no division waits on a Taylor row.
     inv: Reciprocals,
 }
@@ -210,6 +211,21 @@ impl Physical {
             bearings,
             ..Physical::new(d)
         }
+    }
+
+    /// The drive.
+    pub fn drive(&self) -> &super::PhysicalParams {
+        &self.d
+    }
+
+    /// T_c = J_eq/C \[s\], the time unit of the reduced model.
+    pub fn t_c(&self) -> f64 {
+        self.t_c
+    }
+
+    /// Friction at the output bearing and the wave generator.
+    pub fn bearings(&self) -> Bearings {
+        self.bearings
     }
 
     /// (θo', θi') from the internal state's scaled rates z₁ = T_c·θ', z₃ = T_c·θo' (or from

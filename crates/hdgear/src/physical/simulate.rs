@@ -88,7 +88,7 @@ pub fn simulate_drive(
     tol: Options,
     mut out: impl FnMut(&PhysicalSample),
 ) -> Result<PhysicalSummary> {
-    let d = &sys.d;
+    let d = sys.drive();
     d.validate()?;
     if let Ok(r) = d.reduce() {
         crate::integrate::check_budget(t_end / r.time_scale, &tol)?;
@@ -118,7 +118,7 @@ pub fn simulate_drive(
         final_rates: [s[1], s[3]],
         stats,
         angle_scale: scale,
-        bearings: sys.bearings,
+        bearings: sys.bearings(),
     })
 }
 
