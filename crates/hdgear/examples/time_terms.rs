@@ -4,16 +4,20 @@
 //! recurrences. With `--hysteresis` the model also carries Bouc–Wen hysteresis on the twist
 //! ([`HYSTERESIS`]), whose |x'| and |z| are exact: the run goes piece by piece, each step cut at
 //! x' = 0 and z = 0 ([`hdgear::model::switching::Switching`]).
+//! Without hysteresis the model is smooth, and the same run is timed again on [`LANES`] lanes of
+//! [`integrate_models`] (the lanes interleaved, each taking the scalar stepper's steps), as
+//! `batch_seconds_per_run`, per trajectory.
 //! Prints one JSON line per (v_r, tolerance):
-//! `{"vr":..,"rtol":..,"seconds_per_run":..,"steps":..,"y":[x, x', (z)]}`.
+//! `{"vr":..,"rtol":..,"seconds_per_run":..,"batch_seconds_per_run":..,"steps":..,"y":[x, x', (z)]}`.
 //! Used by `bench/compare_heyoka_terms.py`, which runs heyoka on the same equation.
 //! Usage: `cargo run --release --example time_terms REPS T_END VR[,VR…] TOL… [--hysteresis]`.
 
 use hdgear::Params;
+use hdgear::batch::LANES;
 use hdgear::integrate::{Options, Stats, Stepper, stepper};
-use hdgear::model::Model;
 use hdgear::model::switching::{Pieces, Switching};
 use hdgear::model::terms::AnyTerm;
+use hdgear::model::{Model, integrate_models};
 use std::time::Instant;
 
 /// The friction case: a slow sine the friction holds at times (stick-slip), as in the tests.
@@ -61,6 +65,7 @@ fn main() {
                 atol: tol,
                 ..Options::default()
             };
+            let batch = pieces.is_none().then(|| batch_time(reps, t_end, &m, o));
             let (best, y, st) = match &pieces {
                 None => time(reps, t_end, || {
                     stepper(&m, 0.0, [0.0; 2], o).expect("valid options")
@@ -70,7 +75,8 @@ fn main() {
                 }),
             };
             println!(
-                "{{\"vr\":{vr:e},\"rtol\":{tol:e},\"seconds_per_run\":{best},\"steps\":{},\"y\":[{}]}}",
+                "{{\"vr\":{vr:e},\"rtol\":{tol:e},\"seconds_per_run\":{best},\"batch_seconds_per_run\":{},\"steps\":{},\"y\":[{}]}}",
+                batch.map_or("null".into(), |b| b.to_string()),
                 st.steps,
                 y.iter()
                     .map(|v| format!("{v:.17e}"))
@@ -105,4 +111,24 @@ fn time<const N: usize, S: Stepper<N>>(
         best = best.min(t0.elapsed().as_secs_f64() / f64::from(reps));
     }
     (best, last.0.to_vec(), last.1)
+}
+
+/// The best time per trajectory over 5 batches of `reps` runs of [`LANES`] copies of `m` on the
+/// lanes of [`integrate_models`], from rest to `t_end`.
+fn batch_time(reps: u32, t_end: f64, m: &Model, o: Options) -> f64 {
+    let models = [*m; LANES];
+    let spans = [(t_end, t_end); LANES];
+    let run = || {
+        integrate_models::<2>(&models, &[[0.0; 2]; LANES], &spans, o, |_, _| {})
+            .expect("valid input")
+    };
+    let mut best = f64::INFINITY;
+    for _ in 0..5 {
+        let t0 = Instant::now();
+        for _ in 0..reps {
+            std::hint::black_box(run());
+        }
+        best = best.min(t0.elapsed().as_secs_f64() / f64::from(reps) / LANES as f64);
+    }
+    best
 }

@@ -26,6 +26,7 @@
 use crate::error::Result;
 use crate::error::SolverError;
 use crate::integrate::Options;
+use crate::integrate::lanes::check_inputs;
 use crate::integrate::taylor::{
     INV, MAX_ORDER, TaylorDense, exponent, mul_add, pow2, rule, step_from_norms,
 };
@@ -33,19 +34,9 @@ use crate::model::{LaneParams, Rows, TangentRows, tangent_rows, taylor_rows};
 use crate::params::Params;
 use crate::simd::{Simd, dispatched};
 
-/// Trajectories per batch.
-pub const LANES: usize = 16;
+pub use crate::integrate::lanes::{LANES, LaneResult};
 
 type V = [f64; LANES];
-
-/// The outcome of one lane.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct LaneResult {
-    /// Final state [x, x'].
-    pub y: [f64; 2],
-    /// Steps taken by this lane.
-    pub steps: u64,
-}
 
 /// Integrates each of `points` from its start `y0` at τ = 0 to `t_end`, [`LANES`] at a time, and
 /// returns the final states in order.
@@ -117,7 +108,9 @@ pub(crate) fn integrate_batch_steps(
     tol: Options,
     mut observe: impl FnMut(usize, &StepLanes<'_>),
 ) -> Result<Vec<Result<LaneResult>>> {
-    check_inputs(points, starts.len(), spans, &tol)?;
+    check_inputs(points, starts.len(), spans, &tol, |p| {
+        p.validate().map(drop)
+    })?;
     let mut out = Vec::with_capacity(points.len());
     for (c, chunk) in points.chunks(LANES).enumerate() {
         let range = c * LANES..c * LANES + chunk.len();
@@ -127,33 +120,6 @@ pub(crate) fn integrate_batch_steps(
         out.extend(lanes.into_iter().take(chunk.len()));
     }
     Ok(out)
-}
-
-/// The checks every batch entry point makes: usable options, one start and one span per
-/// point, valid parameters, a step budget that can reach each span's end.
-fn check_inputs(
-    points: &[Params],
-    starts: usize,
-    spans: &[(f64, f64)],
-    tol: &Options,
-) -> Result<()> {
-    tol.validate()?;
-    if starts != points.len() || spans.len() != points.len() {
-        return Err(crate::Error::InvalidInput {
-            what: "batch",
-            text: format!(
-                "{starts} starts and {} spans for {} parameter sets",
-                spans.len(),
-                points.len()
-            ),
-            reason: "one start and one span per parameter set".into(),
-        });
-    }
-    for (p, &(_, t_end)) in points.iter().zip(spans) {
-        p.validate()?;
-        crate::integrate::check_budget(t_end, tol)?;
-    }
-    Ok(())
 }
 
 /// The outcome of one lane integrated with a tangent vector ([`integrate_batch_tangent`]).
@@ -197,7 +163,9 @@ pub fn integrate_batch_tangent(
     spans: &[(f64, f64)],
     tol: Options,
 ) -> Result<Vec<Result<TangentResult>>> {
-    check_inputs(points, starts.len(), spans, &tol)?;
+    check_inputs(points, starts.len(), spans, &tol, |p| {
+        p.validate().map(drop)
+    })?;
     let mut out = Vec::with_capacity(points.len());
     for (c, chunk) in points.chunks(LANES).enumerate() {
         let range = c * LANES..c * LANES + chunk.len();

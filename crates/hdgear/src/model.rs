@@ -29,7 +29,8 @@ pub mod terms;
 mod assembled;
 mod curve;
 pub use assembled::{
-    Description, FORCING, Facts, MAX_STATES, MAX_TERMS, Model, ModelParam, ParamValue, study_param,
+    Description, FORCING, Facts, MAX_STATES, MAX_TERMS, Model, ModelParam, ParamValue,
+    integrate_models, study_param,
 };
 pub(crate) use curve::refusal;
 pub use curve::{ModelCurve, ModelFollower, StaticTorque, Statics};

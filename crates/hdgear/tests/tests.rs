@@ -23,6 +23,7 @@ mod kinematic;
 mod memory;
 mod mesh_loss;
 mod model;
+mod model_batch;
 mod normal_form;
 mod output;
 mod periodic;

@@ -18,6 +18,7 @@
 
 mod dop853;
 pub mod events;
+pub(crate) mod lanes;
 mod stages;
 pub mod taylor;
 

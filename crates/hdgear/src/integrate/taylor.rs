@@ -246,6 +246,19 @@ fn step_size<const FMA: bool, const N: usize>(
     step_from_norms::<FMA, false>(p, shift, norm(&c[p - 1]), norm(&c[p]))
 }
 
+/// [`step_size`] capped at `h_max`.
+#[inline(always)]
+fn capped_step<const FMA: bool, const N: usize>(
+    p: usize,
+    shift: f64,
+    h_max: Option<f64>,
+    c: &[[f64; N]],
+    scale: &[f64; N],
+) -> f64 {
+    let h = step_size::<FMA, N>(p, shift, c, scale);
+    h_max.map_or(h, |hm| h.min(hm))
+}
+
 dispatched! {
     /// [`estrin`] on the vector unit `simd` names.
     fn poly_on(coef: impl Fn(usize) -> f64, order: usize, h: f64) -> f64 = estrin::<FMA>(coef, order, h)
@@ -362,20 +375,12 @@ impl<'s, S: System<N> + ?Sized, const N: usize> Taylor<'s, S, N> {
 
     #[inline(always)]
     fn step_with<const FMA: bool>(&mut self, t_bound: f64) -> Result<()> {
-        let remaining = t_bound - self.t;
-        if remaining <= 0.0 {
+        let Some(scale) = self.begin(t_bound)? else {
             return Ok(());
-        }
-        if let Some(e) = self.opts.spent(self.stats.steps, self.t) {
-            return Err(e.into());
-        }
-        let scale = self.weights();
-        let (p, shift, h_max) = (self.order, self.shift, self.opts.h_max);
-        let rule = |c: &[[f64; N]]| {
-            let h = step_size::<FMA, N>(p, shift, c, &scale);
-            h_max.map_or(h, |hm| h.min(hm))
         };
-        let mut h = if self.sys.taylor_limits_steps() {
+        let (p, shift, h_max) = (self.order, self.shift, self.opts.h_max);
+        let rule = |c: &[[f64; N]]| capped_step::<FMA, N>(p, shift, h_max, c, &scale);
+        let h = if self.sys.taylor_limits_steps() {
             self.sys
                 .taylor_step(
                     self.t,
@@ -396,6 +401,55 @@ impl<'s, S: System<N> + ?Sized, const N: usize> Taylor<'s, S, N> {
                 .taylor_in(self.t, &self.y, p, &mut self.c, &mut self.work);
             rule(&self.c)
         };
+        self.finish::<FMA>(t_bound, h)
+    }
+
+    /// The first part of a step towards `t_bound`: `None` when the stepper is there already,
+    /// an error when its budget is spent, else the [`Taylor::weights`] of the step rule. The
+    /// coefficients follow (the system's pass into [`Taylor::rows_mut`]), then
+    /// [`Taylor::finish`] with the step they allow.
+    #[inline(always)]
+    pub(crate) fn begin(&self, t_bound: f64) -> Result<Option<[f64; N]>> {
+        if t_bound - self.t <= 0.0 {
+            return Ok(None);
+        }
+        if let Some(e) = self.opts.spent(self.stats.steps, self.t) {
+            return Err(e.into());
+        }
+        Ok(Some(self.weights()))
+    }
+
+    /// The step rule on the pass's coefficients with the weights `scale` ([`Taylor::begin`]),
+    /// capped at the options' largest step.
+    #[inline(always)]
+    pub(crate) fn rule<const FMA: bool>(&self, scale: &[f64; N]) -> f64 {
+        capped_step::<FMA, N>(self.order, self.shift, self.opts.h_max, &self.c, scale)
+    }
+
+    /// The system's own rows of the last pass.
+    pub(crate) fn work(&self) -> &Workspace {
+        &self.work
+    }
+
+    /// Where the step starts and to which order: (t, y, p), and the coefficient rows and the
+    /// system's own rows the pass fills.
+    #[inline(always)]
+    pub(crate) fn rows_mut(
+        &mut self,
+    ) -> (f64, &[f64; N], usize, &mut Coefficients<N>, &mut Workspace) {
+        (self.t, &self.y, self.order, &mut self.c, &mut self.work)
+    }
+
+    /// The options the stepper runs with.
+    pub(crate) fn options(&self) -> &Options {
+        &self.opts
+    }
+
+    /// The last part of a step towards `t_bound`: a step of `h` (or to `t_bound` when that is
+    /// nearer) on the coefficients of the pass, with its checks.
+    #[inline(always)]
+    pub(crate) fn finish<const FMA: bool>(&mut self, t_bound: f64, mut h: f64) -> Result<()> {
+        let remaining = t_bound - self.t;
         self.stats.rhs_evals += 1;
         if h.is_nan() {
             // the coefficients overflowed: the solution leaves every bound within this step

@@ -797,5 +797,7 @@ impl Model {
     }
 }
 
+mod lanes;
 mod system;
+pub use lanes::integrate_models;
 use system::state;

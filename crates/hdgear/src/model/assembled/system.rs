@@ -66,7 +66,7 @@ impl<const N: usize> System<N> for Model {
         true
     }
     fn taylor_limits_steps(&self) -> bool {
-        self.terms().any(|t| t.limits_steps())
+        self.limits_steps()
     }
     /// `step` on the state's rows, shortened by the terms' own limits
     /// ([`crate::model::terms::Term::step_limit`]) on the terms' rows of the same pass. A term's
@@ -86,17 +86,7 @@ impl<const N: usize> System<N> for Model {
         step: F,
     ) -> Option<f64> {
         let n = self.taylor_rows(t, y, order, c, rows);
-        let h = step(c);
-        let negligible = atol / h.max(1.0);
-        Some(
-            self.terms
-                .iter()
-                .zip(rows.iter())
-                .fold(h, |h, (term, r)| match term {
-                    Some(term) => term.step_limit(r, n, h, negligible),
-                    _ => h,
-                }),
-        )
+        Some(self.limit_step(rows, n, step(c), atol))
     }
 }
 
@@ -112,8 +102,21 @@ impl Model {
         c: &mut [[f64; N]],
         rows: &mut [Scratch; MAX_TERMS],
     ) -> usize {
-        use crate::integrate::taylor::{INV, MAX_ORDER, forcing_coefficients};
-        let n = order.min(MAX_ORDER).min(c.len() - 1);
+        let mut pass = self.pass(t, y, order.min(c.len() - 1));
+        for k in 0..=pass.n {
+            self.pass_row::<N>(&mut pass, k, rows);
+        }
+        pass.finish(c)
+    }
+
+    /// The start of a Taylor pass through (t, y) to `order` (capped at the integrator's): the
+    /// forcing's rows, the state's row 0 and the present terms with their states' slots. A pass
+    /// runs order by order ([`Model::pass_row`]), so several passes may run interleaved
+    /// ([`super::lanes`]).
+    #[inline(always)]
+    pub(super) fn pass<const N: usize>(&self, t: f64, y: &[f64; N], order: usize) -> Pass {
+        use crate::integrate::taylor::{MAX_ORDER, forcing_coefficients};
+        let n = order.min(MAX_ORDER);
         let [mu, delta, omega] = self.forcing;
         let mut f = [0.0; MAX_ROWS];
         forcing_coefficients(delta, omega, t, n, &mut f);
@@ -132,39 +135,92 @@ impl Model {
                 m += 1;
             }
         }
-        let live = &live[..m];
+        Pass { n, f, s, live, m }
+    }
+
+    /// Row k of the acceleration and of the states' rates, the terms' rows kept in `rows`, and
+    /// from them the state's row k + 1 (below the pass's order; at its order, the terms' rows
+    /// only: the step limits read them).
+    #[inline(always)]
+    pub(super) fn pass_row<const N: usize>(
+        &self,
+        pass: &mut Pass,
+        k: usize,
+        rows: &mut [Scratch; MAX_TERMS],
+    ) {
+        use crate::integrate::taylor::INV;
         // the zero rows a stateless term reads as its z
         const NONE: [f64; MAX_ROWS] = [0.0; MAX_ROWS];
+        let s = &mut pass.s;
+        let mut acc = pass.f[k];
+        let mut rates = [0.0; 2 + MAX_STATES];
+        for &(i, at) in &pass.live[..pass.m] {
+            let Some(term) = &self.terms[i] else { continue };
+            let (x, v) = (&s[0], &s[1]);
+            let z = at.map_or(&NONE, |j| &s[j]);
+            if let Some(j) = at {
+                rates[j] = term.rate_taylor(k, x, v, z, &mut rows[i]);
+            }
+            acc -= term.taylor(k, x, v, z, &mut rows[i]);
+        }
+        if k == pass.n {
+            return;
+        }
         // held: x and v keep their rows 1.. at 0
         let moving = if self.held { 0.0 } else { 1.0 };
-        // row k of the acceleration and of the states' rates, the terms' rows kept in `rows`;
-        // the terms' rows at order n too (the step limits read them)
-        for k in 0..=n {
-            let mut acc = f[k];
-            let mut rates = [0.0; 2 + MAX_STATES];
-            for &(i, at) in live {
-                let Some(term) = &self.terms[i] else { continue };
-                let (x, v) = (&s[0], &s[1]);
-                let z = at.map_or(&NONE, |j| &s[j]);
-                if let Some(j) = at {
-                    rates[j] = term.rate_taylor(k, x, v, z, &mut rows[i]);
-                }
-                acc -= term.taylor(k, x, v, z, &mut rows[i]);
-            }
-            if k == n {
-                break;
-            }
-            s[0][k + 1] = moving * s[1][k] * INV[k];
-            s[1][k + 1] = moving * acc * INV[k];
-            for i in 2..N {
-                s[i][k + 1] = rates[i] * INV[k];
-            }
+        s[0][k + 1] = moving * s[1][k] * INV[k];
+        s[1][k + 1] = moving * acc * INV[k];
+        for i in 2..N {
+            s[i][k + 1] = rates[i] * INV[k];
         }
-        for (k, ck) in c.iter_mut().enumerate().take(n + 1) {
+    }
+
+    /// Whether a term may shorten the step rule's step ([`Model::limit_step`]).
+    #[inline(always)]
+    pub(super) fn limits_steps(&self) -> bool {
+        self.terms().any(|t| t.limits_steps())
+    }
+
+    /// The longest step, at most `h` (the step rule's on the state's rows), on which every
+    /// term's own series is accurate ([`crate::model::terms::Term::step_limit`]), from the
+    /// terms' rows of a pass to order `n` (the rule [`System::taylor_step`] states).
+    #[inline(always)]
+    pub(super) fn limit_step(&self, rows: &Workspace, n: usize, h: f64, atol: f64) -> f64 {
+        let negligible = atol / h.max(1.0);
+        self.terms
+            .iter()
+            .zip(rows.iter())
+            .fold(h, |h, (term, r)| match term {
+                Some(term) => term.step_limit(r, n, h, negligible),
+                _ => h,
+            })
+    }
+}
+
+/// One Taylor pass of a [`Model`] in progress ([`Model::pass`]): the rows of the forcing and of
+/// the state, filled order by order.
+pub(super) struct Pass {
+    /// The pass's order.
+    pub(super) n: usize,
+    /// The forcing's rows μ[k = 0] + δ·(sin ωt)_k.
+    f: [f64; MAX_ROWS],
+    /// The rows of x, v and the internal states.
+    s: [[f64; MAX_ROWS]; 2 + MAX_STATES],
+    /// The present terms: their slots and their states' indices.
+    live: [(usize, Option<usize>); MAX_TERMS],
+    /// How many of `live` are present.
+    m: usize,
+}
+
+impl Pass {
+    /// The state's rows 0..=n into `c`; returns n.
+    #[inline(always)]
+    pub(super) fn finish<const N: usize>(&self, c: &mut [[f64; N]]) -> usize {
+        for (k, ck) in c.iter_mut().enumerate().take(self.n + 1) {
             for (i, v) in ck.iter_mut().enumerate() {
-                *v = s[i][k];
+                *v = self.s[i][k];
             }
         }
-        n
+        self.n
     }
 }

@@ -1,0 +1,246 @@
+//! Many models at once ([`integrate_models`]): random smooth models assembled from every term
+//! hdgear has, in batches that cross a chunk of sixteen lanes, against the scalar Taylor stepper
+//! run here one model at a time (each lane must take its steps to the bit) and against DOP853
+//! (to the tolerance); bad input refused naming it; a failing lane alone.
+
+use hdgear::Params;
+use hdgear::batch::LANES;
+use hdgear::integrate::{DenseOutput, Method, Options, Stepper, stepper};
+use hdgear::model::terms::{AnyTerm, Domain, ParamInfo};
+use hdgear::model::{Model, integrate_models};
+
+use crate::common::uniform;
+
+/// A random smooth model: the study's terms at random parameters and up to three more terms of
+/// random kinds, each parameter drawn inside its domain about its default ([`draw`]);
+/// kinds that switch (sgn x', |z|) or delay, and assemblies a model refuses, are drawn again.
+/// Returns the model with its dimension.
+fn random_smooth_model(u: &mut impl FnMut() -> f64) -> Model {
+    let p = Params {
+        alpha: 0.5 + 20.0 * u(),
+        gamma: -0.5 + 5.0 * u(),
+        eps: -1.0 + 3.0 * u(),
+        mu: -1.0 + 2.0 * u(),
+        delta: 10.0 * u(),
+        omega: 0.01 + u(),
+    };
+    let mut m = Model::study(&p);
+    let extra = (u() * 4.0) as usize;
+    let mut tries = 0;
+    while m.terms().count() < 2 + extra && tries < 50 {
+        tries += 1;
+        let kinds = AnyTerm::KINDS;
+        let (kind, _, params) = kinds[((u() * kinds.len() as f64) as usize).min(kinds.len() - 1)];
+        let values: Vec<f64> = params.iter().map(|q| draw(q, u)).collect();
+        let Ok(term) = AnyTerm::new(kind, &values) else {
+            continue;
+        };
+        let Ok(next) = m.with_term(term) else {
+            continue;
+        };
+        if !next.switches() && next.delay().is_none() {
+            m = next;
+        }
+    }
+    m
+}
+
+/// A value of parameter `q`: a whole number from 1 to 4 for an exponent or a line, up to 0.5
+/// for a default of 0 (a term present, not switched off), else the default times a factor in
+/// [0.5, 1.5], clamped to [0, 1] for a fraction.
+fn draw(q: &ParamInfo, u: &mut impl FnMut() -> f64) -> f64 {
+    match q.domain {
+        Domain::Exponent | Domain::Line => 1.0 + (u() * 4.0).floor().min(3.0),
+        _ if q.default == 0.0 => 0.5 * u(),
+        Domain::Fraction => (q.default * (0.5 + u())).min(1.0),
+        _ => q.default * (0.5 + u()),
+    }
+}
+
+/// The scalar Taylor stepper on `m` from `y0` over `(from, t_end)`: its final state, its step
+/// count and the ends and end states of its steps after `from`.
+#[allow(clippy::type_complexity)]
+fn scalar<const N: usize>(
+    m: &Model,
+    y0: [f64; N],
+    (from, t_end): (f64, f64),
+    o: Options,
+) -> ([f64; N], u64, Vec<(f64, [f64; N])>) {
+    let mut s = stepper(m, 0.0, y0, o).unwrap();
+    let mut shown = Vec::new();
+    while s.t() < t_end {
+        s.step(t_end).unwrap();
+        if s.t() > from {
+            let d = s.dense();
+            shown.push((d.t_end(), d.eval(d.t_end())));
+        }
+    }
+    (*s.y(), s.stats().steps, shown)
+}
+
+/// Runs `models` (all of dimension N) in one batch and checks every lane against the scalar
+/// stepper and DOP853.
+fn check_batch<const N: usize>(models: &[Model], u: &mut impl FnMut() -> f64) {
+    let o = Options {
+        rtol: 1e-12,
+        atol: 1e-12,
+        ..Options::default()
+    };
+    let starts: Vec<[f64; N]> = models
+        .iter()
+        .map(|m| {
+            let mut y = [0.0; N];
+            y[0] = -1.0 + 2.0 * u();
+            y[1] = -1.0 + 2.0 * u();
+            // the internal states from a rest at x (a phase, a filter's state)
+            for (i, z) in m.rest_states(y[0]).iter().enumerate().take(N - 2) {
+                y[2 + i] = *z;
+            }
+            y
+        })
+        .collect();
+    let spans: Vec<(f64, f64)> = (0..models.len())
+        .map(|_| {
+            let t_end = 5.0 + 25.0 * u();
+            (t_end * u(), t_end)
+        })
+        .collect();
+    let mut shown: Vec<Vec<(f64, [f64; N])>> = vec![Vec::new(); models.len()];
+    let ends = integrate_models(models, &starts, &spans, o, |i, d| {
+        shown[i].push((d.t_end(), d.eval(d.t_end())));
+    })
+    .unwrap();
+    for (i, m) in models.iter().enumerate() {
+        let end = ends[i].as_ref().unwrap();
+        let (y, steps, steps_shown) = scalar(m, starts[i], spans[i], o);
+        assert_eq!(end.y, y, "lane {i} {}: final state", m.equation());
+        assert_eq!(end.steps, steps, "lane {i}: steps");
+        assert_eq!(shown[i], steps_shown, "lane {i}: the steps shown");
+        // DOP853 on the same equations, to the tolerance
+        let mut d = stepper(
+            m,
+            0.0,
+            starts[i],
+            Options {
+                method: Method::Dop853,
+                ..o
+            },
+        )
+        .unwrap();
+        while d.t() < spans[i].1 {
+            d.step(spans[i].1).unwrap();
+        }
+        let scale = 1.0 + y.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+        let worst = y
+            .iter()
+            .zip(d.y())
+            .fold(0.0f64, |a, (p, q)| a.max((p - q).abs()));
+        assert!(
+            worst < 1e-8 * scale,
+            "lane {i} {}: Taylor and DOP853 differ by {worst:e}",
+            m.equation()
+        );
+    }
+}
+
+#[test]
+fn random_smooth_models_take_the_scalar_steppers_steps_on_the_lanes() {
+    let mut u = uniform(11);
+    // the kinds that run in the batch
+    let smooth: Vec<&str> = AnyTerm::KINDS
+        .iter()
+        .map(|k| k.0)
+        .filter(|kind| {
+            Model::study(&Params::default())
+                .with_term(AnyTerm::new(kind, &defaults(kind)).unwrap())
+                .is_ok_and(|m| !m.switches() && m.delay().is_none())
+        })
+        .collect();
+    assert!(smooth.len() >= 8, "{smooth:?}");
+    // more models than a chunk of lanes of each dimension the terms give, and each kind that
+    // runs in the batch in some model
+    let mut by_dim: [Vec<Model>; 3] = Default::default();
+    let missing = |by_dim: &[Vec<Model>; 3]| {
+        smooth
+            .iter()
+            .filter(|kind| {
+                !by_dim
+                    .iter()
+                    .flatten()
+                    .any(|m| m.terms().any(|t| t.kind() == **kind))
+            })
+            .count()
+    };
+    for _ in 0..5000 {
+        if by_dim.iter().all(|v| v.len() >= LANES + 5) && missing(&by_dim) == 0 {
+            break;
+        }
+        let m = random_smooth_model(&mut u);
+        let before = missing(&by_dim);
+        let v = &mut by_dim[m.dim() - 2];
+        if v.len() < LANES + 5 {
+            v.push(m);
+        } else {
+            v.push(m);
+            if missing(&by_dim) == before {
+                by_dim[m.dim() - 2].pop();
+            }
+        }
+    }
+    assert_eq!(missing(&by_dim), 0, "some kinds were never drawn");
+    check_batch::<2>(&by_dim[0], &mut u);
+    check_batch::<3>(&by_dim[1], &mut u);
+    check_batch::<4>(&by_dim[2], &mut u);
+}
+
+/// The default values of kind `kind`'s parameters.
+fn defaults(kind: &str) -> Vec<f64> {
+    AnyTerm::params_of(kind)
+        .unwrap()
+        .iter()
+        .map(|q| q.default)
+        .collect()
+}
+
+#[test]
+fn the_batch_refuses_bad_input_naming_it() {
+    let study = Model::study(&Params::default());
+    let coulomb = study
+        .with_term(AnyTerm::new("coulomb", &defaults("coulomb")).unwrap())
+        .unwrap();
+    let o = Options::default();
+    let run = |models: &[Model], starts: &[[f64; 2]], spans: &[(f64, f64)]| {
+        integrate_models(models, starts, spans, o, |_, _| {})
+            .unwrap_err()
+            .to_string()
+    };
+    let e = run(&[study, coulomb], &[[0.0; 2]; 2], &[(0.0, 1.0); 2]);
+    assert!(e.contains("sgn") && e.contains(&coulomb.equation()), "{e}");
+    let e = run(&[study], &[[0.0; 2]; 2], &[(0.0, 1.0)]);
+    assert!(e.contains("2 starts"), "{e}");
+    let e = run(&[study], &[[0.0; 2]], &[(0.0, f64::NAN)]);
+    assert!(e.contains("NaN"), "{e}");
+    let washout = study
+        .with_term(AnyTerm::new("washout", &defaults("washout")).unwrap())
+        .unwrap();
+    let e = run(&[washout], &[[0.0; 2]], &[(0.0, 1.0)]);
+    assert!(e.contains("3 state components"), "{e}");
+}
+
+#[test]
+fn a_lane_that_blows_up_fails_alone() {
+    let o = Options::default();
+    let calm = Model::study(&Params::default());
+    let models = [calm; 3];
+    // a twist of 1e60 in the middle lane: its time scale, 1/(√α·x), is below any step the
+    // span allows (or its speed, √(α/2)·x², beyond the blow-up bound)
+    let starts = [[0.1, 0.0], [1e60, 0.0], [0.2, 0.0]];
+    let spans = [(0.0, 20.0); 3];
+    let ends = integrate_models(&models, &starts, &spans, o, |_, _| {}).unwrap();
+    assert!(ends[1].is_err(), "{:?}", ends[1]);
+    for i in [0, 2] {
+        let (y, steps, _) = scalar(&models[i], starts[i], spans[i], o);
+        let end = ends[i].as_ref().unwrap();
+        assert_eq!((end.y, end.steps), (y, steps), "lane {i}");
+    }
+}
