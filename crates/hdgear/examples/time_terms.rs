@@ -102,14 +102,7 @@ fn time<const N: usize, S: Stepper<N>>(
         (*s.y(), s.stats())
     };
     let mut last = run();
-    let mut best = f64::INFINITY;
-    for _ in 0..5 {
-        let t0 = Instant::now();
-        for _ in 0..reps {
-            last = std::hint::black_box(run());
-        }
-        best = best.min(t0.elapsed().as_secs_f64() / f64::from(reps));
-    }
+    let best = best_per_run(reps, || last = std::hint::black_box(run()));
     (best, last.0.to_vec(), last.1)
 }
 
@@ -122,13 +115,21 @@ fn batch_time(reps: u32, t_end: f64, m: &Model, o: Options) -> f64 {
         integrate_models::<2>(&models, &[[0.0; 2]; LANES], &spans, o, |_, _| {})
             .expect("valid input")
     };
+    best_per_run(reps, || {
+        std::hint::black_box(run());
+    }) / LANES as f64
+}
+
+/// The best time per call of `once` over 5 batches of `reps` calls (the least-disturbed
+/// estimate on a shared machine).
+fn best_per_run(reps: u32, mut once: impl FnMut()) -> f64 {
     let mut best = f64::INFINITY;
     for _ in 0..5 {
         let t0 = Instant::now();
         for _ in 0..reps {
-            std::hint::black_box(run());
+            once();
         }
-        best = best.min(t0.elapsed().as_secs_f64() / f64::from(reps) / LANES as f64);
+        best = best.min(t0.elapsed().as_secs_f64() / f64::from(reps));
     }
     best
 }

@@ -108,9 +108,7 @@ pub(crate) fn integrate_batch_steps(
     tol: Options,
     mut observe: impl FnMut(usize, &StepLanes<'_>),
 ) -> Result<Vec<Result<LaneResult>>> {
-    check_inputs(points, starts.len(), spans, &tol, |p| {
-        p.validate().map(drop)
-    })?;
+    check_inputs(points, starts.len(), spans, &tol, valid)?;
     let mut out = Vec::with_capacity(points.len());
     for (c, chunk) in points.chunks(LANES).enumerate() {
         let range = c * LANES..c * LANES + chunk.len();
@@ -120,6 +118,12 @@ pub(crate) fn integrate_batch_steps(
         out.extend(lanes.into_iter().take(chunk.len()));
     }
     Ok(out)
+}
+
+/// The check of a point's parameters [`check_inputs`] makes (their warnings are for the caller
+/// to show, not a refusal).
+fn valid(p: &Params) -> Result<()> {
+    p.validate().map(drop)
 }
 
 /// The outcome of one lane integrated with a tangent vector ([`integrate_batch_tangent`]).
@@ -163,9 +167,7 @@ pub fn integrate_batch_tangent(
     spans: &[(f64, f64)],
     tol: Options,
 ) -> Result<Vec<Result<TangentResult>>> {
-    check_inputs(points, starts.len(), spans, &tol, |p| {
-        p.validate().map(drop)
-    })?;
+    check_inputs(points, starts.len(), spans, &tol, valid)?;
     let mut out = Vec::with_capacity(points.len());
     for (c, chunk) in points.chunks(LANES).enumerate() {
         let range = c * LANES..c * LANES + chunk.len();

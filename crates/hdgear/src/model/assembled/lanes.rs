@@ -76,11 +76,14 @@ pub fn integrate_models<const N: usize>(
         // the step's own arithmetic as the scalar stepper's (`Taylor::step`)
         run_on(Simd::detect().at_most(Level::Avx2), &mut lanes, &mut show);
         out.extend(lanes.into_iter().map(|lane| {
-            lane.end.unwrap_or(Err(Error::InvalidInput {
-                what: "batch",
-                text: "a lane".into(),
-                reason: "it stopped before its end".into(),
-            }))
+            // (`run` returns once every lane has its outcome)
+            lane.end.unwrap_or_else(|| {
+                Err(Error::InvalidInput {
+                    what: "batch",
+                    text: "a lane".into(),
+                    reason: "it stopped before its end".into(),
+                })
+            })
         }));
     }
     Ok(out)
