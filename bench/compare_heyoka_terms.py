@@ -37,10 +37,24 @@ each taking the scalar stepper's steps) runs the smooth friction model; the hyst
 switches and runs piece by piece, which the batch does not, so there its time per trajectory is
 the scalar run's.
 
+Sticking: the same friction law not regularised, sgn x' with sticking (hdgear's `coulomb` term,
+`time_terms --sticking`: steps cut at x' = 0, each rest held until the applied torque
+A = mu + delta sin(omega t) - (alpha x^3 - x^2 + gamma (x - eps)) leaves the band +-fs). heyoka's
+"sticking" form is the same law written here with terminal events: while it slips, the sign s of
+x' a parameter and x' = 0 (s x' falling through 0) an event; there it sticks if |A| <= fs (x and
+x' frozen by a parameter m = 0) and else reverses; while it sticks, |A| = fs an event where it
+breaks away in the direction of A (a crossing of x' = 0 within COOLDOWN of a breakaway is the
+rounding of x' starting from rest and is ignored). The error is against that form at 1e-16 with
+its step capped at 2e-4. The regularised form (tanh(x'/v_r), v_r in STICKING_VRS) is searched for
+equal error too: issue 38 compares hdgear's sticking integration with heyoka on the regularised
+law on equal work, and a regularised law is another equation, whose distance from the sticking
+one no tolerance closes.
+
 Usage: python3 bench/compare_heyoka_terms.py [REPS]
 Creates its own virtual environment (target/bench-venv) with heyoka and numpy on first use.
 """
 import json
+import math
 import subprocess
 import sys
 import time
@@ -60,19 +74,33 @@ REF_CAP = 2e-4
 # Terminal events are not looked for again within this time of firing: far below the time
 # between two real switches here (the shortest is a sizeable fraction of the load's period).
 COOLDOWN = 1e-9
+# the regularisations searched against the sticking law
+STICKING_VRS = (1e-2, 1e-3, 1e-4)
+
+
+def applied(lib, x, t=None):
+    """The torque on the twist but its friction and damping: A = mu + delta sin(omega t) - g(x),
+    as heyoka's expression (t None: heyoka's time) or as a number (`lib` math)."""
+    t = lib.time if t is None else t
+    return MU + DELTA * lib.sin(OMEGA * t) - (ALPHA * x * x * x - x * x + GAMMA * (x - EPS))
 
 
 def heyoka_system(form):
-    """The equations for `form`: "friction" (x, x'), "events" (Bouc-Wen's signs the parameters
-    1 and 2) or "smooth" (Bouc-Wen's |u| as sqrt(u^2 + e^2), e parameter 1); parameter 0 is vr."""
+    """The equations for `form`: "friction" (x, x'), "sticking" (the law with sgn x' and
+    sticking, x' and m parameters 1 and 2), "events" (Bouc-Wen's signs the parameters 1 and 2) or
+    "smooth" (Bouc-Wen's |u| as sqrt(u^2 + e^2), e parameter 1); parameter 0 is vr."""
     import heyoka as hy
     x, v, z = hy.make_vars("x", "v", "z")
     vr = hy.par[0]
     friction = (FC + (FS - FC) * hy.exp(-(v / VST) * (v / VST))) * hy.tanh(v / vr) + CV * v
-    stiffness = ALPHA * x * x * x - x * x + GAMMA * (x - EPS)
-    load = MU + DELTA * hy.sin(OMEGA * hy.time) - v - stiffness - friction
+    load = applied(hy, x) - v - friction
     if form == "friction":
         return [(x, v), (v, load)]
+    if form == "sticking":
+        # parameter 1 the sign s of x', parameter 2 whether it moves (m = 1) or sticks (m = 0)
+        s, m = hy.par[1], hy.par[2]
+        level = FC + (FS - FC) * hy.exp(-(v / VST) * (v / VST))
+        return [(x, m * v), (v, m * (applied(hy, x) - v - level * s - CV * v))]
     if form == "events":
         abs_v, abs_z = hy.par[1] * v, hy.par[2] * z
     else:
@@ -87,10 +115,19 @@ class Heyoka:
     def __init__(self, form, vr, tol, e=None):
         import heyoka as hy
         self.hy, self.form = hy, form
-        self.dim = 2 if form == "friction" else 3
+        self.dim = 2 if form in ("friction", "sticking") else 3
         events = []
         pars = [vr]
-        if form == "events":
+        if form == "sticking":
+            x, v = hy.make_vars("x", "v")
+            s, m = hy.par[1], hy.par[2]
+            # slipping: s x' falls through 0; sticking: |A| rises through fs
+            events = [hy.t_event(s * v + (1.0 - m), direction=hy.event_direction.negative,
+                                 cooldown=COOLDOWN),
+                      hy.t_event(m + (1.0 - m) * (applied(hy, x) ** 2 - FS * FS),
+                                 direction=hy.event_direction.positive, cooldown=COOLDOWN)]
+            pars += self.sticking_start()
+        elif form == "events":
             v, z = hy.make_vars("v", "z")
             events = [hy.t_event(v, cooldown=COOLDOWN), hy.t_event(z, cooldown=COOLDOWN)]
             pars += [1.0, 1.0]
@@ -109,6 +146,8 @@ class Heyoka:
             # from rest the load mu + gamma eps > 0 starts x' upwards, and z' = ah x' with it
             ta.reset_cooldowns()
         kw = {} if cap is None else {"max_delta_t": cap}
+        if self.form == "sticking":
+            return self.once_sticking(kw)
         steps = 0
         while True:
             out = ta.propagate_until(T_END, **kw)
@@ -119,6 +158,37 @@ class Heyoka:
             # except at the start, where x' and z are 0 and their signs are the start's
             if ta.time > 0.0:
                 ta.pars[-int(out[0])] *= -1.0
+
+    @staticmethod
+    def sticking_start():
+        """(s, m) at rest at t = 0: stuck if |A| <= fs, else moving in A's direction."""
+        a = applied(math, 0.0, 0.0)
+        return [1.0, 0.0] if abs(a) <= FS else [math.copysign(1.0, a), 1.0]
+
+    def once_sticking(self, kw):
+        """The sticking form's run: each terminal event the switch the class describes."""
+        ta = self.ta
+        ta.pars[1:] = self.sticking_start()
+        ta.reset_cooldowns()
+        steps, breakaway = 0, -math.inf
+        while True:
+            out = ta.propagate_until(T_END, **kw)
+            steps += out[3]
+            if out[0] == self.hy.taylor_outcome.time_limit:
+                return steps
+            a = applied(math, ta.state[0], ta.time)
+            if -int(out[0]) == 1:
+                if ta.time - breakaway < COOLDOWN:
+                    continue
+                ta.state[1] = 0.0
+                if abs(a) <= FS:
+                    ta.pars[2] = 0.0
+                else:
+                    ta.pars[1] = math.copysign(1.0, a)
+            else:
+                breakaway = ta.time
+                ta.pars[1:] = [math.copysign(1.0, a), 1.0]
+                ta.state[1] = 0.0
 
     def timed(self, reps, cap=None, batches=5):
         best, steps = float("inf"), 0
@@ -165,16 +235,17 @@ class HeyokaBatch:
         return best, [[float(v) for v in lane] for lane in np.array(ta.state).T]
 
 
-def hdgear_runs(reps, hysteresis):
+def hdgear_runs(reps, flag=None):
+    """`time_terms` at every v_r and tolerance, with `flag` (--hysteresis, --sticking) if any."""
     example = ROOT / "target" / "release" / "examples" / "time_terms"
     args = [str(example), str(reps), str(T_END), ",".join(map(str, VRS)), *map(str, TOLS)]
-    lines = subprocess.run(args + (["--hysteresis"] if hysteresis else []), check=True,
+    lines = subprocess.run(args + ([flag] if flag else []), check=True,
                            capture_output=True, text=True).stdout.splitlines()
     return {(r["vr"], r["rtol"]): r for r in map(json.loads, lines)}
 
 
 def table(reps, hysteresis):
-    ours = hdgear_runs(reps, hysteresis)
+    ours = hdgear_runs(reps, "--hysteresis" if hysteresis else None)
     form = "events" if hysteresis else "friction"
     print("| v_r | tol | hdgear taylor ms | steps | error | heyoka ms | steps | error "
           "| heyoka at equal error: ms (form, tol, cap) | heyoka / hdgear at equal error "
@@ -209,6 +280,39 @@ def table(reps, hysteresis):
                   f"| {mine:.1e} | {ht * 1e3:.3f} | {hs} | {err(hy_end):.1e} "
                   f"| {cells[0][0]} | {cells[0][1]} | {cells[1][0]} | {cells[1][1]} "
                   f"| {batch_cell} | {batch[0]} | {batch[1]} |")
+
+
+def sticking_table(reps):
+    """hdgear's sticking run against heyoka's sticking form and the regularised law."""
+    # v_r is no parameter of the sticking law: hdgear's runs are the same at every v_r
+    ours = hdgear_runs(reps, "--sticking")
+    _, _, ref = Heyoka("sticking", VRS[0], 1e-16).timed(1, cap=REF_CAP, batches=1)
+    err = lambda s: sum(abs(a - b) for a, b in zip(s, ref))
+    grid = search(Heyoka, [("sticking", None)], VRS[0], reps, err)
+    regularised = []
+    for vr in STICKING_VRS:
+        regularised += [(t, e, f"friction v_r={vr:g}", tol, cap)
+                        for t, e, _, tol, cap in search(Heyoka, [("friction", None)], vr, reps,
+                                                        err)]
+    closest = min(regularised, key=lambda g: (g[1], g[0]))
+    print("| tol | hdgear taylor ms | steps | error | heyoka ms | steps | error "
+          "| heyoka at equal error: ms (form, tol, cap) | heyoka / hdgear at equal error "
+          "| regularised heyoka at equal error | its / hdgear |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
+    for tol in TOLS:
+        ht, hs, hy_end = Heyoka("sticking", VRS[0], tol).timed(reps)
+        o = ours[(VRS[0], tol)]
+        mine = err(o["y"])
+        cells = [at_equal(grid, mine, o["seconds_per_run"], lambda name: True),
+                 at_equal(regularised, mine, o["seconds_per_run"], lambda name: True)]
+        print(f"| {tol:.0e} | {o['seconds_per_run'] * 1e3:.3f} | {o['steps']} | {mine:.1e} "
+              f"| {ht * 1e3:.3f} | {hs} | {err(hy_end):.1e} "
+              f"| {cells[0][0]} | {cells[0][1]} | {cells[1][0]} | {cells[1][1]} |")
+    cap = "none" if closest[4] is None else f"{closest[4]:g}"
+    print()
+    print(f"The regularised law's least error from the sticking one over v_r = "
+          f"{', '.join(f'{v:g}' for v in STICKING_VRS)}, tolerances and caps: {closest[1]:.1e} "
+          f"({closest[2]}, {closest[3]:.0e}, cap {cap}, {closest[0] * 1e3:.3f} ms).")
 
 
 def search(runner, candidates, vr, reps, err):
@@ -253,6 +357,10 @@ def main():
     print("Friction and Bouc-Wen hysteresis (heyoka's own column: its events form):")
     print()
     table(reps, hysteresis=True)
+    print()
+    print("Friction with sticking (heyoka's own column: its sticking form):")
+    print()
+    sticking_table(reps)
 
 
 if __name__ == "__main__":

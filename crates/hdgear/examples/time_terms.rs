@@ -9,8 +9,12 @@
 //! `batch_seconds_per_run`, per trajectory.
 //! Prints one JSON line per (v_r, tolerance):
 //! `{"vr":..,"rtol":..,"seconds_per_run":..,"batch_seconds_per_run":..,"steps":..,"y":[x, x', (z)]}`.
+//! With `--sticking` the friction is not regularised: Coulomb–Stribeck–viscous friction with
+//! sgn x' and sticking (the `coulomb` term, v_r unused), stepped piece by piece, each step cut at
+//! x' = 0 and each rest held until the applied torque leaves the static band ±f_s.
 //! Used by `bench/compare_heyoka_terms.py`, which runs heyoka on the same equation.
-//! Usage: `cargo run --release --example time_terms REPS T_END VR[,VR…] TOL… [--hysteresis]`.
+//! Usage: `cargo run --release --example time_terms REPS T_END VR[,VR…] TOL… [--hysteresis]
+//! [--sticking]`.
 
 use hdgear::Params;
 use hdgear::batch::LANES;
@@ -37,7 +41,8 @@ const HYSTERESIS: [f64; 6] = [0.5, 0.0, 1.0, 0.5, 0.5, 1.0];
 fn main() {
     let mut args: Vec<String> = std::env::args().skip(1).collect();
     let hysteresis = args.iter().any(|a| a == "--hysteresis");
-    args.retain(|a| a != "--hysteresis");
+    let sticking = args.iter().any(|a| a == "--sticking");
+    args.retain(|a| a != "--hysteresis" && a != "--sticking");
     let reps: u32 = args.first().and_then(|s| s.parse().ok()).unwrap_or(50);
     let t_end: f64 = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(60.0);
     let vrs: Vec<f64> = args
@@ -50,8 +55,13 @@ fn main() {
     }
     for &vr in &vrs {
         let [fc, fs, vst, cv] = FRICTION;
+        let friction = if sticking {
+            AnyTerm::new("coulomb", &FRICTION)
+        } else {
+            AnyTerm::new("stribeck", &[fc, fs, vst, cv, vr])
+        };
         let mut m = Model::study(&PARAMS)
-            .with_term(AnyTerm::new("stribeck", &[fc, fs, vst, cv, vr]).expect("valid term"))
+            .with_term(friction.expect("valid term"))
             .expect("a free slot");
         if hysteresis {
             m = m
@@ -70,8 +80,11 @@ fn main() {
                 None => time(reps, t_end, || {
                     stepper(&m, 0.0, [0.0; 2], o).expect("valid options")
                 }),
-                Some(p) => time(reps, t_end, || {
+                Some(p) if hysteresis => time(reps, t_end, || {
                     Switching::<3>::new(p, 0.0, [0.0; 3], o).expect("valid options")
+                }),
+                Some(p) => time(reps, t_end, || {
+                    Switching::<2>::new(p, 0.0, [0.0; 2], o).expect("valid options")
                 }),
             };
             println!(

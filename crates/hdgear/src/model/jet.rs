@@ -79,7 +79,8 @@ pub fn exp_step_limit(
         order,
         negligible,
     );
-    let start = u[0].exp();
+    // e^{u₀} is the series' row 0
+    let start = e[0];
     shorten(h, converged, |h| {
         amplitude * ((u[0] + tail_bound(u, order, h)).exp() - start) > negligible
     })
@@ -99,7 +100,10 @@ pub fn tanh_step_limit(
     negligible: f64,
 ) -> f64 {
     let negligible = resolvable(negligible, amplitude);
-    let sech2 = 1.0 / (u[0].cosh() * u[0].cosh());
+    // sech²(u₀) = 4e/(1 + e)² with e = e^{−2|u₀|}, and 4e is the bound's value at the start
+    let bound = |least: f64| 4.0 * (-2.0 * least.max(0.0)).exp();
+    let start = bound(u[0].abs());
+    let sech2 = start / ((1.0 + 0.25 * start) * (1.0 + 0.25 * start));
     let converged = if sech2 > 1e-14 {
         within_tolerance(
             own_step(sech2, sq[order - 1].abs(), sq[order].abs(), order),
@@ -110,8 +114,6 @@ pub fn tanh_step_limit(
     } else {
         0.0
     };
-    let bound = |least: f64| 4.0 * (-2.0 * least.max(0.0)).exp();
-    let start = bound(u[0].abs());
     shorten(h, converged, |h| {
         amplitude * (bound(u[0].abs() - tail_bound(u, order, h)) - start) > negligible
     })
@@ -180,10 +182,30 @@ fn within_tolerance(converged: f64, last: f64, order: usize, negligible: f64) ->
     if converged <= 0.0 || last <= 0.0 {
         return converged;
     }
-    let rho = converged * (2.0 + 0.7 / (order - 1) as f64).exp();
+    let rho = converged * RADIUS_OVER_STEP[order];
     let by_tolerance = (negligible / last).powf(1.0 / order as f64);
     converged.max(by_tolerance.min(0.5 * rho))
 }
+
+/// e^{2 + 0.7/(p − 1)} for each order p ≥ 2: the radius ρ a series' rows show over its Jorba–Zou
+/// step ([`own_step`], s = 2). Each entry from the exponential's series, summed until its terms
+/// vanish against the sum (the exponent is at most 2.7).
+const RADIUS_OVER_STEP: [f64; MAX_ROWS] = {
+    let mut table = [0.0; MAX_ROWS];
+    let mut p = 2;
+    while p < MAX_ROWS {
+        let x = 2.0 + 0.7 / (p - 1) as f64;
+        let (mut sum, mut term, mut n) = (1.0, 1.0, 1.0);
+        while sum + term != sum {
+            term *= x / n;
+            sum += term;
+            n += 1.0;
+        }
+        table[p] = sum;
+        p += 1;
+    }
+    table
+};
 
 /// Sub-intervals of a step in which a term samples a function of the step's polynomial for
 /// leaving the piece it started on ([`first_exit`]): an excursion off the piece and back inside
@@ -352,6 +374,32 @@ pub fn whole_power_rows<'a>(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_radius_table_is_the_exponential_of_its_exponent() {
+        // the table summed at compile time against the library's exponential: within 4 ulp
+        for (p, &r) in RADIUS_OVER_STEP.iter().enumerate().skip(2) {
+            let exact = (2.0 + 0.7 / (p - 1) as f64).exp();
+            assert!(
+                (r - exact).abs() <= 4.0 * f64::EPSILON * exact,
+                "{p}: {r} {exact}"
+            );
+        }
+    }
+
+    #[test]
+    fn sech_squared_from_the_bound_is_the_hyperbolic_one() {
+        // tanh_step_limit's sech²(u₀) = 4e/(1 + e)², e = e^{−2|u₀|}, against 1/cosh²
+        for u in [0.0, 1e-3, -0.4, 2.5, -17.0, 300.0] {
+            let start = 4.0 * (-2.0 * f64::abs(u)).exp();
+            let sech2 = start / ((1.0 + 0.25 * start) * (1.0 + 0.25 * start));
+            let exact = 1.0 / (u.cosh() * u.cosh());
+            assert!(
+                (sech2 - exact).abs() <= 1e-15 * exact,
+                "{u}: {sech2} {exact}"
+            );
+        }
+    }
 
     /// The coefficients of f(u(t)) at t = 0.3 with u = 0.4 + 1.3t − 0.7t², against the closed
     /// forms' derivatives by a 4th-order finite difference of f∘u (rows 1 and 2).

@@ -75,6 +75,7 @@ impl<const N: usize> System<N> for Model {
     /// absolute error the state's own rule aims at, so a smaller δ is negligible.
     // the trait's one pass (`System::taylor_step`)
     #[allow(clippy::too_many_arguments)]
+    #[inline(always)]
     fn taylor_step<F: FnOnce(&[[f64; N]]) -> f64>(
         &self,
         t: f64,
