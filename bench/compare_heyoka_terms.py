@@ -33,7 +33,8 @@ regularisation already). The last pair is the same search over the regularised f
 batch mode (`taylor_adaptive_batch`, the SIMD width heyoka recommends for the CPU, every lane the
 same run, the worst lane's error), its time per trajectory: the batch half of issue 39's
 criterion. hdgear's own batch (`hdgear::model::integrate_models`, 16 lanes of the same run,
-each taking the scalar stepper's steps) runs the smooth friction model; the hysteresis model
+each taking the scalar stepper's steps; the passes on vector lanes, the model's terms all having
+a copy there) runs the smooth friction model; the hysteresis model
 switches and runs piece by piece, which the batch does not, so there its time per trajectory is
 the scalar run's.
 

@@ -4,9 +4,9 @@
 //! recurrences. With `--hysteresis` the model also carries Bouc–Wen hysteresis on the twist
 //! ([`HYSTERESIS`]), whose |x'| and |z| are exact: the run goes piece by piece, each step cut at
 //! x' = 0 and z = 0 ([`hdgear::model::switching::Switching`]).
-//! Without hysteresis the model is smooth, and the same run is timed again on [`LANES`] lanes of
-//! [`integrate_models`] (the lanes interleaved, each taking the scalar stepper's steps), as
-//! `batch_seconds_per_run`, per trajectory.
+//! Without hysteresis or sticking the model is smooth, and the same run is timed again on
+//! [`LANES`] lanes of [`integrate_models`] (one pass on vector lanes for all sixteen, each lane
+//! taking the scalar stepper's steps), as `batch_seconds_per_run`, per trajectory.
 //! Prints one JSON line per (v_r, tolerance):
 //! `{"vr":..,"rtol":..,"seconds_per_run":..,"batch_seconds_per_run":..,"steps":..,"y":[x, x', (z)]}`.
 //! With `--sticking` the friction is not regularised: Coulomb–Stribeck–viscous friction with

@@ -7,7 +7,7 @@ use hdgear::Params;
 use hdgear::batch::LANES;
 use hdgear::integrate::{DenseOutput, Method, Options, Stepper, stepper};
 use hdgear::model::terms::{AnyTerm, Domain, ParamInfo};
-use hdgear::model::{Model, integrate_models};
+use hdgear::model::{Model, integrate_models, on_vector_lanes};
 
 use crate::common::uniform;
 
@@ -242,5 +242,95 @@ fn a_lane_that_blows_up_fails_alone() {
         let (y, steps, _) = scalar(&models[i], starts[i], spans[i], o);
         let end = ends[i].as_ref().unwrap();
         assert_eq!((end.y, end.steps), (y, steps), "lane {i}");
+    }
+}
+
+#[test]
+fn models_of_one_structure_take_the_scalar_steppers_steps_on_vector_lanes() {
+    // each structure of the kinds with a copy on lanes, at random parameters: 21 models, so a
+    // full chunk of sixteen and a part one, each lane against the scalar stepper bit for bit
+    let on_lanes: Vec<&str> = AnyTerm::KINDS
+        .iter()
+        .map(|k| k.0)
+        .filter(|kind| AnyTerm::new(kind, &defaults(kind)).unwrap().on_lanes())
+        .collect();
+    assert!(
+        ["damping", "stiffness", "friction", "stribeck"]
+            .iter()
+            .all(|k| on_lanes.contains(k)),
+        "{on_lanes:?}"
+    );
+    let mut u = uniform(23);
+    // (one friction law per model: the laws share their parameters' names)
+    for extra in [&[][..], &["friction"], &["stribeck"]] {
+        let models: Vec<Model> = (0..LANES + 5)
+            .map(|_| {
+                let p = Params {
+                    alpha: 0.5 + 20.0 * u(),
+                    gamma: -0.5 + 5.0 * u(),
+                    eps: -1.0 + 3.0 * u(),
+                    mu: -1.0 + 2.0 * u(),
+                    delta: 10.0 * u(),
+                    omega: 0.01 + u(),
+                };
+                extra.iter().fold(Model::study(&p), |m, kind| {
+                    let params = AnyTerm::params_of(kind).unwrap();
+                    let values: Vec<f64> = params.iter().map(|q| draw(q, &mut u)).collect();
+                    m.with_term(AnyTerm::new(kind, &values).unwrap()).unwrap()
+                })
+            })
+            .collect();
+        assert!(on_vector_lanes(&models), "{extra:?}");
+        check_batch::<2>(&models, &mut u);
+    }
+}
+
+#[test]
+fn each_kind_on_lanes_gives_every_lane_its_scalar_row() {
+    // for every kind: a copy on lanes exactly where the kind says so, and each lane's rows
+    // (the torque's and the term's own) those of the scalar recurrence on that lane's term and
+    // series, bit for bit, at every order
+    use hdgear::integrate::taylor::{SCRATCH_ROWS, Scratch};
+    use hdgear::model::jet::{Jet, Lanes};
+    use hdgear::model::terms::{LaneRows, MAX_ROWS};
+    let mut u = uniform(29);
+    for (kind, _, params) in AnyTerm::KINDS {
+        let terms: Vec<AnyTerm> = (0..LANES)
+            .map(|_| {
+                let values: Vec<f64> = params.iter().map(|q| draw(q, &mut u)).collect();
+                AnyTerm::new(kind, &values).unwrap()
+            })
+            .collect();
+        let mut values = vec![Lanes::splat(0.0); params.len()];
+        for (l, t) in terms.iter().enumerate() {
+            for (v, &p) in values.iter_mut().zip(t.values()) {
+                v.0[l] = p;
+            }
+        }
+        // random series of x and v on each lane, shrinking with the order
+        let mut x = [Lanes::splat(0.0); MAX_ROWS];
+        let mut v = [Lanes::splat(0.0); MAX_ROWS];
+        for k in 0..MAX_ROWS {
+            for l in 0..LANES {
+                x[k].0[l] = (-1.0 + 2.0 * u()) * 0.7f64.powi(k as i32);
+                v[k].0[l] = (-1.0 + 2.0 * u()) * 0.7f64.powi(k as i32);
+            }
+        }
+        let mut rows: LaneRows = [[Lanes::splat(0.0); MAX_ROWS]; SCRATCH_ROWS];
+        let mut scalar = vec![Scratch::default(); LANES];
+        let lane = |rows: &[Lanes; MAX_ROWS], l: usize| rows.map(|r| r.0[l]);
+        let zero = [0.0; MAX_ROWS];
+        for k in 0..MAX_ROWS {
+            let on = terms[0].taylor_lanes(&values, k, &x, &v, &mut rows);
+            assert_eq!(on.is_some(), terms[0].on_lanes(), "{kind}");
+            let Some(on) = on else { break };
+            for (l, t) in terms.iter().enumerate() {
+                let want = t.taylor(k, &lane(&x, l), &lane(&v, l), &zero, &mut scalar[l]);
+                assert_eq!(on.0[l].to_bits(), want.to_bits(), "{kind} k {k} lane {l}");
+                for (on_row, row) in rows.iter().zip(&scalar[l].0) {
+                    assert_eq!(on_row[k].0[l].to_bits(), row[k].to_bits(), "{kind} k {k}");
+                }
+            }
+        }
     }
 }

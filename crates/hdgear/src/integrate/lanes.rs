@@ -45,3 +45,73 @@ pub(crate) fn check_inputs<P>(
     }
     Ok(())
 }
+
+/// A number a Taylor recurrence runs on: one `f64`, or [`Lanes`] of them, each lane the same
+/// arithmetic in the same order as one `f64` (so a recurrence written once over `J: Jet` gives
+/// every lane the scalar result to the bit).
+pub trait Jet:
+    Copy
+    + std::ops::Add<Output = Self>
+    + std::ops::Sub<Output = Self>
+    + std::ops::Mul<Output = Self>
+    + std::ops::Div<Output = Self>
+    + std::ops::Neg<Output = Self>
+{
+    /// `v` on every lane.
+    fn splat(v: f64) -> Self;
+    /// `f` on every lane (the library's transcendental functions: row 0 of exp, tanh, …).
+    fn map(self, f: impl Fn(f64) -> f64) -> Self;
+}
+
+impl Jet for f64 {
+    #[inline(always)]
+    fn splat(v: f64) -> Self {
+        v
+    }
+    #[inline(always)]
+    fn map(self, f: impl Fn(f64) -> f64) -> Self {
+        f(self)
+    }
+}
+
+/// [`LANES`] numbers, one per lane, worked on together (the vector unit's registers).
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(align(64))]
+pub struct Lanes(pub [f64; LANES]);
+
+impl Jet for Lanes {
+    #[inline(always)]
+    fn splat(v: f64) -> Self {
+        Lanes([v; LANES])
+    }
+    #[inline(always)]
+    fn map(self, f: impl Fn(f64) -> f64) -> Self {
+        Lanes(self.0.map(f))
+    }
+}
+
+/// The lane-wise operators of [`Lanes`].
+macro_rules! lane_ops {
+    ($($op:ident $method:ident),*) => {$(
+        impl std::ops::$op for Lanes {
+            type Output = Lanes;
+            #[inline(always)]
+            fn $method(self, rhs: Lanes) -> Lanes {
+                let mut out = self;
+                for (o, r) in out.0.iter_mut().zip(rhs.0) {
+                    *o = std::ops::$op::$method(*o, r);
+                }
+                out
+            }
+        }
+    )*};
+}
+lane_ops!(Add add, Sub sub, Mul mul, Div div);
+
+impl std::ops::Neg for Lanes {
+    type Output = Lanes;
+    #[inline(always)]
+    fn neg(self) -> Lanes {
+        Lanes(self.0.map(|v| -v))
+    }
+}

@@ -22,6 +22,7 @@
 //!   other work (the variational equations of the periodic machinery, whose options ask for
 //!   [`MAX_ORDER`]), not for a plain trajectory (orders 13 to 20 cost about the same there).
 
+use super::lanes::Jet;
 use super::{DenseOutput, Options, SolverError, Stats, Stepper, System};
 use crate::error::{Error, Result};
 use crate::simd::{Level, Simd, dispatched};
@@ -113,13 +114,13 @@ pub const INV: [f64; MAX_ORDER + 1] = {
 /// Σ_{j=0..=k} a_j b_{k−j}: the k-th coefficient of a product. (Split into several partial
 /// sums it measured slower here, not faster.)
 #[inline(always)]
-pub fn cauchy(a: &[f64], b: &[f64], k: usize) -> f64 {
+pub fn cauchy<J: Jet>(a: &[J], b: &[J], k: usize) -> J {
     // a plain loop from −0 (the sum an iterator's `sum` forms, to the bit): the iterator's fold
     // need not be inlined into a caller's recurrence
     let (a, b) = (&a[..=k], &b[..=k]);
-    let mut s = -0.0;
+    let mut s = J::splat(-0.0);
     for j in 0..k + 1 {
-        s += a[j] * b[k - j];
+        s = s + a[j] * b[k - j];
     }
     s
 }
@@ -127,18 +128,18 @@ pub fn cauchy(a: &[f64], b: &[f64], k: usize) -> f64 {
 /// (a²)_k = Σ_{j=0..=k} a_j a_{k−j} by the symmetric half of the sum: 2·Σ_{j<k/2} a_j a_{k−j},
 /// plus a_{k/2}² for even k.
 #[inline(always)]
-pub fn square_coefficient(a: &[f64], k: usize) -> f64 {
+pub fn square_coefficient<J: Jet>(a: &[J], k: usize) -> J {
     let a = &a[..=k];
-    let mut half = -0.0;
+    let mut half = J::splat(-0.0);
     for j in 0..k.div_ceil(2) {
-        half += a[j] * a[k - j];
+        half = half + a[j] * a[k - j];
     }
     let middle = if k.is_multiple_of(2) {
         a[k / 2] * a[k / 2]
     } else {
-        0.0
+        J::splat(0.0)
     };
-    2.0 * half + middle
+    J::splat(2.0) * half + middle
 }
 
 /// The dense output of one Taylor step: the step polynomial.

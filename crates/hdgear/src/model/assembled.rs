@@ -799,5 +799,5 @@ impl Model {
 
 mod lanes;
 mod system;
-pub use lanes::integrate_models;
+pub use lanes::{integrate_models, on_vector_lanes};
 use system::state;

@@ -3,19 +3,32 @@
 //! ([`super::switching`]). The Stribeck curve they share with LuGre is defined here.
 
 use super::jet::{
-    exp_coefficient, exp_step_limit, square_coefficient, tanh_coefficient, tanh_step_limit,
+    Jet, Lanes, cauchy, exp_coefficient, exp_step_limit, square_coefficient, tanh_coefficient,
+    tanh_step_limit,
 };
-use super::terms::{Domain, ParamInfo, Scratch, Side, Term, piece_sign};
+use super::terms::{Domain, LaneRows, MAX_ROWS, ParamInfo, Scratch, Side, Term, piece_sign};
+use crate::integrate::taylor::SCRATCH_ROWS;
 use serde::Serialize;
 
 /// The Stribeck curve g(v) = f_c + (f_s − f_c)·e^{−(v/v_st)²} the friction laws share
 /// ([`Stribeck`], [`Coulomb`], [`LuGre`]): its value, slope, parameter derivatives and Taylor
 /// rows, defined once.
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct Level {
-    pub(crate) fc: f64,
-    pub(crate) fs: f64,
-    pub(crate) vst: f64,
+pub(crate) struct Level<J = f64> {
+    pub(crate) fc: J,
+    pub(crate) fs: J,
+    pub(crate) vst: J,
+}
+
+impl<J: Jet> Level<J> {
+    /// Row k of g from v's rows 0..=k, keeping q = −(v/v_st)² and e^q in `q` and `e`.
+    #[inline(always)]
+    pub(crate) fn row(self, v: &[J], q: &mut [J], e: &mut [J], k: usize) -> J {
+        let Level { fc, fs, vst } = self;
+        q[k] = square_coefficient(v, k) * (J::splat(-1.0) / (vst * vst));
+        e[k] = exp_coefficient(q, e, k);
+        (fs - fc) * e[k] + if k == 0 { fc } else { J::splat(0.0) }
+    }
 }
 
 impl Level {
@@ -36,15 +49,6 @@ impl Level {
         let (.., e) = self.at(v);
         [1.0 - e, e, (fs - fc) * e * 2.0 * v * v / (vst * vst * vst)]
     }
-
-    /// Row k of g from v's rows 0..=k, keeping q = −(v/v_st)² and e^q in `q` and `e`.
-    #[inline(always)]
-    pub(crate) fn row(self, v: &[f64], q: &mut [f64], e: &mut [f64], k: usize) -> f64 {
-        let Level { fc, fs, vst } = self;
-        q[k] = square_coefficient(v, k) * (-1.0 / (vst * vst));
-        e[k] = exp_coefficient(q, e, k);
-        (fs - fc) * e[k] + if k == 0 { fc } else { 0.0 }
-    }
 }
 
 /// Smooth Coulomb friction f_c·tanh(x'/v_s): a regularised sign with velocity scale v_s.
@@ -54,6 +58,7 @@ pub struct Friction(pub [f64; 2]);
 impl Term for Friction {
     const KIND: &'static str = "friction";
     const ABOUT: &'static str = "smooth Coulomb friction f_c·tanh(x'/v_s)";
+    const ON_LANES: bool = true;
     const PARAMS: &'static [ParamInfo] = &[
         ParamInfo {
             name: "fc",
@@ -94,15 +99,21 @@ impl Term for Friction {
         let t = (v / vs).tanh();
         [t, -fc * (1.0 - t * t) * v / (vs * vs)][i]
     }
-    /// u = v/v_s (row 0), tanh u (row 1) and its square (row 2).
+    /// u = v/v_s (row 0), tanh u (row 1) and its square (row 2), on any `Jet` (one recurrence for
+    /// [`Term::taylor`] and [`Term::taylor_lanes`]).
     #[inline(always)]
     fn taylor(&self, k: usize, _x: &[f64], v: &[f64], _z: &[f64], rows: &mut Scratch) -> f64 {
-        let [fc, vs] = self.0;
-        let [u, t, sq, ..] = &mut rows.0;
-        u[k] = v[k] * (1.0 / vs);
-        t[k] = tanh_coefficient(u, sq, k);
-        sq[k] = square_coefficient(t, k);
-        fc * t[k]
+        friction_row(self.0, k, v, &mut rows.0)
+    }
+    #[inline(always)]
+    fn taylor_lanes(
+        values: &[Lanes],
+        k: usize,
+        _x: &[Lanes],
+        v: &[Lanes],
+        rows: &mut LaneRows,
+    ) -> Option<Lanes> {
+        Some(friction_row([values[0], values[1]], k, v, rows))
     }
     const LIMITS_STEPS: bool = true;
     /// tanh(x'/v_s) far from x' = 0 ([`tanh_step_limit`]).
@@ -178,6 +189,7 @@ impl Stribeck {
 impl Term for Stribeck {
     const KIND: &'static str = "stribeck";
     const ABOUT: &'static str = "Coulomb–Stribeck–viscous friction, regularised by tanh(x'/v_r)";
+    const ON_LANES: bool = true;
     const PARAMS: &'static [ParamInfo] = &[
         FRICTION_FC,
         FRICTION_FS,
@@ -219,16 +231,22 @@ impl Term for Stribeck {
         }
     }
     /// q = −(v/v_st)² (row 0), e^q (row 1), u = v/v_r (row 2), tanh u (row 3) and its square
-    /// (row 4); T_k = Σ_j (f_c[j = 0] + (f_s − f_c)e_j)·tanh_{k−j} + c_v v_k.
+    /// (row 4); T_k = Σ_j (f_c[j = 0] + (f_s − f_c)e_j)·tanh_{k−j} + c_v v_k, on any `Jet` (one
+    /// recurrence for [`Term::taylor`] and [`Term::taylor_lanes`]).
     #[inline(always)]
     fn taylor(&self, k: usize, _x: &[f64], v: &[f64], _z: &[f64], rows: &mut Scratch) -> f64 {
-        let [fc, fs, _, cv, vr] = self.0;
-        let [q, e, u, t, sq, ..] = &mut rows.0;
-        self.level().row(v, q, e, k);
-        u[k] = v[k] * (1.0 / vr);
-        t[k] = tanh_coefficient(u, sq, k);
-        sq[k] = square_coefficient(t, k);
-        fc * t[k] + (fs - fc) * super::jet::cauchy(e, t, k) + cv * v[k]
+        stribeck_row(self.0, k, v, &mut rows.0)
+    }
+    #[inline(always)]
+    fn taylor_lanes(
+        values: &[Lanes],
+        k: usize,
+        _x: &[Lanes],
+        v: &[Lanes],
+        rows: &mut LaneRows,
+    ) -> Option<Lanes> {
+        let p = [values[0], values[1], values[2], values[3], values[4]];
+        Some(stribeck_row(p, k, v, rows))
     }
     const LIMITS_STEPS: bool = true;
     /// The Stribeck factor e^q ([`exp_step_limit`]) and tanh(x'/v_r) far from x' = 0
@@ -246,6 +264,40 @@ impl Term for Stribeck {
         r" + \left(f_c + (f_s - f_c) e^{-(\dot x / v_{st})^2}\right) \tanh(\dot x / v_r) + c_v \dot x"
             .into()
     }
+}
+
+/// [`Friction`]'s row k on any [`Jet`]: u = v/v_s (row 0), tanh u (row 1) and its square
+/// (row 2).
+#[inline(always)]
+fn friction_row<J: Jet>(
+    [fc, vs]: [J; 2],
+    k: usize,
+    v: &[J],
+    rows: &mut [[J; MAX_ROWS]; SCRATCH_ROWS],
+) -> J {
+    let [u, t, sq, ..] = rows;
+    u[k] = v[k] * (J::splat(1.0) / vs);
+    t[k] = tanh_coefficient(u, sq, k);
+    sq[k] = square_coefficient(t, k);
+    fc * t[k]
+}
+
+/// [`Stribeck`]'s row k on any [`Jet`]: q = −(v/v_st)² (row 0), e^q (row 1), u = v/v_r
+/// (row 2), tanh u (row 3) and its square (row 4); T_k = Σ_j (f_c[j = 0] + (f_s − f_c)e_j)·
+/// tanh_{k−j} + c_v v_k.
+#[inline(always)]
+fn stribeck_row<J: Jet>(
+    [fc, fs, vst, cv, vr]: [J; 5],
+    k: usize,
+    v: &[J],
+    rows: &mut [[J; MAX_ROWS]; SCRATCH_ROWS],
+) -> J {
+    let [q, e, u, t, sq, ..] = rows;
+    Level { fc, fs, vst }.row(v, q, e, k);
+    u[k] = v[k] * (J::splat(1.0) / vr);
+    t[k] = tanh_coefficient(u, sq, k);
+    sq[k] = square_coefficient(t, k);
+    fc * t[k] + (fs - fc) * cauchy(e, t, k) + cv * v[k]
 }
 
 /// Coulomb–Stribeck–viscous friction with sticking, not regularised:

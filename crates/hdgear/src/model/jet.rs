@@ -23,20 +23,21 @@
 //! parameter): the reciprocal does not wait for the row, a division would.
 
 use super::terms::MAX_ROWS;
+pub use crate::integrate::lanes::{Jet, Lanes};
 use crate::integrate::taylor::INV;
 pub use crate::integrate::taylor::{cauchy, square_coefficient};
 
 /// Σ_{j=1..=k} j·u_j·w_{k−j} / k: the sum every recurrence of this module shares.
 #[inline(always)]
-fn weighted(u: &[f64], w: &[f64], k: usize) -> f64 {
+fn weighted<J: Jet>(u: &[J], w: &[J], k: usize) -> J {
     // rows 0..=k only: the loop's indices need no checks; the loops in this module run over
     // half-open ranges (an inclusive range's iterator costs an extra test at every turn)
     let (u, w) = (&u[..=k], &w[..k]);
-    let mut s = 0.0;
+    let mut s = J::splat(0.0);
     for j in 1..k + 1 {
-        s += j as f64 * u[j] * w[k - j];
+        s = s + J::splat(j as f64) * u[j] * w[k - j];
     }
-    s * INV[k - 1]
+    s * J::splat(INV[k - 1])
 }
 
 /// Row k of exp(u) from u's rows 0..=k and exp(u)'s rows 0..k.
@@ -50,9 +51,9 @@ fn weighted(u: &[f64], w: &[f64], k: usize) -> f64 {
 /// assert_eq!(e, [1.0, 2.0, 2.0, 4.0 / 3.0]);
 /// ```
 #[inline(always)]
-pub fn exp_coefficient(u: &[f64], e: &[f64], k: usize) -> f64 {
+pub fn exp_coefficient<J: Jet>(u: &[J], e: &[J], k: usize) -> J {
     if k == 0 {
-        u[0].exp()
+        u[0].map(f64::exp)
     } else {
         weighted(u, e, k)
     }
@@ -265,18 +266,18 @@ fn shorten(mut h: f64, converged: f64, relevant: impl Fn(f64) -> bool) -> f64 {
 /// Row k of tanh(u) from u's rows 0..=k, tanh(u)'s rows 0..k and `sq` = tanh(u)²'s rows 0..k
 /// (the caller keeps `sq` with [`square_coefficient`] once row k is known).
 #[inline(always)]
-pub fn tanh_coefficient(u: &[f64], sq: &[f64], k: usize) -> f64 {
+pub fn tanh_coefficient<J: Jet>(u: &[J], sq: &[J], k: usize) -> J {
     if k == 0 {
-        return u[0].tanh();
+        return u[0].map(f64::tanh);
     }
     // (1 − t²)_{k−j}: 1 − (t²)₀ at j = k, −(t²)_{k−j} below
     let (u, sq) = (&u[..=k], &sq[..k]);
-    let mut s = 0.0;
+    let mut s = J::splat(0.0);
     for j in 1..k {
-        s += j as f64 * u[j] * -sq[k - j];
+        s = s + J::splat(j as f64) * u[j] * -sq[k - j];
     }
-    s += k as f64 * u[k] * (1.0 - sq[0]);
-    s * INV[k - 1]
+    s = s + J::splat(k as f64) * u[k] * (J::splat(1.0) - sq[0]);
+    s * J::splat(INV[k - 1])
 }
 
 /// Rows k of (sin u, cos u) from u's rows 0..=k and their rows 0..k.

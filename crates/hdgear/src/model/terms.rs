@@ -10,7 +10,7 @@ pub use super::excitation::Multisine;
 pub(crate) use super::friction::Level;
 pub use super::friction::{Coulomb, Friction, Stribeck};
 pub(super) use super::friction::{FRICTION_FC, FRICTION_FS, STRIBECK_VELOCITY};
-use super::jet::square_coefficient;
+use super::jet::{Jet, Lanes, cauchy, square_coefficient};
 pub use super::memory::{BoucWen, LuGre};
 pub use super::mesh::KinematicError;
 pub use super::mesh_loss::MeshLoss;
@@ -26,6 +26,9 @@ pub const MAX_ROWS: usize = crate::integrate::taylor::MAX_ORDER + 1;
 /// A term's own Taylor rows (the coefficients of its intermediate functions, kept from order to
 /// order by [`Term::taylor`]): the Taylor stepper's, which keeps one set per term.
 pub use crate::integrate::taylor::Scratch;
+
+/// A term's own Taylor rows on [`Lanes`] ([`Term::taylor_lanes`]): a [`Scratch`] per lane.
+pub type LaneRows = [[Lanes; MAX_ROWS]; crate::integrate::taylor::SCRATCH_ROWS];
 
 /// Where a parameter may lie.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -185,6 +188,22 @@ pub trait Term: Copy {
     /// (called for k = 0, 1, 2, … in turn with the same `rows`, each after
     /// [`Term::rate_taylor`] of the same k).
     fn taylor(&self, k: usize, x: &[f64], v: &[f64], z: &[f64], rows: &mut Scratch) -> f64;
+    /// Whether the kind has [`Term::taylor_lanes`] (the tests hold the two together).
+    const ON_LANES: bool = false;
+    /// [`Term::taylor`] of [`LANES`](crate::batch::LANES) terms of this kind at once, for a
+    /// stateless kind whose recurrence is written once over [`Jet`] numbers: parameter i of
+    /// lane l in `values[i].0[l]`, x's and v's rows on lanes, the terms' own rows in `rows`.
+    /// Each lane gets what [`Term::taylor`] gives its own term, to the bit. `None` (the
+    /// default): the kind has no such copy, and a batch of it runs term by term.
+    fn taylor_lanes(
+        _values: &[Lanes],
+        _k: usize,
+        _x: &[Lanes],
+        _v: &[Lanes],
+        _rows: &mut LaneRows,
+    ) -> Option<Lanes> {
+        None
+    }
     /// For a term whose state is a phase turning at a constant rate (a dither's, a wave
     /// generator's, a multisine's): the index of that rate among its parameters. The defaults of
     /// the state's equation z' = p_i (its rate, derivatives and Taylor rows) follow from it.
@@ -282,6 +301,7 @@ pub struct Damping([f64; 0]);
 impl Term for Damping {
     const KIND: &'static str = "damping";
     const ABOUT: &'static str = "unit linear damping x' (the time scale makes it 1)";
+    const ON_LANES: bool = true;
     const PARAMS: &'static [ParamInfo] = &[];
     fn from_values(_: &[f64]) -> Self {
         Damping([])
@@ -302,6 +322,16 @@ impl Term for Damping {
     fn taylor(&self, k: usize, _x: &[f64], v: &[f64], _z: &[f64], _rows: &mut Scratch) -> f64 {
         v[k]
     }
+    #[inline(always)]
+    fn taylor_lanes(
+        _: &[Lanes],
+        k: usize,
+        _x: &[Lanes],
+        v: &[Lanes],
+        _: &mut LaneRows,
+    ) -> Option<Lanes> {
+        Some(v[k])
+    }
     fn text(&self) -> String {
         " + x'".into()
     }
@@ -318,6 +348,7 @@ pub struct Stiffness(pub [f64; 3]);
 impl Term for Stiffness {
     const KIND: &'static str = "stiffness";
     const ABOUT: &'static str = "cubic stiffness with backlash offset, αx³ − x² + γ(x − ε)";
+    const ON_LANES: bool = true;
     const PARAMS: &'static [ParamInfo] = &[
         ParamInfo {
             name: Param::Alpha.name(),
@@ -365,15 +396,21 @@ impl Term for Stiffness {
         let [_, gamma, eps] = self.0;
         [x * x * x, x - eps, -gamma][i]
     }
-    /// (x²)_k by its symmetric Cauchy sum into row 0, (x³)_k = Σ (x²)_j x_{k−j}.
+    /// (x²)_k by its symmetric Cauchy sum into row 0, (x³)_k = Σ (x²)_j x_{k−j}, on any `Jet`
+    /// (one recurrence for [`Term::taylor`] and [`Term::taylor_lanes`]).
     #[inline(always)]
     fn taylor(&self, k: usize, x: &[f64], _v: &[f64], _z: &[f64], rows: &mut Scratch) -> f64 {
-        let [alpha, gamma, eps] = self.0;
-        let sq = &mut rows.0[0];
-        sq[k] = square_coefficient(x, k);
-        let cube = super::jet::cauchy(sq, x, k);
-        let linear = gamma * x[k] - if k == 0 { gamma * eps } else { 0.0 };
-        alpha * cube - sq[k] + linear
+        stiffness_row(self.0, k, x, &mut rows.0)
+    }
+    #[inline(always)]
+    fn taylor_lanes(
+        values: &[Lanes],
+        k: usize,
+        x: &[Lanes],
+        _v: &[Lanes],
+        rows: &mut LaneRows,
+    ) -> Option<Lanes> {
+        Some(stiffness_row([values[0], values[1], values[2]], k, x, rows))
     }
     fn text(&self) -> String {
         " + αx³ − x² + γ(x − ε)".into()
@@ -381,6 +418,22 @@ impl Term for Stiffness {
     fn latex(&self) -> String {
         r" + \alpha x^3 - x^2 + \gamma (x - \varepsilon)".into()
     }
+}
+
+/// [`Stiffness`]'s row k on any [`Jet`]: (x²)_k by its symmetric Cauchy sum into row 0,
+/// (x³)_k = Σ (x²)_j x_{k−j}.
+#[inline(always)]
+fn stiffness_row<J: Jet>(
+    [alpha, gamma, eps]: [J; 3],
+    k: usize,
+    x: &[J],
+    rows: &mut [[J; MAX_ROWS]; crate::integrate::taylor::SCRATCH_ROWS],
+) -> J {
+    let sq = &mut rows[0];
+    sq[k] = square_coefficient(x, k);
+    let cube = cauchy(sq, x, k);
+    let linear = gamma * x[k] - if k == 0 { gamma * eps } else { J::splat(0.0) };
+    alpha * cube - sq[k] + linear
 }
 
 /// Declares [`AnyTerm`] over the term types and forwards [`Term`]'s methods to them: the one
@@ -479,6 +532,15 @@ macro_rules! any_term {
             #[inline(always)]
             pub fn taylor(&self, k: usize, x: &[f64], v: &[f64], z: &[f64], rows: &mut Scratch) -> f64 {
                 match self { $(AnyTerm::$variant(t) => t.taylor(k, x, v, z, rows),)* }
+            }
+            /// Whether its kind runs on vector lanes ([`Term::ON_LANES`]).
+            pub fn on_lanes(&self) -> bool {
+                match self { $(AnyTerm::$variant(_) => $variant::ON_LANES,)* }
+            }
+            /// [`Term::taylor_lanes`] of its kind, with the lanes' parameters `values`.
+            #[inline(always)]
+            pub fn taylor_lanes(&self, values: &[Lanes], k: usize, x: &[Lanes], v: &[Lanes], rows: &mut LaneRows) -> Option<Lanes> {
+                match self { $(AnyTerm::$variant(_) => $variant::taylor_lanes(values, k, x, v, rows),)* }
             }
             /// z' of its internal state ([`Term::rate`]).
             #[inline]

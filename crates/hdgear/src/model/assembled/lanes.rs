@@ -9,14 +9,19 @@
 //! ([`Taylor::begin`], [`Taylor::finish`]): a lane's steps are those of the scalar stepper, to
 //! the bit.
 //!
-//! The lanes need not share a structure: each runs its own model's terms. Models that switch
+//! Models that share one structure of terms that each have a copy on vector lanes
+//! ([`on_vector_lanes`]: the study's terms, smooth and Stribeck friction) run one pass for all
+//! sixteen on [`Lanes`], each term's recurrence written once over [`Jet`] numbers so that every
+//! lane computes what its scalar pass does, in the same order. Otherwise the lanes need not share
+//! a structure: each runs its own model's terms, interleaved. Models that switch
 //! ([`Model::switches`]: sgn x', |z|) are stepped piece by piece by [`crate::model::switching`],
 //! and a delayed feedback needs its run's history; the batch refuses both.
 
-use super::Model;
+use super::{MAX_TERMS, Model};
 use crate::error::{Error, Result};
-use crate::integrate::lanes::{LANES, LaneResult, check_inputs};
+use crate::integrate::lanes::{Jet, LANES, LaneResult, Lanes, check_inputs};
 use crate::integrate::{Options, Stepper, Taylor, TaylorDense};
+use crate::model::terms::{LaneRows, MAX_ROWS};
 use crate::simd::{Level, Simd, dispatched};
 
 /// Integrates each of `models` from its start `starts[i]` at τ = 0 over its span
@@ -127,38 +132,30 @@ dispatched! {
     fn run_on['m, const N: usize](lanes: &mut [Lane<'m, N>], show: &mut dyn FnMut(usize, &TaylorDense<N>)) -> () = run::<FMA, N>(lanes, show)
 }
 
-/// Steps every lane to its end: each round, one step of every lane still running, their
-/// passes interleaved order by order.
+/// Steps every lane to its end: each round, one step of every lane still running. Models that
+/// share one structure of terms that all have a copy on vector lanes ([`on_vector_lanes`]) run
+/// their passes as one on [`Lanes`] ([`run_vector`]); others run their passes interleaved
+/// order by order.
 #[inline(always)]
 fn run<const FMA: bool, const N: usize>(
     lanes: &mut [Lane<'_, N>],
     show: &mut dyn FnMut(usize, &TaylorDense<N>),
 ) {
+    if same_structure(lanes.iter().map(|lane| lane.model)) {
+        return run_vector::<FMA, N>(lanes, show);
+    }
     let mut scales = [[0.0; N]; LANES];
     let mut passes: [Option<super::system::Pass>; LANES] = [const { None }; LANES];
     loop {
         // which lanes step this round, with the weights of their step rule
         let mut running = 0;
         for (l, lane) in lanes.iter_mut().enumerate() {
-            passes[l] = None;
-            if lane.end.is_some() {
-                continue;
-            }
-            match lane.stepper.begin(lane.span.1) {
-                Ok(Some(scale)) => {
-                    scales[l] = scale;
-                    let (t, y, p, ..) = lane.stepper.rows_mut();
-                    passes[l] = Some(lane.model.pass(t, y, p));
-                    running += 1;
-                }
-                Ok(None) => {
-                    lane.end = Some(Ok(LaneResult {
-                        y: *lane.stepper.y(),
-                        steps: lane.stepper.stats().steps,
-                    }))
-                }
-                Err(e) => lane.end = Some(Err(e)),
-            }
+            passes[l] = lane.begin().map(|scale| {
+                scales[l] = scale;
+                running += 1;
+                let (t, y, p, ..) = lane.stepper.rows_mut();
+                lane.model.pass(t, y, p)
+            });
         }
         if running == 0 {
             return;
@@ -178,16 +175,197 @@ fn run<const FMA: bool, const N: usize>(
             let Some(pass) = pass else { continue };
             let (.., c, _) = lane.stepper.rows_mut();
             let n = pass.finish(c);
-            let mut h = lane.stepper.rule::<FMA>(&scales[l]);
-            if lane.model.limits_steps() {
-                let atol = lane.stepper.options().atol;
-                h = lane.model.limit_step(lane.stepper.work(), n, h, atol);
+            lane.step::<FMA>(l, n, &scales[l], show);
+        }
+    }
+}
+
+/// The most parameters a term on vector lanes has ([`run_vector`]).
+const LANE_PARAMS: usize = 5;
+
+/// Whether [`integrate_models`] runs the passes of `models` on vector lanes, all sixteen of a
+/// chunk at once: when they share one structure (the same kinds of term in the same slots, all
+/// held or none) of terms that each have a copy on lanes
+/// ([`crate::model::terms::AnyTerm::on_lanes`]: the study's terms and the smooth friction laws).
+/// Other batches run their lanes' passes interleaved, each on its own model. Either way each
+/// lane takes the scalar stepper's steps to the bit.
+///
+/// ```
+/// use hdgear::model::{Model, on_vector_lanes, terms::AnyTerm};
+/// use hdgear::Params;
+/// let friction = |fc: f64| {
+///     Model::study(&Params::default())
+///         .with_term(AnyTerm::new("friction", &[fc, 0.01]).unwrap())
+///         .unwrap()
+/// };
+/// assert!(on_vector_lanes(&[friction(0.1), friction(0.3)]));
+/// // a model without the friction term has another structure
+/// assert!(!on_vector_lanes(&[friction(0.1), Model::study(&Params::default())]));
+/// ```
+pub fn on_vector_lanes(models: &[Model]) -> bool {
+    same_structure(models.iter())
+}
+
+/// [`on_vector_lanes`] of the models `models` yields.
+fn same_structure<'m>(mut models: impl Iterator<Item = &'m Model>) -> bool {
+    let mut first = None;
+    models.all(|m| {
+        let first: &Model = first.get_or_insert(m);
+        m.held == first.held
+            && m.terms.iter().zip(&first.terms).all(|pair| match pair {
+                (None, None) => true,
+                (Some(a), Some(b)) => {
+                    a.kind() == b.kind() && a.on_lanes() && a.values().len() <= LANE_PARAMS
+                }
+                _ => false,
+            })
+    })
+}
+
+/// [`run`] for lanes whose models share a structure of terms on vector lanes: each round one
+/// pass of every lane at once on [`Lanes`] (each term's [`crate::model::terms::AnyTerm::taylor_lanes`], the lanes'
+/// parameters side by side), which gives each lane the rows of its scalar pass to the bit; then
+/// each lane's step on its rows as the scalar stepper takes it.
+#[inline(always)]
+fn run_vector<const FMA: bool, const N: usize>(
+    lanes: &mut [Lane<'_, N>],
+    show: &mut dyn FnMut(usize, &TaylorDense<N>),
+) {
+    use crate::integrate::taylor::{INV, SCRATCH_ROWS};
+    let zero = Lanes([0.0; LANES]);
+    let model = lanes[0].model;
+    let params = lane_params(lanes);
+    let mut rows: Box<[LaneRows; MAX_TERMS]> =
+        Box::new([[[zero; MAX_ROWS]; SCRATCH_ROWS]; MAX_TERMS]);
+    let moving = Lanes::splat(if model.held { 0.0 } else { 1.0 });
+    // the slots of the terms that limit steps
+    let limiting: Vec<usize> = (0..MAX_TERMS)
+        .filter(|&i| model.terms[i].is_some_and(|t| t.limits_steps()))
+        .collect();
+    let mut scales = [[0.0; N]; LANES];
+    let mut running = [false; LANES];
+    // the order and the present terms, the same on every lane (one structure, one tolerance)
+    let pass = {
+        let (t, y, p, ..) = lanes[0].stepper.rows_mut();
+        model.pass(t, y, p)
+    };
+    let n = pass.n;
+    let mut f_lane = [0.0; MAX_ROWS];
+    loop {
+        // the forcing's rows and the state's row 0 of every lane that steps this round
+        let (mut f, mut s) = ([zero; MAX_ROWS], [[zero; MAX_ROWS]; 2]);
+        let mut any = false;
+        for (l, lane) in lanes.iter_mut().enumerate() {
+            running[l] = false;
+            let Some(scale) = lane.begin() else { continue };
+            (scales[l], running[l], any) = (scale, true, true);
+            let (t, y, ..) = lane.stepper.rows_mut();
+            lane.model.forcing_rows(t, n, &mut f_lane);
+            for (fk, &v) in f.iter_mut().zip(&f_lane[..=n]) {
+                fk.0[l] = v;
             }
-            match lane.stepper.finish::<FMA>(lane.span.1, h) {
-                Ok(()) if lane.stepper.t() > lane.span.0 => show(l, &lane.stepper.dense()),
-                Ok(()) => {}
-                Err(e) => lane.end = Some(Err(e)),
+            (s[0][0].0[l], s[1][0].0[l]) = (y[0], y[1]);
+        }
+        if !any {
+            return;
+        }
+        // the pass on the lanes, as `Model::pass_row` runs it on one
+        for k in 0..=n {
+            let mut acc = f[k];
+            for &(i, _) in &pass.live[..pass.m] {
+                let Some(term) = &model.terms[i] else {
+                    continue;
+                };
+                if let Some(t) = term.taylor_lanes(&params[i], k, &s[0], &s[1], &mut rows[i]) {
+                    acc = acc - t;
+                }
             }
+            if k == n {
+                break;
+            }
+            s[0][k + 1] = moving * s[1][k] * Lanes::splat(INV[k]);
+            s[1][k + 1] = moving * acc * Lanes::splat(INV[k]);
+        }
+        // each lane's rows back to its stepper, then its step
+        for (l, lane) in lanes.iter_mut().enumerate() {
+            if !running[l] {
+                continue;
+            }
+            let (.., c, work) = lane.stepper.rows_mut();
+            for (k, ck) in c.iter_mut().enumerate().take(n + 1) {
+                for (i, v) in ck.iter_mut().enumerate().take(2) {
+                    *v = s[i][k].0[l];
+                }
+            }
+            // the rows of the terms that limit steps, which the limits read
+            for &i in &limiting {
+                for (row, lane_row) in work[i].0.iter_mut().zip(&rows[i]) {
+                    for (v, lv) in row.iter_mut().zip(lane_row).take(n + 1) {
+                        *v = lv.0[l];
+                    }
+                }
+            }
+            lane.step::<FMA>(l, n, &scales[l], show);
+        }
+    }
+}
+
+/// Each term's parameters on the lanes, by slot: parameter j of lane l's term in slot i at
+/// `[i][j].0[l]`; a lane past the models' count repeats lane 0's.
+fn lane_params<const N: usize>(lanes: &[Lane<'_, N>]) -> [[Lanes; LANE_PARAMS]; MAX_TERMS] {
+    let mut params = [[Lanes([0.0; LANES]); LANE_PARAMS]; MAX_TERMS];
+    for l in 0..LANES {
+        let lane_model = lanes.get(l).unwrap_or(&lanes[0]).model;
+        for (slot, term) in params.iter_mut().zip(&lane_model.terms) {
+            for (p, &v) in slot.iter_mut().zip(term.iter().flat_map(|t| t.values())) {
+                p.0[l] = v;
+            }
+        }
+    }
+    params
+}
+
+impl<const N: usize> Lane<'_, N> {
+    /// The start of the lane's step ([`Taylor::begin`]): the weights of its step rule, or `None`
+    /// when it has stopped (its outcome then kept).
+    #[inline(always)]
+    fn begin(&mut self) -> Option<[f64; N]> {
+        if self.end.is_some() {
+            return None;
+        }
+        match self.stepper.begin(self.span.1) {
+            Ok(Some(scale)) => return Some(scale),
+            Ok(None) => {
+                self.end = Some(Ok(LaneResult {
+                    y: *self.stepper.y(),
+                    steps: self.stepper.stats().steps,
+                }))
+            }
+            Err(e) => self.end = Some(Err(e)),
+        }
+        None
+    }
+
+    /// The lane's step on the rows of its pass to order `n` (in its stepper), as the scalar
+    /// stepper takes it: the rule with the weights `scale`, the terms' limits, the step and its
+    /// checks; a step that ends past the span's start is shown as lane `l`'s.
+    #[inline(always)]
+    fn step<const FMA: bool>(
+        &mut self,
+        l: usize,
+        n: usize,
+        scale: &[f64; N],
+        show: &mut dyn FnMut(usize, &TaylorDense<N>),
+    ) {
+        let mut h = self.stepper.rule::<FMA>(scale);
+        if self.model.limits_steps() {
+            let atol = self.stepper.options().atol;
+            h = self.model.limit_step(self.stepper.work(), n, h, atol);
+        }
+        match self.stepper.finish::<FMA>(self.span.1, h) {
+            Ok(()) if self.stepper.t() > self.span.0 => show(l, &self.stepper.dense()),
+            Ok(()) => {}
+            Err(e) => self.end = Some(Err(e)),
         }
     }
 }

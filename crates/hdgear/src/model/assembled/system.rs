@@ -116,12 +116,9 @@ impl Model {
     /// ([`super::lanes`]).
     #[inline(always)]
     pub(super) fn pass<const N: usize>(&self, t: f64, y: &[f64; N], order: usize) -> Pass {
-        use crate::integrate::taylor::{MAX_ORDER, forcing_coefficients};
-        let n = order.min(MAX_ORDER);
-        let [mu, delta, omega] = self.forcing;
+        let n = order.min(crate::integrate::taylor::MAX_ORDER);
         let mut f = [0.0; MAX_ROWS];
-        forcing_coefficients(delta, omega, t, n, &mut f);
-        f[0] += mu;
+        self.forcing_rows(t, n, &mut f);
         // rows of x, v and the internal states (a state's absent rows stay 0)
         let mut s = [[0.0; MAX_ROWS]; 2 + MAX_STATES];
         for (row, &y) in s.iter_mut().zip(y) {
@@ -137,6 +134,14 @@ impl Model {
             }
         }
         Pass { n, f, s, live, m }
+    }
+
+    /// The forcing's rows 0..=n through t into `f`: μ[k = 0] + δ·(sin ωt)_k.
+    #[inline(always)]
+    pub(super) fn forcing_rows(&self, t: f64, n: usize, f: &mut [f64; MAX_ROWS]) {
+        let [mu, delta, omega] = self.forcing;
+        crate::integrate::taylor::forcing_coefficients(delta, omega, t, n, f);
+        f[0] += mu;
     }
 
     /// Row k of the acceleration and of the states' rates, the terms' rows kept in `rows`, and
@@ -204,13 +209,13 @@ pub(super) struct Pass {
     /// The pass's order.
     pub(super) n: usize,
     /// The forcing's rows μ[k = 0] + δ·(sin ωt)_k.
-    f: [f64; MAX_ROWS],
+    pub(super) f: [f64; MAX_ROWS],
     /// The rows of x, v and the internal states.
-    s: [[f64; MAX_ROWS]; 2 + MAX_STATES],
+    pub(super) s: [[f64; MAX_ROWS]; 2 + MAX_STATES],
     /// The present terms: their slots and their states' indices.
-    live: [(usize, Option<usize>); MAX_TERMS],
+    pub(super) live: [(usize, Option<usize>); MAX_TERMS],
     /// How many of `live` are present.
-    m: usize,
+    pub(super) m: usize,
 }
 
 impl Pass {
