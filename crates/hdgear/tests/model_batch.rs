@@ -16,15 +16,7 @@ use crate::common::uniform;
 /// kinds that switch (sgn x', |z|) or delay, and assemblies a model refuses, are drawn again.
 /// Returns the model with its dimension.
 fn random_smooth_model(u: &mut impl FnMut() -> f64) -> Model {
-    let p = Params {
-        alpha: 0.5 + 20.0 * u(),
-        gamma: -0.5 + 5.0 * u(),
-        eps: -1.0 + 3.0 * u(),
-        mu: -1.0 + 2.0 * u(),
-        delta: 10.0 * u(),
-        omega: 0.01 + u(),
-    };
-    let mut m = Model::study(&p);
+    let mut m = Model::study(&random_params(u));
     let extra = (u() * 4.0) as usize;
     let mut tries = 0;
     while m.terms().count() < 2 + extra && tries < 50 {
@@ -43,6 +35,19 @@ fn random_smooth_model(u: &mut impl FnMut() -> f64) -> Model {
         }
     }
     m
+}
+
+/// The study's parameters at random, over ranges that hold folds, single-branch curves and
+/// both signs of the load.
+fn random_params(u: &mut impl FnMut() -> f64) -> Params {
+    Params {
+        alpha: 0.5 + 20.0 * u(),
+        gamma: -0.5 + 5.0 * u(),
+        eps: -1.0 + 3.0 * u(),
+        mu: -1.0 + 2.0 * u(),
+        delta: 10.0 * u(),
+        omega: 0.01 + u(),
+    }
 }
 
 /// A value of parameter `q`: a whole number from 1 to 4 for an exponent or a line, up to 0.5
@@ -265,14 +270,7 @@ fn models_of_one_structure_take_the_scalar_steppers_steps_on_vector_lanes() {
     for extra in [&[][..], &["friction"], &["stribeck"]] {
         let models: Vec<Model> = (0..LANES + 5)
             .map(|_| {
-                let p = Params {
-                    alpha: 0.5 + 20.0 * u(),
-                    gamma: -0.5 + 5.0 * u(),
-                    eps: -1.0 + 3.0 * u(),
-                    mu: -1.0 + 2.0 * u(),
-                    delta: 10.0 * u(),
-                    omega: 0.01 + u(),
-                };
+                let p = random_params(&mut u);
                 extra.iter().fold(Model::study(&p), |m, kind| {
                     let params = AnyTerm::params_of(kind).unwrap();
                     let values: Vec<f64> = params.iter().map(|q| draw(q, &mut u)).collect();
