@@ -104,7 +104,7 @@ pub fn tanh_step_limit(
     // sech²(u₀) = 4e/(1 + e)² with e = e^{−2|u₀|}, and 4e is the bound's value at the start
     let bound = |least: f64| 4.0 * (-2.0 * least.max(0.0)).exp();
     let start = bound(u[0].abs());
-    let sech2 = start / ((1.0 + 0.25 * start) * (1.0 + 0.25 * start));
+    let sech2 = sech_squared(start);
     let converged = if sech2 > 1e-14 {
         within_tolerance(
             own_step(sech2, sq[order - 1].abs(), sq[order].abs(), order),
@@ -118,6 +118,11 @@ pub fn tanh_step_limit(
     shorten(h, converged, |h| {
         amplitude * (bound(u[0].abs() - tail_bound(u, order, h)) - start) > negligible
     })
+}
+
+/// sech²(u) = 4e/(1 + e)² from `bound` = 4e, e = e^{−2|u|} (the tanh bound's value at u).
+fn sech_squared(bound: f64) -> f64 {
+    bound / ((1.0 + 0.25 * bound) * (1.0 + 0.25 * bound))
 }
 
 /// [`exp_step_limit`] for a term `amplitude`·√(y(t)² + r²), a corner |y| rounded over r, with
@@ -392,8 +397,7 @@ mod tests {
     fn sech_squared_from_the_bound_is_the_hyperbolic_one() {
         // tanh_step_limit's sech²(u₀) = 4e/(1 + e)², e = e^{−2|u₀|}, against 1/cosh²
         for u in [0.0, 1e-3, -0.4, 2.5, -17.0, 300.0] {
-            let start = 4.0 * (-2.0 * f64::abs(u)).exp();
-            let sech2 = start / ((1.0 + 0.25 * start) * (1.0 + 0.25 * start));
+            let sech2 = sech_squared(4.0 * (-2.0 * f64::abs(u)).exp());
             let exact = 1.0 / (u.cosh() * u.cosh());
             assert!(
                 (sech2 - exact).abs() <= 1e-15 * exact,

@@ -209,9 +209,9 @@ pub(super) struct Pass {
     /// The pass's order.
     pub(super) n: usize,
     /// The forcing's rows μ[k = 0] + δ·(sin ωt)_k.
-    pub(super) f: [f64; MAX_ROWS],
+    f: [f64; MAX_ROWS],
     /// The rows of x, v and the internal states.
-    pub(super) s: [[f64; MAX_ROWS]; 2 + MAX_STATES],
+    s: [[f64; MAX_ROWS]; 2 + MAX_STATES],
     /// The present terms: their slots and their states' indices.
     pub(super) live: [(usize, Option<usize>); MAX_TERMS],
     /// How many of `live` are present.
