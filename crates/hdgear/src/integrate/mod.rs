@@ -16,6 +16,7 @@
 //! assert!((s.y()[0] - 10f64.sin()).abs() < 1e-9);
 //! ```
 
+pub(crate) mod approx;
 mod dop853;
 pub mod events;
 pub(crate) mod lanes;

@@ -22,6 +22,7 @@
 //!   other work (the variational equations of the periodic machinery, whose options ask for
 //!   [`MAX_ORDER`]), not for a plain trajectory (orders 13 to 20 cost about the same there).
 
+use super::approx;
 use super::lanes::Jet;
 use super::{DenseOutput, Options, SolverError, Stats, Stepper, System};
 use crate::error::{Error, Result};
@@ -236,15 +237,22 @@ fn step_size<const FMA: bool, const N: usize>(
     c: &[[f64; N]],
     scale: &[f64; N],
 ) -> f64 {
-    // (a NaN coefficient, from an overflow in the recurrences, makes the norm NaN: f64::max
-    // would drop it and take an infinite step)
-    let norm = |row: &[f64; N]| {
-        (0..N).fold(0.0f64, |m, i| {
-            let v = row[i].abs() * scale[i];
-            if v <= m { m } else { v }
-        })
-    };
+    let norm = |row: &[f64; N]| weighted_norm(|i| row[i], scale);
     step_from_norms::<FMA, false>(p, shift, norm(&c[p - 1]), norm(&c[p]))
+}
+
+/// max_i |`component(i)`|·`scale[i]`, the weighted max-norm of a coefficient row. A NaN component
+/// (from an overflow in the recurrences) last in the row makes it NaN, where f64::max would drop
+/// it and allow an infinite step.
+#[inline(always)]
+pub(crate) fn weighted_norm<const N: usize>(
+    component: impl Fn(usize) -> f64,
+    scale: &[f64; N],
+) -> f64 {
+    (0..N).fold(0.0f64, |m, i| {
+        let v = component(i).abs() * scale[i];
+        if v <= m { m } else { v }
+    })
 }
 
 /// [`step_size`] capped at `h_max`.
@@ -427,6 +435,12 @@ impl<'s, S: System<N> + ?Sized, const N: usize> Taylor<'s, S, N> {
         capped_step::<FMA, N>(self.order, self.shift, self.opts.h_max, &self.c, scale)
     }
 
+    /// The step rule's order p, its shift s ([`rule`]) and the options' largest step: what
+    /// [`Taylor::rule`] takes besides the coefficients and the weights.
+    pub(crate) fn rule_parts(&self) -> (usize, f64, Option<f64>) {
+        (self.order, self.shift, self.opts.h_max)
+    }
+
     /// The system's own rows of the last pass.
     pub(crate) fn work(&self) -> &Workspace {
         &self.work
@@ -535,10 +549,9 @@ pub(crate) fn mul_add<const FMA: bool>(a: f64, b: f64, c: f64) -> f64 {
 
 /// The Jorba–Zou step for order `p` from the scaled norms of the last two coefficient rows:
 /// h = e^{−s − 0.7/(p−1)}·min(n₁^{−1/(p−1)}, n₂^{−1/p}), `s` from [`rule`] (2 at Jorba–Zou's
-/// order). `POLY` takes the logarithms and the exponential from the short polynomials below
-/// (1e-9: a step rule is a heuristic, that changes nothing measurable), which vectorise over the
-/// batch's lanes; one step alone is faster with the library's `ln` and `exp`, whose table
-/// lookups make shorter dependency chains.
+/// order). `POLY` takes the logarithms and the exponential from the short polynomials of
+/// [`approx`] (1e-9: a step rule is a heuristic), which vectorise over the batch's lanes; one
+/// step alone is faster with the library's `ln` and `exp`.
 #[inline(always)]
 pub(crate) fn step_from_norms<const FMA: bool, const POLY: bool>(
     p: usize,
@@ -547,92 +560,21 @@ pub(crate) fn step_from_norms<const FMA: bool, const POLY: bool>(
     n2: f64,
 ) -> f64 {
     let (l1, l2) = if POLY {
-        ln_pair::<FMA>(n1, n2)
+        approx::ln_pair::<FMA>(n1, n2)
     } else {
         (n1.ln(), n2.ln())
     };
-    let ln_rho = (-l1 * INV[p - 2]).min(-l2 * INV[p - 1]);
-    let x = ln_rho - s - 0.7 * INV[p - 2];
-    if POLY { exp::<FMA>(x) } else { x.exp() }
+    let x = ln_step::<f64>(p, s, l1, l2);
+    if POLY { approx::exp::<FMA>(x) } else { x.exp() }
 }
 
-/// 1.5·2⁵²: adding and subtracting it rounds a double below 2⁵¹ in size to an integer, and a
-/// double in [2⁵², 2⁵³) holds the integer in its low mantissa bits. Both stay in the vector
-/// unit (a conversion to i64 and back does not, without AVX-512DQ).
-const ROUND: f64 = 6_755_399_441_055_744.0;
-/// 2⁵².
-const TWO_52: f64 = 4_503_599_627_370_496.0;
-
-/// ln(a), ln(b) to ~1e-9 for the step rule: exponents from the bits, each mantissa m ∈ [√½, √2)
-/// by ln(m) = 2·atanh((m − 1)/(m + 1)) to the 9th power, both quotients from one division. 0 gives a
-/// huge negative number, so a vanishing coefficient allows an unbounded step, as the exact rule
-/// does.
+/// ln h of [`step_from_norms`] from the logarithms `l1`, `l2` of the norms: ln ρ − s − 0.7/(p − 1),
+/// ln ρ = min(−l₁/(p − 1), −l₂/p). On any [`Jet`]: the step rule's and the terms' own
+/// ([`crate::model::jet::exp_step_limit`]) from one formula.
 #[inline(always)]
-fn ln_pair<const FMA: bool>(a: f64, b: f64) -> (f64, f64) {
-    let split = |x: f64| {
-        let e = exponent(x);
-        let m = f64::from_bits((x.to_bits() & 0x000f_ffff_ffff_ffff) | 1.0f64.to_bits());
-        // m ∈ [√½, √2): |z| ≤ 0.172, the series' remainder below 1e-9
-        let big = m > std::f64::consts::SQRT_2;
-        (if big { e + 1.0 } else { e }, if big { 0.5 * m } else { m })
-    };
-    let ((ea, ma), (eb, mb)) = (split(a), split(b));
-    let d = 1.0 / ((ma + 1.0) * (mb + 1.0));
-    let (za, zb) = ((ma - 1.0) * (mb + 1.0) * d, (mb - 1.0) * (ma + 1.0) * d);
-    let ln = |e: f64, z: f64| {
-        let z2 = z * z;
-        let fma = mul_add::<FMA>;
-        let series = fma(
-            z2,
-            fma(
-                z2,
-                fma(z2, fma(z2, 1.0 / 9.0, 1.0 / 7.0), 1.0 / 5.0),
-                1.0 / 3.0,
-            ),
-            1.0,
-        );
-        fma(e, std::f64::consts::LN_2, 2.0 * z * series)
-    };
-    (ln(ea, za), ln(eb, zb))
-}
-
-/// exp(x) to ~1e-9 relative for the step rule (x well inside ±700): 2^k by the exponent bits, the
-/// rest by its Taylor series to the 8th power on |r| ≤ ln 2/2 (remainder < 2e-10).
-#[inline(always)]
-fn exp<const FMA: bool>(x: f64) -> f64 {
-    const INV_FACTORIAL: [f64; 9] = {
-        let mut t = [1.0; 9];
-        let mut k = 1;
-        while k < 9 {
-            t[k] = t[k - 1] / k as f64;
-            k += 1;
-        }
-        t
-    };
-    let fma = mul_add::<FMA>;
-    let x = x.clamp(-700.0, 700.0);
-    let k = (x * std::f64::consts::LOG2_E + ROUND) - ROUND;
-    let r = fma(-k, std::f64::consts::LN_2, x);
-    let mut poly = INV_FACTORIAL[8];
-    for c in INV_FACTORIAL[..8].iter().rev() {
-        poly = fma(poly, r, *c);
-    }
-    poly * pow2(k)
-}
-
-/// The binary exponent e of a positive finite x (x = m·2^e, m ∈ [1, 2); −1023 for 0 and
-/// subnormals), as a double, from the bits alone (it stays in the vector unit).
-#[inline(always)]
-pub(crate) fn exponent(x: f64) -> f64 {
-    // the biased exponent as the low bits of a double in [2⁵², 2⁵³)
-    f64::from_bits((x.to_bits() >> 52) | TWO_52.to_bits()) - (TWO_52 + 1023.0)
-}
-
-/// 2^k for an integer k ∈ [−1022, 1023] held in a double: k + 1023 in the low mantissa bits,
-/// shifted into the exponent field.
-#[inline(always)]
-pub(crate) fn pow2(k: f64) -> f64 {
-    f64::from_bits((k + (TWO_52 + 1023.0)).to_bits() << 52)
+pub(crate) fn ln_step<J: Jet>(p: usize, s: J, l1: J, l2: J) -> J {
+    let ln_rho = (-l1 * J::splat(INV[p - 2])).min(-l2 * J::splat(INV[p - 1]));
+    ln_rho - s - J::splat(0.7 * INV[p - 2])
 }
 
 #[cfg(test)]
@@ -667,23 +609,6 @@ mod tests {
                     );
                 }
             }
-        }
-    }
-
-    #[test]
-    fn fast_ln_and_exp_are_close() {
-        let xs = [1e-300, 1e-20, 0.3, 1.0, 1.7, 1.999, 123.0, 1e200];
-        for &a in &xs {
-            for &b in &xs {
-                let (la, lb) = super::ln_pair::<false>(a, b);
-                for (x, l) in [(a, la), (b, lb)] {
-                    assert!((l - x.ln()).abs() <= 1e-9 * x.ln().abs().max(1.0), "{x}");
-                }
-            }
-        }
-        for &x in &[-600.0, -30.0, -2.7, 0.0, 1.3, 50.0] {
-            let e: f64 = f64::exp(x);
-            assert!((super::exp::<false>(x) - e).abs() <= 1e-9 * e, "{x}");
         }
     }
 }

@@ -118,8 +118,16 @@ impl Term for Friction {
     const LIMITS_STEPS: bool = true;
     /// tanh(x'/v_s) far from x' = 0 ([`tanh_step_limit`]).
     fn step_limit(&self, rows: &Scratch, order: usize, h: f64, negligible: f64) -> f64 {
-        let [u, _, sq, ..] = &rows.0;
-        tanh_step_limit(u, sq, order, h, self.0[0], negligible)
+        friction_limit(self.0[0], &rows.0, order, h, negligible)
+    }
+    fn step_limit_lanes(
+        values: &[Lanes],
+        rows: &LaneRows,
+        order: usize,
+        h: Lanes,
+        negligible: Lanes,
+    ) -> Lanes {
+        friction_limit(values[0], rows, order, h, negligible)
     }
     fn text(&self) -> String {
         " + f_c·tanh(x'/v_s)".into()
@@ -253,9 +261,16 @@ impl Term for Stribeck {
     /// ([`tanh_step_limit`]).
     fn step_limit(&self, rows: &Scratch, order: usize, h: f64, negligible: f64) -> f64 {
         let [fc, fs, ..] = self.0;
-        let [q, e, u, _, sq, ..] = &rows.0;
-        let h = exp_step_limit(q, e, order, h, (fs - fc).abs(), negligible);
-        tanh_step_limit(u, sq, order, h, fc.max(fs), negligible)
+        stribeck_limit([fc, fs], &rows.0, order, h, negligible)
+    }
+    fn step_limit_lanes(
+        values: &[Lanes],
+        rows: &LaneRows,
+        order: usize,
+        h: Lanes,
+        negligible: Lanes,
+    ) -> Lanes {
+        stribeck_limit([values[0], values[1]], rows, order, h, negligible)
     }
     fn text(&self) -> String {
         " + (f_c + (f_s − f_c)·exp(−(x'/v_st)²))·tanh(x'/v_r) + c_v·x'".into()
@@ -280,6 +295,35 @@ fn friction_row<J: Jet>(
     t[k] = tanh_coefficient(u, sq, k);
     sq[k] = square_coefficient(t, k);
     fc * t[k]
+}
+
+/// [`Friction`]'s step limit on any [`Jet`], from its rows ([`friction_row`]): tanh(x'/v_s) far
+/// from x' = 0 ([`tanh_step_limit`]).
+#[inline(always)]
+fn friction_limit<J: Jet>(
+    fc: J,
+    rows: &[[J; MAX_ROWS]; SCRATCH_ROWS],
+    order: usize,
+    h: J,
+    negligible: J,
+) -> J {
+    let [u, _, sq, ..] = rows;
+    tanh_step_limit(u, sq, order, h, fc, negligible)
+}
+
+/// [`Stribeck`]'s step limit on any [`Jet`], from its rows ([`stribeck_row`]): the Stribeck
+/// factor e^q ([`exp_step_limit`]), then tanh(x'/v_r) far from x' = 0 ([`tanh_step_limit`]).
+#[inline(always)]
+fn stribeck_limit<J: Jet>(
+    [fc, fs]: [J; 2],
+    rows: &[[J; MAX_ROWS]; SCRATCH_ROWS],
+    order: usize,
+    h: J,
+    negligible: J,
+) -> J {
+    let [q, e, u, _, sq, ..] = rows;
+    let h = exp_step_limit(q, e, order, h, (fs - fc).abs(), negligible);
+    tanh_step_limit(u, sq, order, h, fc.max(fs), negligible)
 }
 
 /// [`Stribeck`]'s row k on any [`Jet`]: q = −(v/v_st)² (row 0), e^q (row 1), u = v/v_r

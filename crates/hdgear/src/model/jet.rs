@@ -23,7 +23,7 @@
 //! parameter): the reciprocal does not wait for the row, a division would.
 
 use super::terms::MAX_ROWS;
-pub use crate::integrate::lanes::{Jet, Lanes};
+pub use crate::integrate::lanes::{Jet, LaneMask, Lanes};
 use crate::integrate::taylor::INV;
 pub use crate::integrate::taylor::{cauchy, square_coefficient};
 
@@ -60,19 +60,35 @@ pub fn exp_coefficient<J: Jet>(u: &[J], e: &[J], k: usize) -> J {
 }
 
 /// The longest step, at most `h`, on which a term `amplitude`·e^{u(t)} either changes
-/// negligibly (by less than `negligible`: e^u is bounded by e^{u₀ + Σ_{k≥1}|u_k|h^k}) or its
-/// series, rows 0..=`order` of `e`, has converged (the Jorba–Zou step of the row scaled by its
-/// own e₀). Jorba–Zou's rule on the state alone misses a factor e^u that is tiny where the step
-/// starts and grows within it: its coefficients still grow at the truncation order (e_k ≈
+/// negligibly (by less than `negligible`: e^u is bounded by e^{u₀ + δ(h)}, δ(h) = Σ_{k≥1}|u_k|h^k)
+/// or its series, rows 0..=`order` of `e`, has converged (the Jorba–Zou step of the row scaled by
+/// its own e₀). Jorba–Zou's rule on the state alone misses a factor e^u that is tiny where the
+/// step starts and grows within it: its coefficients still grow at the truncation order (e_k ≈
 /// e^{u₀}u₁^k/k! peaks at k ≈ u₁h), yet are too small to show in the state's last rows.
-pub fn exp_step_limit(
-    u: &[f64],
-    e: &[f64],
+///
+/// On any [`Jet`]: on [`Lanes`] its logarithms and exponentials are short polynomials to ~1e-9
+/// ([`Jet::ln`]), so each lane's limit is its scalar limit to about that (a step size is a
+/// heuristic; that changes nothing measurable).
+///
+/// ```
+/// use hdgear::model::jet::{exp_coefficient, exp_step_limit};
+/// // e^{u}, u = −5 + 4t: its size grows 55-fold over a step of 1
+/// let u = [-5.0, 4.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
+/// let mut e = [0.0; 8];
+/// for k in 0..8 { e[k] = exp_coefficient(&u, &e, k); }
+/// let h = exp_step_limit(&u, &e, 7, 1.0, 1.0, 1e-10);
+/// assert!(h < 0.5 && h > 0.0);
+/// // at amplitude 0 the term changes nothing
+/// assert_eq!(exp_step_limit(&u, &e, 7, 1.0, 0.0, 1e-10), 1.0);
+/// ```
+pub fn exp_step_limit<J: Jet>(
+    u: &[J],
+    e: &[J],
     order: usize,
-    h: f64,
-    amplitude: f64,
-    negligible: f64,
-) -> f64 {
+    h: J,
+    amplitude: J,
+    negligible: J,
+) -> J {
     let negligible = resolvable(negligible, amplitude);
     let converged = within_tolerance(
         own_step(e[0].abs(), e[order - 1].abs(), e[order].abs(), order),
@@ -80,10 +96,10 @@ pub fn exp_step_limit(
         order,
         negligible,
     );
-    // e^{u₀} is the series' row 0
-    let start = e[0];
-    shorten(h, converged, |h| {
-        amplitude * ((u[0] + tail_bound(u, order, h)).exp() - start) > negligible
+    // amplitude·(e^{u₀ + δ} − e^{u₀}) > negligible ⇔ ln(e^δ − 1) > L = ln(negligible/amplitude) − u₀
+    // ⇔ δ > ln(1 + e^L)
+    shorten(h, converged, u, order, || {
+        softplus((negligible / amplitude).ln() - u[0])
     })
 }
 
@@ -92,37 +108,51 @@ pub fn exp_step_limit(
 /// Its series (rows of sech² = 1 − tanh²) is judged against sech²(u₀) itself; where that is
 /// below 1e-14 the rows, from 1 − tanh² in rounded arithmetic, hold nothing, and only the change
 /// of the bound 4e^{−2|u|} over the step counts.
-pub fn tanh_step_limit(
-    u: &[f64],
-    sq: &[f64],
+pub fn tanh_step_limit<J: Jet>(
+    u: &[J],
+    sq: &[J],
     order: usize,
-    h: f64,
-    amplitude: f64,
-    negligible: f64,
-) -> f64 {
+    h: J,
+    amplitude: J,
+    negligible: J,
+) -> J {
     let negligible = resolvable(negligible, amplitude);
-    // sech²(u₀) = 4e/(1 + e)² with e = e^{−2|u₀|}, and 4e is the bound's value at the start
-    let bound = |least: f64| 4.0 * (-2.0 * least.max(0.0)).exp();
-    let start = bound(u[0].abs());
-    let sech2 = sech_squared(start);
-    let converged = if sech2 > 1e-14 {
-        within_tolerance(
-            own_step(sech2, sq[order - 1].abs(), sq[order].abs(), order),
-            amplitude * sq[order].abs(),
-            order,
-            negligible,
-        )
-    } else {
-        0.0
-    };
-    shorten(h, converged, |h| {
-        amplitude * (bound(u[0].abs() - tail_bound(u, order, h)) - start) > negligible
+    let size = u[0].abs();
+    // sech²(u₀) = 4e/(1 + e)² with e = e^{−2|u₀|}
+    let sech2 = sech_squared((J::splat(-2.0) * size).exp() * J::splat(4.0));
+    let converged = J::choose(
+        sech2.gt(J::splat(1e-14)),
+        || {
+            within_tolerance(
+                own_step(sech2, sq[order - 1].abs(), sq[order].abs(), order),
+                amplitude * sq[order].abs(),
+                order,
+                negligible,
+            )
+        },
+        || J::splat(0.0),
+    );
+    // the bound's change over a step on which |u| falls by δ < |u₀|: amplitude·4e^{−2|u₀|}·
+    // (e^{2δ} − 1) > negligible ⇔ δ > ln(1 + e^L)/2, L = ln(negligible/(4·amplitude)) + 2|u₀|;
+    // where that is not below |u₀|, not even the bound's whole rise to 4 is relevant
+    shorten(h, converged, u, order, || {
+        let l = (negligible / (J::splat(4.0) * amplitude)).ln() + J::splat(2.0) * size;
+        let reach = J::splat(0.5) * softplus(l);
+        J::select(size.gt(reach), reach, J::splat(f64::INFINITY))
     })
 }
 
+/// ln(1 + e^l) ≥ max(l, 0), without overflow for large l: max(l, 0) + ln(1 + e^{−|l|}). +∞ at
+/// l = +∞.
+#[inline(always)]
+fn softplus<J: Jet>(l: J) -> J {
+    l.max(J::splat(0.0)) + (-l.abs()).exp().ln_1p()
+}
+
 /// sech²(u) = 4e/(1 + e)² from `bound` = 4e, e = e^{−2|u|} (the tanh bound's value at u).
-fn sech_squared(bound: f64) -> f64 {
-    bound / ((1.0 + 0.25 * bound) * (1.0 + 0.25 * bound))
+fn sech_squared<J: Jet>(bound: J) -> J {
+    let q = J::splat(1.0) + J::splat(0.25) * bound;
+    bound / (q * q)
 }
 
 /// [`exp_step_limit`] for a term `amplitude`·√(y(t)² + r²), a corner |y| rounded over r, with
@@ -150,32 +180,39 @@ pub fn hyperbola_step_limit(
         return h;
     }
     let allowed = q0 * (negligible / size).powf(1.0 / (order + 1) as f64);
-    shorten(h, 0.0, |h| tail_bound(y, order, h) > allowed)
+    shorten(h, 0.0, y, order, || allowed)
 }
 
 /// `negligible`, or the rounding of the term's own value (ε·`amplitude`) where that is larger: a
 /// change below it is below what any step resolves, and asking for one would shrink the steps
 /// without bound at the tightest tolerances.
-fn resolvable(negligible: f64, amplitude: f64) -> f64 {
-    negligible.max(f64::EPSILON * amplitude)
+#[inline(always)]
+fn resolvable<J: Jet>(negligible: J, amplitude: J) -> J {
+    negligible.max(J::splat(f64::EPSILON) * amplitude)
 }
 
 /// Σ_{k=1}^{order} |u_k|·h^k, by Horner's rule.
-fn tail_bound(u: &[f64], order: usize, h: f64) -> f64 {
+#[inline(always)]
+fn tail_bound<J: Jet>(u: &[J], order: usize, h: J) -> J {
     u[1..=order]
         .iter()
         .rev()
-        .fold(0.0, |b, c| (b + c.abs()) * h)
+        .fold(J::splat(0.0), |b, &c| (b + c.abs()) * h)
 }
 
 /// The Jorba–Zou step of a series whose row 0 is `scale` and rows p − 1, p are `n1`, `n2` (in
 /// magnitude), each scaled by `scale`: the radius the series shows, whatever its size.
-/// 0 (no step is known good) when `scale` underflowed.
-fn own_step(scale: f64, n1: f64, n2: f64, p: usize) -> f64 {
-    if scale.is_nan() || scale <= f64::MIN_POSITIVE {
-        return 0.0;
-    }
-    crate::integrate::taylor::step_from_norms::<false, false>(p, 2.0, n1 / scale, n2 / scale)
+/// 0 (no step is known good) when `scale` underflowed or is NaN.
+#[inline(always)]
+fn own_step<J: Jet>(scale: J, n1: J, n2: J, p: usize) -> J {
+    J::choose(
+        scale.gt(J::splat(f64::MIN_POSITIVE)),
+        || {
+            let (l1, l2) = ((n1 / scale).ln(), (n2 / scale).ln());
+            crate::integrate::taylor::ln_step(p, J::splat(2.0), l1, l2).exp()
+        },
+        || J::splat(0.0),
+    )
 }
 
 /// The step a series allows with its truncation held below `negligible`, from its Jorba–Zou step
@@ -184,13 +221,20 @@ fn own_step(scale: f64, n1: f64, n2: f64, p: usize) -> f64 {
 /// about `last`·h^p, and within ρ/2 the rows past it shrink at least geometrically by half, so a
 /// step with `last`·h^p ≤ `negligible` and h ≤ ρ/2 truncates the term by about that much. Never
 /// below `converged`: a series whose rows are large keeps Jorba–Zou's step.
-fn within_tolerance(converged: f64, last: f64, order: usize, negligible: f64) -> f64 {
-    if converged <= 0.0 || last <= 0.0 {
-        return converged;
-    }
-    let rho = converged * RADIUS_OVER_STEP[order];
-    let by_tolerance = (negligible / last).powf(1.0 / order as f64);
-    converged.max(by_tolerance.min(0.5 * rho))
+#[inline(always)]
+fn within_tolerance<J: Jet>(converged: J, last: J, order: usize, negligible: J) -> J {
+    use crate::integrate::taylor::INV;
+    let zero = J::splat(0.0);
+    J::choose(
+        converged.gt(zero) & last.gt(zero),
+        || {
+            let rho = converged * J::splat(RADIUS_OVER_STEP[order]);
+            // (negligible/last)^{1/p}
+            let by_tolerance = ((negligible / last).ln() * J::splat(INV[order - 1])).exp();
+            converged.max(by_tolerance.min(J::splat(0.5) * rho))
+        },
+        || converged,
+    )
 }
 
 /// e^{2 + 0.7/(p − 1)} for each order p ≥ 2: the radius ρ a series' rows show over its Jorba–Zou
@@ -259,13 +303,22 @@ pub fn first_exit(h: f64, on: impl Fn(f64) -> bool) -> f64 {
     h
 }
 
-/// `h` halved until it is at most `converged` or `relevant(h)` is false (which it is as h → 0:
-/// each test is of a change over the step).
-fn shorten(mut h: f64, converged: f64, relevant: impl Fn(f64) -> bool) -> f64 {
-    while h > converged && relevant(h) {
-        h = (0.5 * h).max(converged);
+/// `h` halved (on each lane on its own) until it is at most `converged` or the reach of u's
+/// polynomial over it, Σ_{k≥1}|u_k|h^k, is at most `reach()` (which it is as h → 0). `reach` is
+/// evaluated once, and only where some lane's `h` is above `converged`.
+#[inline(always)]
+fn shorten<J: Jet>(mut h: J, converged: J, u: &[J], order: usize, reach: impl Fn() -> J) -> J {
+    if !J::any(h.gt(converged)) {
+        return h;
     }
-    h
+    let reach = reach();
+    loop {
+        let go = h.gt(converged) & tail_bound(u, order, h).gt(reach);
+        if !J::any(go) {
+            return h;
+        }
+        h = J::select(go, (J::splat(0.5) * h).max(converged), h);
+    }
 }
 
 /// Row k of tanh(u) from u's rows 0..=k, tanh(u)'s rows 0..k and `sq` = tanh(u)²'s rows 0..k
@@ -391,6 +444,105 @@ mod tests {
                 "{p}: {r} {exact}"
             );
         }
+    }
+
+    /// The limits' definition, written out as a search: `h` halved while above `converged` and
+    /// `grows(h)`, the change of the term's bound over a step of h, exceeds `negligible`.
+    fn halved(mut h: f64, converged: f64, grows: impl Fn(f64) -> f64, negligible: f64) -> f64 {
+        while h > converged && grows(h) > negligible {
+            h = (0.5 * h).max(converged);
+        }
+        h
+    }
+
+    #[test]
+    fn the_limits_thresholds_are_their_bounds_changes() {
+        // exp_step_limit and tanh_step_limit find the halving's end from a threshold on the
+        // series' reach (one logarithm); written here as the bound's change itself, evaluated at
+        // each halving, for series of u from small to large |u₀| and growth, amplitudes and
+        // tolerances: the same step to the rounding (a halving decided the other way would be a
+        // factor of 2)
+        let mut state = 7u64;
+        let mut u01 = || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let order = 12;
+        let (mut cases, mut shortened) = (0, 0);
+        for i in 0..400 {
+            // a quarter of the cases near u = 0, where the tanh bound's whole rise to 4 may be
+            // negligible
+            let u0 = if i % 4 == 0 {
+                (-1.0 + 2.0 * u01()) * 10f64.powf(-6.0 + 6.0 * u01())
+            } else {
+                -40.0 + 60.0 * u01()
+            };
+            let growth = 10f64.powf(-2.0 + 4.0 * u01());
+            let mut u = [0.0; MAX_ROWS];
+            u[0] = u0;
+            for (k, uk) in u.iter_mut().enumerate().take(order + 1).skip(1) {
+                *uk = (-1.0 + 2.0 * u01()) * growth.powi(k as i32) / k as f64;
+            }
+            let (mut e, mut t, mut sq) = ([0.0; MAX_ROWS], [0.0; MAX_ROWS], [0.0; MAX_ROWS]);
+            for k in 0..=order {
+                e[k] = exp_coefficient(&u, &e, k);
+                t[k] = tanh_coefficient(&u, &sq, k);
+                sq[k] = square_coefficient(&t, k);
+            }
+            let amplitude = 10f64.powf(-6.0 + 7.0 * u01());
+            let negligible = 10f64.powf(-14.0 + 10.0 * u01());
+            let h = 10f64.powf(-2.0 + 2.5 * u01());
+            let tail = |h: f64| tail_bound(&u, order, h);
+            // exp: the bound e^{u₀ + δ} against e^{u₀}
+            let eps = resolvable(negligible, amplitude);
+            let converged = within_tolerance(
+                own_step(e[0], e[order - 1].abs(), e[order].abs(), order),
+                amplitude * e[order].abs(),
+                order,
+                eps,
+            );
+            let want = halved(
+                h,
+                converged,
+                |h| amplitude * ((u0 + tail(h)).exp() - e[0]),
+                eps,
+            );
+            let got = exp_step_limit(&u, &e, order, h, amplitude, negligible);
+            assert!((got - want).abs() <= 1e-12 * want, "exp {u0}: {got} {want}");
+            // tanh: the bound 4e^{−2 max(|u₀| − δ, 0)} against its start
+            let bound = |least: f64| 4.0 * (-2.0 * least.max(0.0)).exp();
+            let sech2 = sech_squared(bound(u0.abs()));
+            let converged = if sech2 > 1e-14 {
+                within_tolerance(
+                    own_step(sech2, sq[order - 1].abs(), sq[order].abs(), order),
+                    amplitude * sq[order].abs(),
+                    order,
+                    eps,
+                )
+            } else {
+                0.0
+            };
+            let want_tanh = halved(
+                h,
+                converged,
+                |h| amplitude * (bound(u0.abs() - tail(h)) - bound(u0.abs())),
+                eps,
+            );
+            let got = tanh_step_limit(&u, &sq, order, h, amplitude, negligible);
+            assert!(
+                (got - want_tanh).abs() <= 1e-12 * want_tanh,
+                "tanh {u0}: {got} {want_tanh}"
+            );
+            cases += 2;
+            shortened += usize::from(want < h) + usize::from(want_tanh < h);
+        }
+        // most cases shorten the step, and not all
+        assert!(
+            shortened > cases / 4 && shortened < cases,
+            "{shortened} of {cases}"
+        );
     }
 
     #[test]

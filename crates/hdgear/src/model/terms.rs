@@ -254,6 +254,20 @@ pub trait Term: Copy {
     fn step_limit(&self, _rows: &Scratch, _order: usize, h: f64, _negligible: f64) -> f64 {
         h
     }
+    /// [`Term::step_limit`] of [`LANES`](crate::batch::LANES) terms of this kind at once, for a
+    /// kind on lanes ([`Term::ON_LANES`]) whose limit is written once over [`Jet`] numbers:
+    /// parameters, rows, steps and thresholds lane by lane, as [`Term::taylor_lanes`] takes
+    /// them. Each lane's limit is its term's [`Term::step_limit`] to ~1e-9 ([`Jet::ln`]). `h`,
+    /// the default, for kinds that do not limit steps.
+    fn step_limit_lanes(
+        _values: &[Lanes],
+        _rows: &LaneRows,
+        _order: usize,
+        h: Lanes,
+        _negligible: Lanes,
+    ) -> Lanes {
+        h
+    }
     /// The static band of a term that sticks at x' = 0 (Coulomb friction): x' stays 0 while the
     /// rest of the torque is within ± this value. `None` (the default) for a term without
     /// sticking.
@@ -584,6 +598,11 @@ macro_rules! any_term {
             /// The longest step its own series allow ([`Term::step_limit`]).
             pub fn step_limit(&self, rows: &Scratch, order: usize, h: f64, negligible: f64) -> f64 {
                 match self { $(AnyTerm::$variant(t) => t.step_limit(rows, order, h, negligible),)* }
+            }
+            /// [`Term::step_limit_lanes`] of its kind, with the lanes' parameters `values`.
+            #[inline(always)]
+            pub fn step_limit_lanes(&self, values: &[Lanes], rows: &LaneRows, order: usize, h: Lanes, negligible: Lanes) -> Lanes {
+                match self { $(AnyTerm::$variant(_) => $variant::step_limit_lanes(values, rows, order, h, negligible),)* }
             }
             /// Its static band if it sticks at x' = 0 ([`Term::breakaway`]).
             pub fn breakaway(&self) -> Option<f64> {

@@ -12,7 +12,10 @@
 //! Models that share one structure of terms that each have a copy on vector lanes
 //! ([`on_vector_lanes`]: the study's terms, smooth and Stribeck friction) run one pass for all
 //! sixteen on [`Lanes`], each term's recurrence written once over [`Jet`] numbers so that every
-//! lane computes what its scalar pass does, in the same order. Otherwise the lanes need not share
+//! lane computes what its scalar pass does, in the same order. Their step rule and the terms'
+//! step limits run on the lanes too, their logarithms and exponentials by short polynomials to
+//! ~1e-9 ([`crate::integrate::approx`], as the study's batch does): their steps are the scalar
+//! stepper's to about that, so their states agree with it to the tolerance, not to the bit. Otherwise the lanes need not share
 //! a structure: each runs its own model's terms, interleaved. Models that switch
 //! ([`Model::switches`]: sgn x', |z|) are stepped piece by piece by [`crate::model::switching`],
 //! and a delayed feedback needs its run's history; the batch refuses both.
@@ -20,6 +23,7 @@
 use super::{MAX_TERMS, Model};
 use crate::error::{Error, Result};
 use crate::integrate::lanes::{Jet, LANES, LaneResult, Lanes, check_inputs};
+use crate::integrate::taylor::{step_from_norms, weighted_norm};
 use crate::integrate::{Options, Stepper, Taylor, TaylorDense};
 use crate::model::terms::{LaneRows, MAX_ROWS};
 use crate::simd::{Level, Simd, dispatched};
@@ -28,7 +32,8 @@ use crate::simd::{Level, Simd, dispatched};
 /// `spans[i] = (from, t_end)` by Taylor's method, [`LANES`] at a time, and calls
 /// `observe(i, step)` with every step of model i that ends after `from`, in order. N is the
 /// models' state dimension ([`Model::dim`], the same for all). Each lane takes the steps the
-/// scalar stepper takes ([`crate::integrate::Method::Taylor`]), to the bit.
+/// scalar stepper takes ([`crate::integrate::Method::Taylor`]): to the bit, or on vector lanes
+/// ([`on_vector_lanes`]) to the ~1e-9 of their step rule.
 ///
 /// Fails as a whole on bad input: counts that differ, a model whose dimension is not N, a
 /// parameter outside its domain, a model that switches or has a delayed feedback, unusable
@@ -78,8 +83,14 @@ pub fn integrate_models<const N: usize>(
             });
         }
         let mut show = |l: usize, step: &TaylorDense<N>| observe(first + l, step);
-        // the step's own arithmetic as the scalar stepper's (`Taylor::step`)
-        run_on(Simd::detect().at_most(Level::Avx2), &mut lanes, &mut show);
+        // passes on vector lanes take the widest vector unit; interleaved scalar passes the
+        // scalar stepper's (`Taylor::step`)
+        let simd = if same_structure(lanes.iter().map(|lane| lane.model)) {
+            Simd::detect()
+        } else {
+            Simd::detect().at_most(Level::Avx2)
+        };
+        run_on(simd, &mut lanes, &mut show);
         out.extend(lanes.into_iter().map(|lane| {
             // (`run` returns once every lane has its outcome)
             lane.end.unwrap_or_else(|| {
@@ -181,14 +192,15 @@ fn run<const FMA: bool, const N: usize>(
 }
 
 /// The most parameters a term on vector lanes has ([`run_vector`]).
-const LANE_PARAMS: usize = 5;
+pub(super) const LANE_PARAMS: usize = 5;
 
 /// Whether [`integrate_models`] runs the passes of `models` on vector lanes, all sixteen of a
 /// chunk at once: when they share one structure (the same kinds of term in the same slots, all
 /// held or none) of terms that each have a copy on lanes
 /// ([`crate::model::terms::AnyTerm::on_lanes`]: the study's terms and the smooth friction laws).
-/// Other batches run their lanes' passes interleaved, each on its own model. Either way each
-/// lane takes the scalar stepper's steps to the bit.
+/// Other batches run their lanes' passes interleaved, each on its own model, and take the scalar
+/// stepper's steps to the bit; on vector lanes the step rule and the terms' limits are computed
+/// to ~1e-9 ([`integrate_models`]).
 ///
 /// ```
 /// use hdgear::model::{Model, on_vector_lanes, terms::AnyTerm};
@@ -225,7 +237,8 @@ fn same_structure<'m>(mut models: impl Iterator<Item = &'m Model>) -> bool {
 /// [`run`] for lanes whose models share a structure of terms on vector lanes: each round one
 /// pass of every lane at once on [`Lanes`] (each term's [`crate::model::terms::AnyTerm::taylor_lanes`], the lanes'
 /// parameters side by side), which gives each lane the rows of its scalar pass to the bit; then
-/// each lane's step on its rows as the scalar stepper takes it.
+/// the step rule and the terms' step limits on all lanes at once (to ~1e-9), and each lane's
+/// step.
 #[inline(always)]
 fn run_vector<const FMA: bool, const N: usize>(
     lanes: &mut [Lane<'_, N>],
@@ -251,6 +264,7 @@ fn run_vector<const FMA: bool, const N: usize>(
     };
     let n = pass.n;
     let mut f_lane = [0.0; MAX_ROWS];
+    let atol = lanes[0].stepper.options().atol;
     loop {
         // the forcing's rows and the state's row 0 of every lane that steps this round
         let (mut f, mut s) = ([zero; MAX_ROWS], [[zero; MAX_ROWS]; 2]);
@@ -286,28 +300,45 @@ fn run_vector<const FMA: bool, const N: usize>(
             s[0][k + 1] = moving * s[1][k] * Lanes::splat(INV[k]);
             s[1][k + 1] = moving * acc * Lanes::splat(INV[k]);
         }
-        // each lane's rows back to its stepper, then its step
+        // each lane's rows back to its stepper; the step rule and the terms' limits on all lanes
         for (l, lane) in lanes.iter_mut().enumerate() {
             if !running[l] {
                 continue;
             }
-            let (.., c, work) = lane.stepper.rows_mut();
+            let (.., c, _) = lane.stepper.rows_mut();
             for (k, ck) in c.iter_mut().enumerate().take(n + 1) {
                 for (i, v) in ck.iter_mut().enumerate().take(2) {
                     *v = s[i][k].0[l];
                 }
             }
-            // the rows of the terms that limit steps, which the limits read
-            for &i in &limiting {
-                for (row, lane_row) in work[i].0.iter_mut().zip(&rows[i]) {
-                    for (v, lv) in row.iter_mut().zip(lane_row).take(n + 1) {
-                        *v = lv.0[l];
-                    }
-                }
+        }
+        let h = rule_on_lanes::<FMA, N>(lanes[0].stepper.rule_parts(), &s, &scales);
+        let h = model.limit_step_lanes(&params, &rows, &limiting, n, h, atol);
+        for (l, lane) in lanes.iter_mut().enumerate() {
+            if running[l] {
+                lane.finish::<FMA>(l, h.0[l], show);
             }
-            lane.step::<FMA>(l, n, &scales[l], show);
         }
     }
+}
+
+/// The step rule ([`crate::integrate::Taylor::rule`], with its order, shift and cap `parts`) on
+/// every lane at once, from the state's rows `s` and each lane's weights `scales`; its
+/// logarithms and exponential by the short polynomials of [`crate::integrate::approx`], which
+/// vectorise (the scalar rule takes the library's).
+#[inline(always)]
+fn rule_on_lanes<const FMA: bool, const N: usize>(
+    (p, shift, h_max): (usize, f64, Option<f64>),
+    s: &[[Lanes; MAX_ROWS]; 2],
+    scales: &[[f64; N]; LANES],
+) -> Lanes {
+    let mut h = Lanes([0.0; LANES]);
+    for (l, (hl, scale)) in h.0.iter_mut().zip(scales).enumerate() {
+        let norm = |k: usize| weighted_norm(|i| s[i][k].0[l], scale);
+        let rule = step_from_norms::<FMA, true>(p, shift, norm(p - 1), norm(p));
+        *hl = h_max.map_or(rule, |cap| rule.min(cap));
+    }
+    h
 }
 
 /// Each term's parameters on the lanes, by slot: parameter j of lane l's term in slot i at
@@ -347,8 +378,8 @@ impl<const N: usize> Lane<'_, N> {
     }
 
     /// The lane's step on the rows of its pass to order `n` (in its stepper), as the scalar
-    /// stepper takes it: the rule with the weights `scale`, the terms' limits, the step and its
-    /// checks; a step that ends past the span's start is shown as lane `l`'s.
+    /// stepper takes it: the rule with the weights `scale`, the terms' limits, then
+    /// [`Lane::finish`].
     #[inline(always)]
     fn step<const FMA: bool>(
         &mut self,
@@ -362,6 +393,18 @@ impl<const N: usize> Lane<'_, N> {
             let atol = self.stepper.options().atol;
             h = self.model.limit_step(self.stepper.work(), n, h, atol);
         }
+        self.finish::<FMA>(l, h, show);
+    }
+
+    /// The lane's step of `h` on the coefficients in its stepper, with its checks; a step that
+    /// ends past the span's start is shown as lane `l`'s.
+    #[inline(always)]
+    fn finish<const FMA: bool>(
+        &mut self,
+        l: usize,
+        h: f64,
+        show: &mut dyn FnMut(usize, &TaylorDense<N>),
+    ) {
         match self.stepper.finish::<FMA>(self.span.1, h) {
             Ok(()) if self.stepper.t() > self.span.0 => show(l, &self.stepper.dense()),
             Ok(()) => {}

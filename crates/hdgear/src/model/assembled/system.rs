@@ -1,8 +1,11 @@
 //! The model as a first-order system ([`System`]): its right-hand side, Jacobian and Taylor
 //! coefficients, each from the terms' own definitions.
 
+use super::lanes::LANE_PARAMS;
 use super::{MAX_STATES, MAX_TERMS, Model};
+use crate::integrate::lanes::{Jet, Lanes};
 use crate::integrate::{System, Workspace};
+use crate::model::terms::LaneRows;
 use crate::model::terms::{MAX_ROWS, Scratch};
 
 /// Component `at` of the state `y`, 0 where there is none.
@@ -192,7 +195,7 @@ impl Model {
     /// terms' rows of a pass to order `n` (the rule [`System::taylor_step`] states).
     #[inline(always)]
     pub(super) fn limit_step(&self, rows: &Workspace, n: usize, h: f64, atol: f64) -> f64 {
-        let negligible = atol / h.max(1.0);
+        let negligible = negligible(atol, h);
         self.terms
             .iter()
             .zip(rows.iter())
@@ -201,6 +204,37 @@ impl Model {
                 _ => h,
             })
     }
+}
+
+impl Model {
+    /// [`Model::limit_step`] on every lane at once: the terms in the slots `limiting`, with the
+    /// lanes' parameters `params` and rows `rows` by slot ([`Term::step_limit_lanes`], each lane
+    /// its scalar limit to ~1e-9).
+    ///
+    /// [`Term::step_limit_lanes`]: crate::model::terms::Term::step_limit_lanes
+    #[inline(always)]
+    pub(super) fn limit_step_lanes(
+        &self,
+        params: &[[Lanes; LANE_PARAMS]; MAX_TERMS],
+        rows: &[LaneRows; MAX_TERMS],
+        limiting: &[usize],
+        n: usize,
+        h: Lanes,
+        atol: f64,
+    ) -> Lanes {
+        let negligible = negligible(atol, h);
+        limiting.iter().fold(h, |h, &i| match &self.terms[i] {
+            Some(term) => term.step_limit_lanes(&params[i], &rows[i], n, h, negligible),
+            None => h,
+        })
+    }
+}
+
+/// The change of a term over a step of `h` that counts as negligible: `atol` per time unit, the
+/// state rule's own target (over a step longer than 1, divided by its length).
+#[inline(always)]
+pub(super) fn negligible<J: Jet>(atol: f64, h: J) -> J {
+    J::splat(atol) / h.max(J::splat(1.0))
 }
 
 /// One Taylor pass of a [`Model`] in progress ([`Model::pass`]): the rows of the forcing and of
