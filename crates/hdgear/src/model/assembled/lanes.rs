@@ -85,12 +85,13 @@ pub fn integrate_models<const N: usize>(
         let mut show = |l: usize, step: &TaylorDense<N>| observe(first + l, step);
         // passes on vector lanes take the widest vector unit; interleaved scalar passes the
         // scalar stepper's (`Taylor::step`)
-        let simd = if same_structure(lanes.iter().map(|lane| lane.model)) {
+        let vector = same_structure(lanes.iter().map(|lane| lane.model));
+        let simd = if vector {
             Simd::detect()
         } else {
             Simd::detect().at_most(Level::Avx2)
         };
-        run_on(simd, &mut lanes, &mut show);
+        run_on(simd, &mut lanes, vector, &mut show);
         out.extend(lanes.into_iter().map(|lane| {
             // (`run` returns once every lane has its outcome)
             lane.end.unwrap_or_else(|| {
@@ -140,19 +141,20 @@ struct Lane<'m, const N: usize> {
 
 dispatched! {
     /// [`run`] with the arithmetic of the vector unit `simd` names.
-    fn run_on['m, const N: usize](lanes: &mut [Lane<'m, N>], show: &mut dyn FnMut(usize, &TaylorDense<N>)) -> () = run::<FMA, N>(lanes, show)
+    fn run_on['m, const N: usize](lanes: &mut [Lane<'m, N>], vector: bool, show: &mut dyn FnMut(usize, &TaylorDense<N>)) -> () = run::<FMA, N>(lanes, vector, show)
 }
 
 /// Steps every lane to its end: each round, one step of every lane still running. Models that
-/// share one structure of terms that all have a copy on vector lanes ([`on_vector_lanes`]) run
+/// share one structure of terms on vector lanes (`vector`, from [`on_vector_lanes`]'s test) run
 /// their passes as one on [`Lanes`] ([`run_vector`]); others run their passes interleaved
 /// order by order.
 #[inline(always)]
 fn run<const FMA: bool, const N: usize>(
     lanes: &mut [Lane<'_, N>],
+    vector: bool,
     show: &mut dyn FnMut(usize, &TaylorDense<N>),
 ) {
-    if same_structure(lanes.iter().map(|lane| lane.model)) {
+    if vector {
         return run_vector::<FMA, N>(lanes, show);
     }
     let mut scales = [[0.0; N]; LANES];
