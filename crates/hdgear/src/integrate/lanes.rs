@@ -76,8 +76,6 @@ pub trait Jet:
     fn select(mask: Self::Mask, a: Self, b: Self) -> Self;
     /// Whether `mask` holds on some lane.
     fn any(mask: Self::Mask) -> bool;
-    /// [`Jet::select`] of `a()` and `b()`, each computed only if some lane takes it.
-    fn choose(mask: Self::Mask, a: impl FnOnce() -> Self, b: impl FnOnce() -> Self) -> Self;
     /// |self| on each lane.
     #[inline(always)]
     fn abs(self) -> Self {
@@ -127,10 +125,6 @@ impl Jet for f64 {
     #[inline(always)]
     fn any(mask: bool) -> bool {
         mask
-    }
-    #[inline(always)]
-    fn choose(mask: bool, a: impl FnOnce() -> Self, b: impl FnOnce() -> Self) -> Self {
-        if mask { a() } else { b() }
     }
     #[inline(always)]
     fn ln(self) -> Self {
@@ -208,16 +202,6 @@ impl Jet for Lanes {
     #[inline(always)]
     fn any(mask: LaneMask) -> bool {
         mask.0.iter().any(|&m| m)
-    }
-    #[inline(always)]
-    fn choose(mask: LaneMask, a: impl FnOnce() -> Self, b: impl FnOnce() -> Self) -> Self {
-        if mask.0.iter().all(|&m| m) {
-            a()
-        } else if Self::any(mask) {
-            Self::select(mask, a(), b())
-        } else {
-            b()
-        }
     }
     #[inline(always)]
     fn ln(self) -> Self {

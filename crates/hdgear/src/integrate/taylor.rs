@@ -88,7 +88,13 @@ pub fn sine_coefficients(omega: f64, t: f64, order: usize, s: &mut [f64]) {
 /// a = 1 the same to the bit: each product by 1 is exact).
 #[inline(always)]
 pub(crate) fn forcing_coefficients(a: f64, omega: f64, t: f64, order: usize, s: &mut [f64]) {
-    let (sn, cs) = libm::sincos(omega * t);
+    forcing_series(a, omega, libm::sincos(omega * t), order, s);
+}
+
+/// [`forcing_coefficients`] on any [`Jet`], from (sin ωt, cos ωt): on vector lanes each lane's
+/// rows are those of its own sine, to the bit.
+#[inline(always)]
+pub(crate) fn forcing_series<J: Jet>(a: J, omega: J, (sn, cs): (J, J), order: usize, s: &mut [J]) {
     let cycle = [sn, cs, -sn, -cs];
     let Some((first, rest)) = s.split_first_mut() else {
         return;
@@ -97,7 +103,7 @@ pub(crate) fn forcing_coefficients(a: f64, omega: f64, t: f64, order: usize, s: 
     let mut f = a * omega;
     for (k, sk) in rest.iter_mut().enumerate().take(order.min(MAX_ORDER)) {
         *sk = f * cycle[(k + 1) % 4];
-        f *= omega * INV[k + 1];
+        f = f * (omega * J::splat(INV[k + 1]));
     }
 }
 
@@ -264,7 +270,12 @@ fn capped_step<const FMA: bool, const N: usize>(
     c: &[[f64; N]],
     scale: &[f64; N],
 ) -> f64 {
-    let h = step_size::<FMA, N>(p, shift, c, scale);
+    cap(step_size::<FMA, N>(p, shift, c, scale), h_max)
+}
+
+/// `h`, at most `h_max` where there is one: the step rule's cap ([`Options`]' `h_max`).
+#[inline(always)]
+pub(crate) fn cap(h: f64, h_max: Option<f64>) -> f64 {
     h_max.map_or(h, |hm| h.min(hm))
 }
 

@@ -120,6 +120,7 @@ impl Term for Friction {
     fn step_limit(&self, rows: &Scratch, order: usize, h: f64, negligible: f64) -> f64 {
         friction_limit(self.0[0], &rows.0, order, h, negligible)
     }
+    #[inline(always)]
     fn step_limit_lanes(
         values: &[Lanes],
         rows: &LaneRows,
@@ -263,6 +264,7 @@ impl Term for Stribeck {
         let [fc, fs, ..] = self.0;
         stribeck_limit([fc, fs], &rows.0, order, h, negligible)
     }
+    #[inline(always)]
     fn step_limit_lanes(
         values: &[Lanes],
         rows: &LaneRows,

@@ -81,6 +81,7 @@ pub fn exp_coefficient<J: Jet>(u: &[J], e: &[J], k: usize) -> J {
 /// // at amplitude 0 the term changes nothing
 /// assert_eq!(exp_step_limit(&u, &e, 7, 1.0, 0.0, 1e-10), 1.0);
 /// ```
+#[inline(always)]
 pub fn exp_step_limit<J: Jet>(
     u: &[J],
     e: &[J],
@@ -96,11 +97,13 @@ pub fn exp_step_limit<J: Jet>(
         order,
         negligible,
     );
+    if settled(h, converged) {
+        return h;
+    }
     // amplitude·(e^{u₀ + δ} − e^{u₀}) > negligible ⇔ ln(e^δ − 1) > L = ln(negligible/amplitude) − u₀
     // ⇔ δ > ln(1 + e^L)
-    shorten(h, converged, u, order, || {
-        softplus((negligible / amplitude).ln() - u[0])
-    })
+    let reach = softplus((negligible / amplitude).ln() - u[0]);
+    shorten(h, converged, u, order, reach)
 }
 
 /// [`exp_step_limit`] for a term `amplitude`·tanh(u(t)), rows 0..=`order` of u and of `sq` =
@@ -108,6 +111,7 @@ pub fn exp_step_limit<J: Jet>(
 /// Its series (rows of sech² = 1 − tanh²) is judged against sech²(u₀) itself; where that is
 /// below 1e-14 the rows, from 1 − tanh² in rounded arithmetic, hold nothing, and only the change
 /// of the bound 4e^{−2|u|} over the step counts.
+#[inline(always)]
 pub fn tanh_step_limit<J: Jet>(
     u: &[J],
     sq: &[J],
@@ -120,26 +124,29 @@ pub fn tanh_step_limit<J: Jet>(
     let size = u[0].abs();
     // sech²(u₀) = 4e/(1 + e)² with e = e^{−2|u₀|}
     let sech2 = sech_squared((J::splat(-2.0) * size).exp() * J::splat(4.0));
-    let converged = J::choose(
-        sech2.gt(J::splat(1e-14)),
-        || {
-            within_tolerance(
-                own_step(sech2, sq[order - 1].abs(), sq[order].abs(), order),
-                amplitude * sq[order].abs(),
-                order,
-                negligible,
-            )
-        },
-        || J::splat(0.0),
-    );
+    let resolved = sech2.gt(J::splat(1e-14));
+    let zero = J::splat(0.0);
+    let converged = if J::any(resolved) {
+        let step = within_tolerance(
+            own_step(sech2, sq[order - 1].abs(), sq[order].abs(), order),
+            amplitude * sq[order].abs(),
+            order,
+            negligible,
+        );
+        J::select(resolved, step, zero)
+    } else {
+        zero
+    };
+    if settled(h, converged) {
+        return h;
+    }
     // the bound's change over a step on which |u| falls by δ < |u₀|: amplitude·4e^{−2|u₀|}·
     // (e^{2δ} − 1) > negligible ⇔ δ > ln(1 + e^L)/2, L = ln(negligible/(4·amplitude)) + 2|u₀|;
     // where that is not below |u₀|, not even the bound's whole rise to 4 is relevant
-    shorten(h, converged, u, order, || {
-        let l = (negligible / (J::splat(4.0) * amplitude)).ln() + J::splat(2.0) * size;
-        let reach = J::splat(0.5) * softplus(l);
-        J::select(size.gt(reach), reach, J::splat(f64::INFINITY))
-    })
+    let l = (negligible / (J::splat(4.0) * amplitude)).ln() + J::splat(2.0) * size;
+    let reach = J::splat(0.5) * softplus(l);
+    let reach = J::select(size.gt(reach), reach, J::splat(f64::INFINITY));
+    shorten(h, converged, u, order, reach)
 }
 
 /// ln(1 + e^l) ≥ max(l, 0), without overflow for large l: max(l, 0) + ln(1 + e^{−|l|}). +∞ at
@@ -150,6 +157,7 @@ fn softplus<J: Jet>(l: J) -> J {
 }
 
 /// sech²(u) = 4e/(1 + e)² from `bound` = 4e, e = e^{−2|u|} (the tanh bound's value at u).
+#[inline(always)]
 fn sech_squared<J: Jet>(bound: J) -> J {
     let q = J::splat(1.0) + J::splat(0.25) * bound;
     bound / (q * q)
@@ -180,7 +188,7 @@ pub fn hyperbola_step_limit(
         return h;
     }
     let allowed = q0 * (negligible / size).powf(1.0 / (order + 1) as f64);
-    shorten(h, 0.0, y, order, || allowed)
+    shorten(h, 0.0, y, order, allowed)
 }
 
 /// `negligible`, or the rounding of the term's own value (ε·`amplitude`) where that is larger: a
@@ -205,14 +213,14 @@ fn tail_bound<J: Jet>(u: &[J], order: usize, h: J) -> J {
 /// 0 (no step is known good) when `scale` underflowed or is NaN.
 #[inline(always)]
 fn own_step<J: Jet>(scale: J, n1: J, n2: J, p: usize) -> J {
-    J::choose(
-        scale.gt(J::splat(f64::MIN_POSITIVE)),
-        || {
-            let (l1, l2) = ((n1 / scale).ln(), (n2 / scale).ln());
-            crate::integrate::taylor::ln_step(p, J::splat(2.0), l1, l2).exp()
-        },
-        || J::splat(0.0),
-    )
+    let known = scale.gt(J::splat(f64::MIN_POSITIVE));
+    let zero = J::splat(0.0);
+    if !J::any(known) {
+        return zero;
+    }
+    let (l1, l2) = ((n1 / scale).ln(), (n2 / scale).ln());
+    let step = crate::integrate::taylor::ln_step(p, J::splat(2.0), l1, l2).exp();
+    J::select(known, step, zero)
 }
 
 /// The step a series allows with its truncation held below `negligible`, from its Jorba–Zou step
@@ -225,15 +233,17 @@ fn own_step<J: Jet>(scale: J, n1: J, n2: J, p: usize) -> J {
 fn within_tolerance<J: Jet>(converged: J, last: J, order: usize, negligible: J) -> J {
     use crate::integrate::taylor::INV;
     let zero = J::splat(0.0);
-    J::choose(
-        converged.gt(zero) & last.gt(zero),
-        || {
-            let rho = converged * J::splat(RADIUS_OVER_STEP[order]);
-            // (negligible/last)^{1/p}
-            let by_tolerance = ((negligible / last).ln() * J::splat(INV[order - 1])).exp();
-            converged.max(by_tolerance.min(J::splat(0.5) * rho))
-        },
-        || converged,
+    let usable = converged.gt(zero) & last.gt(zero);
+    if !J::any(usable) {
+        return converged;
+    }
+    let rho = converged * J::splat(RADIUS_OVER_STEP[order]);
+    // (negligible/last)^{1/p}
+    let by_tolerance = ((negligible / last).ln() * J::splat(INV[order - 1])).exp();
+    J::select(
+        usable,
+        converged.max(by_tolerance.min(J::splat(0.5) * rho)),
+        converged,
     )
 }
 
@@ -303,15 +313,17 @@ pub fn first_exit(h: f64, on: impl Fn(f64) -> bool) -> f64 {
     h
 }
 
-/// `h` halved (on each lane on its own) until it is at most `converged` or the reach of u's
-/// polynomial over it, Σ_{k≥1}|u_k|h^k, is at most `reach()` (which it is as h → 0). `reach` is
-/// evaluated once, and only where some lane's `h` is above `converged`.
+/// Whether no lane's `h` is above `converged`: then [`shorten`] keeps `h`, and its threshold
+/// need not be computed.
 #[inline(always)]
-fn shorten<J: Jet>(mut h: J, converged: J, u: &[J], order: usize, reach: impl Fn() -> J) -> J {
-    if !J::any(h.gt(converged)) {
-        return h;
-    }
-    let reach = reach();
+fn settled<J: Jet>(h: J, converged: J) -> bool {
+    !J::any(h.gt(converged))
+}
+
+/// `h` halved (on each lane on its own) until it is at most `converged` or the reach of u's
+/// polynomial over it, Σ_{k≥1}|u_k|h^k, is at most `reach` (which it is as h → 0).
+#[inline(always)]
+fn shorten<J: Jet>(mut h: J, converged: J, u: &[J], order: usize, reach: J) -> J {
     loop {
         let go = h.gt(converged) & tail_bound(u, order, h).gt(reach);
         if !J::any(go) {

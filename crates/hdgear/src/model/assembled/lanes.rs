@@ -15,15 +15,16 @@
 //! lane computes what its scalar pass does, in the same order. Their step rule and the terms'
 //! step limits run on the lanes too, their logarithms and exponentials by short polynomials to
 //! ~1e-9 ([`crate::integrate::approx`], as the study's batch does): their steps are the scalar
-//! stepper's to about that, so their states agree with it to the tolerance, not to the bit. Otherwise the lanes need not share
-//! a structure: each runs its own model's terms, interleaved. Models that switch
-//! ([`Model::switches`]: sgn x', |z|) are stepped piece by piece by [`crate::model::switching`],
-//! and a delayed feedback needs its run's history; the batch refuses both.
+//! stepper's to about that, so their states agree with it to the tolerance, not to the bit.
+//! Otherwise the lanes need not share a structure: each runs its own model's terms, interleaved.
+//! Models that switch ([`Model::switches`]: sgn x', |z|) are stepped piece by piece by
+//! [`crate::model::switching`], and a delayed feedback needs its run's history; the batch
+//! refuses both.
 
 use super::{MAX_TERMS, Model};
 use crate::error::{Error, Result};
 use crate::integrate::lanes::{Jet, LANES, LaneResult, Lanes, check_inputs};
-use crate::integrate::taylor::{step_from_norms, weighted_norm};
+use crate::integrate::taylor::{cap, forcing_series, step_from_norms, weighted_norm};
 use crate::integrate::{Options, Stepper, Taylor, TaylorDense};
 use crate::model::terms::{LaneRows, MAX_ROWS};
 use crate::simd::{Level, Simd, dispatched};
@@ -265,26 +266,27 @@ fn run_vector<const FMA: bool, const N: usize>(
         model.pass(t, y, p)
     };
     let n = pass.n;
-    let mut f_lane = [0.0; MAX_ROWS];
+    let [mu, delta, omega] = lane_forcing(lanes);
     let atol = lanes[0].stepper.options().atol;
     loop {
-        // the forcing's rows and the state's row 0 of every lane that steps this round
+        // the state's row 0 and sin, cos ωt of every lane that steps this round
         let (mut f, mut s) = ([zero; MAX_ROWS], [[zero; MAX_ROWS]; 2]);
+        let (mut sin, mut cos) = (zero, zero);
         let mut any = false;
         for (l, lane) in lanes.iter_mut().enumerate() {
             running[l] = false;
             let Some(scale) = lane.begin() else { continue };
             (scales[l], running[l], any) = (scale, true, true);
             let (t, y, ..) = lane.stepper.rows_mut();
-            lane.model.forcing_rows(t, n, &mut f_lane);
-            for (fk, &v) in f.iter_mut().zip(&f_lane[..=n]) {
-                fk.0[l] = v;
-            }
+            (sin.0[l], cos.0[l]) = libm::sincos(omega.0[l] * t);
             (s[0][0].0[l], s[1][0].0[l]) = (y[0], y[1]);
         }
         if !any {
             return;
         }
+        // the forcing's rows, each lane's as its model's (`Model::forcing_rows`)
+        forcing_series(delta, omega, (sin, cos), n, &mut f);
+        f[0] = f[0] + mu;
         // the pass on the lanes, as `Model::pass_row` runs it on one
         for k in 0..=n {
             let mut acc = f[k];
@@ -338,9 +340,21 @@ fn rule_on_lanes<const FMA: bool, const N: usize>(
     for (l, (hl, scale)) in h.0.iter_mut().zip(scales).enumerate() {
         let norm = |k: usize| weighted_norm(|i| s[i][k].0[l], scale);
         let rule = step_from_norms::<FMA, true>(p, shift, norm(p - 1), norm(p));
-        *hl = h_max.map_or(rule, |cap| rule.min(cap));
+        *hl = cap(rule, h_max);
     }
     h
+}
+
+/// The forcing's μ, δ and ω on the lanes; a lane past the models' count repeats lane 0's.
+fn lane_forcing<const N: usize>(lanes: &[Lane<'_, N>]) -> [Lanes; 3] {
+    let mut forcing = [Lanes([0.0; LANES]); 3];
+    for l in 0..LANES {
+        let lane_model = lanes.get(l).unwrap_or(&lanes[0]).model;
+        for (p, v) in forcing.iter_mut().zip(lane_model.forcing()) {
+            p.0[l] = v;
+        }
+    }
+    forcing
 }
 
 /// Each term's parameters on the lanes, by slot: parameter j of lane l's term in slot i at

@@ -223,10 +223,15 @@ impl Model {
         atol: f64,
     ) -> Lanes {
         let negligible = negligible(atol, h);
-        limiting.iter().fold(h, |h, &i| match &self.terms[i] {
-            Some(term) => term.step_limit_lanes(&params[i], &rows[i], n, h, negligible),
-            None => h,
-        })
+        // a loop, not a fold: an iterator adaptor left outlined would compile the limits for
+        // the baseline instruction set, not the caller's vector unit
+        let mut h = h;
+        for &i in limiting {
+            if let Some(term) = &self.terms[i] {
+                h = term.step_limit_lanes(&params[i], &rows[i], n, h, negligible);
+            }
+        }
+        h
     }
 }
 
