@@ -32,11 +32,11 @@ hdgear's, "regularised heyoka at equal error" the same over the smooth form alon
 regularisation already). The last pair is the same search over the regularised form in heyoka's
 batch mode (`taylor_adaptive_batch`, the SIMD width heyoka recommends for the CPU, every lane the
 same run, the worst lane's error), its time per trajectory: the batch half of issue 39's
-criterion. hdgear's own batch (`hdgear::model::integrate_models`, 16 lanes of the same run,
-each taking the scalar stepper's steps; the passes on vector lanes, the model's terms all having
-a copy there) runs the smooth friction model; the hysteresis model
-switches and runs piece by piece, which the batch does not, so there its time per trajectory is
-the scalar run's.
+criterion. hdgear's own batch is 16 lanes of the same run, the passes on vector lanes (the
+model's terms all having a copy there), each lane taking its scalar run's steps to ~1e-9:
+`hdgear::model::integrate_models` for the smooth friction model, and for the hysteresis model,
+which switches, `hdgear::model::integrate_switching_models` (each lane piece by piece, its
+slipping pieces' passes on the lanes, its switches located on its own step).
 
 Sticking: the same friction law not regularised, sgn x' with sticking (hdgear's `coulomb` term,
 `time_terms --sticking`: steps cut at x' = 0, each rest held until the applied torque
@@ -272,7 +272,7 @@ def table(reps, hysteresis):
             cells = [at_equal(grid, mine, o["seconds_per_run"], lambda name: True),
                      at_equal(grid, mine, o["seconds_per_run"],
                               lambda name: not hysteresis or name.startswith("smooth"))]
-            # hdgear's batch where the model runs in it, else its scalar run
+            # hdgear's batch (every model here runs in one)
             ours_batch = o["batch_seconds_per_run"] or o["seconds_per_run"]
             batch = at_equal(batch_grid, mine, ours_batch, lambda name: True)
             batch_cell = ("—" if o["batch_seconds_per_run"] is None

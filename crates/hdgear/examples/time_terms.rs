@@ -4,9 +4,10 @@
 //! recurrences. With `--hysteresis` the model also carries Bouc–Wen hysteresis on the twist
 //! ([`HYSTERESIS`]), whose |x'| and |z| are exact: the run goes piece by piece, each step cut at
 //! x' = 0 and z = 0 ([`hdgear::model::switching::Switching`]).
-//! Without hysteresis or sticking the model is smooth, and the same run is timed again on
-//! [`LANES`] lanes of [`integrate_models`] (one pass on vector lanes for all sixteen, each lane
-//! taking the scalar stepper's steps), as `batch_seconds_per_run`, per trajectory.
+//! The same run is timed again on [`LANES`] lanes, as `batch_seconds_per_run`, per trajectory:
+//! of [`integrate_models`] for the smooth model (one pass on vector lanes for all sixteen, each
+//! lane taking the scalar stepper's steps), of [`integrate_switching_models`] with hysteresis or
+//! sticking (each lane a switching integration, its slipping pieces' passes on vector lanes).
 //! Prints one JSON line per (v_r, tolerance):
 //! `{"vr":..,"rtol":..,"seconds_per_run":..,"batch_seconds_per_run":..,"steps":..,"y":[x, x', (z)]}`.
 //! With `--sticking` the friction is not regularised: Coulomb–Stribeck–viscous friction with
@@ -21,7 +22,7 @@ use hdgear::batch::LANES;
 use hdgear::integrate::{Options, Stats, Stepper, stepper};
 use hdgear::model::switching::{Pieces, Switching};
 use hdgear::model::terms::AnyTerm;
-use hdgear::model::{Model, integrate_models};
+use hdgear::model::{Model, integrate_models, integrate_switching_models};
 use std::time::Instant;
 
 /// The friction case: a slow sine the friction holds at times (stick-slip), as in the tests.
@@ -75,7 +76,11 @@ fn main() {
                 atol: tol,
                 ..Options::default()
             };
-            let batch = pieces.is_none().then(|| batch_time(reps, t_end, &m, o));
+            let batch = match (&pieces, hysteresis) {
+                (None, _) => batch_time::<2>(reps, t_end, &m, o),
+                (Some(_), true) => batch_time::<3>(reps, t_end, &m, o),
+                (Some(_), false) => batch_time::<2>(reps, t_end, &m, o),
+            };
             let (best, y, st) = match &pieces {
                 None => time(reps, t_end, || {
                     stepper(&m, 0.0, [0.0; 2], o).expect("valid options")
@@ -89,7 +94,7 @@ fn main() {
             };
             println!(
                 "{{\"vr\":{vr:e},\"rtol\":{tol:e},\"seconds_per_run\":{best},\"batch_seconds_per_run\":{},\"steps\":{},\"y\":[{}]}}",
-                batch.map_or("null".into(), |b| b.to_string()),
+                batch,
                 st.steps,
                 y.iter()
                     .map(|v| format!("{v:.17e}"))
@@ -120,13 +125,19 @@ fn time<const N: usize, S: Stepper<N>>(
 }
 
 /// The best time per trajectory over 5 batches of `reps` runs of [`LANES`] copies of `m` on the
-/// lanes of [`integrate_models`], from rest to `t_end`.
-fn batch_time(reps: u32, t_end: f64, m: &Model, o: Options) -> f64 {
+/// lanes of [`integrate_models`] (of [`integrate_switching_models`] where `m` switches), from
+/// rest to `t_end`.
+fn batch_time<const N: usize>(reps: u32, t_end: f64, m: &Model, o: Options) -> f64 {
     let models = [*m; LANES];
     let spans = [(t_end, t_end); LANES];
+    let starts = [[0.0; N]; LANES];
     let run = || {
-        integrate_models::<2>(&models, &[[0.0; 2]; LANES], &spans, o, |_, _| {})
-            .expect("valid input")
+        let ends = if m.switches() {
+            integrate_switching_models::<N>(&models, &starts, &spans, o, |_, _| {})
+        } else {
+            integrate_models::<N>(&models, &starts, &spans, o, |_, _| {})
+        };
+        ends.expect("valid input")
     };
     best_per_run(reps, || {
         std::hint::black_box(run());

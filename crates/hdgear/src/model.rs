@@ -30,7 +30,7 @@ mod assembled;
 mod curve;
 pub use assembled::{
     Description, FORCING, Facts, MAX_STATES, MAX_TERMS, Model, ModelParam, ParamValue,
-    integrate_models, on_vector_lanes, study_param,
+    integrate_models, integrate_switching_models, on_vector_lanes, study_param,
 };
 pub(crate) use curve::refusal;
 pub use curve::{ModelCurve, ModelFollower, StaticTorque, Statics};

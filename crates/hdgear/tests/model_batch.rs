@@ -40,7 +40,7 @@ fn random_smooth_model(u: &mut impl FnMut() -> f64) -> Model {
 
 /// The study's parameters at random, over ranges that hold folds, single-branch curves and
 /// both signs of the load.
-fn random_params(u: &mut impl FnMut() -> f64) -> Params {
+pub(crate) fn random_params(u: &mut impl FnMut() -> f64) -> Params {
     Params {
         alpha: 0.5 + 20.0 * u(),
         gamma: -0.5 + 5.0 * u(),
@@ -54,7 +54,7 @@ fn random_params(u: &mut impl FnMut() -> f64) -> Params {
 /// A value of parameter `q`: a whole number from 1 to 4 for an exponent or a line, up to 0.5
 /// for a default of 0 (a term present, not switched off), else the default times a factor in
 /// [0.5, 1.5], clamped to [0, 1] for a fraction.
-fn draw(q: &ParamInfo, u: &mut impl FnMut() -> f64) -> f64 {
+pub(crate) fn draw(q: &ParamInfo, u: &mut impl FnMut() -> f64) -> f64 {
     match q.domain {
         Domain::Exponent | Domain::Line => 1.0 + (u() * 4.0).floor().min(3.0),
         _ if q.default == 0.0 => 0.5 * u(),
@@ -226,8 +226,50 @@ fn random_smooth_models_take_the_scalar_steppers_steps_on_the_lanes() {
     check_batch::<4>(&by_dim[2], &mut u);
 }
 
+/// [`LANES`] terms of kind `kind` at random values of `params`, each on a piece of its law
+/// (a switching kind's signs at random; kept where its lane shape is the first's), with their
+/// lane values side by side.
+fn lane_terms(
+    kind: &str,
+    params: &[ParamInfo],
+    u: &mut impl FnMut() -> f64,
+) -> (
+    Vec<AnyTerm>,
+    [hdgear::model::jet::Lanes; hdgear::model::terms::LANE_PARAMS],
+) {
+    use hdgear::model::jet::{Jet, Lanes};
+    use hdgear::model::terms::{LANE_PARAMS, Side};
+    let mut sign = || if u() < 0.5 { -1.0 } else { 1.0 };
+    let sides: Vec<Side> = (0..LANES)
+        .map(|_| Side {
+            v: sign(),
+            z: sign(),
+        })
+        .collect();
+    let terms: Vec<AnyTerm> = sides
+        .iter()
+        .map(|&side| {
+            let values: Vec<f64> = params.iter().map(|q| draw(q, u)).collect();
+            AnyTerm::new(kind, &values).unwrap().directed(side)
+        })
+        .collect();
+    // (an exponent the recurrence unrolls is the same on every lane)
+    let terms: Vec<AnyTerm> = terms
+        .iter()
+        .filter(|t| t.lane_shape() == terms[0].lane_shape())
+        .copied()
+        .collect();
+    let mut values = [Lanes::splat(0.0); LANE_PARAMS];
+    for (l, t) in terms.iter().enumerate() {
+        for (v, p) in values.iter_mut().zip(t.lane_values()) {
+            v.0[l] = p;
+        }
+    }
+    (terms, values)
+}
+
 /// The default values of kind `kind`'s parameters.
-fn defaults(kind: &str) -> Vec<f64> {
+pub(crate) fn defaults(kind: &str) -> Vec<f64> {
     AnyTerm::params_of(kind)
         .unwrap()
         .iter()
@@ -323,44 +365,42 @@ fn models_of_one_structure_take_the_scalar_steppers_steps_on_vector_lanes() {
 #[test]
 fn each_kind_on_lanes_gives_every_lane_its_scalar_row() {
     // for every kind: a copy on lanes exactly where the kind says so, and each lane's rows
-    // (the torque's and the term's own) those of the scalar recurrence on that lane's term and
-    // series, bit for bit, at every order
+    // (the torque's, the state's rate's and the term's own) those of the scalar recurrence on
+    // that lane's term and series, bit for bit, at every order; each term on a piece of its law
+    // (a switching kind's signs at random, which its lane values carry)
     use hdgear::integrate::taylor::{SCRATCH_ROWS, Scratch};
     use hdgear::model::jet::{Jet, Lanes};
     use hdgear::model::terms::{LaneRows, MAX_ROWS};
     let mut u = uniform(29);
     for (kind, _, params) in AnyTerm::KINDS {
-        let terms: Vec<AnyTerm> = (0..LANES)
-            .map(|_| {
-                let values: Vec<f64> = params.iter().map(|q| draw(q, &mut u)).collect();
-                AnyTerm::new(kind, &values).unwrap()
-            })
-            .collect();
-        let mut values = vec![Lanes::splat(0.0); params.len()];
-        for (l, t) in terms.iter().enumerate() {
-            for (v, &p) in values.iter_mut().zip(t.values()) {
-                v.0[l] = p;
-            }
-        }
-        // random series of x and v on each lane, shrinking with the order
-        let mut x = [Lanes::splat(0.0); MAX_ROWS];
-        let mut v = [Lanes::splat(0.0); MAX_ROWS];
+        let (terms, values) = lane_terms(kind, params, &mut u);
+        // random series of x, v and z on each lane, shrinking with the order
+        let mut series = [[Lanes::splat(0.0); MAX_ROWS]; 3];
         for k in 0..MAX_ROWS {
             for l in 0..LANES {
-                x[k].0[l] = (-1.0 + 2.0 * u()) * 0.7f64.powi(k as i32);
-                v[k].0[l] = (-1.0 + 2.0 * u()) * 0.7f64.powi(k as i32);
+                for s in &mut series {
+                    s[k].0[l] = (-1.0 + 2.0 * u()) * 0.7f64.powi(k as i32);
+                }
             }
         }
+        let [x, v, z] = &series;
         let mut rows: LaneRows = [[Lanes::splat(0.0); MAX_ROWS]; SCRATCH_ROWS];
         let mut scalar = vec![Scratch::default(); LANES];
         let lane = |rows: &[Lanes; MAX_ROWS], l: usize| rows.map(|r| r.0[l]);
-        let zero = [0.0; MAX_ROWS];
         for k in 0..MAX_ROWS {
-            let on = terms[0].taylor_lanes(&values, k, &x, &v, &mut rows);
+            let rate = terms[0].rate_taylor_lanes(&values, k, x, v, z, &mut rows);
+            let on = terms[0].taylor_lanes(&values, k, x, v, z, &mut rows);
             assert_eq!(on.is_some(), terms[0].on_lanes(), "{kind}");
             let Some(on) = on else { break };
             for (l, t) in terms.iter().enumerate() {
-                let want = t.taylor(k, &lane(&x, l), &lane(&v, l), &zero, &mut scalar[l]);
+                let (xl, vl, zl) = (lane(x, l), lane(v, l), lane(z, l));
+                let want_rate = t.rate_taylor(k, &xl, &vl, &zl, &mut scalar[l]);
+                let want = t.taylor(k, &xl, &vl, &zl, &mut scalar[l]);
+                assert_eq!(
+                    rate.0[l].to_bits(),
+                    want_rate.to_bits(),
+                    "{kind} rate k {k} lane {l}"
+                );
                 assert_eq!(on.0[l].to_bits(), want.to_bits(), "{kind} k {k} lane {l}");
                 for (on_row, row) in rows.iter().zip(&scalar[l].0) {
                     assert_eq!(on_row[k].0[l].to_bits(), row[k].to_bits(), "{kind} k {k}");

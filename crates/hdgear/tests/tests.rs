@@ -36,3 +36,4 @@ mod schedule;
 mod simd;
 mod static_curve;
 mod stick_slip;
+mod switching_batch;

@@ -446,12 +446,6 @@ impl<'s, S: System<N> + ?Sized, const N: usize> Taylor<'s, S, N> {
         capped_step::<FMA, N>(self.order, self.shift, self.opts.h_max, &self.c, scale)
     }
 
-    /// The step rule's order p, its shift s ([`rule`]) and the options' largest step: what
-    /// [`Taylor::rule`] takes besides the coefficients and the weights.
-    pub(crate) fn rule_parts(&self) -> (usize, f64, Option<f64>) {
-        (self.order, self.shift, self.opts.h_max)
-    }
-
     /// The system's own rows of the last pass.
     pub(crate) fn work(&self) -> &Workspace {
         &self.work

@@ -798,6 +798,8 @@ impl Model {
 }
 
 mod lanes;
+mod switching_lanes;
 mod system;
 pub use lanes::{integrate_models, on_vector_lanes};
+pub use switching_lanes::integrate_switching_models;
 use system::state;

@@ -6,7 +6,9 @@ use super::jet::{
     Jet, Lanes, cauchy, exp_coefficient, exp_step_limit, square_coefficient, tanh_coefficient,
     tanh_step_limit,
 };
-use super::terms::{Domain, LaneRows, MAX_ROWS, ParamInfo, Scratch, Side, Term, piece_sign};
+use super::terms::{
+    Domain, LANE_PARAMS, LaneRows, MAX_ROWS, ParamInfo, Scratch, Side, Term, piece_sign,
+};
 use crate::integrate::taylor::SCRATCH_ROWS;
 use serde::Serialize;
 
@@ -111,6 +113,7 @@ impl Term for Friction {
         k: usize,
         _x: &[Lanes],
         v: &[Lanes],
+        _z: &[Lanes],
         rows: &mut LaneRows,
     ) -> Option<Lanes> {
         Some(friction_row([values[0], values[1]], k, v, rows))
@@ -252,6 +255,7 @@ impl Term for Stribeck {
         k: usize,
         _x: &[Lanes],
         v: &[Lanes],
+        _z: &[Lanes],
         rows: &mut LaneRows,
     ) -> Option<Lanes> {
         let p = [values[0], values[1], values[2], values[3], values[4]];
@@ -411,19 +415,46 @@ impl Term for Coulomb {
         }
     }
     /// q = −(v/v_st)² (row 0) and e^q (row 1); T_k = s·(f_c[k = 0] + (f_s − f_c)e_k) + c_v v_k
-    /// with s the piece's constant sgn x'.
+    /// with s the piece's constant sgn x', on any `Jet` (one recurrence for [`Term::taylor`] and
+    /// [`Term::taylor_lanes`]).
     #[inline(always)]
     fn taylor(&self, k: usize, _x: &[f64], v: &[f64], _z: &[f64], rows: &mut Scratch) -> f64 {
-        let [q, e, ..] = &mut rows.0;
-        let level = self.level().row(v, q, e, k);
-        self.sign(v[0]) * level + self.values[3] * v[k]
+        let [fc, fs, vst, cv] = self.values;
+        coulomb_row([fc, fs, vst, cv, self.sign(v[0])], k, v, &mut rows.0)
+    }
+    const ON_LANES: bool = true;
+    /// On a piece: the values and the piece's sgn x'.
+    fn lane_values(&self) -> [f64; LANE_PARAMS] {
+        let [fc, fs, vst, cv] = self.values;
+        [fc, fs, vst, cv, self.side]
+    }
+    #[inline(always)]
+    fn taylor_lanes(
+        values: &[Lanes],
+        k: usize,
+        _x: &[Lanes],
+        v: &[Lanes],
+        _z: &[Lanes],
+        rows: &mut LaneRows,
+    ) -> Option<Lanes> {
+        let p = [values[0], values[1], values[2], values[3], values[4]];
+        Some(coulomb_row(p, k, v, rows))
     }
     const LIMITS_STEPS: bool = true;
     /// The Stribeck factor e^q ([`exp_step_limit`]).
     fn step_limit(&self, rows: &Scratch, order: usize, h: f64, negligible: f64) -> f64 {
         let [fc, fs, ..] = self.values;
-        let [q, e, ..] = &rows.0;
-        exp_step_limit(q, e, order, h, (fs - fc).abs(), negligible)
+        coulomb_limit([fc, fs], &rows.0, order, h, negligible)
+    }
+    #[inline(always)]
+    fn step_limit_lanes(
+        values: &[Lanes],
+        rows: &LaneRows,
+        order: usize,
+        h: Lanes,
+        negligible: Lanes,
+    ) -> Lanes {
+        coulomb_limit([values[0], values[1]], rows, order, h, negligible)
     }
     fn text(&self) -> String {
         " + (f_c + (f_s − f_c)·exp(−(x'/v_st)²))·sgn x' + c_v·x'".into()
@@ -441,4 +472,32 @@ impl Term for Coulomb {
             ..self
         }
     }
+}
+
+/// [`Coulomb`]'s row k on any [`Jet`], with s its piece's sgn x': q = −(v/v_st)² (row 0), e^q
+/// (row 1); T_k = s·(f_c[k = 0] + (f_s − f_c)e_k) + c_v v_k.
+#[inline(always)]
+fn coulomb_row<J: Jet>(
+    [fc, fs, vst, cv, s]: [J; 5],
+    k: usize,
+    v: &[J],
+    rows: &mut [[J; MAX_ROWS]; SCRATCH_ROWS],
+) -> J {
+    let [q, e, ..] = rows;
+    let level = Level { fc, fs, vst }.row(v, q, e, k);
+    s * level + cv * v[k]
+}
+
+/// [`Coulomb`]'s step limit on any [`Jet`], from its rows ([`coulomb_row`]): the Stribeck factor
+/// e^q ([`exp_step_limit`]).
+#[inline(always)]
+fn coulomb_limit<J: Jet>(
+    [fc, fs]: [J; 2],
+    rows: &[[J; MAX_ROWS]; SCRATCH_ROWS],
+    order: usize,
+    h: J,
+    negligible: J,
+) -> J {
+    let [q, e, ..] = rows;
+    exp_step_limit(q, e, order, h, (fs - fc).abs(), negligible)
 }

@@ -426,12 +426,12 @@ pub fn pow_coefficient(u: &[f64], a: f64, p: &[f64], k: usize) -> f64 {
 /// }
 /// ```
 #[inline(always)]
-pub fn whole_power_rows<'a>(
-    u: &'a [f64],
+pub fn whole_power_rows<'a, J: Jet>(
+    u: &'a [J],
     n: usize,
-    powers: &'a mut [[f64; MAX_ROWS]],
+    powers: &'a mut [[J; MAX_ROWS]],
     k: usize,
-) -> &'a [f64] {
+) -> &'a [J] {
     for m in 0..n.saturating_sub(1) {
         let (done, next) = powers.split_at_mut(m);
         next[0][k] = match done.last() {

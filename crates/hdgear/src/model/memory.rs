@@ -7,11 +7,13 @@
 //! analytic, and a switching integration ([`super::switching`]) cuts steps where a sign changes.
 //! Both states' rates vanish at x' = 0, so a state is held while the motion rests.
 
+use super::jet::{Jet, Lanes};
 use super::jet::{cauchy, exp_step_limit, quotient_coefficient, whole_power_rows};
 use super::terms::{
-    Domain, FRICTION_FC, FRICTION_FS, Level, ParamInfo, STRIBECK_VELOCITY, Scratch, Side,
-    StateInfo, Term, piece_sign,
+    Domain, FRICTION_FC, FRICTION_FS, LANE_PARAMS, LaneRows, Level, MAX_ROWS, ParamInfo,
+    STRIBECK_VELOCITY, Scratch, Side, StateInfo, Term, piece_sign,
 };
+use crate::integrate::taylor::SCRATCH_ROWS;
 use serde::Serialize;
 
 /// LuGre friction on x': F = σ₀s + σ₁s' + σ₂x' with the bristle state
@@ -338,18 +340,56 @@ impl Term for BoucWen {
         }
     }
     /// zⁿ by repeated products (rows 0..n − 2 hold z², z³, z⁴), then
-    /// r = A·v − c·(v·zⁿ) with the piece's constant c.
+    /// r = A·v − c·(v·zⁿ) with the piece's constant c, on any `Jet` (one recurrence for
+    /// [`Term::rate_taylor`] and [`Term::rate_taylor_lanes`]).
     #[inline(always)]
     fn rate_taylor(&self, k: usize, _x: &[f64], v: &[f64], z: &[f64], rows: &mut Scratch) -> f64 {
         let a = self.values[2];
         let (sv, sz, n) = self.signs(v[0], z[0]);
-        let zn = whole_power_rows(z, n as usize, &mut rows.0, k);
-        a * v[k] - self.coefficient(sv, sz, n) * cauchy(v, zn, k)
+        let c = self.coefficient(sv, sz, n);
+        bouc_wen_rate_row(a, c, n as usize, k, v, z, &mut rows.0)
     }
     #[inline(always)]
     fn taylor(&self, k: usize, x: &[f64], _v: &[f64], z: &[f64], _rows: &mut Scratch) -> f64 {
         let [kh, rho, ..] = self.values;
-        kh * (rho * x[k] + (1.0 - rho) * z[k])
+        bouc_wen_row(kh, rho, k, x, z)
+    }
+    const ON_LANES: bool = true;
+    /// On a piece: k_h, ρ, A, the piece's constant c = β·s_v·s_zⁿ⁻¹ + γ_h·s_zⁿ (s_v, s_z its
+    /// signs of x' and z) and n. Only a piece's c is constant: a model whose terms read their
+    /// signs from the state runs on lanes only as pieces ([`super::integrate_switching_models`]).
+    fn lane_values(&self) -> [f64; LANE_PARAMS] {
+        let [kh, rho, a, .., n] = self.values;
+        let (sv, sz, n_whole) = (self.side.v, self.side.z, n as i32);
+        [kh, rho, a, self.coefficient(sv, sz, n_whole), n]
+    }
+    /// The exponent n, whose products the recurrence unrolls.
+    fn lane_shape(&self) -> usize {
+        self.values[5] as usize
+    }
+    #[inline(always)]
+    fn taylor_lanes(
+        values: &[Lanes],
+        k: usize,
+        x: &[Lanes],
+        _v: &[Lanes],
+        z: &[Lanes],
+        _rows: &mut LaneRows,
+    ) -> Option<Lanes> {
+        Some(bouc_wen_row(values[0], values[1], k, x, z))
+    }
+    #[inline(always)]
+    fn rate_taylor_lanes(
+        values: &[Lanes],
+        k: usize,
+        _x: &[Lanes],
+        v: &[Lanes],
+        z: &[Lanes],
+        rows: &mut LaneRows,
+    ) -> Lanes {
+        // n is the same on every lane (`lane_shape`)
+        let n = values[4].0[0] as usize;
+        bouc_wen_rate_row(values[2], values[3], n, k, v, z, rows)
     }
     fn text(&self) -> String {
         " + k_h·(ρ·x + (1 − ρ)·z)".into()
@@ -366,4 +406,26 @@ impl Term for BoucWen {
     fn directed(self, side: Side) -> Self {
         BoucWen { side, ..self }
     }
+}
+
+/// [`BoucWen`]'s torque row k on any [`Jet`]: k_h·(ρ·x_k + (1 − ρ)·z_k).
+#[inline(always)]
+fn bouc_wen_row<J: Jet>(kh: J, rho: J, k: usize, x: &[J], z: &[J]) -> J {
+    kh * (rho * x[k] + (J::splat(1.0) - rho) * z[k])
+}
+
+/// [`BoucWen`]'s rate row k on any [`Jet`], on a piece whose constant is c: zⁿ by repeated
+/// products (rows 0..n − 2 of `rows` hold z², z³, z⁴), then r_k = A·v_k − c·(v·zⁿ)_k.
+#[inline(always)]
+fn bouc_wen_rate_row<J: Jet>(
+    a: J,
+    c: J,
+    n: usize,
+    k: usize,
+    v: &[J],
+    z: &[J],
+    rows: &mut [[J; MAX_ROWS]; SCRATCH_ROWS],
+) -> J {
+    let zn = whole_power_rows(z, n, rows, k);
+    a * v[k] - c * cauchy(v, zn, k)
 }

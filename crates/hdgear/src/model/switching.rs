@@ -43,7 +43,7 @@ use super::assembled::MAX_STATES;
 use crate::error::{Result, SolverError};
 use crate::integrate::events::{Detector, Direction, refine_root};
 use crate::integrate::{
-    AnyDense, AnyStepper, DenseOutput, Options, Stats, Stepper, System, stepper,
+    AnyDense, AnyStepper, DenseOutput, Options, Stats, Stepper, System, Taylor, stepper,
 };
 use serde::Serialize;
 
@@ -96,6 +96,11 @@ impl Pieces {
     /// quantity is 0.
     pub fn model(&self) -> &Model {
         &self.free
+    }
+
+    /// Every slipping piece (each sign of x' and of the switching states).
+    pub(crate) fn slipping_pieces(&self) -> impl Iterator<Item = &Model> {
+        self.slipping.iter().flatten()
     }
 
     /// The static band: the sum of the sticking terms' breakaway torques (0 without one).
@@ -522,13 +527,61 @@ impl<const N: usize> Stepper<N> for Switching<'_, N> {
         &self.y
     }
     fn step(&mut self, t_bound: f64) -> Result<()> {
-        if let Some(e) = self.opts.spent(self.stats().steps, self.t) {
+        if let Some(e) = self.spent() {
             return Err(e.into());
         }
         let Some(inner) = self.inner.as_mut() else {
             return self.hold(t_bound);
         };
         inner.step(t_bound)?;
+        self.after_inner_step()
+    }
+    fn dense(&mut self) -> SwitchingDense<N> {
+        self.dense
+    }
+    fn stats(&self) -> Stats {
+        let mut s = self.done;
+        if let Some(inner) = &self.inner {
+            let i = inner.stats();
+            s.steps += i.steps;
+            s.rejected += i.rejected;
+            s.rhs_evals += i.rhs_evals;
+        }
+        s
+    }
+}
+
+impl<'p, const N: usize> Switching<'p, N> {
+    /// The error of a spent budget of steps or time, checked before every step.
+    pub(crate) fn spent(&self) -> Option<SolverError> {
+        self.opts.spent(self.stats().steps, self.t)
+    }
+
+    /// The Taylor stepper of the current slipping piece ([`Switching::piece`]): what a batch on vector
+    /// lanes steps ([`super::integrate_switching_models`]), followed by
+    /// [`Switching::after_inner_step`]. `None` at rest, or when the pieces run another method.
+    pub(crate) fn on_piece(&mut self) -> Option<&mut Taylor<'p, Model, N>> {
+        if self.mode == Mode::Stuck {
+            return None;
+        }
+        match self.inner.as_mut() {
+            Some(AnyStepper::Taylor(t)) => Some(t),
+            _ => None,
+        }
+    }
+
+    /// The current piece: the slipping one, or at rest the model with every sign read from the
+    /// state.
+    pub(crate) fn piece(&self) -> &'p Model {
+        self.pieces.piece(self.mode, self.bits)
+    }
+
+    /// The rest of a step once the inner stepper has taken its own: the step cut at the first
+    /// switch located on it, and the mode or piece that follows.
+    pub(crate) fn after_inner_step(&mut self) -> Result<()> {
+        let Some(inner) = self.inner.as_mut() else {
+            return Ok(());
+        };
         let d = inner.dense();
         if self.mode == Mode::Stuck {
             let end = (inner.t(), *inner.y());
@@ -583,18 +636,5 @@ impl<const N: usize> Stepper<N> for Switching<'_, N> {
             self.last = None;
             self.enter(self.mode)
         }
-    }
-    fn dense(&mut self) -> SwitchingDense<N> {
-        self.dense
-    }
-    fn stats(&self) -> Stats {
-        let mut s = self.done;
-        if let Some(inner) = &self.inner {
-            let i = inner.stats();
-            s.steps += i.steps;
-            s.rejected += i.rejected;
-            s.rhs_evals += i.rhs_evals;
-        }
-        s
     }
 }

@@ -27,6 +27,9 @@ pub const MAX_ROWS: usize = crate::integrate::taylor::MAX_ORDER + 1;
 /// order by [`Term::taylor`]): the Taylor stepper's, which keeps one set per term.
 pub use crate::integrate::taylor::Scratch;
 
+/// The most numbers a term's copy on lanes reads ([`Term::lane_values`]).
+pub const LANE_PARAMS: usize = 5;
+
 /// A term's own Taylor rows on [`Lanes`] ([`Term::taylor_lanes`]): a [`Scratch`] per lane.
 pub type LaneRows = [[Lanes; MAX_ROWS]; crate::integrate::taylor::SCRATCH_ROWS];
 
@@ -191,18 +194,46 @@ pub trait Term: Copy {
     /// Whether the kind has [`Term::taylor_lanes`] (the tests hold the two together).
     const ON_LANES: bool = false;
     /// [`Term::taylor`] of [`LANES`](crate::batch::LANES) terms of this kind at once, for a
-    /// stateless kind whose recurrence is written once over [`Jet`] numbers: parameter i of
-    /// lane l in `values[i].0[l]`, x's and v's rows on lanes, the terms' own rows in `rows`.
-    /// Each lane gets what [`Term::taylor`] gives its own term, to the bit. `None` (the
-    /// default): the kind has no such copy, and a batch of it runs term by term.
+    /// kind whose recurrence is written once over [`Jet`] numbers: value i of lane l's
+    /// [`Term::lane_values`] in `values[i].0[l]`, x's, v's and z's rows on lanes, the terms' own
+    /// rows in `rows`. Each lane gets what [`Term::taylor`] gives its own term, to the bit.
+    /// `None` (the default): the kind has no such copy, and a batch of it runs term by term.
     fn taylor_lanes(
         _values: &[Lanes],
         _k: usize,
         _x: &[Lanes],
         _v: &[Lanes],
+        _z: &[Lanes],
         _rows: &mut LaneRows,
     ) -> Option<Lanes> {
         None
+    }
+    /// [`Term::rate_taylor`] on lanes, as [`Term::taylor_lanes`] takes them (called before it
+    /// for the same k): for a kind on lanes with a state. 0, the default, for a stateless kind.
+    fn rate_taylor_lanes(
+        _values: &[Lanes],
+        _k: usize,
+        _x: &[Lanes],
+        _v: &[Lanes],
+        _z: &[Lanes],
+        _rows: &mut LaneRows,
+    ) -> Lanes {
+        Lanes::splat(0.0)
+    }
+    /// The numbers a copy on lanes ([`Term::taylor_lanes`]) reads from this term: its values
+    /// (the default), or for a switching term on its piece ([`Term::directed`]) the values with
+    /// the piece's signs folded in. At most [`LANE_PARAMS`] of them.
+    fn lane_values(&self) -> [f64; LANE_PARAMS] {
+        let mut out = [0.0; LANE_PARAMS];
+        for (o, &v) in out.iter_mut().zip(self.values()) {
+            *o = v;
+        }
+        out
+    }
+    /// What a copy on lanes takes as the same on every lane (an exponent its recurrence
+    /// unrolls): terms of one kind run on lanes together only where it agrees. 0, the default.
+    fn lane_shape(&self) -> usize {
+        0
     }
     /// For a term whose state is a phase turning at a constant rate (a dither's, a wave
     /// generator's, a multisine's): the index of that rate among its parameters. The defaults of
@@ -342,6 +373,7 @@ impl Term for Damping {
         k: usize,
         _x: &[Lanes],
         v: &[Lanes],
+        _z: &[Lanes],
         _: &mut LaneRows,
     ) -> Option<Lanes> {
         Some(v[k])
@@ -422,6 +454,7 @@ impl Term for Stiffness {
         k: usize,
         x: &[Lanes],
         _v: &[Lanes],
+        _z: &[Lanes],
         rows: &mut LaneRows,
     ) -> Option<Lanes> {
         Some(stiffness_row([values[0], values[1], values[2]], k, x, rows))
@@ -553,8 +586,21 @@ macro_rules! any_term {
             }
             /// [`Term::taylor_lanes`] of its kind, with the lanes' parameters `values`.
             #[inline(always)]
-            pub fn taylor_lanes(&self, values: &[Lanes], k: usize, x: &[Lanes], v: &[Lanes], rows: &mut LaneRows) -> Option<Lanes> {
-                match self { $(AnyTerm::$variant(_) => $variant::taylor_lanes(values, k, x, v, rows),)* }
+            pub fn taylor_lanes(&self, values: &[Lanes], k: usize, x: &[Lanes], v: &[Lanes], z: &[Lanes], rows: &mut LaneRows) -> Option<Lanes> {
+                match self { $(AnyTerm::$variant(_) => $variant::taylor_lanes(values, k, x, v, z, rows),)* }
+            }
+            /// [`Term::rate_taylor_lanes`] of its kind, with the lanes' parameters `values`.
+            #[inline(always)]
+            pub fn rate_taylor_lanes(&self, values: &[Lanes], k: usize, x: &[Lanes], v: &[Lanes], z: &[Lanes], rows: &mut LaneRows) -> Lanes {
+                match self { $(AnyTerm::$variant(_) => $variant::rate_taylor_lanes(values, k, x, v, z, rows),)* }
+            }
+            /// The numbers its copy on lanes reads ([`Term::lane_values`]).
+            pub fn lane_values(&self) -> [f64; LANE_PARAMS] {
+                match self { $(AnyTerm::$variant(t) => t.lane_values(),)* }
+            }
+            /// What its copy on lanes takes as the same on every lane ([`Term::lane_shape`]).
+            pub fn lane_shape(&self) -> usize {
+                match self { $(AnyTerm::$variant(t) => t.lane_shape(),)* }
             }
             /// z' of its internal state ([`Term::rate`]).
             #[inline]

@@ -10,23 +10,25 @@
 //! the bit.
 //!
 //! Models that share one structure of terms that each have a copy on vector lanes
-//! ([`on_vector_lanes`]: the study's terms, smooth and Stribeck friction) run one pass for all
-//! sixteen on [`Lanes`], each term's recurrence written once over [`Jet`] numbers so that every
-//! lane computes what its scalar pass does, in the same order. Their step rule and the terms'
+//! ([`on_vector_lanes`]: the study's terms, the friction laws, Bouc–Wen hysteresis) run one pass
+//! for all sixteen on [`Lanes`] ([`run_vector`], internal states included), each term's
+//! recurrence written once over [`Jet`] numbers so that every lane computes what its scalar pass
+//! does, in the same order. Their step rule and the terms'
 //! step limits run on the lanes too, their logarithms and exponentials by short polynomials to
 //! ~1e-9 ([`crate::integrate::approx`], as the study's batch does): their steps are the scalar
 //! stepper's to about that, so their states agree with it to the tolerance, not to the bit.
 //! Otherwise the lanes need not share a structure: each runs its own model's terms, interleaved.
 //! Models that switch ([`Model::switches`]: sgn x', |z|) are stepped piece by piece by
-//! [`crate::model::switching`], and a delayed feedback needs its run's history; the batch
-//! refuses both.
+//! [`crate::model::switching`], and have their own batch ([`super::switching_lanes`], on the same
+//! [`run_vector`]); a delayed feedback needs its run's history. This batch refuses both.
 
 use super::{MAX_TERMS, Model};
 use crate::error::{Error, Result};
 use crate::integrate::lanes::{Jet, LANES, LaneResult, Lanes, check_inputs};
 use crate::integrate::taylor::{cap, forcing_series, step_from_norms, weighted_norm};
 use crate::integrate::{Options, Stepper, Taylor, TaylorDense};
-use crate::model::terms::{LaneRows, MAX_ROWS};
+use crate::model::switching::Pieces;
+use crate::model::terms::{LANE_PARAMS, LaneRows, MAX_ROWS};
 use crate::simd::{Level, Simd, dispatched};
 
 /// Integrates each of `models` from its start `starts[i]` at τ = 0 over its span
@@ -92,7 +94,7 @@ pub fn integrate_models<const N: usize>(
         } else {
             Simd::detect().at_most(Level::Avx2)
         };
-        run_on(simd, &mut lanes, vector, &mut show);
+        run_on(simd, &mut lanes, vector, &tol, &mut show);
         out.extend(lanes.into_iter().map(|lane| {
             // (`run` returns once every lane has its outcome)
             lane.end.unwrap_or_else(|| {
@@ -142,7 +144,7 @@ struct Lane<'m, const N: usize> {
 
 dispatched! {
     /// [`run`] with the arithmetic of the vector unit `simd` names.
-    fn run_on['m, const N: usize](lanes: &mut [Lane<'m, N>], vector: bool, show: &mut dyn FnMut(usize, &TaylorDense<N>)) -> () = run::<FMA, N>(lanes, vector, show)
+    fn run_on['m, const N: usize](lanes: &mut [Lane<'m, N>], vector: bool, tol: &Options, show: &mut dyn FnMut(usize, &TaylorDense<N>)) -> () = run::<FMA, N>(lanes, vector, tol, show)
 }
 
 /// Steps every lane to its end: each round, one step of every lane still running. Models that
@@ -153,10 +155,11 @@ dispatched! {
 fn run<const FMA: bool, const N: usize>(
     lanes: &mut [Lane<'_, N>],
     vector: bool,
+    tol: &Options,
     show: &mut dyn FnMut(usize, &TaylorDense<N>),
 ) {
     if vector {
-        return run_vector::<FMA, N>(lanes, show);
+        return run_vector::<FMA, N, _>(lanes, tol, show);
     }
     let mut scales = [[0.0; N]; LANES];
     let mut passes: [Option<super::system::Pass>; LANES] = [const { None }; LANES];
@@ -164,7 +167,7 @@ fn run<const FMA: bool, const N: usize>(
         // which lanes step this round, with the weights of their step rule
         let mut running = 0;
         for (l, lane) in lanes.iter_mut().enumerate() {
-            passes[l] = lane.begin().map(|scale| {
+            passes[l] = lane.start().map(|scale| {
                 scales[l] = scale;
                 running += 1;
                 let (t, y, p, ..) = lane.stepper.rows_mut();
@@ -194,16 +197,14 @@ fn run<const FMA: bool, const N: usize>(
     }
 }
 
-/// The most parameters a term on vector lanes has ([`run_vector`]).
-pub(super) const LANE_PARAMS: usize = 5;
-
 /// Whether [`integrate_models`] runs the passes of `models` on vector lanes, all sixteen of a
 /// chunk at once: when they share one structure (the same kinds of term in the same slots, all
 /// held or none) of terms that each have a copy on lanes
-/// ([`crate::model::terms::AnyTerm::on_lanes`]: the study's terms and the smooth friction laws).
-/// Other batches run their lanes' passes interleaved, each on its own model, and take the scalar
-/// stepper's steps to the bit; on vector lanes the step rule and the terms' limits are computed
-/// to ~1e-9 ([`integrate_models`]).
+/// ([`crate::model::terms::AnyTerm::on_lanes`]: the study's terms, the friction laws, Bouc–Wen
+/// hysteresis). Other batches run their lanes' passes interleaved, each on its own model, and
+/// take the scalar stepper's steps to the bit; on vector lanes the step rule and the terms'
+/// limits are computed to ~1e-9 ([`integrate_models`]). For models that switch, whether
+/// [`super::integrate_switching_models`] runs their slipping pieces' passes on vector lanes.
 ///
 /// ```
 /// use hdgear::model::{Model, on_vector_lanes, terms::AnyTerm};
@@ -218,11 +219,20 @@ pub(super) const LANE_PARAMS: usize = 5;
 /// assert!(!on_vector_lanes(&[friction(0.1), Model::study(&Params::default())]));
 /// ```
 pub fn on_vector_lanes(models: &[Model]) -> bool {
-    same_structure(models.iter())
+    if models.iter().all(|m| !m.switches()) {
+        return same_structure(models.iter());
+    }
+    // switching models: their slipping pieces, as `integrate_switching_models` runs them
+    let pieces: Vec<Pieces> = models.iter().filter_map(Pieces::new).collect();
+    pieces.len() == models.len() && same_structure(pieces.iter().flat_map(Pieces::slipping_pieces))
 }
 
-/// [`on_vector_lanes`] of the models `models` yields.
-fn same_structure<'m>(mut models: impl Iterator<Item = &'m Model>) -> bool {
+/// Whether the models `models` yields share one structure of terms on vector lanes (the same
+/// kinds in the same slots, each with a copy on lanes and the same [`AnyTerm::lane_shape`]; all
+/// held or none): [`on_vector_lanes`], and for switching models of their pieces.
+///
+/// [`AnyTerm::lane_shape`]: crate::model::terms::AnyTerm::lane_shape
+pub(super) fn same_structure<'m>(mut models: impl Iterator<Item = &'m Model>) -> bool {
     let mut first = None;
     models.all(|m| {
         let first: &Model = first.get_or_insert(m);
@@ -230,27 +240,67 @@ fn same_structure<'m>(mut models: impl Iterator<Item = &'m Model>) -> bool {
             && m.terms.iter().zip(&first.terms).all(|pair| match pair {
                 (None, None) => true,
                 (Some(a), Some(b)) => {
-                    a.kind() == b.kind() && a.on_lanes() && a.values().len() <= LANE_PARAMS
+                    a.kind() == b.kind() && a.on_lanes() && a.lane_shape() == b.lane_shape()
                 }
                 _ => false,
             })
     })
 }
 
-/// [`run`] for lanes whose models share a structure of terms on vector lanes: each round one
-/// pass of every lane at once on [`Lanes`] (each term's [`crate::model::terms::AnyTerm::taylor_lanes`], the lanes'
-/// parameters side by side), which gives each lane the rows of its scalar pass to the bit; then
-/// the step rule and the terms' step limits on all lanes at once (to ~1e-9), and each lane's
-/// step.
+/// A lane of a batch whose passes run on vector lanes ([`run_vector`]): a model's Taylor
+/// stepper ([`Lane`]), or a switching integration's on its current piece
+/// ([`super::switching_lanes`]).
+pub(super) trait OnLanes<'m, const N: usize> {
+    /// What a step shows.
+    type Dense;
+    /// The start of the lane's next step on the lanes: the weights of its step rule, or `None`
+    /// when it has stopped (its outcome then kept). `show` (as lane `l`) takes whatever steps
+    /// the lane takes on its own before that.
+    fn begin(&mut self, l: usize, show: &mut dyn FnMut(usize, &Self::Dense)) -> Option<[f64; N]>;
+    /// The model whose pass the step takes (after [`OnLanes::begin`]).
+    fn model(&self) -> &'m Model;
+    /// The stepper whose rows the pass fills (there is one after [`OnLanes::begin`] gave
+    /// weights).
+    fn stepper(&mut self) -> Option<&mut Taylor<'m, Model, N>>;
+    /// The lane's step of `h` on the rows in its stepper, shown as lane `l`'s.
+    fn finish<const FMA: bool>(
+        &mut self,
+        l: usize,
+        h: f64,
+        show: &mut dyn FnMut(usize, &Self::Dense),
+    );
+}
+
+/// Steps every lane to its end, one step of every running lane per round, for lanes whose
+/// models share a structure of terms on vector lanes ([`same_structure`]) and options `tol`:
+/// each round one pass of every lane at once on [`Lanes`] (each term's
+/// [`crate::model::terms::AnyTerm::taylor_lanes`], the lanes' [`Term::lane_values`] side by side),
+/// which gives each lane the rows of its scalar pass to the bit; then the step rule and the
+/// terms' step limits on all lanes at once (to ~1e-9), and each lane's step.
+///
+/// [`Term::lane_values`]: crate::model::terms::Term::lane_values
 #[inline(always)]
-fn run_vector<const FMA: bool, const N: usize>(
-    lanes: &mut [Lane<'_, N>],
-    show: &mut dyn FnMut(usize, &TaylorDense<N>),
+pub(super) fn run_vector<'m, const FMA: bool, const N: usize, L: OnLanes<'m, N>>(
+    lanes: &mut [L],
+    tol: &Options,
+    show: &mut dyn FnMut(usize, &L::Dense),
 ) {
-    use crate::integrate::taylor::{INV, SCRATCH_ROWS};
+    use crate::integrate::taylor::SCRATCH_ROWS;
     let zero = Lanes([0.0; LANES]);
-    let model = lanes[0].model;
-    let params = lane_params(lanes);
+    // the structure (kinds, slots, states), the same on every lane
+    let model = lanes[0].model();
+    let (order, shift) = crate::integrate::taylor::rule(tol);
+    let pass = model.pass::<N>(0.0, &[0.0; N], order);
+    let n = pass.n;
+    // each lane's terms' numbers, refreshed where a lane's model changes (a switching lane's
+    // piece); a lane past the models' count repeats lane 0's
+    let mut params = [[zero; LANE_PARAMS]; MAX_TERMS];
+    let mut current: [*const Model; LANES] = [std::ptr::null(); LANES];
+    for (l, now) in current.iter_mut().enumerate() {
+        let m = lanes.get(l).unwrap_or(&lanes[0]).model();
+        set_lane(&mut params, l, m);
+        *now = m;
+    }
     let mut rows: Box<[LaneRows; MAX_TERMS]> =
         Box::new([[[zero; MAX_ROWS]; SCRATCH_ROWS]; MAX_TERMS]);
     let moving = Lanes::splat(if model.held { 0.0 } else { 1.0 });
@@ -260,26 +310,31 @@ fn run_vector<const FMA: bool, const N: usize>(
         .collect();
     let mut scales = [[0.0; N]; LANES];
     let mut running = [false; LANES];
-    // the order and the present terms, the same on every lane (one structure, one tolerance)
-    let pass = {
-        let (t, y, p, ..) = lanes[0].stepper.rows_mut();
-        model.pass(t, y, p)
-    };
-    let n = pass.n;
-    let [mu, delta, omega] = lane_forcing(lanes);
-    let atol = lanes[0].stepper.options().atol;
+    let [mu, delta, omega] = by_lane(lanes, |m| m.forcing());
     loop {
         // the state's row 0 and sin, cos ωt of every lane that steps this round
-        let (mut f, mut s) = ([zero; MAX_ROWS], [[zero; MAX_ROWS]; 2]);
+        let (mut f, mut s) = ([zero; MAX_ROWS], [[zero; MAX_ROWS]; N]);
         let (mut sin, mut cos) = (zero, zero);
         let mut any = false;
         for (l, lane) in lanes.iter_mut().enumerate() {
             running[l] = false;
-            let Some(scale) = lane.begin() else { continue };
+            let Some(scale) = lane.begin(l, show) else {
+                continue;
+            };
+            let m = lane.model();
+            let Some(stepper) = lane.stepper() else {
+                continue;
+            };
             (scales[l], running[l], any) = (scale, true, true);
-            let (t, y, ..) = lane.stepper.rows_mut();
+            if !std::ptr::eq(current[l], m) {
+                set_lane(&mut params, l, m);
+                current[l] = m;
+            }
+            let (t, y, ..) = stepper.rows_mut();
             (sin.0[l], cos.0[l]) = libm::sincos(omega.0[l] * t);
-            (s[0][0].0[l], s[1][0].0[l]) = (y[0], y[1]);
+            for (si, &yi) in s.iter_mut().zip(y) {
+                si[0].0[l] = yi;
+            }
         }
         if !any {
             return;
@@ -288,40 +343,69 @@ fn run_vector<const FMA: bool, const N: usize>(
         forcing_series(delta, omega, (sin, cos), n, &mut f);
         f[0] = f[0] + mu;
         // the pass on the lanes, as `Model::pass_row` runs it on one
-        for k in 0..=n {
-            let mut acc = f[k];
-            for &(i, _) in &pass.live[..pass.m] {
-                let Some(term) = &model.terms[i] else {
-                    continue;
-                };
-                if let Some(t) = term.taylor_lanes(&params[i], k, &s[0], &s[1], &mut rows[i]) {
-                    acc = acc - t;
-                }
-            }
-            if k == n {
-                break;
-            }
-            s[0][k + 1] = moving * s[1][k] * Lanes::splat(INV[k]);
-            s[1][k + 1] = moving * acc * Lanes::splat(INV[k]);
-        }
+        let live = &pass.live[..pass.m];
+        pass_on_lanes(model, live, &params, &mut rows, (&f, &mut s), moving, n);
         // each lane's rows back to its stepper; the step rule and the terms' limits on all lanes
         for (l, lane) in lanes.iter_mut().enumerate() {
-            if !running[l] {
+            let Some(stepper) = lane.stepper().filter(|_| running[l]) else {
                 continue;
-            }
-            let (.., c, _) = lane.stepper.rows_mut();
+            };
+            let (.., c, _) = stepper.rows_mut();
             for (k, ck) in c.iter_mut().enumerate().take(n + 1) {
-                for (i, v) in ck.iter_mut().enumerate().take(2) {
+                for (i, v) in ck.iter_mut().enumerate() {
                     *v = s[i][k].0[l];
                 }
             }
         }
-        let h = rule_on_lanes::<FMA, N>(lanes[0].stepper.rule_parts(), &s, &scales);
-        let h = model.limit_step_lanes(&params, &rows, &limiting, n, h, atol);
+        let h = rule_on_lanes::<FMA, N>((order, shift, tol.h_max), &s, &scales);
+        let h = model.limit_step_lanes(&params, &rows, &limiting, n, h, tol.atol);
         for (l, lane) in lanes.iter_mut().enumerate() {
             if running[l] {
                 lane.finish::<FMA>(l, h.0[l], show);
             }
+        }
+    }
+}
+
+/// One Taylor pass of a model's structure on the lanes to order `n`, as [`Model::pass_row`]
+/// runs it on one: the present terms `live` (slot, state index) of `model`, their numbers
+/// `params` and own rows `rows` by slot, the forcing's rows `f` and the state's rows `s` (row 0
+/// given, rows 1..=n filled); `moving` is 0 on a held model.
+#[inline(always)]
+fn pass_on_lanes<const N: usize>(
+    model: &Model,
+    live: &[(usize, Option<usize>)],
+    params: &[[Lanes; LANE_PARAMS]; MAX_TERMS],
+    rows: &mut [LaneRows; MAX_TERMS],
+    (f, s): (&[Lanes; MAX_ROWS], &mut [[Lanes; MAX_ROWS]; N]),
+    moving: Lanes,
+    n: usize,
+) {
+    use crate::integrate::taylor::INV;
+    const NONE: [Lanes; MAX_ROWS] = [Lanes([0.0; LANES]); MAX_ROWS];
+    for k in 0..=n {
+        let mut acc = f[k];
+        let mut rates = [Lanes([0.0; LANES]); N];
+        for &(i, at) in live {
+            let Some(term) = &model.terms[i] else {
+                continue;
+            };
+            let (p, r) = (&params[i], &mut rows[i]);
+            let z = at.map_or(&NONE, |j| &s[j]);
+            if let Some(j) = at {
+                rates[j] = term.rate_taylor_lanes(p, k, &s[0], &s[1], z, r);
+            }
+            if let Some(t) = term.taylor_lanes(p, k, &s[0], &s[1], z, r) {
+                acc = acc - t;
+            }
+        }
+        if k == n {
+            break;
+        }
+        s[0][k + 1] = moving * s[1][k] * Lanes::splat(INV[k]);
+        s[1][k + 1] = moving * acc * Lanes::splat(INV[k]);
+        for i in 2..N {
+            s[i][k + 1] = rates[i] * Lanes::splat(INV[k]);
         }
     }
 }
@@ -333,7 +417,7 @@ fn run_vector<const FMA: bool, const N: usize>(
 #[inline(always)]
 fn rule_on_lanes<const FMA: bool, const N: usize>(
     (p, shift, h_max): (usize, f64, Option<f64>),
-    s: &[[Lanes; MAX_ROWS]; 2],
+    s: &[[Lanes; MAX_ROWS]; N],
     scales: &[[f64; N]; LANES],
 ) -> Lanes {
     let mut h = Lanes([0.0; LANES]);
@@ -345,38 +429,40 @@ fn rule_on_lanes<const FMA: bool, const N: usize>(
     h
 }
 
-/// The forcing's μ, δ and ω on the lanes; a lane past the models' count repeats lane 0's.
-fn lane_forcing<const N: usize>(lanes: &[Lane<'_, N>]) -> [Lanes; 3] {
-    let mut forcing = [Lanes([0.0; LANES]); 3];
+/// `value` of each lane's model side by side on the lanes: value j of lane l at `[j].0[l]`; a
+/// lane past the models' count repeats lane 0's.
+fn by_lane<'m, const N: usize, const J: usize, L: OnLanes<'m, N>>(
+    lanes: &[L],
+    value: impl Fn(&Model) -> [f64; J],
+) -> [Lanes; J] {
+    let mut out = [Lanes([0.0; LANES]); J];
     for l in 0..LANES {
-        let lane_model = lanes.get(l).unwrap_or(&lanes[0]).model;
-        for (p, v) in forcing.iter_mut().zip(lane_model.forcing()) {
+        for (o, v) in out
+            .iter_mut()
+            .zip(value(lanes.get(l).unwrap_or(&lanes[0]).model()))
+        {
+            o.0[l] = v;
+        }
+    }
+    out
+}
+
+/// Lane l's column of the terms' numbers by slot (`params[i][j].0[l]`, value j of the term in
+/// slot i: its [`crate::model::terms::Term::lane_values`]) from its model `m`.
+fn set_lane(params: &mut [[Lanes; LANE_PARAMS]; MAX_TERMS], l: usize, m: &Model) {
+    for (slot, term) in params.iter_mut().zip(&m.terms) {
+        let values = term.map_or([0.0; LANE_PARAMS], |t| t.lane_values());
+        for (p, v) in slot.iter_mut().zip(values) {
             p.0[l] = v;
         }
     }
-    forcing
-}
-
-/// Each term's parameters on the lanes, by slot: parameter j of lane l's term in slot i at
-/// `[i][j].0[l]`; a lane past the models' count repeats lane 0's.
-fn lane_params<const N: usize>(lanes: &[Lane<'_, N>]) -> [[Lanes; LANE_PARAMS]; MAX_TERMS] {
-    let mut params = [[Lanes([0.0; LANES]); LANE_PARAMS]; MAX_TERMS];
-    for l in 0..LANES {
-        let lane_model = lanes.get(l).unwrap_or(&lanes[0]).model;
-        for (slot, term) in params.iter_mut().zip(&lane_model.terms) {
-            for (p, &v) in slot.iter_mut().zip(term.iter().flat_map(|t| t.values())) {
-                p.0[l] = v;
-            }
-        }
-    }
-    params
 }
 
 impl<const N: usize> Lane<'_, N> {
     /// The start of the lane's step ([`Taylor::begin`]): the weights of its step rule, or `None`
     /// when it has stopped (its outcome then kept).
     #[inline(always)]
-    fn begin(&mut self) -> Option<[f64; N]> {
+    fn start(&mut self) -> Option<[f64; N]> {
         if self.end.is_some() {
             return None;
         }
@@ -409,13 +495,13 @@ impl<const N: usize> Lane<'_, N> {
             let atol = self.stepper.options().atol;
             h = self.model.limit_step(self.stepper.work(), n, h, atol);
         }
-        self.finish::<FMA>(l, h, show);
+        self.end_step::<FMA>(l, h, show);
     }
 
     /// The lane's step of `h` on the coefficients in its stepper, with its checks; a step that
     /// ends past the span's start is shown as lane `l`'s.
     #[inline(always)]
-    fn finish<const FMA: bool>(
+    fn end_step<const FMA: bool>(
         &mut self,
         l: usize,
         h: f64,
@@ -426,5 +512,30 @@ impl<const N: usize> Lane<'_, N> {
             Ok(()) => {}
             Err(e) => self.end = Some(Err(e)),
         }
+    }
+}
+
+impl<'m, const N: usize> OnLanes<'m, N> for Lane<'m, N> {
+    type Dense = TaylorDense<N>;
+    #[inline(always)]
+    fn begin(&mut self, _: usize, _: &mut dyn FnMut(usize, &Self::Dense)) -> Option<[f64; N]> {
+        self.start()
+    }
+    #[inline(always)]
+    fn model(&self) -> &'m Model {
+        self.model
+    }
+    #[inline(always)]
+    fn stepper(&mut self) -> Option<&mut Taylor<'m, Model, N>> {
+        Some(&mut self.stepper)
+    }
+    #[inline(always)]
+    fn finish<const FMA: bool>(
+        &mut self,
+        l: usize,
+        h: f64,
+        show: &mut dyn FnMut(usize, &Self::Dense),
+    ) {
+        self.end_step::<FMA>(l, h, show);
     }
 }

@@ -1,11 +1,10 @@
 //! The model as a first-order system ([`System`]): its right-hand side, Jacobian and Taylor
 //! coefficients, each from the terms' own definitions.
 
-use super::lanes::LANE_PARAMS;
 use super::{MAX_STATES, MAX_TERMS, Model};
 use crate::integrate::lanes::{Jet, Lanes};
 use crate::integrate::{System, Workspace};
-use crate::model::terms::LaneRows;
+use crate::model::terms::{LANE_PARAMS, LaneRows};
 use crate::model::terms::{MAX_ROWS, Scratch};
 
 /// Component `at` of the state `y`, 0 where there is none.

@@ -1,0 +1,193 @@
+//! Many switching models at once ([`integrate_switching_models`]): random models with Coulomb
+//! friction (sticking), Bouc–Wen hysteresis and LuGre friction, in batches that cross a chunk of
+//! sixteen lanes, against the scalar switching integration run here one model at a time (on
+//! vector lanes to the tolerance, with the steps to ~1 %; otherwise to the bit); bad input
+//! refused naming it.
+
+use hdgear::batch::LANES;
+use hdgear::integrate::{DenseOutput, Options, Stepper};
+use hdgear::model::switching::{Pieces, Switching};
+use hdgear::model::terms::AnyTerm;
+use hdgear::model::{Model, integrate_switching_models, on_vector_lanes};
+
+use crate::common::uniform;
+use crate::model_batch::{defaults, draw, random_params};
+
+/// What one run gives: its final state, its step count, the end times and states of its steps
+/// after the span's start, and how many of those were at rest.
+type Run<const N: usize> = ([f64; N], u64, Vec<(f64, [f64; N])>, usize);
+
+/// The scalar switching integration of `m` from `y0` over `(from, t_end)`.
+fn scalar<const N: usize>(
+    m: &Model,
+    y0: [f64; N],
+    (from, t_end): (f64, f64),
+    o: Options,
+) -> hdgear::Result<Run<N>> {
+    let pieces = Pieces::new(m).unwrap();
+    let mut s = Switching::<N>::new(&pieces, 0.0, y0, o)?;
+    let (mut shown, mut at_rest) = (Vec::new(), 0);
+    while s.t() < t_end {
+        s.step(t_end)?;
+        if s.t() > from {
+            let d = s.dense();
+            shown.push((d.t_end(), d.end_state()));
+            at_rest += usize::from(d.is_stuck());
+        }
+    }
+    Ok((*s.y(), s.stats().steps, shown, at_rest))
+}
+
+/// `count` models: the study's at random parameters with the terms `kinds`, each parameter
+/// drawn about its default ([`draw`]); a Bouc–Wen exponent `n` where given (else drawn).
+fn models(kinds: &[&str], n: Option<f64>, count: usize, u: &mut impl FnMut() -> f64) -> Vec<Model> {
+    (0..count)
+        .map(|_| {
+            let mut p = random_params(u);
+            // loads that move the drive through rest and back (sticking where it can)
+            p.delta = 0.5 + 3.0 * u();
+            kinds.iter().fold(Model::study(&p), |m, kind| {
+                let params = AnyTerm::params_of(kind).unwrap();
+                let mut values: Vec<f64> = params.iter().map(|q| draw(q, u)).collect();
+                if let (Some(n), "boucwen") = (n, *kind) {
+                    values[5] = n;
+                }
+                m.with_term(AnyTerm::new(kind, &values).unwrap()).unwrap()
+            })
+        })
+        .collect()
+}
+
+/// Runs `models` (all of dimension N) in one batch and checks every lane against the scalar
+/// switching integration; returns how many shown steps were at rest, over all lanes.
+fn check_batch<const N: usize>(models: &[Model], u: &mut impl FnMut() -> f64) -> usize {
+    let o = Options {
+        rtol: 1e-12,
+        atol: 1e-12,
+        ..Options::default()
+    };
+    // every third model starts at rest (its mode from the applied torque), the others slipping
+    let starts: Vec<[f64; N]> = (0..models.len())
+        .map(|i| {
+            let mut y = [0.0; N];
+            y[0] = -1.0 + 2.0 * u();
+            y[1] = if i % 3 == 0 { 0.0 } else { -1.0 + 2.0 * u() };
+            y
+        })
+        .collect();
+    let spans: Vec<(f64, f64)> = (0..models.len())
+        .map(|_| {
+            let t_end = 10.0 + 30.0 * u();
+            (t_end * u(), t_end)
+        })
+        .collect();
+    let mut shown: Vec<Vec<(f64, [f64; N])>> = vec![Vec::new(); models.len()];
+    let ends = integrate_switching_models(models, &starts, &spans, o, |i, d| {
+        shown[i].push((d.t_end(), d.end_state()));
+    })
+    .unwrap();
+    let vector = on_vector_lanes(models);
+    let mut at_rest = 0;
+    for (i, m) in models.iter().enumerate() {
+        let alone = scalar(m, starts[i], spans[i], o);
+        let (end, (y, steps, steps_shown, rest)) = match (&ends[i], alone) {
+            (Ok(end), Ok(alone)) => (end, alone),
+            (Err(a), Err(b)) => {
+                assert_eq!(a.to_string(), b.to_string(), "lane {i}");
+                continue;
+            }
+            (a, b) => panic!("lane {i} {}: {a:?} against {b:?}", m.equation()),
+        };
+        at_rest += rest;
+        if vector {
+            // the same passes to the bit, the step rule's and the limits' logarithms and
+            // exponentials to ~1e-9 (as in `integrate_models`): the switches are located on
+            // steps that differ at that level, to 1e-13 each, so the states agree to the
+            // tolerance over the run and the step counts to 1 %
+            let scale = 1.0 + y.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+            let worst = y
+                .iter()
+                .zip(&end.y)
+                .fold(0.0f64, |a, (p, q)| a.max((p - q).abs()));
+            assert!(worst < 1e-8 * scale, "lane {i} {}: {worst:e}", m.equation());
+            let near = |a: usize, b: usize| a.abs_diff(b) as f64 <= 1.0 + 1e-2 * b as f64;
+            assert!(
+                near(end.steps as usize, steps as usize),
+                "lane {i}: {} against {steps} steps",
+                end.steps
+            );
+            let times: Vec<f64> = shown[i].iter().map(|s| s.0).collect();
+            assert!(times.windows(2).all(|w| w[0] <= w[1]) && times[0] > spans[i].0);
+            assert_eq!(*shown[i].last().unwrap(), (spans[i].1, end.y), "lane {i}");
+            assert!(near(shown[i].len(), steps_shown.len()), "lane {i}: shown");
+        } else {
+            assert_eq!(end.y, y, "lane {i} {}: final state", m.equation());
+            assert_eq!(end.steps, steps, "lane {i}: steps");
+            assert_eq!(shown[i], steps_shown, "lane {i}: the steps shown");
+        }
+    }
+    at_rest
+}
+
+#[test]
+fn switching_models_of_one_structure_run_on_vector_lanes_as_each_runs_alone() {
+    let mut u = uniform(31);
+    let count = LANES + 5;
+    // Coulomb friction with sticking, alone and with hysteresis: the lanes stick and slip
+    let coulomb = models(&["coulomb"], None, count, &mut u);
+    assert!(on_vector_lanes(&coulomb));
+    assert!(check_batch::<2>(&coulomb, &mut u) > 0, "no lane stuck");
+    let both = models(&["coulomb", "boucwen"], Some(1.0), count, &mut u);
+    assert!(on_vector_lanes(&both));
+    assert!(check_batch::<3>(&both, &mut u) > 0, "no lane stuck");
+    // regularised Stribeck friction with Bouc–Wen hysteresis (the benchmark's model), at each
+    // exponent the recurrence unrolls
+    for n in [1.0, 2.0, 3.0] {
+        let models = models(&["stribeck", "boucwen"], Some(n), count, &mut u);
+        assert!(on_vector_lanes(&models), "n = {n}");
+        check_batch::<3>(&models, &mut u);
+    }
+}
+
+#[test]
+fn switching_models_of_other_structures_run_alone_to_the_bit() {
+    let mut u = uniform(37);
+    let count = LANES + 3;
+    // LuGre has no copy on lanes; Bouc–Wen exponents that differ are two structures
+    let lugre = models(&["lugre"], None, count, &mut u);
+    assert!(!on_vector_lanes(&lugre));
+    check_batch::<3>(&lugre, &mut u);
+    let mixed: Vec<Model> = (0..count)
+        .map(|i| models(&["boucwen"], Some(1.0 + (i % 2) as f64), 1, &mut u)[0])
+        .collect();
+    assert!(!on_vector_lanes(&mixed));
+    check_batch::<3>(&mixed, &mut u);
+}
+
+#[test]
+fn the_switching_batch_refuses_bad_input_naming_it() {
+    let study = Model::study(&Default::default());
+    let coulomb = study
+        .with_term(AnyTerm::new("coulomb", &defaults("coulomb")).unwrap())
+        .unwrap();
+    let o = Options::default();
+    let run = |models: &[Model], starts: &[[f64; 2]], spans: &[(f64, f64)]| {
+        integrate_switching_models(models, starts, spans, o, |_, _| {})
+            .unwrap_err()
+            .to_string()
+    };
+    let e = run(&[coulomb, study], &[[0.0; 2]; 2], &[(0.0, 1.0); 2]);
+    assert!(
+        e.contains("does not switch") && e.contains(&study.equation()),
+        "{e}"
+    );
+    let e = run(&[coulomb], &[[0.0; 2]; 2], &[(0.0, 1.0)]);
+    assert!(e.contains("2 starts"), "{e}");
+    let e = run(&[coulomb], &[[0.0; 2]], &[(0.0, f64::NAN)]);
+    assert!(e.contains("NaN"), "{e}");
+    let boucwen = study
+        .with_term(AnyTerm::new("boucwen", &defaults("boucwen")).unwrap())
+        .unwrap();
+    let e = run(&[boucwen], &[[0.0; 2]], &[(0.0, 1.0)]);
+    assert!(e.contains("3 state components"), "{e}");
+}
