@@ -2,13 +2,14 @@
 //! hdgear has, in batches that cross a chunk of sixteen lanes, against the scalar Taylor stepper
 //! run here one model at a time (each lane must take its steps to the bit, or on vector lanes to
 //! the ~1e-9 of their step rule) and against DOP853 (to the tolerance); each kind's rows and step
-//! limits on lanes against its scalar ones; bad input refused naming it; a failing lane alone.
+//! limits on lanes against its scalar ones; bad input refused naming it (by this batch and by
+//! that of switching models); a failing lane alone.
 
 use hdgear::Params;
 use hdgear::batch::LANES;
 use hdgear::integrate::{DenseOutput, Method, Options, Stepper, stepper};
 use hdgear::model::terms::{AnyTerm, Domain, ParamInfo};
-use hdgear::model::{Model, integrate_models, on_vector_lanes};
+use hdgear::model::{Model, integrate_models, integrate_switching_models, on_vector_lanes};
 
 use crate::common::uniform;
 
@@ -122,29 +123,9 @@ fn check_batch<const N: usize>(models: &[Model], u: &mut impl FnMut() -> f64) {
         let (y, steps, steps_shown) = scalar(m, starts[i], spans[i], o);
         let scale = 1.0 + y.iter().fold(0.0f64, |a, v| a.max(v.abs()));
         if vector {
-            // the same passes to the bit, the rule's and the limits' logarithms and exponentials
-            // to ~1e-9: the states agree to the tolerance over the run (as with DOP853 below).
-            // A limit halves a step where the reach of a series crosses a threshold, a jump in
-            // the state: a difference at the rounding level can move a step across one, and the
-            // steps after it fall elsewhere. So the step counts agree to 1 % (measured: 4 in 772,
-            // the states then within 1e-14), not to the step; a limit that did not shorten, or
-            // shortened wrongly, changes them by far more
-            let worst = y
-                .iter()
-                .zip(&end.y)
-                .fold(0.0f64, |a, (p, q)| a.max((p - q).abs()));
-            assert!(worst < 1e-8 * scale, "lane {i} {}: {worst:e}", m.equation());
-            let near = |a: usize, b: usize| a.abs_diff(b) as f64 <= 1.0 + 1e-2 * b as f64;
-            assert!(
-                near(end.steps as usize, steps as usize),
-                "lane {i}: {} against {steps} steps",
-                end.steps
-            );
-            // every step after the span's start shown, in order, the last at its end
-            let times: Vec<f64> = shown[i].iter().map(|s| s.0).collect();
-            assert!(times.windows(2).all(|w| w[0] < w[1]) && times[0] > spans[i].0);
-            assert_eq!(*shown[i].last().unwrap(), (spans[i].1, end.y), "lane {i}");
-            assert!(near(shown[i].len(), steps_shown.len()), "lane {i}: shown");
+            // (the states to the tolerance, as with DOP853 below)
+            let run = (&y, steps, steps_shown.len());
+            agree_on_vector_lanes(i, m, run, (end, &shown[i]), spans[i], true);
         } else {
             assert_eq!(end.y, y, "lane {i} {}: final state", m.equation());
             assert_eq!(end.steps, steps, "lane {i}: steps");
@@ -174,6 +155,45 @@ fn check_batch<const N: usize>(models: &[Model], u: &mut impl FnMut() -> f64) {
             m.equation()
         );
     }
+}
+
+/// Lane i of a batch on vector lanes against its scalar run (`run`: final state, steps, steps
+/// shown) on model `m` over `span`: the state to 1e-8 of its size, the step counts (and the
+/// steps shown) to 1 %, every step after the span's start shown in order (`strictly` later than
+/// the one before, or not earlier), the last at the end with the end state. The passes are the
+/// same to the bit, the step rule's and the limits' logarithms and exponentials to ~1e-9: a
+/// limit halves a step where the reach of a series crosses a threshold, a jump in the state, so
+/// a difference at the rounding level can move a step across one and the steps after it fall
+/// elsewhere (measured: 4 in 772, the states then within 1e-14); a limit that did not shorten,
+/// or shortened wrongly, changes them by far more.
+pub(crate) fn agree_on_vector_lanes<const N: usize>(
+    i: usize,
+    m: &Model,
+    (y, steps, shown_alone): (&[f64; N], u64, usize),
+    (end, shown): (&hdgear::batch::LaneResult<N>, &[(f64, [f64; N])]),
+    span: (f64, f64),
+    strictly: bool,
+) {
+    let scale = 1.0 + y.iter().fold(0.0f64, |a, v| a.max(v.abs()));
+    let worst = y
+        .iter()
+        .zip(&end.y)
+        .fold(0.0f64, |a, (p, q)| a.max((p - q).abs()));
+    assert!(worst < 1e-8 * scale, "lane {i} {}: {worst:e}", m.equation());
+    let near = |a: usize, b: usize| a.abs_diff(b) as f64 <= 1.0 + 1e-2 * b as f64;
+    assert!(
+        near(end.steps as usize, steps as usize),
+        "lane {i}: {} against {steps} steps",
+        end.steps
+    );
+    let times: Vec<f64> = shown.iter().map(|s| s.0).collect();
+    let ordered = |w: &[f64]| if strictly { w[0] < w[1] } else { w[0] <= w[1] };
+    assert!(
+        times.windows(2).all(ordered) && times[0] > span.0,
+        "lane {i}"
+    );
+    assert_eq!(*shown.last().unwrap(), (span.1, end.y), "lane {i}");
+    assert!(near(shown.len(), shown_alone), "lane {i}: shown");
 }
 
 #[test]
@@ -278,28 +298,41 @@ pub(crate) fn defaults(kind: &str) -> Vec<f64> {
 }
 
 #[test]
-fn the_batch_refuses_bad_input_naming_it() {
+fn both_batches_refuse_bad_input_naming_it() {
+    // the batch of smooth models and that of switching ones, each refusing the other's
     let study = Model::study(&Params::default());
-    let coulomb = study
-        .with_term(AnyTerm::new("coulomb", &defaults("coulomb")).unwrap())
-        .unwrap();
-    let o = Options::default();
-    let run = |models: &[Model], starts: &[[f64; 2]], spans: &[(f64, f64)]| {
-        integrate_models(models, starts, spans, o, |_, _| {})
-            .unwrap_err()
-            .to_string()
+    let with = |kind: &str| {
+        study
+            .with_term(AnyTerm::new(kind, &defaults(kind)).unwrap())
+            .unwrap()
     };
-    let e = run(&[study, coulomb], &[[0.0; 2]; 2], &[(0.0, 1.0); 2]);
-    assert!(e.contains("sgn") && e.contains(&coulomb.equation()), "{e}");
-    let e = run(&[study], &[[0.0; 2]; 2], &[(0.0, 1.0)]);
-    assert!(e.contains("2 starts"), "{e}");
-    let e = run(&[study], &[[0.0; 2]], &[(0.0, f64::NAN)]);
-    assert!(e.contains("NaN"), "{e}");
-    let washout = study
-        .with_term(AnyTerm::new("washout", &defaults("washout")).unwrap())
-        .unwrap();
-    let e = run(&[washout], &[[0.0; 2]], &[(0.0, 1.0)]);
-    assert!(e.contains("3 state components"), "{e}");
+    let coulomb = with("coulomb");
+    let o = Options::default();
+    for switching in [false, true] {
+        let run = |models: &[Model], starts: &[[f64; 2]], spans: &[(f64, f64)]| {
+            let ends = if switching {
+                integrate_switching_models(models, starts, spans, o, |_, _| {})
+            } else {
+                integrate_models(models, starts, spans, o, |_, _| {})
+            };
+            ends.unwrap_err().to_string()
+        };
+        let (good, other) = if switching {
+            (coulomb, study)
+        } else {
+            (study, coulomb)
+        };
+        let e = run(&[good, other], &[[0.0; 2]; 2], &[(0.0, 1.0); 2]);
+        assert!(e.contains("switch") && e.contains(&other.equation()), "{e}");
+        let e = run(&[good], &[[0.0; 2]; 2], &[(0.0, 1.0)]);
+        assert!(e.contains("2 starts"), "{e}");
+        let e = run(&[good], &[[0.0; 2]], &[(0.0, f64::NAN)]);
+        assert!(e.contains("NaN"), "{e}");
+        // a model with an internal state asked for as N = 2
+        let stateful = with(if switching { "boucwen" } else { "washout" });
+        let e = run(&[stateful], &[[0.0; 2]], &[(0.0, 1.0)]);
+        assert!(e.contains("3 state components"), "{e}");
+    }
 }
 
 #[test]

@@ -378,6 +378,14 @@ impl<'s, S: System<N> + ?Sized, const N: usize> Taylor<'s, S, N> {
         })
     }
 
+    /// Starts again at (t0, y0) on the system `sys` (of the same kind, with the same options):
+    /// as [`Taylor::new`] would, its work counted anew, its buffers kept (each pass writes every
+    /// row it reads).
+    pub(crate) fn restart(&mut self, sys: &'s S, t0: f64, y0: [f64; N]) {
+        (self.sys, self.t, self.y, self.t_prev) = (sys, t0, y0, t0);
+        self.stats = Stats::default();
+    }
+
     /// The order in use.
     pub fn order(&self) -> usize {
         self.order

@@ -398,11 +398,20 @@ impl<'p, const N: usize> Switching<'p, N> {
     /// `signs_at` (the current t but at an equilibrium start, [`Pieces::mode_leaving_rest`]).
     fn enter_reading_signs_at(&mut self, mode: Mode, signs_at: f64) -> Result<()> {
         self.mode = mode;
-        if let Some(inner) = self.inner.take() {
+        if let Some(inner) = &self.inner {
             let s = inner.stats();
             self.done.steps += s.steps;
             self.done.rejected += s.rejected;
             self.done.rhs_evals += s.rhs_evals;
+        }
+        if mode != Mode::Stuck {
+            self.bits = self.pieces.signs(mode, signs_at, &self.y);
+            // a Taylor stepper moves to the new piece in place (a new one is a pass and a
+            // workspace to fill, at every switch)
+            if let Some(AnyStepper::Taylor(t)) = self.inner.as_mut() {
+                t.restart(self.pieces.piece(mode, self.bits), self.t, self.y);
+                return Ok(());
+            }
         }
         self.inner = match mode {
             Mode::Stuck => {
@@ -415,7 +424,6 @@ impl<'p, const N: usize> Switching<'p, N> {
                 }
             }
             _ => {
-                self.bits = self.pieces.signs(mode, signs_at, &self.y);
                 let piece = self.pieces.piece(mode, self.bits);
                 Some(stepper(piece, self.t, self.y, self.opts)?)
             }

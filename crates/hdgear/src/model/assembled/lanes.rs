@@ -71,7 +71,9 @@ pub fn integrate_models<const N: usize>(
     tol: Options,
     mut observe: impl FnMut(usize, &TaylorDense<N>),
 ) -> Result<Vec<Result<LaneResult<N>>>> {
-    check_inputs(models, starts.len(), spans, &tol, batchable::<N>)?;
+    check_inputs(models, starts.len(), spans, &tol, |m| {
+        batchable::<N>(m, false)
+    })?;
     let mut out = Vec::with_capacity(models.len());
     for (c, chunk) in models.chunks(LANES).enumerate() {
         let first = c * LANES;
@@ -95,43 +97,56 @@ pub fn integrate_models<const N: usize>(
             Simd::detect().at_most(Level::Avx2)
         };
         run_on(simd, &mut lanes, vector, &tol, &mut show);
-        out.extend(lanes.into_iter().map(|lane| {
-            // (`run` returns once every lane has its outcome)
-            lane.end.unwrap_or_else(|| {
-                Err(Error::InvalidInput {
-                    what: "batch",
-                    text: "a lane".into(),
-                    reason: "it stopped before its end".into(),
-                })
-            })
-        }));
+        out.extend(lanes.into_iter().map(|lane| outcome(lane.end)));
     }
     Ok(out)
 }
 
-/// Whether model `m` can run in the batch with N state components.
-fn batchable<const N: usize>(m: &Model) -> Result<()> {
+/// Whether model `m` can run with N state components in the batch of smooth models
+/// ([`integrate_models`], `switching` false) or of switching ones
+/// ([`super::integrate_switching_models`]).
+pub(super) fn batchable<const N: usize>(m: &Model, switching: bool) -> Result<()> {
     m.check()?;
-    let refuse = |reason: String| {
+    let refuse = |reason: &str| {
         Err(Error::InvalidInput {
             what: "model",
             text: m.equation(),
-            reason,
+            reason: reason.into(),
         })
     };
     if m.dim() != N {
-        return refuse(format!(
+        let reason = format!(
             "it has {} state components; the batch was asked for {N}",
             m.dim()
-        ));
+        );
+        return refuse(&reason);
     }
-    if m.switches() {
-        return refuse("its law switches (sgn x', |z|): it is stepped piece by piece".into());
+    match (m.switches(), switching) {
+        (true, false) => {
+            return refuse(
+                "its law switches (sgn x', |z|): integrate it with integrate_switching_models",
+            );
+        }
+        (false, true) => {
+            return refuse("its law does not switch: integrate it with integrate_models");
+        }
+        _ => {}
     }
     if m.delay().is_some() {
-        return refuse("a delayed feedback needs its run's history".into());
+        return refuse("a delayed feedback needs its run's history");
     }
     Ok(())
+}
+
+/// A lane's outcome once its run has returned (each runs until it has one).
+pub(super) fn outcome<const N: usize>(end: Option<Result<LaneResult<N>>>) -> Result<LaneResult<N>> {
+    end.unwrap_or_else(|| {
+        Err(Error::InvalidInput {
+            what: "batch",
+            text: "a lane".into(),
+            reason: "it stopped before its end".into(),
+        })
+    })
 }
 
 /// One lane: its model, its stepper, its span and, once it has stopped, its outcome.

@@ -11,8 +11,8 @@
 //! structure are the scalar integration's own.
 
 use super::Model;
-use super::lanes::{OnLanes, run_vector, same_structure};
-use crate::error::{Error, Result};
+use super::lanes::{OnLanes, batchable, outcome, run_vector, same_structure};
+use crate::error::Result;
 use crate::integrate::lanes::{LANES, LaneResult, check_inputs};
 use crate::integrate::{Method, Options, Stepper, Taylor};
 use crate::model::switching::{Pieces, Switching, SwitchingDense};
@@ -60,7 +60,9 @@ pub fn integrate_switching_models<const N: usize>(
     tol: Options,
     mut observe: impl FnMut(usize, &SwitchingDense<N>),
 ) -> Result<Vec<Result<LaneResult<N>>>> {
-    check_inputs(models, starts.len(), spans, &tol, switchable::<N>)?;
+    check_inputs(models, starts.len(), spans, &tol, |m| {
+        batchable::<N>(m, true)
+    })?;
     let tol = Options {
         method: Method::Taylor,
         ..tol
@@ -88,43 +90,9 @@ pub fn integrate_switching_models<const N: usize>(
                 }
             }
         }
-        out.extend(lanes.into_iter().map(|lane| {
-            // (every lane runs until it has its outcome)
-            lane.end.unwrap_or_else(|| {
-                Err(Error::InvalidInput {
-                    what: "batch",
-                    text: "a lane".into(),
-                    reason: "it stopped before its end".into(),
-                })
-            })
-        }));
+        out.extend(lanes.into_iter().map(|lane| outcome(lane.end)));
     }
     Ok(out)
-}
-
-/// Whether model `m` can run in the switching batch with N state components.
-fn switchable<const N: usize>(m: &Model) -> Result<()> {
-    m.check()?;
-    let refuse = |reason: String| {
-        Err(Error::InvalidInput {
-            what: "model",
-            text: m.equation(),
-            reason,
-        })
-    };
-    if m.dim() != N {
-        return refuse(format!(
-            "it has {} state components; the batch was asked for {N}",
-            m.dim()
-        ));
-    }
-    if !m.switches() {
-        return refuse("its law does not switch: integrate it with integrate_models".into());
-    }
-    if m.delay().is_some() {
-        return refuse("a delayed feedback needs its run's history".into());
-    }
-    Ok(())
 }
 
 dispatched! {
