@@ -23,6 +23,7 @@ pub mod mesh;
 pub mod mesh_loss;
 pub mod piecewise;
 pub mod schedule;
+pub mod spring;
 pub mod switching;
 pub mod terms;
 

@@ -252,3 +252,161 @@ fn a_drives_frequency_response_in_si_units_is_what_the_two_inertia_model_does() 
         assert!(q.torque_range[1] >= t(hi) - 1e-9 * t(hi).abs());
     }
 }
+
+/// The largest difference of column `i` of two equally sampled records, relative to the largest
+/// magnitude of the second.
+fn gap(a: &[[f64; 2]], b: &[[f64; 2]], i: usize) -> f64 {
+    assert_eq!(a.len(), b.len());
+    let peak = b.iter().map(|q| q[i].abs()).fold(0.0, f64::max);
+    let worst = a
+        .iter()
+        .zip(b)
+        .map(|(p, q)| (p[i] - q[i]).abs())
+        .fold(0.0, f64::max);
+    worst / peak
+}
+
+/// Friction across the compliance, in the two-inertia model (a term of its twist model, in the
+/// drive's units) and in the reduced model (the same law in the reduction's units): the
+/// reduction is exact for torques across the compliance, so θ(t) = L·x(t/T) to the tolerance,
+/// as without friction. Two integrations of different systems, one the other's check.
+#[test]
+fn friction_across_the_compliance_is_the_reduced_models_friction() {
+    use hdgear::integrate::sample;
+    use hdgear::model::Model;
+    use hdgear::model::terms::AnyTerm;
+    use hdgear::physical::model::Physical;
+    use hdgear::physical::simulate::simulate_drive;
+    let d = near_bursting();
+    let r = d.reduce().unwrap();
+    let sys = Physical::new(d);
+    let tight = Options {
+        rtol: 1e-12,
+        atol: 1e-12,
+        ..Options::default()
+    };
+    // a sizeable friction: 2 % of the mean torque, regularised over a tenth of the rates the
+    // burst reaches (F [N m], v [rad/s]); the Stribeck law limits the steps by its own series
+    let (f, v) = (0.02 * d.t_m, 0.1 * r.theta_dot(1.0));
+    let laws = [
+        ("friction", [f, v].to_vec(), [true, false].to_vec()),
+        (
+            "stribeck",
+            [f, 1.5 * f, v, 0.01 * d.c_eq, 0.1 * v].to_vec(),
+            [true, true, false, false, false].to_vec(),
+        ),
+    ];
+    for (kind, si, is_torque) in laws {
+        // in units of: the torque's U (drive) or unit (reduction); v's T_c (drive) or T/L
+        let scaled = |torque: f64, speed: f64, damping: f64| -> Vec<f64> {
+            si.iter()
+                .zip(&is_torque)
+                .enumerate()
+                .map(|(i, (&x, &t))| match (t, kind, i) {
+                    (true, _, _) => x / torque,
+                    (false, "stribeck", 3) => x / damping,
+                    _ => x * speed,
+                })
+                .collect()
+        };
+        let in_drive = scaled(sys.unit(), sys.t_c(), d.c_eq);
+        let in_reduction = scaled(r.torque_unit(), r.time_scale / r.length_scale, d.c_eq);
+        let four = sys
+            .with_twist(AnyTerm::new(kind, &in_drive).unwrap())
+            .unwrap();
+        let one = Model::study(&r.params)
+            .with_term(AnyTerm::new(kind, &in_reduction).unwrap())
+            .unwrap();
+        let (tau_end, dtau) = (150.0, 0.5);
+        let mut theta = Vec::new();
+        simulate_drive(&four, r.time(tau_end), r.time(dtau), tight, |s| {
+            theta.push([s.theta, s.theta_dot]);
+        })
+        .unwrap();
+        let mut x = Vec::new();
+        sample(&one, 0.0, [0.0; 2], tau_end, dtau, tight, |_, y| {
+            x.push([r.theta(y[0]), r.theta_dot(y[1])]);
+        })
+        .unwrap();
+        let (th, th_dot) = (gap(&theta, &x, 0), gap(&theta, &x, 1));
+        eprintln!("{kind}: theta {th:e}, theta_dot {th_dot:e}");
+        assert!(th < 1e-8 && th_dot < 1e-8, "{kind}");
+        // and the friction matters: without it the twist differs by far more
+        let mut free = Vec::new();
+        simulate_drive(&sys, r.time(tau_end), r.time(dtau), tight, |s| {
+            free.push([s.theta, s.theta_dot]);
+        })
+        .unwrap();
+        let bare = gap(&free, &x, 0);
+        assert!(
+            bare > 1e-4,
+            "{kind}: friction changes the twist by {bare:e} only"
+        );
+    }
+}
+
+/// The two-inertia model takes only what it integrates correctly across the compliance, and
+/// says which term it refused; the spring in the reduction's units is the study's stiffness
+/// where α·ε = 1.
+#[test]
+fn the_twist_refuses_states_switches_and_loads_and_its_spring_is_the_studys() {
+    use hdgear::model::terms::{AnyTerm, Spring, Stiffness, Term};
+    use hdgear::physical::model::Physical;
+    let sys = Physical::new(near_bursting());
+    for kind in [
+        "coulomb",
+        "lugre",
+        "boucwen",
+        "dither",
+        "multisine",
+        "kinematic",
+    ] {
+        let values: Vec<f64> = AnyTerm::params_of(kind)
+            .unwrap()
+            .iter()
+            .map(|p| p.default)
+            .collect();
+        let e = sys
+            .with_twist(AnyTerm::new(kind, &values).unwrap())
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains(kind), "{e}");
+    }
+    let friction = AnyTerm::new("friction", &[0.1, 0.2]).unwrap();
+    let stribeck = AnyTerm::new("stribeck", &[0.1, 0.2, 0.1, 0.0, 0.01]).unwrap();
+    let piecewise = AnyTerm::new(
+        "piecewise",
+        &AnyTerm::params_of("piecewise")
+            .unwrap()
+            .iter()
+            .map(|p| p.default)
+            .collect::<Vec<_>>(),
+    )
+    .unwrap();
+    let full = sys
+        .with_twist(friction)
+        .unwrap()
+        .with_twist(piecewise)
+        .unwrap();
+    assert!(
+        full.with_twist(stribeck)
+            .unwrap_err()
+            .to_string()
+            .contains("at most")
+    );
+    let (alpha, gamma) = (16.0, 0.7);
+    let spring = Spring([gamma, alpha, 1.0 / alpha]);
+    let study = Stiffness([alpha, gamma, 1.0 / alpha]);
+    for x in [-2.0, -0.3, 0.0, 0.05, 1.0, 3.0] {
+        let (a, b) = (spring.torque(x, 0.0, 0.0), study.torque(x, 0.0, 0.0));
+        assert!((a - b).abs() <= 1e-13 * (1.0 + b.abs()), "{x}: {a} {b}");
+        let (ga, gb) = (
+            spring.gradient(x, 0.0, 0.0)[0],
+            study.gradient(x, 0.0, 0.0)[0],
+        );
+        assert!(
+            (ga - gb).abs() <= 1e-13 * (1.0 + gb.abs()),
+            "{x}: {ga} {gb}"
+        );
+    }
+}

@@ -16,6 +16,7 @@ pub use super::mesh::KinematicError;
 pub use super::mesh_loss::MeshLoss;
 pub use super::piecewise::Piecewise;
 pub use super::schedule::Scheduled;
+pub use super::spring::Spring;
 use crate::error::{Error, Result};
 use crate::params::Param;
 use serde::Serialize;
@@ -442,23 +443,7 @@ impl Term for Stiffness {
         let [_, gamma, eps] = self.0;
         [x * x * x, x - eps, -gamma][i]
     }
-    /// (x²)_k by its symmetric Cauchy sum into row 0, (x³)_k = Σ (x²)_j x_{k−j}, on any `Jet`
-    /// (one recurrence for [`Term::taylor`] and [`Term::taylor_lanes`]).
-    #[inline(always)]
-    fn taylor(&self, k: usize, x: &[f64], _v: &[f64], _z: &[f64], rows: &mut Scratch) -> f64 {
-        stiffness_row(self.0, k, x, &mut rows.0)
-    }
-    #[inline(always)]
-    fn taylor_lanes(
-        values: &[Lanes],
-        k: usize,
-        x: &[Lanes],
-        _v: &[Lanes],
-        _z: &[Lanes],
-        rows: &mut LaneRows,
-    ) -> Option<Lanes> {
-        Some(stiffness_row([values[0], values[1], values[2]], k, x, rows))
-    }
+    cubic_taylor!(|[alpha, gamma, eps]| [alpha, J::splat(-1.0), gamma, -(gamma * eps)]);
     fn text(&self) -> String {
         " + αx³ − x² + γ(x − ε)".into()
     }
@@ -467,11 +452,11 @@ impl Term for Stiffness {
     }
 }
 
-/// [`Stiffness`]'s row k on any [`Jet`]: (x²)_k by its symmetric Cauchy sum into row 0,
-/// (x³)_k = Σ (x²)_j x_{k−j}.
+/// Row k of a static cubic torque c₃x³ + c₂x² + c₁x + c₀ on any [`Jet`]: (x²)_k by its
+/// symmetric Cauchy sum into row 0, (x³)_k = Σ (x²)_j x_{k−j}, the constant in row 0 only.
 #[inline(always)]
-fn stiffness_row<J: Jet>(
-    [alpha, gamma, eps]: [J; 3],
+pub(crate) fn cubic_row<J: Jet>(
+    [c3, c2, c1, c0]: [J; 4],
     k: usize,
     x: &[J],
     rows: &mut [[J; MAX_ROWS]; crate::integrate::taylor::SCRATCH_ROWS],
@@ -479,9 +464,42 @@ fn stiffness_row<J: Jet>(
     let sq = &mut rows[0];
     sq[k] = square_coefficient(x, k);
     let cube = cauchy(sq, x, k);
-    let linear = gamma * x[k] - if k == 0 { gamma * eps } else { J::splat(0.0) };
-    alpha * cube - sq[k] + linear
+    let linear = c1 * x[k] + if k == 0 { c0 } else { J::splat(0.0) };
+    c3 * cube + c2 * sq[k] + linear
 }
+
+/// [`Term::taylor`] and [`Term::taylor_lanes`] of a term whose torque is a static cubic in x:
+/// `$coefficients` maps the term's three values to [c₃, c₂, c₁, c₀] on any [`Jet`] `J`, and
+/// both methods run one recurrence, [`cubic_row`].
+macro_rules! cubic_taylor {
+    (|$values:pat_param| $coefficients:expr) => {
+        #[inline(always)]
+        fn taylor(&self, k: usize, x: &[f64], _v: &[f64], _z: &[f64], rows: &mut Scratch) -> f64 {
+            #[inline(always)]
+            fn coefficients<J: Jet>($values: [J; 3]) -> [J; 4] {
+                $coefficients
+            }
+            cubic_row(coefficients(self.0), k, x, &mut rows.0)
+        }
+        #[inline(always)]
+        fn taylor_lanes(
+            values: &[Lanes],
+            k: usize,
+            x: &[Lanes],
+            _v: &[Lanes],
+            _z: &[Lanes],
+            rows: &mut LaneRows,
+        ) -> Option<Lanes> {
+            #[inline(always)]
+            fn coefficients<J: Jet>($values: [J; 3]) -> [J; 4] {
+                $coefficients
+            }
+            let c = coefficients([values[0], values[1], values[2]]);
+            Some(cubic_row(c, k, x, rows))
+        }
+    };
+}
+pub(crate) use cubic_taylor;
 
 /// Declares [`AnyTerm`] over the term types and forwards [`Term`]'s methods to them: the one
 /// list of terms hdgear has (a new term is one line here).
@@ -701,6 +719,7 @@ any_term!(
     Multisine,
     Piecewise,
     Scheduled,
+    Spring,
 );
 
 /// Checks a term's values against its parameter list: each within the magnitude limit every

@@ -5,6 +5,7 @@
 
 use super::{Branch, BranchPoint, ContinuationOptions, Scale, Special, continue_orbit};
 use crate::error::{Error, Result};
+use crate::model::terms::Term;
 use crate::params::{Param, Params};
 use crate::physical::{PhysicalParams, Reduction};
 use serde::Serialize;
@@ -204,7 +205,8 @@ fn physical_point(d: &PhysicalParams, r: &Reduction, q: &BranchPoint) -> Physica
 /// The range of T(θ) = (k1 + k2θ²)(θ − φ) on [t0, t1]: at the ends and at the zeros of
 /// T'(θ) = 3k2θ² − 2k2φθ + k1 inside.
 pub fn torque_range(d: &PhysicalParams, t0: f64, t1: f64) -> [f64; 2] {
-    let t = |th: f64| d.spring(th);
+    let spring = d.spring();
+    let t = |th: f64| spring.torque(th, 0.0, 0.0);
     let mut vals = vec![t(t0), t(t1)];
     let (a, b, c) = (3.0 * d.k2, -2.0 * d.k2 * d.backlash, d.k1);
     let disc = b * b - 4.0 * a * c;

@@ -198,31 +198,20 @@ impl PhysicalParams {
         n2ji * self.j_out / (n2ji + self.j_out)
     }
 
-    /// The spring's twist torque T(θ) = (k1 + k2θ²)(θ − φ) \[N m\] at the twist θ \[rad\]: the
-    /// one statement of the law the two-inertia model ([`model::Physical`]) and the periodic
-    /// response's torque range use, beside its Taylor rows ([`PhysicalParams::spring_row`]).
+    /// The spring's law T(θ) = (k1 + k2θ²)(θ − φ) \[N m\] of the twist θ \[rad\], as the term
+    /// ([`Spring`](crate::model::terms::Spring)) in SI units: what the two-inertia model
+    /// ([`model::Physical`]) takes in its own units and the periodic response's torque range
+    /// evaluates.
     ///
     /// ```
+    /// use hdgear::model::terms::Term;
     /// use hdgear::physical::PhysicalParams;
     /// let d = PhysicalParams { j_in: 1e-4, j_out: 1.0, ratio: 50.0, k1: 2e3, k2: 1e9,
     ///     backlash: 1e-3, c_eq: 5.0, t_m: 1.0, t_am: 0.5, omega: 1.0 };
-    /// assert_eq!(d.spring(1e-3), 0.0);
-    /// // along θ(t) = 2e-3 + t: row 0 is T(2e-3), row 3 the cubic's k2
-    /// let (theta, square) = ([2e-3, 1.0, 0.0, 0.0], [4e-6, 4e-3, 1.0, 0.0]);
-    /// assert!((d.spring_row(&theta, &square, 0) - d.spring(2e-3)).abs() < 1e-12);
-    /// assert_eq!(d.spring_row(&theta, &square, 3), d.k2);
+    /// assert_eq!(d.spring().torque(1e-3, 0.0, 0.0), 0.0);
     /// ```
-    pub fn spring(&self, theta: f64) -> f64 {
-        (self.k1 + self.k2 * theta * theta) * (theta - self.backlash)
-    }
-
-    /// Row k of T(θ(t)) ([`PhysicalParams::spring`]) along a twist θ(t) whose rows 0..=k and
-    /// whose square's rows 0..=k are given: k1·(θ_k − [k = 0]·φ) + k2·((θ³)_k − φ·(θ²)_k), with
-    /// (θ³)_k = Σ_j (θ²)_j·θ_{k−j}.
-    pub fn spring_row(&self, theta: &[f64], square: &[f64], k: usize) -> f64 {
-        let cube = crate::integrate::taylor::cauchy(square, theta, k);
-        let first = if k == 0 { 1.0 } else { 0.0 };
-        self.k1 * (theta[k] - first * self.backlash) + self.k2 * (cube - self.backlash * square[k])
+    pub fn spring(&self) -> crate::model::terms::Spring {
+        crate::model::terms::Spring([self.k1, self.k2, self.backlash])
     }
 
     /// The reduction to dimensionless form; an error when φ = 0 or k2 = 0 (L undefined).

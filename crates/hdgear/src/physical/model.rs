@@ -3,7 +3,8 @@
 use crate::error::{Error, Result};
 use crate::integrate::System;
 use crate::integrate::taylor::{MAX_ORDER, Workspace};
-use crate::model::terms::{AnyTerm, Friction, Stribeck, Term};
+use crate::model::terms::{AnyTerm, Damping, Friction, Spring, Stribeck, Term};
+use crate::model::{MAX_TERMS, Model};
 use serde::Serialize;
 
 /// Friction where the reduction to one equation does not hold: at the output bearing, on the
@@ -158,48 +159,94 @@ impl Bearings {
 /// gives every component the unit of an angle, so one absolute tolerance fits all. The
 /// accelerations are the two-inertia equations themselves:
 ///
-/// θo'' = (T_m + T_am sin Ωt − C θ' − K(θ)(θ − φ) − F_o(θo')) / J_o,
-/// θi'' = (−T_m/N + C θ'/N + K(θ)(θ − φ)/N − F_i(θi')) / J_i,  θ'' = θo'' − θi''/N,
+/// θo'' = (T_m + T_am sin Ωt − T_t − F_o(θo')) / J_o,
+/// θi'' = (−T_m/N + T_t/N − F_i(θi')) / J_i,  θ'' = θo'' − θi''/N,
 ///
-/// F_o and F_i the friction at the bearings ([`Bearings`], none by default). Its fields are
-/// read through methods: T_c and the reciprocals are derived from the drive when it is built.
+/// F_o and F_i the friction at the bearings ([`Bearings`], none by default) and T_t the torque
+/// across the compliance: a [`Model`]'s terms ([`Physical::twist`]) in the drive's own units,
+/// x = θ \[rad\], x' = dθ/dτ = T_c·θ' (τ = t/T_c) and torques in U = C²/J_eq \[N m\]
+/// ([`Physical::unit`]). The drive's own law is the model's unit damping (C·θ' = U·x') and its
+/// spring ([`Spring`], (k1 + k2θ²)(θ − φ) = U·(k1/U + (k2/U)·x²)(x − φ)); friction or
+/// hysteresis across the compliance are more terms of it ([`Physical::with_twist`]). Its fields
+/// are read through methods: T_c, U and the reciprocals are derived from the drive when it is
+/// built.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Physical {
     /// The drive.
     d: super::PhysicalParams,
     /// T_c = J_eq/C \[s\].
     t_c: f64,
+    /// The terms of the torque across the compliance, in the drive's units.
+    twist: Model,
+    /// U = C²/J_eq \[N m\], the twist model's unit of torque.
+    unit: f64,
+    /// The twist model's spring (its slot [`SPRING_SLOT`]), called directly where the model
+    /// holds nothing else: its rows are then the model's to the bit without the dispatch over
+    /// every kind of term, which doubled the drive's time.
+    spring: Spring,
+    /// Whether the twist model holds terms beyond its damping and spring.
+    extra: bool,
+    /// Whether a term of the twist model limits steps ([`AnyTerm::limits_steps`]).
+    twist_limits: bool,
     /// Friction at the output bearing and the wave generator.
     bearings: Bearings,
     /// The reciprocals the equations multiply by, so that no division waits on a Taylor row.
     inv: Reciprocals,
 }
 
-/// 1/T_c, C/T_c, 1/J_o, 1/J_i, 1/(N·J_i) and 1/N of a drive.
+/// The factors the equations multiply by, so that no division waits on a Taylor row: 1/T_c,
+/// 1/U (SI torques into the twist's unit), 1/N, and with s = T_c·U the scaled reciprocals s/J_o,
+/// s/J_i, s/(N·J_i), which turn torques in U straight into the rates of the scaled velocities
+/// T_c·θ'' and T_c·θo'' (one product fewer on each row's chain).
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct Reciprocals {
     t_c: f64,
-    damping: f64,
+    unit: f64,
     j_out: f64,
     j_in: f64,
     n_j_in: f64,
     ratio: f64,
 }
 
+/// The [`crate::integrate::Workspace`] sets the bearings' laws keep their rows in (output,
+/// input): the last two, after the twist model's terms (at most [`TWIST_TERMS`] of them).
+const BEARING_SETS: [usize; 2] = [MAX_TERMS - 2, MAX_TERMS - 1];
+
+/// The twist model's slot of its damping ([`Model::damped`]'s).
+const DAMPING_SLOT: usize = 0;
+
+/// The twist model's slot of its spring.
+const SPRING_SLOT: usize = 1;
+
+/// The most terms the twist model holds (its damping and spring included): the sets of the
+/// stepper's workspace the two bearings leave.
+pub const TWIST_TERMS: usize = MAX_TERMS - 2;
+
 impl Physical {
     /// Wraps a (validated) drive.
     pub fn new(d: super::PhysicalParams) -> Self {
         let t_c = d.j_eq() / d.c_eq;
+        let unit = d.c_eq / t_c;
+        let [k1, k2, phi] = d.spring().0;
+        let spring = Spring([k1 / unit, k2 / unit, phi]);
+        let twist = Model::damped(0.0, 0.0, 1.0)
+            .with_term(AnyTerm::Spring(spring))
+            .expect("a model of the damping alone has room for a spring");
         Physical {
             t_c,
             d,
+            twist,
+            unit,
+            spring,
+            extra: false,
+            twist_limits: false,
             bearings: Bearings::default(),
             inv: Reciprocals {
                 t_c: 1.0 / t_c,
-                damping: d.c_eq / t_c,
-                j_out: 1.0 / d.j_out,
-                j_in: 1.0 / d.j_in,
-                n_j_in: 1.0 / (d.ratio * d.j_in),
+                unit: 1.0 / unit,
+                j_out: t_c * unit / d.j_out,
+                j_in: t_c * unit / d.j_in,
+                n_j_in: t_c * unit / (d.ratio * d.j_in),
                 ratio: 1.0 / d.ratio,
             },
         }
@@ -213,6 +260,55 @@ impl Physical {
         }
     }
 
+    /// The drive with one more term across the compliance, its parameters in the drive's units
+    /// ([`Physical`]: x = θ in rad, x' = T_c·θ', torques over [`Physical::unit`]): a term of the
+    /// twist and its rate alone and analytic along a step, or with its kinks located by its
+    /// step limit (friction laws regularised at a stated speed, the catalogue's piecewise
+    /// curve). Refused, naming the kind, for a term with an internal state or a switched law
+    /// (those need the reduced model's piecewise integration), a load or a scheduled law, one
+    /// whose parameter names the twist's terms take already, and beyond [`TWIST_TERMS`] terms.
+    ///
+    /// ```
+    /// use hdgear::model::terms::AnyTerm;
+    /// use hdgear::physical::{PhysicalParams, model::Physical};
+    /// let d = PhysicalParams { j_in: 1e-4, j_out: 1.0, ratio: 50.0, k1: 2e3, k2: 1e9,
+    ///     backlash: 1e-3, c_eq: 5.0, t_m: 1.0, t_am: 0.5, omega: 1.0 };
+    /// let sys = Physical::new(d);
+    /// // 0.1 N m of friction across the compliance, regularised over 1e-3 rad/s of twist rate
+    /// let law = AnyTerm::new("friction", &[0.1 / sys.unit(), 1e-3 * sys.t_c()]).unwrap();
+    /// let with = sys.with_twist(law).unwrap();
+    /// assert_eq!(with.twist().terms().count(), 3);
+    /// assert!(sys.with_twist(AnyTerm::new("coulomb", &[0.1, 0.2, 1.0, 0.0]).unwrap()).is_err());
+    /// ```
+    pub fn with_twist(mut self, term: AnyTerm) -> Result<Physical> {
+        let refuse = |reason: &str| Error::InvalidInput {
+            what: "term across the compliance",
+            text: term.kind().to_string(),
+            reason: reason.into(),
+        };
+        if term.state().is_some() || term.switches_at_rest() || term.switches_at_zero_state() {
+            return Err(refuse(
+                "the two-inertia model takes terms of the twist and its rate alone, analytic on \
+                 a step (a state of its own or a switched law needs the reduced model)",
+            ));
+        }
+        if term.is_load() || term.is_scheduled() || term.delay().is_some() {
+            return Err(refuse(
+                "the two-inertia model's loads are T_m and T_am sin Ωt (a load or a scheduled \
+                 law needs the reduced model)",
+            ));
+        }
+        if self.twist.terms().count() == TWIST_TERMS {
+            return Err(refuse(&format!(
+                "the twist holds at most {TWIST_TERMS} terms, its damping and spring included"
+            )));
+        }
+        self.twist = self.twist.with_term(term)?;
+        self.extra = true;
+        self.twist_limits = self.twist.terms().any(AnyTerm::limits_steps);
+        Ok(self)
+    }
+
     /// The drive.
     pub fn drive(&self) -> &super::PhysicalParams {
         &self.d
@@ -221,6 +317,22 @@ impl Physical {
     /// T_c = J_eq/C \[s\], the time unit of the reduced model.
     pub fn t_c(&self) -> f64 {
         self.t_c
+    }
+
+    /// U = C²/J_eq \[N m\]: the unit of the twist model's torques.
+    pub fn unit(&self) -> f64 {
+        self.unit
+    }
+
+    /// The torque across the compliance as a model of terms, in the drive's units
+    /// ([`Physical`]); its forcing is not used.
+    pub fn twist(&self) -> &Model {
+        &self.twist
+    }
+
+    /// The torque across the compliance \[N m\] at the twist θ \[rad\] and its rate θ' \[rad/s\].
+    pub fn twist_torque(&self, theta: f64, theta_dot: f64) -> f64 {
+        self.unit * self.twist.torque_at(&[theta, self.t_c * theta_dot])
     }
 
     /// Friction at the output bearing and the wave generator.
@@ -236,9 +348,9 @@ impl Physical {
     }
 
     /// The two-inertia equations, written once for the right-hand side and for the Taylor rows
-    /// (row k of each torque gives row k of each acceleration): (θ'', θo'') from the mean torque
-    /// `load` (on both inertias), the disturbance on the output, the torque `twist` = Cθ' +
-    /// K(θ)(θ − φ) across the compliance and the bearings' friction (output, input).
+    /// (row k of each torque gives row k of each acceleration): (T_c·θ'', T_c·θo'') from the mean
+    /// torque `load` (on both inertias), the disturbance on the output, the torque `twist` across
+    /// the compliance and the bearings' friction (output, input), all in the twist's unit U.
     #[inline(always)]
     fn accelerations(
         &self,
@@ -281,28 +393,23 @@ impl Physical {
 impl System<4> for Physical {
     #[inline(always)]
     fn rhs(&self, t: f64, z: &[f64; 4]) -> [f64; 4] {
-        let d = &self.d;
-        let twist = self.inv.damping * z[1] + d.spring(z[0]);
+        let (d, u) = (&self.d, self.inv.unit);
+        let twist = self.twist.torque_at(&[z[0], z[1]]);
         let friction = if self.bearings.any() {
             let (v_out, v_in) = self.rates(z[1], z[3]);
-            self.bearings.torques(v_out, v_in)
+            self.bearings.torques(v_out, v_in).map(|f| f * u)
         } else {
             [0.0; 2]
         };
-        let disturbance = d.t_am * libm::sin(d.omega * t);
-        let [acc_rel, acc_out] = self.accelerations(d.t_m, disturbance, twist, friction);
-        [
-            z[1] * self.inv.t_c,
-            self.t_c * acc_rel,
-            z[3] * self.inv.t_c,
-            self.t_c * acc_out,
-        ]
+        let disturbance = d.t_am * u * libm::sin(d.omega * t);
+        let [acc_rel, acc_out] = self.accelerations(d.t_m * u, disturbance, twist, friction);
+        [z[1] * self.inv.t_c, acc_rel, z[3] * self.inv.t_c, acc_out]
     }
 
-    /// The same equations order by order: the spring's rows ([`super::PhysicalParams::spring_row`]),
-    /// the disturbance from the coefficients of sin Ωt.
+    /// The same equations order by order: the twist's rows from its terms' recurrences
+    /// ([`Term::taylor`]), the disturbance's from the coefficients of sin Ωt.
     fn taylor(&self, t: f64, z: &[f64; 4], order: usize, c: &mut [[f64; 4]]) -> bool {
-        let mut work = [crate::integrate::Scratch::default(); 2];
+        let mut work = [crate::integrate::Scratch::default(); MAX_TERMS];
         self.rows(t, z, order, c, &mut work);
         true
     }
@@ -320,17 +427,20 @@ impl System<4> for Physical {
     }
 
     fn taylor_limits_steps(&self) -> bool {
-        self.bearings
-            .sides()
-            .iter()
-            .flatten()
-            .any(|t| t.limits_steps())
+        self.twist_limits
+            || self
+                .bearings
+                .sides()
+                .iter()
+                .flatten()
+                .any(|t| t.limits_steps())
     }
 
-    /// The rows and the step rule's step, shortened where a bearing's friction law needs it
+    /// The rows and the step rule's step, shortened where a law needs it
     /// ([`AnyTerm::step_limit`]): a torque F on inertia J moves the scaled rate T_c·θ' by
     /// T_c·F/J per second, so the torque negligible over a step h is atol·J/(T_c·h) (h at least
-    /// T_c, the time over which the damping forgets).
+    /// T_c, the time over which the damping forgets). At a bearing J is its inertia's; across the
+    /// compliance J_eq, which in the twist's unit U = J_eq/T_c² is atol·T_c/h.
     fn taylor_step<F: FnOnce(&[[f64; 4]]) -> f64>(
         &self,
         t: f64,
@@ -343,12 +453,16 @@ impl System<4> for Physical {
     ) -> Option<f64> {
         let n = self.rows(t, z, order, c, work);
         let mut h = step(c);
+        let forgets = |h: f64| self.t_c * h.max(self.t_c);
+        if self.twist_limits {
+            let negligible = atol * self.t_c * self.t_c / forgets(h);
+            h = self.twist.limit_step_by(work, n, h, negligible);
+        }
         let d = &self.d;
         let sides = self.bearings.sides();
-        for ((term, rows), j) in sides.iter().zip(work.iter()).zip([d.j_out, d.j_in]) {
+        for ((term, set), j) in sides.iter().zip(BEARING_SETS).zip([d.j_out, d.j_in]) {
             if let Some(term) = term {
-                let negligible = atol * j / (self.t_c * h.max(self.t_c));
-                h = term.step_limit(rows, n, h, negligible);
+                h = term.step_limit(&work[set], n, h, atol * j / forgets(h));
             }
         }
         Some(h)
@@ -357,8 +471,8 @@ impl System<4> for Physical {
 
 impl Physical {
     /// Rows 0..=order (capped at the integrator's) of the Taylor coefficients through (t, z)
-    /// into `c`, the bearings' own rows into `work[0]` (output) and `work[1]` (input); returns
-    /// the order reached.
+    /// into `c`, the twist's terms' own rows into `work` by slot and the bearings' into
+    /// [`BEARING_SETS`]; returns the order reached.
     fn rows(
         &self,
         t: f64,
@@ -367,62 +481,83 @@ impl Physical {
         c: &mut [[f64; 4]],
         work: &mut [crate::integrate::Scratch],
     ) -> usize {
-        use crate::integrate::taylor::{INV, sine_coefficients, square_coefficient};
-        let d = &self.d;
+        use crate::integrate::taylor::{INV, sine_coefficients};
+        let (d, u) = (&self.d, self.inv.unit);
         let n = order.min(MAX_ORDER).min(c.len() - 1);
-        let (mut th, mut th2, mut s) = (
+        // the rows of θ and of T_c·θ' (the twist model's x and x'), and of sin Ωt
+        let (mut x, mut v, mut s) = (
             [0.0; MAX_ORDER + 1],
             [0.0; MAX_ORDER + 1],
             [0.0; MAX_ORDER + 1],
         );
         // the bearings' rates θo', θi', row by row
         let bearings = self.bearings.any();
-        let mut v = [[0.0; MAX_ORDER + 1]; 2];
+        let mut rates = [[0.0; MAX_ORDER + 1]; 2];
         sine_coefficients(d.omega, t, n, &mut s);
         c[0] = *z;
-        th[0] = z[0];
         for k in 0..n {
-            th2[k] = square_coefficient(&th, k);
-            let load = if k == 0 { d.t_m } else { 0.0 };
-            let twist = self.inv.damping * c[k][1] + d.spring_row(&th, &th2, k);
+            (x[k], v[k]) = (c[k][0], c[k][1]);
+            let load = if k == 0 { d.t_m * u } else { 0.0 };
+            let twist = self.twist_row(k, &x, &v, work);
             let friction = if bearings {
-                self.bearing_rows(k, &c[k], &mut v, work)
+                self.bearing_rows(k, &c[k], &mut rates, work).map(|f| f * u)
             } else {
                 [0.0; 2]
             };
-            let [acc_rel, acc_out] = self.accelerations(load, d.t_am * s[k], twist, friction);
+            let [acc_rel, acc_out] = self.accelerations(load, d.t_am * u * s[k], twist, friction);
             c[k + 1] = [
                 c[k][1] * self.inv.t_c * INV[k],
-                self.t_c * acc_rel * INV[k],
+                acc_rel * INV[k],
                 c[k][3] * self.inv.t_c * INV[k],
-                self.t_c * acc_out * INV[k],
+                acc_out * INV[k],
             ];
-            th[k + 1] = c[k + 1][0];
+        }
+        // the step limits read the laws' rows at order n too
+        if self.twist_limits {
+            (x[n], v[n]) = (c[n][0], c[n][1]);
+            self.twist.torque_row(n, &x, &v, work);
         }
         if bearings {
-            // the step limits read the bearings' rows at order n too
-            self.bearing_rows(n, &c[n], &mut v, work);
+            self.bearing_rows(n, &c[n], &mut rates, work);
         }
         n
     }
 
+    /// Row k of the twist model's torque ([`Model::torque_row`]), its damping's and spring's
+    /// own recurrences called directly when it holds nothing else (the same sum, to the bit).
+    #[inline(always)]
+    fn twist_row(
+        &self,
+        k: usize,
+        x: &[f64],
+        v: &[f64],
+        work: &mut [crate::integrate::Scratch],
+    ) -> f64 {
+        const NONE: [f64; MAX_ORDER + 1] = [0.0; MAX_ORDER + 1];
+        if self.extra {
+            return self.twist.torque_row(k, x, v, work);
+        }
+        let damping = Damping::default().taylor(k, x, v, &NONE, &mut work[DAMPING_SLOT]);
+        0.0 + damping + self.spring.taylor(k, x, v, &NONE, &mut work[SPRING_SLOT])
+    }
+
     /// Row k of the bearings' torques (output, input) from the state's row k, keeping the
-    /// rates' rows in `v` and each law's own rows in `work[0]` and `work[1]`.
+    /// rates' rows in `rates` and each law's own rows in its set of `work` ([`BEARING_SETS`]).
     #[inline(always)]
     fn bearing_rows(
         &self,
         k: usize,
         c_k: &[f64; 4],
-        v: &mut [[f64; MAX_ORDER + 1]; 2],
+        rates: &mut [[f64; MAX_ORDER + 1]; 2],
         work: &mut [crate::integrate::Scratch],
     ) -> [f64; 2] {
         const NONE: [f64; MAX_ORDER + 1] = [0.0; MAX_ORDER + 1];
-        (v[0][k], v[1][k]) = self.rates(c_k[1], c_k[3]);
+        (rates[0][k], rates[1][k]) = self.rates(c_k[1], c_k[3]);
         let mut f = [0.0; 2];
         let sides = self.bearings.sides();
-        for (((term, v), rows), f) in sides.iter().zip(v.iter()).zip(work).zip(&mut f) {
+        for (((term, v), set), f) in sides.iter().zip(rates.iter()).zip(BEARING_SETS).zip(&mut f) {
             if let Some(term) = term {
-                *f = term.taylor(k, &NONE, v, &NONE, rows);
+                *f = term.taylor(k, &NONE, v, &NONE, &mut work[set]);
             }
         }
         f

@@ -194,7 +194,14 @@ impl Model {
     /// terms' rows of a pass to order `n` (the rule [`System::taylor_step`] states).
     #[inline(always)]
     pub(super) fn limit_step(&self, rows: &Workspace, n: usize, h: f64, atol: f64) -> f64 {
-        let negligible = negligible(atol, h);
+        self.limit_step_by(rows, n, h, negligible(atol, h))
+    }
+
+    /// [`Model::limit_step`] with the change of a term that counts as negligible given: what a
+    /// system built on the model's terms in other units derives from its own tolerance (the
+    /// two-inertia drive's twist, [`crate::physical::model::Physical`]).
+    #[inline(always)]
+    pub(crate) fn limit_step_by(&self, rows: &[Scratch], n: usize, h: f64, negligible: f64) -> f64 {
         self.terms
             .iter()
             .zip(rows.iter())
@@ -202,6 +209,21 @@ impl Model {
                 Some(term) => term.step_limit(r, n, h, negligible),
                 _ => h,
             })
+    }
+
+    /// Row k of the terms' torque Σ T(x, v) along x's and v's rows 0..=k, each term's own rows
+    /// in `rows` by slot (called for k = 0, 1, 2, … in turn): for a model whose terms have no
+    /// state of their own, whose torque a larger system uses (the two-inertia drive's twist).
+    #[inline(always)]
+    pub(crate) fn torque_row(&self, k: usize, x: &[f64], v: &[f64], rows: &mut [Scratch]) -> f64 {
+        const NONE: [f64; MAX_ROWS] = [0.0; MAX_ROWS];
+        let mut sum = 0.0;
+        for (term, r) in self.terms.iter().zip(rows.iter_mut()) {
+            if let Some(term) = term {
+                sum += term.taylor(k, x, v, &NONE, r);
+            }
+        }
+        sum
     }
 }
 
