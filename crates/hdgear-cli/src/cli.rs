@@ -68,7 +68,7 @@ pub enum Command {
     /// Join the shard files of a sweep into the file one machine would have written.
     Merge(MergeArgs),
     /// A physical drive in SI units: reduction, two-inertia simulation, design check.
-    Physical(PhysicalArgs),
+    Physical(Box<PhysicalArgs>),
     /// Drive cards: a drive's catalogue numbers with their sources (list, show, check, map, new).
     Card(CardArgs),
     /// Feedback laws against the bursts (virtual stiffness and damping, washout, scheduled
@@ -219,6 +219,10 @@ pub struct PhysicalArgs {
     /// --output-bearing. Replaces the scenario's [bearings.input] table.
     #[arg(long, value_name = "LAW")]
     pub input_bearing: Option<String>,
+    /// Friction across the compliance, on the twist rate θ' (with --simulate): LAW:KEY=VALUE,…
+    /// as --output-bearing, a torque between the two inertias (the teeth's sliding in mesh).
+    #[arg(long, value_name = "LAW")]
+    pub twist_friction: Option<String>,
     /// Print one JSON document (the reduction, or with --design the design check).
     #[arg(long, conflicts_with = "simulate")]
     pub json: bool,

@@ -99,3 +99,55 @@ fn physical_bearing_friction_refusals_name_the_law() {
         fails_with(&with(&["--config", toml.to_str().unwrap()]), needle);
     }
 }
+
+/// Friction across the compliance reaches the two-inertia run from `--twist-friction` in SI
+/// units (the physics against the reduced model is the library's `tests/physical.rs`): it is
+/// recorded as given, it slows the twist's rate, a law of no torque is the drive without one,
+/// and refusals name the user's law.
+#[test]
+fn physical_twist_friction_from_the_flag() {
+    let run = |extra: &[&str]| {
+        let mut args = vec!["physical", "--simulate", "--t-end", "0.3", "--summary"];
+        args.extend_from_slice(extra);
+        json_of(&args)
+    };
+    let none = run(&[]);
+    assert!(none["twist_friction"].is_null());
+    let law = "stribeck:fc=0.8,fs=1.2,vst=0.05,cv=0.01,vr=1e-3";
+    let with = run(&["--twist-friction", law]);
+    let text = with["twist_friction"].to_string();
+    for needle in ["stribeck", "0.8", "1.2", "0.05", "0.01", "0.001"] {
+        assert!(text.contains(needle), "{needle} in {text}");
+    }
+    let twist = |v: &serde_json::Value| v["final"]["theta"].as_f64().unwrap();
+    assert!(
+        (twist(&with) - twist(&none)).abs() > 1e-6 * twist(&none).abs(),
+        "{with} against {none}"
+    );
+    let idle = run(&["--twist-friction", "friction:fc=0,vs=1e-3"]);
+    // to the tolerance: the law's step limit may place the steps differently
+    assert!((twist(&idle) - twist(&none)).abs() <= 1e-7 * twist(&none).abs());
+    let with_flags = |extra: &[&'static str]| -> Vec<&'static str> {
+        [
+            &["physical", "--simulate", "--t-end", "0.1", "--summary"][..],
+            extra,
+        ]
+        .concat()
+    };
+    fails_with(
+        &with_flags(&["--twist-friction", "coulomb:fc=1"]),
+        "coulomb",
+    );
+    fails_with(
+        &with_flags(&["--twist-friction", "friction:fc=0.8"]),
+        "vs missing",
+    );
+    fails_with(
+        &with_flags(&["--twist-friction", "friction:fc=x,vs=1"]),
+        "friction:fc=x,vs=1",
+    );
+    fails_with(
+        &["physical", "--twist-friction", "friction:fc=0.8,vs=1e-3"],
+        "only --simulate",
+    );
+}

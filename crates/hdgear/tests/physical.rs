@@ -314,6 +314,12 @@ fn friction_across_the_compliance_is_the_reduced_models_friction() {
         let four = sys
             .with_twist(AnyTerm::new(kind, &in_drive).unwrap())
             .unwrap();
+        // the SI law converts into the same twist model (to the rounding of its products)
+        let si_law = sys.with_twist_friction(AnyTerm::new(kind, &si).unwrap());
+        let converted = *si_law.unwrap().twist().terms().last().unwrap();
+        for (a, b) in converted.values().iter().zip(&in_drive) {
+            assert!((a - b).abs() <= 1e-15 * b.abs(), "{kind}: {a} against {b}");
+        }
         let one = Model::study(&r.params)
             .with_term(AnyTerm::new(kind, &in_reduction).unwrap())
             .unwrap();

@@ -47,7 +47,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::OrbitDiagram(a) => diagram::run(a),
         Command::LyapunovMap(a) => lyapunov::run(a),
         Command::Periodic(a) => periodic::run(a),
-        Command::Physical(a) => physical::run(a),
+        Command::Physical(a) => physical::run(*a),
         Command::Card(a) => card::run(a),
         Command::Control(a) => control::run(a),
         Command::Robust(a) => robust::run(a),

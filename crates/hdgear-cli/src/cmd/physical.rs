@@ -4,7 +4,7 @@ use crate::cli::{PhysicalArgs, check_out};
 use crate::sink::Sink;
 use anyhow::{Context, Result, bail};
 use hdgear::output::RecordWriter;
-use hdgear::physical::model::Physical;
+use hdgear::physical::model::{Bearings, Physical};
 use hdgear::physical::simulate::{PhysicalSample, simulate_drive};
 
 /// Runs the physical command.
@@ -12,7 +12,16 @@ pub fn run(a: PhysicalArgs) -> Result<()> {
     let (d, origin, bearings) = a.drive()?;
     let opts = a.burst.options()?;
     if a.simulate {
-        return simulate(&a, &Physical::with_bearings(d, bearings), opts.tol);
+        let mut sys = Physical::with_bearings(d, bearings);
+        if let Some(text) = &a.twist_friction {
+            sys = Bearings::parse_law("twist", text)
+                .and_then(|law| sys.with_twist_friction(law))
+                .context("--twist-friction")?;
+        }
+        return simulate(&a, &sys, opts.tol);
+    }
+    if a.twist_friction.is_some() {
+        bail!("--twist-friction acts in the two-inertia model: only --simulate runs it");
     }
     if bearings.any() {
         bail!(
@@ -98,6 +107,7 @@ fn simulate(a: &PhysicalArgs, sys: &Physical, tol: hdgear::integrate::Options) -
         let meta = hdgear::physical::simulate::Setup {
             drive: *d,
             bearings: sys.bearings(),
+            twist_friction: sys.twist_friction(),
             t_end,
             dt,
         };

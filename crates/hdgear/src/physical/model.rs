@@ -190,6 +190,8 @@ pub struct Physical {
     twist_limits: bool,
     /// Friction at the output bearing and the wave generator.
     bearings: Bearings,
+    /// Friction across the compliance as given in SI units ([`Physical::with_twist_friction`]).
+    twist_friction: Option<AnyTerm>,
     /// The reciprocals the equations multiply by, so that no division waits on a Taylor row.
     inv: Reciprocals,
 }
@@ -241,6 +243,7 @@ impl Physical {
             extra: false,
             twist_limits: false,
             bearings: Bearings::default(),
+            twist_friction: None,
             inv: Reciprocals {
                 t_c: 1.0 / t_c,
                 unit: 1.0 / unit,
@@ -307,6 +310,54 @@ impl Physical {
         self.extra = true;
         self.twist_limits = self.twist.terms().any(AnyTerm::limits_steps);
         Ok(self)
+    }
+
+    /// [`Physical::with_twist`] for a friction law on the twist rate θ' in SI units, as a
+    /// bearing's ([`Bearings::law`], one of [`BEARING_KINDS`]: torques in N m, rates in rad/s,
+    /// viscous coefficients in N m s/rad), converted into the drive's units: torques over U
+    /// ([`Physical::unit`]), rates times T_c, viscous coefficients over C (C·θ' = U·T_c·θ').
+    /// Refused, naming the kind, for any other law, and for a second friction law.
+    ///
+    /// ```
+    /// use hdgear::physical::model::{Bearings, Physical};
+    /// use hdgear::physical::PhysicalParams;
+    /// let d = PhysicalParams { j_in: 1e-4, j_out: 1.0, ratio: 50.0, k1: 2e3, k2: 1e9,
+    ///     backlash: 1e-3, c_eq: 5.0, t_m: 1.0, t_am: 0.5, omega: 1.0 };
+    /// let sys = Physical::new(d);
+    /// let law = Bearings::parse_law("twist", "friction:fc=0.1,vs=1e-3").unwrap();
+    /// let with = sys.with_twist_friction(law).unwrap();
+    /// // 0.1 N m at a twist rate far above 1e-3 rad/s
+    /// assert!((with.twist_torque(1e-3, 1.0) - sys.twist_torque(1e-3, 1.0) - 0.1).abs() < 1e-12);
+    /// assert_eq!(with.twist_friction(), Some(law));
+    /// ```
+    pub fn with_twist_friction(self, law: AnyTerm) -> Result<Physical> {
+        let (torque, rate, viscous) = (1.0 / self.unit, self.t_c, 1.0 / self.d.c_eq);
+        let scales: &[f64] = match law {
+            AnyTerm::Friction(_) => &[torque, rate],
+            AnyTerm::Stribeck(_) => &[torque, torque, rate, viscous, rate],
+            _ => {
+                return Err(Error::InvalidInput {
+                    what: "friction across the compliance",
+                    text: law.kind().to_string(),
+                    reason: format!("the twist's friction is {}", BEARING_KINDS.join(" or ")),
+                });
+            }
+        };
+        let values: Vec<f64> = law
+            .values()
+            .iter()
+            .zip(scales)
+            .map(|(v, s)| v * s)
+            .collect();
+        let mut with = self.with_twist(AnyTerm::new(law.kind(), &values)?)?;
+        with.twist_friction = Some(law);
+        Ok(with)
+    }
+
+    /// Friction across the compliance as given in SI units, if any
+    /// ([`Physical::with_twist_friction`]).
+    pub fn twist_friction(&self) -> Option<AnyTerm> {
+        self.twist_friction
     }
 
     /// The drive.

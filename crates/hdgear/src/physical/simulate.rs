@@ -35,6 +35,8 @@ pub struct PhysicalSummary {
     pub angle_scale: f64,
     /// Friction at the bearings.
     pub bearings: super::model::Bearings,
+    /// Friction across the compliance, in SI units.
+    pub twist_friction: Option<crate::model::terms::AnyTerm>,
 }
 
 /// The angle scale Θ \[rad\] of a drive: the length scale L where the reduction exists, else the
@@ -119,6 +121,7 @@ pub fn simulate_drive(
         stats,
         angle_scale: scale,
         bearings: sys.bearings(),
+        twist_friction: sys.twist_friction(),
     })
 }
 
@@ -195,6 +198,8 @@ pub struct Setup {
     pub drive: super::PhysicalParams,
     /// Friction at its bearings.
     pub bearings: super::model::Bearings,
+    /// Friction across the compliance, in SI units.
+    pub twist_friction: Option<crate::model::terms::AnyTerm>,
     /// Duration \[s\].
     pub t_end: f64,
     /// Sample spacing \[s\].
@@ -232,6 +237,8 @@ pub struct SummaryReport {
     pub angle_scale: f64,
     /// Friction at the bearings (none: the drive as the study has it).
     pub bearings: super::model::Bearings,
+    /// Friction across the compliance, in SI units (none: the drive as the study has it).
+    pub twist_friction: Option<crate::model::terms::AnyTerm>,
 }
 
 impl PhysicalSummary {
@@ -251,6 +258,7 @@ impl PhysicalSummary {
             stats: self.stats,
             angle_scale: self.angle_scale,
             bearings: self.bearings,
+            twist_friction: self.twist_friction,
         }
     }
 }
