@@ -13,9 +13,11 @@
 //! With `--sticking` the friction is not regularised: Coulomb–Stribeck–viscous friction with
 //! sgn x' and sticking (the `coulomb` term, v_r unused), stepped piece by piece, each step cut at
 //! x' = 0 and each rest held until the applied torque leaves the static band ±f_s.
+//! With `--lugre` the friction is LuGre's ([`LUGRE`]: the same f_c, f_s, v_st, σ₂ = c_v, and a
+//! bristle state, v_r unused), its |x'| exact, stepped piece by piece.
 //! Used by `bench/compare_heyoka_terms.py`, which runs heyoka on the same equation.
 //! Usage: `cargo run --release --example time_terms REPS T_END VR[,VR…] TOL… [--hysteresis]
-//! [--sticking]`.
+//! [--sticking | --lugre]`.
 
 use hdgear::Params;
 use hdgear::batch::LANES;
@@ -36,6 +38,8 @@ const PARAMS: Params = Params {
 };
 /// f_c, f_s, v_st, c_v.
 const FRICTION: [f64; 4] = [0.3, 0.4, 0.1, 0.05];
+/// LuGre's f_c, f_s, v_st (as [`FRICTION`]), σ₀, σ₁ and σ₂ (= c_v).
+const LUGRE: [f64; 6] = [0.3, 0.4, 0.1, 100.0, 10.0, 0.05];
 /// Bouc–Wen's k_h, ρ, A, β, γ_h, n: ż = A·x' − β|x'|z − γ_h·x'|z|, torque k_h·z.
 const HYSTERESIS: [f64; 6] = [0.5, 0.0, 1.0, 0.5, 0.5, 1.0];
 
@@ -43,7 +47,10 @@ fn main() {
     let mut args: Vec<String> = std::env::args().skip(1).collect();
     let hysteresis = args.iter().any(|a| a == "--hysteresis");
     let sticking = args.iter().any(|a| a == "--sticking");
-    args.retain(|a| a != "--hysteresis" && a != "--sticking");
+    let lugre = args.iter().any(|a| a == "--lugre");
+    args.retain(|a| a != "--hysteresis" && a != "--sticking" && a != "--lugre");
+    // a state beside x and x': the hysteresis's or LuGre's
+    let stateful = hysteresis || lugre;
     let reps: u32 = args.first().and_then(|s| s.parse().ok()).unwrap_or(50);
     let t_end: f64 = args.get(1).and_then(|s| s.parse().ok()).unwrap_or(60.0);
     let vrs: Vec<f64> = args
@@ -56,7 +63,9 @@ fn main() {
     }
     for &vr in &vrs {
         let [fc, fs, vst, cv] = FRICTION;
-        let friction = if sticking {
+        let friction = if lugre {
+            AnyTerm::new("lugre", &LUGRE)
+        } else if sticking {
             AnyTerm::new("coulomb", &FRICTION)
         } else {
             AnyTerm::new("stribeck", &[fc, fs, vst, cv, vr])
@@ -76,7 +85,7 @@ fn main() {
                 atol: tol,
                 ..Options::default()
             };
-            let batch = match (&pieces, hysteresis) {
+            let batch = match (&pieces, stateful) {
                 (None, _) => batch_time::<2>(reps, t_end, &m, o),
                 (Some(_), true) => batch_time::<3>(reps, t_end, &m, o),
                 (Some(_), false) => batch_time::<2>(reps, t_end, &m, o),
@@ -85,7 +94,7 @@ fn main() {
                 None => time(reps, t_end, || {
                     stepper(&m, 0.0, [0.0; 2], o).expect("valid options")
                 }),
-                Some(p) if hysteresis => time(reps, t_end, || {
+                Some(p) if stateful => time(reps, t_end, || {
                     Switching::<3>::new(p, 0.0, [0.0; 3], o).expect("valid options")
                 }),
                 Some(p) => time(reps, t_end, || {

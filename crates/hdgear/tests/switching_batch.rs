@@ -1,5 +1,5 @@
 //! Many switching models at once ([`integrate_switching_models`]): random models with Coulomb
-//! friction (sticking), Bouc–Wen hysteresis and LuGre friction, in batches that cross a chunk of
+//! friction (sticking), Bouc–Wen and Dahl hysteresis, LuGre friction and the mesh loss, in batches that cross a chunk of
 //! sixteen lanes, against the scalar switching integration run here one model at a time (on
 //! vector lanes to the tolerance, with the steps to ~1 %; otherwise to the bit). Its refusals
 //! are tested beside the smooth batch's (`model_batch`).
@@ -39,7 +39,7 @@ fn scalar<const N: usize>(
 }
 
 /// `count` models: the study's at random parameters with the terms `kinds`, each parameter
-/// drawn about its default ([`draw`]); a Bouc–Wen exponent `n` where given (else drawn).
+/// drawn about its default ([`draw`]); a Bouc–Wen or Dahl exponent `n` where given (else drawn).
 fn models(kinds: &[&str], n: Option<f64>, count: usize, u: &mut impl FnMut() -> f64) -> Vec<Model> {
     (0..count)
         .map(|_| {
@@ -49,8 +49,10 @@ fn models(kinds: &[&str], n: Option<f64>, count: usize, u: &mut impl FnMut() -> 
             kinds.iter().fold(Model::study(&p), |m, kind| {
                 let params = AnyTerm::params_of(kind).unwrap();
                 let mut values: Vec<f64> = params.iter().map(|q| draw(q, u)).collect();
-                if let (Some(n), "boucwen") = (n, *kind) {
-                    values[5] = n;
+                match (n, *kind) {
+                    (Some(n), "boucwen") => values[5] = n,
+                    (Some(n), "dahl") => values[2] = n,
+                    _ => {}
                 }
                 m.with_term(AnyTerm::new(kind, &values).unwrap()).unwrap()
             })
@@ -133,19 +135,32 @@ fn switching_models_of_one_structure_run_on_vector_lanes_as_each_runs_alone() {
         assert!(on_vector_lanes(&models), "n = {n}");
         check_batch::<3>(&models, &mut u);
     }
+    // LuGre friction (its bristle state's quotient by the Stribeck curve), and Dahl hysteresis
+    // at each exponent
+    let lugre = models(&["lugre"], None, count, &mut u);
+    assert!(on_vector_lanes(&lugre));
+    check_batch::<3>(&lugre, &mut u);
+    for n in [1.0, 2.0, 3.0] {
+        let dahl = models(&["dahl"], Some(n), count, &mut u);
+        assert!(on_vector_lanes(&dahl), "n = {n}");
+        check_batch::<3>(&dahl, &mut u);
+    }
 }
 
 #[test]
 fn switching_models_of_other_structures_run_alone_to_the_bit() {
     let mut u = uniform(37);
     let count = LANES + 3;
-    // LuGre has no copy on lanes; Bouc–Wen exponents that differ are two structures
-    let lugre = models(&["lugre"], None, count, &mut u);
-    assert!(!on_vector_lanes(&lugre));
-    check_batch::<3>(&lugre, &mut u);
-    let mixed: Vec<Model> = (0..count)
-        .map(|i| models(&["boucwen"], Some(1.0 + (i % 2) as f64), 1, &mut u)[0])
-        .collect();
-    assert!(!on_vector_lanes(&mixed));
-    check_batch::<3>(&mixed, &mut u);
+    // the mesh loss has no copy on lanes; Bouc–Wen or Dahl exponents that differ are two
+    // structures
+    let mesh = models(&["meshloss"], None, count, &mut u);
+    assert!(!on_vector_lanes(&mesh));
+    check_batch::<3>(&mesh, &mut u);
+    for kind in ["boucwen", "dahl"] {
+        let mixed: Vec<Model> = (0..count)
+            .map(|i| models(&[kind], Some(1.0 + (i % 2) as f64), 1, &mut u)[0])
+            .collect();
+        assert!(!on_vector_lanes(&mixed), "{kind}");
+        check_batch::<3>(&mixed, &mut u);
+    }
 }

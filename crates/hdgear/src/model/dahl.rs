@@ -5,8 +5,11 @@
 //! slower one). Rate-independent, like Bouc–Wen ([`super::memory::BoucWen`]): T_h depends on the
 //! path of x, not on its speed.
 
-use super::jet::{cauchy, whole_power_rows};
-use super::terms::{Domain, ParamInfo, Scratch, Side, StateInfo, Term, piece_sign};
+use super::jet::{Jet, Lanes, cauchy, whole_power_rows};
+use super::terms::{
+    Domain, LANE_PARAMS, LaneRows, MAX_ROWS, ParamInfo, Scratch, Side, StateInfo, Term, piece_sign,
+};
+use crate::integrate::taylor::SCRATCH_ROWS;
 use serde::Serialize;
 
 /// Dahl hysteresis: the torque T_h, the term's state, with T_h' = σ·x'·(1 − sgn(x')·T_h/T_c)ⁿ.
@@ -113,19 +116,52 @@ impl Term for Dahl {
     fn param_derivative(&self, _i: usize, _x: f64, _v: f64, _th: f64) -> f64 {
         0.0
     }
-    /// The base b's row (row 0 of `rows`), its powers b², b³, b⁴ by repeated products (rows 1
-    /// to n − 1), then r = σ·(v·bⁿ).
+    /// [`dahl_rate_row`] with the piece's sgn x'.
     #[inline(always)]
     fn rate_taylor(&self, k: usize, _x: &[f64], v: &[f64], th: &[f64], rows: &mut Scratch) -> f64 {
         let [sigma, tc, _] = self.values;
         let (sv, _, n) = self.base(v[0], th[0]);
-        let (base, powers) = rows.0.split_at_mut(1);
-        base[0][k] = if k == 0 { 1.0 } else { 0.0 } - sv * th[k] * (1.0 / tc);
-        sigma * cauchy(v, whole_power_rows(&base[0], n as usize, powers, k), k)
+        dahl_rate_row([sigma, tc, sv], n as usize, k, v, th, &mut rows.0)
     }
     #[inline(always)]
     fn taylor(&self, k: usize, _x: &[f64], _v: &[f64], th: &[f64], _rows: &mut Scratch) -> f64 {
         th[k]
+    }
+    const ON_LANES: bool = true;
+    /// On a piece: σ, T_c, n and the piece's sgn x'. Only a piece's sign is constant: a model
+    /// whose terms read their signs from the state runs on lanes only as pieces
+    /// ([`super::integrate_switching_models`]).
+    fn lane_values(&self) -> [f64; LANE_PARAMS] {
+        let [sigma, tc, n] = self.values;
+        [sigma, tc, n, self.side, 0.0, 0.0]
+    }
+    /// The exponent n, whose products the recurrence unrolls.
+    fn lane_shape(&self) -> usize {
+        self.values[2] as usize
+    }
+    #[inline(always)]
+    fn taylor_lanes(
+        _values: &[Lanes],
+        k: usize,
+        _x: &[Lanes],
+        _v: &[Lanes],
+        th: &[Lanes],
+        _rows: &mut LaneRows,
+    ) -> Option<Lanes> {
+        Some(th[k])
+    }
+    #[inline(always)]
+    fn rate_taylor_lanes(
+        values: &[Lanes],
+        k: usize,
+        _x: &[Lanes],
+        v: &[Lanes],
+        th: &[Lanes],
+        rows: &mut LaneRows,
+    ) -> Lanes {
+        // n is the same on every lane (`lane_shape`)
+        let n = values[2].0[0] as usize;
+        dahl_rate_row([values[0], values[1], values[3]], n, k, v, th, rows)
     }
     fn text(&self) -> String {
         " + T_h".into()
@@ -148,4 +184,22 @@ impl Term for Dahl {
             ..self
         }
     }
+}
+
+/// [`Dahl`]'s rate row k on any [`Jet`], on a piece of sgn x' = sv: the base
+/// b = 1 − sv·T_h/T_c (row 0 of `rows`), its powers b², b³, b⁴ by repeated products (rows 1 to
+/// n − 1), then r = σ·(v·bⁿ).
+#[inline(always)]
+fn dahl_rate_row<J: Jet>(
+    [sigma, tc, sv]: [J; 3],
+    n: usize,
+    k: usize,
+    v: &[J],
+    th: &[J],
+    rows: &mut [[J; MAX_ROWS]; SCRATCH_ROWS],
+) -> J {
+    let (base, powers) = rows.split_at_mut(1);
+    let one = J::splat(if k == 0 { 1.0 } else { 0.0 });
+    base[0][k] = one - sv * th[k] * (J::splat(1.0) / tc);
+    sigma * cauchy(v, whole_power_rows(&base[0], n, powers, k), k)
 }

@@ -426,7 +426,7 @@ impl Term for Coulomb {
     /// On a piece: the values and the piece's sgn x'.
     fn lane_values(&self) -> [f64; LANE_PARAMS] {
         let [fc, fs, vst, cv] = self.values;
-        [fc, fs, vst, cv, self.side]
+        [fc, fs, vst, cv, self.side, 0.0]
     }
     #[inline(always)]
     fn taylor_lanes(

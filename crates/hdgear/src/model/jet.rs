@@ -360,16 +360,16 @@ pub fn sin_cos_coefficients(u: &[f64], s: &[f64], c: &[f64], k: usize) -> (f64, 
     }
 }
 
-/// Row k of q = n/d from n's and d's rows 0..=k and q's rows 0..k (d₀ ≠ 0): n = q·d, so
-/// q_k = (n_k − Σ_{j=1..k} d_j·q_{k−j})/d₀.
+/// Row k of q = n/d from n's and d's rows 0..=k and q's rows 0..k (d₀ ≠ 0), on any [`Jet`]:
+/// n = q·d, so q_k = (n_k − Σ_{j=1..k} d_j·q_{k−j})/d₀.
 #[inline(always)]
-pub fn quotient_coefficient(n: &[f64], d: &[f64], q: &[f64], k: usize) -> f64 {
+pub fn quotient_coefficient<J: Jet>(n: &[J], d: &[J], q: &[J], k: usize) -> J {
     // n_k, the new row, last (as in `cauchy`)
-    let mut s = -0.0;
+    let mut s = J::splat(-0.0);
     for j in 1..k + 1 {
-        s += d[j] * q[k - j];
+        s = s + d[j] * q[k - j];
     }
-    (n[k] - s) * (1.0 / d[0])
+    (n[k] - s) * (J::splat(1.0) / d[0])
 }
 
 /// Row k of p = √w (w₀ > 0) from w's row k and p's rows 0..k: p² = w, so

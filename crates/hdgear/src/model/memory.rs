@@ -142,29 +142,68 @@ impl Term for LuGre {
         own + sigma1 * self.rate_param_derivative(i, x, v, s)
     }
     /// q = −(v/v_st)² (row 0), e^q (row 1), g (row 2), w = s/g (row 3) and
-    /// r = v − σ₀·sv·(v·w) (row 4), sv the piece's constant sgn x'.
+    /// r = v − σ₀·sv·(v·w) (row 4), sv the piece's constant sgn x', on any `Jet` (one
+    /// recurrence for [`Term::rate_taylor`] and [`Term::rate_taylor_lanes`]).
     #[inline(always)]
     fn rate_taylor(&self, k: usize, _x: &[f64], v: &[f64], s: &[f64], rows: &mut Scratch) -> f64 {
         let [fc, fs, vst, sigma0, ..] = self.values;
-        let [q, e, g, w, r, ..] = &mut rows.0;
-        g[k] = Level { fc, fs, vst }.row(v, q, e, k);
-        w[k] = quotient_coefficient(s, g, w, k);
-        r[k] = v[k] - sigma0 * piece_sign(self.side, v[0]) * cauchy(v, w, k);
-        r[k]
+        let directed = sigma0 * piece_sign(self.side, v[0]);
+        lugre_rate_row([fc, fs, vst, directed], k, v, s, &mut rows.0)
     }
     #[inline(always)]
     fn taylor(&self, k: usize, _x: &[f64], v: &[f64], s: &[f64], rows: &mut Scratch) -> f64 {
         let [.., sigma0, sigma1, sigma2] = self.values;
-        sigma0 * s[k] + sigma1 * rows.0[4][k] + sigma2 * v[k]
+        lugre_row([sigma0, sigma1, sigma2], k, v, s, &rows.0)
+    }
+    const ON_LANES: bool = true;
+    /// On a piece: f_c, f_s, v_st, σ₀·sv (sv the piece's sgn x'), σ₁ and σ₂; σ₀ = |σ₀·sv|. Only
+    /// a piece's sign is constant: a model whose terms read their signs from the state runs on
+    /// lanes only as pieces ([`super::integrate_switching_models`]).
+    fn lane_values(&self) -> [f64; LANE_PARAMS] {
+        let [fc, fs, vst, sigma0, sigma1, sigma2] = self.values;
+        [fc, fs, vst, sigma0 * self.side, sigma1, sigma2]
+    }
+    #[inline(always)]
+    fn taylor_lanes(
+        values: &[Lanes],
+        k: usize,
+        _x: &[Lanes],
+        v: &[Lanes],
+        s: &[Lanes],
+        rows: &mut LaneRows,
+    ) -> Option<Lanes> {
+        let sigma0 = values[3].abs();
+        Some(lugre_row([sigma0, values[4], values[5]], k, v, s, rows))
+    }
+    #[inline(always)]
+    fn rate_taylor_lanes(
+        values: &[Lanes],
+        k: usize,
+        _x: &[Lanes],
+        v: &[Lanes],
+        s: &[Lanes],
+        rows: &mut LaneRows,
+    ) -> Lanes {
+        let p = [values[0], values[1], values[2], values[3]];
+        lugre_rate_row(p, k, v, s, rows)
     }
     const LIMITS_STEPS: bool = true;
     /// The Stribeck factor e^q ([`exp_step_limit`]), weighed by what it moves: σ₀|v·w|·|f_s −
     /// f_c|/g in the rate, times (1 + σ₁) in the torque.
     fn step_limit(&self, rows: &Scratch, order: usize, h: f64, negligible: f64) -> f64 {
         let [fc, fs, _, sigma0, sigma1, _] = self.values;
-        let [q, e, g, w, ..] = &rows.0;
-        let amplitude = (1.0 + sigma1) * sigma0 * w[0].abs() * (fs - fc).abs() / g[0];
-        exp_step_limit(q, e, order, h, amplitude, negligible)
+        lugre_limit([fc, fs, sigma0, sigma1], &rows.0, order, h, negligible)
+    }
+    #[inline(always)]
+    fn step_limit_lanes(
+        values: &[Lanes],
+        rows: &LaneRows,
+        order: usize,
+        h: Lanes,
+        negligible: Lanes,
+    ) -> Lanes {
+        let p = [values[0], values[1], values[3].abs(), values[4]];
+        lugre_limit(p, rows, order, h, negligible)
     }
     fn text(&self) -> String {
         " + σ₀·s + σ₁·s' + σ₂·x'".into()
@@ -187,6 +226,52 @@ impl Term for LuGre {
             ..self
         }
     }
+}
+
+/// [`LuGre`]'s rate row k on any [`Jet`], on a piece where σ₀·sgn x' is `directed`:
+/// q = −(v/v_st)² (row 0), e^q (row 1), g (row 2), w = s/g (row 3) and r = v − directed·(v·w)
+/// (row 4).
+#[inline(always)]
+fn lugre_rate_row<J: Jet>(
+    [fc, fs, vst, directed]: [J; 4],
+    k: usize,
+    v: &[J],
+    s: &[J],
+    rows: &mut [[J; MAX_ROWS]; SCRATCH_ROWS],
+) -> J {
+    let [q, e, g, w, r, ..] = rows;
+    g[k] = Level { fc, fs, vst }.row(v, q, e, k);
+    w[k] = quotient_coefficient(s, g, w, k);
+    r[k] = v[k] - directed * cauchy(v, w, k);
+    r[k]
+}
+
+/// [`LuGre`]'s torque row k on any [`Jet`]: σ₀·s_k + σ₁·r_k + σ₂·v_k, r's rows from
+/// [`lugre_rate_row`].
+#[inline(always)]
+fn lugre_row<J: Jet>(
+    [sigma0, sigma1, sigma2]: [J; 3],
+    k: usize,
+    v: &[J],
+    s: &[J],
+    rows: &[[J; MAX_ROWS]; SCRATCH_ROWS],
+) -> J {
+    sigma0 * s[k] + sigma1 * rows[4][k] + sigma2 * v[k]
+}
+
+/// [`LuGre`]'s step limit on any [`Jet`], from its rows ([`lugre_rate_row`]): the Stribeck
+/// factor e^q ([`exp_step_limit`]), weighed by σ₀|w|·|f_s − f_c|/g·(1 + σ₁).
+#[inline(always)]
+fn lugre_limit<J: Jet>(
+    [fc, fs, sigma0, sigma1]: [J; 4],
+    rows: &[[J; MAX_ROWS]; SCRATCH_ROWS],
+    order: usize,
+    h: J,
+    negligible: J,
+) -> J {
+    let [q, e, g, w, ..] = rows;
+    let amplitude = (J::splat(1.0) + sigma1) * sigma0 * w[0].abs() * (fs - fc).abs() / g[0];
+    exp_step_limit(q, e, order, h, amplitude, negligible)
 }
 
 /// Bouc–Wen hysteresis of the flexspline on the twist x: T = k_h·(ρ·x + (1 − ρ)·z) with
@@ -361,7 +446,7 @@ impl Term for BoucWen {
     fn lane_values(&self) -> [f64; LANE_PARAMS] {
         let [kh, rho, a, .., n] = self.values;
         let (sv, sz, n_whole) = (self.side.v, self.side.z, n as i32);
-        [kh, rho, a, self.coefficient(sv, sz, n_whole), n]
+        [kh, rho, a, self.coefficient(sv, sz, n_whole), n, 0.0]
     }
     /// The exponent n, whose products the recurrence unrolls.
     fn lane_shape(&self) -> usize {

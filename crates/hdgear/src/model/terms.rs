@@ -29,7 +29,7 @@ pub const MAX_ROWS: usize = crate::integrate::taylor::MAX_ORDER + 1;
 pub use crate::integrate::taylor::Scratch;
 
 /// The most numbers a term's copy on lanes reads ([`Term::lane_values`]).
-pub const LANE_PARAMS: usize = 5;
+pub const LANE_PARAMS: usize = 6;
 
 /// A term's own Taylor rows on [`Lanes`] ([`Term::taylor_lanes`]): a [`Scratch`] per lane.
 pub type LaneRows = [[Lanes; MAX_ROWS]; crate::integrate::taylor::SCRATCH_ROWS];
