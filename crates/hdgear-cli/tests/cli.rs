@@ -881,3 +881,45 @@ fn card_check_answers_with_the_cards_friction() {
         "friction.breakaway = 0.5",
     );
 }
+
+/// `card check` judges the drive with its wave generator held as well, and a card's starting
+/// torque says whether its friction holds the input: CSG-20-50's assumed T_am = T1/4 = 1.75 N m
+/// against N·T_st = 50·0.04 = 2 N m (held) and 50·0.03 = 1.5 N m (slips).
+#[test]
+fn card_check_says_whether_the_starting_torque_holds_the_input() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("joint.toml");
+    let p = path.to_str().unwrap();
+    let plain = stdout_of(&["card", "check", "CSG-20-50"]);
+    assert!(plain.contains("with the wave generator held ("), "{plain}");
+    assert!(
+        plain.contains("the card gives no starting torque"),
+        "{plain}"
+    );
+    for (starting, says) in [("0.04", "holds the input"), ("0.03", "the input slips")] {
+        hdgear()
+            .args([
+                "card",
+                "new",
+                "JOINT-20-50",
+                "--from",
+                "CSG-20-50",
+                "--out",
+                p,
+            ])
+            .assert()
+            .success();
+        let card = std::fs::read_to_string(&path).unwrap();
+        let friction =
+            format!("\n[card.friction]\nsource = \"hd-torsional-csg\"\nstarting = {starting}\n");
+        std::fs::write(&path, format!("{card}{friction}")).unwrap();
+        let text = stdout_of(&["card", "check", p]);
+        assert!(text.contains(says), "{starting}: {text}");
+        let j = json_of(&["card", "check", p, "--json"]);
+        let held = &j["held_input"];
+        let at_output: f64 = starting.parse::<f64>().unwrap() * 50.0;
+        assert!((held["starting_at_output"].as_f64().unwrap() - at_output).abs() < 1e-12);
+        assert_eq!(held["held_by_friction"], says == "holds the input");
+        std::fs::remove_file(&path).unwrap();
+    }
+}

@@ -343,3 +343,37 @@ fn the_refined_load_map_is_the_map_simulated_everywhere() {
         assert!(e.unwrap_err().to_string().contains("coarse"));
     }
 }
+
+/// The held wave generator beside the free one ([`hdgear::physical::check::HeldInput`]): its
+/// set is the held reduction's, its ζ below the free input's (J_o > J_eq), and the card's
+/// starting torque holds the input exactly where N·T_st ≥ T_am (the disturbance a held input
+/// passes whole to its friction), either side of that closed form by 1 %.
+#[test]
+fn the_starting_torque_decides_whether_the_input_is_held() {
+    let sources = &builtin().sources;
+    let opts = BurstOptions::default();
+    let card = builtin_card("CSG-20-50").unwrap();
+    let plain = check_card(card, sources, DampingChoice::HysteresisLoss, 0.0, &opts).unwrap();
+    let d = plain.summary.drive;
+    let held = &plain.held_input;
+    assert_eq!(held.reduced, d.reduce_held().unwrap().params);
+    assert!((held.zeta - d.c_eq / (2.0 * (d.k1 * d.j_out).sqrt())).abs() < 1e-15);
+    assert!(held.zeta < plain.summary.zeta);
+    assert_eq!(
+        (held.starting_at_output, held.held_by_friction),
+        (None, None)
+    );
+    for (factor, holds) in [(1.01, true), (0.99, false)] {
+        let c = with_friction(Friction {
+            starting: Some(factor * d.t_am / d.ratio),
+            ..Default::default()
+        });
+        let r = check_card(&c, sources, DampingChoice::HysteresisLoss, 0.0, &opts).unwrap();
+        let h = &r.held_input;
+        assert_eq!(h.held_by_friction, Some(holds), "{factor}");
+        let at_output = h.starting_at_output.unwrap();
+        assert!((at_output - factor * d.t_am).abs() <= 1e-12 * d.t_am);
+        // the starting torque decides which verdict applies, not the verdict itself
+        assert_eq!(h.outcome, held.outcome);
+    }
+}

@@ -636,10 +636,40 @@ fn check_text(r: &CardCheck) -> String {
             let _ = writeln!(s, "  {}", hdgear::physical::curve_law::KNEES);
         }
     }
+    held_lines(&mut s, &r.held_input, r.summary.drive.t_am);
     if let Some(f) = &r.friction {
         friction_lines(&mut s, f, &r.sources);
     }
     s
+}
+
+/// The lines of `card check` on the drive with its wave generator held, and whether the card's
+/// starting torque holds it against the slow disturbance `t_am` \[N m\].
+fn held_lines(s: &mut String, h: &hdgear::physical::check::HeldInput, t_am: f64) {
+    let _ = writeln!(
+        s,
+        "with the wave generator held (the cubic fit's drive under a position-controlled motor: J_o \
+         alone on the compliance, zeta = {:.4}, gamma = {:.6}, delta = {:.6}): {}",
+        h.zeta,
+        h.reduced.gamma,
+        h.reduced.delta,
+        outcome_text(&h.outcome)
+    );
+    let line = match (h.starting_at_output, h.held_by_friction) {
+        (Some(t), Some(true)) => format!(
+            "the card's starting torque, N*T_st = {t:.4} N m at the output, holds the input \
+             against T_am = {t_am} N m: under a torque-driven motor too, this is the drive's verdict"
+        ),
+        (Some(t), _) => format!(
+            "the card's starting torque, N*T_st = {t:.4} N m at the output, is below T_am = \
+             {t_am} N m: under a torque-driven motor the input slips, between the free and the \
+             held verdicts"
+        ),
+        _ => "the card gives no starting torque: whether its friction holds the input is not \
+              known"
+            .into(),
+    };
+    let _ = writeln!(s, "  {line}");
 }
 
 /// The friction lines of `card check`: the law, where it acts, the verdict with it and what

@@ -14,7 +14,7 @@
 
 use super::card::{Card, Source, SourceKind};
 use super::catalogue::{Fit, assemble, fit};
-use super::design::{CatalogueOrigin, DriveSummary, Judgement, summarize};
+use super::design::{CatalogueOrigin, DriveSummary, Judgement, Outcome, outcome_of, summarize};
 use crate::burst::BurstOptions;
 use crate::error::Result;
 use rayon::prelude::*;
@@ -116,6 +116,50 @@ pub struct Folds {
     pub fold_backlash: f64,
 }
 
+/// The drive with its wave generator held ([`super::PhysicalParams::reduce_held`]: a
+/// position-controlled motor, or the gear's own starting torque holding the load) beside the
+/// free input of [`CardCheck::summary`] (a torque-driven motor): the twist is then J_o on the
+/// compliance, and the slow disturbance reaches it whole.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct HeldInput {
+    /// The held reduction's dimensionless set.
+    pub reduced: crate::Params,
+    /// ζ = C/(2√(k1 J_o)) of the held torsional mode (γ = 1/(4ζ²)).
+    pub zeta: f64,
+    /// The verdict with the input held.
+    pub outcome: Outcome,
+    /// N·T_st: the card's starting torque at the input as a torque at the output \[N m\], when
+    /// the card gives one.
+    pub starting_at_output: Option<f64>,
+    /// Whether that torque holds the input against the slow disturbance (N·T_st ≥ T_am: a held
+    /// input passes the disturbance whole to the friction, quasi-statically; a burst's own
+    /// torque peaks may still make it slip): then this verdict, not the free input's, is the
+    /// drive's under a torque-driven motor too. `None` without a starting torque.
+    pub held_by_friction: Option<bool>,
+}
+
+/// The verdict on `d` with its wave generator held, and whether `card`'s starting torque holds
+/// it ([`HeldInput`]).
+pub fn held_input(
+    card: &Card,
+    d: &super::PhysicalParams,
+    opts: &BurstOptions,
+) -> Result<HeldInput> {
+    let r = d.reduce_held()?;
+    let starting_at_output = card
+        .friction
+        .as_ref()
+        .and_then(|f| f.starting)
+        .map(|t| d.ratio * t);
+    Ok(HeldInput {
+        reduced: r.params,
+        zeta: d.c_eq / (2.0 * (d.k1 * d.j_out).sqrt()),
+        outcome: outcome_of(&r.params, opts)?,
+        starting_at_output,
+        held_by_friction: starting_at_output.map(|t| t >= d.t_am),
+    })
+}
+
 /// Everything `hdgear card check` reports on a card.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct CardCheck {
@@ -141,6 +185,8 @@ pub struct CardCheck {
     pub summary: DriveSummary,
     /// The verdict with the catalogue's own piecewise-linear law in place of the cubic fit.
     pub catalogue_law: super::curve_law::CatalogueLaw,
+    /// The verdict with the wave generator held.
+    pub held_input: HeldInput,
     /// The verdict with the card's fitted friction law, when it has one.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub friction: Option<super::friction::FrictionCheck>,
@@ -207,6 +253,7 @@ pub fn check_card(
     let summary = summarize(&d, origin, opts)?;
     let catalogue_law = super::curve_law::check(card, &d, knee_rounding, opts)?;
     let friction = super::friction::check(card, &d, opts)?;
+    let held_input = held_input(card, &d, opts)?;
     Ok(CardCheck {
         name: card.name.clone(),
         missing: card.missing(),
@@ -233,6 +280,7 @@ pub fn check_card(
         },
         summary,
         catalogue_law,
+        held_input,
         friction,
     })
 }

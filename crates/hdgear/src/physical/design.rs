@@ -192,11 +192,30 @@ fn judge_classified(
     d: &PhysicalParams,
     opts: &BurstOptions,
 ) -> Result<(Judgement, Option<crate::burst::Classification>)> {
-    let p = d.reduce()?.params;
+    judge_set(&d.reduce()?.params, opts)
+}
+
+/// The verdict on a drive's reduced set `p` (its free or its held reduction), with the
+/// classification of the simulated response when there was one.
+fn judge_set(
+    p: &crate::Params,
+    opts: &BurstOptions,
+) -> Result<(Judgement, Option<crate::burst::Classification>)> {
     let o = search_options(opts);
-    let simulated = (p.omega >= MIN_SIMULATED_OMEGA).then(|| response(&p, &o));
-    let (j, c, _) = decide(&p, simulated)?;
+    let simulated = (p.omega >= MIN_SIMULATED_OMEGA).then(|| response(p, &o));
+    let (j, c, _) = decide(p, simulated)?;
     Ok((j, c))
+}
+
+/// The verdict on a drive's reduced set `p` as an [`Outcome`] ([`judge`] on a reduction the
+/// caller chose: [`PhysicalParams::reduce_held`]'s for a held wave generator).
+pub fn outcome_of(p: &crate::Params, opts: &BurstOptions) -> Result<Outcome> {
+    let (judgement, c) = judge_set(p, opts)?;
+    Ok(Outcome {
+        judgement,
+        mode: c.map(|c| c.mode),
+        mechanism: c.map(|c| c.mechanism),
+    })
 }
 
 /// The options of one verdict: the step budget capped at [`SEARCH_MAX_STEPS`].
@@ -520,7 +539,7 @@ pub fn summarize(
 ) -> Result<DriveSummary> {
     let r = d.reduce()?;
     let p = r.params;
-    let (judgement, c) = judge_classified(d, opts)?;
+    let predicted = outcome_of(&p, opts)?;
     Ok(DriveSummary {
         drive: *d,
         catalogue,
@@ -533,10 +552,6 @@ pub fn summarize(
         gamma_margin: p.gamma - p.critical_gamma(),
         zeta: d.c_eq / (2.0 * (d.k1 * r.j_eq).sqrt()),
         three_alpha_gamma: 3.0 * p.alpha * p.gamma,
-        predicted: Outcome {
-            judgement,
-            mode: c.map(|c| c.mode),
-            mechanism: c.map(|c| c.mechanism),
-        },
+        predicted,
     })
 }

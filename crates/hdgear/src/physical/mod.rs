@@ -224,6 +224,33 @@ impl PhysicalParams {
     /// assert!((r.params.alpha * r.params.eps - 1.0).abs() < 1e-12);
     /// ```
     pub fn reduce(&self) -> Result<Reduction> {
+        self.reduce_on(self.j_eq())
+    }
+
+    /// The reduction with the wave generator held (θi fixed: a position-controlled motor, or
+    /// the gear's own starting torque holding the load): the twist is then the output inertia
+    /// on the compliance alone, J_o θ'' + C θ' + T_s(θ) = T_m + T_am sin Ωt, so J_eq becomes J_o
+    /// and the disturbance reaches the twist whole (δ = T_am over the torque unit, against
+    /// J_eq/J_o of it with a free input). An error where [`PhysicalParams::reduce`] gives one.
+    ///
+    /// ```
+    /// use hdgear::physical::PhysicalParams;
+    /// let d = PhysicalParams { j_in: 1e-4, j_out: 1.0, ratio: 50.0, k1: 2e3, k2: 1e9,
+    ///     backlash: 1e-3, c_eq: 5.0, t_m: 1.0, t_am: 0.5, omega: 1.0 };
+    /// let (free, held) = (d.reduce().unwrap(), d.reduce_held().unwrap());
+    /// assert_eq!(held.j_eq, d.j_out);
+    /// // the same drive with a wave generator a billion times heavier: its input barely moves
+    /// let heavy = PhysicalParams { j_in: 1e9 * d.j_in, ..d }.reduce().unwrap();
+    /// assert!((heavy.params.gamma / held.params.gamma - 1.0).abs() < 1e-6);
+    /// assert!(held.params.gamma > free.params.gamma);
+    /// ```
+    pub fn reduce_held(&self) -> Result<Reduction> {
+        self.reduce_on(self.j_out)
+    }
+
+    /// [`PhysicalParams::reduce`] with `j` as the twist's inertia: J_eq with a free input,
+    /// J_o with a held one.
+    fn reduce_on(&self, j: f64) -> Result<Reduction> {
         self.validate()?;
         if self.backlash == 0.0 {
             return Err(Error::NoReduction {
@@ -241,7 +268,6 @@ impl PhysicalParams {
                     .into(),
             });
         }
-        let j = self.j_eq();
         let c = self.c_eq;
         let (k1, k2, phi) = (self.k1, self.k2, self.backlash);
         let c2 = c * c;
