@@ -4,6 +4,7 @@
 mod common;
 
 mod bearings;
+mod cards;
 mod cli;
 mod control;
 mod docs;

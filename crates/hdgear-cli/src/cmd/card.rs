@@ -216,11 +216,20 @@ struct MapRow {
     friction_computed: Option<bool>,
     /// As `computed`, for the verdict with the catalogue's curve; empty with `--fit-only`.
     catalogue_computed: Option<bool>,
+    /// With the wave generator held (a position-controlled motor).
+    held_bursting: bool,
+    /// The held drive's verdict.
+    held_verdict: &'static str,
+    /// Whether the held drive is in the fast-slow domain.
+    held_fast_slow_domain: bool,
+    /// As `computed`, for the held drive's verdict.
+    held_computed: bool,
 }
 hdgear::record!(
     MapRow: "t_am_nm", "frequency_hz", "bursting", "verdict", "basis", "fast_slow_domain",
     "friction_bursting", "friction_verdict", "catalogue_bursting", "catalogue_verdict", "computed",
-    "friction_computed", "catalogue_computed"
+    "friction_computed", "catalogue_computed", "held_bursting", "held_verdict",
+    "held_fast_slow_domain", "held_computed"
 );
 
 /// The metadata of `hdgear card map`'s table.
@@ -339,6 +348,10 @@ fn map(a: CardMapArgs) -> Result<()> {
             computed: p.computed,
             friction_computed: has_friction.then_some(p.friction_computed),
             catalogue_computed: (!fit_only).then_some(p.catalogue_computed),
+            held_bursting: p.held.bursting,
+            held_verdict: p.held.label(),
+            held_fast_slow_domain: p.held.fast_slow_domain,
+            held_computed: p.held_computed,
         }
     });
     let meta = MapMeta {
@@ -399,6 +412,15 @@ fn map_summary(
             computed(|p| p.friction_computed)
         );
     }
+    let held: Vec<_> = map.iter().filter(|p| p.held.bursting).collect();
+    crate::sink::outln!(
+        "with the wave generator held: {} of {} points burst, {} of them outside the fast-slow \
+         domain; {} computed",
+        held.len(),
+        map.len(),
+        held.iter().filter(|p| !p.held.fast_slow_domain).count(),
+        computed(|p| p.held_computed)
+    );
     if !fit_only {
         let (with, bursting) = judged(|p| p.catalogue);
         crate::sink::outln!(

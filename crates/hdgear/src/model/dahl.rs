@@ -116,7 +116,8 @@ impl Term for Dahl {
     fn param_derivative(&self, _i: usize, _x: f64, _v: f64, _th: f64) -> f64 {
         0.0
     }
-    /// [`dahl_rate_row`] with the piece's sgn x'.
+    /// The base b = 1 − sv·T_h/T_c's row, its powers by repeated products, then r = σ·(v·bⁿ)
+    /// on the piece's sgn x' (one recurrence over `Jet` for this and the lanes).
     #[inline(always)]
     fn rate_taylor(&self, k: usize, _x: &[f64], v: &[f64], th: &[f64], rows: &mut Scratch) -> f64 {
         let [sigma, tc, _] = self.values;

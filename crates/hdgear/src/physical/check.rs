@@ -392,6 +392,8 @@ pub struct MapPoint {
     /// could not be simulated (the reduced ω below [`super::design::MIN_SIMULATED_OMEGA`], or
     /// more steps than a search allows).
     pub catalogue: Option<super::design::Judgement>,
+    /// The verdict with the wave generator held ([`super::design::judge_many_held`]).
+    pub held: super::design::Judgement,
     /// Whether [`Self::judgement`] was computed (simulated or predicted); false: the point lies
     /// in a block of the coarse lattice whose computed points all agree, and takes their
     /// verdict ([`MapGrid::coarse`]).
@@ -400,16 +402,19 @@ pub struct MapPoint {
     pub friction_computed: bool,
     /// Whether [`Self::catalogue`] was computed (false also when not asked for).
     pub catalogue_computed: bool,
+    /// Whether [`Self::held`] was computed.
+    pub held_computed: bool,
 }
 
 /// The verdict on the drive built from `card` (as [`check_card`] builds it, with `damping`) for
 /// every amplitude and frequency of `grid`, amplitude-major, computed on all cores: with the
-/// cubic fit, with the catalogue's own curve ([`super::curve_law`], its knees rounded by the
+/// cubic fit (its wave generator free, and held: [`super::PhysicalParams::reduce_held`]), with
+/// the catalogue's own curve ([`super::curve_law`], its knees rounded by the
 /// given fraction of θ(T₁)), and with the card's friction law too, when it has one.
 /// `catalogue_curve` `None` leaves the catalogue's verdict out (`None` at every point): the
 /// piecewise law's knees make each response ring, and its simulation costs far more than the
 /// fit's. The map is refined from a lattice of every [`MapGrid::coarse`]-th point
-/// ([`crate::sweep::refine`]), each of the three verdicts on its own: a point is simulated where
+/// ([`crate::sweep::refine`]), each of the four verdicts on its own: a point is simulated where
 /// its neighbours' verdicts differ, and otherwise takes theirs ([`MapPoint::computed`]).
 pub fn load_map(
     card: &Card,
@@ -433,6 +438,7 @@ pub fn load_map(
     };
     // each verdict refined on its own: one model's boundaries cost the others nothing
     let fit = refined(grid, &at, |ds| super::design::judge_many(ds, opts))?;
+    let held = refined(grid, &at, |ds| super::design::judge_many_held(ds, opts))?;
     let friction = law
         .map(|law| {
             refined(grid, &at, |ds| {
@@ -470,9 +476,11 @@ pub fn load_map(
                 judgement: fit.values[k],
                 friction,
                 catalogue,
+                held: held.values[k],
                 computed: fit.computed[k],
                 friction_computed,
                 catalogue_computed,
+                held_computed: held.computed[k],
             }
         })
         .collect())

@@ -162,6 +162,20 @@ pub fn judge_many(ds: &[PhysicalParams], opts: &BurstOptions) -> Result<Vec<Judg
         .iter()
         .map(|d| Ok(d.reduce()?.params))
         .collect::<Result<_>>()?;
+    judge_sets(&reduced, opts)
+}
+
+/// [`judge_many`] with each wave generator held ([`PhysicalParams::reduce_held`]).
+pub fn judge_many_held(ds: &[PhysicalParams], opts: &BurstOptions) -> Result<Vec<Judgement>> {
+    let reduced: Vec<crate::Params> = ds
+        .iter()
+        .map(|d| Ok(d.reduce_held()?.params))
+        .collect::<Result<_>>()?;
+    judge_sets(&reduced, opts)
+}
+
+/// The verdicts on many reduced sets, each the one [`judge`] gives its drive.
+fn judge_sets(reduced: &[crate::Params], opts: &BurstOptions) -> Result<Vec<Judgement>> {
     let o = search_options(opts);
     // in order of ω: the lanes of a batch then run for about the same time (a run lasts a few
     // slow periods, 2π/ω each, and a batch as long as its longest lane)
