@@ -63,24 +63,17 @@ fn physical_bearing_friction_refusals_name_the_law() {
     let input = "friction:fc=0.02,vs=0.01";
     let dir = tempfile::tempdir().unwrap();
     let toml = dir.path().join("bearings.toml");
-    fn with<'a>(extra: &[&'a str]) -> Vec<&'a str> {
-        [
-            &["physical", "--simulate", "--t-end", "0.1", "--summary"][..],
-            extra,
-        ]
-        .concat()
-    }
-    fails_with(&with(&["--output-bearing", "coulomb:fc=1"]), "coulomb");
+    fails_with(&briefly(&["--output-bearing", "coulomb:fc=1"]), "coulomb");
     fails_with(
-        &with(&["--output-bearing", "friction:fc=0.8"]),
+        &briefly(&["--output-bearing", "friction:fc=0.8"]),
         "vs missing",
     );
     fails_with(
-        &with(&["--input-bearing", "friction:fc=x,vs=1"]),
+        &briefly(&["--input-bearing", "friction:fc=x,vs=1"]),
         "friction:fc=x,vs=1",
     );
     fails_with(
-        &with(&["--input-bearing", "friction:fc=-1,vs=1"]),
+        &briefly(&["--input-bearing", "friction:fc=-1,vs=1"]),
         "--input-bearing",
     );
     fails_with(&["physical", "--output-bearing", input], "only --simulate");
@@ -96,7 +89,7 @@ fn physical_bearing_friction_refusals_name_the_law() {
         ),
     ] {
         std::fs::write(&toml, table).unwrap();
-        fails_with(&with(&["--config", toml.to_str().unwrap()]), needle);
+        fails_with(&briefly(&["--config", toml.to_str().unwrap()]), needle);
     }
 }
 
@@ -127,27 +120,26 @@ fn physical_twist_friction_from_the_flag() {
     let idle = run(&["--twist-friction", "friction:fc=0,vs=1e-3"]);
     // to the tolerance: the law's step limit may place the steps differently
     assert!((twist(&idle) - twist(&none)).abs() <= 1e-7 * twist(&none).abs());
-    let with_flags = |extra: &[&'static str]| -> Vec<&'static str> {
-        [
-            &["physical", "--simulate", "--t-end", "0.1", "--summary"][..],
-            extra,
-        ]
-        .concat()
-    };
+    fails_with(&briefly(&["--twist-friction", "coulomb:fc=1"]), "coulomb");
     fails_with(
-        &with_flags(&["--twist-friction", "coulomb:fc=1"]),
-        "coulomb",
-    );
-    fails_with(
-        &with_flags(&["--twist-friction", "friction:fc=0.8"]),
+        &briefly(&["--twist-friction", "friction:fc=0.8"]),
         "vs missing",
     );
     fails_with(
-        &with_flags(&["--twist-friction", "friction:fc=x,vs=1"]),
+        &briefly(&["--twist-friction", "friction:fc=x,vs=1"]),
         "friction:fc=x,vs=1",
     );
     fails_with(
         &["physical", "--twist-friction", "friction:fc=0.8,vs=1e-3"],
         "only --simulate",
     );
+}
+
+/// A short `physical --simulate` run's arguments with `extra` flags.
+fn briefly<'a>(extra: &[&'a str]) -> Vec<&'a str> {
+    [
+        &["physical", "--simulate", "--t-end", "0.1", "--summary"][..],
+        extra,
+    ]
+    .concat()
 }

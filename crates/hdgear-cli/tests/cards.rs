@@ -148,19 +148,7 @@ fn card_check_answers_with_the_cards_friction() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("joint.toml");
     let p = path.to_str().unwrap();
-    hdgear()
-        .args([
-            "card",
-            "new",
-            "JOINT-20-50",
-            "--from",
-            "CSG-20-50",
-            "--out",
-            p,
-        ])
-        .assert()
-        .success();
-    let card = std::fs::read_to_string(&path).unwrap();
+    let card = joint_card(p);
     let law = "\n[card.friction]\nsource = \"hd-torsional-csg\"\ncoulomb = 1.0\nbreakaway = 3.0\nstribeck_speed = 1e-3\n";
     std::fs::write(&path, format!("{card}{law}")).unwrap();
     let text = stdout_of(&["card", "check", p]);
@@ -205,19 +193,7 @@ fn card_check_says_whether_the_starting_torque_holds_the_input() {
         "{plain}"
     );
     for (starting, says) in [("0.04", "holds the input"), ("0.03", "the input slips")] {
-        hdgear()
-            .args([
-                "card",
-                "new",
-                "JOINT-20-50",
-                "--from",
-                "CSG-20-50",
-                "--out",
-                p,
-            ])
-            .assert()
-            .success();
-        let card = std::fs::read_to_string(&path).unwrap();
+        let card = joint_card(p);
         let friction =
             format!("\n[card.friction]\nsource = \"hd-torsional-csg\"\nstarting = {starting}\n");
         std::fs::write(&path, format!("{card}{friction}")).unwrap();
@@ -230,4 +206,21 @@ fn card_check_says_whether_the_starting_torque_holds_the_input() {
         assert_eq!(held["held_by_friction"], says == "holds the input");
         std::fs::remove_file(&path).unwrap();
     }
+}
+
+/// Writes a copy of CSG-20-50 named JOINT-20-50 to `path` by `card new` and returns its text.
+fn joint_card(path: &str) -> String {
+    hdgear()
+        .args([
+            "card",
+            "new",
+            "JOINT-20-50",
+            "--from",
+            "CSG-20-50",
+            "--out",
+            path,
+        ])
+        .assert()
+        .success();
+    std::fs::read_to_string(path).unwrap()
 }
