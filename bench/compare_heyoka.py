@@ -24,7 +24,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from common import ROOT, ensure_venv
+from common import RELEASE, ROOT, ensure_venv
 from common import ALPHA, DELTA, EPS, MU, OMEGA, equilibrium
 GAMMAS = (30.0, 0.1)
 TOLS = (1e-6, 1e-8, 1e-10, 1e-12, 1e-13)
@@ -123,8 +123,8 @@ def main():
     reps = int(sys.argv[1]) if len(sys.argv) > 1 else 100
     subprocess.run(["cargo", "build", "--release", "-q", "--example", "time_simulation",
                     "--bin", "hdgear"], cwd=ROOT, check=True)
-    binary = ROOT / "target" / "release" / "hdgear"
-    example = ROOT / "target" / "release" / "examples" / "time_simulation"
+    binary = RELEASE / "hdgear"
+    example = RELEASE / "examples" / "time_simulation"
     lines = subprocess.run([str(example), str(reps), *map(str, TOLS)], check=True,
                            capture_output=True, text=True).stdout.splitlines()
     ours = {(r["method"], r["gamma"], r["rtol"]): r for r in map(json.loads, lines)}

@@ -60,7 +60,7 @@ import subprocess
 import sys
 import time
 
-from common import ROOT, ensure_venv
+from common import RELEASE, ROOT, ensure_venv
 
 ALPHA, GAMMA, EPS, MU, DELTA, OMEGA = 16.0, 0.1, 0.71, 0.07, 1.0, 0.5
 FC, FS, VST, CV = 0.3, 0.4, 0.1, 0.05
@@ -238,7 +238,7 @@ class HeyokaBatch:
 
 def hdgear_runs(reps, flag=None):
     """`time_terms` at every v_r and tolerance, with `flag` (--hysteresis, --sticking) if any."""
-    example = ROOT / "target" / "release" / "examples" / "time_terms"
+    example = RELEASE / "examples" / "time_terms"
     args = [str(example), str(reps), str(T_END), ",".join(map(str, VRS)), *map(str, TOLS)]
     lines = subprocess.run(args + ([flag] if flag else []), check=True,
                            capture_output=True, text=True).stdout.splitlines()

@@ -19,7 +19,7 @@ import tempfile
 import time
 from pathlib import Path
 
-from common import ROOT, ensure_venv
+from common import RELEASE, ROOT, ensure_venv
 
 
 def build_numba():
@@ -93,7 +93,7 @@ def main():
     import numpy as np
     from common import OMEGA, equilibrium
     subprocess.run(["cargo", "build", "--release", "-q", "--bin", "hdgear"], cwd=ROOT, check=True)
-    binary = ROOT / "target" / "release" / "hdgear"
+    binary = RELEASE / "hdgear"
     gammas = np.geomspace(0.1, 30.0, 1000)
     x0s = np.array([equilibrium(g) for g in gammas])
     t_end = 3 * 2 * math.pi / OMEGA

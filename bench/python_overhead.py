@@ -17,13 +17,12 @@ import subprocess
 import sys
 import tempfile
 import time
-from pathlib import Path
 
 import hdgear
+from common import RELEASE
 from hdgear import _hdgear
 
-root = Path(__file__).resolve().parents[1]
-binary = sys.argv[1] if len(sys.argv) > 1 else str(root / "target" / "release" / "hdgear")
+binary = sys.argv[1] if len(sys.argv) > 1 else str(RELEASE / "hdgear")
 p = hdgear.Params.paper(gamma=0.1)
 t_end = 3 * 2 * 3.141592653589793 / p.omega
 

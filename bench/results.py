@@ -14,6 +14,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+from common import RELEASE
+
 ROOT = Path(__file__).resolve().parent.parent
 BENCH = ROOT / "bench"
 
@@ -60,7 +62,7 @@ def machine():
 
 def main():
     subprocess.run(["cargo", "build", "--release", "--quiet"], cwd=ROOT, check=True)
-    binary = ROOT / "target" / "release" / "hdgear"
+    binary = RELEASE / "hdgear"
     head = [
         "# Benchmark results",
         "",
