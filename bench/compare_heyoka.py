@@ -17,7 +17,6 @@ Creates its own virtual environment (target/bench-venv) with heyoka and numpy on
 import csv
 import json
 import math
-import os
 import subprocess
 import sys
 import tempfile

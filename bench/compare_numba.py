@@ -12,9 +12,7 @@ Usage: python3 bench/compare_numba.py
 Creates its own virtual environment (target/bench-venv) with numba and numpy on first use.
 """
 import math
-import os
 import subprocess
-import sys
 import tempfile
 import time
 from pathlib import Path
