@@ -192,6 +192,29 @@ fn card_check_says_whether_the_starting_torque_holds_the_input() {
         plain.contains("the card gives no starting torque"),
         "{plain}"
     );
+    // one statement of what the held verdict assumes: in the text, the JSON and a map's metadata
+    let assumption = json_of(&["card", "check", "CSG-20-50", "--json"])["held_input"]["assumption"]
+        .as_str()
+        .unwrap()
+        .to_string();
+    assert!(assumption.contains("J_o alone"), "{assumption}");
+    assert!(plain.contains(&format!("held ({assumption};")), "{plain}");
+    let out = dir.path().join("m.json");
+    let o = out.to_str().unwrap();
+    let args = [
+        "card",
+        "map",
+        "CSG-20-50",
+        "--points",
+        "1",
+        "--fit-only",
+        "--out",
+        o,
+    ];
+    hdgear().args(args).assert().success();
+    let map: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    assert_eq!(map["meta"]["held_input"], assumption.as_str());
     for (starting, says) in [("0.04", "holds the input"), ("0.03", "the input slips")] {
         let card = joint_card(p);
         let friction =

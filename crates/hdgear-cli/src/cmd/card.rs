@@ -248,6 +248,8 @@ struct MapMeta<'a> {
     /// The catalogue curve's knee rounding, a fraction of θ(T₁) (none with `--fit-only`).
     #[serde(skip_serializing_if = "Option::is_none")]
     knee_rounding: Option<f64>,
+    /// What the `held_` columns assume.
+    held_input: &'static str,
 }
 
 /// Runs `hdgear card`.
@@ -361,6 +363,7 @@ fn map(a: CardMapArgs) -> Result<()> {
         friction: law.map(|law| (law, hdgear::physical::friction::ASSUMPTION)),
         catalogue_law: (!fit_only).then_some(hdgear::physical::curve_law::ASSUMPTION),
         knee_rounding: curve,
+        held_input: hdgear::physical::check::HELD_ASSUMPTION,
     };
     crate::sink::write_records(out.as_deref(), &meta, rows)?;
     if out.is_some() {
@@ -670,8 +673,8 @@ fn check_text(r: &CardCheck) -> String {
 fn held_lines(s: &mut String, h: &hdgear::physical::check::HeldInput, t_am: f64) {
     let _ = writeln!(
         s,
-        "with the wave generator held (the cubic fit's drive under a position-controlled motor: J_o \
-         alone on the compliance, zeta = {:.4}, gamma = {:.6}, delta = {:.6}): {}",
+        "with the wave generator held ({}; zeta = {:.4}, gamma = {:.6}, delta = {:.6}): {}",
+        h.assumption,
         h.zeta,
         h.reduced.gamma,
         h.reduced.delta,

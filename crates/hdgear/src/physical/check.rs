@@ -116,12 +116,19 @@ pub struct Folds {
     pub fold_backlash: f64,
 }
 
+/// What the held verdicts assume ([`HeldInput`], the held columns of [`load_map`]), stated in
+/// every output that shows them.
+pub const HELD_ASSUMPTION: &str = "the cubic fit's drive under a position-controlled motor: J_o \
+    alone on the compliance, the whole disturbance on the twist";
+
 /// The drive with its wave generator held ([`super::PhysicalParams::reduce_held`]: a
 /// position-controlled motor, or the gear's own starting torque holding the load) beside the
 /// free input of [`CardCheck::summary`] (a torque-driven motor): the twist is then J_o on the
 /// compliance, and the slow disturbance reaches it whole.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct HeldInput {
+    /// What the verdict assumes ([`HELD_ASSUMPTION`]).
+    pub assumption: &'static str,
     /// The held reduction's dimensionless set.
     pub reduced: crate::Params,
     /// ζ = C/(2√(k1 J_o)) of the held torsional mode (γ = 1/(4ζ²)).
@@ -152,6 +159,7 @@ pub fn held_input(
         .and_then(|f| f.starting)
         .map(|t| d.ratio * t);
     Ok(HeldInput {
+        assumption: HELD_ASSUMPTION,
         reduced: r.params,
         zeta: d.c_eq / (2.0 * (d.k1 * d.j_out).sqrt()),
         outcome: outcome_of(&r.params, opts)?,
