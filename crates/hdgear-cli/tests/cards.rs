@@ -8,18 +8,7 @@ fn card_new_show_check_round_trip() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("mine.toml");
     let p = path.to_str().unwrap();
-    hdgear()
-        .args([
-            "card",
-            "new",
-            "MINE-20-50",
-            "--from",
-            "CSG-20-50",
-            "--out",
-            p,
-        ])
-        .assert()
-        .success();
+    copy_of_csg("MINE-20-50", p);
     // the copy is the catalogue card under a new name, with the sources it uses
     let shown = json_of(&["card", "show", p, "--json"]);
     assert_eq!(shown["card"]["name"], "MINE-20-50");
@@ -148,7 +137,7 @@ fn card_check_answers_with_the_cards_friction() {
     let dir = tempfile::tempdir().unwrap();
     let path = dir.path().join("joint.toml");
     let p = path.to_str().unwrap();
-    let card = joint_card(p);
+    let card = copy_of_csg("JOINT-20-50", p);
     let law = "\n[card.friction]\nsource = \"hd-torsional-csg\"\ncoulomb = 1.0\nbreakaway = 3.0\nstribeck_speed = 1e-3\n";
     std::fs::write(&path, format!("{card}{law}")).unwrap();
     let text = stdout_of(&["card", "check", p]);
@@ -216,7 +205,7 @@ fn card_check_says_whether_the_starting_torque_holds_the_input() {
         serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
     assert_eq!(map["meta"]["held_input"], assumption.as_str());
     for (starting, says) in [("0.04", "holds the input"), ("0.03", "the input slips")] {
-        let card = joint_card(p);
+        let card = copy_of_csg("JOINT-20-50", p);
         let friction =
             format!("\n[card.friction]\nsource = \"hd-torsional-csg\"\nstarting = {starting}\n");
         std::fs::write(&path, format!("{card}{friction}")).unwrap();
@@ -231,18 +220,10 @@ fn card_check_says_whether_the_starting_torque_holds_the_input() {
     }
 }
 
-/// Writes a copy of CSG-20-50 named JOINT-20-50 to `path` by `card new` and returns its text.
-fn joint_card(path: &str) -> String {
+/// Writes a copy of CSG-20-50 named `name` to `path` by `card new` and returns its text.
+fn copy_of_csg(name: &str, path: &str) -> String {
     hdgear()
-        .args([
-            "card",
-            "new",
-            "JOINT-20-50",
-            "--from",
-            "CSG-20-50",
-            "--out",
-            path,
-        ])
+        .args(["card", "new", name, "--from", "CSG-20-50", "--out", path])
         .assert()
         .success();
     std::fs::read_to_string(path).unwrap()

@@ -380,13 +380,13 @@ fn map_summary(
     has_friction: bool,
     fit_only: bool,
 ) -> Result<()> {
-    let burst = |p: &&hdgear::physical::check::MapPoint| p.judgement.bursting;
-    let n = map.iter().filter(burst).count();
-    let outside = map
-        .iter()
-        .filter(burst)
-        .filter(|p| !p.judgement.fast_slow_domain)
-        .count();
+    // how many points burst by `of`'s verdict, and how many of those lie outside the domain
+    let bursts = |of: fn(&hdgear::physical::check::MapPoint) -> Judgement| {
+        let burst: Vec<Judgement> = map.iter().map(of).filter(|j| j.bursting).collect();
+        let outside = burst.iter().filter(|j| !j.fast_slow_domain).count();
+        (burst.len(), outside)
+    };
+    let (n, outside) = bursts(|p| p.judgement);
     let computed =
         |of: fn(&hdgear::physical::check::MapPoint) -> bool| map.iter().filter(|p| of(p)).count();
     crate::sink::outln!(
@@ -415,13 +415,11 @@ fn map_summary(
             computed(|p| p.friction_computed)
         );
     }
-    let held: Vec<_> = map.iter().filter(|p| p.held.bursting).collect();
+    let (held, held_outside) = bursts(|p| p.held);
     crate::sink::outln!(
-        "with the wave generator held: {} of {} points burst, {} of them outside the fast-slow \
-         domain; {} computed",
-        held.len(),
+        "with the wave generator held: {held} of {} points burst, {held_outside} of them outside \
+         the fast-slow domain; {} computed",
         map.len(),
-        held.iter().filter(|p| !p.held.fast_slow_domain).count(),
         computed(|p| p.held_computed)
     );
     if !fit_only {

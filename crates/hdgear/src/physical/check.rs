@@ -161,7 +161,7 @@ pub fn held_input(
     Ok(HeldInput {
         assumption: HELD_ASSUMPTION,
         reduced: r.params,
-        zeta: d.c_eq / (2.0 * (d.k1 * d.j_out).sqrt()),
+        zeta: d.zeta_on(r.j_eq),
         outcome: outcome_of(&r.params, opts)?,
         starting_at_output,
         held_by_friction: starting_at_output.map(|t| t >= d.t_am),

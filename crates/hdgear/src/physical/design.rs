@@ -158,18 +158,23 @@ pub fn judge(d: &PhysicalParams, opts: &BurstOptions) -> Result<Judgement> {
 /// [`judge`] for many drives at once, each verdict the one `judge` gives: the responses run as
 /// batches of sixteen lanes ([`crate::burst::responses`]), the batches on all cores.
 pub fn judge_many(ds: &[PhysicalParams], opts: &BurstOptions) -> Result<Vec<Judgement>> {
-    let reduced: Vec<crate::Params> = ds
-        .iter()
-        .map(|d| Ok(d.reduce()?.params))
-        .collect::<Result<_>>()?;
-    judge_sets(&reduced, opts)
+    judge_many_by(ds, PhysicalParams::reduce, opts)
 }
 
 /// [`judge_many`] with each wave generator held ([`PhysicalParams::reduce_held`]).
 pub fn judge_many_held(ds: &[PhysicalParams], opts: &BurstOptions) -> Result<Vec<Judgement>> {
+    judge_many_by(ds, PhysicalParams::reduce_held, opts)
+}
+
+/// The verdicts on many drives, each reduced by `reduce` (free or held input).
+fn judge_many_by(
+    ds: &[PhysicalParams],
+    reduce: fn(&PhysicalParams) -> Result<Reduction>,
+    opts: &BurstOptions,
+) -> Result<Vec<Judgement>> {
     let reduced: Vec<crate::Params> = ds
         .iter()
-        .map(|d| Ok(d.reduce_held()?.params))
+        .map(|d| Ok(reduce(d)?.params))
         .collect::<Result<_>>()?;
     judge_sets(&reduced, opts)
 }
@@ -564,7 +569,7 @@ pub fn summarize(
         alpha_eps: p.alpha * p.eps,
         critical_gamma: p.critical_gamma(),
         gamma_margin: p.gamma - p.critical_gamma(),
-        zeta: d.c_eq / (2.0 * (d.k1 * r.j_eq).sqrt()),
+        zeta: d.zeta_on(r.j_eq),
         three_alpha_gamma: 3.0 * p.alpha * p.gamma,
         predicted,
     })

@@ -198,6 +198,12 @@ impl PhysicalParams {
         n2ji * self.j_out / (n2ji + self.j_out)
     }
 
+    /// ζ = C/(2√(k1 J)), the damping ratio of the torsional mode with inertia `j` on the
+    /// compliance (a [`Reduction::j_eq`]: J_eq with a free input, J_o with a held one).
+    pub fn zeta_on(&self, j: f64) -> f64 {
+        self.c_eq / (2.0 * (self.k1 * j).sqrt())
+    }
+
     /// The spring's law T(θ) = (k1 + k2θ²)(θ − φ) \[N m\] of the twist θ \[rad\], as the term
     /// ([`Spring`](crate::model::terms::Spring)) in SI units: what the two-inertia model
     /// ([`model::Physical`]) takes in its own units and the periodic response's torque range
