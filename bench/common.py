@@ -7,8 +7,8 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 VENV = ROOT / "target" / "bench-venv"
-# where `cargo build --release` (run in ROOT) puts its binaries: CARGO_TARGET_DIR if set
-RELEASE = ROOT / os.environ.get("CARGO_TARGET_DIR", "target") / "release"
+# where `cargo build --profile dist` (run in ROOT) puts its binaries: CARGO_TARGET_DIR if set
+RELEASE = ROOT / os.environ.get("CARGO_TARGET_DIR", "target") / "dist"
 
 ALPHA, EPS, MU, DELTA, OMEGA = 16.0, 0.71, 0.07, 15.0, 0.01
 

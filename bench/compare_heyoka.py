@@ -5,7 +5,7 @@ Problem: the study's model (alpha 16, eps 0.71, mu 0.07, delta 15, omega 0.01), 
   * Time: three slow periods 3*2*pi/omega from the stable equilibrium at a = 0 (x' = 0), final
     state only, best of 5 batches; heyoka scalar, heyoka batch of 8 (time per trajectory), and
     hdgear's Taylor, DOP853 and Taylor batch of 16 lanes (gamma 30 and 0.1 alternating, time per
-    trajectory) from `cargo run --release --example time_simulation`.
+    trajectory) from `cargo run --profile dist --example time_simulation`.
   * Error: the largest |x - x_ref|, |x' - x'_ref| on the 5-unit grid of
     crates/hdgear/tests/data/paper_trajectories.csv (scipy DOP853 at rtol 1e-13, from rest), heyoka by
     propagate_grid and hdgear by `hdgear simulate --x0 0 --v0 0 --dt 5`.
@@ -120,7 +120,7 @@ def hdgear_error(binary, ref, tol, method):
 def main():
     ensure_venv(__file__, ['heyoka', 'numpy'])
     reps = int(sys.argv[1]) if len(sys.argv) > 1 else 100
-    subprocess.run(["cargo", "build", "--release", "-q", "--example", "time_simulation",
+    subprocess.run(["cargo", "build", "--profile", "dist", "-q", "--example", "time_simulation",
                     "--bin", "hdgear"], cwd=ROOT, check=True)
     binary = RELEASE / "hdgear"
     example = RELEASE / "examples" / "time_simulation"

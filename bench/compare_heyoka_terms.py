@@ -11,7 +11,7 @@ alpha 16, gamma 0.1, eps 0.71, mu 0.07, delta 1, omega 0.5 (a sine the friction 
 stick-slip), fc 0.3, fs 0.4, vst 0.1, cv 0.05, vr in {1e-2, 1e-3}; Bouc-Wen kh 0.5, ah 1,
 betah 0.5, gammah 0.5 (n = 1, rho = 0). From rest (z = 0) to t = 60, final state only, best of 5
 batches. hdgear runs `hdgear::model::Model` (every recurrence derived from the terms) by `cargo
-run --release --example time_terms` (`--hysteresis`: the |x'| and |z| exact, piece by piece);
+run --profile dist --example time_terms` (`--hysteresis`: the |x'| and |z| exact, piece by piece);
 heyoka builds its own from the expression.
 
 Friction: error |x - x_ref| + |x' - x'_ref| at t = 60 against heyoka at tol 1e-16 with its step
@@ -345,7 +345,7 @@ def at_equal(grid, mine, seconds, form_counts):
 def main():
     ensure_venv(__file__, ['heyoka', 'numpy'])
     reps = int(sys.argv[1]) if len(sys.argv) > 1 else 50
-    subprocess.run(["cargo", "build", "--release", "-q", "--example", "time_terms"], cwd=ROOT,
+    subprocess.run(["cargo", "build", "--profile", "dist", "-q", "--example", "time_terms"], cwd=ROOT,
                    check=True)
     import heyoka as hy
     hy.set_logger_level_error()

@@ -90,7 +90,7 @@ def main():
     ensure_venv(__file__, ['numba', 'numpy'], {'NUMBA_NUM_THREADS': '2'})
     import numpy as np
     from common import OMEGA, equilibrium
-    subprocess.run(["cargo", "build", "--release", "-q", "--bin", "hdgear"], cwd=ROOT, check=True)
+    subprocess.run(["cargo", "build", "--profile", "dist", "-q", "--bin", "hdgear"], cwd=ROOT, check=True)
     binary = RELEASE / "hdgear"
     gammas = np.geomspace(0.1, 30.0, 1000)
     x0s = np.array([equilibrium(g) for g in gammas])

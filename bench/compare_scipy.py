@@ -44,7 +44,7 @@ def main():
     ensure_venv(__file__, ["numpy", "scipy"])
     root = Path(__file__).resolve().parent.parent
     out = subprocess.run(
-        ["cargo", "run", "--quiet", "--release", "--example", "time_simulation"],
+        ["cargo", "run", "--quiet", "--profile", "dist", "--example", "time_simulation"],
         cwd=root, check=True, capture_output=True, text=True,
     ).stdout
     rust = {(row["method"], row["gamma"]): row for row in map(json.loads, out.split())}

@@ -2,7 +2,7 @@
 """Writes bench/RESULTS.md from one run of every comparison script: hdgear against heyoka,
 numba and scipy on the same machine, in the same minutes, with the machine, date and commit.
 
-    python3 bench/results.py            # builds hdgear (release), runs the scripts, writes RESULTS.md
+    python3 bench/results.py            # builds hdgear (the dist profile), runs the scripts, writes RESULTS.md
 
 Each script makes its own virtual environment (target/bench-venv) with its peer from PyPI.
 Close other work first: the numbers are wall-clock times on a shared machine.
@@ -61,7 +61,7 @@ def machine():
 
 
 def main():
-    subprocess.run(["cargo", "build", "--release", "--quiet"], cwd=ROOT, check=True)
+    subprocess.run(["cargo", "build", "--profile", "dist", "--quiet"], cwd=ROOT, check=True)
     binary = RELEASE / "hdgear"
     head = [
         "# Benchmark results",
