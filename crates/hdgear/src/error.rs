@@ -16,8 +16,23 @@ pub enum Error {
         /// What the value must satisfy.
         reason: &'static str,
     },
+    /// A term's parameter that breaks a rule relating it to another of the same term
+    /// ([`crate::model::terms::Relation`]).
+    #[error("invalid parameter {name} = {value:?}: {reason} (here {other} = {other_value:?})")]
+    RelationBroken {
+        /// The parameter the rule bounds, as the user writes it.
+        name: String,
+        /// Its value.
+        value: f64,
+        /// The parameter it is bounded by.
+        other: String,
+        /// That parameter's value.
+        other_value: f64,
+        /// The rule, and why it holds.
+        reason: &'static str,
+    },
     /// A numerical or run option is out of its domain.
-    #[error("invalid option {name} = {value:?}: {reason}")]
+    #[error("invalid option {name} = {}: {reason}", shown(*value))]
     InvalidOption {
         /// Option name.
         name: &'static str,
@@ -84,6 +99,25 @@ pub enum Error {
         /// Dimensionless time to integrate.
         span: f64,
         /// Steps it would take at the most optimistic step size.
+        estimated_steps: f64,
+        /// The budget (`Options::max_steps`).
+        budget: f64,
+    },
+    /// A model whose fastest rate would take more steps than the budget over the run, refused
+    /// before any work ([`crate::integrate::check_rate_budget`]).
+    #[error(
+        "the model's fastest rate, {rate:.3e} per time unit (its {term} term), needs about \
+         {estimated_steps:.1e} integration steps over the run's {span:.3e} time units, beyond the \
+         budget of {budget:e} steps; lower that term's gain or frequency"
+    )]
+    RateTooHigh {
+        /// The rate: a gain, √stiffness, a state's rate or a load's angular frequency.
+        rate: f64,
+        /// The kind of the term it comes from.
+        term: &'static str,
+        /// Dimensionless time to integrate.
+        span: f64,
+        /// Steps it would take if each crossed a whole turn 2π/rate.
         estimated_steps: f64,
         /// The budget (`Options::max_steps`).
         budget: f64,
@@ -173,6 +207,25 @@ pub enum SolverError {
 
 /// Result alias of the library.
 pub type Result<T> = std::result::Result<T, Error>;
+
+/// An option's value as an error message echoes it: a whole number as the integer the user
+/// wrote (`1000000000000`, not `1000000000000.0`) where f64 holds it exactly (below 2⁵³), every
+/// other value as Rust prints it in full (`0.5`, `1e300`, `NaN`).
+///
+/// ```
+/// assert_eq!(hdgear::error::shown(1e12), "1000000000000");
+/// assert_eq!(hdgear::error::shown(-0.0), "0");
+/// assert_eq!(hdgear::error::shown(0.25), "0.25");
+/// assert_eq!(hdgear::error::shown(1.8446744073709552e19), "1.8446744073709552e19");
+/// ```
+pub fn shown(value: f64) -> String {
+    const EXACT: f64 = 9_007_199_254_740_992.0; // 2⁵³
+    if value.fract() == 0.0 && value.abs() < EXACT {
+        format!("{}", value as i64)
+    } else {
+        format!("{value:?}")
+    }
+}
 
 /// An [`Error::InvalidOption`] as an `Err`: how option checks refuse a value.
 pub(crate) fn bad_option<T>(name: &'static str, value: f64, reason: &'static str) -> Result<T> {

@@ -22,6 +22,7 @@ pub mod memory;
 pub mod mesh;
 pub mod mesh_loss;
 pub mod piecewise;
+mod relation;
 pub mod schedule;
 pub mod spring;
 pub mod switching;

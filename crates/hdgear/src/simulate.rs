@@ -193,6 +193,7 @@ pub fn simulate_model_steps(
 ) -> Result<SimSummary> {
     m.check()?;
     crate::integrate::check_budget(opts.t_end, &opts.tol)?;
+    crate::integrate::check_rate_budget(opts.t_end, m.fastest_rate(), &opts.tol)?;
     opts.start.check(&opts.tol)?;
     let (x0, v0) = match opts.start {
         Start::Equilibrium => (m.stable_equilibrium(0.0)?, m.rest_rate()),
@@ -235,10 +236,14 @@ fn model_run<const N: usize>(
     let mut sticking = Sticking::default();
     let mut solver = Switching::new(&pieces, 0.0, y0, opts.tol)?;
     let accel = |t: f64, y: &[f64; N]| pieces.model().rhs(t, y)[1];
+    let mut first = true;
     let mut summary = run(&mut solver, accel, opts, y0, |d, s| {
         if d.is_stuck() {
             sticking.time_stuck += d.t_end() - d.t_start();
+            // a rest the run starts in is a stick too, as its time is time stuck
+            sticking.sticks += u64::from(first);
         }
+        first = false;
         if let Some(w) = s.last_switch() {
             sticking.switches += 1;
             sticking.sticks += u64::from(w.to == Mode::Stuck);
@@ -256,9 +261,9 @@ fn model_run<const N: usize>(
 pub struct Sticking {
     /// Changes of mode (slip → stick, stick → slip, reversals at rest).
     pub switches: u64,
-    /// How many times the motion stuck.
+    /// How many rests the motion had: each time it stuck, and a rest the run starts in.
     pub sticks: u64,
-    /// The time spent stuck.
+    /// The time spent at rest, over all of them.
     pub time_stuck: f64,
 }
 

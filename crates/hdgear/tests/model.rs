@@ -54,21 +54,19 @@ fn random_model(u: &mut impl FnMut() -> f64) -> Model {
                 AnyTerm::new("friction", &[between(u, 0.0, 0.5), between(u, 0.02, 0.5)]).unwrap(),
             )
             .unwrap(),
-        _ => m
-            .with_term(
-                AnyTerm::new(
-                    "stribeck",
-                    &[
-                        between(u, 0.0, 0.3),
-                        between(u, 0.0, 0.5),
-                        between(u, 0.05, 1.0),
-                        between(u, 0.0, 0.5),
-                        between(u, 0.02, 0.5),
-                    ],
-                )
-                .unwrap(),
-            )
-            .unwrap(),
+        _ => {
+            let (fc, fs) = (between(u, 0.0, 0.3), between(u, 0.0, 0.5));
+            // the static level at least the sliding one (the rule every friction law keeps)
+            let values = [
+                fc,
+                fs.max(fc),
+                between(u, 0.05, 1.0),
+                between(u, 0.0, 0.5),
+                between(u, 0.02, 0.5),
+            ];
+            m.with_term(AnyTerm::new("stribeck", &values).unwrap())
+                .unwrap()
+        }
     }
 }
 
@@ -202,10 +200,11 @@ fn taylor_on_an_assembly_matches_dop853_on_the_equations_written_by_hand() {
                 vec![between(&mut u, 0.0, 0.5), between(&mut u, 0.05, 0.5)],
             )
         } else {
-            let v: Vec<f64> = [(0.0, 0.3), (0.0, 0.5), (0.05, 1.0), (0.0, 0.5), (0.05, 0.5)]
+            let mut v: Vec<f64> = [(0.0, 0.3), (0.0, 0.5), (0.05, 1.0), (0.0, 0.5), (0.05, 0.5)]
                 .iter()
                 .map(|&(a, b)| between(&mut u, a, b))
                 .collect();
+            v[1] = v[1].max(v[0]);
             ("stribeck", stribeck, v)
         };
         let m = Model::study(&p)

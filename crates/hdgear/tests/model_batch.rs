@@ -24,8 +24,8 @@ fn random_smooth_model(u: &mut impl FnMut() -> f64) -> Model {
     while m.terms().count() < 2 + extra && tries < 50 {
         tries += 1;
         let kinds = AnyTerm::KINDS;
-        let (kind, _, params) = kinds[((u() * kinds.len() as f64) as usize).min(kinds.len() - 1)];
-        let values: Vec<f64> = params.iter().map(|q| draw(q, u)).collect();
+        let (kind, _, _) = kinds[((u() * kinds.len() as f64) as usize).min(kinds.len() - 1)];
+        let values = draw_values(kind, u);
         let Ok(term) = AnyTerm::new(kind, &values) else {
             continue;
         };
@@ -62,6 +62,18 @@ pub(crate) fn draw(q: &ParamInfo, u: &mut impl FnMut() -> f64) -> f64 {
         Domain::Fraction => (q.default * (0.5 + u())).min(1.0),
         _ => q.default * (0.5 + u()),
     }
+}
+
+/// Values for a term of kind `kind`, each drawn about its default ([`draw`]), with a friction
+/// law's static level put at or above its sliding level (the rule every such law keeps).
+pub(crate) fn draw_values(kind: &str, u: &mut impl FnMut() -> f64) -> Vec<f64> {
+    let params = AnyTerm::params_of(kind).unwrap();
+    let mut values: Vec<f64> = params.iter().map(|q| draw(q, u)).collect();
+    let friction = params.len() > 1 && params[0].name == "fc" && params[1].name == "fs";
+    if friction && values[1] < values[0] {
+        values.swap(0, 1);
+    }
+    values
 }
 
 /// The scalar Taylor stepper on `m` from `y0` over `(from, t_end)`: its final state, its step
@@ -246,12 +258,11 @@ fn random_smooth_models_take_the_scalar_steppers_steps_on_the_lanes() {
     check_batch::<4>(&by_dim[2], &mut u);
 }
 
-/// [`LANES`] terms of kind `kind` at random values of `params`, each on a piece of its law
+/// [`LANES`] terms of kind `kind` at random values ([`draw_values`]), each on a piece of its law
 /// (a switching kind's signs at random; kept where its lane shape is the first's), with their
 /// lane values side by side.
 fn lane_terms(
     kind: &str,
-    params: &[ParamInfo],
     u: &mut impl FnMut() -> f64,
 ) -> (
     Vec<AnyTerm>,
@@ -269,8 +280,9 @@ fn lane_terms(
     let terms: Vec<AnyTerm> = sides
         .iter()
         .map(|&side| {
-            let values: Vec<f64> = params.iter().map(|q| draw(q, u)).collect();
-            AnyTerm::new(kind, &values).unwrap().directed(side)
+            AnyTerm::new(kind, &draw_values(kind, u))
+                .unwrap()
+                .directed(side)
         })
         .collect();
     // (an exponent the recurrence unrolls is the same on every lane)
@@ -384,8 +396,7 @@ fn models_of_one_structure_take_the_scalar_steppers_steps_on_vector_lanes() {
             .map(|_| {
                 let p = random_params(&mut u);
                 extra.iter().fold(Model::study(&p), |m, kind| {
-                    let params = AnyTerm::params_of(kind).unwrap();
-                    let values: Vec<f64> = params.iter().map(|q| draw(q, &mut u)).collect();
+                    let values = draw_values(kind, &mut u);
                     m.with_term(AnyTerm::new(kind, &values).unwrap()).unwrap()
                 })
             })
@@ -405,8 +416,8 @@ fn each_kind_on_lanes_gives_every_lane_its_scalar_row() {
     use hdgear::model::jet::{Jet, Lanes};
     use hdgear::model::terms::{LaneRows, MAX_ROWS};
     let mut u = uniform(29);
-    for (kind, _, params) in AnyTerm::KINDS {
-        let (terms, values) = lane_terms(kind, params, &mut u);
+    for (kind, _, _) in AnyTerm::KINDS {
+        let (terms, values) = lane_terms(kind, &mut u);
         // random series of x, v and z on each lane, shrinking with the order
         let mut series = [[Lanes::splat(0.0); MAX_ROWS]; 3];
         for k in 0..MAX_ROWS {

@@ -11,7 +11,7 @@ use hdgear::model::terms::AnyTerm;
 use hdgear::model::{Model, integrate_switching_models, on_vector_lanes};
 
 use crate::common::uniform;
-use crate::model_batch::{agree_on_vector_lanes, draw, random_params};
+use crate::model_batch::{agree_on_vector_lanes, draw_values, random_params};
 
 /// What one run gives: its final state, its step count, the end times and states of its steps
 /// after the span's start, and how many of those were at rest.
@@ -39,7 +39,7 @@ fn scalar<const N: usize>(
 }
 
 /// `count` models: the study's at random parameters with the terms `kinds`, each parameter
-/// drawn about its default ([`draw`]); a Bouc–Wen or Dahl exponent `n` where given (else drawn).
+/// drawn about its default ([`draw_values`]); a Bouc–Wen or Dahl exponent `n` where given (else drawn).
 fn models(kinds: &[&str], n: Option<f64>, count: usize, u: &mut impl FnMut() -> f64) -> Vec<Model> {
     (0..count)
         .map(|_| {
@@ -47,8 +47,7 @@ fn models(kinds: &[&str], n: Option<f64>, count: usize, u: &mut impl FnMut() -> 
             // loads that move the drive through rest and back (sticking where it can)
             p.delta = 0.5 + 3.0 * u();
             kinds.iter().fold(Model::study(&p), |m, kind| {
-                let params = AnyTerm::params_of(kind).unwrap();
-                let mut values: Vec<f64> = params.iter().map(|q| draw(q, u)).collect();
+                let mut values = draw_values(kind, u);
                 match (n, *kind) {
                     (Some(n), "boucwen") => values[5] = n,
                     (Some(n), "dahl") => values[2] = n,

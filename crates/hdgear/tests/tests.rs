@@ -31,6 +31,7 @@ mod physical;
 mod piecewise;
 mod plane;
 mod reference;
+mod relations;
 mod robust;
 mod schedule;
 mod simd;

@@ -317,6 +317,9 @@ pub fn response_model_on<C: StaticCurve>(
             "the burst verdict on a switching model (integrated piece by piece) takes neither a dither nor a delay",
         ));
     }
+    // a term too fast for the step budget over the scan is refused before the run
+    let span = super::window(p, opts).1 + p.slow_period();
+    crate::integrate::check_rate_budget(span, m.fastest_rate(), &opts.tol)?;
     let x0 = p.start();
     let z: [f64; MAX_STATES] = m.rest_states(x0);
     let v0 = m.rest_rate();

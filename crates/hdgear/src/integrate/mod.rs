@@ -360,6 +360,29 @@ pub fn check_budget(span: f64, opts: &Options) -> Result<()> {
     Ok(())
 }
 
+/// Refuses, before any work, a run over `span` of a model whose fastest rate is `rate` (from
+/// its term `term`: [`crate::model::Model::fastest_rate`]) that would need more steps than
+/// `opts.max_steps` even if every step crossed a whole turn 2π/rate: no method follows a motion
+/// or load at that rate in longer steps (a Taylor step of order p holds |rate·h| to a few
+/// radians for accuracy and stability alike).
+pub fn check_rate_budget(
+    span: f64,
+    (rate, term): (f64, &'static str),
+    opts: &Options,
+) -> Result<()> {
+    let estimated_steps = span * rate / std::f64::consts::TAU;
+    if estimated_steps > opts.max_steps as f64 {
+        return Err(Error::RateTooHigh {
+            rate,
+            term,
+            span,
+            estimated_steps,
+            budget: opts.max_steps as f64,
+        });
+    }
+    Ok(())
+}
+
 /// The smallest step either method takes at `t` with `remaining` to go: ten rounding units of
 /// the larger of the two (a smaller step would not change t).
 pub(crate) fn smallest_step(t: f64, remaining: f64) -> f64 {

@@ -407,7 +407,12 @@ impl Model {
     /// Checks every parameter against its domain.
     pub fn check(&self) -> Result<()> {
         self.params()
-            .try_for_each(|q| self.info(q).domain.check(q.name, self.get(q)))
+            .try_for_each(|q| self.info(q).domain.check(q.name, self.get(q)))?;
+        self.terms().try_for_each(|t| {
+            t.relations()
+                .iter()
+                .try_for_each(|r| r.check(|i| t.params()[i].name, t.values()))
+        })
     }
 
     /// x'' = μ + δ sin(phase) − Σ T(x, v) with the terms' internal states at 0 (the model's
@@ -551,6 +556,45 @@ impl Model {
     /// a kinematic error, which moves the elastic twist against itself).
     pub fn rest_rate(&self) -> f64 {
         self.terms().map(|t| t.twist_rate_at_rest()).sum()
+    }
+
+    /// The fastest rate of the model at rest (x = 0, x' = 0, each state at rest) and the kind of
+    /// the term it comes from: over every term, the largest of its damping |∂T/∂x'|, the rate
+    /// √|∂T/∂x| of its stiffness, its state's own rate |∂r/∂z| and coupling √|∂T/∂z·∂r/∂x'|,
+    /// and a load's angular frequency; and the forcing's ω. Each is a rate the motion or a load
+    /// moves at, so a step of any method spans a few radians of it at the most
+    /// ([`crate::integrate::check_rate_budget`]). It leaves out what the motion meets away from
+    /// rest (a hardening stiffness), so it errs low: a refusal by it is certain.
+    ///
+    /// ```
+    /// use hdgear::model::{Model, terms::AnyTerm};
+    /// let m = Model::study(&hdgear::Params::default());
+    /// let (rate, _) = m.fastest_rate();
+    /// assert!((rate - 1.0).abs() < 1e-12); // the unit damping (√γ = 0.32 at γ = 0.1)
+    /// let fast = m.with_term(AnyTerm::new("vdamping", &[1e6]).unwrap()).unwrap();
+    /// assert_eq!(fast.fastest_rate(), (1e6, "vdamping"));
+    /// ```
+    pub fn fastest_rate(&self) -> (f64, &'static str) {
+        let z = self.rest_states(0.0);
+        let mut best = (self.forcing[2], "forcing");
+        for (t, at) in self.slots() {
+            let zi = at.map_or(0.0, |i| z[i - 2]);
+            let [tx, tv, tz] = t.gradient(0.0, 0.0, zi);
+            let [_, rv, rz] = t.rate_gradient(0.0, 0.0, zi);
+            let rate = [
+                tv.abs(),
+                tx.abs().sqrt(),
+                rz.abs(),
+                (tz * rv).abs().sqrt(),
+                t.load_frequency(),
+            ]
+            .into_iter()
+            .fold(0.0, f64::max);
+            if rate > best.0 {
+                best = (rate, t.kind());
+            }
+        }
+        best
     }
 
     /// The internal states at rest at twist x, in state order ([`AnyTerm::state_at_rest`]).

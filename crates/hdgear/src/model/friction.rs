@@ -7,7 +7,7 @@ use super::jet::{
     tanh_step_limit,
 };
 use super::terms::{
-    Domain, LANE_PARAMS, LaneRows, MAX_ROWS, ParamInfo, Scratch, Side, Term, piece_sign,
+    Domain, LANE_PARAMS, LaneRows, MAX_ROWS, ParamInfo, Relation, Scratch, Side, Term, piece_sign,
 };
 use crate::integrate::taylor::SCRATCH_ROWS;
 use serde::Serialize;
@@ -141,6 +141,17 @@ impl Term for Friction {
     }
 }
 
+/// Static friction is at least the sliding level it drops to: the Stribeck law's (f_c + (f_s −
+/// f_c)·e^{−(x'/v_st)²}) is then its largest at rest, and the sticking band ±f_s holds every
+/// slip that the sliding level would stop. f_s < f_c would make friction rise with speed out of
+/// rest, a law no friction test of a drive shows. `fc` and `fs` are the first two parameters of
+/// each friction law that has both.
+pub const STATIC_AT_LEAST_SLIDING: Relation = Relation::AtLeast {
+    upper: 1,
+    lower: 0,
+    reason: "the static (breakaway) friction must be at least the Coulomb (sliding) level",
+};
+
 /// The Coulomb (sliding) friction level shared by the Stribeck, switched-Coulomb and LuGre friction laws.
 pub(super) const FRICTION_FC: ParamInfo = ParamInfo {
     name: "fc",
@@ -200,6 +211,7 @@ impl Stribeck {
 
 impl Term for Stribeck {
     const KIND: &'static str = "stribeck";
+    const RELATIONS: &'static [Relation] = &[STATIC_AT_LEAST_SLIDING];
     const ABOUT: &'static str = "Coulomb–Stribeck–viscous friction, regularised by tanh(x'/v_r)";
     const ON_LANES: bool = true;
     const PARAMS: &'static [ParamInfo] = &[
@@ -379,6 +391,7 @@ impl Coulomb {
 
 impl Term for Coulomb {
     const KIND: &'static str = "coulomb";
+    const RELATIONS: &'static [Relation] = &[STATIC_AT_LEAST_SLIDING];
     const SWITCHES_AT_REST: bool = true;
     const ABOUT: &'static str =
         "Coulomb–Stribeck–viscous friction with sticking (sgn x', integrated piece by piece)";

@@ -10,8 +10,8 @@
 use super::jet::{Jet, Lanes};
 use super::jet::{cauchy, exp_step_limit, quotient_coefficient, whole_power_rows};
 use super::terms::{
-    Domain, FRICTION_FC, FRICTION_FS, LANE_PARAMS, LaneRows, Level, MAX_ROWS, ParamInfo,
-    STRIBECK_VELOCITY, Scratch, Side, StateInfo, Term, piece_sign,
+    Domain, FRICTION_FC, FRICTION_FS, LANE_PARAMS, LaneRows, Level, MAX_ROWS, ParamInfo, Relation,
+    STATIC_AT_LEAST_SLIDING, STRIBECK_VELOCITY, Scratch, Side, StateInfo, Term, piece_sign,
 };
 use crate::integrate::taylor::SCRATCH_ROWS;
 use serde::Serialize;
@@ -40,6 +40,7 @@ impl LuGre {
 
 impl Term for LuGre {
     const KIND: &'static str = "lugre";
+    const RELATIONS: &'static [Relation] = &[STATIC_AT_LEAST_SLIDING];
     const ABOUT: &'static str = "LuGre friction σ₀s + σ₁s' + σ₂x' with a bristle state s";
     const STATE: Option<StateInfo> = Some(StateInfo {
         name: "s",
@@ -307,6 +308,19 @@ impl BoucWen {
 
 impl Term for BoucWen {
     const KIND: &'static str = "boucwen";
+    /// The loading branch of z against the twist x is dz/dx = A + c·zⁿ with c = −(β + γ_h)
+    /// (z, x' > 0). With c > 0 and n ≥ 2 it reaches infinity within a finite twist (∫dz/(A +
+    /// c·zⁿ) converges), so the state blows up under a moderate load; with n = 1 it is
+    /// (A/c)(e^{c·Δx} − 1), finite for every finite twist (Noël & Schoukens' benchmark has
+    /// c > 0 and n = 1). β < 0 is refused by its domain: unloading then grows |z| again.
+    const RELATIONS: &'static [Relation] = &[Relation::NonNegativeSumFrom {
+        first: 3,
+        second: 4,
+        when: 5,
+        from: 2.0,
+        reason: "betah + gammah must be ≥ 0 for an exponent nh ≥ 2, or the hysteretic state z \
+                 blows up within a finite twist",
+    }];
     const ABOUT: &'static str = "Bouc–Wen hysteresis k_h·(ρx + (1 − ρ)z) with a hysteretic state z";
     const STATE: Option<StateInfo> = Some(StateInfo {
         name: "z",
@@ -346,8 +360,8 @@ impl Term for BoucWen {
             name: "betah",
             symbol: "β",
             latex: r"\beta",
-            meaning: "loop shape (with γ_h)",
-            domain: Domain::Any,
+            meaning: "loop shape (with γ_h); β < 0 lets unloading grow z without bound",
+            domain: Domain::NonNegative,
             default: 0.5,
             si: "β·x_scaleⁿ",
         },

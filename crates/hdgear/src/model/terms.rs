@@ -8,6 +8,7 @@ pub use super::dahl::Dahl;
 pub use super::delay::Delay;
 pub use super::excitation::Multisine;
 pub(crate) use super::friction::Level;
+pub use super::friction::STATIC_AT_LEAST_SLIDING;
 pub use super::friction::{Coulomb, Friction, Stribeck};
 pub(super) use super::friction::{FRICTION_FC, FRICTION_FS, STRIBECK_VELOCITY};
 use super::jet::{Jet, Lanes, cauchy, square_coefficient};
@@ -15,6 +16,7 @@ pub use super::memory::{BoucWen, LuGre};
 pub use super::mesh::KinematicError;
 pub use super::mesh_loss::MeshLoss;
 pub use super::piecewise::Piecewise;
+pub use super::relation::Relation;
 pub use super::schedule::Scheduled;
 pub use super::spring::Spring;
 use crate::error::{Error, Result};
@@ -161,6 +163,8 @@ pub trait Term: Copy {
     const ABOUT: &'static str;
     /// Its parameters, in the order of [`Term::values`].
     const PARAMS: &'static [ParamInfo];
+    /// Rules between its parameters beyond their domains (none, the default).
+    const RELATIONS: &'static [Relation] = &[];
     /// Its internal state, if it has one (`None`, the default: T depends on x and x' only).
     const STATE: Option<StateInfo> = None;
     /// Whether its law is not analytic across x' = 0 (sgn x', |x'|): a switching integration
@@ -539,7 +543,7 @@ macro_rules! any_term {
             pub fn new(kind: &str, values: &[f64]) -> Result<AnyTerm> {
                 $(
                     if kind == $variant::KIND {
-                        check_values($variant::PARAMS, values)?;
+                        check_values($variant::PARAMS, $variant::RELATIONS, values)?;
                         return Ok(AnyTerm::$variant($variant::from_values(values)));
                     }
                 )*
@@ -553,6 +557,10 @@ macro_rules! any_term {
             /// Its parameters.
             pub fn params(&self) -> &'static [ParamInfo] {
                 match self { $(AnyTerm::$variant(_) => $variant::PARAMS,)* }
+            }
+            /// The rules between its parameters ([`Term::RELATIONS`]).
+            pub fn relations(&self) -> &'static [Relation] {
+                match self { $(AnyTerm::$variant(_) => $variant::RELATIONS,)* }
             }
             /// Its parameter values.
             pub fn values(&self) -> &[f64] {
@@ -723,8 +731,9 @@ any_term!(
 );
 
 /// Checks a term's values against its parameter list: each within the magnitude limit every
-/// parameter has ([`crate::params::MAGNITUDE_LIMIT`]), then its own domain.
-fn check_values(params: &[ParamInfo], values: &[f64]) -> Result<()> {
+/// parameter has ([`crate::params::MAGNITUDE_LIMIT`]), then its own domain, then the rules
+/// between them.
+fn check_values(params: &[ParamInfo], relations: &[Relation], values: &[f64]) -> Result<()> {
     if params.len() != values.len() {
         return Err(Error::InvalidInput {
             what: "term values",
@@ -735,7 +744,10 @@ fn check_values(params: &[ParamInfo], values: &[f64]) -> Result<()> {
     params.iter().zip(values).try_for_each(|(p, &v)| {
         crate::params::check_magnitude(p.name, v)?;
         p.domain.check(p.name, v)
-    })
+    })?;
+    relations
+        .iter()
+        .try_for_each(|r| r.check(|i| params[i].name, values))
 }
 
 fn unknown_kind(kind: &str) -> Error {

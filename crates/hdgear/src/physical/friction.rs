@@ -179,12 +179,10 @@ pub fn law(card: &Card) -> Result<Option<FrictionLaw>> {
         };
     };
     let breakaway = f.breakaway.unwrap_or(coulomb);
-    if breakaway < coulomb {
-        return Err(bad(
-            "breakaway",
-            Some(breakaway),
-            "must be ≥ the Coulomb level",
-        ));
+    // the friction terms' own rule, on the card's keys
+    let rule = crate::model::terms::STATIC_AT_LEAST_SLIDING;
+    if !rule.holds(&[coulomb, breakaway]) {
+        return Err(bad("breakaway", Some(breakaway), rule.reason()));
     }
     let stribeck_speed = match f.stribeck_speed {
         Some(v) if v > 0.0 => v,

@@ -179,6 +179,9 @@ impl From<hdgear::Error> for ApiError {
                 StatusCode::UNPROCESSABLE_ENTITY,
                 format!("the integration failed: {s}"),
             ),
+            e @ hdgear::Error::RateTooHigh { .. } => {
+                ApiError(StatusCode::UNPROCESSABLE_ENTITY, format!("refused: {e}"))
+            }
             other => ApiError(StatusCode::BAD_REQUEST, other.to_string()),
         }
     }
