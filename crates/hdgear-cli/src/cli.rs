@@ -785,7 +785,8 @@ pub fn as_flag(e: hdgear::Error, flags: &[(&str, &str)]) -> anyhow::Error {
     } = &e
         && let Some((_, flag)) = flags.iter().find(|(n, _)| n == name)
     {
-        return anyhow::anyhow!("invalid option --{flag} = {value:?}: {reason}");
+        let value = hdgear::error::shown(*value);
+        return anyhow::anyhow!("invalid option --{flag} = {value}: {reason}");
     }
     e.into()
 }

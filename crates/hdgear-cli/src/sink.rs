@@ -145,7 +145,8 @@ pub fn warn(warnings: &[Warning]) {
     for w in warnings {
         let text = w.to_string();
         if !seen.contains(&text) {
-            eprintln!("warning: {text}");
+            // a remark on the set, not a fault: the study's own set is one
+            eprintln!("note: {text}");
             seen.push(text);
         }
     }
@@ -227,4 +228,28 @@ pub fn warn_range(range: (f64, f64)) {
             range.0, range.1
         ));
     }
+}
+
+/// Refuses an output path that is one of the run's inputs, the same file under any name (an
+/// output that does not exist yet is none of them): writing it would destroy what the run reads.
+/// `what` names the input's option (`--restart`, "the input shard").
+pub fn check_not_input<'a>(
+    out: &std::path::Path,
+    inputs: impl IntoIterator<Item = &'a std::path::Path>,
+    what: &str,
+) -> Result<()> {
+    let Ok(target) = std::fs::canonicalize(out) else {
+        return Ok(());
+    };
+    if let Some(input) = inputs
+        .into_iter()
+        .find(|p| std::fs::canonicalize(p).is_ok_and(|p| p == target))
+    {
+        anyhow::bail!(
+            "invalid option --out '{}': it is {what} {}; write the output elsewhere",
+            out.display(),
+            input.display()
+        );
+    }
+    Ok(())
 }

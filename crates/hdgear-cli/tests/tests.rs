@@ -8,6 +8,7 @@ mod cards;
 mod cli;
 mod control;
 mod docs;
+mod edges;
 mod hardening;
 mod hostile;
 mod interrupted;

@@ -127,6 +127,10 @@ impl PlaneArgs {
 }
 
 pub fn run(a: Continue2Args) -> Result<()> {
+    if let (Some(spec), Some(out)) = (&a.restart, &a.export.out) {
+        let file = spec.rsplit_once(':').map_or(spec.as_str(), |(f, _)| f);
+        crate::sink::check_not_input(out, [std::path::Path::new(file)], "the --restart file")?;
+    }
     let (kind, nth) = CurveKind::parse_start(&a.from).context("--from")?;
     let (p, [r1, r2]) = request(&a)?;
     let opts = ContinuationOptions::default();

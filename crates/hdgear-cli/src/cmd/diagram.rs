@@ -29,6 +29,7 @@ struct Meta<'a> {
 
 pub fn run(a: OrbitDiagramArgs) -> Result<()> {
     let axis = Axis::parse(&a.axis).context("--param")?;
+    hdgear::periodic::check_diagram_values(axis.count).context("--param")?;
     if a.params.given(axis.param) {
         anyhow::bail!(
             "--{0} does not apply: --param {1} varies {0} itself",

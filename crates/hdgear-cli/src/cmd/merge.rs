@@ -45,16 +45,11 @@ pub fn run(a: MergeArgs) -> Result<()> {
     };
     let format = Format::from_path(&out).context("--out")?;
     hdgear::output::check_output_path(&out)?;
-    // (an --out that does not exist yet cannot be an input)
-    let target = std::fs::canonicalize(&out).ok();
-    let same = |p: &Path| target.is_some() && std::fs::canonicalize(p).ok() == target;
-    if let Some(shard) = a.shards.iter().find(|p| same(p)) {
-        bail!(
-            "invalid option --out '{}': it is the input shard {}; write the merged file elsewhere",
-            out.display(),
-            shard.display()
-        );
-    }
+    crate::sink::check_not_input(
+        &out,
+        a.shards.iter().map(PathBuf::as_path),
+        "the input shard",
+    )?;
     let mut headers = Vec::with_capacity(a.shards.len());
     let mut readers = Vec::with_capacity(a.shards.len());
     for path in &a.shards {
@@ -125,6 +120,9 @@ fn settings(doc: &serde_json::Value) -> Settings {
 
 /// Merges the --json summaries of a sharded `hdgear robust` run.
 fn robust(paths: &[PathBuf], out: Option<&Path>) -> Result<()> {
+    if let Some(out) = out {
+        crate::sink::check_not_input(out, paths.iter().map(PathBuf::as_path), "the input part")?;
+    }
     let mut parts = paths
         .iter()
         .map(|p| read_part(p))

@@ -78,6 +78,24 @@ pub struct DiagramPoint {
     pub lyapunov: Option<f64>,
 }
 
+/// The most parameter values one orbit diagram takes: each value continues from the previous
+/// one's state, so they run one after another on one core, each for 2·(discard + record)
+/// forcing periods (420 at the defaults); 10⁵ values are already some 4·10⁷ periods, hours of
+/// integration.
+pub const MAX_DIAGRAM_VALUES: usize = 100_000;
+
+/// Checks the number of values of an orbit diagram against [`MAX_DIAGRAM_VALUES`], before they are made.
+pub fn check_diagram_values(count: usize) -> Result<()> {
+    if count > MAX_DIAGRAM_VALUES {
+        return Err(Error::InvalidOption {
+            name: "values",
+            value: count as f64,
+            reason: "at most 100000 values (each runs after the previous one, on one core)",
+        });
+    }
+    Ok(())
+}
+
 /// Relative tolerance for two section points to count as one.
 pub const SAME_POINT: f64 = 1e-6;
 
@@ -106,6 +124,7 @@ pub fn orbit_diagram<O: Oscillator>(
     mut each: impl FnMut(DiagramPoint),
 ) -> Result<()> {
     opts.tol.validate()?;
+    check_diagram_values(values.len())?;
     if opts.record < 2 {
         return Err(Error::InvalidOption {
             name: "record",

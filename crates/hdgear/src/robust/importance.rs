@@ -311,7 +311,7 @@ pub fn importance(space: &Space, opts: &BurstOptions, mc: &McOptions) -> Result<
     let centre = design.as_ref().map_or(vec![0.0; k], |d| d.z.clone());
     let beta2: f64 = centre.iter().map(|x| x * x).sum();
     let points = super::Points::new(mc.sampler, mc.seed, k + 1)?;
-    let end = mc.end(&points)?;
+    let end = mc.end(&points, "importance")?;
     let mut total = Importance::empty(design, note, share, mc.first, mc.level);
     let mut start = mc.first;
     let mut u = vec![0.0; k + 1];

@@ -22,6 +22,7 @@ pub mod importance;
 mod load;
 pub mod sequence;
 pub mod sobol;
+pub use sobol::{MAX_DESIGN_RUNS, Sensitivity, sensitivity};
 mod worst;
 
 pub use crate::distribution::{
@@ -140,6 +141,36 @@ pub const DRIVE_DEFAULTS: [(DriveParam, f64, &str); 6] = [
     ),
 ];
 
+/// The least probability outside the range a spread's reach is checked over, for a spread
+/// without bounds (normal, log-normal): no run draws enough samples (10⁶ is already a large
+/// one) for one in 10⁶ beyond it to matter, while a spread that reaches a zero or negative
+/// stiffness within it is a modelling error, not a tail.
+const REACH_TAIL: f64 = 1e-6;
+
+/// Checks that a tolerance keeps its parameter where the model exists: the set with the
+/// parameter at each end of the spread (a band's own ends; the [`REACH_TAIL`] quantiles of an
+/// unbounded one) is valid. A ±100 % band on a stiffness, or a band out to 1e300, is refused,
+/// naming the value it reaches and why that value is refused.
+fn check_reach(nominal: &Nominal, t: &Tolerance) -> Result<()> {
+    let ends = match t.distribution {
+        Distribution::Uniform { lo, hi } | Distribution::TruncatedNormal { lo, hi, .. } => [lo, hi],
+        d => [d.quantile(REACH_TAIL), d.quantile(1.0 - REACH_TAIL)],
+    };
+    for v in ends {
+        if let Err(e) = nominal.with(t.target, v).reduced() {
+            return Err(Error::InvalidInput {
+                what: "tolerance",
+                text: t.target.name().into(),
+                reason: format!(
+                    "its spread reaches {v:e}, where {e}; narrow it (a lognormal: spread stays \
+                     above 0)"
+                ),
+            });
+        }
+    }
+    Ok(())
+}
+
 /// A nominal set with its tolerances.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Space {
@@ -177,6 +208,7 @@ impl Space {
                 });
             }
             t.distribution.validate()?;
+            check_reach(&nominal, t)?;
         }
         Ok(Space {
             nominal,
@@ -522,14 +554,16 @@ impl Default for McOptions {
 }
 
 impl McOptions {
-    /// The index after the run's last sample, checked against the points' `capacity`.
-    pub fn end(&self, points: &Points) -> Result<u64> {
+    /// The index after the run's last sample, checked against the points' `capacity`; the
+    /// error names the option that asked for the samples (`samples`, `importance`) and the
+    /// index its run would end at (a shard's block ends inside the whole run's).
+    pub fn end(&self, points: &Points, option: &'static str) -> Result<u64> {
         let end = self.first.checked_add(self.samples);
         end.filter(|&e| e <= points.capacity())
             .ok_or(Error::InvalidOption {
-                name: "samples",
-                value: self.samples as f64,
-                reason: "the sequence has no more points",
+                name: option,
+                value: self.first as f64 + self.samples as f64,
+                reason: "the sampler's sequence has fewer points (the Sobol sequence has 2³²)",
             })
     }
 
@@ -682,7 +716,7 @@ pub fn probability(
     mc.validate()?;
     opts.validate()?;
     let points = Points::new(mc.sampler, mc.seed, space.dims())?;
-    let end = mc.end(&points)?;
+    let end = mc.end(&points, "samples")?;
     let mut total = Probability::of(&[], mc);
     let mut start = mc.first;
     while start < end {
@@ -755,19 +789,26 @@ pub fn analyse(
     a: &AnalysisOptions,
     each: impl FnMut(&[Sample]) -> Result<()>,
 ) -> Result<Analysis> {
+    // what cannot be run is refused before the sampling, not after it: a design that cannot be
+    // held, importance samples beyond the sequence
+    if let Some(n) = a.sobol {
+        sobol::check_design(n, space.dims())?;
+    }
+    let importance_mc = a.importance.clone().map(|r| McOptions {
+        samples: r.end.saturating_sub(r.start),
+        first: r.start,
+        ..a.mc
+    });
+    if let Some(mc) = &importance_mc {
+        mc.end(
+            &Points::new(mc.sampler, mc.seed, space.dims() + 1)?,
+            "importance",
+        )?;
+    }
     let probability = probability(space, opts, &a.mc, each)?;
     let worst = a.worst.then(|| worst_case(space, opts)).transpose()?;
-    let importance = a
-        .importance
-        .clone()
-        .map(|r| {
-            let mc = McOptions {
-                samples: r.end.saturating_sub(r.start),
-                first: r.start,
-                ..a.mc
-            };
-            importance(space, opts, &mc)
-        })
+    let importance = importance_mc
+        .map(|mc| importance(space, opts, &mc))
         .transpose()?;
     let load_curve = a
         .load_curve
@@ -782,7 +823,7 @@ pub fn analyse(
         .transpose()?;
     let sensitivity = a
         .sobol
-        .map(|n| sensitivity(space, opts, n, a.mc.sampler, a.mc.seed))
+        .map(|n| sobol::sensitivity(space, opts, n, a.mc.sampler, a.mc.seed))
         .transpose()?;
     Ok(Analysis {
         space: space.clone(),
@@ -794,62 +835,6 @@ pub fn analyse(
         resonance: resonance(space),
         load_curve,
         shard: a.shard,
-    })
-}
-
-/// Sobol indices of each measure over a space.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct Sensitivity {
-    /// N, the rows of the Saltelli design (N(k + 2) runs).
-    pub n: usize,
-    /// The parameters, in the order of the indices.
-    pub parameters: Vec<&'static str>,
-    /// Per measure ([`Measure::ALL`]): its indices, or None when some run has no value of it
-    /// (a failed or predicted sample).
-    pub measures: Vec<(Measure, Option<sobol::Indices>)>,
-    /// Runs without a verdict.
-    pub failed: usize,
-}
-
-/// Sobol first-order and total indices of every [`Measure`] over `space`, from the Saltelli
-/// design of `n` rows ([`sobol`]).
-pub fn sensitivity(
-    space: &Space,
-    opts: &BurstOptions,
-    n: usize,
-    sampler: Sampler,
-    seed: u64,
-) -> Result<Sensitivity> {
-    opts.validate()?;
-    if n < 2 {
-        return Err(Error::InvalidOption {
-            name: "samples",
-            value: n as f64,
-            reason: "the Saltelli design needs at least 2 rows",
-        });
-    }
-    let k = space.dims();
-    let rows = sobol::design(k, n, sampler, seed)?;
-    let values: Vec<Vec<f64>> = rows.iter().map(|u| space.values(u)).collect();
-    let samples = evaluate(space, &values, opts);
-    let failed = samples.iter().filter(|s| s.outcome.is_err()).count();
-    let measures = Measure::ALL
-        .iter()
-        .enumerate()
-        .map(|(m, &measure)| {
-            let f: Option<Vec<f64>> = samples
-                .iter()
-                .map(|s| s.outcome.as_ref().ok().map(|o| o.measures[m]))
-                .map(|v| v.filter(|v| v.is_finite()))
-                .collect();
-            (measure, f.map(|f| sobol::indices(k, &f)))
-        })
-        .collect();
-    Ok(Sensitivity {
-        n,
-        parameters: space.tolerances.iter().map(|t| t.target.name()).collect(),
-        measures,
-        failed,
     })
 }
 

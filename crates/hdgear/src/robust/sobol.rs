@@ -14,7 +14,9 @@
 //! recomputed, the 2.5 % and 97.5 % quantiles of the replicates.
 
 use super::sequence::{Points, Sampler, splitmix};
-use crate::error::Result;
+use super::{Measure, Space, evaluate};
+use crate::burst::BurstOptions;
+use crate::error::{Error, Result};
 use serde::Serialize;
 
 /// Bootstrap replicates of each interval.
@@ -144,6 +146,81 @@ fn estimate(k: usize, n: usize, f: &[f64], rows: &[usize]) -> Point {
         first,
         total,
     }
+}
+
+/// Sobol indices of each measure over a space.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Sensitivity {
+    /// N, the rows of the Saltelli design (N(k + 2) runs).
+    pub n: usize,
+    /// The parameters, in the order of the indices.
+    pub parameters: Vec<&'static str>,
+    /// Per measure ([`Measure::ALL`]): its indices, or None when some run has no value of it
+    /// (a failed or predicted sample).
+    pub measures: Vec<(Measure, Option<Indices>)>,
+    /// Runs without a verdict.
+    pub failed: usize,
+}
+
+/// The most runs a Saltelli design may hold, N(k + 2): the design, its runs' measures and their
+/// bootstrap are held in memory together (about a kilobyte a run), and each run is an
+/// integration, so 10⁷ runs are already gigabytes and CPU-hours; a larger design is refused
+/// before anything is allocated.
+pub const MAX_DESIGN_RUNS: usize = 10_000_000;
+
+/// Checks a Saltelli design of `n` rows for `k` parameters: at least 2 rows, at most
+/// [`MAX_DESIGN_RUNS`] runs (the product checked without overflow).
+pub(super) fn check_design(n: usize, k: usize) -> Result<()> {
+    let bad = |reason| Error::InvalidOption {
+        name: "sobol",
+        value: n as f64,
+        reason,
+    };
+    if n < 2 {
+        return Err(bad("the Saltelli design needs at least 2 rows"));
+    }
+    match n.checked_mul(k + 2) {
+        Some(runs) if runs <= MAX_DESIGN_RUNS => Ok(()),
+        _ => Err(bad(
+            "N(k + 2) runs over the 10⁷ a design may hold in memory (k: the parameters spread)",
+        )),
+    }
+}
+
+/// Sobol first-order and total indices of every [`Measure`] over `space`, from the Saltelli
+/// design of `n` rows ([`design`]).
+pub fn sensitivity(
+    space: &Space,
+    opts: &BurstOptions,
+    n: usize,
+    sampler: Sampler,
+    seed: u64,
+) -> Result<Sensitivity> {
+    opts.validate()?;
+    let k = space.dims();
+    check_design(n, k)?;
+    let rows = design(k, n, sampler, seed)?;
+    let values: Vec<Vec<f64>> = rows.iter().map(|u| space.values(u)).collect();
+    let samples = evaluate(space, &values, opts);
+    let failed = samples.iter().filter(|s| s.outcome.is_err()).count();
+    let measures = Measure::ALL
+        .iter()
+        .enumerate()
+        .map(|(m, &measure)| {
+            let f: Option<Vec<f64>> = samples
+                .iter()
+                .map(|s| s.outcome.as_ref().ok().map(|o| o.measures[m]))
+                .map(|v| v.filter(|v| v.is_finite()))
+                .collect();
+            (measure, f.map(|f| indices(k, &f)))
+        })
+        .collect();
+    Ok(Sensitivity {
+        n,
+        parameters: space.tolerances.iter().map(|t| t.target.name()).collect(),
+        measures,
+        failed,
+    })
 }
 
 #[cfg(test)]

@@ -1,0 +1,229 @@
+//! The edges issue, third pass: one regression test per defect (counts beyond what the machine
+//! can hold, outputs that would overwrite their own inputs, messages that name the wrong thing).
+
+use crate::common::hdgear;
+use std::path::Path;
+use std::time::{Duration, Instant};
+
+/// Runs `args` in `dir` (30 s at most) and returns its exit code and standard error.
+fn run_in(dir: &Path, args: &[&str]) -> (Option<i32>, String) {
+    let o = hdgear()
+        .current_dir(dir)
+        .args(args)
+        .timeout(Duration::from_secs(30))
+        .output()
+        .unwrap();
+    (
+        o.status.code(),
+        String::from_utf8_lossy(&o.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn counts_beyond_what_can_be_held_are_refused_at_once() {
+    let dir = tempfile::tempdir().unwrap();
+    for (args, needle) in [
+        (
+            &[
+                "orbit-diagram",
+                "--param",
+                "omega=7:9:1000000000000",
+                "--out",
+                "d.csv",
+            ][..],
+            "values = 1000000000000: at most 100000",
+        ),
+        (
+            &[
+                "orbit-diagram",
+                "--param",
+                "omega=7:9:100000000",
+                "--out",
+                "d.csv",
+            ],
+            "values = 100000000: at most 100000",
+        ),
+        (
+            &[
+                "robust",
+                "--tolerance",
+                "gamma=±10%",
+                "--sobol",
+                "1000000000000",
+            ],
+            "sobol = 1000000000000: N(k + 2) runs",
+        ),
+        (
+            &[
+                "robust",
+                "--tolerance",
+                "gamma=±10%",
+                "--sobol",
+                "18446744073709551615",
+            ],
+            "sobol = 1.8446744073709552e19",
+        ),
+    ] {
+        let start = Instant::now();
+        let (code, err) = run_in(dir.path(), args);
+        assert_eq!(code, Some(2), "{args:?}: {err}");
+        assert!(err.contains(needle), "{args:?}: {err}");
+        assert!(start.elapsed() < Duration::from_secs(10), "{args:?}");
+    }
+    assert!(!dir.path().join("d.csv").exists());
+}
+
+#[test]
+fn outputs_never_overwrite_their_own_inputs() {
+    let dir = tempfile::tempdir().unwrap();
+    // robust parts: refused before they are read, so any text stands for one
+    for name in ["part-0.json", "part-1.json"] {
+        std::fs::write(dir.path().join(name), "{}\n").unwrap();
+    }
+    let (code, err) = run_in(
+        dir.path(),
+        &[
+            "merge",
+            "part-0.json",
+            "part-1.json",
+            "--out",
+            "part-0.json",
+        ],
+    );
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains("is the input part part-0.json"), "{err}");
+    assert_eq!(
+        std::fs::read_to_string(dir.path().join("part-0.json")).unwrap(),
+        "{}\n"
+    );
+    // continue2 --restart FILE:ROW with --out FILE
+    std::fs::write(dir.path().join("curves.csv"), "mine\n").unwrap();
+    let (code, err) = run_in(
+        dir.path(),
+        &[
+            "continue2",
+            "--param",
+            "omega=0.3:20:log",
+            "--param",
+            "delta=0.5:40:log",
+            "--restart",
+            "curves.csv:60",
+            "--out",
+            "./curves.csv",
+        ],
+    );
+    assert_eq!(code, Some(2), "{err}");
+    assert!(err.contains("is the --restart file curves.csv"), "{err}");
+    assert_eq!(
+        std::fs::read_to_string(dir.path().join("curves.csv")).unwrap(),
+        "mine\n"
+    );
+}
+
+#[test]
+fn sampling_refusals_name_the_option_that_asked() {
+    let dir = tempfile::tempdir().unwrap();
+    let base = ["robust", "--card", "CSF-20-50", "--no-worst"];
+    for (extra, needle) in [
+        (
+            &["--samples", "16", "--importance", "5000000000"][..],
+            "importance = 5000000000: the sampler's sequence has fewer points",
+        ),
+        (
+            &["--samples", "5000000000", "--shard", "1/2"],
+            "samples = 5000000000: the sampler's sequence has fewer points",
+        ),
+    ] {
+        let args = [&base[..], extra].concat();
+        let (code, err) = run_in(dir.path(), &args);
+        assert_eq!(code, Some(2), "{args:?}: {err}");
+        assert!(err.contains(needle), "{args:?}: {err}");
+    }
+}
+
+#[test]
+fn spreads_that_leave_the_parameters_domain_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    for (args, needle) in [
+        (
+            &["robust", "--card", "CSF-20-50", "--tolerance", "k1=±1000%"][..],
+            "invalid tolerance 'k1': its spread reaches -",
+        ),
+        (
+            &[
+                "robust",
+                "--gamma",
+                "1",
+                "--tolerance",
+                "gamma=1e300..1e301",
+            ],
+            "invalid tolerance 'gamma': its spread reaches 1e300",
+        ),
+        (
+            &[
+                "robust",
+                "--gamma",
+                "1",
+                "--tolerance",
+                "gamma=lognormal:1e300%",
+            ],
+            "invalid tolerance 'gamma': its spread reaches",
+        ),
+    ] {
+        let (code, err) = run_in(dir.path(), args);
+        assert_eq!(code, Some(2), "{args:?}: {err}");
+        assert!(err.contains(needle), "{args:?}: {err}");
+        assert!(!err.contains("NaN"), "{args:?}: {err}");
+    }
+}
+
+#[test]
+fn terms_too_fast_for_the_step_budget_are_refused_at_once() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("ms.toml"),
+        "[params]\ngamma = 1.0\n[multisine]\nmsw = 1e6\n",
+    )
+    .unwrap();
+    std::fs::write(
+        dir.path().join("ke.toml"),
+        "[params]\ngamma = 1.0\n[kinematic]\nwin = 1e9\n",
+    )
+    .unwrap();
+    std::fs::write(
+        dir.path().join("di.toml"),
+        "[params]\ngamma = 1.0\n[dither]\nwd = 1e9\n",
+    )
+    .unwrap();
+    for (args, needle) in [
+        (
+            &["control", "vdamping", "--gain", "1e6"][..],
+            "(its vdamping term)",
+        ),
+        (
+            &["control", "washout", "--gain", "1e6", "--ww", "1e6"],
+            "(its washout term)",
+        ),
+        (
+            &[
+                "control", "dither", "--wd", "1e6", "--gain", "1", "--spread", "0",
+            ],
+            "(its dither term)",
+        ),
+        (&["bursts", "--config", "ms.toml"], "(its multisine term)"),
+        (
+            &["simulate", "--config", "ke.toml", "--summary"],
+            "(its kinematic term)",
+        ),
+        (&["bursts", "--config", "di.toml"], "(its dither term)"),
+    ] {
+        let start = Instant::now();
+        let (code, err) = run_in(dir.path(), args);
+        assert_eq!(code, Some(2), "{args:?}: {err}");
+        assert!(
+            err.contains(needle) && err.contains("fastest rate"),
+            "{args:?}: {err}"
+        );
+        assert!(start.elapsed() < Duration::from_secs(10), "{args:?}");
+    }
+}
