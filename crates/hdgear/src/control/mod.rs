@@ -15,17 +15,19 @@ use crate::model::control::{Dither, VirtualDamping, VirtualStiffness, Washout};
 use crate::model::delay::Delay;
 use crate::model::schedule::{RAMP_DEFAULT, Scheduled};
 use crate::model::terms::{AnyTerm, Term};
-use crate::params::{Param, Params};
+use crate::params::Params;
 use crate::simulate::{ModelStep, SimOptions, Start, simulate_model_steps};
 use serde::Serialize;
 
 mod averaging;
 pub mod drive;
+mod robustness;
 mod search;
 pub use averaging::Averaging;
 pub use drive::{DriveControl, DriveEffort, RatingCheck, Ratings, compare_drive};
+pub use robustness::{MODEL_ERROR_PARAMS, Robustness, model_error_plants, robustness};
 pub use search::{GAIN_MAX, GAIN_MIN, GAIN_START, MIN_REL_TOL};
-use search::{check_fraction, check_gain, check_rel_tol, crossing};
+use search::{check_gain, check_rel_tol, crossing};
 
 /// The control laws, by their terms' kinds: the one list `hdgear control` and [`tune`] offer.
 pub const LAWS: [&str; 6] = [
@@ -465,105 +467,6 @@ fn tune_against(
     })
 }
 
-/// The parameters a model error moves in [`robustness`]: the plant's stiffness law (α, γ, ε) and
-/// the load it carries (μ, δ); ω, the load's frequency, is taken as known.
-pub const MODEL_ERROR_PARAMS: [Param; 5] = [
-    Param::Alpha,
-    Param::Gamma,
-    Param::Eps,
-    Param::Mu,
-    Param::Delta,
-];
-
-/// How much gain a law needs to keep the bursts away from every plant within a relative model
-/// error: each of [`MODEL_ERROR_PARAMS`] scaled by 1 − spread or 1 + spread, all 2⁵ corners of
-/// that box (where a verdict monotone in each parameter has its worst case) with the nominal set.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct Robustness {
-    /// The relative model error (0.2: ±20 %).
-    pub spread: f64,
-    /// The plants checked: the box's corners and the nominal set.
-    pub plants: usize,
-    /// The least gain without bursts on every plant (the final bracket's upper end).
-    pub gain: f64,
-    /// That gain over the nominal plant's least gain: the margin a design at the nominal least
-    /// gain lacks (1: none needed).
-    pub ratio: f64,
-    /// A plant that still bursts at the bracket's lower end: the worst case found.
-    pub worst: Params,
-}
-
-/// The plants within ±`spread` of `p` ([`Robustness`]): the nominal set first, then the box's
-/// corners.
-pub fn model_error_plants(p: &Params, spread: f64) -> Vec<Params> {
-    let n = MODEL_ERROR_PARAMS.len();
-    std::iter::once(*p)
-        .chain((0..1usize << n).map(|corner| {
-            MODEL_ERROR_PARAMS
-                .iter()
-                .enumerate()
-                .fold(*p, |q, (i, &param)| {
-                    let sign = if corner >> i & 1 == 1 { 1.0 } else { -1.0 };
-                    q.with(param, q.value(param) * (1.0 + sign * spread))
-                })
-        }))
-        .collect()
-}
-
-/// The least gain of `tuned`'s law (its other parameters kept) without bursts on every plant
-/// within ±`spread` of `p` ([`Robustness`]), bisected to `rel_tol` from the nominal least gain
-/// upward (the plants checked in parallel, in order, up to the first that bursts).
-pub fn robustness(
-    p: &Params,
-    tuned: &Tuning,
-    spread: f64,
-    opts: &BurstOptions,
-    rel_tol: f64,
-) -> Result<Robustness> {
-    use rayon::prelude::*;
-    check_rel_tol(rel_tol)?;
-    check_fraction("spread", spread)?;
-    let plants = model_error_plants(p, spread);
-    let rest = &tuned.tuned.term.values()[1..];
-    let law = tuned.law;
-    // the first plant (in the list's order) that bursts at `gain`, if any, or the first error:
-    // the plants after it are not judged, which a gain that fails leaves most of
-    let bursting = |gain: f64| -> Result<Option<Params>> {
-        plants
-            .par_iter()
-            .find_map_first(|q| match bursts_at(q, law, gain, rest, opts) {
-                Ok(false) => None,
-                Ok(true) => Some(Ok(*q)),
-                Err(e) => Some(Err(e)),
-            })
-            .transpose()
-    };
-    let start = tuned.tuned.gain;
-    let (lo, hi) = crossing(
-        |g| Ok(bursting(g)?.is_some()),
-        start,
-        start,
-        GAIN_MAX,
-        rel_tol,
-    )?
-    .ok_or_else(|| Error::InvalidInput {
-        what: "control law",
-        text: law.to_string(),
-        reason: format!(
-            "no gain up to {GAIN_MAX} removes the bursts of every plant within ±{} %",
-            100.0 * spread
-        ),
-    })?;
-    let worst = if lo > 0.0 { bursting(lo)? } else { None };
-    Ok(Robustness {
-        spread,
-        plants: plants.len(),
-        gain: hi,
-        ratio: hi / start,
-        worst: worst.unwrap_or(*p),
-    })
-}
-
 /// The parameters of `law` after its gain on the plant `p`: its term's defaults, with `c.ww` for
 /// a washout's corner frequency, `c.wd` for a dither's frequency and `c.taud` for a delayed
 /// feedback's delay where given; for a scheduled stiffness, the plant model `p` itself
@@ -596,7 +499,8 @@ pub struct ControlOptions {
     pub taud: Option<f64>,
     /// The relative width a tuned gain's final bracket stops at, in (0, 1).
     pub rel_tol: f64,
-    /// With it, each tuned law's [`robustness`] to this relative model error.
+    /// With it (in (0, 1)), each tuned law's [`robustness`] to this relative model error; 0 or
+    /// `None`: not checked.
     pub spread: Option<f64>,
 }
 
@@ -686,8 +590,14 @@ pub fn compare(
         }
     }
     check_rel_tol(c.rel_tol)?;
-    if let Some(s) = c.spread {
-        check_fraction("spread", s)?;
+    if let Some(s) = c.spread
+        && !(0.0..1.0).contains(&s)
+    {
+        return Err(Error::InvalidOption {
+            name: "spread",
+            value: s,
+            reason: "must lie in [0, 1) (0: no robustness check)",
+        });
     }
     let mut out = Comparison {
         params: *p,
@@ -711,7 +621,7 @@ pub fn compare(
         None => {
             for law in &laws {
                 let t = tune_against(p, law, &law_rest(law, p, c), opts, c.rel_tol, &open)?;
-                if let Some(s) = c.spread {
+                if let Some(s) = c.spread.filter(|&s| s > 0.0) {
                     out.robustness.push(robustness(p, &t, s, opts, c.rel_tol)?);
                 }
                 out.tunings.push(t);

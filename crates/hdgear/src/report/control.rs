@@ -52,10 +52,7 @@ impl ControlEvidence {
             spread: Some(SPREAD),
             ..ControlOptions::default()
         };
-        let study = CONTROL_GAMMAS
-            .iter()
-            .map(|&gamma| compare(&Params { gamma, ..*base }, &[], &c, opts))
-            .collect::<Result<Vec<_>>>()?;
+        use rayon::prelude::*;
         let stand_in = crate::physical::card::builtin_card(RATINGS_CARD)?;
         let ratings = Ratings::of(
             stand_in.torque.as_ref(),
@@ -66,9 +63,19 @@ impl ControlEvidence {
                  equals"
             ),
         );
-        let drive = compare_drive(variant, ratings, &[], &c, opts)?;
+        // the γ cases and the drive are independent: side by side
+        let (study, drive) = rayon::join(
+            || {
+                CONTROL_GAMMAS
+                    .par_iter()
+                    .map(|&gamma| compare(&Params { gamma, ..*base }, &[], &c, opts))
+                    .collect::<Result<Vec<_>>>()
+            },
+            || compare_drive(variant, ratings, &[], &c, opts),
+        );
+        let (study, drive) = (study?, drive?);
         let traces = study
-            .iter()
+            .par_iter()
             .map(|cmp| traces(cmp, opts))
             .collect::<Result<Vec<_>>>()?;
         Ok(ControlEvidence {

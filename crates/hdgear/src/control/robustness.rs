@@ -1,0 +1,118 @@
+//! A tuned law's robustness to model error: the least gain that keeps every plant within a
+//! relative error of the nominal one burst-free ([`robustness`]).
+
+use super::search::{GAIN_MAX, check_fraction, check_rel_tol, crossing};
+use super::{Tuning, bursts_at};
+use crate::burst::BurstOptions;
+use crate::error::{Error, Result};
+use crate::params::{Param, Params};
+use serde::Serialize;
+
+/// The parameters a model error moves in [`robustness`]: the plant's stiffness law (α, γ, ε) and
+/// the load it carries (μ, δ); ω, the load's frequency, is taken as known.
+pub const MODEL_ERROR_PARAMS: [Param; 5] = [
+    Param::Alpha,
+    Param::Gamma,
+    Param::Eps,
+    Param::Mu,
+    Param::Delta,
+];
+
+/// How much gain a law needs to keep the bursts away from every plant within a relative model
+/// error: each of [`MODEL_ERROR_PARAMS`] scaled by 1 − spread or 1 + spread, all 2⁵ corners of
+/// that box (where a verdict monotone in each parameter has its worst case) with the nominal set.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Robustness {
+    /// The relative model error (0.2: ±20 %).
+    pub spread: f64,
+    /// The plants checked: the box's corners and the nominal set.
+    pub plants: usize,
+    /// The least gain without bursts on every plant (the final bracket's upper end).
+    pub gain: f64,
+    /// That gain over the nominal plant's least gain: the margin a design at the nominal least
+    /// gain lacks (1: none needed).
+    pub ratio: f64,
+    /// A plant that still bursts at the bracket's lower end: the worst case found.
+    pub worst: Params,
+}
+
+/// The plants within ±`spread` of `p` ([`Robustness`]): the nominal set first, then the box's
+/// corners.
+pub fn model_error_plants(p: &Params, spread: f64) -> Vec<Params> {
+    let n = MODEL_ERROR_PARAMS.len();
+    std::iter::once(*p)
+        .chain((0..1usize << n).map(|corner| {
+            MODEL_ERROR_PARAMS
+                .iter()
+                .enumerate()
+                .fold(*p, |q, (i, &param)| {
+                    let sign = if corner >> i & 1 == 1 { 1.0 } else { -1.0 };
+                    q.with(param, q.value(param) * (1.0 + sign * spread))
+                })
+        }))
+        .collect()
+}
+
+/// The least gain of `tuned`'s law (its other parameters kept) without bursts on every plant
+/// within ±`spread` of `p` ([`Robustness`]), bisected to `rel_tol` from the nominal least gain
+/// upward (the plants checked in parallel, in order, up to the first that bursts).
+pub fn robustness(
+    p: &Params,
+    tuned: &Tuning,
+    spread: f64,
+    opts: &BurstOptions,
+    rel_tol: f64,
+) -> Result<Robustness> {
+    use rayon::prelude::*;
+    check_rel_tol(rel_tol)?;
+    check_fraction("spread", spread)?;
+    let plants = model_error_plants(p, spread);
+    let rest = &tuned.tuned.term.values()[1..];
+    let law = tuned.law;
+    // the first plant (in the list's order) that bursts at `gain`, if any, or the first error:
+    // the plants after it are not judged, which a gain that fails leaves most of
+    let bursting = |gain: f64| -> Result<Option<Params>> {
+        plants
+            .par_iter()
+            .find_map_first(|q| match bursts_at(q, law, gain, rest, opts) {
+                Ok(false) => None,
+                Ok(true) => Some(Ok(*q)),
+                Err(e) => Some(Err(e)),
+            })
+            .transpose()
+    };
+    // whether some plant bursts at `gain`: the plant that burst last is tried first, alone (the
+    // same plant is usually the worst all through the bisection), and only where it holds are
+    // all judged. The answer is the same either way (but for a plant whose run fails, which
+    // the cached plant's bursting may now leave unjudged), so the bisection's path is too.
+    let mut last: Option<Params> = None;
+    let any_bursts = |gain: f64| -> Result<bool> {
+        if let Some(q) = last
+            && bursts_at(&q, law, gain, rest, opts)?
+        {
+            return Ok(true);
+        }
+        let found = bursting(gain)?;
+        last = found.or(last);
+        Ok(found.is_some())
+    };
+    let start = tuned.tuned.gain;
+    let (lo, hi) = crossing(any_bursts, start, start, GAIN_MAX, rel_tol)?.ok_or_else(|| {
+        Error::InvalidInput {
+            what: "control law",
+            text: law.to_string(),
+            reason: format!(
+                "no gain up to {GAIN_MAX} removes the bursts of every plant within ±{} %",
+                100.0 * spread
+            ),
+        }
+    })?;
+    let worst = if lo > 0.0 { bursting(lo)? } else { None };
+    Ok(Robustness {
+        spread,
+        plants: plants.len(),
+        gain: hi,
+        ratio: hi / start,
+        worst: worst.unwrap_or(*p),
+    })
+}
