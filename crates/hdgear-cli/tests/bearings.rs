@@ -120,7 +120,10 @@ fn physical_twist_friction_from_the_flag() {
     let idle = run(&["--twist-friction", "friction:fc=0,vs=1e-3"]);
     // to the tolerance: the law's step limit may place the steps differently
     assert!((twist(&idle) - twist(&none)).abs() <= 1e-7 * twist(&none).abs());
-    fails_with(&briefly(&["--twist-friction", "coulomb:fc=1"]), "coulomb");
+    fails_with(
+        &briefly(&["--twist-friction", "coulomb:fc=1"]),
+        "invalid friction across the compliance 'twist: coulomb'",
+    );
     fails_with(
         &briefly(&["--twist-friction", "friction:fc=0.8"]),
         "vs missing",

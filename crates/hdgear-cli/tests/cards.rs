@@ -114,12 +114,12 @@ fn card_map_writes_one_row_per_load() {
     }
     // each refusal names the user's flag and value, not the library's field
     for (args, message) in [
-        (&["--points", "0"][..], "--points = 0.0:"),
-        (&["--coarse", "0"], "--coarse = 0.0:"),
+        (&["--points", "0"][..], "--points = 0:"),
+        (&["--coarse", "0"], "--coarse = 0:"),
         (&["--hz", "0:1"], "0:1"),
-        (&["--t-am-max=-1"], "--t-am-max = -1.0:"),
-        (&["--knee-rounding=-1"], "--knee-rounding = -1.0:"),
-        (&["--window-periods", "0"], "--window-periods = 0.0:"),
+        (&["--t-am-max=-1"], "--t-am-max = -1:"),
+        (&["--knee-rounding=-1"], "--knee-rounding = -1:"),
+        (&["--window-periods", "0"], "--window-periods = 0:"),
     ] {
         fails_with(&[&["card", "map", "CSG-20-50"][..], args].concat(), message);
     }
@@ -227,4 +227,25 @@ fn copy_of_csg(name: &str, path: &str) -> String {
         .assert()
         .success();
     std::fs::read_to_string(path).unwrap()
+}
+
+#[test]
+fn card_check_names_the_damping_it_used_when_the_card_has_no_loss() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("noloss.toml");
+    let p = path.to_str().unwrap();
+    let text = copy_of_csg("NOLOSS-20-50", p);
+    // the same card without its [card.hysteresis] table
+    let start = text.find("[card.hysteresis]").unwrap();
+    let end = text[start..].find("\n\n").map_or(text.len(), |e| start + e);
+    std::fs::write(&path, format!("{}{}", &text[..start], &text[end..])).unwrap();
+    // the default asks for the loss's damping; without a loss the assumed 10 % is used
+    let a = json_of(&["card", "check", p, "--json"]);
+    assert!(a["damping"]["from_loss"].is_null());
+    assert_eq!(a["damping"]["choice"], "assumed");
+    assert!((a["damping"]["zeta"].as_f64().unwrap() - 0.1).abs() < 1e-15);
+    assert!(stdout_of(&["card", "check", p]).contains("damping used (assumed)"));
+    // with the loss, the loss's
+    let b = json_of(&["card", "check", "CSG-20-50", "--json"]);
+    assert_eq!(b["damping"]["choice"], "hysteresis-loss");
 }

@@ -160,7 +160,7 @@ fn bad_options_exit_2_naming_the_value() {
     rejects(&["simulate", "--t-end", "0"], "t-end = 0");
     rejects(&["simulate", "--t-end=-5"], "t-end = -5");
     rejects(&["simulate", "--periods", "nan"], "periods = NaN");
-    rejects(&["simulate", "--rtol", "0"], "--rtol = 0.0");
+    rejects(&["simulate", "--rtol", "0"], "--rtol = 0:");
     rejects(&["simulate", "--rtol=-1e-8"], "--rtol = -1e-8");
     rejects(&["simulate", "--atol", "nan"], "atol = NaN");
     rejects(&["simulate", "--dt", "0"], "dt = 0");

@@ -57,7 +57,10 @@ fn control_bad_input_exits_2() {
     fails_with(&["control", "vdamping", "--ww", "0.3"], "'0.3'");
     fails_with(&["control", "--gamma", "30"], "does not burst");
     fails_with(&["control", "--rel-tol", "2"], "rel_tol");
-    fails_with(&["control", "--spread", "1.5"], "spread");
+    fails_with(
+        &["control", "--spread", "1.5"],
+        "spread = 1.5: must lie in [0, 1) (0: no robustness check)",
+    );
     fails_with(
         &["control", "--card", "SHG-20-50", "--gamma", "1"],
         "--gamma",

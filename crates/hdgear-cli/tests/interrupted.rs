@@ -352,3 +352,19 @@ fn an_interrupted_report_leaves_only_complete_files() {
         }
     }
 }
+
+/// A report stopped in its first stage has written its manifest already (before any computing):
+/// the directory names itself hdgear's, and a rerun takes it without --force.
+#[test]
+fn a_report_stopped_midway_leaves_its_manifest() {
+    let dir = tempfile::tempdir().unwrap();
+    let args = ["report", "--out", "r", "--threads", "1"];
+    let (c, err) = interrupt_at(dir.path(), &args, "-TERM", "[1/");
+    assert_eq!(c, 143, "{err}");
+    assert!(err.contains("interrupted by SIG"), "{err}");
+    assert!(
+        dir.path().join("r").join(".hdgear-report").exists(),
+        "{:?}",
+        files_in(&dir.path().join("r"))
+    );
+}

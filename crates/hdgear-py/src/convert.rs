@@ -142,6 +142,10 @@ pub(crate) fn tol(rtol: f64, atol: f64, method: &str) -> PyResult<Options> {
 
 /// Refuses a record of more than [`MAX_SAMPLES_IN_MEMORY`] samples before any work.
 pub(crate) fn check_samples(t_end: f64, dt: f64) -> PyResult<()> {
+    // a sample spacing that is no spacing is refused as such, before its count is judged
+    if !(dt.is_finite() && dt > 0.0) {
+        return Err(invalid("dt", dt, "must be finite and > 0"));
+    }
     let n = t_end / dt;
     if n > MAX_SAMPLES_IN_MEMORY {
         return Err(invalid(

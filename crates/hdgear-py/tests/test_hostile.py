@@ -43,3 +43,34 @@ def test_hostile_values_raise_python_errors_never_panic():
             refused += 1
         assert time.monotonic() - start < 30, label
     assert len(all_calls) >= 250 and refused * 2 > len(all_calls), (refused, len(all_calls))
+
+
+def test_a_sobol_design_beyond_memory_raises_before_sampling():
+    # 10⁹ rows of a one-parameter design are 3·10⁹ runs: refused at once, naming the option
+    start = time.monotonic()
+    with pytest.raises(ValueError, match="sobol"):
+        hdgear.robust(hdgear.Params.paper(gamma=0.1), {"gamma": "±10%"}, samples=16, worst=False,
+                      sobol=10**9)
+    assert time.monotonic() - start < 30
+
+
+def test_control_spread_zero_skips_the_robustness_check_as_the_cli_does():
+    r = hdgear.control("vdamping", hdgear.Params.paper(gamma=0.1), spread=0)
+    assert r.robustness == [] and len(r.tunings) == 1
+    with pytest.raises(ValueError, match=r"\[0, 1\)"):
+        hdgear.control("vdamping", hdgear.Params.paper(gamma=0.1), spread=1.5)
+
+
+def test_a_sample_spacing_of_zero_is_named_as_such():
+    for dt in [0.0, -1.0, float("nan")]:
+        with pytest.raises(ValueError, match="dt .*must be finite and > 0"):
+            hdgear.simulate(hdgear.Params.paper(gamma=1.0), dt=dt)
+
+
+def test_array_axes_and_a_single_kind_are_taken_as_meant():
+    import numpy as np
+    with pytest.raises(ValueError, match="2-dimensional"):
+        hdgear.sweep({"gamma": np.ones((2, 2))})
+    one = hdgear.boundary("omega=1e-3:0.2:log", "gamma=0.3:3:log", kinds="predicted")
+    both = hdgear.boundary("omega=1e-3:0.2:log", "gamma=0.3:3:log", kinds=["predicted"])
+    assert len(one) == len(both) > 0

@@ -364,7 +364,19 @@ pub fn wilson(k: u64, n: u64, level: f64) -> (f64, f64) {
     let z2 = z * z;
     let centre = (p + z2 / (2.0 * n)) / (1.0 + z2 / n);
     let half = z / (1.0 + z2 / n) * (p * (1.0 - p) / n + z2 / (4.0 * n * n)).sqrt();
-    ((centre - half).max(0.0), (centre + half).min(1.0))
+    // at k = 0 (k = n) the bound is exactly 0 (1): centre and half agree in exact arithmetic,
+    // where rounding would leave ~1e-17
+    let lo = if k == 0 {
+        0.0
+    } else {
+        (centre - half).max(0.0)
+    };
+    let hi = if p == 1.0 {
+        1.0
+    } else {
+        (centre + half).min(1.0)
+    };
+    (lo, hi)
 }
 
 /// The least number of samples whose Wilson interval at proportion `p` is at most `width` wide
@@ -444,6 +456,9 @@ mod tests {
             pmf *= (n - k) as f64 / (k + 1) as f64 * p / (1.0 - p);
         }
         assert!((cover - 0.95).abs() < 0.015, "coverage {cover}");
+        // none or all bursting: the bound at the end is the end itself, not a rounding of it
+        assert_eq!(wilson(0, 4096, 0.95).0, 0.0);
+        assert_eq!(wilson(4096, 4096, 0.95).1, 1.0);
         let n = samples_for_width(0.5, 0.02, 0.95);
         // the normal approximation: n = z²/w² ≈ 9604 for half-width 0.01
         assert!((9590..=9610).contains(&n), "{n}");

@@ -190,6 +190,23 @@ fn card_files_are_checked() {
     bad("loss = 5.8e-4", "los = 5.8e-4", "los");
     bad("format = 1", "format = 2", "format = 2");
     bad("ratio = 50", "ratio = 0.5", "ratio = 0.5");
+    // a blank name, and 0 where 0 has no meaning
+    bad(
+        "name = \"MY-20-50\"",
+        "name = \"\"",
+        "card (unnamed): name = '': must be non-empty",
+    );
+    bad(
+        "t_mean = 10.0",
+        "t_mean = 10.0\nfrequency = 0.0",
+        "application.frequency = 0.0: must be > 0",
+    );
+    // a static friction below the Coulomb level: the friction terms' own rule, on the card's key
+    bad(
+        "[card.application]",
+        "[card.friction]\nsource = \"guess\"\ncoulomb = 2.0\nbreakaway = 1.0\n[card.application]",
+        "friction.breakaway = 1: the static (breakaway) friction must be at least the Coulomb",
+    );
     let twice = format!("{GOOD}\n{}", &GOOD[GOOD.find("[[card]]").unwrap()..]);
     let e = CardFile::parse(&twice).unwrap_err().to_string();
     assert!(e.contains("appears twice"), "{e}");

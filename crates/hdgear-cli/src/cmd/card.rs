@@ -502,9 +502,7 @@ fn show(spec: &str, json: bool) -> Result<()> {
 
 /// The card file `hdgear card new` writes.
 fn new(name: &str, from: Option<&str>, out: Option<&Path>) -> Result<()> {
-    if name.trim().is_empty() || name.contains(['#', '"', '\n']) {
-        bail!("invalid card name '{name}': must be non-empty, without #, \" or line breaks");
-    }
+    hdgear::physical::card::check_name(name)?;
     let text = match from {
         Some(spec) => {
             let l = load(spec).context("--from")?;

@@ -171,7 +171,7 @@ def control(laws=None, params=None, gain=None, ww=None, wd=None, taud=None, rel_
     frequency; "dither" (run only on request) is ``wd``'s dither at amplitude ``gain``, "delay"
     (on request) the feedback K·(x(τ − ``taud``) − x(τ)) with K = ``gain``, "scheduled" (on
     request) the stiffness scheduled on the load's phase for ``params``, whose gain is the least
-    slope g'_min it keeps; with ``spread`` (0.2: ±20 %, as ``hdgear control``; None: not checked) each tuned law's
+    slope g'_min it keeps; with ``spread`` (0.2: ±20 %, as ``hdgear control``; 0 or None: not checked) each tuned law's
     ``robustness``, the least gain
     that keeps every plant within that model error of α, γ, ε, μ, δ burst-free."""
     laws = [] if laws is None else ([laws] if isinstance(laws, str) else list(laws))
@@ -233,7 +233,12 @@ def sweep(axes, base=None, grid=True, threads=0, discard=1.0, window_periods=2, 
     if not axes:
         raise ValueError("give at least one parameter to sweep")
     names = list(axes)
-    vals = [_np.asarray(axes[k], dtype=float).ravel() for k in names]
+    vals = [_np.asarray(axes[k], dtype=float) for k in names]
+    for k, v in zip(names, vals):
+        if v.ndim > 1:
+            raise ValueError(f"invalid axis {k}: {v.ndim}-dimensional (shape {v.shape}); give its "
+                             "values as a 1-D array (or set grid=False with equal lengths)")
+    vals = [v.ravel() for v in vals]
     if grid:
         mesh = _np.meshgrid(*vals, indexing="ij")
         # first name fastest: transpose so the first axis varies fastest in C order
@@ -294,7 +299,7 @@ def boundary(range1, range2, params=None, kinds=None, step=0.02, discard=1.0, wi
     by default). Returns the columns of its ``--out`` (curve, kind, param1, param2, outside1,
     outside2, inside1, inside2: each point and its bracket's ends) as a DataFrame, or a dict of
     numpy arrays without pandas."""
-    kinds = [] if kinds is None else [str(k) for k in kinds]
+    kinds = [] if kinds is None else [kinds] if isinstance(kinds, str) else [str(k) for k in kinds]
     return _frame(_hdgear.boundary(_params(params), str(range1), str(range2), kinds,
                                    float(step),
                                    _detection(discard, window_periods, rtol, atol, method)))

@@ -60,6 +60,33 @@ pub struct Source {
     pub cite: String,
 }
 
+/// The quantities for which 0 has no meaning (a speed limit, an inertia, a frequency), as
+/// `section.key`: a card refuses 0 there, where every other quantity may be 0.
+const POSITIVE: [&str; 4] = [
+    "speed.max_input_rpm",
+    "inertia.input",
+    "application.frequency",
+    "application.resonance_required",
+];
+
+/// Checks a card's name: not blank, and without `#` (which separates a file from a card's name
+/// on the command line), `"` or line breaks (which a card file cannot hold in a plain string).
+pub fn check_name(name: &str) -> Result<()> {
+    if name.trim().is_empty() || name.contains(['#', '"', '\n', '\r']) {
+        return Err(Error::Card {
+            card: if name.trim().is_empty() {
+                "(unnamed)".into()
+            } else {
+                name.to_string()
+            },
+            field: "name".into(),
+            value: format!("'{name}'"),
+            reason: "must be non-empty, without #, \" or line breaks",
+        });
+    }
+    Ok(())
+}
+
 /// One quantity of a section: its TOML key, unit and meaning.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 pub struct Field {
@@ -357,6 +384,7 @@ impl Card {
     /// number is finite and positive, the curve's quantities are there, T1 < T2 and
     /// K1 ≤ K2 ≤ K3 (a transcription typo shows up as a broken order).
     pub fn validate(&self, sources: &BTreeMap<String, Source>) -> Result<()> {
+        check_name(&self.name)?;
         let bad = |field: String, value: String, reason: &'static str| Error::Card {
             card: self.name.clone(),
             field,
@@ -381,14 +409,15 @@ impl Card {
                 });
             }
             for (f, v) in s.fields().iter().zip(s.values()) {
-                if let Some(v) = v
-                    && !(v.is_finite() && v >= 0.0)
-                {
-                    return Err(bad(
-                        format!("{}.{}", s.key(), f.key),
-                        fmt(v),
-                        "must be finite and ≥ 0",
-                    ));
+                let key = format!("{}.{}", s.key(), f.key);
+                match v {
+                    Some(v) if !(v.is_finite() && v >= 0.0) => {
+                        return Err(bad(key, fmt(v), "must be finite and ≥ 0"));
+                    }
+                    Some(v) if v == 0.0 && POSITIVE.contains(&key.as_str()) => {
+                        return Err(bad(key, fmt(v), "must be > 0 (0 has no meaning here)"));
+                    }
+                    _ => {}
                 }
             }
         }

@@ -83,7 +83,8 @@ pub struct LossDamping {
 pub struct DampingFacts {
     /// ζ from the hysteresis loss, when the card has a loss.
     pub from_loss: Option<LossDamping>,
-    /// What was chosen.
+    /// The damping used: the loss's where it was asked for and the card has a loss, else the
+    /// assumed (the application's ζ or 10 %).
     pub choice: DampingChoice,
     /// ζ the drive was given.
     pub zeta: f64,
@@ -248,7 +249,13 @@ pub fn check_card(
         knee_residual: knee(c.t1).max(knee(c.t2)),
     };
     let from_loss = loss_damping(card, sources);
-    let a = assemble(card, None, chosen_zeta(damping, &from_loss))?;
+    let zeta = chosen_zeta(damping, &from_loss);
+    // the loss asked for on a card without one falls back to the assumed damping: say so
+    let used = match zeta {
+        Some(_) => damping,
+        None => DampingChoice::Assumed,
+    };
+    let a = assemble(card, None, zeta)?;
     let d = a.drive;
     let j_eq = d.j_eq();
     let app = card.application.as_ref();
@@ -271,7 +278,7 @@ pub fn check_card(
         fit_to_rated: rated.map(|t| fit(&c, t)).transpose()?,
         damping: DampingFacts {
             from_loss,
-            choice: damping,
+            choice: used,
             zeta: a.zeta,
             gamma: 1.0 / (4.0 * a.zeta * a.zeta),
         },

@@ -37,6 +37,16 @@ pub struct Bearings {
 /// step (a switched law's sign would need the piecewise integration of the reduced model).
 pub const BEARING_KINDS: [&str; 2] = [Friction::KIND, Stribeck::KIND];
 
+/// What a law on `side` is called in an error: a bearing's (`output`, `input`), or the friction
+/// across the compliance (`twist`, [`Physical::with_twist_friction`]).
+fn law_of(side: &str) -> &'static str {
+    if side == "twist" {
+        "friction across the compliance"
+    } else {
+        "bearing friction"
+    }
+}
+
 impl Bearings {
     /// Checks that each term is one of [`BEARING_KINDS`].
     pub fn new(output: Option<AnyTerm>, input: Option<AnyTerm>) -> Result<Bearings> {
@@ -72,13 +82,13 @@ impl Bearings {
         named: impl IntoIterator<Item = (&'a str, f64)>,
     ) -> Result<AnyTerm> {
         let invalid = |reason: String| Error::InvalidInput {
-            what: "bearing friction",
+            what: law_of(side),
             text: format!("{side}: {kind}"),
             reason,
         };
         if !BEARING_KINDS.contains(&kind) {
             return Err(invalid(format!(
-                "a bearing takes {}",
+                "the law is {}",
                 BEARING_KINDS.join(" or ")
             )));
         }
@@ -113,7 +123,7 @@ impl Bearings {
     /// ```
     pub fn parse_law(side: &str, text: &str) -> Result<AnyTerm> {
         let invalid = |reason: &str| Error::InvalidInput {
-            what: "bearing friction",
+            what: law_of(side),
             text: format!("{side}: {text}"),
             reason: reason.into(),
         };

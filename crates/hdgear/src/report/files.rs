@@ -87,11 +87,16 @@ impl Files {
         }
         std::fs::create_dir_all(dir.join("figures")).map_err(io(dir))?;
         std::fs::create_dir_all(dir.join("data")).map_err(io(dir))?;
-        Ok(Files {
+        let files = Files {
             dir: dir.to_path_buf(),
             before: manifest(dir),
             written: Vec::new(),
-        })
+        };
+        // the manifest first, before any computing: a directory the report cannot write to (a
+        // full disk, no permission) is refused at once, and a report stopped midway leaves a
+        // directory that names itself hdgear's (a rerun takes it without --force)
+        save_manifest(&files.dir, &files.before, &files.written)?;
+        Ok(files)
     }
 
     /// Writes `bytes` to `name` (relative) atomically, claimed first.
