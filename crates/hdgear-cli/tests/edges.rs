@@ -5,7 +5,8 @@ use crate::common::hdgear;
 use std::path::Path;
 use std::time::{Duration, Instant};
 
-/// Runs `args` in `dir` (30 s at most) and returns its exit code and standard error.
+/// Runs `args` in `dir` and returns its exit code and standard error (a run that hangs past the
+/// timeout fails the test).
 fn run_in(dir: &Path, args: &[&str]) -> (Option<i32>, String) {
     let o = hdgear()
         .current_dir(dir)
