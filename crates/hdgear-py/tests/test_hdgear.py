@@ -110,9 +110,9 @@ def test_other_bad_input():
 
 def test_limits_raise_valueerror_before_any_work():
     # each of these would otherwise ask for more memory than the machine has, or run for hours
-    with pytest.raises(ValueError, match=r"invalid option points = 1000000000000\.0: must be ≥ 2 and at most 1e7"):
+    with pytest.raises(ValueError, match=r"invalid option points = 1000000000000: must be ≥ 2 and at most 1e7"):
         hdgear.curve(hdgear.Params(), points=10**12)
-    with pytest.raises(ValueError, match=r"invalid option points = 1\.0: must be ≥ 2"):
+    with pytest.raises(ValueError, match=r"invalid option points = 1: must be ≥ 2"):
         hdgear.curve(hdgear.Params(), points=1)
     with pytest.raises(ValueError, match=r"more than 1e8 samples to hold in memory"):
         hdgear.simulate(t_end=1e6, dt=1e-3)
