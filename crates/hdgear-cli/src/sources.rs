@@ -11,6 +11,30 @@ use std::path::PathBuf;
 /// The parameter set, the scenario file read (if any) with its path, and the set's warnings.
 type Sources<'a> = (Params, Option<(&'a PathBuf, Scenario)>, Vec<Warning>);
 
+/// The system a command runs: the study's set when the assembled model is the study's (its closed
+/// forms and Taylor recurrence: the same numbers as before the model was assembled), else the
+/// model with its terms. A command generic over the library's seam runs either.
+// one value per command run, borrowed as the type the library's seam takes: not boxed
+#[allow(clippy::large_enum_variant)]
+pub enum System {
+    /// The study's model.
+    Study(Params),
+    /// A model with terms beyond the study's.
+    Model(hdgear::model::Model),
+}
+
+/// Runs `$body` with `$s` bound to the system's set or model, whichever it holds (the two are
+/// different types behind one library trait, so the body is compiled for each).
+#[macro_export]
+macro_rules! on_system {
+    ($system:expr, |$s:ident| $body:expr) => {
+        match $system {
+            $crate::sources::System::Study($s) => $body,
+            $crate::sources::System::Model($s) => $body,
+        }
+    };
+}
+
 /// Model parameters shared by every command: preset, then file, then flags.
 #[derive(Args, Debug, Clone)]
 pub struct ParamArgs {
@@ -80,6 +104,10 @@ impl Args for ParamFlags {
     }
 }
 
+/// The commands that run the model a scenario's term tables assemble (the others refuse them).
+const MODEL_COMMANDS: &str =
+    "model, simulate, bursts, analyze, equilibria, periodic, continue, frequency-response, control";
+
 /// `--preset`'s help: the library's presets, a name that repeats another's set marked so.
 fn preset_help() -> String {
     let names: Vec<String> = params::PRESETS
@@ -103,7 +131,7 @@ fn config_help() -> String {
         .map(|kind| format!("[{kind}]"))
         .collect();
     format!(
-        "TOML scenario file: a [params] table (keys {}) and, for model, simulate and bursts, a table per \
+        "TOML scenario file: a [params] table (keys {}) and, for {MODEL_COMMANDS}, a table per \
          extra term ({})",
         keys.join(", "),
         tables.join(", ")
@@ -125,7 +153,7 @@ impl ParamArgs {
         {
             anyhow::bail!(
                 "scenario file {}: its [{name}] table is a term of the model, which only hdgear \
-                 model, simulate and bursts read (this command runs the study's model)",
+                 {MODEL_COMMANDS} read (this command runs the study's model)",
                 path.display()
             );
         }
@@ -141,6 +169,17 @@ impl ParamArgs {
             None => hdgear::model::Model::study(&p),
         };
         Ok((p, model, warnings))
+    }
+
+    /// The system these sources give ([`System`]): the study's set where the assembled model is
+    /// the study's ([`hdgear::model::Model::study_params`]), else the model.
+    pub fn resolve_system(&self) -> Result<(System, Vec<Warning>)> {
+        let (_, model, warnings) = self.resolve_model()?;
+        let system = match model.study_params() {
+            Some(p) => System::Study(p),
+            None => System::Model(model),
+        };
+        Ok((system, warnings))
     }
 
     /// The parameter set and the scenario file it read, if any.

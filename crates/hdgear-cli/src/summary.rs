@@ -48,17 +48,7 @@ pub fn analysis_text(an: &Analysis) -> String {
         let _ = writeln!(s, "folds: none (gamma >= 1/(3 alpha))");
     }
     for f in &e.folds {
-        let _ = writeln!(
-            s,
-            "fold: a = {:.12}, x = {:.12}{}",
-            f.a,
-            f.x,
-            if f.in_range {
-                ""
-            } else {
-                " (outside the a-range)"
-            }
-        );
+        fold_line(&mut s, f);
     }
     let _ = writeln!(
         s,
@@ -90,6 +80,50 @@ pub fn analysis_text(an: &Analysis) -> String {
         hdgear::burst::fast_slow_omega_max(&an.params)
     );
     prediction_text(&mut s, e);
+    s
+}
+
+/// One fold's line of an analysis, appended to `s`.
+fn fold_line(s: &mut String, f: &hdgear::fast::Fold) {
+    let outside = if f.in_range {
+        ""
+    } else {
+        " (outside the a-range)"
+    };
+    let _ = writeln!(s, "fold: a = {:.12}, x = {:.12}{outside}", f.a, f.x);
+}
+
+/// The readable analysis of a model's equilibrium curve ([`hdgear::fast::CurveAnalysis`]).
+pub fn curve_analysis_text(an: &hdgear::fast::CurveAnalysis) -> String {
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "fast subsystem (forcing frozen at a), a in [{}, {}]: damping at rest c = {}, focus above \
+         g' = c^2/4 = {}",
+        an.a_range[0], an.a_range[1], an.damping_at_rest, an.focus_gprime
+    );
+    let _ = writeln!(s, "equilibria per a: {}..{}", an.min_count, an.max_count);
+    if an.folds.is_empty() {
+        let _ = writeln!(s, "folds: none (the static torque rises monotonically)");
+    }
+    for f in &an.folds {
+        fold_line(&mut s, f);
+    }
+    let r = &an.slowest_relaxation;
+    let _ = writeln!(
+        s,
+        "slowest relaxation on the traversed path ({}): rate {:.4e} at a = {:.6}, x = {:.6}",
+        r.along.name(),
+        r.rate,
+        r.a,
+        r.x
+    );
+    let _ = writeln!(
+        s,
+        "largest equilibrium speed |dx*/dtau| on the settled branch: {}; first-order lag {}",
+        num(an.max_equilibrium_speed),
+        num(an.max_first_order_lag)
+    );
     s
 }
 

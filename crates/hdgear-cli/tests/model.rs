@@ -90,12 +90,105 @@ fn a_friction_table_adds_the_term_to_model_and_simulate() {
 }
 
 #[test]
+fn the_fast_subsystem_and_the_periodic_machinery_run_on_a_friction_scenario() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = scenario(
+        dir.path(),
+        "f.toml",
+        "[params]\ngamma = 1\n[friction]\nfc = 0.1\nvs = 0.05\n",
+    );
+    // analyze: the curve at the model's own damping c = 1 + f_c/v_s, and the measured response
+    let d = json_of(&["analyze", "--json", "--config", &f]);
+    assert_eq!(d["analysis"]["damping_at_rest"], 3.0);
+    assert_eq!(d["model"]["terms"][2]["kind"], "friction");
+    assert!(d["classification"]["verdict"].is_string());
+    // equilibria: λ1 + λ2 = −c at every point
+    let csv = stdout_of(&["equilibria", "--config", &f, "--points", "20", "--quiet"]);
+    let mut lines = csv.lines();
+    assert_eq!(
+        lines.next().unwrap(),
+        "a,x,slope,gprime,re1,im1,re2,im2,type,branch"
+    );
+    for line in lines {
+        let v: Vec<f64> = line
+            .split(',')
+            .take(8)
+            .map(|t| t.parse().unwrap())
+            .collect();
+        assert!((v[4] + v[6] + 3.0).abs() < 1e-12, "{line}");
+    }
+    // periodic: the orbit and its verdict, the model in the document
+    let d = json_of(&["periodic", "--json", "--config", &f]);
+    assert!(d["residual"].as_f64().unwrap() < 1e-9);
+    assert_eq!(d["params"]["terms"][2]["kind"], "friction");
+    // continue in a term's parameter by its qualified name; frequency-response
+    let d = json_of(&[
+        "continue",
+        "--json",
+        "--config",
+        &f,
+        "--param",
+        "friction.fc=0.1:0.3",
+    ]);
+    assert_eq!(d["range"]["param"], "fc");
+    assert!(d["branches"][0]["points"].as_array().unwrap().len() > 2);
+    let d = json_of(&[
+        "frequency-response",
+        "--json",
+        "--config",
+        &f,
+        "--omega-range",
+        "0.5:2",
+    ]);
+    assert!(d["points"].as_array().unwrap().len() > 2);
+    // control adds its law to the model: the friction term stays in the closed loop's document
+    let d = json_of(&[
+        "control",
+        "vdamping",
+        "--json",
+        "--config",
+        &f,
+        "--rel-tol",
+        "1e-2",
+    ]);
+    assert_eq!(d["params"]["terms"][2]["kind"], "friction");
+    assert!(d["tunings"][0]["tuned"]["gain"].as_f64().unwrap() > 0.0);
+    // a sticking Coulomb term: the analysis runs, shooting is refused naming the term
+    let c = scenario(
+        dir.path(),
+        "c.toml",
+        "[params]\ngamma = 1\n[coulomb]\nfc = 0.1\nfs = 0.15\n",
+    );
+    hdgear()
+        .args(["analyze", "--config", &c, "--no-response"])
+        .assert()
+        .success();
+    for cmd in ["periodic", "frequency-response"] {
+        hdgear()
+            .args([cmd, "--config", &c])
+            .assert()
+            .code(2)
+            .stderr(predicate::str::contains(
+                "invalid model 'coulomb': periodic orbits are not computed for it",
+            ));
+    }
+}
+
+#[test]
 fn term_tables_are_refused_where_they_would_be_ignored_and_bad_ones_named() {
     let dir = tempfile::tempdir().unwrap();
     let f = scenario(dir.path(), "f.toml", "[friction]\nfc = 0.1\n");
     for (args, needle) in [
         (
-            vec!["analyze", "--config", &f],
+            vec![
+                "sweep",
+                "--config",
+                &f,
+                "--param",
+                "gamma=0.1:1:3",
+                "--out",
+                "s.csv",
+            ],
             "[friction] table is a term of the model",
         ),
         (

@@ -349,7 +349,7 @@ fn robust_gain_is_the_largest_plant_least_gain() {
     let p = at(0.1);
     let opts = BurstOptions::default();
     let rel = 1e-3;
-    let plants = model_error_plants(&p, 0.2);
+    let plants = model_error_plants(&p, 0.2).unwrap();
     assert_eq!(plants.len(), 33);
     // the nominal set first, then every corner a distinct ±20 % box corner
     assert_eq!(plants[0], p);

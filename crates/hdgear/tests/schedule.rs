@@ -494,7 +494,7 @@ fn the_curve_is_refused_where_it_is_not_known() {
 fn the_tuner_finds_the_least_target() {
     use hdgear::control::{ControlOptions, law_rest, tune};
     let p = Params::default();
-    let rest = law_rest(Scheduled::KIND, &p, &ControlOptions::default());
+    let rest = law_rest(Scheduled::KIND, &p, &ControlOptions::default()).unwrap();
     assert_eq!(rest, Scheduled::for_plant(&p, 1.0, RAMP_DEFAULT).0[1..]);
     let t = tune(&p, Scheduled::KIND, &rest, &BurstOptions::default(), 1e-2).unwrap();
     assert!(

@@ -25,6 +25,7 @@ mod mesh_loss;
 mod model;
 mod model_batch;
 mod normal_form;
+mod one_model;
 mod output;
 mod periodic;
 mod physical;

@@ -1,11 +1,96 @@
 //! `hdgear analyze`: the fast subsystem, the prediction, the measured response.
 
+use super::equilibria::{Curve, curve_of};
 use crate::cli::{AnalyzeArgs, parse_range};
 use crate::sink::{note, warn, warn_range};
+use crate::sources::System;
 use anyhow::Result;
+use hdgear::fast::{CurveAnalysis, curve_analysis};
+use hdgear::model::Model;
+use hdgear::params::Warning;
 
 pub fn run(a: AnalyzeArgs) -> Result<()> {
-    let (p, warnings) = a.params.resolve()?;
+    let (system, warnings) = a.params.resolve_system()?;
+    match system {
+        System::Study(p) => run_study(p, warnings, a),
+        System::Model(m) => run_model(&m, warnings, &a),
+    }
+}
+
+/// What `--json` prints for a model with terms.
+#[derive(serde::Serialize)]
+struct ModelDoc<'a> {
+    model: &'a Model,
+    analysis: CurveAnalysis,
+    response: Option<hdgear::burst::Response>,
+    classification: Option<hdgear::burst::Classification>,
+    warnings: Vec<String>,
+}
+
+/// A model with terms: its equilibrium curve's analysis at its own damping, and the measured
+/// response against that curve.
+fn run_model(m: &Model, warnings: Vec<Warning>, a: &AnalyzeArgs) -> Result<()> {
+    let range = parse_range(&a.a_range)?;
+    let opts = a.burst.options()?;
+    if a.simulated_boundaries {
+        anyhow::bail!(
+            "--simulated-boundaries searches the study's gamma and omega for the switch of the \
+             verdict: for a model with terms ({}) it is not computed",
+            term_kinds(m)
+        );
+    }
+    let an = match curve_of(m)? {
+        Curve::Torque(c) => curve_analysis(&c, range)?,
+        Curve::Scheduled(c) => curve_analysis(&c, range)?,
+    };
+    warn_range(range);
+    let measured = if a.no_response {
+        None
+    } else {
+        let r = hdgear::burst::response_model(m, &opts)?;
+        let c = hdgear::burst::classify_model(m, &r)?;
+        crate::sink::tolerance_note(&r, &opts.tol);
+        Some((r, c))
+    };
+    if a.json {
+        let (response, classification) = measured.unzip();
+        let doc = ModelDoc {
+            model: m,
+            analysis: an,
+            response,
+            classification,
+            warnings: warnings.iter().map(ToString::to_string).collect(),
+        };
+        crate::sink::outln!("{}", serde_json::to_string_pretty(&doc)?);
+        return Ok(());
+    }
+    warn(&warnings);
+    if let Some(kind) = m.terms().find(|t| t.switches_at_rest()).map(|t| t.kind()) {
+        note(&format!(
+            "the {kind} term sticks: at rest x stays wherever the load is within its breakaway \
+             of the static torque, so the curve below is the sliding centre line, not every rest \
+             point"
+        ));
+    }
+    crate::sink::outln!("model {}", m.equation());
+    crate::sink::out!("{}", crate::summary::curve_analysis_text(&an));
+    if let Some((r, c)) = &measured {
+        crate::sink::out!("{}", crate::summary::response_text(r, c));
+    }
+    Ok(())
+}
+
+/// The kinds of a model's terms beyond the study's damping and stiffness, comma-separated.
+fn term_kinds(m: &Model) -> String {
+    m.terms()
+        .map(|t| t.kind())
+        .filter(|k| !matches!(*k, "damping" | "stiffness"))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// The study's model: the cubic's closed forms, the prediction and the measured response.
+fn run_study(p: hdgear::Params, warnings: Vec<Warning>, a: AnalyzeArgs) -> Result<()> {
     let range = parse_range(&a.a_range)?;
     let opts = a.burst.options()?;
     let an = hdgear::fast::analyze(&p, range)?;

@@ -4,35 +4,43 @@
 use crate::cli::ContinueArgs;
 use crate::sink::{warn, write_records};
 use anyhow::{Context, Result};
-use hdgear::params::Param;
+use hdgear::params::{Param, Warning};
 use hdgear::periodic::{
-    Branch, BranchRow, ContinuationOptions, End, Range, Special, continue_with_doubled,
+    Branch, BranchRow, ContinuationOptions, End, Periodic, Range, Special, continue_with_doubled,
 };
 use serde::Serialize;
 
 /// What `--json` prints and `--out` carries as metadata.
 #[derive(Serialize)]
-struct Doc<'a> {
-    range: Range,
-    params: hdgear::Params,
+struct Doc<'a, S: Periodic> {
+    range: Range<S::Param>,
+    params: &'a S,
     options: ContinuationOptions,
-    branches: &'a [Branch<Param>],
+    branches: &'a [Branch<S::Param>],
 }
 
 pub fn run(a: ContinueArgs) -> Result<()> {
-    let range = Range::parse(&a.range).context("--param")?;
-    if a.params.given(range.param) {
+    // a study parameter's flag beside --param naming it would be overwritten
+    let name = a.range.split_once('=').map(|(n, _)| n.trim());
+    if let Some(q) = name.and_then(|n| n.parse::<Param>().ok())
+        && a.params.given(q)
+    {
         anyhow::bail!(
             "--{0} does not apply: --param {1} sets {0} itself",
-            range.param,
+            q,
             a.range
         );
     }
-    let (p, warnings) = a.params.resolve()?;
-    let p = p.with(range.param, range.from);
-    p.validate().context("--param")?;
+    let (system, warnings) = a.params.resolve_system()?;
     crate::cli::check_out(&a.out)?;
-    warn(&warnings);
+    crate::on_system!(&system, |p| run_on(p, &a, &warnings))
+}
+
+/// The branches of the study's set or of a model, exported and summarised.
+fn run_on<S: Periodic>(p: &S, a: &ContinueArgs, warnings: &[Warning]) -> Result<()> {
+    let range = Range::parse_for(&a.range, p).context("--param")?;
+    let p = p.with(range.param, range.from).context("--param")?;
+    warn(warnings);
     let opts = ContinuationOptions {
         scale: range.scale,
         ..ContinuationOptions::default()
@@ -41,7 +49,7 @@ pub fn run(a: ContinueArgs) -> Result<()> {
         continue_with_doubled(&p, range.param, a.subharmonic, range.to, a.switch, &opts)?;
     let doc = Doc {
         range,
-        params: p,
+        params: &p,
         options: opts,
         branches: &branches,
     };
@@ -61,7 +69,7 @@ pub fn run(a: ContinueArgs) -> Result<()> {
     Ok(())
 }
 
-fn print_summary(branches: &[Branch<Param>], param: Param) -> Result<()> {
+fn print_summary<P: std::fmt::Display>(branches: &[Branch<P>], param: P) -> Result<()> {
     for (i, b) in branches.iter().enumerate() {
         let (first, last) = (b.points.first(), b.points.last());
         let span = match (first, last) {

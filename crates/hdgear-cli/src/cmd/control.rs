@@ -5,7 +5,9 @@ use crate::cli::{BurstArgs, ParamArgs};
 use crate::sink::{out, outln, warn};
 use anyhow::{Context, Result};
 use clap::Args;
-use hdgear::control::{Comparison, ControlOptions, DriveControl, Ratings, compare, compare_drive};
+use hdgear::control::{
+    Comparison, ControlOptions, DriveControl, Plant, Ratings, compare, compare_drive,
+};
 
 /// Arguments of `hdgear control`.
 #[derive(Args, Debug)]
@@ -76,10 +78,12 @@ pub fn run(a: ControlArgs) -> Result<()> {
         let doc = drive_control(&built.drive, &loaded, &laws, &a.options(), &opts)?;
         return print(&doc, a.json, drive_text);
     }
-    let (p, warnings) = a.params.resolve()?;
+    let (system, warnings) = a.params.resolve_system()?;
     warn(&warnings);
-    let doc = compare(&p, &laws, &a.options(), &opts)?;
-    print(&doc, a.json, text)
+    crate::on_system!(&system, |p| {
+        let doc = compare(p, &laws, &a.options(), &opts)?;
+        print(&doc, a.json, text)
+    })
 }
 
 /// The laws compared on the drive `d` (built from `card`), against the card's ratings.
@@ -165,15 +169,10 @@ pub fn drive_text(doc: &DriveControl) -> String {
 }
 
 /// The side-by-side table.
-pub fn text(doc: &Comparison) -> String {
+pub fn text<P: Plant>(doc: &Comparison<P>) -> String {
     use std::fmt::Write;
     let mut s = String::new();
-    let p = &doc.params;
-    let _ = writeln!(
-        s,
-        "control at α = {}, γ = {}, ε = {}, μ = {}, δ = {}, ω = {}",
-        p.alpha, p.gamma, p.eps, p.mu, p.delta, p.omega
-    );
+    let _ = writeln!(s, "control at {}", doc.params.title());
     let first = doc
         .tunings
         .first()
@@ -247,7 +246,7 @@ pub fn text(doc: &Comparison) -> String {
 }
 
 /// The table's closing lines: feed-forward's tolerance, the model error checked, the key.
-fn notes(s: &mut String, doc: &Comparison) {
+fn notes<P>(s: &mut String, doc: &Comparison<P>) {
     use std::fmt::Write;
     for a in doc.rows() {
         if let Some(v) = &a.averaging {

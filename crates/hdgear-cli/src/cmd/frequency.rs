@@ -5,7 +5,7 @@ use crate::cli::FrequencyResponseArgs;
 use crate::sink::warn;
 use anyhow::{Context, Result};
 use hdgear::params::Param;
-use hdgear::periodic::{BranchRow, ContinuationOptions, Special, frequency_response};
+use hdgear::periodic::{BranchRow, ContinuationOptions, Periodic, Special, frequency_response};
 
 pub fn run(a: FrequencyResponseArgs) -> Result<()> {
     let omega = Param::Omega;
@@ -15,18 +15,23 @@ pub fn run(a: FrequencyResponseArgs) -> Result<()> {
         );
     }
     let range = crate::cli::parse_frequency_range("--omega-range", a.omega_range.as_deref())?;
-    let (p, warnings) = a.params.resolve()?;
+    let (system, warnings) = a.params.resolve_system()?;
     a.export.check()?;
     warn(&warnings);
+    crate::on_system!(&system, |p| run_on(p, &a, range))
+}
+
+/// The curve of the study's set or of a model, exported and summarised.
+fn run_on<S: Periodic>(p: &S, a: &FrequencyResponseArgs, range: Option<(f64, f64)>) -> Result<()> {
     let opts = ContinuationOptions::default();
-    let b = frequency_response(&p, range, &opts).context("frequency-response")?;
+    let b = frequency_response(p, range, &opts).context("frequency-response")?;
     let rows = || b.points.iter().map(|q| BranchRow::new(0, 1, q));
-    let figure = || hdgear::figures::frequency_response_figure(&p, &b);
+    let figure = || hdgear::figures::frequency_response_figure(p, &b);
     a.export.write(&b.param, rows, figure)?;
     a.export.print(&b, || summary(&b))
 }
 
-fn summary(b: &hdgear::periodic::Branch<hdgear::params::Param>) -> Result<()> {
+fn summary<P>(b: &hdgear::periodic::Branch<P>) -> Result<()> {
     let peak = b.points.iter().max_by(|x, y| {
         x.amplitude
             .peak_to_peak

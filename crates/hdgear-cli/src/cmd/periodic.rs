@@ -5,7 +5,8 @@ use crate::cli::PeriodicArgs;
 use crate::sink::{warn, write_records};
 use anyhow::Result;
 use hdgear::periodic::{
-    LyapunovEstimate, PeriodicOptions, PeriodicOrbit, burst_verdict, lyapunov_converged, shoot,
+    LyapunovEstimate, Periodic, PeriodicOptions, PeriodicOrbit, burst_verdict, lyapunov_converged,
+    shoot,
 };
 use serde::Serialize;
 
@@ -20,9 +21,9 @@ hdgear::record!(Sample: "t", "x", "xdot");
 
 /// The JSON document: the orbit and, when asked, the Lyapunov exponent.
 #[derive(Serialize)]
-struct Doc<'a> {
+struct Doc<'a, S: Serialize> {
     #[serde(flatten)]
-    orbit: &'a hdgear::periodic::PeriodicOrbit,
+    orbit: &'a hdgear::periodic::PeriodicOrbit<S>,
     /// The burst verdict on the orbit itself.
     bursts: hdgear::burst::Classification,
     lyapunov_exponent: Option<f64>,
@@ -37,16 +38,25 @@ struct Doc<'a> {
 const LYAPUNOV_REL_TOL: f64 = 1e-3;
 
 pub fn run(a: PeriodicArgs) -> Result<()> {
-    let (p, warnings) = a.params.resolve()?;
+    let (system, warnings) = a.params.resolve_system()?;
     let burst_opts = a.burst.options()?;
     crate::cli::check_out(&a.out)?;
     warn(&warnings);
+    crate::on_system!(&system, |p| run_on(p, &a, &burst_opts))
+}
+
+/// The orbit of the study's set or of a model, its verdict, exports and summary.
+fn run_on<S: Periodic>(
+    p: &S,
+    a: &PeriodicArgs,
+    burst_opts: &hdgear::burst::BurstOptions,
+) -> Result<()> {
     let opts = PeriodicOptions::default();
-    let orbit = shoot(&p, a.subharmonic, &opts)?;
-    let bursts = burst_verdict(&orbit, &burst_opts)?;
+    let orbit = shoot(p, a.subharmonic, &opts)?;
+    let bursts = burst_verdict(&orbit, burst_opts)?;
     let lyap = if a.lyapunov {
         Some(lyapunov_converged(
-            &p,
+            p,
             orbit.start,
             LYAPUNOV_REL_TOL,
             opts.tol,
@@ -77,8 +87,8 @@ pub fn run(a: PeriodicArgs) -> Result<()> {
 }
 
 /// The readable summary of an orbit, its burst verdict and its Lyapunov exponent.
-fn print_orbit(
-    orbit: &PeriodicOrbit,
+fn print_orbit<S>(
+    orbit: &PeriodicOrbit<S>,
     bursts: &hdgear::burst::Classification,
     lyap: Option<LyapunovEstimate>,
 ) -> Result<()> {

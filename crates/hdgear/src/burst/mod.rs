@@ -62,7 +62,9 @@ pub use classify::{
     Classification, DomainEdge, DomainLimit, Mechanism, Mode, Verdict, classify, fast_slow_domain,
     fast_slow_edge, fast_slow_omega_max, turning_point_rate,
 };
-pub use model::{classify_model, response_model, response_model_on};
+pub use model::{
+    classify_model, model_curve_facts, response_model, response_model_from, response_model_on,
+};
 pub use plane::{
     BoundaryKind, CURVE_TOL, EDGE_SAMPLES, MAX_TURN, PlaneCurve, PlaneEnd, PlaneOptions,
     PlanePoint, PlaneRow, ROUND, plane_boundaries,

@@ -260,6 +260,20 @@ pub fn response_model(m: &Model, opts: &BurstOptions) -> Result<Response> {
     }
 }
 
+/// The x-extent X of the equilibrium curve a model's response is measured against
+/// ([`response_model`]) and whether the state must jump at its folds (its settled branch's
+/// equilibrium speed is infinite): what the control searches read of a model plant.
+pub fn model_curve_facts(m: &Model) -> Result<(f64, bool)> {
+    fn facts(c: &impl StaticCurve) -> (f64, bool) {
+        (c.x_extent(), c.max_equilibrium_speed().is_infinite())
+    }
+    Ok(match Curve::of(m)? {
+        Curve::Study(p) => facts(&p),
+        Curve::Torque(c) => facts(&c),
+        Curve::Scheduled(c) => facts(&c),
+    })
+}
+
 /// The equilibrium curve a model's response is measured against: the equivalent study set's
 /// where there is one ([`Model::equivalent_params`]), the closed loop's of a scheduled stiffness
 /// ([`ModelCurve::scheduled`]), else the model's static torque's ([`ModelCurve::new`]).
@@ -310,6 +324,34 @@ pub fn response_model_on<C: StaticCurve>(
     p: &C,
     opts: &BurstOptions,
 ) -> Result<Response> {
+    response_on(m, p, opts, None)
+}
+
+/// [`response_model`] from `start` = (x, x') at τ = 0 (each internal state at rest there)
+/// instead of the default start: the verdict on a periodic orbit from its own start
+/// ([`crate::periodic::burst_verdict`]).
+pub fn response_model_from(m: &Model, opts: &BurstOptions, start: [f64; 2]) -> Result<Response> {
+    if !start.iter().all(|v| v.is_finite()) {
+        return Err(crate::Error::InvalidOption {
+            name: "start",
+            value: start[0] + start[1],
+            reason: "must be finite",
+        });
+    }
+    match Curve::of(m)? {
+        Curve::Study(p) => response_on(m, &p, opts, Some(start)),
+        Curve::Torque(c) => response_on(m, &c, opts, Some(start)),
+        Curve::Scheduled(c) => response_on(m, &c, opts, Some(start)),
+    }
+}
+
+/// [`response_model_on`] from `start`, or from the curve's default start at rest.
+fn response_on<C: StaticCurve>(
+    m: &Model,
+    p: &C,
+    opts: &BurstOptions,
+    start: Option<[f64; 2]>,
+) -> Result<Response> {
     m.check()?;
     if m.switches() && (m.dither().is_some() || m.delay().is_some()) {
         return Err(refusal(
@@ -320,9 +362,8 @@ pub fn response_model_on<C: StaticCurve>(
     // a term too fast for the step budget over the scan is refused before the run
     let span = super::window(p, opts).1 + p.slow_period();
     crate::integrate::check_rate_budget(span, m.fastest_rate(), &opts.tol)?;
-    let x0 = p.start();
+    let [x0, v0] = start.unwrap_or_else(|| [p.start(), m.rest_rate()]);
     let z: [f64; MAX_STATES] = m.rest_states(x0);
-    let v0 = m.rest_rate();
     match (m.dim(), m.switches()) {
         (2, false) => run::<C, 2>(m, p, opts, [x0, v0]),
         (3, false) => run::<C, 3>(m, p, opts, [x0, v0, z[0]]),

@@ -8,7 +8,7 @@
 //! equilibria are a study parameter set's; the measures come from a second pass sampled every
 //! [`SAMPLE_DT`] over the same window.
 
-use crate::burst::{BurstOptions, Verdict, classify, classify_model, response_model};
+use crate::burst::{BurstOptions, Verdict, classify_model, response_model};
 use crate::error::{Error, Result};
 use crate::model::Model;
 use crate::model::control::{Dither, VirtualDamping, VirtualStiffness, Washout};
@@ -21,10 +21,12 @@ use serde::Serialize;
 
 mod averaging;
 pub mod drive;
+mod plant;
 mod robustness;
 mod search;
 pub use averaging::Averaging;
 pub use drive::{DriveControl, DriveEffort, RatingCheck, Ratings, compare_drive};
+pub use plant::Plant;
 pub use robustness::{MODEL_ERROR_PARAMS, Robustness, model_error_plants, robustness};
 pub use search::{GAIN_MAX, GAIN_MIN, GAIN_START, MIN_REL_TOL};
 use search::{check_gain, check_rel_tol, crossing};
@@ -132,9 +134,9 @@ impl Assessment {
     }
 }
 
-/// The closed loop: `p`'s model with the law's term.
-pub fn closed_loop(p: &Params, term: AnyTerm) -> Result<Model> {
-    Model::study(p).with_term(term)
+/// The closed loop: the plant `p`'s model with the law's term.
+pub fn closed_loop<P: Plant>(p: &P, term: AnyTerm) -> Result<Model> {
+    p.open_loop().with_term(term)
 }
 
 /// Measures the law `term` on the study model with `p` (see [`Assessment`]).
@@ -147,14 +149,14 @@ pub fn closed_loop(p: &Params, term: AnyTerm) -> Result<Model> {
 /// assert_eq!(a.open_verdict, Verdict::Overshoot);
 /// assert!(a.removes_bursts() && a.peak_ratio() < 0.2);
 /// ```
-pub fn assess(p: &Params, term: AnyTerm, opts: &BurstOptions) -> Result<Assessment> {
+pub fn assess<P: Plant>(p: &P, term: AnyTerm, opts: &BurstOptions) -> Result<Assessment> {
     assess_sampled(p, term, opts, SAMPLE_DT)
 }
 
 /// [`assess`] with the measures' samples spaced about `sample_dt` apart instead of
 /// [`SAMPLE_DT`].
-fn assess_sampled(
-    p: &Params,
+fn assess_sampled<P: Plant>(
+    p: &P,
     term: AnyTerm,
     opts: &BurstOptions,
     sample_dt: f64,
@@ -167,27 +169,27 @@ fn assess_sampled(
 struct OpenLoop(Run, f64);
 
 impl OpenLoop {
-    fn of(p: &Params, opts: &BurstOptions) -> Result<OpenLoop> {
+    fn of<P: Plant>(p: &P, opts: &BurstOptions) -> Result<OpenLoop> {
         OpenLoop::sampled(p, opts, SAMPLE_DT)
     }
 
-    fn sampled(p: &Params, opts: &BurstOptions, sample_dt: f64) -> Result<OpenLoop> {
-        let open = Model::study(p);
+    fn sampled<P: Plant>(p: &P, opts: &BurstOptions, sample_dt: f64) -> Result<OpenLoop> {
+        let open = p.open_loop();
         Ok(OpenLoop(Run::of(&open, &open, opts, sample_dt)?, sample_dt))
     }
 }
 
 /// [`assess`] against the open loop's measures `open` (of the same `p` and `opts`).
-fn assess_against(
-    p: &Params,
+fn assess_against<P: Plant>(
+    p: &P,
     term: AnyTerm,
     opts: &BurstOptions,
     open: &OpenLoop,
 ) -> Result<Assessment> {
     let closed = closed_loop(p, term)?;
     let o = &open.0;
-    let c = Run::of(&closed, &Model::study(p), opts, open.1)?;
-    let x_extent = crate::burst::curve_extent(p);
+    let c = Run::of(&closed, &p.open_loop(), opts, open.1)?;
+    let x_extent = p.curve_extent()?;
     let largest = |a: &[f64], b: &[f64]| {
         a.iter()
             .zip(b)
@@ -371,13 +373,13 @@ pub struct Tuning {
 }
 
 /// The refusal of a search for the least control at a point whose open loop does not burst.
-fn no_control_needed(p: &Params, law: &str) -> Error {
+fn no_control_needed<P: Plant>(p: &P, law: &str) -> Error {
     Error::InvalidInput {
         what: "control law",
         text: law.to_string(),
         reason: format!(
-            "the open loop does not burst at γ = {}, δ = {}, ω = {}: no control is needed",
-            p.gamma, p.delta, p.omega
+            "the open loop does not burst at {}: no control is needed",
+            p.point()
         ),
     }
 }
@@ -385,7 +387,13 @@ fn no_control_needed(p: &Params, law: &str) -> Error {
 /// Whether `p`'s closed loop with law `law` at `gain` (other parameters `rest`) bursts, or never
 /// settles (a loop the law makes oscillate by itself, [`Assessment::unstable`], does not remove
 /// the bursts): the verdict every search here bisects.
-fn bursts_at(p: &Params, law: &str, gain: f64, rest: &[f64], opts: &BurstOptions) -> Result<bool> {
+fn bursts_at<P: Plant>(
+    p: &P,
+    law: &str,
+    gain: f64,
+    rest: &[f64],
+    opts: &BurstOptions,
+) -> Result<bool> {
     let m = closed_loop(p, law_term(law, gain, rest)?)?;
     let r = response_model(&m, opts)?;
     Ok(classify_model(&m, &r)?.bursting || r.continuous_fast_motion)
@@ -395,8 +403,8 @@ fn bursts_at(p: &Params, law: &str, gain: f64, rest: &[f64], opts: &BurstOptions
 /// doubled from [`GAIN_START`] until the verdict is no-bursts (or halved while half still removes them), then the bracket bisected
 /// geometrically to `rel_tol`; both ends assessed. An error when the open loop does not burst (no
 /// control is needed) or no gain up to [`GAIN_MAX`] removes the bursts.
-pub fn tune(
-    p: &Params,
+pub fn tune<P: Plant>(
+    p: &P,
     law: &str,
     rest: &[f64],
     opts: &BurstOptions,
@@ -412,17 +420,17 @@ pub fn tune(
 /// the dynamics; a law with no static torque (its closed loop has the open loop's equilibria
 /// exactly) leaves the folds where they are, and the search would only simulate ever stiffer
 /// loops up to [`GAIN_MAX`]. Checked before any simulation.
-fn static_jumps_refused(p: &Params, law: &str, rest: &[f64]) -> Result<()> {
-    let closed = Model::study(p).with_term(law_term(law, 1.0, rest)?)?;
-    if crate::fast::settled_branch(p).must_jump && closed.equivalent_params() == Some(*p) {
+fn static_jumps_refused<P: Plant>(p: &P, law: &str, rest: &[f64]) -> Result<()> {
+    let closed = closed_loop(p, law_term(law, 1.0, rest)?)?;
+    if p.must_jump()? && p.curve_unchanged_by(&closed) {
         return Err(Error::InvalidInput {
             what: "control law",
             text: law.to_string(),
             reason: format!(
-                "both folds lie in the traversed range at γ = {}, so the state must jump at \
+                "both folds lie in the traversed range at {}, so the state must jump at \
                  each (fold hysteresis); {law} leaves the equilibrium curve unchanged, so no \
                  gain removes the jumps: a law that stiffens the curve (vstiffness) can",
-                p.gamma
+                p.point()
             ),
         });
     }
@@ -430,8 +438,8 @@ fn static_jumps_refused(p: &Params, law: &str, rest: &[f64]) -> Result<()> {
 }
 
 /// [`tune`] with the open loop's measures given (computed once for several laws).
-fn tune_against(
-    p: &Params,
+fn tune_against<P: Plant>(
+    p: &P,
     law: &str,
     rest: &[f64],
     opts: &BurstOptions,
@@ -471,11 +479,11 @@ fn tune_against(
 /// a washout's corner frequency, `c.wd` for a dither's frequency and `c.taud` for a delayed
 /// feedback's delay where given; for a scheduled stiffness, the plant model `p` itself
 /// ([`Scheduled::for_plant`], with the default ramp), which a model error then leaves behind.
-pub fn law_rest(law: &str, p: &Params, c: &ControlOptions) -> Vec<f64> {
+pub fn law_rest<P: Plant>(law: &str, p: &P, c: &ControlOptions) -> Result<Vec<f64>> {
     if law == Scheduled::KIND {
-        return Scheduled::for_plant(p, 0.0, RAMP_DEFAULT).0[1..].to_vec();
+        return Ok(p.schedule(0.0, RAMP_DEFAULT)?.0[1..].to_vec());
     }
-    AnyTerm::params_of(law)
+    Ok(AnyTerm::params_of(law)
         .unwrap_or_default()
         .iter()
         .skip(1)
@@ -483,7 +491,7 @@ pub fn law_rest(law: &str, p: &Params, c: &ControlOptions) -> Vec<f64> {
             ("ww", Some(w), ..) | ("wd", _, Some(w), _) | ("taud", .., Some(w)) => w,
             _ => p.default,
         })
-        .collect()
+        .collect())
 }
 
 /// What [`compare`] runs: tune each law, or assess each at one gain.
@@ -521,15 +529,15 @@ impl Default for ControlOptions {
 /// Several laws side by side on one parameter set: each tuned ([`tune`]) or each assessed at one
 /// gain ([`assess`]); what `hdgear control --json` writes and Python's `hdgear.control` returns.
 #[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct Comparison {
-    /// The parameters.
-    pub params: Params,
+pub struct Comparison<P = Params> {
+    /// The plant: the study's set, or a model's description.
+    pub params: P,
     /// The laws tuned (empty when assessed at a gain).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub tunings: Vec<Tuning>,
     /// Each tuned law's robustness, in [`Comparison::tunings`]' order (empty without a spread).
     #[serde(skip_serializing_if = "Vec::is_empty")]
-    pub robustness: Vec<Robustness>,
+    pub robustness: Vec<Robustness<P>>,
     /// The laws assessed at the given gain (empty when tuned).
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub assessments: Vec<Assessment>,
@@ -538,7 +546,7 @@ pub struct Comparison {
     pub feedforward: Option<FeedForward>,
 }
 
-impl Comparison {
+impl<P> Comparison<P> {
     /// Each law's row: at its least gain when tuned, else at the given gain.
     pub fn rows(&self) -> impl Iterator<Item = &Assessment> {
         self.tunings
@@ -553,12 +561,12 @@ impl Comparison {
 /// [`robustness`]), or assessed at `c.gain`. Every law and value is checked before anything
 /// runs; `c.ww` without the washout among the laws, `c.wd` without the dither or `c.taud`
 /// without the delayed feedback is refused.
-pub fn compare(
-    p: &Params,
+pub fn compare<P: Plant>(
+    p: &P,
     laws: &[&str],
     c: &ControlOptions,
     opts: &BurstOptions,
-) -> Result<Comparison> {
+) -> Result<Comparison<P>> {
     let all = laws.is_empty();
     let laws: Vec<&str> = if all {
         DEFAULT_LAWS.to_vec()
@@ -572,7 +580,7 @@ pub fn compare(
     }
     let terms = laws
         .iter()
-        .map(|l| law_term(l, c.gain.unwrap_or(GAIN_START), &law_rest(l, p, c)))
+        .map(|l| law_term(l, c.gain.unwrap_or(GAIN_START), &law_rest(l, p, c)?))
         .collect::<Result<Vec<_>>>()?;
     for (name, value, law, what) in [
         ("ww", c.ww, Washout::KIND, "a corner frequency"),
@@ -600,7 +608,7 @@ pub fn compare(
         });
     }
     let mut out = Comparison {
-        params: *p,
+        params: p.clone(),
         tunings: Vec::new(),
         robustness: Vec::new(),
         assessments: Vec::new(),
@@ -608,7 +616,7 @@ pub fn compare(
     };
     if c.gain.is_none() {
         for law in &laws {
-            static_jumps_refused(p, law, &law_rest(law, p, c))?;
+            static_jumps_refused(p, law, &law_rest(law, p, c)?)?;
         }
     }
     let open = OpenLoop::of(p, opts)?;
@@ -620,7 +628,7 @@ pub fn compare(
         }
         None => {
             for law in &laws {
-                let t = tune_against(p, law, &law_rest(law, p, c), opts, c.rel_tol, &open)?;
+                let t = tune_against(p, law, &law_rest(law, p, c)?, opts, c.rel_tol, &open)?;
                 if let Some(s) = c.spread.filter(|&s| s > 0.0) {
                     out.robustness.push(robustness(p, &t, s, opts, c.rel_tol)?);
                 }
@@ -665,16 +673,10 @@ pub fn feedforward_residual(kappa: f64, phase_error: f64) -> f64 {
 
 /// How well the load must be known for feed-forward to remove the bursts of `p` ([`FeedForward`]):
 /// the δ-boundary found by bisection of the verdict in δ_r/δ, to `rel_tol`.
-pub fn feedforward(p: &Params, opts: &BurstOptions, rel_tol: f64) -> Result<FeedForward> {
+pub fn feedforward<P: Plant>(p: &P, opts: &BurstOptions, rel_tol: f64) -> Result<FeedForward> {
     check_rel_tol(rel_tol)?;
     // s = δ/δ_r, the suppression: bursting at s = 1 (the open loop) unless nothing is needed
-    let bursts = |s: f64| -> Result<bool> {
-        let q = Params {
-            delta: p.delta / s,
-            ..*p
-        };
-        Ok(classify(&q, &crate::burst::response(&q, opts)?).bursting)
-    };
+    let bursts = |s: f64| -> Result<bool> { p.load_over(s)?.bursts(opts) };
     if !bursts(1.0)? {
         return Err(no_control_needed(p, "feed-forward"));
     }
@@ -693,7 +695,7 @@ pub fn feedforward(p: &Params, opts: &BurstOptions, rel_tol: f64) -> Result<Feed
         } else {
             2.0 * (0.5 * rho).asin()
         },
-        effort_peak: p.delta,
+        effort_peak: p.open_loop().forcing()[1],
     })
 }
 

@@ -2,7 +2,7 @@
 //! relative error of the nominal one burst-free ([`robustness`]).
 
 use super::search::{GAIN_MAX, check_fraction, check_rel_tol, crossing};
-use super::{Tuning, bursts_at};
+use super::{Plant, Tuning, bursts_at};
 use crate::burst::BurstOptions;
 use crate::error::{Error, Result};
 use crate::params::{Param, Params};
@@ -22,7 +22,7 @@ pub const MODEL_ERROR_PARAMS: [Param; 5] = [
 /// error: each of [`MODEL_ERROR_PARAMS`] scaled by 1 − spread or 1 + spread, all 2⁵ corners of
 /// that box (where a verdict monotone in each parameter has its worst case) with the nominal set.
 #[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct Robustness {
+pub struct Robustness<P = Params> {
     /// The relative model error (0.2: ±20 %).
     pub spread: f64,
     /// The plants checked: the box's corners and the nominal set.
@@ -33,21 +33,21 @@ pub struct Robustness {
     /// gain lacks (1: none needed).
     pub ratio: f64,
     /// A plant that still bursts at the bracket's lower end: the worst case found.
-    pub worst: Params,
+    pub worst: P,
 }
 
 /// The plants within ±`spread` of `p` ([`Robustness`]): the nominal set first, then the box's
 /// corners.
-pub fn model_error_plants(p: &Params, spread: f64) -> Vec<Params> {
+pub fn model_error_plants<P: Plant>(p: &P, spread: f64) -> Result<Vec<P>> {
     let n = MODEL_ERROR_PARAMS.len();
-    std::iter::once(*p)
+    std::iter::once(Ok(p.clone()))
         .chain((0..1usize << n).map(|corner| {
             MODEL_ERROR_PARAMS
                 .iter()
                 .enumerate()
-                .fold(*p, |q, (i, &param)| {
+                .try_fold(p.clone(), |q, (i, &param)| {
                     let sign = if corner >> i & 1 == 1 { 1.0 } else { -1.0 };
-                    q.with(param, q.value(param) * (1.0 + sign * spread))
+                    q.scaled(param, 1.0 + sign * spread)
                 })
         }))
         .collect()
@@ -56,27 +56,27 @@ pub fn model_error_plants(p: &Params, spread: f64) -> Vec<Params> {
 /// The least gain of `tuned`'s law (its other parameters kept) without bursts on every plant
 /// within ±`spread` of `p` ([`Robustness`]), bisected to `rel_tol` from the nominal least gain
 /// upward (the plants checked in parallel, in order, up to the first that bursts).
-pub fn robustness(
-    p: &Params,
+pub fn robustness<P: Plant>(
+    p: &P,
     tuned: &Tuning,
     spread: f64,
     opts: &BurstOptions,
     rel_tol: f64,
-) -> Result<Robustness> {
+) -> Result<Robustness<P>> {
     use rayon::prelude::*;
     check_rel_tol(rel_tol)?;
     check_fraction("spread", spread)?;
-    let plants = model_error_plants(p, spread);
+    let plants = model_error_plants(p, spread)?;
     let rest = &tuned.tuned.term.values()[1..];
     let law = tuned.law;
     // the first plant (in the list's order) that bursts at `gain`, if any, or the first error:
     // the plants after it are not judged, which a gain that fails leaves most of
-    let bursting = |gain: f64| -> Result<Option<Params>> {
+    let bursting = |gain: f64| -> Result<Option<P>> {
         plants
             .par_iter()
             .find_map_first(|q| match bursts_at(q, law, gain, rest, opts) {
                 Ok(false) => None,
-                Ok(true) => Some(Ok(*q)),
+                Ok(true) => Some(Ok(q.clone())),
                 Err(e) => Some(Err(e)),
             })
             .transpose()
@@ -85,15 +85,17 @@ pub fn robustness(
     // same plant is usually the worst all through the bisection), and only where it holds are
     // all judged. The answer is the same either way (but for a plant whose run fails, which
     // the cached plant's bursting may now leave unjudged), so the bisection's path is too.
-    let mut last: Option<Params> = None;
+    let mut last: Option<P> = None;
     let any_bursts = |gain: f64| -> Result<bool> {
-        if let Some(q) = last
-            && bursts_at(&q, law, gain, rest, opts)?
+        if let Some(q) = &last
+            && bursts_at(q, law, gain, rest, opts)?
         {
             return Ok(true);
         }
         let found = bursting(gain)?;
-        last = found.or(last);
+        if found.is_some() {
+            last = found.clone();
+        }
         Ok(found.is_some())
     };
     let start = tuned.tuned.gain;
@@ -113,6 +115,6 @@ pub fn robustness(
         plants: plants.len(),
         gain: hi,
         ratio: hi / start,
-        worst: worst.unwrap_or(*p),
+        worst: worst.unwrap_or_else(|| p.clone()),
     })
 }

@@ -539,3 +539,88 @@ pub fn fold_curves(p: &Params, gamma_min: f64, points: usize) -> Result<Vec<Fold
 }
 
 crate::record!(FoldRow: Param::Gamma.name(), "a_lower", "x_lower", "a_upper", "x_upper");
+
+/// The fast subsystem's analysis of any equilibrium curve ([`super::StaticCurve`]): what
+/// `hdgear analyze` shows for a model assembled from terms, derived from its static torque g and
+/// its damping at rest c alone (the study's [`Analysis`] adds the cubic's closed forms: its
+/// cusp, critical γ and predicted boundary).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct CurveAnalysis {
+    /// The analysed range of the slow variable.
+    pub a_range: [f64; 2],
+    /// c, the damping at rest: the fast Jacobian [[0, 1], [−g', −c]] has trace −c.
+    pub damping_at_rest: f64,
+    /// g' above which a stable equilibrium is a focus (it rings): c²/4.
+    pub focus_gprime: f64,
+    /// The folds of the curve (g' = 0), in increasing x.
+    pub folds: Vec<Fold>,
+    /// Fewest distinct equilibria at any sampled a in the range (257 values across it, and the
+    /// middle of the fold band).
+    pub min_count: usize,
+    /// Most distinct equilibria at any sampled a.
+    pub max_count: usize,
+    /// The slowest relaxation on the path the state follows over a ∈ [−1, 1].
+    pub slowest_relaxation: super::SlowestRelaxation,
+    /// The largest speed |dx*/dτ| of the equilibrium the response settles on (infinite when it
+    /// must jump at a fold).
+    pub max_equilibrium_speed: f64,
+    /// The largest first-order adiabatic lag c·|dx*/dτ|/g' on that branch.
+    pub max_first_order_lag: f64,
+}
+
+/// Analyses the equilibrium curve `c` over `a_range` ([`CurveAnalysis`]).
+///
+/// ```
+/// use hdgear::{Params, fast::{A_RANGE, curve_analysis}, model::{Model, ModelCurve, terms::AnyTerm}};
+/// // smooth friction f_c·tanh(x'/v_s) adds f_c/v_s = 2 to the damping at rest; the curve is the
+/// // study's (friction has no static torque), so the two folds of γ = 0.01 stay where they were
+/// let p = Params { gamma: 0.01, ..Params::default() };
+/// let m = Model::study(&p).with_term(AnyTerm::new("friction", &[0.1, 0.05]).unwrap()).unwrap();
+/// let an = curve_analysis(&ModelCurve::new(&m).unwrap(), A_RANGE).unwrap();
+/// assert!((an.damping_at_rest - 3.0).abs() < 1e-12);
+/// assert_eq!((an.folds.len(), an.max_count), (2, 3));
+/// let x_lower = hdgear::fast::fold_abscissae(&p).unwrap().0;
+/// assert!((an.folds[0].x - x_lower).abs() < 1e-9);
+/// ```
+pub fn curve_analysis<C: super::StaticCurve>(c: &C, a_range: (f64, f64)) -> Result<CurveAnalysis> {
+    c.check()?;
+    check_a_range(a_range)?;
+    let (a0, a1) = a_range;
+    let folds: Vec<Fold> = c
+        .fold_band()
+        .map(|(xm, xp)| vec![xm, xp])
+        .unwrap_or_default()
+        .into_iter()
+        .map(|x| {
+            let a = c.a_at(x);
+            Fold {
+                a,
+                x,
+                in_range: (a0..=a1).contains(&a),
+            }
+        })
+        .collect();
+    // between the folds' a (where all three roots live, however narrow the band: a grid of a
+    // can miss it) and on a grid; at a fold itself the double root is a tangency
+    const SAMPLES: usize = 256;
+    let inside = match folds[..] {
+        [f, g] => Some(0.5 * (f.a + g.a)).filter(|a| (a0..=a1).contains(a)),
+        _ => None,
+    };
+    let counts: Vec<usize> = (0..=SAMPLES)
+        .map(|i| a0 + (a1 - a0) * i as f64 / SAMPLES as f64)
+        .chain(inside)
+        .map(|a| c.roots(a).len())
+        .collect();
+    Ok(CurveAnalysis {
+        a_range: [a0, a1],
+        damping_at_rest: c.damping(),
+        focus_gprime: c.focus_gprime(),
+        folds,
+        min_count: counts.iter().copied().min().unwrap_or(0),
+        max_count: counts.iter().copied().max().unwrap_or(0),
+        slowest_relaxation: c.slowest_relaxation(),
+        max_equilibrium_speed: c.max_equilibrium_speed(),
+        max_first_order_lag: c.max_first_order_lag(),
+    })
+}

@@ -5,9 +5,9 @@
 //! x values are spread uniformly in arc length of the curve drawn in the box a-range × x-extent
 //! (both normalised to 1), so flat and steep parts get points alike.
 
-use super::equilibria::{EqType, eigenvalues, equilibria, fold_abscissae};
+use super::StaticCurve;
+use super::equilibria::EqType;
 use crate::error::{Error, Result};
-use crate::params::Params;
 use serde::Serialize;
 
 /// Which branch of the equilibrium curve a point lies on.
@@ -26,8 +26,8 @@ pub enum Branch {
 
 impl Branch {
     /// The branch of abscissa x.
-    pub fn of(p: &Params, x: f64) -> Branch {
-        match fold_abscissae(p) {
+    pub fn of<C: StaticCurve>(p: &C, x: f64) -> Branch {
+        match p.fold_band() {
             None => Branch::Single,
             Some((xm, xp)) => {
                 if x < xm {
@@ -70,24 +70,28 @@ pub struct CurvePoint {
 
 impl CurvePoint {
     /// The curve point with abscissa x (a computed from x; requires δ > 0).
-    pub fn at_x(p: &Params, x: f64) -> CurvePoint {
+    pub fn at_x<C: StaticCurve>(p: &C, x: f64) -> CurvePoint {
         let a = p.a_at(x);
         Self::at(p, a, x)
     }
 
-    fn at(p: &Params, a: f64, x: f64) -> CurvePoint {
+    fn at<C: StaticCurve>(p: &C, a: f64, x: f64) -> CurvePoint {
         let gp = p.g_prime(x);
-        let [(re1, im1), (re2, im2)] = eigenvalues(gp);
+        let [(re1, im1), (re2, im2)] = p.eigenvalues(x);
         CurvePoint {
             a,
             x,
-            slope: if p.delta == 0.0 { 0.0 } else { p.delta / gp },
+            slope: if p.delta() == 0.0 {
+                0.0
+            } else {
+                p.delta() / gp
+            },
             gprime: gp,
             re1,
             im1,
             re2,
             im2,
-            kind: EqType::from_g_prime(gp),
+            kind: p.kind(x),
             branch: Branch::of(p, x),
         }
     }
@@ -121,14 +125,9 @@ pub fn check_a_range(a_range: (f64, f64)) -> Result<()> {
 }
 
 /// The x-intervals on which a(x) ∈ [a0, a1], in increasing x (δ > 0).
-pub fn x_intervals(p: &Params, a_range: (f64, f64)) -> Vec<(f64, f64)> {
+pub fn x_intervals<C: StaticCurve>(p: &C, a_range: (f64, f64)) -> Vec<(f64, f64)> {
     let (a0, a1) = a_range;
-    let mut ends: Vec<f64> = equilibria(p, a0)
-        .roots
-        .iter()
-        .chain(equilibria(p, a1).roots.iter())
-        .map(|r| r.x)
-        .collect();
+    let mut ends: Vec<f64> = p.roots(a0).into_iter().chain(p.roots(a1)).collect();
     ends.sort_by(f64::total_cmp);
     ends.dedup();
     let a_of = |x: f64| p.a_at(x);
@@ -155,8 +154,8 @@ pub const MAX_CURVE_POINTS: usize = 10_000_000;
 /// assert_eq!(c.len(), 1000);
 /// assert!(c.iter().all(|q| q.kind.is_stable()));
 /// ```
-pub fn curve(p: &Params, a_range: (f64, f64), points: usize) -> Result<Vec<CurvePoint>> {
-    p.validate()?;
+pub fn curve<C: StaticCurve>(p: &C, a_range: (f64, f64), points: usize) -> Result<Vec<CurvePoint>> {
+    p.check()?;
     check_a_range(a_range)?;
     if !(2..=MAX_CURVE_POINTS).contains(&points) {
         return Err(Error::InvalidOption {
@@ -166,7 +165,7 @@ pub fn curve(p: &Params, a_range: (f64, f64), points: usize) -> Result<Vec<Curve
         });
     }
     let (a0, a1) = a_range;
-    if p.delta == 0.0 {
+    if p.delta() == 0.0 {
         return Ok(flat_curve(p, a_range, points));
     }
     let intervals = x_intervals(p, a_range);
@@ -187,14 +186,14 @@ pub fn curve(p: &Params, a_range: (f64, f64), points: usize) -> Result<Vec<Curve
 }
 
 /// With δ = 0 the equilibria do not depend on a: horizontal lines, sampled uniformly in a.
-fn flat_curve(p: &Params, (a0, a1): (f64, f64), points: usize) -> Vec<CurvePoint> {
-    let roots = equilibria(p, a0).roots;
+fn flat_curve<C: StaticCurve>(p: &C, (a0, a1): (f64, f64), points: usize) -> Vec<CurvePoint> {
+    let roots = p.roots(a0);
     let per = points.div_ceil(roots.len());
     let mut out = Vec::with_capacity(points);
     for r in &roots {
         for k in 0..per {
             let a = a0 + (a1 - a0) * k as f64 / (per - 1).max(1) as f64;
-            out.push(CurvePoint::at(p, a, r.x));
+            out.push(CurvePoint::at(p, a, *r));
         }
     }
     out.truncate(points);
@@ -205,8 +204,8 @@ fn flat_curve(p: &Params, (a0, a1): (f64, f64), points: usize) -> Vec<CurvePoint
 type Polyline = (Vec<f64>, Vec<f64>);
 
 /// A fine polyline per x-interval, 4 sub-samples per output point.
-fn arc_polylines(
-    p: &Params,
+fn arc_polylines<C: StaticCurve>(
+    p: &C,
     a_range: (f64, f64),
     intervals: &[(f64, f64)],
     points: usize,
@@ -262,8 +261,8 @@ fn split_points(polylines: &[Polyline], points: usize) -> Vec<usize> {
 }
 
 /// `n` points spread uniformly in arc length along one polyline.
-fn sample_polyline(
-    p: &Params,
+fn sample_polyline<C: StaticCurve>(
+    p: &C,
     (a0, a1): (f64, f64),
     (xs, ss): &Polyline,
     n: usize,

@@ -44,6 +44,20 @@ impl EqType {
         }
     }
 
+    /// The type for stiffness k and damping c > 0 (Jacobian [[0, 1], [−k, −c]]): a focus above
+    /// k = c²/4; [`EqType::from_g_prime`] is c = 1.
+    pub fn with_damping(k: f64, c: f64) -> EqType {
+        if k > 0.25 * c * c {
+            EqType::StableFocus
+        } else if k > 0.0 {
+            EqType::StableNode
+        } else if k < 0.0 {
+            EqType::Saddle
+        } else {
+            EqType::Degenerate
+        }
+    }
+
     /// Name used in CSV/JSON output.
     pub fn name(self) -> &'static str {
         match self {
@@ -69,6 +83,19 @@ pub fn eigenvalues(gp: f64) -> [(f64, f64); 2] {
     } else {
         let w = 0.5 * (-disc).sqrt();
         [(-0.5, w), (-0.5, -w)]
+    }
+}
+
+/// The eigenvalues λ = re ± i·im of [[0, 1], [−k, −c]] (λ² + cλ + k = 0), larger real part
+/// first: [`eigenvalues`] at any damping c.
+pub fn eigenvalues_with(k: f64, c: f64) -> [(f64, f64); 2] {
+    let disc = c * c - 4.0 * k;
+    if disc >= 0.0 {
+        let s = disc.sqrt();
+        [(0.5 * (-c + s), 0.0), (0.5 * (-c - s), 0.0)]
+    } else {
+        let w = 0.5 * (-disc).sqrt();
+        [(-0.5 * c, w), (-0.5 * c, -w)]
     }
 }
 

@@ -14,7 +14,7 @@ pub const A_RANGE: (f64, f64) = (-1.0, 1.0);
 
 /// The x-extent X of the equilibrium curve over `a_range` (the unit of x-distances in burst
 /// detection and classification); the smallest positive number when the curve is a point.
-pub fn x_extent(p: &crate::params::Params, a_range: (f64, f64)) -> f64 {
+pub fn x_extent<C: StaticCurve>(p: &C, a_range: (f64, f64)) -> f64 {
     let iv = x_intervals(p, a_range);
     match (iv.first(), iv.last()) {
         (Some(l), Some(r)) => (r.1 - l.0).max(f64::MIN_POSITIVE),
@@ -38,8 +38,9 @@ mod static_curve;
 pub use static_curve::{Follower, StaticCurve, relaxation_rate_with};
 
 pub use analysis::{
-    Analysis, Cusp, EquilibriaSummary, Fold, FoldRow, Interval, NO_HOPF_REASON, Point, Regime,
-    Slope, analyze, cusp, fold_curves, folds, max_slope, relaxation_rate,
+    Analysis, CurveAnalysis, Cusp, EquilibriaSummary, Fold, FoldRow, Interval, NO_HOPF_REASON,
+    Point, Regime, Slope, analyze, curve_analysis, cusp, fold_curves, folds, max_slope,
+    relaxation_rate,
 };
 pub use curve::{
     A_RANGE_LIMIT, Branch, CurvePoint, MAX_CURVE_POINTS, check_a_range, curve, x_intervals,
@@ -55,10 +56,10 @@ pub use predict::{
 pub(crate) use predict::{max_first_order_lag_on, max_on, max_speed_on, min_gprime};
 
 /// What produced an equilibrium curve: the `meta` of `hdgear equilibria`'s JSON output.
-#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize)]
-pub struct CurveSetup {
-    /// The parameters.
-    pub params: crate::params::Params,
+#[derive(Clone, Debug, PartialEq, serde::Serialize)]
+pub struct CurveSetup<P = crate::params::Params> {
+    /// The parameters (the study's set, or a model's description).
+    pub params: P,
     /// The range of a sampled.
     pub a_range: (f64, f64),
 }

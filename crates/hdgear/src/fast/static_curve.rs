@@ -37,6 +37,18 @@ pub trait StaticCurve: Clone + std::fmt::Debug {
     }
     /// The slow variable at which x is an equilibrium: a(x) = (g(x) − μ)/δ.
     fn a_at(&self, x: f64) -> f64;
+    /// Every equilibrium at slow variable a, increasing.
+    fn roots(&self, a: f64) -> Vec<f64>;
+    /// The eigenvalues (re, im) of the fast Jacobian [[0, 1], [−k, −c]] at the equilibrium x
+    /// (k its [`StaticCurve::stiffness`], c the [`StaticCurve::damping`]), larger real part
+    /// first.
+    fn eigenvalues(&self, x: f64) -> [(f64, f64); 2] {
+        super::equilibria::eigenvalues_with(self.stiffness(x), self.damping())
+    }
+    /// The linear type of the equilibrium x.
+    fn kind(&self, x: f64) -> super::EqType {
+        super::EqType::with_damping(self.stiffness(x), self.damping())
+    }
     /// Whether the curve's parameters are valid.
     fn check(&self) -> Result<()>;
     /// The fold abscissae x− < x+ bounding the unstable band (g' < 0 between them), if any.
@@ -160,6 +172,19 @@ impl StaticCurve for Params {
     }
     fn check(&self) -> Result<()> {
         self.validate().map(|_| ())
+    }
+    fn roots(&self, a: f64) -> Vec<f64> {
+        super::equilibria(self, a)
+            .roots
+            .iter()
+            .map(|r| r.x)
+            .collect()
+    }
+    fn eigenvalues(&self, x: f64) -> [(f64, f64); 2] {
+        super::equilibria::eigenvalues(Params::g_prime(self, x))
+    }
+    fn kind(&self, x: f64) -> super::EqType {
+        super::EqType::from_g_prime(Params::g_prime(self, x))
     }
     fn fold_band(&self) -> Option<(f64, f64)> {
         super::fold_abscissae(self)

@@ -10,8 +10,8 @@ use crate::sweep::Axis;
 
 /// Splits a branch into runs of equal stability, as (stable, points (λ, y)) with the boundary
 /// point in both neighbours so the curve stays connected.
-fn stability_runs(
-    b: &crate::periodic::Branch<Param>,
+fn stability_runs<P>(
+    b: &crate::periodic::Branch<P>,
     xy: &impl Fn(usize, &crate::periodic::BranchPoint) -> (f64, f64),
 ) -> Vec<(bool, Vec<(f64, f64)>)> {
     let mut runs: Vec<(bool, Vec<(f64, f64)>)> = Vec::new();
@@ -31,8 +31,8 @@ fn stability_runs(
 
 /// One panel of a frequency-response figure: the points `xy(i, point i)` of the branch, with
 /// the axis labels.
-fn response_panel(
-    b: &crate::periodic::Branch<Param>,
+fn response_panel<P>(
+    b: &crate::periodic::Branch<P>,
     (title, x_label): (&str, &str),
     xy: impl Fn(usize, &crate::periodic::BranchPoint) -> (f64, f64),
 ) -> Panel {
@@ -86,7 +86,10 @@ fn response_panel(
 
 /// The frequency-response curve: peak-to-peak x and max |x'| against ω (log), stable branches
 /// thick, unstable thin, folds and period doublings marked.
-pub fn frequency_response_figure(p: &Params, b: &crate::periodic::Branch<Param>) -> Figure {
+pub fn frequency_response_figure<S: crate::periodic::Periodic>(
+    p: &S,
+    b: &crate::periodic::Branch<S::Param>,
+) -> Figure {
     use crate::periodic::Special;
     let folds: Vec<String> = b
         .specials()
@@ -100,14 +103,10 @@ pub fn frequency_response_figure(p: &Params, b: &crate::periodic::Branch<Param>)
     Figure {
         name: "frequency-response".into(),
         caption: format!(
-            "Frequency response of the periodic response (period 2π/ω) at α = {}, γ = {}, ε = {}, \
-             μ = {}, δ = {}, by pseudo-arclength continuation in ln ω with Floquet multipliers \
-             from the variational equations. Thick: stable; thin: unstable. {} {}",
-            p.alpha,
-            p.gamma,
-            p.eps,
-            p.mu,
-            p.delta,
+            "Frequency response of the periodic response (period 2π/ω) at {}, by \
+             pseudo-arclength continuation in ln ω with Floquet multipliers from the variational \
+             equations. Thick: stable; thin: unstable. {} {}",
+            p.caption(),
             if folds.is_empty() {
                 "No fold: the response is single-valued, a slow sweep of ω does not jump."
                     .to_string()

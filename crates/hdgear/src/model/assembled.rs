@@ -316,18 +316,37 @@ impl Model {
         self.forcing
     }
 
-    /// The parameter called `name` (an error lists the model's).
+    /// The parameter called `name`: `NAME` or `TERM.NAME` (`fc` or `friction.fc`, `delta` or
+    /// `forcing.delta`; a model's names are unique, [`Model::with_term`]). An error names the
+    /// text and lists the model's.
+    ///
+    /// ```
+    /// use hdgear::model::{Model, terms::AnyTerm};
+    /// let m = Model::study(&hdgear::Params::default())
+    ///     .with_term(AnyTerm::new("friction", &[0.1, 0.05]).unwrap())
+    ///     .unwrap();
+    /// assert_eq!(m.param("friction.fc").unwrap(), m.param("fc").unwrap());
+    /// assert_eq!(m.get(m.param("forcing.delta").unwrap()), 15.0);
+    /// assert!(m.param("friction.alpha").is_err());
+    /// ```
     pub fn param(&self, name: &str) -> Result<ModelParam> {
-        self.params()
-            .find(|q| q.name == name)
-            .ok_or_else(|| Error::InvalidInput {
+        let name = name.trim();
+        let qualified = |q: &ModelParam| format!("{}.{}", self.owner(*q), q.name);
+        let found: Vec<ModelParam> = match name.split_once('.') {
+            Some(_) => self.params().filter(|q| qualified(q) == name).collect(),
+            None => self.params().filter(|q| q.name == name).collect(),
+        };
+        match found[..] {
+            [q] => Ok(q),
+            _ => Err(Error::InvalidInput {
                 what: "parameter name",
                 text: name.to_string(),
                 reason: format!(
-                    "this model's are {}",
+                    "no such parameter; this model's are {} (each also as TERM.NAME)",
                     self.params().map(|q| q.name).collect::<Vec<_>>().join(", ")
                 ),
-            })
+            }),
+        }
     }
 
     /// Every parameter, the forcing's first.
@@ -842,6 +861,7 @@ impl Model {
 }
 
 mod lanes;
+mod study;
 mod switching_lanes;
 mod system;
 pub use lanes::{integrate_models, on_vector_lanes};

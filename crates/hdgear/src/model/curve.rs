@@ -409,6 +409,11 @@ impl<S: Statics> StaticCurve for ModelCurve<S> {
     fn check(&self) -> Result<()> {
         self.law.model().check()
     }
+    /// By the law's root finder; none where it fails (a torque that does not confine x at
+    /// this load, which [`ModelCurve::of`] has refused over a ∈ [−1, 1]).
+    fn roots(&self, a: f64) -> Vec<f64> {
+        self.law.equilibria(a).unwrap_or_default()
+    }
     fn fold_band(&self) -> Option<(f64, f64)> {
         self.band
     }

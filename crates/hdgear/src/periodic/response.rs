@@ -10,11 +10,13 @@ use crate::params::{Param, Params};
 use crate::physical::{PhysicalParams, Reduction};
 use serde::Serialize;
 
-/// A continuation request `NAME=FROM:TO[:log]`: follow the orbit in NAME from FROM to TO.
+/// A continuation request `NAME=FROM:TO[:log]`: follow the orbit in NAME from FROM to TO. NAME
+/// is one of the study's parameters ([`Range::parse`]) or any of a system's
+/// ([`Range::parse_for`]: `friction.fc`).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct Range {
+pub struct Range<P = Param> {
     /// The parameter.
-    pub param: Param,
+    pub param: P,
     /// Where the continuation starts (the parameter is set to it).
     pub from: f64,
     /// Where it ends.
@@ -24,13 +26,52 @@ pub struct Range {
 }
 
 impl Range {
-    /// Parses `NAME=FROM:TO[:log]`; errors name the offending text.
+    /// Parses `NAME=FROM:TO[:log]` with NAME one of the study's parameters; errors name the
+    /// offending text.
     ///
     /// ```
     /// let r = hdgear::periodic::Range::parse("omega=0.5:20:log").unwrap();
     /// assert_eq!((r.from, r.to), (0.5, 20.0));
     /// ```
     pub fn parse(text: &str) -> Result<Range> {
+        Range::parse_with(text, |name| {
+            name.parse().map_err(|_| {
+                format!(
+                    "unknown parameter '{name}' (expected one of {})",
+                    Param::ALL.map(Param::name).join(", ")
+                )
+            })
+        })
+    }
+}
+
+impl<P> Range<P> {
+    /// Parses `NAME=FROM:TO[:log]` with NAME any parameter of `system` (a model's `fc` or
+    /// `friction.fc`, [`crate::model::Model::param`]).
+    ///
+    /// ```
+    /// use hdgear::{Params, model::{Model, terms::AnyTerm}, periodic::Range};
+    /// let m = Model::study(&Params::default())
+    ///     .with_term(AnyTerm::new("friction", &[0.1, 0.05]).unwrap())
+    ///     .unwrap();
+    /// let r = Range::parse_for("friction.fc=0:0.5", &m).unwrap();
+    /// assert_eq!(r.param.name(), "fc");
+    /// assert!(Range::parse_for("friction.nope=0:1", &m).is_err());
+    /// ```
+    pub fn parse_for<S: super::Periodic<Param = P>>(text: &str, system: &S) -> Result<Range<P>> {
+        Range::parse_with(text, |name| {
+            system.param_named(name).map_err(|e| match e {
+                Error::InvalidInput { reason, .. } => format!("'{name}': {reason}"),
+                other => other.to_string(),
+            })
+        })
+    }
+
+    /// Parses `NAME=FROM:TO[:log]`, NAME by `lookup` (its error is the reason shown).
+    fn parse_with(
+        text: &str,
+        lookup: impl FnOnce(&str) -> std::result::Result<P, String>,
+    ) -> Result<Range<P>> {
         let bad = |reason: String| Error::InvalidInput {
             what: "continuation range",
             text: text.to_string(),
@@ -39,13 +80,7 @@ impl Range {
         let (name, spec) = text
             .split_once('=')
             .ok_or_else(|| bad("expected NAME=FROM:TO[:log]".into()))?;
-        let param: Param = name.trim().parse().map_err(|_| {
-            bad(format!(
-                "unknown parameter '{}' (expected one of {})",
-                name.trim(),
-                Param::ALL.map(Param::name).join(", ")
-            ))
-        })?;
+        let param = lookup(name.trim()).map_err(bad)?;
         let parts: Vec<&str> = spec.split(':').map(str::trim).collect();
         if !(parts.len() == 2 || parts.len() == 3) {
             return Err(bad("expected NAME=FROM:TO[:log]".into()));
@@ -106,12 +141,12 @@ pub fn default_frequency_range(p: &Params) -> (f64, f64) {
 /// assert_eq!(folds.len(), 2);
 /// assert!(folds[0] > folds[1], "the curve bends back: the upper fold comes first");
 /// ```
-pub fn frequency_response(
-    p: &Params,
+pub fn frequency_response<S: super::Periodic>(
+    p: &S,
     range: Option<(f64, f64)>,
     opts: &ContinuationOptions,
-) -> Result<Branch<Param>> {
-    let (lo, hi) = range.unwrap_or_else(|| default_frequency_range(p));
+) -> Result<Branch<S::Param>> {
+    let (lo, hi) = range.unwrap_or_else(|| p.frequency_range());
     if !(lo > 0.0 && hi > lo && hi.is_finite()) {
         return Err(Error::InvalidOption {
             name: "omega range",
@@ -119,12 +154,14 @@ pub fn frequency_response(
             reason: "needs 0 < low < high",
         });
     }
-    let start = p.with(Param::Omega, lo);
+    p.check_periodic()?;
+    let omega = p.frequency();
+    let start = p.with(omega, lo)?;
     let opts = ContinuationOptions {
         scale: Scale::Log,
         ..*opts
     };
-    continue_orbit(&start, Param::Omega, 1, None, hi, &opts)
+    continue_orbit(&start, omega, 1, None, hi, &opts)
 }
 
 /// One point of a physical drive's frequency-response curve, in SI units.

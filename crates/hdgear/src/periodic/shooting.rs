@@ -2,12 +2,15 @@
 //! bursts, and its least period.
 
 use super::*;
+use crate::model::{Model, ModelParam};
+use crate::params::Param;
 
-/// A periodic orbit of the forced model.
+/// A periodic orbit of a forced system `S`: the study's set ([`Params`]) or a model assembled
+/// from terms ([`Model`], serialised as its description).
 #[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct PeriodicOrbit {
-    /// The parameters.
-    pub params: Params,
+pub struct PeriodicOrbit<S = Params> {
+    /// The system: its parameters.
+    pub params: S,
     /// k: the orbit's period is k·2π/ω.
     pub subharmonic: u32,
     /// Its period k·2π/ω.
@@ -180,9 +183,186 @@ fn bisect(a: f64, b: f64, f: impl Fn(f64) -> f64) -> f64 {
     0.5 * (a + b)
 }
 
-/// Finds the periodic orbit of period k·2π/ω by shooting from the settled default start.
-pub fn shoot(p: &Params, k: u32, opts: &PeriodicOptions) -> Result<PeriodicOrbit> {
-    p.validate()?;
+/// What shooting, its orbit and the orbit's verdict need of a system beyond [`Oscillator`]:
+/// whether the machinery applies, where the default start is, the orbit's samples, and the burst
+/// verdict on a response from a given start. The study's set ([`Params`], its closed forms and
+/// Taylor recurrence) and a model assembled from terms ([`Model`]) are the two; a command holding
+/// a model runs the study's set when the model is the study's ([`Model::equivalent_params`]).
+pub trait Periodic: Oscillator<Param: Serialize> + Serialize {
+    /// Refuses, in one line naming the term and the reason, a system whose periodic orbits the
+    /// plane (x, x') shooting cannot compute.
+    fn check_periodic(&self) -> Result<()>;
+    /// The default start (x, x') at τ = 0: the lowest stable equilibrium at a = 0, at rest.
+    fn default_start(&self) -> Result<[f64; 2]>;
+    /// The forcing frequency's parameter (what a frequency response varies).
+    fn frequency(&self) -> Self::Param;
+    /// The parameter called `name` (an error names it and lists the system's).
+    fn param_named(&self, name: &str) -> Result<Self::Param>;
+    /// The default ω range of a frequency response ([`super::default_frequency_range`]).
+    fn frequency_range(&self) -> (f64, f64);
+    /// (τ, x, x') every `opts.dt` over `period` from `y` at τ = 0, by Taylor's method.
+    fn samples(&self, y: [f64; 2], period: f64, opts: &PeriodicOptions) -> Result<Vec<[f64; 3]>>;
+    /// The burst verdict on the response from `start` at τ = 0 measured with `opts`.
+    fn verdict_from(
+        &self,
+        opts: &crate::burst::BurstOptions,
+        start: [f64; 2],
+    ) -> Result<crate::burst::Classification>;
+    /// The system in words for a figure's caption.
+    fn caption(&self) -> String;
+}
+
+impl Periodic for Params {
+    fn check_periodic(&self) -> Result<()> {
+        self.validate().map(|_| ())
+    }
+    fn default_start(&self) -> Result<[f64; 2]> {
+        Ok(crate::simulate::initial_state(
+            self,
+            crate::simulate::Start::Equilibrium,
+        ))
+    }
+    fn frequency(&self) -> Param {
+        Param::Omega
+    }
+    fn param_named(&self, name: &str) -> Result<Param> {
+        name.parse().map_err(|_| Error::InvalidInput {
+            what: "parameter name",
+            text: name.to_string(),
+            reason: format!(
+                "no such parameter; the study's are {}",
+                Param::ALL.map(Param::name).join(", ")
+            ),
+        })
+    }
+    fn frequency_range(&self) -> (f64, f64) {
+        super::default_frequency_range(self)
+    }
+    fn samples(&self, y: [f64; 2], period: f64, opts: &PeriodicOptions) -> Result<Vec<[f64; 3]>> {
+        let mut samples = Vec::new();
+        crate::simulate::simulate(self, &sample_options(y, period, opts), |t, s| {
+            samples.push([t, s[0], s[1]])
+        })?;
+        Ok(samples)
+    }
+    fn verdict_from(
+        &self,
+        opts: &crate::burst::BurstOptions,
+        start: [f64; 2],
+    ) -> Result<crate::burst::Classification> {
+        let r = crate::burst::response_from(self, opts, start)?;
+        Ok(crate::burst::classify(self, &r))
+    }
+    fn caption(&self) -> String {
+        format!(
+            "α = {}, γ = {}, ε = {}, μ = {}, δ = {}",
+            self.alpha, self.gamma, self.eps, self.mu, self.delta
+        )
+    }
+}
+
+/// A model's orbit lives in the plane (x, x') and its flow must be smooth for the variational
+/// equations: a model with internal states, a switching term, a dither (a second, fast period)
+/// or a delay (a history, not a point, is the state) is refused, naming the term.
+impl Periodic for Model {
+    fn check_periodic(&self) -> Result<()> {
+        Oscillator::check(self)?;
+        let refuse = |kind: &str, reason: &str| Error::InvalidInput {
+            what: "model",
+            text: kind.to_string(),
+            reason: format!("periodic orbits are not computed for it: {reason}"),
+        };
+        let has = |what: fn(&crate::model::terms::AnyTerm) -> bool| {
+            self.terms().find(|t| what(t)).map(|t| t.kind())
+        };
+        if let Some(kind) = has(|t| t.switches_at_rest() || t.switches_at_zero_state()) {
+            return Err(refuse(
+                kind,
+                "its sticking switches the vector field, and the monodromy across a switch needs \
+                 a saltation matrix, which the shooting does not apply",
+            ));
+        }
+        if let Some(kind) = has(|t| t.dither().is_some()) {
+            return Err(refuse(
+                kind,
+                "a dither is a second forcing period, so no orbit has period k·2π/ω",
+            ));
+        }
+        if let Some(kind) = has(|t| t.delay().is_some()) {
+            return Err(refuse(
+                kind,
+                "with a delay the state is a history, not the point (x, x') shooting solves for",
+            ));
+        }
+        Ok(())
+    }
+    fn default_start(&self) -> Result<[f64; 2]> {
+        Ok([self.stable_equilibrium(0.0)?, self.rest_rate()])
+    }
+    fn frequency(&self) -> ModelParam {
+        self.param(Param::Omega.name())
+            .expect("every model has the forcing's omega")
+    }
+    fn param_named(&self, name: &str) -> Result<ModelParam> {
+        self.param(name)
+    }
+    fn frequency_range(&self) -> (f64, f64) {
+        let [mu, delta, _] = self.forcing();
+        let stiffest = [mu - delta, mu + delta]
+            .iter()
+            .flat_map(|&level| self.equilibria_at(level).unwrap_or_default())
+            .map(|x| self.static_stiffness(x))
+            .fold(self.static_stiffness(0.0).abs(), f64::max);
+        let ws = stiffest.sqrt().max(1e-3);
+        (ws / 20.0, 3.0 * ws)
+    }
+    fn samples(&self, y: [f64; 2], period: f64, opts: &PeriodicOptions) -> Result<Vec<[f64; 3]>> {
+        let mut samples = Vec::new();
+        crate::simulate::simulate_model(self, &sample_options(y, period, opts), |t, s| {
+            samples.push([t, s[0], s[1]])
+        })?;
+        Ok(samples)
+    }
+    fn verdict_from(
+        &self,
+        opts: &crate::burst::BurstOptions,
+        start: [f64; 2],
+    ) -> Result<crate::burst::Classification> {
+        let r = crate::burst::response_model_from(self, opts, start)?;
+        crate::burst::classify_model(self, &r)
+    }
+    fn caption(&self) -> String {
+        self.equation()
+    }
+}
+
+/// The run that samples an orbit: from `y` over `period`, by Taylor's method.
+fn sample_options(y: [f64; 2], period: f64, opts: &PeriodicOptions) -> crate::simulate::SimOptions {
+    crate::simulate::SimOptions {
+        t_end: period,
+        dt: opts.dt,
+        start: crate::simulate::Start::Given { x0: y[0], v0: y[1] },
+        tol: Options {
+            method: Method::Taylor,
+            ..opts.tol
+        },
+    }
+}
+
+/// Finds the periodic orbit of period k·2π/ω by shooting from the settled default start, for
+/// the study's set or any smooth model in the plane ([`Periodic`]).
+///
+/// ```
+/// use hdgear::{Params, model::{Model, terms::AnyTerm}, periodic::{PeriodicOptions, shoot}};
+/// // smooth friction f_c·tanh(x'/v_s) adds damping: the orbit stays stable
+/// let m = Model::study(&Params { gamma: 1.0, ..Params::default() })
+///     .with_term(AnyTerm::new("friction", &[0.1, 0.05]).unwrap())
+///     .unwrap();
+/// let orbit = shoot(&m, 1, &PeriodicOptions::default()).unwrap();
+/// assert!(orbit.stable && orbit.residual < 1e-10);
+/// ```
+pub fn shoot<S: Periodic>(s: &S, k: u32, opts: &PeriodicOptions) -> Result<PeriodicOrbit<S>> {
+    s.check_periodic()?;
     if k == 0 {
         return Err(Error::InvalidOption {
             name: "subharmonic",
@@ -190,12 +370,12 @@ pub fn shoot(p: &Params, k: u32, opts: &PeriodicOptions) -> Result<PeriodicOrbit
             reason: "must be ≥ 1",
         });
     }
-    let t_forcing = p.slow_period();
+    let t_forcing = std::f64::consts::TAU / s.omega();
     let period = f64::from(k) * t_forcing;
-    crate::integrate::check_budget(t_forcing * settle_periods(p) + 2.0 * period, &opts.tol)?;
-    let y0 = crate::simulate::initial_state(p, crate::simulate::Start::Equilibrium);
-    let solved = settle_and_solve(p, k, y0, opts)?;
-    orbit(p, k, period, &solved, opts)
+    crate::integrate::check_budget(t_forcing * settle_periods(s) + 2.0 * period, &opts.tol)?;
+    let y0 = s.default_start()?;
+    let solved = settle_and_solve(s, k, y0, opts)?;
+    orbit(s, k, period, &solved, opts)
 }
 
 /// Whole forcing periods covering [`SETTLE_TIME`] (at least one).
@@ -227,27 +407,17 @@ pub(crate) fn settle_and_solve<O: Oscillator>(
 }
 
 /// Assembles the orbit: multipliers, samples, amplitudes.
-fn orbit(
-    p: &Params,
+fn orbit<S: Periodic>(
+    p: &S,
     k: u32,
     period: f64,
     solved: &Solved,
     opts: &PeriodicOptions,
-) -> Result<PeriodicOrbit> {
+) -> Result<PeriodicOrbit<S>> {
     let y = solved.y;
     let multipliers = multipliers(&solved.flow);
     let log_abs = [multipliers[0].log_abs, multipliers[1].log_abs];
-    let sim = crate::simulate::SimOptions {
-        t_end: period,
-        dt: opts.dt,
-        start: crate::simulate::Start::Given { x0: y[0], v0: y[1] },
-        tol: Options {
-            method: Method::Taylor,
-            ..opts.tol
-        },
-    };
-    let mut samples = Vec::new();
-    crate::simulate::simulate(p, &sim, |t, s| samples.push([t, s[0], s[1]]))?;
+    let samples = p.samples(y, period, opts)?;
     let amp = amplitude(p, y, k, opts.tol)?;
     Ok(PeriodicOrbit {
         params: *p,
@@ -279,8 +449,8 @@ fn orbit(
 /// let c = burst_verdict(&orbit, &BurstOptions::default()).unwrap();
 /// assert_eq!(c.verdict, Verdict::Overshoot);
 /// ```
-pub fn burst_verdict(
-    orbit: &PeriodicOrbit,
+pub fn burst_verdict<S: Periodic>(
+    orbit: &PeriodicOrbit<S>,
     opts: &crate::burst::BurstOptions,
 ) -> Result<crate::burst::Classification> {
     let opts = crate::burst::BurstOptions {
@@ -288,8 +458,7 @@ pub fn burst_verdict(
         periods: opts.periods.max(orbit.subharmonic),
         ..*opts
     };
-    let r = crate::burst::response_from(&orbit.params, &opts, orbit.start)?;
-    Ok(crate::burst::classify(&orbit.params, &r))
+    orbit.params.verdict_from(&opts, orbit.start)
 }
 
 /// The smallest j dividing k with φ_{2πj}(y) = y to 1e-8 (relative to 1 + |y|).
