@@ -141,6 +141,26 @@ fn the_fast_subsystem_and_the_periodic_machinery_run_on_a_friction_scenario() {
         "0.5:2",
     ]);
     assert!(d["points"].as_array().unwrap().len() > 2);
+    // orbit-diagram: the stroboscopic section of the model against a study parameter
+    let csv = dir.path().join("d.csv");
+    hdgear()
+        .args([
+            "orbit-diagram",
+            "--config",
+            &f,
+            "--param",
+            "omega=1:2:3",
+            "--out",
+        ])
+        .arg(&csv)
+        .assert()
+        .success();
+    let text = std::fs::read_to_string(&csv).unwrap();
+    assert!(
+        text.starts_with("sweep,param,period,lyapunov,x,xdot"),
+        "{text}"
+    );
+    assert!(text.lines().count() > 6);
     // control adds its law to the model: the friction term stays in the closed loop's document
     let d = json_of(&[
         "control",

@@ -4,7 +4,7 @@ use crate::cli::OrbitDiagramArgs;
 use crate::sink::{Sink, warn};
 use anyhow::{Context, Result};
 use hdgear::output::RecordWriter;
-use hdgear::periodic::{DiagramOptions, DiagramPoint, orbit_diagram};
+use hdgear::periodic::{DiagramOptions, DiagramPoint, Periodic, orbit_diagram};
 use hdgear::sweep::Axis;
 use serde::Serialize;
 
@@ -21,9 +21,9 @@ struct Row {
 hdgear::record!(Row: "sweep", "param", "period", "lyapunov", "x", "xdot");
 
 #[derive(Serialize)]
-struct Meta<'a> {
+struct Meta<'a, S> {
     axis: &'a Axis,
-    params: hdgear::Params,
+    params: &'a S,
     options: DiagramOptions,
 }
 
@@ -37,11 +37,24 @@ pub fn run(a: OrbitDiagramArgs) -> Result<()> {
             a.axis
         );
     }
-    let (p, warnings) = a.params.resolve()?;
+    let (system, warnings) = a.params.resolve_system()?;
     crate::cli::check_out(&a.out)?;
     if let Some(plot) = &a.plot {
         crate::cli::check_plot(plot)?;
     }
+    crate::on_system!(&system, |p| run_on(p, &a, &axis, &warnings))
+}
+
+/// The diagram of the study's set or of a model (the axis names one of the study's parameters,
+/// which a model holds by the same name), written and plotted.
+fn run_on<S: Periodic>(
+    p: &S,
+    a: &OrbitDiagramArgs,
+    axis: &Axis,
+    warnings: &[hdgear::params::Warning],
+) -> Result<()> {
+    let param = p.param_named(axis.param.name()).context("--param")?;
+    p.check_periodic()?;
     let opts = DiagramOptions {
         discard: a.discard,
         record: a.record,
@@ -51,9 +64,9 @@ pub fn run(a: OrbitDiagramArgs) -> Result<()> {
     let mut values: Vec<f64> = (0..axis.count).map(|i| axis.value(i)).collect();
     values.sort_by(f64::total_cmp);
     values.dedup();
-    warn(&warnings);
+    warn(warnings);
     let meta = Meta {
-        axis: &axis,
+        axis,
         params: p,
         options: opts,
     };
@@ -61,7 +74,7 @@ pub fn run(a: OrbitDiagramArgs) -> Result<()> {
     let mut w = RecordWriter::new(sink, format, &meta)?;
     let mut points: Vec<DiagramPoint> = Vec::new();
     let mut failure = None;
-    orbit_diagram(&p, axis.param, &values, &opts, |q| {
+    orbit_diagram(p, param, &values, &opts, |q| {
         if failure.is_some() {
             return;
         }
@@ -88,7 +101,7 @@ pub fn run(a: OrbitDiagramArgs) -> Result<()> {
     }
     w.finish().context("writing the output")?.commit()?;
     if let Some(plot) = &a.plot {
-        let f = hdgear::figures::orbit_diagram_figure(&p, axis.param, &points);
+        let f = hdgear::figures::orbit_diagram_figure(p, param, &points);
         hdgear::output::plot::write(&f, plot)?;
     }
     Ok(())

@@ -33,15 +33,8 @@ pub enum EqType {
 impl EqType {
     /// The type for a given g'(x).
     pub fn from_g_prime(gp: f64) -> EqType {
-        if gp > super::FOCUS_GPRIME {
-            EqType::StableFocus
-        } else if gp > 0.0 {
-            EqType::StableNode
-        } else if gp < 0.0 {
-            EqType::Saddle
-        } else {
-            EqType::Degenerate
-        }
+        // the unit damping's c²/4 is FOCUS_GPRIME
+        EqType::with_damping(gp, 1.0)
     }
 
     /// The type for stiffness k and damping c > 0 (Jacobian [[0, 1], [−k, −c]]): a focus above

@@ -142,9 +142,9 @@ pub fn frequency_response_figure<S: crate::periodic::Periodic>(
 
 /// The stroboscopic orbit diagram: x at phase 0 of every recorded period against the parameter,
 /// up-sweep and down-sweep in two colours (where they differ, the response is hysteretic).
-pub fn orbit_diagram_figure(
-    p: &Params,
-    param: Param,
+pub fn orbit_diagram_figure<S: crate::periodic::Periodic>(
+    p: &S,
+    param: S::Param,
     points: &[crate::periodic::DiagramPoint],
 ) -> Figure {
     use crate::periodic::Sweep;
@@ -198,13 +198,14 @@ pub fn orbit_diagram_figure(
     Figure {
         name: "orbit-diagram".into(),
         caption: format!(
-            "Orbit diagram against {param} (the other parameters: α = {}, γ = {}, ε = {}, μ = {}, \
-             δ = {}, ω = {}): x at phase 0 of each recorded forcing period after the transient, \
+            "Orbit diagram against {param} (the other parameters: {}, ω = {}): x at phase 0 of \
+             each recorded forcing period after the transient, \
              each value started from the previous value's state. One dot per value: a period-1 \
              response; two: period 2 (after a period doubling); a cloud: no periodic response \
              within the record. Where the up- and down-sweeps differ, two stable responses \
              coexist and the sweep direction decides (hysteresis between folds).",
-            p.alpha, p.gamma, p.eps, p.mu, p.delta, p.omega
+            p.caption(),
+            p.omega()
         ),
         size: (1000, if panels.len() > 1 { 800 } else { 600 }),
         panels,

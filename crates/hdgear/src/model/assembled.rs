@@ -514,7 +514,6 @@ impl Model {
             AnyTerm::Stiffness(s) if !self.is_scheduled() => Some(s.0),
             _ => None,
         })?;
-        let [mu, delta, omega] = self.forcing;
         let study = Stiffness([alpha, gamma, eps]);
         let rest = |x: f64| self.static_torque(x) - study.torque(x, 0.0, 0.0);
         let (a0, a1) = (rest(0.0), rest(1.0) - rest(0.0));
@@ -546,14 +545,7 @@ impl Model {
         } else {
             return None;
         };
-        let p = Params {
-            alpha,
-            gamma,
-            eps,
-            mu,
-            delta,
-            omega,
-        };
+        let p = self.set_with([alpha, gamma, eps]);
         // the set's equilibria are the model's only if the rest is affine wherever they lie too:
         // from the lowest at a = −1 to the highest at a = 1, which a kink beyond the six points
         // above (a piecewise stiffness's) would otherwise change unseen

@@ -239,11 +239,8 @@ impl Periodic for Params {
         super::default_frequency_range(self)
     }
     fn samples(&self, y: [f64; 2], period: f64, opts: &PeriodicOptions) -> Result<Vec<[f64; 3]>> {
-        let mut samples = Vec::new();
-        crate::simulate::simulate(self, &sample_options(y, period, opts), |t, s| {
-            samples.push([t, s[0], s[1]])
-        })?;
-        Ok(samples)
+        let sim = sample_options(y, period, opts);
+        collect(|out| crate::simulate::simulate(self, &sim, |t, s| out(t, s)))
     }
     fn verdict_from(
         &self,
@@ -317,11 +314,8 @@ impl Periodic for Model {
         (ws / 20.0, 3.0 * ws)
     }
     fn samples(&self, y: [f64; 2], period: f64, opts: &PeriodicOptions) -> Result<Vec<[f64; 3]>> {
-        let mut samples = Vec::new();
-        crate::simulate::simulate_model(self, &sample_options(y, period, opts), |t, s| {
-            samples.push([t, s[0], s[1]])
-        })?;
-        Ok(samples)
+        let sim = sample_options(y, period, opts);
+        collect(|out| crate::simulate::simulate_model(self, &sim, |t, s| out(t, s)))
     }
     fn verdict_from(
         &self,
@@ -334,6 +328,15 @@ impl Periodic for Model {
     fn caption(&self) -> String {
         self.equation()
     }
+}
+
+/// The samples (τ, x, x') a run shows its output callback.
+fn collect(
+    run: impl FnOnce(&mut dyn FnMut(f64, &[f64])) -> Result<crate::simulate::SimSummary>,
+) -> Result<Vec<[f64; 3]>> {
+    let mut samples = Vec::new();
+    run(&mut |t, s| samples.push([t, s[0], s[1]]))?;
+    Ok(samples)
 }
 
 /// The run that samples an orbit: from `y` over `period`, by Taylor's method.

@@ -25,16 +25,21 @@ impl Model {
             AnyTerm::Stiffness(s) => Some(s.0),
             _ => None,
         })?;
+        let p = self.set_with([alpha, gamma, eps]);
+        (*self == Model::study(&p)).then_some(p)
+    }
+
+    /// The study's set with the stiffness `[α, γ, ε]` under this model's forcing.
+    pub(super) fn set_with(&self, [alpha, gamma, eps]: [f64; 3]) -> Params {
         let [mu, delta, omega] = self.forcing;
-        let p = Params {
+        Params {
             alpha,
             gamma,
             eps,
             mu,
             delta,
             omega,
-        };
-        (*self == Model::study(&p)).then_some(p)
+        }
     }
 }
 
