@@ -89,14 +89,19 @@ fn a_friction_table_adds_the_term_to_model_and_simulate() {
     assert!(c["max_abs_xdot"].as_f64().unwrap() < a["max_abs_xdot"].as_f64().unwrap());
 }
 
+/// A smooth-friction scenario (γ = 1, f_c = 0.1, v_s = 0.05) written in `dir`: its path.
+fn friction_scenario(dir: &std::path::Path) -> String {
+    scenario(
+        dir,
+        "f.toml",
+        "[params]\ngamma = 1\n[friction]\nfc = 0.1\nvs = 0.05\n",
+    )
+}
+
 #[test]
 fn the_fast_subsystem_and_the_periodic_machinery_run_on_a_friction_scenario() {
     let dir = tempfile::tempdir().unwrap();
-    let f = scenario(
-        dir.path(),
-        "f.toml",
-        "[params]\ngamma = 1\n[friction]\nfc = 0.1\nvs = 0.05\n",
-    );
+    let f = friction_scenario(dir.path());
     // analyze: the curve at the model's own damping c = 1 + f_c/v_s, and the measured response
     let d = json_of(&["analyze", "--json", "--config", &f]);
     assert_eq!(d["analysis"]["damping_at_rest"], 3.0);
@@ -141,6 +146,12 @@ fn the_fast_subsystem_and_the_periodic_machinery_run_on_a_friction_scenario() {
         "0.5:2",
     ]);
     assert!(d["points"].as_array().unwrap().len() > 2);
+}
+
+#[test]
+fn orbit_diagram_and_control_run_on_a_friction_scenario_and_coulomb_orbits_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = friction_scenario(dir.path());
     // orbit-diagram: the stroboscopic section of the model against a study parameter
     let csv = dir.path().join("d.csv");
     hdgear()
