@@ -84,7 +84,7 @@ fn run_model(m: &Model, warnings: Vec<Warning>, a: &AnalyzeArgs) -> Result<()> {
 fn term_kinds(m: &Model) -> String {
     m.terms()
         .map(|t| t.kind())
-        .filter(|k| !matches!(*k, "damping" | "stiffness"))
+        .filter(|k| Model::is_extra_kind(k))
         .collect::<Vec<_>>()
         .join(", ")
 }
