@@ -212,13 +212,13 @@ fn term_tables_are_refused_where_they_would_be_ignored_and_bad_ones_named() {
     for (args, needle) in [
         (
             vec![
-                "sweep",
+                "boundary",
                 "--config",
                 &f,
                 "--param",
-                "gamma=0.1:1:3",
-                "--out",
-                "s.csv",
+                "gamma=0.1:1",
+                "--param",
+                "delta=1:15",
             ],
             "[friction] table is a term of the model",
         ),
@@ -399,4 +399,51 @@ fn model_prints_the_quasi_static_branches() {
             .get("branches")
             .is_none()
     );
+}
+
+/// `hdgear sweep` on a sticking Coulomb scenario over a term's parameter and the load amplitude:
+/// the columns name the swept parameters, and each row's verdict is what `hdgear bursts` says
+/// of the scenario with that point's values written in. Sharding such a sweep is refused in one
+/// line.
+#[test]
+fn sweep_maps_a_coulomb_scenario_over_its_friction_level_as_bursts_sees_each_point() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = |fs: f64, delta: f64| {
+        format!("[params]\ngamma = 0.1\ndelta = {delta:?}\n[coulomb]\nfc = 0.05\nfs = {fs:?}\n")
+    };
+    let f = scenario(dir.path(), "c.toml", &text(0.1, 15.0));
+    let out = dir.path().join("map.csv");
+    let sweep = ["sweep", "--config", &f, "--param", "coulomb.fs=0.05:0.45:3"];
+    hdgear()
+        .args(sweep)
+        .args(["--param", "delta=2:14:2", "--quiet", "--out"])
+        .arg(&out)
+        .assert()
+        .success();
+    let csv = std::fs::read_to_string(&out).unwrap();
+    let mut lines = csv.lines();
+    let head: Vec<&str> = lines.next().unwrap().split(',').collect();
+    assert_eq!(head[..4], ["index", "fs", "delta", "mode"]);
+    let col = |name: &str| head.iter().position(|h| *h == name).unwrap();
+    let rows: Vec<Vec<String>> = lines
+        .map(|l| l.split(',').map(str::to_string).collect())
+        .collect();
+    assert_eq!(rows.len(), 6);
+    for row in &rows {
+        let (fs, delta): (f64, f64) = (row[1].parse().unwrap(), row[2].parse().unwrap());
+        let b = bursts_of_scenario(dir.path(), &text(fs, delta));
+        let c = &b["meta"]["classification"];
+        assert_eq!(row[col("mode")], c["mode"].as_str().unwrap(), "{row:?}");
+        assert_eq!(row[col("mechanism")], c["mechanism"].as_str().unwrap());
+        let per_period = b["meta"]["bursts_per_period"].as_f64().unwrap_or(f64::NAN);
+        let here: f64 = row[col("bursts_per_period")].parse().unwrap();
+        assert!(here == per_period || (here.is_nan() && per_period.is_nan()));
+    }
+    hdgear()
+        .args(sweep)
+        .args(["--shard", "0/2", "--out"])
+        .arg(&out)
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("--shard: a sweep of a model"));
 }

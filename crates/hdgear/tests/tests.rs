@@ -38,4 +38,5 @@ mod schedule;
 mod simd;
 mod static_curve;
 mod stick_slip;
+mod sweep_model;
 mod switching_batch;

@@ -274,6 +274,32 @@ pub fn model_curve_facts(m: &Model) -> Result<(f64, bool)> {
     })
 }
 
+/// What a sweep row records of a point: its classification, its response, and the largest
+/// |dx/da| on the equilibrium curve it traverses over a ∈ [−1, 1] (∞ with a fold in range).
+pub type PointVerdict = (super::Classification, Response, f64);
+
+/// The [`PointVerdict`] of a model: its response ([`response_model`]) classified against the
+/// curve it was measured on ([`classify_model`]), and that curve's steepest slope δ/min g'.
+///
+/// ```
+/// use hdgear::{Params, burst::{BurstOptions, verdict_model}, model::Model};
+/// let p = Params::default(); // γ = 0.1: no folds, steepest at x = 1/(3α)
+/// let (_, _, slope) = verdict_model(&Model::study(&p), &BurstOptions::default()).unwrap();
+/// assert!((slope - p.delta / (p.gamma - p.critical_gamma())).abs() < 1e-9 * slope);
+/// ```
+pub fn verdict_model(m: &Model, opts: &BurstOptions) -> Result<PointVerdict> {
+    fn verdict(c: &impl StaticCurve, r: Response) -> PointVerdict {
+        let slope = c.delta().abs() / c.min_traversed_gprime();
+        (super::classify(c, &r), r, slope)
+    }
+    let r = response_model(m, opts)?;
+    Ok(match Curve::of(m)? {
+        Curve::Study(p) => verdict(&p, r),
+        Curve::Torque(c) => verdict(&c, r),
+        Curve::Scheduled(c) => verdict(&c, r),
+    })
+}
+
 /// The equilibrium curve a model's response is measured against: the equivalent study set's
 /// where there is one ([`Model::equivalent_params`]), the closed loop's of a scheduled stiffness
 /// ([`ModelCurve::scheduled`]), else the model's static torque's ([`ModelCurve::new`]).

@@ -273,7 +273,7 @@ pub trait Record: serde::Serialize {
 /// Streams records as CSV with a header row, as JSON `{"meta": …, "rows": [{…}, …]}`, row by
 /// row, or as Parquet a row group at a time ([`parquet`]), so memory stays flat however long the
 /// output.
-pub struct RecordWriter<W: Write + Send, T: Record> {
+pub struct RecordWriter<W: Write + Send, T: serde::Serialize> {
     inner: Inner<W>,
     rows: u64,
     _t: std::marker::PhantomData<fn(&T)>,
@@ -303,7 +303,9 @@ impl<W: Write + Send, T: Record> RecordWriter<W, T> {
     ) -> std::io::Result<Self> {
         Self::with_columns(w, format, meta, T::COLUMNS.to_vec())
     }
+}
 
+impl<W: Write + Send, T: serde::Serialize> RecordWriter<W, T> {
     /// As [`RecordWriter::new`], for a row type whose columns are known only at run time (a
     /// trajectory with one column per state of its model): `columns` names the fields `T`
     /// writes, in order.

@@ -45,6 +45,18 @@ impl Range {
     }
 }
 
+/// The parameter `name` of `system`, or the reason it is none, naming it: how a continuation
+/// range or a sweep axis names a system's parameter.
+pub(crate) fn lookup_in<S: super::Periodic>(
+    system: &S,
+    name: &str,
+) -> std::result::Result<S::Param, String> {
+    system.param_named(name).map_err(|e| match e {
+        Error::InvalidInput { reason, .. } => format!("'{name}': {reason}"),
+        other => other.to_string(),
+    })
+}
+
 impl<P> Range<P> {
     /// Parses `NAME=FROM:TO[:log]` with NAME any parameter of `system` (a model's `fc` or
     /// `friction.fc`, [`crate::model::Model::param`]).
@@ -59,12 +71,7 @@ impl<P> Range<P> {
     /// assert!(Range::parse_for("friction.nope=0:1", &m).is_err());
     /// ```
     pub fn parse_for<S: super::Periodic<Param = P>>(text: &str, system: &S) -> Result<Range<P>> {
-        Range::parse_with(text, |name| {
-            system.param_named(name).map_err(|e| match e {
-                Error::InvalidInput { reason, .. } => format!("'{name}': {reason}"),
-                other => other.to_string(),
-            })
-        })
+        Range::parse_with(text, |name| lookup_in(system, name))
     }
 
     /// Parses `NAME=FROM:TO[:log]`, NAME by `lookup` (its error is the reason shown).

@@ -8,6 +8,8 @@
 use crate::burst::{BurstOptions, Mechanism, Mode, Rates, classify, response};
 use crate::error::{Error, Result};
 use crate::fast;
+use crate::model::{Model, ModelParam};
+use crate::output::Record;
 use crate::params::{Param, Params};
 use serde::{Deserialize, Serialize};
 use std::collections::{BTreeMap, BTreeSet};
@@ -17,12 +19,14 @@ pub mod refine;
 mod shard;
 pub use shard::{MergeError, Plan, Shard, plan};
 
-/// One axis of a grid: `NAME=START:END:COUNT[:log]`.
+/// One axis of a grid: `NAME=START:END:COUNT[:log]`, NAME one of the study's parameters
+/// ([`Axis::parse`]) or any of a model's ([`Axis::parse_for`]: `coulomb.fs`).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Axis {
-    /// The swept parameter (serialised as `name`: alpha, gamma, eps, mu, delta, omega).
+pub struct Axis<P = Param> {
+    /// The swept parameter (serialised as `name`: alpha, gamma, eps, mu, delta, omega, or a
+    /// model's parameter name).
     #[serde(rename = "name")]
-    pub param: Param,
+    pub param: P,
     /// First value.
     pub start: f64,
     /// Last value.
@@ -34,7 +38,8 @@ pub struct Axis {
 }
 
 impl Axis {
-    /// Parses `NAME=START:END:COUNT[:log]`; errors name the offending text.
+    /// Parses `NAME=START:END:COUNT[:log]` with NAME one of the study's parameters; errors name
+    /// the offending text.
     ///
     /// ```
     /// let ax = hdgear::sweep::Axis::parse("gamma=0.05:30:200:log").unwrap();
@@ -42,6 +47,39 @@ impl Axis {
     /// assert!((ax.value(199) - 30.0).abs() < 1e-12);
     /// ```
     pub fn parse(text: &str) -> Result<Axis> {
+        Axis::parse_with(text, |name| {
+            name.parse().map_err(|_| {
+                format!(
+                    "unknown parameter '{name}' (expected one of {})",
+                    Param::ALL.map(Param::name).join(", ")
+                )
+            })
+        })
+    }
+}
+
+impl<P> Axis<P> {
+    /// Parses `NAME=START:END:COUNT[:log]` with NAME any parameter of `system` (a model's `fs`
+    /// or `coulomb.fs`, [`crate::model::Model::param`]).
+    ///
+    /// ```
+    /// use hdgear::{Params, model::{Model, terms::AnyTerm}, sweep::Axis};
+    /// let m = Model::study(&Params::default())
+    ///     .with_term(AnyTerm::new("friction", &[0.1, 0.05]).unwrap())
+    ///     .unwrap();
+    /// let ax = Axis::parse_for("friction.fc=0:0.5:11", &m).unwrap();
+    /// assert_eq!((ax.param.name(), ax.count), ("fc", 11));
+    /// assert!(Axis::parse_for("friction.nope=0:1:2", &m).is_err());
+    /// ```
+    pub fn parse_for<S: Sweep<Param = P>>(text: &str, system: &S) -> Result<Axis<P>> {
+        Axis::parse_with(text, |name| crate::periodic::lookup_in(system, name))
+    }
+
+    /// Parses `NAME=START:END:COUNT[:log]`, NAME by `lookup` (its error is the reason shown).
+    fn parse_with(
+        text: &str,
+        lookup: impl FnOnce(&str) -> std::result::Result<P, String>,
+    ) -> Result<Axis<P>> {
         let bad = |reason: &str| Error::InvalidInput {
             what: "sweep axis",
             text: text.to_string(),
@@ -50,13 +88,7 @@ impl Axis {
         let (name, spec) = text
             .split_once('=')
             .ok_or_else(|| bad("expected NAME=START:END:COUNT[:log]"))?;
-        let name = name.trim();
-        let param: Param = name.parse().map_err(|_| {
-            bad(&format!(
-                "unknown parameter '{name}' (expected one of {})",
-                Param::ALL.map(Param::name).join(", ")
-            ))
-        })?;
+        let param = lookup(name.trim()).map_err(|reason| bad(&reason))?;
         let parts: Vec<&str> = spec.split(':').map(str::trim).collect();
         if !(parts.len() == 3 || parts.len() == 4) {
             return Err(bad("expected NAME=START:END:COUNT[:log]"));
@@ -115,21 +147,192 @@ impl Axis {
     }
 }
 
-/// A grid of one or two axes over a base parameter set. Index i runs over the first axis fastest.
+/// What a grid sweeps: the study's parameter set ([`Params`], its rows measured 16 at a time by
+/// the batch integrator) or a model assembled from terms ([`Model`], any of its parameters on an
+/// axis), each row the burst verdict on one point.
+pub trait Sweep: crate::periodic::Periodic + PartialEq {
+    /// What a row records of its point: the study's six parameters, or a model's swept values.
+    type Point: Serialize + Copy + PartialEq + std::fmt::Debug + Send;
+    /// The system with one parameter set to `value`, unchecked where it can be (a grid checks
+    /// every point once, [`Sweep::check_point`]).
+    fn set(&self, param: Self::Param, value: f64) -> Result<Self>;
+    /// Checks a grid point (an error names the value).
+    fn check_point(&self) -> Result<()>;
+    /// The record of a point swept on `axes`.
+    fn point_of(&self, axes: &[Axis<Self::Param>]) -> Self::Point;
+    /// The rows of (index, point) pairs measured with `opts`.
+    fn rows(
+        points: &[(usize, Self)],
+        axes: &[Axis<Self::Param>],
+        opts: &BurstOptions,
+    ) -> Vec<SweepRow<Self::Point>>;
+    /// How many points a worker takes at once (the batch integrator's lanes for the study).
+    const CHUNK: usize;
+    /// The column names of the rows of a grid over `axes`, in field order.
+    fn columns(axes: &[Axis<Self::Param>]) -> Vec<&'static str>;
+    /// The (name, value) of each parameter a point records.
+    fn entries(point: &Self::Point) -> Vec<(&'static str, f64)>;
+    /// A row read back by position from a CSV record with the columns of [`Sweep::columns`].
+    fn read_row(
+        record: &csv::StringRecord,
+        axes: &[Axis<Self::Param>],
+    ) -> std::result::Result<SweepRow<Self::Point>, csv::Error>;
+}
+
+/// The columns of a row after its point's: the burst verdict's.
+fn verdict_columns() -> &'static [&'static str] {
+    &<SweepRow as Record>::COLUMNS[1 + Param::ALL.len()..]
+}
+
+impl Sweep for Params {
+    type Point = Params;
+    fn set(&self, param: Param, value: f64) -> Result<Params> {
+        Ok(self.with(param, value))
+    }
+    fn check_point(&self) -> Result<()> {
+        self.validate().map(|_| ())
+    }
+    fn point_of(&self, _axes: &[Axis]) -> Params {
+        *self
+    }
+    fn rows(points: &[(usize, Params)], _axes: &[Axis], opts: &BurstOptions) -> Vec<SweepRow> {
+        run_points(points, opts)
+    }
+    const CHUNK: usize = crate::batch::LANES;
+    fn columns(_axes: &[Axis]) -> Vec<&'static str> {
+        <SweepRow as Record>::COLUMNS.to_vec()
+    }
+    fn entries(point: &Params) -> Vec<(&'static str, f64)> {
+        Param::ALL.map(|q| (q.name(), point.value(q))).to_vec()
+    }
+    fn read_row(record: &csv::StringRecord, _axes: &[Axis]) -> csv::Result<SweepRow> {
+        record.deserialize(None)
+    }
+}
+
+impl Sweep for Model {
+    type Point = Values;
+    fn set(&self, param: ModelParam, value: f64) -> Result<Model> {
+        self.with(param, value)
+    }
+    fn check_point(&self) -> Result<()> {
+        self.check()
+    }
+    fn point_of(&self, axes: &[Axis<ModelParam>]) -> Values {
+        let mut v = Values {
+            names: [""; 2],
+            values: [0.0; 2],
+            len: axes.len().min(2),
+        };
+        for (k, ax) in axes.iter().take(2).enumerate() {
+            v.names[k] = ax.param.name();
+            v.values[k] = self.get(ax.param);
+        }
+        v
+    }
+    fn rows(
+        points: &[(usize, Model)],
+        axes: &[Axis<ModelParam>],
+        opts: &BurstOptions,
+    ) -> Vec<SweepRow<Values>> {
+        points
+            .iter()
+            .map(|(i, m)| row(*i, m.point_of(axes), crate::burst::verdict_model(m, opts)))
+            .collect()
+    }
+    const CHUNK: usize = 1;
+    fn columns(axes: &[Axis<ModelParam>]) -> Vec<&'static str> {
+        let names = axes.iter().map(|a| a.param.name());
+        std::iter::once("index")
+            .chain(names)
+            .chain(verdict_columns().iter().copied())
+            .collect()
+    }
+    fn entries(point: &Values) -> Vec<(&'static str, f64)> {
+        point.iter().collect()
+    }
+    fn read_row(
+        record: &csv::StringRecord,
+        axes: &[Axis<ModelParam>],
+    ) -> csv::Result<SweepRow<Values>> {
+        // by position: the index, one value per axis, then the verdict's columns (read as one
+        // tuple whose nested statistics are flat columns, as a study row's are)
+        let k = axes.len().min(2);
+        let head = csv::StringRecord::from(record.iter().take(1 + k).collect::<Vec<_>>());
+        let (index, values): (usize, Vec<f64>) = head.deserialize(None)?;
+        let tail = csv::StringRecord::from(record.iter().skip(1 + k).collect::<Vec<_>>());
+        let (mode, mechanism, rates, max_slope, error) = tail.deserialize(None)?;
+        let mut point = Values {
+            names: [""; 2],
+            values: [0.0; 2],
+            len: k,
+        };
+        for (j, (ax, v)) in axes.iter().zip(values).enumerate().take(k) {
+            point.names[j] = ax.param.name();
+            point.values[j] = v;
+        }
+        Ok(SweepRow {
+            index,
+            params: point,
+            mode,
+            mechanism,
+            rates,
+            max_slope,
+            error,
+        })
+    }
+}
+
+/// A model grid point's record: the values of the swept parameters, written as columns named
+/// by the parameters (`fs`, `delta`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Values {
+    names: [&'static str; 2],
+    values: [f64; 2],
+    len: usize,
+}
+
+impl Values {
+    /// (name, value) of each swept parameter, in axis order.
+    pub fn iter(&self) -> impl Iterator<Item = (&'static str, f64)> + '_ {
+        self.names[..self.len]
+            .iter()
+            .copied()
+            .zip(self.values[..self.len].iter().copied())
+    }
+}
+
+impl Serialize for Values {
+    fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
+        use serde::ser::SerializeStruct;
+        let mut out = s.serialize_struct("Values", self.len)?;
+        for (name, value) in self.iter() {
+            out.serialize_field(name, &value)?;
+        }
+        out.end()
+    }
+}
+
+/// A grid of one or two axes over a base system (the study's parameter set, or a model). Index i
+/// runs over the first axis fastest.
 ///
 /// Deserialising does not check it: pass a grid read from a file through [`Grid::new`].
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Grid {
+#[serde(bound(
+    serialize = "S: Serialize, S::Param: Serialize",
+    deserialize = "S: Deserialize<'de>, S::Param: Deserialize<'de>"
+))]
+pub struct Grid<S: Sweep = Params> {
     /// The parameters not swept.
-    pub base: Params,
+    pub base: S,
     /// One or two axes with distinct names.
-    pub axes: Vec<Axis>,
+    pub axes: Vec<Axis<S::Param>>,
 }
 
-impl Grid {
+impl<S: Sweep> Grid<S> {
     /// Checks the axes (one or two, distinct) and that every grid point is a valid parameter set,
     /// so an impossible range fails before any work is done.
-    pub fn new(base: Params, axes: Vec<Axis>) -> Result<Grid> {
+    pub fn new(base: S, axes: Vec<Axis<S::Param>>) -> Result<Grid<S>> {
         if axes.is_empty() || axes.len() > 2 {
             return Err(Error::InvalidInput {
                 what: "sweep axis",
@@ -154,7 +357,7 @@ impl Grid {
             });
         }
         for i in 0..g.len() {
-            g.point(i).validate()?;
+            g.at(i)?;
         }
         Ok(g)
     }
@@ -169,27 +372,42 @@ impl Grid {
         self.len() == 0
     }
 
-    /// The parameter set at index i.
-    pub fn point(&self, i: usize) -> Params {
+    /// The system at index i, checked.
+    pub fn at(&self, i: usize) -> Result<S> {
+        let p = self.set_axes(i)?;
+        p.check_point()?;
+        Ok(p)
+    }
+
+    /// The base with each axis set to its value at index i ([`Sweep::set`]).
+    fn set_axes(&self, i: usize) -> Result<S> {
         let mut p = self.base;
         let mut rest = i;
         for ax in &self.axes {
             let j = rest % ax.count;
             rest /= ax.count;
-            p = p.with(ax.param, ax.value(j));
+            p = p.set(ax.param, ax.value(j))?;
         }
-        p
+        Ok(p)
+    }
+}
+
+impl Grid {
+    /// The parameter set at index i (unchecked: [`Grid::new`] checked every point).
+    pub fn point(&self, i: usize) -> Params {
+        // setting a study parameter cannot fail ([`Sweep::set`] for `Params`)
+        self.set_axes(i).unwrap_or(self.base)
     }
 }
 
 /// One sweep result: the CSV columns of `hdgear sweep` (nested structs are written as their
 /// fields in order, so the columns stay flat; JSON keeps the nesting).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct SweepRow {
+pub struct SweepRow<V = Params> {
     /// Grid index (first axis fastest).
     pub index: usize,
-    /// The point's parameters.
-    pub params: Params,
+    /// The point's parameters (the study's six; a model's swept ones, [`Values`]).
+    pub params: V,
     /// Oscillation mode (empty when the point failed: see `error`).
     pub mode: Option<Mode>,
     /// Mechanism (empty when the point failed).
@@ -204,7 +422,7 @@ pub struct SweepRow {
 
 /// Runs one point.
 pub fn run_point(index: usize, p: &Params, opts: &BurstOptions) -> SweepRow {
-    row(index, p, response(p, opts))
+    row_of(index, p, response(p, opts))
 }
 
 /// The rows of (index, parameters) pairs, measured together through the batch integrator
@@ -217,26 +435,32 @@ pub fn run_points(points: &[(usize, Params)], opts: &BurstOptions) -> Vec<SweepR
     points
         .iter()
         .zip(responses)
-        .map(|(&(i, p), r)| row(i, &p, r))
+        .map(|(&(i, p), r)| row_of(i, &p, r))
         .collect()
 }
 
 /// The row of point `index` from its measured response (or the error that stopped it).
-fn row(index: usize, p: &Params, result: Result<crate::burst::Response>) -> SweepRow {
-    let result = result.map(|r| {
+fn row_of(index: usize, p: &Params, result: Result<crate::burst::Response>) -> SweepRow {
+    let verdict = result.map(|r| {
         let slope = fast::max_slope(p, fast::A_RANGE).value;
         (classify(p, &r), r, slope)
     });
+    row(index, *p, verdict)
+}
+
+/// The row of point `index` recorded as `point` from its classification, response and largest
+/// |dx/da| (or the error that stopped it).
+fn row<V>(index: usize, point: V, verdict: Result<crate::burst::PointVerdict>) -> SweepRow<V> {
     let mut row = SweepRow {
         index,
-        params: *p,
+        params: point,
         mode: None,
         mechanism: None,
         rates: Rates::unknown(),
         max_slope: f64::NAN,
         error: String::new(),
     };
-    match result {
+    match verdict {
         Ok((c, r, slope)) => {
             row.mode = Some(c.mode);
             row.mechanism = Some(c.mechanism);
@@ -254,29 +478,29 @@ fn row(index: usize, p: &Params, result: Result<crate::burst::Response>) -> Swee
 /// memory stays flat however large the grid). Returns when all are done. Points run
 /// [`LANES`](crate::batch::LANES) at a time through the batch integrator
 /// ([`crate::burst::responses`]).
-pub fn run(
-    grid: &Grid,
+pub fn run<S: Sweep>(
+    grid: &Grid<S>,
     opts: &BurstOptions,
     todo: &[usize],
     threads: usize,
-    on_row: impl FnMut(SweepRow),
+    on_row: impl FnMut(SweepRow<S::Point>),
 ) -> Result<()> {
     opts.validate()?;
-    let rows = |chunk: &[(usize, Params)]| run_points(chunk, opts);
-    run_chunked(grid, todo, crate::batch::LANES, threads, rows, on_row)
+    let rows = |chunk: &[(usize, S)]| S::rows(chunk, &grid.axes, opts);
+    run_chunked(grid, todo, S::CHUNK, threads, rows, on_row)
 }
 
 /// Runs `point(i, parameters of i)` for the grid points `todo` on `threads` worker threads (0:
 /// one per core) and calls `on_row` from the calling thread with each result in `todo` order, as
 /// [`run`] does: the one parallel loop of sweeps, maps and Lyapunov maps.
-pub fn run_with<R: Send>(
-    grid: &Grid,
+pub fn run_with<S: Sweep, R: Send>(
+    grid: &Grid<S>,
     todo: &[usize],
     threads: usize,
-    point: impl Fn(usize, &Params) -> R + Sync,
+    point: impl Fn(usize, &S) -> R + Sync,
     on_row: impl FnMut(R),
 ) -> Result<()> {
-    let each = |chunk: &[(usize, Params)]| chunk.iter().map(|(i, p)| point(*i, p)).collect();
+    let each = |chunk: &[(usize, S)]| chunk.iter().map(|(i, p)| point(*i, p)).collect();
     run_chunked(grid, todo, 1, threads, each, on_row)
 }
 
@@ -319,14 +543,19 @@ pub fn pool(threads: usize) -> Result<rayon::ThreadPool> {
 /// [`run_with`] for work done `chunk` points at a time: `points` gets up to `chunk` (index,
 /// parameters) pairs and returns their results. Each worker takes the next chunk of `todo`; the
 /// results of a chunk that finishes before an earlier one wait until that one is passed on.
-pub fn run_chunked<R: Send>(
-    grid: &Grid,
+pub fn run_chunked<S: Sweep, R: Send>(
+    grid: &Grid<S>,
     todo: &[usize],
     chunk: usize,
     threads: usize,
-    points: impl Fn(&[(usize, Params)]) -> Vec<R> + Sync,
+    points: impl Fn(&[(usize, S)]) -> Vec<R> + Sync,
     mut on_row: impl FnMut(R),
 ) -> Result<()> {
+    // every point checked before any work (a grid's fields are public, so it may not have come
+    // through Grid::new): the workers below then set them without a failure to pass on
+    for &i in todo {
+        grid.at(i)?;
+    }
     let pool = pool(threads)?;
     let chunks: Vec<&[usize]> = todo.chunks(chunk.max(1)).collect();
     let next = AtomicUsize::new(0);
@@ -344,8 +573,10 @@ pub fn run_chunked<R: Send>(
                         loop {
                             let c = next.fetch_add(1, Ordering::Relaxed);
                             let Some(indices) = chunks.get(c) else { break };
-                            let work: Vec<(usize, Params)> =
-                                indices.iter().map(|&i| (i, grid.point(i))).collect();
+                            let work: Vec<(usize, S)> = indices
+                                .iter()
+                                .filter_map(|&i| Some((i, grid.at(i).ok()?)))
+                                .collect();
                             // the receiver only goes away if the caller panicked
                             if tx.send((c, points(&work))).is_err() {
                                 break;
@@ -375,11 +606,15 @@ pub fn run_chunked<R: Send>(
 /// part of a sharded sweep, which part. The `meta` of a sweep's JSON output, and the settings line
 /// of partial and shard files that resuming and merging check.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Settings {
+#[serde(bound(
+    serialize = "S: Serialize, S::Param: Serialize",
+    deserialize = "S: Deserialize<'de>, S::Param: Deserialize<'de>"
+))]
+pub struct Settings<S: Sweep = Params> {
     /// hdgear's version.
     pub version: String,
     /// The grid.
-    pub grid: Grid,
+    pub grid: Grid<S>,
     /// Detection options and tolerances.
     pub options: BurstOptions,
     /// The part of the grid computed (absent for a whole sweep).
@@ -387,9 +622,9 @@ pub struct Settings {
     pub shard: Option<Shard>,
 }
 
-impl Settings {
+impl<S: Sweep> Settings<S> {
     /// The settings of the whole `grid` run with `options` by this version.
-    pub fn new(grid: &Grid, options: &BurstOptions) -> Settings {
+    pub fn new(grid: &Grid<S>, options: &BurstOptions) -> Settings<S> {
         Settings {
             version: env!("CARGO_PKG_VERSION").to_string(),
             grid: grid.clone(),
@@ -399,7 +634,7 @@ impl Settings {
     }
 
     /// The same settings for one shard of the grid.
-    pub fn with_shard(mut self, shard: Option<Shard>) -> Settings {
+    pub fn with_shard(mut self, shard: Option<Shard>) -> Settings<S> {
         self.shard = shard;
         self
     }
@@ -414,25 +649,16 @@ impl Settings {
 
     /// The first setting in which `self` and `other` differ (keys as paths into the JSON form,
     /// e.g. `grid.axes[0].end`), or `None` when they agree.
-    pub fn first_difference(&self, other: &Settings) -> Option<Difference> {
-        let (mut a, mut b) = (BTreeMap::new(), BTreeMap::new());
-        flatten("", &serde_json::to_value(self).ok()?, &mut a);
-        flatten("", &serde_json::to_value(other).ok()?, &mut b);
-        let keys: BTreeSet<&String> = a.keys().chain(b.keys()).collect();
-        keys.into_iter().find_map(|k| {
-            let (x, y) = (a.get(k), b.get(k));
-            let text = |v: Option<&String>| v.map_or_else(|| "absent".to_string(), Clone::clone);
-            (x != y).then(|| Difference {
-                key: k.clone(),
-                here: text(x),
-                there: text(y),
-            })
-        })
+    pub fn first_difference(&self, other: &Settings<S>) -> Option<Difference> {
+        first_difference(
+            &serde_json::to_value(self).ok()?,
+            &serde_json::to_value(other).ok()?,
+        )
     }
 
     /// Checks one row read back from a file written with these settings: a point these settings
     /// compute (index in the grid and in the shard) with that point's parameters.
-    pub fn check_row(&self, row: &SweepRow) -> std::result::Result<(), RowError> {
+    pub fn check_row(&self, row: &SweepRow<S::Point>) -> std::result::Result<(), RowError> {
         let i = row.index;
         if i >= self.grid.len() {
             return Err(RowError::OutsideGrid {
@@ -443,16 +669,39 @@ impl Settings {
         if let Some(s) = self.shard.filter(|s| !s.contains(i)) {
             return Err(RowError::OutsideShard { index: i, shard: s });
         }
-        let want = self.grid.point(i);
-        if want != row.params {
+        let want = self
+            .grid
+            .set_axes(i)
+            .ok()
+            .map(|p| p.point_of(&self.grid.axes));
+        if want.as_ref() != Some(&row.params) {
             return Err(RowError::OtherParameters {
                 index: i,
-                found: Box::new(row.params),
-                grid: Box::new(want),
+                found: S::entries(&row.params),
+                grid: want.map(|w| S::entries(&w)).unwrap_or_default(),
             });
         }
         Ok(())
     }
+}
+
+/// The first setting in which the JSON forms `here` and `there` of two [`Settings`] differ (keys
+/// as paths, e.g. `grid.axes[0].end`): how a file's settings line is compared with a sweep's
+/// whatever it sweeps (a model's settings are written, not read back).
+pub fn first_difference(here: &serde_json::Value, there: &serde_json::Value) -> Option<Difference> {
+    let (mut a, mut b) = (BTreeMap::new(), BTreeMap::new());
+    flatten("", here, &mut a);
+    flatten("", there, &mut b);
+    let keys: BTreeSet<&String> = a.keys().chain(b.keys()).collect();
+    keys.into_iter().find_map(|k| {
+        let (x, y) = (a.get(k), b.get(k));
+        let text = |v: Option<&String>| v.map_or_else(|| "absent".to_string(), Clone::clone);
+        (x != y).then(|| Difference {
+            key: k.clone(),
+            here: text(x),
+            there: text(y),
+        })
+    })
 }
 
 /// One setting in which two [`Settings`] differ.
@@ -490,26 +739,21 @@ pub enum RowError {
     OtherParameters {
         /// The row's index.
         index: usize,
-        /// The row's parameters.
-        found: Box<Params>,
-        /// The grid's parameters at that index.
-        grid: Box<Params>,
+        /// The row's parameters, (name, value).
+        found: Vec<(&'static str, f64)>,
+        /// The grid's parameters at that index (none when the grid cannot set them).
+        grid: Vec<(&'static str, f64)>,
     },
 }
 
 /// "gamma = 0.2 (the grid has 0.1 there)" for each parameter in which `found` differs from
 /// `grid`.
-fn differing(found: &Params, grid: &Params) -> String {
-    Param::ALL
+fn differing(found: &[(&'static str, f64)], grid: &[(&'static str, f64)]) -> String {
+    found
         .iter()
-        .filter(|&&q| found.value(q).to_bits() != grid.value(q).to_bits())
-        .map(|&q| {
-            format!(
-                "{q} = {:?} (the grid has {:?} there)",
-                found.value(q),
-                grid.value(q)
-            )
-        })
+        .zip(grid)
+        .filter(|((_, f), (_, g))| f.to_bits() != g.to_bits())
+        .map(|((name, f), (_, g))| format!("{name} = {f:?} (the grid has {g:?} there)"))
         .collect::<Vec<_>>()
         .join(", ")
 }

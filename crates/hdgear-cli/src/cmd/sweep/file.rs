@@ -6,8 +6,8 @@
 //! appended to row by row, and reads back bit for bit.
 
 use anyhow::{Context, Result, bail};
-use hdgear::output::Record;
-use hdgear::sweep::{Settings, SweepRow};
+use hdgear::params::Params;
+use hdgear::sweep::{Settings, Sweep, SweepRow};
 use std::collections::BTreeMap;
 use std::fs::{File, OpenOptions};
 use std::io::{BufRead, Read, Write};
@@ -29,17 +29,17 @@ pub struct RowFile(csv::Writer<hdgear::output::AtomicFile>);
 
 impl RowFile {
     /// Starts the row file of `settings` at `path`.
-    pub fn create(path: &Path, settings: &Settings) -> Result<RowFile> {
+    pub fn create<S: Sweep>(path: &Path, settings: &Settings<S>) -> Result<RowFile> {
         let mut f = hdgear::output::AtomicFile::create(path)?;
         writeln!(f, "{HEADER_TAG}{}", serde_json::to_string(settings)?)?;
         // the header by hand: csv cannot name the columns of nested structs itself
         let mut w = csv::WriterBuilder::new().has_headers(false).from_writer(f);
-        w.write_record(SweepRow::COLUMNS)?;
+        w.write_record(S::columns(&settings.grid.axes))?;
         Ok(RowFile(w))
     }
 
     /// Adds a row.
-    pub fn row(&mut self, r: &SweepRow) -> Result<()> {
+    pub fn row(&mut self, r: &(impl serde::Serialize + ?Sized)) -> Result<()> {
         Ok(self.0.serialize(r)?)
     }
 
@@ -54,7 +54,11 @@ impl RowFile {
 }
 
 /// Writes a row file afresh, atomically: the settings line, the column names and `rows`.
-pub fn write(path: &Path, settings: &Settings, rows: &[SweepRow]) -> Result<()> {
+pub fn write<S: Sweep>(
+    path: &Path,
+    settings: &Settings<S>,
+    rows: &[SweepRow<S::Point>],
+) -> Result<()> {
     let mut f = RowFile::create(path, settings)?;
     for r in rows {
         f.row(r)?;
@@ -74,10 +78,19 @@ pub fn append(path: &Path) -> Result<csv::Writer<File>> {
 }
 
 /// The rows of a row file, in file order, each a parse result.
-pub type Rows = Box<dyn Iterator<Item = Result<SweepRow>>>;
+pub type Rows<P = Params> = Box<dyn Iterator<Item = Result<SweepRow<P>>>>;
 
-/// Opens a row file: its settings, and its rows as they are read.
+/// Opens a study sweep's row file: its settings, and its rows as they are read.
 pub fn open(path: &Path) -> Result<(Settings, Rows)> {
+    let json = settings_line(path)?;
+    let settings: Settings = serde_json::from_value(json)
+        .with_context(|| format!("{}: unreadable settings line", path.display()))?;
+    let rows = rows::<Params>(path, &settings.grid.axes)?;
+    Ok((settings, rows))
+}
+
+/// The settings line of a row file, as JSON.
+fn settings_line(path: &Path) -> Result<serde_json::Value> {
     let file = hdgear::output::open_input(path)
         .with_context(|| format!("cannot read {}", path.display()))?;
     let mut first = String::new();
@@ -93,33 +106,46 @@ pub fn open(path: &Path) -> Result<(Settings, Rows)> {
             HEADER_TAG.trim()
         );
     };
-    let settings: Settings = serde_json::from_str(json)
-        .with_context(|| format!("{}: unreadable settings line", path.display()))?;
+    serde_json::from_str(json)
+        .with_context(|| format!("{}: unreadable settings line", path.display()))
+}
+
+/// The rows of the row file at `path` of a grid over `axes`, as they are read.
+fn rows<S: Sweep>(path: &Path, axes: &[hdgear::sweep::Axis<S::Param>]) -> Result<Rows<S::Point>>
+where
+    S::Param: 'static,
+    S::Point: 'static,
+{
     let mut rdr = csv::ReaderBuilder::new()
         .comment(Some(b'#'))
         .from_path(path)
         .with_context(|| format!("cannot read {}", path.display()))?;
-    if rdr.headers()?.iter().ne(SweepRow::COLUMNS.iter().copied()) {
+    if rdr.headers()?.iter().ne(S::columns(axes)) {
         bail!(
             "{} has other columns than this hdgear writes: delete it to start over",
             path.display()
         );
     }
     let name = path.display().to_string();
+    let axes = axes.to_vec();
     // by position: the row's nested parameters and statistics are flat columns
     let rows = rdr.into_records().enumerate().map(move |(n, rec)| {
-        rec.and_then(|r| r.deserialize::<SweepRow>(None))
+        rec.and_then(|r| S::read_row(&r, &axes))
             .with_context(|| format!("{name}: row {} is unreadable", n + 1))
     });
-    Ok((settings, Box::new(rows)))
+    Ok(Box::new(rows))
 }
 
 /// Rows already in a partial file, checked against the settings `want`: a resume. A torn last
 /// line (a write cut by a kill) ends the rows kept; identical duplicates are dropped; conflicting
 /// ones are refused.
-pub fn read_partial(path: &Path, want: &Settings) -> Result<Vec<SweepRow>> {
-    let (have, rows) = open(path)?;
-    if let Some(d) = have.first_difference(want) {
+pub fn read_partial<S: Sweep>(path: &Path, want: &Settings<S>) -> Result<Vec<SweepRow<S::Point>>>
+where
+    S::Param: 'static,
+    S::Point: 'static,
+{
+    let have = settings_line(path)?;
+    if let Some(d) = hdgear::sweep::first_difference(&have, &serde_json::to_value(want)?) {
         bail!(
             "--resume: {} was computed with other settings ({} was {} there and is {} now): \
              rerun with the same settings, or delete it to start over",
@@ -129,12 +155,12 @@ pub fn read_partial(path: &Path, want: &Settings) -> Result<Vec<SweepRow>> {
             d.there
         );
     }
-    let mut kept: BTreeMap<usize, SweepRow> = BTreeMap::new();
-    for row in rows.map_while(Result::ok) {
+    let mut kept: BTreeMap<usize, SweepRow<S::Point>> = BTreeMap::new();
+    for row in rows::<S>(path, &want.grid.axes)?.map_while(Result::ok) {
         want.check_row(&row)
             .with_context(|| format!("{} belongs to another sweep", path.display()))?;
         if let Some(prev) = kept.get(&row.index) {
-            let ser = |r: &SweepRow| serde_json::to_string(r).unwrap_or_default();
+            let ser = |r: &SweepRow<S::Point>| serde_json::to_string(r).unwrap_or_default();
             if ser(prev) != ser(&row) {
                 bail!(
                     "{} holds two different rows for grid point {}: it was written by two runs \

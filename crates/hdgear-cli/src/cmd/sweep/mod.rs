@@ -13,11 +13,13 @@ mod slurm;
 
 use crate::cli::SweepArgs;
 use crate::sink::warn;
+use crate::sources::System;
 use anyhow::{Context, Result, anyhow, bail};
 use file::sibling;
 use hdgear::burst::BurstOptions;
 use hdgear::output::Format;
-use hdgear::sweep::{Axis, Grid, Settings, Shard, SweepRow};
+use hdgear::params::{Params, Warning};
+use hdgear::sweep::{Axis, Grid, Settings, Shard, Sweep, SweepRow};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::collections::HashSet;
 use std::fs::{File, OpenOptions};
@@ -93,9 +95,9 @@ fn progress_bar(len: usize, done: usize) -> Result<ProgressBar> {
 }
 
 /// A checked sweep: what to compute and where it goes.
-pub struct Job {
+pub struct Job<S: Sweep = Params> {
     /// Everything that changes a row (with the shard, when one).
-    pub settings: Settings,
+    pub settings: Settings<S>,
     /// The user's --out.
     pub out: PathBuf,
     /// Where this run writes: `out`, or the shard's file.
@@ -106,16 +108,23 @@ pub struct Job {
     pub resume: bool,
 }
 
-/// Arguments → a checked job (every grid point validated before any work).
+/// Arguments → a checked job of the study's model (every grid point validated before any work):
+/// what `--slurm` writes and checks its scripts against.
 pub fn check(a: &SweepArgs) -> Result<Job> {
     let (base, warnings) = a.params.resolve()?;
+    check_on(a, base, &warnings)
+}
+
+/// Arguments → a checked job on `base`, the study's set or a model, whose parameters the axes
+/// name.
+fn check_on<S: Sweep>(a: &SweepArgs, base: S, warnings: &[Warning]) -> Result<Job<S>> {
     let opts: BurstOptions = a.burst.options()?;
     Format::from_path(&a.out).context("--out")?;
     let axes = a
         .grid
         .axes
         .iter()
-        .map(|s| Axis::parse(s))
+        .map(|s| Axis::parse_for(s, &base))
         .collect::<hdgear::Result<Vec<_>>>()
         .context("--param")?;
     let grid = Grid::new(base, axes)?;
@@ -130,7 +139,7 @@ pub fn check(a: &SweepArgs) -> Result<Job> {
     }
     let file = shard.map_or_else(|| a.out.clone(), |s| shard_path(&a.out, s));
     hdgear::output::check_output_path(&file)?;
-    warn(&warnings);
+    warn(warnings);
     Ok(Job {
         settings: Settings::new(&grid, &opts).with_shard(shard),
         out: a.out.clone(),
@@ -140,40 +149,63 @@ pub fn check(a: &SweepArgs) -> Result<Job> {
     })
 }
 
-/// Runs the sweep command: writes the SLURM scripts, or computes.
+/// Runs the sweep command: writes the SLURM scripts, or computes, on the study's set or the
+/// scenario's model.
 pub fn run(a: SweepArgs) -> Result<()> {
-    let cluster = a.slurm.map(|n| slurm::Cluster::check(&a, n)).transpose()?;
-    let job = check(&a)?;
-    match cluster {
-        Some(c) => slurm::write(&job, &c),
-        None => compute(&job),
+    let (system, warnings) = a.params.resolve_system()?;
+    match system {
+        System::Study(p) => {
+            let cluster = a.slurm.map(|n| slurm::Cluster::check(&a, n)).transpose()?;
+            let job = check_on(&a, p, &warnings)?;
+            match cluster {
+                Some(c) => slurm::write(&job, &c),
+                None => compute(&job),
+            }
+        }
+        System::Model(m) => {
+            if let Some(flag) = [
+                ("--shard", a.shard.is_some()),
+                ("--slurm", a.slurm.is_some()),
+            ]
+            .iter()
+            .find_map(|(flag, given)| given.then_some(flag))
+            {
+                bail!(
+                    "{flag}: a sweep of a model with term tables runs on one machine (its \
+                     shards' settings name the model, which hdgear merge does not read back)"
+                );
+            }
+            compute(&check_on(&a, m, &warnings)?)
+        }
     }
 }
 
 /// Where a sweep's rows end up, written in grid order as they come.
-enum Output {
+enum Output<P: serde::Serialize> {
     /// A whole sweep: FILE in the format of its extension.
-    Records(hdgear::output::RecordWriter<crate::sink::Sink, SweepRow>),
+    Records(hdgear::output::RecordWriter<crate::sink::Sink, SweepRow<P>>),
     /// A shard: its row file.
     Shard(Box<file::RowFile>),
 }
 
-impl Output {
-    fn open(job: &Job) -> Result<Output> {
+impl<P: serde::Serialize> Output<P> {
+    fn open<S: Sweep<Point = P>>(job: &Job<S>) -> Result<Output<P>> {
         Ok(match job.settings.shard {
             None => {
                 let (sink, format) = crate::sink::Sink::open(Some(&job.file))?;
-                Output::Records(hdgear::output::RecordWriter::new(
+                let columns = S::columns(&job.settings.grid.axes);
+                Output::Records(hdgear::output::RecordWriter::with_columns(
                     sink,
                     format,
                     &job.settings,
+                    columns,
                 )?)
             }
             Some(_) => Output::Shard(Box::new(file::RowFile::create(&job.file, &job.settings)?)),
         })
     }
 
-    fn row(&mut self, r: &SweepRow) -> Result<()> {
+    fn row(&mut self, r: &SweepRow<P>) -> Result<()> {
         match self {
             Output::Records(w) => Ok(w.row(r)?),
             Output::Shard(f) => f.row(r),
@@ -189,7 +221,11 @@ impl Output {
 }
 
 /// Computes a checked job.
-fn compute(job: &Job) -> Result<()> {
+fn compute<S: Sweep>(job: &Job<S>) -> Result<()>
+where
+    S::Param: 'static,
+    S::Point: 'static,
+{
     let settings = &job.settings;
     let grid = &settings.grid;
     let _lock = Lock::acquire(&job.file)?;
@@ -212,7 +248,7 @@ fn compute(job: &Job) -> Result<()> {
     // merged in before the first new row after them
     let mut finished = finished.into_iter().peekable();
     let (mut n, mut failed) = (0usize, 0usize);
-    let mut put = |out: &mut Output, row: &SweepRow| {
+    let mut put = |out: &mut Output<S::Point>, row: &SweepRow<S::Point>| {
         n += 1;
         failed += usize::from(!row.error.is_empty());
         out.row(row).with_context(context)
@@ -250,8 +286,14 @@ fn compute(job: &Job) -> Result<()> {
 
 /// FILE.partial started afresh, or for `--resume` with the rows it holds (returned, in grid
 /// order); then opened for appending.
-fn open_partial(job: &Job, partial: &Path) -> Result<(Vec<SweepRow>, csv::Writer<File>)> {
-    let mut finished: Vec<SweepRow> = Vec::new();
+type Partial<P> = (Vec<SweepRow<P>>, csv::Writer<File>);
+
+fn open_partial<S: Sweep>(job: &Job<S>, partial: &Path) -> Result<Partial<S::Point>>
+where
+    S::Param: 'static,
+    S::Point: 'static,
+{
+    let mut finished: Vec<SweepRow<S::Point>> = Vec::new();
     if job.resume && partial.exists() {
         finished = file::read_partial(partial, &job.settings)?;
     } else if partial.exists() {
@@ -275,7 +317,7 @@ fn resume_hint(partial: &Path) -> String {
 }
 
 /// Says what was written; exit code 1 when every point of a whole sweep failed.
-fn written(job: &Job, n: usize, failed: usize) -> Result<()> {
+fn written<S: Sweep>(job: &Job<S>, n: usize, failed: usize) -> Result<()> {
     let settings = &job.settings;
     match settings.shard {
         None => eprintln!("wrote {}: {n} rows, {failed} failed", job.file.display()),
