@@ -212,8 +212,19 @@ pub fn write_records<T: hdgear::output::Record>(
     meta: &impl serde::Serialize,
     rows: impl IntoIterator<Item = T>,
 ) -> Result<()> {
+    write_records_with(out, meta, T::COLUMNS.to_vec(), rows)
+}
+
+/// [`write_records`] of rows whose columns are known only at run time (a model's swept
+/// parameters): `columns` names the fields `T` writes, in order.
+pub fn write_records_with<T: serde::Serialize>(
+    out: Option<&Path>,
+    meta: &impl serde::Serialize,
+    columns: Vec<&'static str>,
+    rows: impl IntoIterator<Item = T>,
+) -> Result<()> {
     let (sink, format) = Sink::open(out)?;
-    let mut w = RecordWriter::new(sink, format, meta)?;
+    let mut w = RecordWriter::with_columns(sink, format, meta, columns)?;
     for r in rows {
         w.row(&r).context("writing the output")?;
     }

@@ -439,6 +439,22 @@ fn sweep_maps_a_coulomb_scenario_over_its_friction_level_as_bursts_sees_each_poi
         let here: f64 = row[col("bursts_per_period")].parse().unwrap();
         assert!(here == per_period || (here.is_nan() && per_period.is_nan()));
     }
+    // the Lyapunov map takes the model too; a sticking model's is refused naming the term
+    let ly = dir.path().join("ly.csv");
+    hdgear()
+        .args([
+            "lyapunov-map",
+            "--config",
+            &f,
+            "--param",
+            "coulomb.fs=0.1:0.3:2",
+            "--out",
+        ])
+        .arg(&ly)
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("'coulomb'").and(predicate::str::contains("saltation")));
+    assert!(!ly.exists());
     hdgear()
         .args(sweep)
         .args(["--shard", "0/2", "--out"])

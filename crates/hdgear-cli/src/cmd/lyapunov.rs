@@ -1,34 +1,47 @@
-//! `hdgear lyapunov-map`: the largest Lyapunov exponent over a grid of one or two parameters.
+//! `hdgear lyapunov-map`: the largest Lyapunov exponent over a grid of one or two parameters of
+//! the study's set or of a scenario's model.
 
 use crate::cli::LyapunovMapArgs;
-use crate::sink::{warn, write_records};
+use crate::sink::{warn, write_records_with};
 use anyhow::{Context, Result};
 use hdgear::periodic::{DiagramOptions, lyapunov_map};
-use hdgear::sweep::{Axis, Grid};
+use hdgear::sweep::{Axis, Grid, Sweep};
 use serde::Serialize;
 
 #[derive(Serialize)]
-struct Meta<'a> {
-    grid: &'a Grid,
+#[serde(bound = "")]
+struct Meta<'a, S: Sweep> {
+    grid: &'a Grid<S>,
     options: DiagramOptions,
 }
 
 pub fn run(a: LyapunovMapArgs) -> Result<()> {
+    let (system, warnings) = a.params.resolve_system()?;
+    crate::on_system!(system, |s| map(&a, s, &warnings))
+}
+
+/// The map over `base`, the study's set or a model, whose parameters the axes name.
+fn map<S: Sweep>(a: &LyapunovMapArgs, base: S, warnings: &[hdgear::params::Warning]) -> Result<()> {
     let axes = a
         .grid
         .axes
         .iter()
-        .map(|t| Axis::parse(t))
+        .map(|t| Axis::parse_for(t, &base))
         .collect::<hdgear::Result<Vec<_>>>()
         .context("--param")?;
     for ax in &axes {
-        if a.params.given(ax.param) {
-            anyhow::bail!("--{0} does not apply: an axis varies {0}", ax.param);
+        let name = ax.param.to_string();
+        if let Ok(q) = name.parse()
+            && a.params.given(q)
+        {
+            anyhow::bail!("--{name} does not apply: an axis varies {name}");
         }
     }
     let threads = crate::cli::threads(a.threads)?;
-    let (p, warnings) = a.params.resolve()?;
-    let grid = Grid::new(p, axes).context("--param")?;
+    // a model whose orbits the variational equations cannot follow is refused once, naming
+    // its term, before any point is computed
+    base.check_periodic()?;
+    let grid = Grid::new(base, axes).context("--param")?;
     crate::cli::check_out(&Some(a.out.clone()))?;
     if let Some(plot) = &a.plot {
         crate::cli::check_plot(plot)?;
@@ -39,7 +52,7 @@ pub fn run(a: LyapunovMapArgs) -> Result<()> {
         lyapunov: Some(a.periods.max(1)),
         ..DiagramOptions::default()
     };
-    warn(&warnings);
+    warn(warnings);
     // rows come in grid order, so the file is the same whatever the thread count
     let rows = lyapunov_map(&grid, &opts, threads)?;
     let failed = rows.iter().filter(|r| !r.error.is_empty()).count();
@@ -54,7 +67,8 @@ pub fn run(a: LyapunovMapArgs) -> Result<()> {
         grid: &grid,
         options: opts,
     };
-    write_records(Some(&a.out), &meta, rows.iter().cloned())?;
+    let columns = hdgear::sweep::columns::<S, hdgear::periodic::LyapunovRow>(&grid.axes);
+    write_records_with(Some(&a.out), &meta, columns, rows.iter().cloned())?;
     if let Some(plot) = &a.plot {
         let f = hdgear::figures::lyapunov_figure(&grid, &rows);
         hdgear::output::plot::write(&f, plot)?;

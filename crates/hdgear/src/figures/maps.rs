@@ -82,7 +82,7 @@ pub fn fold_delta(p: &Params) -> Option<f64> {
 }
 
 /// The edges of grid cell `i` on `ax`: halfway between grid values (geometric for log axes).
-pub(super) fn cell_edges(ax: &Axis, i: usize) -> (f64, f64) {
+pub(super) fn cell_edges<P>(ax: &Axis<P>, i: usize) -> (f64, f64) {
     let v = ax.value(i);
     let prev = if i > 0 { ax.value(i - 1) } else { v };
     let next = if i + 1 < ax.count { ax.value(i + 1) } else { v };

@@ -226,20 +226,18 @@ pub const LYAPUNOV_BINS: [(f64, &str); 5] = [
 ];
 
 /// The Lyapunov exponent over a grid: a curve for one axis, a map in [`LYAPUNOV_BINS`] for two.
-pub fn lyapunov_figure(grid: &crate::sweep::Grid, rows: &[crate::periodic::LyapunovRow]) -> Figure {
-    let p = grid.base;
+pub fn lyapunov_figure<S: crate::sweep::Sweep>(
+    grid: &crate::sweep::Grid<S>,
+    rows: &[crate::periodic::LyapunovRow<S::Point>],
+) -> Figure {
     let caption = format!(
         "Largest Lyapunov exponent (Benettin, variational equations) of the response reached \
-         from the default start, over {} point(s) (the other parameters: α = {}, γ = {}, ε = {}, \
-         μ = {}, δ = {}, ω = {}). For a periodic response it equals the largest Floquet exponent; \
-         −1/2 wherever the multipliers are a complex pair; near 0 at folds and period doublings.",
+         from the default start, over {} point(s) (the other parameters: {}, ω = {}). For a \
+         periodic response it equals the largest Floquet exponent; −1/2 wherever the \
+         multipliers are a complex pair; near 0 at folds and period doublings.",
         rows.len(),
-        p.alpha,
-        p.gamma,
-        p.eps,
-        p.mu,
-        p.delta,
-        p.omega
+        grid.base.caption(),
+        grid.base.omega(),
     );
     let ax = &grid.axes[0];
     if grid.axes.len() == 1 {
@@ -358,15 +356,16 @@ pub fn physical_response_figure(r: &crate::periodic::PhysicalResponse) -> Figure
 }
 
 /// The Lyapunov exponent against the one axis of a sweep.
-fn lyapunov_curve(
-    ax: &crate::sweep::Axis,
-    rows: &[crate::periodic::LyapunovRow],
+fn lyapunov_curve<P: std::fmt::Display, V>(
+    ax: &crate::sweep::Axis<P>,
+    rows: &[crate::periodic::LyapunovRow<V>],
     caption: String,
 ) -> Figure {
+    // the one axis: a row's index is its place on it
     let points = rows
         .iter()
         .filter(|r| r.lyapunov.is_finite())
-        .map(|r| (r.params.value(ax.param), r.lyapunov))
+        .map(|r| (ax.value(r.index), r.lyapunov))
         .collect();
     Figure {
         name: "lyapunov".into(),

@@ -217,11 +217,12 @@ fn advance<O: Oscillator>(o: &O, y: [f64; 2], periods: u32, tol: Options) -> Res
 
 /// One point of a Lyapunov map (`hdgear lyapunov-map`).
 #[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct LyapunovRow {
+pub struct LyapunovRow<V = crate::params::Params> {
     /// Grid index (first axis fastest).
     pub index: usize,
-    /// The point's parameters.
-    pub params: crate::params::Params,
+    /// The point's parameters (the study's six; a model's swept ones,
+    /// [`crate::sweep::Values`]).
+    pub params: V,
     /// The largest Lyapunov exponent per unit τ (NaN when the point failed).
     pub lyapunov: f64,
     /// The response's period in forcing periods (see [`DiagramPoint::period`]).
@@ -242,39 +243,43 @@ pub fn lyapunov_point(
     p: &crate::params::Params,
     opts: &DiagramOptions,
 ) -> LyapunovRow {
-    let result = (|| -> Result<(f64, Option<u32>)> {
-        p.validate()?;
-        let tol = super::method_for::<crate::params::Params>(opts.tol);
-        let periods = opts.lyapunov.unwrap_or(400).max(1);
-        let t = TAU / p.omega;
-        crate::integrate::check_budget(t * f64::from(opts.discard + opts.record + periods), &tol)?;
-        let start = crate::simulate::initial_state(p, crate::simulate::Start::Equilibrium);
-        let mut y = advance(p, start, opts.discard, tol)?;
-        let mut section = Vec::with_capacity(opts.record as usize);
-        for _ in 0..opts.record {
-            section.push(y);
-            y = advance(p, y, 1, tol)?;
-        }
-        let l = super::lyapunov(p, y, t, f64::from(periods) * t, tol)?;
-        Ok((l, least_period(&section)))
-    })();
-    LyapunovRow::new(index, p, result.map_err(|e| e.to_string()))
+    LyapunovRow::new(index, *p, lyapunov_of(p, opts).map_err(|e| e.to_string()))
 }
 
-impl LyapunovRow {
-    /// The row of point `index` from its (exponent, period) or the error that stopped it.
-    fn new(
+/// The largest Lyapunov exponent of any system whose orbits the shooting computes (the study's
+/// set, a smooth model) and the period of its response, as [`lyapunov_point`] measures them.
+pub fn lyapunov_of<S: super::Periodic>(p: &S, opts: &DiagramOptions) -> Result<(f64, Option<u32>)> {
+    p.check_periodic()?;
+    let tol = super::method_for::<S>(opts.tol);
+    let periods = opts.lyapunov.unwrap_or(400).max(1);
+    let t = TAU / p.omega();
+    crate::integrate::check_budget(t * f64::from(opts.discard + opts.record + periods), &tol)?;
+    let start = p.default_start()?;
+    let mut y = advance(p, start, opts.discard, tol)?;
+    let mut section = Vec::with_capacity(opts.record as usize);
+    for _ in 0..opts.record {
+        section.push(y);
+        y = advance(p, y, 1, tol)?;
+    }
+    let l = super::lyapunov(p, y, t, f64::from(periods) * t, tol)?;
+    Ok((l, least_period(&section)))
+}
+
+impl<V> LyapunovRow<V> {
+    /// The row of point `index` recorded as `point` from its (exponent, period) or the error
+    /// that stopped it.
+    pub(crate) fn new(
         index: usize,
-        p: &crate::params::Params,
+        point: V,
         result: std::result::Result<(f64, Option<u32>), String>,
-    ) -> LyapunovRow {
+    ) -> LyapunovRow<V> {
         let (lyapunov, period, error) = match result {
             Ok((l, k)) => (l, k, String::new()),
             Err(e) => (f64::NAN, None, e),
         };
         LyapunovRow {
             index,
-            params: *p,
+            params: point,
             lyapunov,
             period,
             error,
@@ -333,7 +338,7 @@ pub fn lyapunov_points(
                     .unwrap_or_else(|| Err("no result for this point".into())),
                 Err(e) => Err(e.to_string()),
             };
-            LyapunovRow::new(*index, p, result)
+            LyapunovRow::new(*index, *p, result)
         })
         .collect()
 }
@@ -400,20 +405,20 @@ fn measure_batch(
 /// [`lyapunov_point`] at every point of `grid` on `threads` worker threads (0: one per core),
 /// [`LANES`](crate::batch::LANES) points at a time ([`lyapunov_points`]), the rows in grid order
 /// whatever the thread count.
-pub fn lyapunov_map(
-    grid: &crate::sweep::Grid,
+pub fn lyapunov_map<S: crate::sweep::Sweep>(
+    grid: &crate::sweep::Grid<S>,
     opts: &DiagramOptions,
     threads: usize,
-) -> Result<Vec<LyapunovRow>> {
+) -> Result<Vec<LyapunovRow<S::Point>>> {
     opts.tol.validate()?;
     let mut rows = Vec::with_capacity(grid.len());
     let todo: Vec<usize> = (0..grid.len()).collect();
     crate::sweep::run_chunked(
         grid,
         &todo,
-        crate::batch::LANES,
+        S::CHUNK,
         threads,
-        |chunk| lyapunov_points(chunk, opts),
+        |chunk| S::lyapunov_rows(chunk, &grid.axes, opts),
         |r| rows.push(r),
     )?;
     Ok(rows)

@@ -11,6 +11,7 @@ use crate::fast;
 use crate::model::{Model, ModelParam};
 use crate::output::Record;
 use crate::params::{Param, Params};
+use crate::periodic::{DiagramOptions, LyapunovRow};
 use serde::{Deserialize, Serialize};
 use std::collections::{BTreeMap, BTreeSet};
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -166,22 +167,38 @@ pub trait Sweep: crate::periodic::Periodic + PartialEq {
         axes: &[Axis<Self::Param>],
         opts: &BurstOptions,
     ) -> Vec<SweepRow<Self::Point>>;
+    /// The Lyapunov map's rows of (index, point) pairs ([`crate::periodic::lyapunov_map`]).
+    fn lyapunov_rows(
+        points: &[(usize, Self)],
+        axes: &[Axis<Self::Param>],
+        opts: &DiagramOptions,
+    ) -> Vec<LyapunovRow<Self::Point>>;
     /// How many points a worker takes at once (the batch integrator's lanes for the study).
     const CHUNK: usize;
-    /// The column names of the rows of a grid over `axes`, in field order.
-    fn columns(axes: &[Axis<Self::Param>]) -> Vec<&'static str>;
+    /// The column names of a point swept on `axes`: the study's six, or the swept parameters'.
+    fn point_columns(axes: &[Axis<Self::Param>]) -> Vec<&'static str>;
     /// The (name, value) of each parameter a point records.
     fn entries(point: &Self::Point) -> Vec<(&'static str, f64)>;
-    /// A row read back by position from a CSV record with the columns of [`Sweep::columns`].
+    /// A row read back by position from a CSV record with the columns of [`columns`].
     fn read_row(
         record: &csv::StringRecord,
         axes: &[Axis<Self::Param>],
     ) -> std::result::Result<SweepRow<Self::Point>, csv::Error>;
 }
 
-/// The columns of a row after its point's: the burst verdict's.
-fn verdict_columns() -> &'static [&'static str] {
-    &<SweepRow as Record>::COLUMNS[1 + Param::ALL.len()..]
+/// The column names, in field order, of rows of the kind `R` (a [`SweepRow`], a
+/// [`LyapunovRow`]) of a grid over `axes`: `index`, the point's ([`Sweep::point_columns`]), then
+/// the row's own after the study's six.
+pub fn columns<S: Sweep, R: Record>(axes: &[Axis<S::Param>]) -> Vec<&'static str> {
+    let (index, rest) = R::COLUMNS.split_at(1);
+    let own = &rest[Param::ALL.len()..];
+    let point = S::point_columns(axes);
+    index
+        .iter()
+        .copied()
+        .chain(point)
+        .chain(own.iter().copied())
+        .collect()
 }
 
 impl Sweep for Params {
@@ -198,9 +215,16 @@ impl Sweep for Params {
     fn rows(points: &[(usize, Params)], _axes: &[Axis], opts: &BurstOptions) -> Vec<SweepRow> {
         run_points(points, opts)
     }
+    fn lyapunov_rows(
+        points: &[(usize, Params)],
+        _axes: &[Axis],
+        opts: &DiagramOptions,
+    ) -> Vec<LyapunovRow> {
+        crate::periodic::lyapunov_points(points, opts)
+    }
     const CHUNK: usize = crate::batch::LANES;
-    fn columns(_axes: &[Axis]) -> Vec<&'static str> {
-        <SweepRow as Record>::COLUMNS.to_vec()
+    fn point_columns(_axes: &[Axis]) -> Vec<&'static str> {
+        Param::NAMES.to_vec()
     }
     fn entries(point: &Params) -> Vec<(&'static str, f64)> {
         Param::ALL.map(|q| (q.name(), point.value(q))).to_vec()
@@ -240,13 +264,22 @@ impl Sweep for Model {
             .map(|(i, m)| row(*i, m.point_of(axes), crate::burst::verdict_model(m, opts)))
             .collect()
     }
-    const CHUNK: usize = 1;
-    fn columns(axes: &[Axis<ModelParam>]) -> Vec<&'static str> {
-        let names = axes.iter().map(|a| a.param.name());
-        std::iter::once("index")
-            .chain(names)
-            .chain(verdict_columns().iter().copied())
+    fn lyapunov_rows(
+        points: &[(usize, Model)],
+        axes: &[Axis<ModelParam>],
+        opts: &DiagramOptions,
+    ) -> Vec<LyapunovRow<Values>> {
+        points
+            .iter()
+            .map(|(i, m)| {
+                let measured = crate::periodic::lyapunov_of(m, opts).map_err(|e| e.to_string());
+                LyapunovRow::new(*i, m.point_of(axes), measured)
+            })
             .collect()
+    }
+    const CHUNK: usize = 1;
+    fn point_columns(axes: &[Axis<ModelParam>]) -> Vec<&'static str> {
+        axes.iter().map(|a| a.param.name()).collect()
     }
     fn entries(point: &Values) -> Vec<(&'static str, f64)> {
         point.iter().collect()

@@ -34,7 +34,7 @@ impl RowFile {
         writeln!(f, "{HEADER_TAG}{}", serde_json::to_string(settings)?)?;
         // the header by hand: csv cannot name the columns of nested structs itself
         let mut w = csv::WriterBuilder::new().has_headers(false).from_writer(f);
-        w.write_record(S::columns(&settings.grid.axes))?;
+        w.write_record(hdgear::sweep::columns::<S, SweepRow>(&settings.grid.axes))?;
         Ok(RowFile(w))
     }
 
@@ -120,7 +120,11 @@ where
         .comment(Some(b'#'))
         .from_path(path)
         .with_context(|| format!("cannot read {}", path.display()))?;
-    if rdr.headers()?.iter().ne(S::columns(axes)) {
+    if rdr
+        .headers()?
+        .iter()
+        .ne(hdgear::sweep::columns::<S, SweepRow>(axes))
+    {
         bail!(
             "{} has other columns than this hdgear writes: delete it to start over",
             path.display()

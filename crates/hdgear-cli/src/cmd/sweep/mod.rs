@@ -193,7 +193,7 @@ impl<P: serde::Serialize> Output<P> {
         Ok(match job.settings.shard {
             None => {
                 let (sink, format) = crate::sink::Sink::open(Some(&job.file))?;
-                let columns = S::columns(&job.settings.grid.axes);
+                let columns = hdgear::sweep::columns::<S, SweepRow>(&job.settings.grid.axes);
                 Output::Records(hdgear::output::RecordWriter::with_columns(
                     sink,
                     format,
