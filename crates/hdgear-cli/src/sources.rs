@@ -106,7 +106,7 @@ impl Args for ParamFlags {
 
 /// The commands that run the model a scenario's term tables assemble (the others refuse them).
 const MODEL_COMMANDS: &str = "model, simulate, bursts, analyze, equilibria, periodic, continue, \
-     frequency-response, orbit-diagram, control, sweep, lyapunov-map";
+     frequency-response, orbit-diagram, control, sweep, lyapunov-map, continue2";
 
 /// `--preset`'s help: the library's presets, a name that repeats another's set marked so.
 fn preset_help() -> String {
@@ -142,6 +142,15 @@ impl ParamArgs {
     /// Whether the flag of parameter `param` was given.
     pub fn given(&self, param: Param) -> bool {
         self.values.0.get(param).is_some()
+    }
+
+    /// Refuses the flag of the parameter called `name` (a study parameter's; a model's own have
+    /// no flag) when it was given: `what` names the option that sets it instead.
+    pub fn not_given(&self, name: &str, what: &str) -> Result<()> {
+        if name.parse().is_ok_and(|q| self.given(q)) {
+            anyhow::bail!("--{name} does not apply: {what} {name} itself");
+        }
+        Ok(())
     }
 
     /// The parameter set these sources give, validated, with its warnings. A scenario file with

@@ -277,3 +277,79 @@ fn friction_lowers_the_damping_a_law_must_add() {
     let r = response_model(&closed, &opts).unwrap();
     assert!(!classify_model(&closed, &r).unwrap().bursting);
 }
+
+/// The fold curve of a friction model in (ω, δ), started from its frequency response's folds
+/// (`hdgear continue2 --config`): at points along it, the one-parameter frequency response at
+/// that δ (a different continuation, in ln ω, whose folds are sign changes of its tangent) has a
+/// fold at that ω. The response runs over its default range, from a low ω where the orbit is
+/// unique, so it passes through both folds of the bend. Both locate the fold to the shooting's
+/// 1e-11 and the curve's residual is below 1e-10, so 1e-6 relative holds with room; friction's
+/// damping moves the cusp up in δ.
+#[test]
+fn a_friction_models_fold_curve_is_made_of_its_frequency_responses_folds() {
+    use hdgear::periodic::{CurveKind, Special, curves_from_branch};
+    let p = Params {
+        gamma: 1.0,
+        ..Params::default()
+    };
+    let m = Model::study(&p)
+        .with_term(AnyTerm::new("friction", &[0.1, 0.05]).unwrap())
+        .unwrap();
+    let ranges = [
+        Range::parse_for("omega=0.3:20:log", &m).unwrap(),
+        Range::parse_for("delta=0.5:40:log", &m).unwrap(),
+    ];
+    let opts = ContinuationOptions::default();
+    let curves = curves_from_branch(&m, ranges, CurveKind::Fold, None, 1, &opts).unwrap();
+    assert_eq!(curves.len(), 1);
+    let c = &curves[0];
+    let delta = m.param("delta").unwrap();
+    // away from the cusp (δ ≈ 1.82), where the response's two folds are a step of its own
+    // continuation apart and pass unseen between two of its points
+    let away: Vec<_> = c
+        .points
+        .iter()
+        .filter(|q| (5.0..30.0).contains(&q.params[1]))
+        .collect();
+    assert!(away.len() >= 3);
+    for q in [away[0], away[away.len() / 2], away[away.len() - 1]] {
+        let [w, d] = q.params;
+        let at = m.with(delta, d).unwrap();
+        let r = frequency_response(&at, None, &opts).unwrap();
+        let nearest = r
+            .specials()
+            .filter(|f| f.special == Some(Special::Fold))
+            .map(|f| (f.param - w).abs() / w)
+            .fold(f64::INFINITY, f64::min);
+        assert!(
+            nearest < 1e-6,
+            "no fold of the response at δ = {d} near ω = {w}: {nearest:e}"
+        );
+    }
+    // the study's own curve through the same box has its cusp lower in δ: friction's damping
+    // takes a larger forcing to fold the response
+    let study = curves_from_branch(
+        &p,
+        [
+            Range::parse("omega=0.3:20:log").unwrap(),
+            Range::parse("delta=0.5:40:log").unwrap(),
+        ],
+        CurveKind::Fold,
+        None,
+        1,
+        &opts,
+    )
+    .unwrap();
+    let lowest = |points: &[hdgear::periodic::CurvePoint2]| {
+        points
+            .iter()
+            .map(|q| q.params[1])
+            .fold(f64::INFINITY, f64::min)
+    };
+    let study_low = study
+        .iter()
+        .map(|s| lowest(&s.points))
+        .fold(f64::INFINITY, f64::min);
+    let here = lowest(&c.points);
+    assert!(here > study_low, "{here} vs {study_low}");
+}

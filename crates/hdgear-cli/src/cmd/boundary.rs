@@ -82,7 +82,12 @@ pub fn run(a: BoundaryArgs) -> Result<()> {
     };
     let figure = || {
         let logs = [r1.scale, r2.scale].map(|s| s == Scale::Log);
-        hdgear::figures::plane_figure(&[], &curves, params.map(|q| q.name()), logs)
+        hdgear::figures::plane_figure::<hdgear::params::Param>(
+            &[],
+            &curves,
+            params.map(|q| q.name()),
+            logs,
+        )
     };
     a.export.write(&doc, rows, figure)?;
     a.export.print(&doc, || summary(&curves, &kinds, params))

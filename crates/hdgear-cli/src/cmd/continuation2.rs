@@ -7,10 +7,9 @@ use crate::export::Export;
 use crate::sink::{outln, warn};
 use anyhow::{Context, Result, bail};
 use clap::Args;
-use hdgear::params::Param;
 use hdgear::periodic::{
-    Box2, Codim2, ContinuationOptions, Curve2, CurveKind, CurveRow, End, Range, Scale,
-    continue_curve, curves_at_gpds, curves_from_branch,
+    Box2, Codim2, ContinuationOptions, Curve2, CurveKind, CurveRow, End, Oscillator, Periodic,
+    Range, Scale, continue_curve, curves_at_gpds, curves_from_branch,
 };
 use serde::Serialize;
 
@@ -57,17 +56,22 @@ pub struct Continue2Args {
 
 /// What `--json` prints and `--out` carries as metadata.
 #[derive(Serialize)]
-struct Doc<'a> {
-    params: hdgear::Params,
-    ranges: [Range; 2],
+#[serde(bound = "")]
+struct Doc<'a, S: Periodic> {
+    params: S,
+    ranges: [Range<S::Param>; 2],
     options: ContinuationOptions,
-    curves: &'a [Curve2<Param>],
+    curves: &'a [Curve2<S::Param>],
 }
 
 /// The checked request: the set (with the first parameter at its start), both ranges.
-fn request(a: &Continue2Args) -> Result<(hdgear::Params, [Range; 2])> {
-    let (p, [r1, r2], box2, warnings) = a.plane.resolve()?;
-    let at = p.value(r2.param);
+fn request<S: Periodic>(
+    a: &Continue2Args,
+    base: S,
+    warnings: &[hdgear::params::Warning],
+) -> Result<(S, [Range<S::Param>; 2])> {
+    let (p, [r1, r2], box2) = a.plane.resolve_on(base)?;
+    let at = p.get(r2.param);
     if !(at >= box2.ranges[1].0 && at <= box2.ranges[1].1) {
         bail!(
             "invalid --param {}: the set's {} = {at} is outside it, and the start is found there",
@@ -76,13 +80,15 @@ fn request(a: &Continue2Args) -> Result<(hdgear::Params, [Range; 2])> {
         );
     }
     a.export.check()?;
-    warn(&warnings);
+    warn(warnings);
     Ok((p, [r1, r2]))
 }
 
+/// A system at the first range's start, the two ranges naming its parameters, and their box.
+type Plane<S> = (S, [Range<<S as Oscillator>::Param>; 2], Box2);
+
 impl PlaneArgs {
-    /// The plane from `--param` given twice (`NAME=LO:HI[:log]`): the set with the first
-    /// parameter at its LO, both ranges, the box, and the set's warnings.
+    /// The study's set from the sources, the two ranges and their box (boundary's request).
     pub(crate) fn resolve(
         &self,
     ) -> Result<(
@@ -91,10 +97,19 @@ impl PlaneArgs {
         Box2,
         Vec<hdgear::params::Warning>,
     )> {
+        let (p, warnings) = self.params.resolve()?;
+        let (p, ranges, box2) = self.resolve_on(p)?;
+        Ok((p, ranges, box2, warnings))
+    }
+
+    /// `base` (the study's set or a model) at the first range's start, the two ranges naming
+    /// its parameters, and their box: every end of both ranges checked as a value the parameter
+    /// may take (the curves are followed up to the box's edges).
+    pub(crate) fn resolve_on<S: Periodic>(&self, base: S) -> Result<Plane<S>> {
         let (params, specs) = (&self.params, &self.ranges);
-        let ranges: Vec<Range> = specs
+        let ranges: Vec<Range<S::Param>> = specs
             .iter()
-            .map(|r| Range::parse(r).context("--param"))
+            .map(|r| Range::parse_for(r, &base).context("--param"))
             .collect::<Result<_>>()?;
         let [r1, r2] = ranges[..] else {
             bail!(
@@ -108,21 +123,16 @@ impl PlaneArgs {
                 r1.param
             );
         }
-        if params.given(r1.param) {
-            bail!("--{0} does not apply: --param sets {0} itself", r1.param);
-        }
-        let (p, warnings) = params.resolve()?;
-        // every end of both ranges is a value the parameter may take (its domain and the magnitude
-        // limit): the curves are followed up to the box's edges
+        params.not_given(&r1.param.to_string(), "--param sets")?;
         for r in [r1, r2] {
             for end in [r.from, r.to] {
-                p.with(r.param, end).validate().context("--param")?;
+                base.with(r.param, end).context("--param")?;
             }
         }
-        let p = p.with(r1.param, r1.from);
+        let p = base.with(r1.param, r1.from).context("--param")?;
         let box2 = Box2::of([r1, r2]);
         box2.validate().context("--param")?;
-        Ok((p, [r1, r2], box2, warnings))
+        Ok((p, [r1, r2], box2))
     }
 }
 
@@ -132,7 +142,19 @@ pub fn run(a: Continue2Args) -> Result<()> {
         crate::sink::check_not_input(out, [std::path::Path::new(file)], "the --restart file")?;
     }
     let (kind, nth) = CurveKind::parse_start(&a.from).context("--from")?;
-    let (p, [r1, r2]) = request(&a)?;
+    let (system, warnings) = a.plane.params.resolve_system()?;
+    crate::on_system!(system, |s| curves_of(&a, s, kind, nth, &warnings))
+}
+
+/// The curves of `base`, the study's set or a model, written and summarised.
+fn curves_of<S: Periodic>(
+    a: &Continue2Args,
+    base: S,
+    kind: CurveKind,
+    nth: Option<usize>,
+    warnings: &[hdgear::params::Warning],
+) -> Result<()> {
+    let (p, [r1, r2]) = request(a, base, warnings)?;
     let opts = ContinuationOptions::default();
     let mut curves = match &a.restart {
         Some(spec) => vec![restart(spec, &p, [r1, r2], &opts)?],
@@ -155,25 +177,24 @@ pub fn run(a: Continue2Args) -> Result<()> {
             .enumerate()
             .flat_map(|(i, c)| CurveRow::of(i, c))
     };
+    let names = [r1.param.to_string(), r2.param.to_string()];
     let figure = || {
-        let names = [r1.param.name(), r2.param.name()];
         let logs = [r1.scale, r2.scale].map(|s| s == Scale::Log);
-        hdgear::figures::plane_figure(&curves, &[], names, logs)
+        hdgear::figures::plane_figure(&curves, &[], [&names[0], &names[1]], logs)
     };
     a.export.write(&doc, rows, figure)?;
-    a.export
-        .print(&doc, || summary(&curves, [r1.param, r2.param]))
+    a.export.print(&doc, || summary(&curves, &names))
 }
 
 /// The curve through row ROW of FILE (`--restart FILE:ROW`): its kind, period, parameters and
 /// orbit start are the row's; the start is corrected onto the curve and refused with the reason
 /// when it is not near one.
-fn restart(
+fn restart<O: Oscillator>(
     spec: &str,
-    p: &hdgear::Params,
-    [r1, r2]: [Range; 2],
+    p: &O,
+    [r1, r2]: [Range<O::Param>; 2],
     opts: &ContinuationOptions,
-) -> Result<Curve2<Param>> {
+) -> Result<Curve2<O::Param>> {
     use hdgear::output::Record;
     let bad = |why: String| anyhow::anyhow!("invalid --restart '{spec}': {why}");
     let (path, row) = spec
@@ -214,9 +235,11 @@ fn restart(
     let k: u32 = field("subharmonic")
         .parse()
         .map_err(|_| bad(format!("row {row}: subharmonic '{}'", field("subharmonic"))))?;
+    let (v1, v2) = (num("param1")?, num("param2")?);
     let o = p
-        .with(r1.param, num("param1")?)
-        .with(r2.param, num("param2")?);
+        .with(r1.param, v1)
+        .and_then(|o| o.with(r2.param, v2))
+        .map_err(|e| bad(e.to_string()))?;
     let start = [num("x0")?, num("xdot0")?];
     let box2 = Box2::of([r1, r2]);
     continue_curve(&o, [r1.param, r2.param], kind, k, start, &box2, opts)
@@ -242,9 +265,9 @@ fn end_text(e: End) -> &'static str {
     }
 }
 
-fn summary(curves: &[Curve2<Param>], names: [Param; 2]) -> Result<()> {
+fn summary<P>(curves: &[Curve2<P>], names: &[String; 2]) -> Result<()> {
     for (i, c) in curves.iter().enumerate() {
-        let extent = |j: usize| extent(names[j], c.points.iter().map(|q| q.params[j]));
+        let extent = |j: usize| extent(&names[j], c.points.iter().map(|q| q.params[j]));
         outln!(
             "curve {i}: {}, period {} × 2π/ω, {} points, {}, {}; ends: {}, {}",
             c.kind.name(),

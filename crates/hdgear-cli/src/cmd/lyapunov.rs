@@ -30,12 +30,8 @@ fn map<S: Sweep>(a: &LyapunovMapArgs, base: S, warnings: &[hdgear::params::Warni
         .collect::<hdgear::Result<Vec<_>>>()
         .context("--param")?;
     for ax in &axes {
-        let name = ax.param.to_string();
-        if let Ok(q) = name.parse()
-            && a.params.given(q)
-        {
-            anyhow::bail!("--{name} does not apply: an axis varies {name}");
-        }
+        a.params
+            .not_given(&ax.param.to_string(), "an axis varies")?;
     }
     let threads = crate::cli::threads(a.threads)?;
     // a model whose orbits the variational equations cannot follow is refused once, naming

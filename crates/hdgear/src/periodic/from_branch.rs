@@ -3,29 +3,30 @@
 //! generalised period doublings on period-doubling curves those of the doubled orbits' fold
 //! curves ([`curves_at_gpds`]): what `hdgear continue2` and Python's `continuation2` run.
 
-use super::{Box2, Codim2, ContinuationOptions, Curve2, CurveKind, Range, continue_curve};
+use super::{
+    Box2, Codim2, ContinuationOptions, Curve2, CurveKind, Oscillator, Range, continue_curve,
+};
 use crate::error::{Error, Result};
-use crate::params::{Param, Params};
 
 /// The curves of `kind` through the special points of that kind (every one, or only the `nth`,
 /// counted from one) of the one-parameter branch of `p` in the first range's parameter from its
 /// `from` to its `to` (the second parameter at its value in `p`), each curve once: a special
 /// point on a curve already traced is skipped (the curve's crossings of the line λ₂ = p's value
-/// are corrected onto it and compared, to 1e-6).
-pub fn curves_from_branch(
-    p: &Params,
-    [r1, r2]: [Range; 2],
+/// are corrected onto it and compared, to 1e-6). `p` is the study's set or any smooth model
+/// ([`Oscillator`]), its parameters named by the ranges.
+pub fn curves_from_branch<O: Oscillator>(
+    p: &O,
+    [r1, r2]: [Range<O::Param>; 2],
     kind: CurveKind,
     nth: Option<usize>,
     k: u32,
     opts: &ContinuationOptions,
-) -> Result<Vec<Curve2<Param>>> {
+) -> Result<Vec<Curve2<O::Param>>> {
     use super::{Special, continue_orbit};
-    // (the inherent setter, not the Oscillator one)
-    let start = Params::with(*p, r1.param, r1.from);
+    let start = p.with(r1.param, r1.from)?;
     let box2 = Box2::of([r1, r2]);
     box2.validate()?;
-    let at = start.value(r2.param);
+    let at = start.get(r2.param);
     let one = ContinuationOptions {
         scale: r1.scale,
         ..*opts
@@ -71,7 +72,7 @@ pub fn curves_from_branch(
         );
         return Err(bad(kind.name().to_string(), reason));
     }
-    let mut curves: Vec<Curve2<Param>> = Vec::new();
+    let mut curves: Vec<Curve2<O::Param>> = Vec::new();
     for s in starts {
         let mut seen = false;
         for c in &curves {
@@ -81,7 +82,7 @@ pub fn curves_from_branch(
                 .any(|x| (x.params[0] - s.param).abs() <= 1e-6 * (1.0 + s.param.abs()));
         }
         if !seen {
-            let o = Params::with(start, r1.param, s.param);
+            let o = start.with(r1.param, s.param)?;
             let params = [r1.param, r2.param];
             curves.push(continue_curve(&o, params, kind, k, s.start, &box2, opts)?);
         }
@@ -93,12 +94,12 @@ pub fn curves_from_branch(
 /// period-doubling curves `pd` of `p` (in the box of `ranges`, as from [`curves_from_branch`]),
 /// switched onto at each GPD ([`switch_at_gpd`](super::switch_at_gpd)), each curve once: a GPD
 /// where a curve already traced ends is skipped. Fold curves in `pd` are refused.
-pub fn curves_at_gpds(
-    p: &Params,
-    ranges: [Range; 2],
-    pd: &[Curve2<Param>],
+pub fn curves_at_gpds<O: Oscillator>(
+    p: &O,
+    ranges: [Range<O::Param>; 2],
+    pd: &[Curve2<O::Param>],
     opts: &ContinuationOptions,
-) -> Result<Vec<Curve2<Param>>> {
+) -> Result<Vec<Curve2<O::Param>>> {
     if let Some(c) = pd.iter().find(|c| c.kind != CurveKind::PeriodDoubling) {
         return Err(Error::InvalidInput {
             what: "switch",
@@ -108,7 +109,7 @@ pub fn curves_at_gpds(
         });
     }
     let box2 = Box2::of(ranges);
-    let mut curves: Vec<Curve2<Param>> = Vec::new();
+    let mut curves: Vec<Curve2<O::Param>> = Vec::new();
     for c in pd {
         for g in c
             .points
@@ -132,10 +133,13 @@ pub fn curves_at_gpds(
 
 impl Box2 {
     /// The box of two continuation ranges (each from its lower end to its upper one).
-    pub fn of(ranges: [Range; 2]) -> Box2 {
+    pub fn of<P>(ranges: [Range<P>; 2]) -> Box2 {
         Box2 {
-            ranges: ranges.map(|r| (r.from.min(r.to), r.from.max(r.to))),
-            scales: ranges.map(|r| r.scale),
+            ranges: [0, 1].map(|i| {
+                let r = &ranges[i];
+                (r.from.min(r.to), r.from.max(r.to))
+            }),
+            scales: [0, 1].map(|i| ranges[i].scale),
         }
     }
 }
