@@ -54,6 +54,7 @@ pub mod output;
 pub mod params;
 pub mod periodic;
 pub mod physical;
+pub mod refine;
 pub mod report;
 pub mod robust;
 pub mod roots;

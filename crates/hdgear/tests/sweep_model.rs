@@ -131,7 +131,8 @@ fn an_unknown_model_parameter_is_refused_by_name() {
 #[test]
 fn a_friction_models_lyapunov_map_is_its_largest_floquet_exponent() {
     use hdgear::model::terms::AnyTerm;
-    use hdgear::periodic::{DiagramOptions, PeriodicOptions, lyapunov_map, shoot};
+    use hdgear::periodic::{DiagramOptions, PeriodicOptions, shoot};
+    use hdgear::sweep::lyapunov_map;
     let p = hdgear::Params {
         gamma: 1.0,
         delta: 1.0,

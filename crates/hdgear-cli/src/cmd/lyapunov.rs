@@ -4,8 +4,8 @@
 use crate::cli::LyapunovMapArgs;
 use crate::sink::{warn, write_records_with};
 use anyhow::{Context, Result};
-use hdgear::periodic::{DiagramOptions, lyapunov_map};
-use hdgear::sweep::{Axis, Grid, Sweep};
+use hdgear::periodic::DiagramOptions;
+use hdgear::sweep::{Axis, Grid, Sweep, lyapunov_map};
 use serde::Serialize;
 
 #[derive(Serialize)]

@@ -443,7 +443,7 @@ pub fn lyapunov_map_kind(p: &Params, study: &mut Study) -> Result<Figure> {
         lyapunov: Some(100),
         ..crate::periodic::DiagramOptions::default()
     };
-    let rows = crate::periodic::lyapunov_map(&grid, &opts, study.threads)?;
+    let rows = crate::sweep::lyapunov_map(&grid, &opts, study.threads)?;
     Ok(lyapunov_figure(&grid, &rows))
 }
 

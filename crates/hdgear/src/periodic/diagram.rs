@@ -401,25 +401,3 @@ fn measure_batch(
         .map(|((y, l), section)| Ok((y.and(l)?, least_period(&section))))
         .collect())
 }
-
-/// [`lyapunov_point`] at every point of `grid` on `threads` worker threads (0: one per core),
-/// [`LANES`](crate::batch::LANES) points at a time ([`lyapunov_points`]), the rows in grid order
-/// whatever the thread count.
-pub fn lyapunov_map<S: crate::sweep::Sweep>(
-    grid: &crate::sweep::Grid<S>,
-    opts: &DiagramOptions,
-    threads: usize,
-) -> Result<Vec<LyapunovRow<S::Point>>> {
-    opts.tol.validate()?;
-    let mut rows = Vec::with_capacity(grid.len());
-    let todo: Vec<usize> = (0..grid.len()).collect();
-    crate::sweep::run_chunked(
-        grid,
-        &todo,
-        S::CHUNK,
-        threads,
-        |chunk| S::lyapunov_rows(chunk, &grid.axes, opts),
-        |r| rows.push(r),
-    )?;
-    Ok(rows)
-}

@@ -312,7 +312,7 @@ pub struct MapGrid {
     pub hz: (f64, f64),
     /// Number of frequencies (≥ 1), log-spaced.
     pub frequencies: usize,
-    /// Spacing of the coarse lattice the map is refined from ([`crate::sweep::refine`]), in
+    /// Spacing of the coarse lattice the map is refined from ([`crate::refine`]), in
     /// points (1 to 64; 1: every point simulated).
     pub coarse: usize,
 }
@@ -429,7 +429,7 @@ pub struct MapPoint {
 /// `catalogue_curve` `None` leaves the catalogue's verdict out (`None` at every point): the
 /// piecewise law's knees make each response ring, and its simulation costs far more than the
 /// fit's. The map is refined from a lattice of every [`MapGrid::coarse`]-th point
-/// ([`crate::sweep::refine`]), each of the four verdicts on its own: a point is simulated where
+/// ([`crate::refine`]), each of the four verdicts on its own: a point is simulated where
 /// its neighbours' verdicts differ, and otherwise takes theirs ([`MapPoint::computed`]).
 pub fn load_map(
     card: &Card,
@@ -477,7 +477,7 @@ pub fn load_map(
             })
         })
         .transpose()?;
-    let of = |c: &Option<crate::sweep::refine::Refined<Option<Judgement>>>, k: usize| {
+    let of = |c: &Option<crate::refine::Refined<Option<Judgement>>>, k: usize| {
         c.as_ref()
             .map_or((None, false), |c| (c.values[k], c.computed[k]))
     };
@@ -501,14 +501,14 @@ pub fn load_map(
         .collect())
 }
 
-/// One verdict of [`load_map`] over `grid`, refined ([`crate::sweep::refine`]): `judge` gives
+/// One verdict of [`load_map`] over `grid`, refined ([`crate::refine`]): `judge` gives
 /// the verdicts of many drives, `at(i, j)` is the drive at amplitude `i` and frequency `j`.
 fn refined<V: Clone + PartialEq>(
     grid: &MapGrid,
     at: &impl Fn(usize, usize) -> super::PhysicalParams,
     judge: impl Fn(&[super::PhysicalParams]) -> Result<Vec<V>>,
-) -> Result<crate::sweep::refine::Refined<V>> {
-    crate::sweep::refine::refine(grid.amplitudes, grid.frequencies, grid.coarse, |cells| {
+) -> Result<crate::refine::Refined<V>> {
+    crate::refine::refine(grid.amplitudes, grid.frequencies, grid.coarse, |cells| {
         judge(&cells.iter().map(|&(i, j)| at(i, j)).collect::<Vec<_>>())
     })
 }

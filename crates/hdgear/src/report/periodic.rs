@@ -10,7 +10,7 @@ use crate::params::{Param, Params};
 use crate::periodic::{
     Branch, ContinuationOptions, DiagramOptions, DiagramPoint, LyapunovRow, PeriodicOptions,
     PhysicalResponse, Scale, burst_verdict, continue_with_doubled, frequency_response,
-    lyapunov_map, orbit_diagram, physical_frequency_response, shoot,
+    orbit_diagram, physical_frequency_response, shoot,
 };
 use crate::physical::PhysicalParams;
 use crate::sweep::{Axis, Grid};
@@ -110,7 +110,7 @@ impl PeriodicEvidence {
             lyapunov: Some(100),
             ..DiagramOptions::default()
         };
-        let lyapunov = lyapunov_map(&lyapunov_grid, &lopts, threads)?;
+        let lyapunov = crate::sweep::lyapunov_map(&lyapunov_grid, &lopts, threads)?;
         Ok(PeriodicEvidence {
             orbits,
             response,

@@ -16,7 +16,9 @@ use serde::{Deserialize, Serialize};
 use std::collections::{BTreeMap, BTreeSet};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-pub mod refine;
+pub use crate::refine;
+mod maps;
+pub use maps::lyapunov_map;
 mod shard;
 pub use shard::{MergeError, Plan, Shard, plan};
 
@@ -167,7 +169,7 @@ pub trait Sweep: crate::periodic::Periodic + PartialEq {
         axes: &[Axis<Self::Param>],
         opts: &BurstOptions,
     ) -> Vec<SweepRow<Self::Point>>;
-    /// The Lyapunov map's rows of (index, point) pairs ([`crate::periodic::lyapunov_map`]).
+    /// The Lyapunov map's rows of (index, point) pairs ([`lyapunov_map`]).
     fn lyapunov_rows(
         points: &[(usize, Self)],
         axes: &[Axis<Self::Param>],

@@ -9,7 +9,7 @@
 //! every cell.
 //!
 //! ```
-//! use hdgear::sweep::refine::refine;
+//! use hdgear::refine::refine;
 //! // a verdict that changes along one line of a 40 × 40 grid
 //! let verdict = |(i, j): (usize, usize)| i + 2 * j < 50;
 //! let map = refine(40, 40, 8, |cells| {
