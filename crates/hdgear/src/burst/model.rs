@@ -246,6 +246,16 @@ impl<const N: usize> ScanStep for Averaged<N> {
 /// assert_eq!(classify(&p, &closed).verdict, Verdict::NoBursts);
 /// ```
 pub fn response_model(m: &Model, opts: &BurstOptions) -> Result<Response> {
+    match verdict_curve(m)? {
+        Curve::Study(p) => response_model_on(m, &p, opts),
+        Curve::Torque(c) => response_model_on(m, &c, opts),
+        Curve::Scheduled(c) => response_model_on(m, &c, opts),
+    }
+}
+
+/// The curve [`response_model`] measures `m` against, once `m` is checked and a model whose
+/// averaged equilibria are unknown is refused.
+fn verdict_curve(m: &Model) -> Result<Curve> {
     m.check()?;
     if m.dither().is_some() && m.equivalent_params().is_none() {
         return Err(refusal(
@@ -253,11 +263,7 @@ pub fn response_model(m: &Model, opts: &BurstOptions) -> Result<Response> {
             "the burst verdict on a dithered model needs its averaged equilibria, known only for a static torque that is a study cubic",
         ));
     }
-    match Curve::of(m)? {
-        Curve::Study(p) => response_model_on(m, &p, opts),
-        Curve::Torque(c) => response_model_on(m, &c, opts),
-        Curve::Scheduled(c) => response_model_on(m, &c, opts),
-    }
+    Curve::of(m)
 }
 
 /// The x-extent X of the equilibrium curve a model's response is measured against
@@ -288,16 +294,17 @@ pub type PointVerdict = (super::Classification, Response, f64);
 /// assert!((slope - p.delta / (p.gamma - p.critical_gamma())).abs() < 1e-9 * slope);
 /// ```
 pub fn verdict_model(m: &Model, opts: &BurstOptions) -> Result<PointVerdict> {
-    fn verdict(c: &impl StaticCurve, r: Response) -> PointVerdict {
+    // the curve built once, the response measured and classified on it
+    fn verdict(m: &Model, c: &impl StaticCurve, opts: &BurstOptions) -> Result<PointVerdict> {
+        let r = response_model_on(m, c, opts)?;
         let slope = c.delta().abs() / c.min_traversed_gprime();
-        (super::classify(c, &r), r, slope)
+        Ok((super::classify(c, &r), r, slope))
     }
-    let r = response_model(m, opts)?;
-    Ok(match Curve::of(m)? {
-        Curve::Study(p) => verdict(&p, r),
-        Curve::Torque(c) => verdict(&c, r),
-        Curve::Scheduled(c) => verdict(&c, r),
-    })
+    match verdict_curve(m)? {
+        Curve::Study(p) => verdict(m, &p, opts),
+        Curve::Torque(c) => verdict(m, &c, opts),
+        Curve::Scheduled(c) => verdict(m, &c, opts),
+    }
 }
 
 /// The equilibrium curve a model's response is measured against: the equivalent study set's

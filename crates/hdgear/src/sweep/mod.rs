@@ -245,16 +245,7 @@ impl Sweep for Model {
         self.check()
     }
     fn point_of(&self, axes: &[Axis<ModelParam>]) -> Values {
-        let mut v = Values {
-            names: [""; 2],
-            values: [0.0; 2],
-            len: axes.len().min(2),
-        };
-        for (k, ax) in axes.iter().take(2).enumerate() {
-            v.names[k] = ax.param.name();
-            v.values[k] = self.get(ax.param);
-        }
-        v
+        Values::of(axes, axes.iter().map(|ax| self.get(ax.param)))
     }
     fn rows(
         points: &[(usize, Model)],
@@ -297,18 +288,9 @@ impl Sweep for Model {
         let (index, values): (usize, Vec<f64>) = head.deserialize(None)?;
         let tail = csv::StringRecord::from(record.iter().skip(1 + k).collect::<Vec<_>>());
         let (mode, mechanism, rates, max_slope, error) = tail.deserialize(None)?;
-        let mut point = Values {
-            names: [""; 2],
-            values: [0.0; 2],
-            len: k,
-        };
-        for (j, (ax, v)) in axes.iter().zip(values).enumerate().take(k) {
-            point.names[j] = ax.param.name();
-            point.values[j] = v;
-        }
         Ok(SweepRow {
             index,
-            params: point,
+            params: Values::of(axes, values),
             mode,
             mechanism,
             rates,
@@ -328,6 +310,20 @@ pub struct Values {
 }
 
 impl Values {
+    /// The values of the parameters of `axes` (at most two), in axis order.
+    fn of(axes: &[Axis<ModelParam>], values: impl IntoIterator<Item = f64>) -> Values {
+        let mut v = Values {
+            names: [""; 2],
+            values: [0.0; 2],
+            len: axes.len().min(2),
+        };
+        for (k, (ax, value)) in axes.iter().zip(values).take(2).enumerate() {
+            v.names[k] = ax.param.name();
+            v.values[k] = value;
+        }
+        v
+    }
+
     /// (name, value) of each swept parameter, in axis order.
     pub fn iter(&self) -> impl Iterator<Item = (&'static str, f64)> + '_ {
         self.names[..self.len]
