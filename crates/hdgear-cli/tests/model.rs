@@ -463,3 +463,63 @@ fn sweep_maps_a_coulomb_scenario_over_its_friction_level_as_bursts_sees_each_poi
         .code(2)
         .stderr(predicate::str::contains("--shard: a sweep of a model"));
 }
+
+/// `robust` spreads a friction scenario's own parameters: each row of `--out` names them, and its
+/// verdict is what `hdgear bursts` says of that row's scenario; `--importance` and `--cloud`,
+/// which need the study's closed-form curve, are refused in one line each, leaving no file.
+#[test]
+fn robust_spreads_a_friction_scenarios_parameters_as_bursts_sees_each_sample() {
+    let dir = tempfile::tempdir().unwrap();
+    let text =
+        |gamma: f64, fc: f64| format!("[params]\ngamma = {gamma:?}\n[friction]\nfc = {fc:?}\n");
+    let f = scenario(dir.path(), "f.toml", &text(2.0, 0.1));
+    let out = dir.path().join("samples.csv");
+    let spread = [
+        "robust",
+        "--config",
+        &f,
+        "--tolerance",
+        "friction.fc=0.02..0.5",
+        "--tolerance",
+        "gamma=±40%",
+        "--samples",
+        "8",
+        "--no-worst",
+    ];
+    let out_arg = out.to_str().unwrap();
+    let args: Vec<&str> = spread
+        .iter()
+        .copied()
+        .chain(["--json", "--out", out_arg])
+        .collect();
+    let page = json_of(&args);
+    assert_eq!(page["probability"]["samples"], 8);
+    assert_eq!(page["space"]["nominal"]["kind"], "model");
+    let csv = std::fs::read_to_string(&out).unwrap();
+    let mut lines = csv.lines();
+    let head: Vec<&str> = lines.next().unwrap().split(',').collect();
+    assert_eq!(head[..4], ["index", "fc", "gamma", "verdict"]);
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    assert_eq!(rows.len(), 8);
+    for row in rows.iter().take(3) {
+        let (fc, gamma): (f64, f64) = (row[1].parse().unwrap(), row[2].parse().unwrap());
+        let b = bursts_of_scenario(dir.path(), &text(gamma, fc));
+        assert_eq!(row[3], b["meta"]["classification"]["verdict"], "{row:?}");
+    }
+    for (flag, needle) in [
+        ("--importance", "no curve-only prediction"),
+        ("--cloud", "reduced (γ, δ) plane"),
+    ] {
+        let value = if flag == "--cloud" { "cloud.svg" } else { "64" };
+        let partial = dir.path().join("refused.csv");
+        hdgear()
+            .args(spread)
+            .args([flag, value, "--out"])
+            .arg(&partial)
+            .current_dir(dir.path())
+            .assert()
+            .code(2)
+            .stderr(predicate::str::contains(needle));
+        assert!(!partial.exists() && !dir.path().join("cloud.svg").exists());
+    }
+}

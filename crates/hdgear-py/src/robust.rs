@@ -39,7 +39,7 @@ pub(crate) fn robust<'py>(
     };
     let tolerances = match (tolerances.is_empty(), nominal) {
         (true, Nominal::Drive(d)) => Space::drive_defaults(&d),
-        (true, Nominal::Study(_)) => {
+        (true, Nominal::Study(_) | Nominal::Model(_)) => {
             return Err(PyValueError::new_err(
                 "a parameter set needs its spreads: tolerances={'gamma': '±10%'}; a drive has \
                  default bands",

@@ -165,3 +165,28 @@ fn a_friction_models_lyapunov_map_is_its_largest_floquet_exponent() {
     // more friction, more damping at rest (1 + f_c/v_s): the exponent is not one value
     assert!(rows[3].lyapunov < rows[0].lyapunov);
 }
+
+/// Two axes under one rule of a term (f_s ≥ f_c): each grid point is judged as the pair it is.
+/// From the base f_s = 0.1, raising f_c to 0.2 alone would break the rule; the grid's points,
+/// f_c ∈ {0.2, 0.3} with f_s ∈ {0.35, 0.5}, all keep it and are all accepted.
+#[test]
+fn two_axes_of_one_rule_are_set_together() {
+    let base = model_of(&scenario(0.1, 15.0));
+    let axes = vec![
+        Axis::parse_for("coulomb.fc=0.2:0.3:2", &base).unwrap(),
+        Axis::parse_for("coulomb.fs=0.35:0.5:2", &base).unwrap(),
+    ];
+    let grid = Grid::new(base, axes).unwrap();
+    let (fc, fs) = (base.param("fc").unwrap(), base.param("fs").unwrap());
+    let points: Vec<(f64, f64)> = (0..grid.len())
+        .map(|i| {
+            let m = grid.at(i).unwrap();
+            (m.get(fc), m.get(fs))
+        })
+        .collect();
+    assert_eq!(points, [(0.2, 0.35), (0.3, 0.35), (0.2, 0.5), (0.3, 0.5)]);
+    // a point that breaks the rule is refused before any runs, naming the parameter
+    let axes = vec![Axis::parse_for("coulomb.fc=0.05:0.2:2", &base).unwrap()];
+    let e = Grid::new(base, axes).unwrap_err().to_string();
+    assert!(e.contains("fs") || e.contains("fc"), "{e}");
+}

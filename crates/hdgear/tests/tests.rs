@@ -34,6 +34,7 @@ mod plane;
 mod reference;
 mod relations;
 mod robust;
+mod robust_model;
 mod schedule;
 mod simd;
 mod static_curve;

@@ -5,12 +5,13 @@
 use crate::cli::{BurstArgs, ParamArgs, check_out};
 use crate::cmd::card::Loaded;
 use crate::sink::{Sink, out, warn};
+use crate::sources::System;
 use anyhow::{Context, Result, bail};
 use clap::Args;
 use hdgear::output::RecordWriter;
 use hdgear::robust::{
-    APPLICATIONS, Analysis, AnalysisOptions, McOptions, Measure, Nominal, SampleRow, Sampler,
-    Space, analyse,
+    APPLICATIONS, Analysis, AnalysisOptions, McOptions, Measure, ModelSampleRow, Nominal, Sample,
+    SampleRow, Sampler, Space, analyse,
 };
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -18,7 +19,8 @@ use std::path::{Path, PathBuf};
 /// The options of the analysis, shared by `hdgear robust` and `hdgear physical --robust`.
 #[derive(Args, Debug, Clone)]
 pub struct RobustOpts {
-    /// A parameter's spread, NAME=SPEC (repeatable): ±X% or ±X (uniform band), LO..HI,
+    /// A parameter's spread, NAME=SPEC (repeatable; NAME a drive's, the study's or any of a
+    /// scenario model's parameters, coulomb.fs): ±X% or ±X (uniform band), LO..HI,
     /// normal:SD (SD in % or absolute), lognormal:S% (σ of ln), tnormal:SD:±X (truncated).
     /// A drive without any takes its card's bands ([card.tolerance]) and documented default
     /// bands for the rest, marked as assumptions.
@@ -146,6 +148,10 @@ impl RobustOpts {
                     "a parameter set needs its spreads: --tolerance NAME=SPEC (gamma=±10%); a \
                      drive (--card) has default bands"
                 ),
+                (Nominal::Model(_), _) => bail!(
+                    "a model needs its spreads: --tolerance NAME=SPEC, any of its parameters \
+                     (coulomb.fs=±20%, delta=±10%); a drive (--card) has default bands"
+                ),
             }
         } else {
             self.tolerances
@@ -154,6 +160,47 @@ impl RobustOpts {
                 .collect::<Result<_>>()?
         };
         Ok(Space::new(nominal, tolerances)?)
+    }
+}
+
+/// The samples file: a study set's or a drive's rows carry the reduced set, a model's the
+/// toleranced values under their names ([`ModelSampleRow`]).
+enum Rows {
+    Reduced(RecordWriter<Sink, SampleRow>),
+    Model(RecordWriter<Sink, ModelSampleRow>),
+}
+
+impl Rows {
+    fn open(path: &Path, space: &Space) -> Result<Rows> {
+        let (sink, format) = Sink::open(Some(path))?;
+        Ok(match space.nominal {
+            Nominal::Model(_) => Rows::Model(RecordWriter::with_columns(
+                sink,
+                format,
+                space,
+                ModelSampleRow::columns(space),
+            )?),
+            _ => Rows::Reduced(RecordWriter::new(sink, format, space)?),
+        })
+    }
+
+    fn write(&mut self, space: &Space, samples: &[Sample]) -> std::io::Result<()> {
+        match self {
+            Rows::Reduced(w) => samples.iter().try_for_each(|s| w.row(&SampleRow::from(s))),
+            Rows::Model(w) => samples
+                .iter()
+                .try_for_each(|s| w.row(&ModelSampleRow::of(space, s))),
+        }
+    }
+
+    fn finish(self, path: &Path) -> Result<()> {
+        let done = match self {
+            Rows::Reduced(w) => w.finish(),
+            Rows::Model(w) => w.finish(),
+        };
+        done.with_context(|| format!("writing {}", path.display()))?
+            .commit()?;
+        Ok(())
     }
 }
 
@@ -179,9 +226,12 @@ pub fn run(a: RobustArgs) -> Result<()> {
             (Nominal::Drive(built.drive), Some(loaded))
         }
         None => {
-            let (p, warnings) = a.params.resolve()?;
+            let (system, warnings) = a.params.resolve_system()?;
             warn(&warnings);
-            (Nominal::Study(p), None)
+            match system {
+                System::Study(p) => (Nominal::Study(p), None),
+                System::Model(m) => (Nominal::Model(m), None),
+            }
         }
     };
     analyse_and_print(
@@ -216,14 +266,16 @@ pub fn analyse_and_print(
             crate::cli::check_figure_path(flag, path)?;
         }
     }
+    if let (Nominal::Model(m), Some(path)) = (&space.nominal, &r.cloud) {
+        bail!(
+            "invalid --cloud '{}': the cloud is drawn in the reduced (γ, δ) plane against the \
+             predicted boundary, and {} has neither (its samples go to --out)",
+            path.display(),
+            m.equation()
+        );
+    }
     let mut cloud: Vec<(f64, f64, bool)> = Vec::new();
-    let mut writer = match out_path {
-        Some(path) => {
-            let (sink, format) = Sink::open(Some(path))?;
-            Some(RecordWriter::<_, SampleRow>::new(sink, format, &space)?)
-        }
-        None => None,
-    };
+    let mut writer = out_path.map(|path| Rows::open(path, &space)).transpose()?;
     let mut analysis = analyse(&space, opts, &options, |samples| {
         for s in samples {
             if let (Some(p), Ok(o)) = (s.reduced, &s.outcome)
@@ -233,20 +285,16 @@ pub fn analyse_and_print(
             }
         }
         if let Some(w) = writer.as_mut() {
-            for s in samples {
-                w.row(&SampleRow::from(s))
-                    .map_err(|source| hdgear::Error::Io {
-                        path: out_path.unwrap_or(Path::new("-")).to_path_buf(),
-                        source,
-                    })?;
-            }
+            w.write(&space, samples)
+                .map_err(|source| hdgear::Error::Io {
+                    path: out_path.unwrap_or(Path::new("-")).to_path_buf(),
+                    source,
+                })?;
         }
         Ok(())
     })?;
     if let (Some(w), Some(path)) = (writer, out_path) {
-        w.finish()
-            .with_context(|| format!("writing {}", path.display()))?
-            .commit()?;
+        w.finish(path)?;
     }
     if let Some(path) = &r.cloud {
         let figure = hdgear::figures::cloud_figure(&space.nominal.reduced()?, &cloud);
@@ -261,7 +309,7 @@ pub fn analyse_and_print(
     if let (Some(path), Some(points)) = (&r.load_curve, &analysis.load_curve) {
         let load = match space.nominal {
             Nominal::Drive(_) => "T_am [N m]",
-            Nominal::Study(_) => "δ",
+            Nominal::Study(_) | Nominal::Model(_) => "δ",
         };
         hdgear::output::plot::write(&hdgear::figures::load_figure(points, load), path)?;
     }
@@ -286,6 +334,9 @@ pub fn text(a: &Analysis) -> String {
     let mut s = String::new();
     match &a.space.nominal {
         Nominal::Drive(d) => s.push_str(&crate::summary::drive_line(d)),
+        Nominal::Model(m) => {
+            let _ = writeln!(s, "model: {}", m.equation());
+        }
         Nominal::Study(p) => {
             let values: Vec<String> = hdgear::params::Param::ALL
                 .iter()

@@ -409,15 +409,39 @@ impl Model {
 
     /// The model with one parameter changed, checked against its domain.
     pub fn with(&self, q: ModelParam, value: f64) -> Result<Model> {
-        self.info(q).domain.check(q.name, value)?;
+        self.with_all(&[(q, value)])
+    }
+
+    /// The model with several parameters changed at once, each checked against its domain and
+    /// each changed term's rules judged on its new values together: f_s ≥ f_c holds or fails for
+    /// the pair a user asks for, never for a half-changed model between them.
+    ///
+    /// ```
+    /// use hdgear::model::{Model, terms::AnyTerm};
+    /// let coulomb = AnyTerm::new("coulomb", &[0.05, 0.1, 0.1, 0.0]).unwrap(); // fc, fs, …
+    /// let m = Model::damped(0.0, 0.5, 1.0).with_term(coulomb).unwrap();
+    /// let (fc, fs) = (m.param("fc").unwrap(), m.param("fs").unwrap());
+    /// // one at a time, raising f_c first breaks f_s ≥ f_c on the way
+    /// assert!(m.with(fc, 0.2).is_err());
+    /// let both = m.with_all(&[(fc, 0.2), (fs, 0.3)]).unwrap();
+    /// assert_eq!((both.get(fc), both.get(fs)), (0.2, 0.3));
+    /// ```
+    pub fn with_all(&self, changes: &[(ModelParam, f64)]) -> Result<Model> {
         let mut m = *self;
-        match q.term {
-            None => m.forcing[q.index as usize] = value,
-            Some(t) => {
-                let term = self.term(t);
-                let mut values = term.values().to_vec();
-                values[q.index as usize] = value;
-                m.terms[t as usize] = Some(AnyTerm::new(term.kind(), &values)?);
+        let mut changed: [Option<Vec<f64>>; MAX_TERMS] = std::array::from_fn(|_| None);
+        for &(q, value) in changes {
+            self.info(q).domain.check(q.name, value)?;
+            match q.term {
+                None => m.forcing[q.index as usize] = value,
+                Some(t) => {
+                    changed[t as usize].get_or_insert_with(|| self.term(t).values().to_vec())
+                        [q.index as usize] = value;
+                }
+            }
+        }
+        for (t, values) in changed.iter().enumerate() {
+            if let Some(values) = values {
+                m.terms[t] = Some(AnyTerm::new(self.term(t as u8).kind(), values)?);
             }
         }
         m.linked()

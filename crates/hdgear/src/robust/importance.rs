@@ -215,8 +215,26 @@ impl Space {
 
     fn predicted_bursting(&self, z: &[f64]) -> bool {
         self.at(&self.values_standard(z))
-            .reduced()
+            .and_then(|n| n.reduced())
             .is_ok_and(|p| predict(&p).bursting)
+    }
+
+    /// Refuses importance sampling where there is no design point to draw near: a model with
+    /// terms has no curve-only prediction of its boundary (the rays would find none and every
+    /// sample would be a plain one).
+    pub fn check_importance(&self) -> Result<()> {
+        match &self.nominal {
+            super::Nominal::Model(m) => Err(crate::Error::InvalidInput {
+                what: "option",
+                text: "importance".into(),
+                reason: format!(
+                    "{} has no curve-only prediction of its bursting boundary to sample near \
+                     (the study's cubic and drives have one); use plain samples",
+                    m.equation()
+                ),
+            }),
+            _ => Ok(()),
+        }
     }
 }
 
@@ -302,6 +320,7 @@ pub fn design_point(space: &Space, seed: u64) -> Result<std::result::Result<Desi
 pub fn importance(space: &Space, opts: &BurstOptions, mc: &McOptions) -> Result<Importance> {
     mc.validate()?;
     opts.validate()?;
+    space.check_importance()?;
     let k = space.dims();
     let (design, note) = match design_point(space, mc.seed)? {
         Ok(d) => (Some(d), None),

@@ -24,11 +24,15 @@ pub struct LoadPoint {
     pub probability: Probability,
 }
 
-/// The load amplitude of a set: a drive's T_am, a study set's δ.
+/// The load amplitude of a set: a drive's T_am, a study set's or a model's δ.
 pub fn load_target(nominal: &Nominal) -> Target {
     match nominal {
         Nominal::Drive(_) => Target::Drive(DriveParam::TAm),
         Nominal::Study(_) => Target::Study(Param::Delta),
+        Nominal::Model(m) => Target::Model(
+            m.param(Param::Delta.name())
+                .expect("every model has the forcing's delta"),
+        ),
     }
 }
 
@@ -52,7 +56,7 @@ pub fn load_curve(space: &Space, opts: &BurstOptions, mc: &McOptions) -> Result<
                     ..t.clone()
                 })
                 .collect();
-            let scaled = Space::new(space.nominal.with(target, c * nominal), tolerances)?;
+            let scaled = Space::new(space.nominal.with(target, c * nominal)?, tolerances)?;
             Ok(LoadPoint {
                 factor: c,
                 load: c * nominal,

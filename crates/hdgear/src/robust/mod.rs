@@ -2,24 +2,27 @@
 //! burst ([`probability`]), its worst case and margin ([`worst_case`]), and which tolerance
 //! matters ([`sensitivity`]).
 //!
-//! A [`Space`] is a nominal parameter set (the study's dimensionless one, or a drive in SI units)
-//! with a [`Tolerance`] on some of its parameters. Every sample is judged as the design check
-//! judges a drive ([`crate::physical::design::judge`]): reduced, simulated on the sixteen-lane
-//! batches and classified by its signatures, or predicted from the equilibrium curve when its
-//! reduced ω is too small to simulate (each sample says which). Sample i of a run is a function
+//! A [`Space`] is a nominal parameter set (the study's dimensionless one, a drive in SI units, or
+//! an assembled [`Model`] with any of its terms' parameters) with a [`Tolerance`] on some of its
+//! parameters. Every sample is judged as the design check judges a drive
+//! ([`crate::physical::design::judge`]): reduced, simulated on the sixteen-lane batches and
+//! classified by its signatures, or predicted from the equilibrium curve when its reduced ω is
+//! too small to simulate (each sample says which). A model's samples are simulated one by one
+//! and classified against the model's own equilibrium curve. Sample i of a run is a function
 //! of the seed and i alone ([`sequence`]), so a run is reproducible to the byte on any thread
 //! count and in any shard split.
 
-use crate::burst::{BurstOptions, Verdict};
+use crate::burst::BurstOptions;
 use crate::error::{Error, Result};
+use crate::model::{Model, ModelParam};
 use crate::params::{Param, Params};
-use crate::physical::design::{Basis, judge_reduced};
+use crate::physical::design::Basis;
 use crate::physical::{DriveParam, PhysicalParams};
-use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 pub mod importance;
 mod load;
+mod samples;
 pub mod sequence;
 pub mod sobol;
 pub use sobol::{MAX_DESIGN_RUNS, Sensitivity, sensitivity};
@@ -30,17 +33,25 @@ pub use crate::distribution::{
 };
 pub use importance::{DesignPoint, Importance, design_point, importance};
 pub use load::{LoadPoint, load_curve, load_factors, load_target};
+pub use samples::{Failure, Measure, ModelSampleRow, Outcome, Sample, SampleRow, evaluate};
 pub use sequence::{Points, Sampler};
 pub use worst::{Corner, WorstCase, worst_case};
 
 /// The parameter set the tolerances spread around.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 #[serde(tag = "kind", content = "values", rename_all = "kebab-case")]
+#[expect(
+    clippy::large_enum_variant,
+    reason = "one nominal per space, copied once per sample beside a whole simulation; a model \
+              stays a stack value (Copy) as everywhere else"
+)]
 pub enum Nominal {
     /// A dimensionless set.
     Study(Params),
     /// A drive in SI units (each sample reduced).
     Drive(PhysicalParams),
+    /// An assembled model (a scenario's terms): any of its parameters spreads.
+    Model(Model),
 }
 
 /// A parameter that spreads: one of the nominal set's own.
@@ -51,6 +62,8 @@ pub enum Target {
     Study(Param),
     /// A drive parameter.
     Drive(DriveParam),
+    /// A parameter of a model's forcing or terms.
+    Model(ModelParam),
 }
 
 impl Target {
@@ -59,6 +72,7 @@ impl Target {
         match self {
             Target::Study(p) => p.name(),
             Target::Drive(p) => p.name(),
+            Target::Model(p) => p.name(),
         }
     }
 }
@@ -69,6 +83,7 @@ impl Nominal {
         Ok(match self {
             Nominal::Study(_) => Target::Study(name.parse()?),
             Nominal::Drive(_) => Target::Drive(name.parse()?),
+            Nominal::Model(m) => Target::Model(m.param(name)?),
         })
     }
 
@@ -77,20 +92,24 @@ impl Nominal {
         match (self, t) {
             (Nominal::Study(p), Target::Study(q)) => p.value(q),
             (Nominal::Drive(d), Target::Drive(q)) => d.value(q),
+            (Nominal::Model(m), Target::Model(q)) => m.get(q),
             _ => f64::NAN,
         }
     }
 
-    /// The set with one parameter changed.
-    pub fn with(self, t: Target, v: f64) -> Nominal {
-        match (self, t) {
+    /// The set with one parameter changed (a model's value checked against its domain; a
+    /// study set or a drive is checked by [`Nominal::check`]).
+    pub fn with(self, t: Target, v: f64) -> Result<Nominal> {
+        Ok(match (self, t) {
             (Nominal::Study(p), Target::Study(q)) => Nominal::Study(p.with(q, v)),
             (Nominal::Drive(d), Target::Drive(q)) => Nominal::Drive(d.with(q, v)),
+            (Nominal::Model(m), Target::Model(q)) => Nominal::Model(m.with(q, v)?),
             (n, _) => n,
-        }
+        })
     }
 
-    /// The dimensionless set it stands for (a drive reduced), checked.
+    /// The dimensionless set it stands for (a drive reduced), checked; a model with terms has
+    /// none (it is judged on its own equilibrium curve).
     pub fn reduced(&self) -> Result<Params> {
         match self {
             Nominal::Study(p) => {
@@ -98,6 +117,19 @@ impl Nominal {
                 Ok(*p)
             }
             Nominal::Drive(d) => Ok(d.reduce()?.params),
+            Nominal::Model(m) => Err(Error::InvalidInput {
+                what: "model",
+                text: m.equation(),
+                reason: "a model with terms has no reduced study set".into(),
+            }),
+        }
+    }
+
+    /// Checks that the set is inside the model's domain.
+    pub fn check(&self) -> Result<()> {
+        match self {
+            Nominal::Model(m) => m.check(),
+            n => n.reduced().map(drop),
         }
     }
 }
@@ -157,7 +189,7 @@ fn check_reach(nominal: &Nominal, t: &Tolerance) -> Result<()> {
         d => [d.quantile(REACH_TAIL), d.quantile(1.0 - REACH_TAIL)],
     };
     for v in ends {
-        if let Err(e) = nominal.with(t.target, v).reduced() {
+        if let Err(e) = nominal.with(t.target, v).and_then(|n| n.check()) {
             return Err(Error::InvalidInput {
                 what: "tolerance",
                 text: t.target.name().into(),
@@ -184,7 +216,7 @@ impl Space {
     /// A checked space: a valid nominal set, at least one tolerance, each of its own kind of
     /// parameter, none twice, each distribution valid.
     pub fn new(nominal: Nominal, tolerances: Vec<Tolerance>) -> Result<Space> {
-        nominal.reduced()?;
+        nominal.check()?;
         if tolerances.is_empty() {
             return Err(Error::InvalidInput {
                 what: "tolerances",
@@ -290,12 +322,30 @@ impl Space {
             .collect()
     }
 
-    /// The nominal set with the toleranced parameters at `values`.
-    pub fn at(&self, values: &[f64]) -> Nominal {
+    /// The nominal set with the toleranced parameters at `values` (a model's changed all at
+    /// once, so a rule between two of them is judged on the pair: [`Model::with_all`]).
+    pub fn at(&self, values: &[f64]) -> Result<Nominal> {
+        if let Nominal::Model(m) = &self.nominal {
+            return self.model_at(m, values).map(Nominal::Model);
+        }
         self.tolerances
             .iter()
             .zip(values)
-            .fold(self.nominal, |n, (t, &v)| n.with(t.target, v))
+            .try_fold(self.nominal, |n, (t, &v)| n.with(t.target, v))
+    }
+
+    /// [`Space::at`] of a model space whose nominal model is `m`.
+    fn model_at(&self, m: &Model, values: &[f64]) -> Result<Model> {
+        let changes: Vec<(ModelParam, f64)> = self
+            .tolerances
+            .iter()
+            .zip(values)
+            .filter_map(|(t, &v)| match t.target {
+                Target::Model(q) => Some((q, v)),
+                _ => None,
+            })
+            .collect();
+        m.with_all(&changes)
     }
 
     /// The nominal values of the toleranced parameters.
@@ -304,222 +354,6 @@ impl Space {
             .iter()
             .map(|t| self.nominal.value(t.target))
             .collect()
-    }
-}
-
-/// A continuous measure of a response (or the burst indicator): what sensitivity is computed of.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Measure {
-    /// 1 when bursting, else 0 (its mean is P(burst)).
-    Burst,
-    /// Largest |x'| in the window.
-    PeakAbsXdot,
-    /// Largest leading lobe, in units of X.
-    MaxOvershoot,
-    /// Largest ringing swing of x', in units of ω·X.
-    MaxRingingSwing,
-    /// peak |x'| / the equilibrium's largest speed.
-    SpeedRatio,
-}
-
-impl Measure {
-    /// All, in the order of the columns.
-    pub const ALL: [Measure; 5] = [
-        Measure::Burst,
-        Measure::PeakAbsXdot,
-        Measure::MaxOvershoot,
-        Measure::MaxRingingSwing,
-        Measure::SpeedRatio,
-    ];
-
-    /// Its column name.
-    pub fn name(self) -> &'static str {
-        match self {
-            Measure::Burst => "burst",
-            Measure::PeakAbsXdot => "peak_abs_xdot",
-            Measure::MaxOvershoot => "max_overshoot",
-            Measure::MaxRingingSwing => "max_ringing_swing",
-            Measure::SpeedRatio => "speed_ratio",
-        }
-    }
-}
-
-/// The verdict on one sample, with its measures.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct Outcome {
-    /// Bursting or not.
-    pub bursting: bool,
-    /// The strongest signature (null when predicted).
-    pub verdict: Option<Verdict>,
-    /// Simulated or predicted.
-    pub basis: Basis,
-    /// Whether the sample is in the fast-slow domain.
-    pub fast_slow_domain: bool,
-    /// Each of [`Measure::ALL`] (NaN when predicted, but the burst indicator).
-    pub measures: [f64; 5],
-}
-
-impl Outcome {
-    /// The verdict's name, as the design check labels it (`ringing`, `no-bursts (predicted)`, …).
-    pub fn label(&self) -> &'static str {
-        crate::physical::design::Judgement {
-            bursting: self.bursting,
-            verdict: self.verdict,
-            fast_slow_domain: self.fast_slow_domain,
-            basis: self.basis,
-        }
-        .label()
-    }
-}
-
-/// Why a sample has no verdict.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-#[serde(tag = "kind", content = "message", rename_all = "kebab-case")]
-pub enum Failure {
-    /// Its parameter values are outside the model's domain (a negative stiffness, …).
-    OutsideDomain(String),
-    /// Its integration failed.
-    Solver(String),
-}
-
-/// One judged sample.
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct Sample {
-    /// Its index in the run's sequence.
-    pub index: u64,
-    /// The toleranced parameters' values.
-    pub values: Vec<f64>,
-    /// The dimensionless set it reduces to (None outside the domain).
-    pub reduced: Option<Params>,
-    /// The verdict, or why there is none.
-    pub outcome: std::result::Result<Outcome, Failure>,
-}
-
-/// Judges the sets `values` (each the toleranced parameters' values) in parallel, in order.
-pub fn evaluate(space: &Space, values: &[Vec<f64>], opts: &BurstOptions) -> Vec<Sample> {
-    /// Sets per parallel task: four sixteen-lane batches.
-    const TASK: usize = 4 * crate::batch::LANES;
-    let reduced: Vec<Result<Params>> = values.iter().map(|v| space.at(v).reduced()).collect();
-    let judged: Vec<std::result::Result<Outcome, Failure>> = reduced
-        .par_chunks(TASK)
-        .flat_map_iter(|chunk| {
-            let ok: Vec<Params> = chunk
-                .iter()
-                .filter_map(|r| r.as_ref().ok())
-                .copied()
-                .collect();
-            let mut j = judge_reduced(&ok, opts).into_iter();
-            chunk
-                .iter()
-                .map(|r| match r {
-                    Err(e) => Err(Failure::OutsideDomain(e.to_string())),
-                    Ok(_) => match j.next().expect("one verdict per valid set") {
-                        Ok(judged) => Ok(outcome(judged)),
-                        Err(e) => Err(Failure::Solver(e.to_string())),
-                    },
-                })
-                .collect::<Vec<_>>()
-        })
-        .collect();
-    values
-        .iter()
-        .zip(judged)
-        .zip(reduced)
-        .enumerate()
-        .map(|(i, ((v, outcome), r))| Sample {
-            index: i as u64,
-            values: v.clone(),
-            reduced: r.ok(),
-            outcome,
-        })
-        .collect()
-}
-
-/// A sample as a row of the samples file: its index, the dimensionless set it reduces to, its
-/// verdict and measures (NaN where there are none), and why it has no verdict (empty otherwise).
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct SampleRow {
-    /// Index in the run's sequence.
-    pub index: u64,
-    /// α of the reduced set.
-    pub alpha: f64,
-    /// γ.
-    pub gamma: f64,
-    /// ε.
-    pub eps: f64,
-    /// μ.
-    pub mu: f64,
-    /// δ.
-    pub delta: f64,
-    /// ω.
-    pub omega: f64,
-    /// `fold-jump`, `overshoot`, `ringing`, `no-bursts`, or `bursting (predicted)` / `no-bursts
-    /// (predicted)`; empty without a verdict.
-    pub verdict: String,
-    /// Each of [`Measure::ALL`].
-    pub burst: f64,
-    /// Largest |x'|.
-    pub peak_abs_xdot: f64,
-    /// Largest leading lobe / X.
-    pub max_overshoot: f64,
-    /// Largest ringing swing / (ω X).
-    pub max_ringing_swing: f64,
-    /// peak |x'| over the equilibrium's largest speed.
-    pub speed_ratio: f64,
-    /// Why there is no verdict.
-    pub error: String,
-}
-crate::record!(
-    SampleRow: "index", ..crate::params::Param::NAMES, "verdict", "burst",
-    "peak_abs_xdot", "max_overshoot", "max_ringing_swing", "speed_ratio", "error"
-);
-
-impl From<&Sample> for SampleRow {
-    fn from(s: &Sample) -> SampleRow {
-        let p = s
-            .reduced
-            .map_or([f64::NAN; 6], |p| Param::ALL.map(|q| p.value(q)));
-        let (verdict, m, error) = match &s.outcome {
-            Ok(o) => (o.label().to_string(), o.measures, String::new()),
-            Err(Failure::OutsideDomain(e) | Failure::Solver(e)) => {
-                (String::new(), [f64::NAN; 5], e.clone())
-            }
-        };
-        SampleRow {
-            index: s.index,
-            alpha: p[0],
-            gamma: p[1],
-            eps: p[2],
-            mu: p[3],
-            delta: p[4],
-            omega: p[5],
-            verdict,
-            burst: m[0],
-            peak_abs_xdot: m[1],
-            max_overshoot: m[2],
-            max_ringing_swing: m[3],
-            speed_ratio: m[4],
-            error,
-        }
-    }
-}
-
-fn outcome((j, _, r): crate::physical::design::Judged) -> Outcome {
-    let m = r.map_or([f64::NAN; 4], |r| {
-        [
-            r.rates.peak_abs_xdot,
-            r.signatures.max_overshoot,
-            r.signatures.max_ringing_swing,
-            r.measures.speed_ratio,
-        ]
-    });
-    Outcome {
-        bursting: j.bursting,
-        verdict: j.verdict,
-        basis: j.basis,
-        fast_slow_domain: j.fast_slow_domain,
-        measures: [f64::from(u8::from(j.bursting)), m[0], m[1], m[2], m[3]],
     }
 }
 
@@ -800,6 +634,7 @@ pub fn analyse(
         ..a.mc
     });
     if let Some(mc) = &importance_mc {
+        space.check_importance()?;
         mc.end(
             &Points::new(mc.sampler, mc.seed, space.dims() + 1)?,
             "importance",

@@ -156,9 +156,10 @@ impl<P> Axis<P> {
 pub trait Sweep: crate::periodic::Periodic + PartialEq {
     /// What a row records of its point: the study's six parameters, or a model's swept values.
     type Point: Serialize + Copy + PartialEq + std::fmt::Debug + Send;
-    /// The system with one parameter set to `value`, unchecked where it can be (a grid checks
-    /// every point once, [`Sweep::check_point`]).
-    fn set(&self, param: Self::Param, value: f64) -> Result<Self>;
+    /// The system with each (parameter, value) of `changes` set at once, unchecked where it can
+    /// be (a grid checks every point once, [`Sweep::check_point`]); a model's rule between two
+    /// swept parameters is judged on the point's pair ([`Model::with_all`]).
+    fn set(&self, changes: &[(Self::Param, f64)]) -> Result<Self>;
     /// Checks a grid point (an error names the value).
     fn check_point(&self) -> Result<()>;
     /// The record of a point swept on `axes`.
@@ -205,8 +206,8 @@ pub fn columns<S: Sweep, R: Record>(axes: &[Axis<S::Param>]) -> Vec<&'static str
 
 impl Sweep for Params {
     type Point = Params;
-    fn set(&self, param: Param, value: f64) -> Result<Params> {
-        Ok(self.with(param, value))
+    fn set(&self, changes: &[(Param, f64)]) -> Result<Params> {
+        Ok(changes.iter().fold(*self, |p, &(q, v)| p.with(q, v)))
     }
     fn check_point(&self) -> Result<()> {
         self.validate().map(|_| ())
@@ -238,8 +239,8 @@ impl Sweep for Params {
 
 impl Sweep for Model {
     type Point = Values;
-    fn set(&self, param: ModelParam, value: f64) -> Result<Model> {
-        self.with(param, value)
+    fn set(&self, changes: &[(ModelParam, f64)]) -> Result<Model> {
+        self.with_all(changes)
     }
     fn check_point(&self) -> Result<()> {
         self.check()
@@ -412,14 +413,17 @@ impl<S: Sweep> Grid<S> {
 
     /// The base with each axis set to its value at index i ([`Sweep::set`]).
     fn set_axes(&self, i: usize) -> Result<S> {
-        let mut p = self.base;
         let mut rest = i;
-        for ax in &self.axes {
-            let j = rest % ax.count;
-            rest /= ax.count;
-            p = p.set(ax.param, ax.value(j))?;
-        }
-        Ok(p)
+        let changes: Vec<(S::Param, f64)> = self
+            .axes
+            .iter()
+            .map(|ax| {
+                let j = rest % ax.count;
+                rest /= ax.count;
+                (ax.param, ax.value(j))
+            })
+            .collect();
+        self.base.set(&changes)
     }
 }
 
