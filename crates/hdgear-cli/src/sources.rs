@@ -106,7 +106,7 @@ impl Args for ParamFlags {
 
 /// The commands that run the model a scenario's term tables assemble (the others refuse them).
 const MODEL_COMMANDS: &str = "model, simulate, bursts, analyze, equilibria, periodic, continue, \
-     frequency-response, orbit-diagram, control, sweep, lyapunov-map, continue2, robust";
+     frequency-response, orbit-diagram, control, sweep, lyapunov-map, continue2, robust, boundary";
 
 /// `--preset`'s help: the library's presets, a name that repeats another's set marked so.
 fn preset_help() -> String {

@@ -211,15 +211,7 @@ fn term_tables_are_refused_where_they_would_be_ignored_and_bad_ones_named() {
     let f = scenario(dir.path(), "f.toml", "[friction]\nfc = 0.1\n");
     for (args, needle) in [
         (
-            vec![
-                "boundary",
-                "--config",
-                &f,
-                "--param",
-                "gamma=0.1:1",
-                "--param",
-                "delta=1:15",
-            ],
+            vec!["bifurcation", "--config", &f, "--gamma-min", "0.01"],
             "[friction] table is a term of the model",
         ),
         (
@@ -522,4 +514,47 @@ fn robust_spreads_a_friction_scenarios_parameters_as_bursts_sees_each_sample() {
             .stderr(predicate::str::contains(needle));
         assert!(!partial.exists() && !dir.path().join("cloud.svg").exists());
     }
+}
+
+/// `boundary` traces a friction scenario's simulated boundary in any two of its parameters and
+/// says, in one line, which kinds are not defined for a model (the study's closed forms); asking
+/// for one of them is refused naming it.
+#[test]
+fn boundary_traces_a_friction_scenarios_simulated_boundary() {
+    let dir = tempfile::tempdir().unwrap();
+    let f = scenario(
+        dir.path(),
+        "f.toml",
+        "[params]\ngamma = 2.0\n[friction]\nfc = 0.1\n",
+    );
+    let plane = [
+        "boundary",
+        "--config",
+        &f,
+        "--param",
+        "friction.fc=0.02:0.5",
+        "--param",
+        "gamma=1:3",
+        "--step",
+        "0.1",
+    ];
+    let page = stdout_of(&plane);
+    assert!(
+        page.contains(
+            "predicted, a-fold-in-range, both-folds-in-range, fast-slow-edge: not traced"
+        ),
+        "{page}"
+    );
+    assert!(page.contains("curve 0: simulated"), "{page}");
+    let doc = json_of(&[&plane[..], &["--json"]].concat());
+    assert_eq!(
+        doc["curves"][0]["params"],
+        serde_json::json!(["fc", "gamma"])
+    );
+    hdgear()
+        .args(plane)
+        .args(["--kinds", "predicted"])
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("'predicted'").and(predicate::str::contains("cubic")));
 }

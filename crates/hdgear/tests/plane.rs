@@ -352,3 +352,56 @@ fn the_tracer_constants_do_not_change_the_curves_over_a_decade() {
         }
     }
 }
+
+/// The simulated boundary of a model with regularised friction in (f_c, γ): one curve from edge
+/// to edge, and at every point the ends of its bracket are what `verdict_model` (the verdict
+/// `hdgear bursts` gives) says on each side, bursting inside and not outside, evaluated here
+/// afresh; the brackets are within the boundary's tolerance. The closed-form kinds are refused
+/// for it, naming the kind.
+#[test]
+fn a_friction_models_simulated_boundary_separates_its_own_verdicts() {
+    use hdgear::model::{Model, terms::AnyTerm};
+    let study = Params {
+        gamma: 2.0,
+        ..Params::default()
+    };
+    // fc, vs: the [friction] table's defaults but its level
+    let friction = AnyTerm::new("friction", &[0.1, 0.01]).unwrap();
+    let m = Model::study(&study).with_term(friction).unwrap();
+    let axes = [m.param("friction.fc").unwrap(), m.param("gamma").unwrap()];
+    let box2 = Box2 {
+        ranges: [(0.02, 0.5), (1.0, 3.0)],
+        scales: [Scale::Linear; 2],
+    };
+    let opts = PlaneOptions::with_step(0.05);
+    let burst = BurstOptions::default();
+    let curves =
+        plane_boundaries(&m, axes, &box2, &[BoundaryKind::Simulated], &opts, &burst).unwrap();
+    assert_eq!(curves.len(), 1, "{curves:?}");
+    let c = &curves[0];
+    assert_eq!(c.end, hdgear::burst::PlaneEnd::Edge);
+    let fcs: Vec<f64> = c.points.iter().map(|q| q.params[0]).collect();
+    assert!(
+        fcs.iter().any(|&f| f < 0.03) && fcs.iter().any(|&f| f > 0.49),
+        "{fcs:?}"
+    );
+    let bursts = |l: [f64; 2]| {
+        let at = m.with_all(&[(axes[0], l[0]), (axes[1], l[1])]).unwrap();
+        hdgear::burst::verdict_model(&at, &burst)
+            .unwrap()
+            .0
+            .bursting
+    };
+    for q in c.points.iter().step_by(4) {
+        assert!(bursts(q.inside) && !bursts(q.outside), "{q:?}");
+        for i in 0..2 {
+            let gap = (q.inside[i] - q.outside[i]).abs();
+            let bound = BOUNDARY_REL_TOL * q.params[i].abs() * (1.0 + BOUNDARY_REL_TOL);
+            assert!(gap <= bound, "{q:?}");
+        }
+    }
+    for kind in [BoundaryKind::Predicted, BoundaryKind::FastSlowEdge] {
+        let e = plane_boundaries(&m, axes, &box2, &[kind], &opts, &burst).unwrap_err();
+        assert!(e.to_string().contains(kind.name()), "{e}");
+    }
+}

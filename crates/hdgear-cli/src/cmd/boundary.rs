@@ -5,13 +5,14 @@ use super::continuation2::PlaneArgs;
 use crate::cli::BurstArgs;
 use crate::export::Export;
 use crate::sink::{outln, warn};
-use anyhow::{Result, bail};
+use anyhow::{Context, Result};
 use clap::Args;
 use clap::builder::PossibleValuesParser;
 use hdgear::burst::{
-    BoundaryKind, BurstOptions, PlaneCurve, PlaneEnd, PlaneOptions, PlaneRow, plane_boundaries,
+    BoundaryKind, BurstOptions, PlaneCurve, PlaneEnd, PlaneOptions, PlaneRow, PlaneSystem,
+    plane_boundaries,
 };
-use hdgear::periodic::{Range, Scale};
+use hdgear::periodic::{Oscillator, Periodic, Range, Scale};
 use serde::Serialize;
 
 /// Arguments of `hdgear boundary`.
@@ -38,33 +39,50 @@ pub struct BoundaryArgs {
 
 /// What `--json` prints and `--out` carries as metadata.
 #[derive(Serialize)]
-struct Doc<'a> {
-    params: hdgear::Params,
-    ranges: [Range; 2],
+#[serde(bound = "")]
+struct Doc<'a, S: Periodic> {
+    params: S,
+    ranges: [Range<S::Param>; 2],
     options: PlaneOptions,
     burst: BurstOptions,
-    curves: &'a [PlaneCurve],
+    curves: &'a [PlaneCurve<S::Param>],
 }
 
 pub fn run(a: BoundaryArgs) -> Result<()> {
-    let (p, [r1, r2], box2, warnings) = a.plane.resolve()?;
-    if a.plane.params.given(r2.param) {
-        bail!("--{0} does not apply: --param sets {0} itself", r2.param);
-    }
+    let (system, warnings) = a.plane.params.resolve_system()?;
+    crate::on_system!(system, |s| boundaries_of(&a, s, &warnings))
+}
+
+/// The boundaries of `base`, the study's set (every kind) or a model (the simulated boundary:
+/// the other kinds are the study's closed forms), written and summarised.
+fn boundaries_of<S>(a: &BoundaryArgs, base: S, warnings: &[hdgear::params::Warning]) -> Result<()>
+where
+    S: Periodic + PlaneSystem<Axis = <S as Oscillator>::Param>,
+{
+    let (p, [r1, r2], box2) = a.plane.resolve_on(base)?;
+    a.plane
+        .params
+        .not_given(&r2.param.to_string(), "--param sets")?;
     let kinds: Vec<BoundaryKind> = if a.kinds.is_empty() {
-        BoundaryKind::ALL.to_vec()
+        BoundaryKind::ALL
+            .into_iter()
+            .filter(|&k| p.defines(k).is_ok())
+            .collect()
     } else {
         a.kinds
             .iter()
             .map(|k| k.parse())
             .collect::<Result<_, _>>()?
     };
+    for &k in &kinds {
+        p.defines(k).context("--kinds")?;
+    }
     let opts = PlaneOptions::with_step(a.step);
     opts.validate()
         .map_err(|e| anyhow::anyhow!("--step: {e}"))?;
     let burst = a.burst.options()?;
     a.export.check()?;
-    warn(&warnings);
+    warn(warnings);
     let params = [r1.param, r2.param];
     let curves = plane_boundaries(&p, params, &box2, &kinds, &opts, &burst)?;
     let doc = Doc {
@@ -80,24 +98,37 @@ pub fn run(a: BoundaryArgs) -> Result<()> {
             .enumerate()
             .flat_map(|(i, c)| PlaneRow::of(i, c))
     };
+    let names = params.map(|q| q.to_string());
     let figure = || {
         let logs = [r1.scale, r2.scale].map(|s| s == Scale::Log);
-        hdgear::figures::plane_figure::<hdgear::params::Param>(
+        hdgear::figures::plane_figure::<S::Param, S::Param>(
             &[],
             &curves,
-            params.map(|q| q.name()),
+            [&names[0], &names[1]],
             logs,
         )
     };
     a.export.write(&doc, rows, figure)?;
-    a.export.print(&doc, || summary(&curves, &kinds, params))
+    a.export
+        .print(&doc, || summary(&p, &curves, &kinds, &names))
 }
 
-fn summary(
-    curves: &[PlaneCurve],
+fn summary<S: PlaneSystem>(
+    base: &S,
+    curves: &[PlaneCurve<S::Axis>],
     kinds: &[BoundaryKind],
-    names: [hdgear::params::Param; 2],
+    names: &[String; 2],
 ) -> Result<()> {
+    // the kinds not defined for this system, on one line with the reason
+    let refused: Vec<(BoundaryKind, hdgear::Error)> = BoundaryKind::ALL
+        .into_iter()
+        .filter(|k| !kinds.contains(k))
+        .filter_map(|k| base.defines(k).err().map(|e| (k, e)))
+        .collect();
+    if let Some((_, hdgear::Error::InvalidInput { reason, .. })) = refused.first() {
+        let names: Vec<&str> = refused.iter().map(|(k, _)| k.name()).collect();
+        outln!("{}: not traced: {reason}", names.join(", "));
+    }
     for &kind in kinds {
         let n = curves.iter().filter(|c| c.kind == kind).count();
         outln!(
@@ -107,8 +138,9 @@ fn summary(
         );
     }
     for (i, c) in curves.iter().enumerate() {
-        let extent =
-            |j: usize| super::continuation2::extent(names[j], c.points.iter().map(|q| q.params[j]));
+        let extent = |j: usize| {
+            super::continuation2::extent(&names[j], c.points.iter().map(|q| q.params[j]))
+        };
         let end = match c.end {
             PlaneEnd::Edge => "edge to edge",
             PlaneEnd::MaxPoints => "stopped at the point limit",

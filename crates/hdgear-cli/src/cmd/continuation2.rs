@@ -88,20 +88,6 @@ fn request<S: Periodic>(
 type Plane<S> = (S, [Range<<S as Oscillator>::Param>; 2], Box2);
 
 impl PlaneArgs {
-    /// The study's set from the sources, the two ranges and their box (boundary's request).
-    pub(crate) fn resolve(
-        &self,
-    ) -> Result<(
-        hdgear::Params,
-        [Range; 2],
-        Box2,
-        Vec<hdgear::params::Warning>,
-    )> {
-        let (p, warnings) = self.params.resolve()?;
-        let (p, ranges, box2) = self.resolve_on(p)?;
-        Ok((p, ranges, box2, warnings))
-    }
-
     /// `base` (the study's set or a model) at the first range's start, the two ranges naming
     /// its parameters, and their box: every end of both ranges checked as a value the parameter
     /// may take (the curves are followed up to the box's edges).
@@ -180,7 +166,7 @@ fn curves_of<S: Periodic>(
     let names = [r1.param.to_string(), r2.param.to_string()];
     let figure = || {
         let logs = [r1.scale, r2.scale].map(|s| s == Scale::Log);
-        hdgear::figures::plane_figure(&curves, &[], [&names[0], &names[1]], logs)
+        hdgear::figures::plane_figure::<_, S::Param>(&curves, &[], [&names[0], &names[1]], logs)
     };
     a.export.write(&doc, rows, figure)?;
     a.export.print(&doc, || summary(&curves, &names))

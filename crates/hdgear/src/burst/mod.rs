@@ -68,7 +68,7 @@ pub use model::{
 };
 pub use plane::{
     BoundaryKind, CURVE_TOL, EDGE_SAMPLES, MAX_TURN, PlaneCurve, PlaneEnd, PlaneOptions,
-    PlanePoint, PlaneRow, ROUND, plane_boundaries,
+    PlanePoint, PlaneRow, PlaneSystem, ROUND, plane_boundaries,
 };
 
 use scan::{History, Pivot, Scan, Scanner};

@@ -42,8 +42,10 @@ use super::{BOUNDARY_REL_TOL, BurstOptions, boundary::simulated_bursting, fast_s
 use crate::error::{Error, Result};
 use crate::fast::predict;
 use crate::integrate::Method;
+use crate::model::{Model, ModelParam};
 use crate::params::{Box2, Param, Params, Scale};
 use crate::roots::{first_switch, multisect};
+use rayon::prelude::*;
 use serde::Serialize;
 use std::f64::consts::{FRAC_PI_2, PI};
 
@@ -135,6 +137,89 @@ impl BoundaryKind {
         };
         Ok(points.iter().map(cheap).collect())
     }
+}
+
+/// A system whose boundaries in a plane of two of its parameters the tracer follows: the
+/// study's parameter set (every [`BoundaryKind`]) or an assembled [`Model`] (the simulated
+/// boundary; the others are closed forms of the study's cubic).
+pub trait PlaneSystem: Copy + Send + Sync {
+    /// A parameter of the plane.
+    type Axis: Copy + PartialEq + Serialize + std::fmt::Display + Send + Sync;
+    /// The system with the plane's two parameters at `values`, both set at once (a model's
+    /// values checked, [`Model::with_all`]; a parameter set's by [`PlaneSystem::check`]).
+    fn at(&self, axes: [Self::Axis; 2], values: [f64; 2]) -> Result<Self>;
+    /// Checks that the system is inside its domain.
+    fn check(&self) -> Result<()>;
+    /// Refuses a boundary that is not defined for this system, naming it and why.
+    fn defines(&self, kind: BoundaryKind) -> Result<()>;
+    /// Whether `kind`'s verdict holds at each of `sets`.
+    fn holds(kind: BoundaryKind, sets: &[Self], opts: &BurstOptions) -> Result<Vec<bool>>;
+    /// Values of the simulated verdict narrowed together: a batch's lanes, or 1 where each
+    /// value runs alone.
+    fn simulated_lanes(opts: &BurstOptions) -> usize;
+    /// Whether the simulated boundary starts near the predicted one's starts (else from a scan
+    /// of the box's edges).
+    const PREDICTS: bool;
+}
+
+impl PlaneSystem for Params {
+    type Axis = Param;
+    fn at(&self, axes: [Param; 2], values: [f64; 2]) -> Result<Params> {
+        Ok(self.with(axes[0], values[0]).with(axes[1], values[1]))
+    }
+    fn check(&self) -> Result<()> {
+        self.validate().map(drop)
+    }
+    fn defines(&self, _kind: BoundaryKind) -> Result<()> {
+        Ok(())
+    }
+    fn holds(kind: BoundaryKind, sets: &[Params], opts: &BurstOptions) -> Result<Vec<bool>> {
+        kind.holds(sets, opts)
+    }
+    fn simulated_lanes(opts: &BurstOptions) -> usize {
+        match opts.tol.method {
+            Method::Taylor => crate::batch::LANES,
+            _ => 1,
+        }
+    }
+    const PREDICTS: bool = true;
+}
+
+impl PlaneSystem for Model {
+    type Axis = ModelParam;
+    fn at(&self, axes: [ModelParam; 2], values: [f64; 2]) -> Result<Model> {
+        self.with_all(&[(axes[0], values[0]), (axes[1], values[1])])
+    }
+    fn check(&self) -> Result<()> {
+        Model::check(self)
+    }
+    fn defines(&self, kind: BoundaryKind) -> Result<()> {
+        match kind {
+            BoundaryKind::Simulated => Ok(()),
+            _ => Err(Error::InvalidInput {
+                what: "boundary kind",
+                text: kind.name().into(),
+                reason: "a closed form of the study's cubic, not defined for a model with terms \
+                         (its simulated boundary is)"
+                    .into(),
+            }),
+        }
+    }
+    /// Each set simulated on its own (in parallel) and classified against its own equilibrium
+    /// curve ([`super::verdict_model`]).
+    fn holds(kind: BoundaryKind, sets: &[Model], opts: &BurstOptions) -> Result<Vec<bool>> {
+        match sets.first() {
+            Some(m) => m.defines(kind)?,
+            None => return Ok(Vec::new()),
+        }
+        sets.par_iter()
+            .map(|m| super::verdict_model(m, opts).map(|(c, _, _)| c.bursting))
+            .collect()
+    }
+    fn simulated_lanes(_opts: &BurstOptions) -> usize {
+        1
+    }
+    const PREDICTS: bool = false;
 }
 
 impl std::str::FromStr for BoundaryKind {
@@ -257,11 +342,11 @@ pub enum PlaneEnd {
 
 /// A boundary curve, followed from one end on the box's edge.
 #[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct PlaneCurve {
+pub struct PlaneCurve<A = Param> {
     /// Which boundary.
     pub kind: BoundaryKind,
     /// The two parameters.
-    pub params: [Param; 2],
+    pub params: [A; 2],
     /// The points in order, the first on the box's edge.
     pub points: Vec<PlanePoint>,
     /// Why it ended.
@@ -296,7 +381,7 @@ crate::record!(
 
 impl PlaneRow {
     /// The rows of curve number `i`.
-    pub fn of(i: usize, c: &PlaneCurve) -> impl Iterator<Item = PlaneRow> + '_ {
+    pub fn of<A>(i: usize, c: &PlaneCurve<A>) -> impl Iterator<Item = PlaneRow> + '_ {
         c.points.iter().map(move |q| PlaneRow {
             curve: i,
             kind: c.kind.name(),
@@ -319,9 +404,9 @@ struct Start {
 }
 
 /// The plane: the base set, the two parameters, the box in u, and one boundary's verdict.
-struct Plane<'a> {
-    base: Params,
-    params: [Param; 2],
+struct Plane<'a, S: PlaneSystem> {
+    base: S,
+    params: [S::Axis; 2],
     scales: [Scale; 2],
     ranges: [(f64, f64); 2],
     /// u at the box's low edge, and its width, per parameter.
@@ -329,24 +414,24 @@ struct Plane<'a> {
     width: [f64; 2],
     /// The boundary's kind (its label), its verdict and relative tolerance.
     kind: BoundaryKind,
-    verdict: &'a dyn Fn(&[Params]) -> Result<Vec<bool>>,
+    verdict: &'a dyn Fn(&[S]) -> Result<Vec<bool>>,
     tol: f64,
     /// Values a round (evaluated together).
     lanes: usize,
     evaluations: usize,
 }
 
-impl<'a> Plane<'a> {
+impl<'a, S: PlaneSystem> Plane<'a, S> {
     /// The plane of `params` over `box2` for a boundary of `kind` with `verdict`, evaluated
     /// `lanes` values a round.
     fn new(
-        base: &Params,
-        params: [Param; 2],
+        base: &S,
+        params: [S::Axis; 2],
         box2: &Box2,
         kind: BoundaryKind,
-        verdict: &'a dyn Fn(&[Params]) -> Result<Vec<bool>>,
+        verdict: &'a dyn Fn(&[S]) -> Result<Vec<bool>>,
         lanes: usize,
-    ) -> Plane<'a> {
+    ) -> Plane<'a, S> {
         let u = |i: usize| {
             let (s, (lo, hi)) = (box2.scales[i], box2.ranges[i]);
             (s.to_u(lo), s.to_u(hi) - s.to_u(lo))
@@ -376,16 +461,13 @@ impl<'a> Plane<'a> {
         })
     }
 
-    fn set(&self, v: [f64; 2]) -> Params {
-        let l = self.lambda(v);
-        self.base
-            .with(self.params[0], l[0])
-            .with(self.params[1], l[1])
+    fn set(&self, v: [f64; 2]) -> Result<S> {
+        self.base.at(self.params, self.lambda(v))
     }
 
     fn holds(&mut self, vs: &[[f64; 2]]) -> Result<Vec<bool>> {
         self.evaluations += vs.len();
-        let sets: Vec<Params> = vs.iter().map(|&v| self.set(v)).collect();
+        let sets: Vec<S> = vs.iter().map(|&v| self.set(v)).collect::<Result<_>>()?;
         (self.verdict)(&sets)
     }
 
@@ -427,7 +509,10 @@ impl<'a> Plane<'a> {
             let (mut evaluations, plane) = (0, &*self);
             let bracket = multisect((0.0, 1.0), lanes, close, |ts| {
                 evaluations += ts.len();
-                let sets: Vec<Params> = ts.iter().map(|&t| plane.set(path(s(t)))).collect();
+                let sets: Vec<S> = ts
+                    .iter()
+                    .map(|&t| plane.set(path(s(t))))
+                    .collect::<Result<_>>()?;
                 Ok::<_, Error>((plane.verdict)(&sets)?.iter().map(|h| !h).collect())
             })?;
             self.evaluations += evaluations;
@@ -514,7 +599,7 @@ impl<'a> Plane<'a> {
     }
 
     /// Follows the curve from `start` (see the module docs).
-    fn follow(&mut self, start: &Start, opts: &PlaneOptions) -> Result<PlaneCurve> {
+    fn follow(&mut self, start: &Start, opts: &PlaneOptions) -> Result<PlaneCurve<S::Axis>> {
         let least = self.least_step(opts);
         let evaluations = self.evaluations;
         let mut points = vec![start.point];
@@ -588,7 +673,7 @@ impl<'a> Plane<'a> {
         &mut self,
         mut starts: Vec<Start>,
         opts: &PlaneOptions,
-    ) -> Result<Vec<PlaneCurve>> {
+    ) -> Result<Vec<PlaneCurve<S::Axis>>> {
         let mut curves = Vec::new();
         while !starts.is_empty() {
             let start = starts.remove(0);
@@ -640,34 +725,36 @@ fn edge_of(heading: f64) -> usize {
 ///     assert!((q.params[0] / w - 1.0).abs() < 1e-6);
 /// }
 /// ```
-pub fn plane_boundaries(
-    base: &Params,
-    params: [Param; 2],
+pub fn plane_boundaries<S: PlaneSystem>(
+    base: &S,
+    params: [S::Axis; 2],
     box2: &Box2,
     kinds: &[BoundaryKind],
     opts: &PlaneOptions,
     burst: &BurstOptions,
-) -> Result<Vec<PlaneCurve>> {
+) -> Result<Vec<PlaneCurve<S::Axis>>> {
     if params[0] == params[1] {
         return Err(Error::InvalidInput {
             what: "parameter plane",
-            text: params[0].name().to_string(),
+            text: params[0].to_string(),
             reason: "the two parameters must differ".into(),
         });
     }
     box2.validate()?;
     opts.validate()?;
-    // every set of the box is valid when its corners are (each parameter's domain is an interval)
+    for &kind in kinds {
+        base.defines(kind)?;
+    }
+    // every set of the box is valid when its corners are (each parameter's domain is an
+    // interval; a model's rules between parameters are checked at each point as well)
     for (a, b) in [(0, 0), (0, 1), (1, 0), (1, 1)] {
         let [(l0, h0), (l1, h1)] = box2.ranges;
-        base.with(params[0], [l0, h0][a])
-            .with(params[1], [l1, h1][b])
-            .validate()?;
+        base.at(params, [[l0, h0][a], [l1, h1][b]])?.check()?;
     }
-    let verdicts = BoundaryKind::ALL.map(|kind| move |sets: &[Params]| kind.holds(sets, burst));
+    let verdicts = BoundaryKind::ALL.map(|kind| move |sets: &[S]| S::holds(kind, sets, burst));
     let plane = |kind: BoundaryKind| {
-        let lanes = match (kind, burst.tol.method) {
-            (BoundaryKind::Simulated, Method::Taylor) => crate::batch::LANES,
+        let lanes = match kind {
+            BoundaryKind::Simulated => S::simulated_lanes(burst),
             _ => 1,
         };
         let i = BoundaryKind::ALL
@@ -679,7 +766,7 @@ pub fn plane_boundaries(
     let mut curves = Vec::new();
     for &kind in kinds {
         let mut pl = plane(kind);
-        let starts = if kind == BoundaryKind::Simulated {
+        let starts = if kind == BoundaryKind::Simulated && S::PREDICTS {
             let predicted = plane(BoundaryKind::Predicted).starts(opts)?;
             let mut starts = Vec::new();
             for s in &predicted {

@@ -451,9 +451,9 @@ pub fn lyapunov_map_kind(p: &Params, study: &mut Study) -> Result<Figure> {
 /// (two-parameter continuation) and boundaries of the fast-slow picture (the bursting boundary
 /// predicted and simulated, the fold set of the fast subsystem, the fast-slow edge), each kind
 /// in its own colour, the codimension-two points marked.
-pub fn plane_figure<P>(
+pub fn plane_figure<P, A>(
     curves: &[crate::periodic::Curve2<P>],
-    boundaries: &[crate::burst::PlaneCurve],
+    boundaries: &[crate::burst::PlaneCurve<A>],
     names: [&str; 2],
     logs: [bool; 2],
 ) -> Figure {
