@@ -324,3 +324,53 @@ fn a_box_much_larger_than_the_curve_gives_the_same_closed_curve() {
     let mid = 0.5 * (wide[0] + wide[1]);
     assert!((mid - mu_s).abs() < 1e-7 * mu_s.abs(), "{mid} vs {mu_s}");
 }
+
+/// A period-doubling bubble cut by the box's top edge (γ = 30, δ = 40 = the edge): the branch in
+/// ω at δ = 40 has two doublings, and both lie on the one curve, which leaves the box through
+/// each of them. It is traced once, not once from each doubling (the curve's first point, on the
+/// edge, was not taken for a crossing of the line δ = 40 before).
+#[test]
+fn a_doubling_bubble_cut_by_the_box_is_traced_once() {
+    use hdgear::periodic::{End, Range, curves_from_branch};
+    let p = Params {
+        gamma: 30.0,
+        delta: 40.0,
+        ..Params::default()
+    };
+    let opts = ContinuationOptions::default();
+    let ranges = [
+        Range::parse("omega=4:16:log").unwrap(),
+        Range::parse("delta=5:40").unwrap(),
+    ];
+    let start = Params { omega: 4.0, ..p };
+    let branch = continue_orbit(
+        &start,
+        Param::Omega,
+        1,
+        None,
+        16.0,
+        &ContinuationOptions {
+            scale: Scale::Log,
+            ..opts
+        },
+    )
+    .unwrap();
+    let doublings: Vec<f64> = branch
+        .specials()
+        .filter(|q| q.special == Some(Special::PeriodDoubling))
+        .map(|q| q.param)
+        .collect();
+    assert_eq!(doublings.len(), 2, "{doublings:?}");
+    let curves = curves_from_branch(&p, ranges, CurveKind::PeriodDoubling, None, 1, &opts).unwrap();
+    assert_eq!(curves.len(), 1, "{curves:?}");
+    let c = &curves[0];
+    assert_eq!(c.ends, [End::Reached, End::Reached]);
+    let ends = [c.points[0].params, c.points[c.points.len() - 1].params];
+    for w in doublings {
+        assert!(
+            ends.iter()
+                .any(|e| e[1] == 40.0 && (e[0] - w).abs() < 1e-6 * w),
+            "{w} vs {ends:?}"
+        );
+    }
+}

@@ -838,15 +838,24 @@ impl<P: Copy + PartialEq + std::fmt::Debug + std::fmt::Display + Send + Sync> Cu
         opts: &ContinuationOptions,
     ) -> Result<Vec<CurvePoint2>> {
         let j = fixed.min(1);
-        self.points
-            .windows(2)
-            .filter(|w| {
-                let (a, b) = (w[0].params[j] - value, w[1].params[j] - value);
-                a * b < 0.0 || b == 0.0
+        let off = |q: &CurvePoint2| q.params[j] - value;
+        // in order along the curve: every point on the line (a curve's ends on the box's edge
+        // among them, its first point too), and the nearer point of each pair the line passes
+        // between
+        let pts = &self.points;
+        (0..pts.len())
+            .filter_map(|i| {
+                if off(&pts[i]) == 0.0 {
+                    return Some(&pts[i]);
+                }
+                let next = pts.get(i + 1).filter(|q| off(&pts[i]) * off(q) < 0.0)?;
+                Some(if off(&pts[i]).abs() < off(next).abs() {
+                    &pts[i]
+                } else {
+                    next
+                })
             })
-            .map(|w| {
-                let closer = (w[0].params[j] - value).abs() < (w[1].params[j] - value).abs();
-                let near = if closer { &w[0] } else { &w[1] };
+            .map(|near| {
                 point_on_curve(
                     o,
                     self.params,
