@@ -328,7 +328,8 @@ fn a_box_much_larger_than_the_curve_gives_the_same_closed_curve() {
 /// A period-doubling bubble cut by the box's top edge (γ = 30, δ = 40 = the edge): the branch in
 /// ω at δ = 40 has two doublings, and both lie on the one curve, which leaves the box through
 /// each of them. It is traced once, not once from each doubling (the curve's first point, on the
-/// edge, was not taken for a crossing of the line δ = 40 before).
+/// edge, was not taken for a crossing of the line δ = 40 before). Its least δ is reported as a
+/// turning point and checked against the branch in ω on either side of it.
 #[test]
 fn a_doubling_bubble_cut_by_the_box_is_traced_once() {
     use hdgear::periodic::{End, Range, curves_from_branch};
@@ -342,35 +343,51 @@ fn a_doubling_bubble_cut_by_the_box_is_traced_once() {
         Range::parse("omega=4:16:log").unwrap(),
         Range::parse("delta=5:40").unwrap(),
     ];
-    let start = Params { omega: 4.0, ..p };
-    let branch = continue_orbit(
-        &start,
-        Param::Omega,
-        1,
-        None,
-        16.0,
-        &ContinuationOptions {
+    // the doublings of the one-parameter branch in ω from 4 to 16 at this δ
+    let doublings_at = |delta: f64| -> Vec<f64> {
+        let start = Params {
+            omega: 4.0,
+            delta,
+            ..p
+        };
+        let one = ContinuationOptions {
             scale: Scale::Log,
             ..opts
-        },
-    )
-    .unwrap();
-    let doublings: Vec<f64> = branch
-        .specials()
-        .filter(|q| q.special == Some(Special::PeriodDoubling))
-        .map(|q| q.param)
-        .collect();
+        };
+        let branch = continue_orbit(&start, Param::Omega, 1, None, 16.0, &one).unwrap();
+        branch
+            .specials()
+            .filter(|q| q.special == Some(Special::PeriodDoubling))
+            .map(|q| q.param)
+            .collect()
+    };
+    let doublings = doublings_at(40.0);
     assert_eq!(doublings.len(), 2, "{doublings:?}");
-    let curves = curves_from_branch(&p, ranges, CurveKind::PeriodDoubling, None, 1, &opts).unwrap();
+    let kind = CurveKind::PeriodDoubling;
+    let curves = curves_from_branch(&p, ranges, kind, None, 1, &opts).unwrap();
     assert_eq!(curves.len(), 1, "{curves:?}");
     let c = &curves[0];
     assert_eq!(c.ends, [End::Reached, End::Reached]);
     let ends = [c.points[0].params, c.points[c.points.len() - 1].params];
     for w in doublings {
-        assert!(
-            ends.iter()
-                .any(|e| e[1] == 40.0 && (e[0] - w).abs() < 1e-6 * w),
-            "{w} vs {ends:?}"
-        );
+        let on_end = |e: &[f64; 2]| e[1] == 40.0 && (e[0] - w).abs() < 1e-6 * w;
+        assert!(ends.iter().any(on_end), "{w} vs {ends:?}");
     }
+    // its one turning point is the bubble's least δ: no traced point lies below it, and the
+    // branch in ω has two doublings 1 % above it and none 1 % below
+    let turning: Vec<[f64; 2]> = c
+        .points
+        .iter()
+        .filter(|q| q.special == Some(Codim2::TurningPoint))
+        .map(|q| q.params)
+        .collect();
+    assert_eq!(turning.len(), 1, "{turning:?}");
+    let least = turning[0][1];
+    assert!(
+        c.points
+            .iter()
+            .all(|q| q.params[1] >= least - 1e-12 * least)
+    );
+    assert_eq!(doublings_at(1.01 * least).len(), 2);
+    assert_eq!(doublings_at(0.99 * least).len(), 0);
 }

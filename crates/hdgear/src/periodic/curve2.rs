@@ -114,7 +114,8 @@ impl CurveKind {
     }
 }
 
-/// A codimension-two point on a curve.
+/// A special point on a curve: a codimension-two point, or where the curve turns back in its
+/// second parameter.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "kebab-case")]
 pub enum Codim2 {
@@ -123,6 +124,10 @@ pub enum Codim2 {
     /// The period doubling's normal-form coefficient ([`super::flip_coefficient`]) changes sign:
     /// the doubling turns from supercritical to subcritical.
     GeneralisedPeriodDoubling,
+    /// Not a bifurcation: λ₂ is least or largest along the curve, where it turns back in the
+    /// second parameter (a resonance bubble's least δ: below it the one-parameter branch in λ₁
+    /// has no fold or doubling of this curve).
+    TurningPoint,
 }
 
 impl Codim2 {
@@ -131,6 +136,7 @@ impl Codim2 {
         match self {
             Codim2::Cusp => "cusp",
             Codim2::GeneralisedPeriodDoubling => "generalised-period-doubling",
+            Codim2::TurningPoint => "turning-point",
         }
     }
 }
@@ -489,6 +495,16 @@ impl<O: Oscillator> Tracer<'_, O> {
             && let Some(s) = self.locate(p, t, sigma_b, (a, b), cusp)?
         {
             found.push((dot(t, s.z), self.curve_point(&s, Some(Codim2::Cusp))?));
+        }
+        // turning point in λ₂: the tangent's λ₂ part changes sign while the parameter velocity
+        // goes on (not reversed, as at a cusp); u₂ is monotone in λ₂, so its extremum is λ₂'s
+        if found.is_empty()
+            && t[3] * tq[3] < 0.0
+            && b > 0.0
+            && let Some(s) = self.locate(p, t, sigma_b, (t[3], tq[3]), |_, tq| Some(tq[3]))?
+        {
+            let point = self.curve_point(&s, Some(Codim2::TurningPoint))?;
+            found.push((dot(t, s.z), point));
         }
         // generalised period doubling: the normal-form coefficient changes sign through zero (a
         // change of sign where |c| does not fall below both ends' values is not a zero of c)
