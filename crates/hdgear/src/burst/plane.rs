@@ -145,9 +145,10 @@ impl BoundaryKind {
 pub trait PlaneSystem: Copy + Send + Sync {
     /// A parameter of the plane.
     type Axis: Copy + PartialEq + Serialize + std::fmt::Display + Send + Sync;
-    /// The system with the plane's two parameters at `values`, both set at once (a model's
-    /// values checked, [`Model::with_all`]; a parameter set's by [`PlaneSystem::check`]).
-    fn at(&self, axes: [Self::Axis; 2], values: [f64; 2]) -> Result<Self>;
+    /// The system with each (parameter, value) of `changes` set at once: a model's values
+    /// checked and a term's rule judged on the new values together ([`Model::with_all`]); a
+    /// parameter set's unchecked (checked by [`PlaneSystem::check`]).
+    fn set(&self, changes: &[(Self::Axis, f64)]) -> Result<Self>;
     /// Checks that the system is inside its domain.
     fn check(&self) -> Result<()>;
     /// Refuses a boundary that is not defined for this system, naming it and why.
@@ -164,8 +165,8 @@ pub trait PlaneSystem: Copy + Send + Sync {
 
 impl PlaneSystem for Params {
     type Axis = Param;
-    fn at(&self, axes: [Param; 2], values: [f64; 2]) -> Result<Params> {
-        Ok(self.with(axes[0], values[0]).with(axes[1], values[1]))
+    fn set(&self, changes: &[(Param, f64)]) -> Result<Params> {
+        Ok(changes.iter().fold(*self, |p, &(q, v)| p.with(q, v)))
     }
     fn check(&self) -> Result<()> {
         self.validate().map(drop)
@@ -187,8 +188,8 @@ impl PlaneSystem for Params {
 
 impl PlaneSystem for Model {
     type Axis = ModelParam;
-    fn at(&self, axes: [ModelParam; 2], values: [f64; 2]) -> Result<Model> {
-        self.with_all(&[(axes[0], values[0]), (axes[1], values[1])])
+    fn set(&self, changes: &[(ModelParam, f64)]) -> Result<Model> {
+        self.with_all(changes)
     }
     fn check(&self) -> Result<()> {
         Model::check(self)
@@ -462,7 +463,9 @@ impl<'a, S: PlaneSystem> Plane<'a, S> {
     }
 
     fn set(&self, v: [f64; 2]) -> Result<S> {
-        self.base.at(self.params, self.lambda(v))
+        let l = self.lambda(v);
+        self.base
+            .set(&[(self.params[0], l[0]), (self.params[1], l[1])])
     }
 
     fn holds(&mut self, vs: &[[f64; 2]]) -> Result<Vec<bool>> {
@@ -749,7 +752,8 @@ pub fn plane_boundaries<S: PlaneSystem>(
     // interval; a model's rules between parameters are checked at each point as well)
     for (a, b) in [(0, 0), (0, 1), (1, 0), (1, 1)] {
         let [(l0, h0), (l1, h1)] = box2.ranges;
-        base.at(params, [[l0, h0][a], [l1, h1][b]])?.check()?;
+        let corner = [(params[0], [l0, h0][a]), (params[1], [l1, h1][b])];
+        base.set(&corner)?.check()?;
     }
     let verdicts = BoundaryKind::ALL.map(|kind| move |sets: &[S]| S::holds(kind, sets, burst));
     let plane = |kind: BoundaryKind| {

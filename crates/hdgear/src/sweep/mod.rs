@@ -5,7 +5,7 @@
 //! Rows are handed to the caller as they finish (for streaming and resuming); the caller puts
 //! them in grid order at the end.
 
-use crate::burst::{BurstOptions, Mechanism, Mode, Rates, classify, response};
+use crate::burst::{BurstOptions, Mechanism, Mode, PlaneSystem, Rates, classify, response};
 use crate::error::{Error, Result};
 use crate::fast;
 use crate::model::{Model, ModelParam};
@@ -153,15 +153,16 @@ impl<P> Axis<P> {
 /// What a grid sweeps: the study's parameter set ([`Params`], its rows measured 16 at a time by
 /// the batch integrator) or a model assembled from terms ([`Model`], any of its parameters on an
 /// axis), each row the burst verdict on one point.
-pub trait Sweep: crate::periodic::Periodic + PartialEq {
+///
+/// A grid point is set and checked as a plane's point is ([`PlaneSystem::set`],
+/// [`PlaneSystem::check`]).
+pub trait Sweep:
+    crate::periodic::Periodic
+    + PlaneSystem<Axis = <Self as crate::periodic::Oscillator>::Param>
+    + PartialEq
+{
     /// What a row records of its point: the study's six parameters, or a model's swept values.
     type Point: Serialize + Copy + PartialEq + std::fmt::Debug + Send;
-    /// The system with each (parameter, value) of `changes` set at once, unchecked where it can
-    /// be (a grid checks every point once, [`Sweep::check_point`]); a model's rule between two
-    /// swept parameters is judged on the point's pair ([`Model::with_all`]).
-    fn set(&self, changes: &[(Self::Param, f64)]) -> Result<Self>;
-    /// Checks a grid point (an error names the value).
-    fn check_point(&self) -> Result<()>;
     /// The record of a point swept on `axes`.
     fn point_of(&self, axes: &[Axis<Self::Param>]) -> Self::Point;
     /// The rows of (index, point) pairs measured with `opts`.
@@ -206,12 +207,6 @@ pub fn columns<S: Sweep, R: Record>(axes: &[Axis<S::Param>]) -> Vec<&'static str
 
 impl Sweep for Params {
     type Point = Params;
-    fn set(&self, changes: &[(Param, f64)]) -> Result<Params> {
-        Ok(changes.iter().fold(*self, |p, &(q, v)| p.with(q, v)))
-    }
-    fn check_point(&self) -> Result<()> {
-        self.validate().map(|_| ())
-    }
     fn point_of(&self, _axes: &[Axis]) -> Params {
         *self
     }
@@ -239,12 +234,6 @@ impl Sweep for Params {
 
 impl Sweep for Model {
     type Point = Values;
-    fn set(&self, changes: &[(ModelParam, f64)]) -> Result<Model> {
-        self.with_all(changes)
-    }
-    fn check_point(&self) -> Result<()> {
-        self.check()
-    }
     fn point_of(&self, axes: &[Axis<ModelParam>]) -> Values {
         Values::of(axes, axes.iter().map(|ax| self.get(ax.param)))
     }
@@ -407,11 +396,11 @@ impl<S: Sweep> Grid<S> {
     /// The system at index i, checked.
     pub fn at(&self, i: usize) -> Result<S> {
         let p = self.set_axes(i)?;
-        p.check_point()?;
+        PlaneSystem::check(&p)?;
         Ok(p)
     }
 
-    /// The base with each axis set to its value at index i ([`Sweep::set`]).
+    /// The base with each axis set to its value at index i ([`PlaneSystem::set`]).
     fn set_axes(&self, i: usize) -> Result<S> {
         let mut rest = i;
         let changes: Vec<(S::Param, f64)> = self
@@ -430,7 +419,7 @@ impl<S: Sweep> Grid<S> {
 impl Grid {
     /// The parameter set at index i (unchecked: [`Grid::new`] checked every point).
     pub fn point(&self, i: usize) -> Params {
-        // setting a study parameter cannot fail ([`Sweep::set`] for `Params`)
+        // setting a study parameter cannot fail ([`PlaneSystem::set`] for `Params`)
         self.set_axes(i).unwrap_or(self.base)
     }
 }
