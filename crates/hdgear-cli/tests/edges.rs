@@ -228,3 +228,33 @@ fn terms_too_fast_for_the_step_budget_are_refused_at_once() {
         assert!(start.elapsed() < Duration::from_secs(10), "{args:?}");
     }
 }
+
+/// Requests whose answer is known before any long computation: the delayed feedback at the
+/// default τ_d = 1 is unstable before any gain removes the bursts (its characteristic roots say
+/// so; the search used to simulate unstable loops up to the largest gain, for minutes), and a
+/// two-parameter box down to ω = 1e-6 holds orbits of 6.3e6 time units (hours to trace). Each
+/// is answered within the helper's timeout, with exit 2 and a line that says why.
+#[test]
+fn answers_known_in_advance_come_at_once() {
+    let dir = tempfile::tempdir().unwrap();
+    for (args, needle) in [
+        (
+            &["control", "delay"][..],
+            "no gain of delay removes the bursts: with τ_d = 1 the closed loop is unstable from K",
+        ),
+        (
+            &[
+                "continue2",
+                "--param",
+                "omega=1e-6:1e6:log",
+                "--param",
+                "delta=1e-6:1e6:log",
+            ],
+            "invalid parameter box 'ω down to 1e-6': its longest orbit lasts 6.283e6 time units",
+        ),
+    ] {
+        let (code, err) = run_in(dir.path(), args);
+        assert_eq!(code, Some(2), "{args:?}: {err}");
+        assert!(err.contains(needle), "{args:?}: {err}");
+    }
+}

@@ -51,6 +51,15 @@ pub enum Error {
         /// What is expected.
         reason: String,
     },
+    /// A control law that no gain within reach makes remove the bursts (a valid request whose
+    /// answer is "none").
+    #[error("no gain of {law} removes the bursts: {reason}")]
+    NoGain {
+        /// The law.
+        law: &'static str,
+        /// Why: the largest gain tried, or the delay's stability limit.
+        reason: String,
+    },
     /// A preset name that does not exist.
     #[error("unknown preset '{name}' (known: {known})")]
     UnknownPreset {

@@ -201,3 +201,100 @@ fn a_delayed_and_dithered_loop_is_scanned() {
         assert_eq!(verdict(&both), verdict(&m), "γ = {gamma}");
     }
 }
+
+/// The linear loop y'' + y' + (k + K)·y − K·y(t − τ_d) = 0 from y = 1, y' = 0 (rest at 0 before
+/// t = 0, a kick at the start), by RK4 with step τ_d/200 and the delayed value linearly
+/// interpolated between grid points: the largest |y| over the last fifth of [0, t_end] over the
+/// largest over the first fifth. Below 1: the loop decays; above: it grows.
+fn linear_growth(k: f64, gain: f64, tau: f64, t_end: f64) -> f64 {
+    let m = 200;
+    let h = tau / m as f64;
+    let n = (t_end / h).round() as usize;
+    let mut ys: Vec<f64> = vec![1.0];
+    let mut y = [1.0, 0.0];
+    let past = |ys: &Vec<f64>, t: f64| -> f64 {
+        if t <= 0.0 {
+            return 0.0;
+        }
+        let i = (t / h).floor() as usize;
+        let f = t / h - i as f64;
+        let a = ys[i];
+        let b = ys.get(i + 1).copied().unwrap_or(a);
+        a + f * (b - a)
+    };
+    for j in 0..n {
+        let t = j as f64 * h;
+        let rate = |t: f64, y: [f64; 2], ys: &Vec<f64>| -> [f64; 2] {
+            [y[1], -y[1] - (k + gain) * y[0] + gain * past(ys, t - tau)]
+        };
+        let k1 = rate(t, y, &ys);
+        let k2 = rate(
+            t + 0.5 * h,
+            [y[0] + 0.5 * h * k1[0], y[1] + 0.5 * h * k1[1]],
+            &ys,
+        );
+        let k3 = rate(
+            t + 0.5 * h,
+            [y[0] + 0.5 * h * k2[0], y[1] + 0.5 * h * k2[1]],
+            &ys,
+        );
+        let k4 = rate(t + h, [y[0] + h * k3[0], y[1] + h * k3[1]], &ys);
+        for i in 0..2 {
+            y[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
+        }
+        ys.push(y[0]);
+    }
+    let fifth = ys.len() / 5;
+    let peak = |s: &[f64]| s.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    peak(&ys[ys.len() - fifth..]) / peak(&ys[..fifth])
+}
+
+/// The crossing gain from the characteristic roots is where an independent integration of the
+/// linear delayed loop turns from decaying to growing: 10 % below it decays, 10 % above it
+/// grows, at a soft, a medium and a stiff equilibrium and two delays.
+#[test]
+fn the_delay_crossing_gain_is_where_the_linear_loop_turns_unstable() {
+    for (k, tau) in [(0.1, 1.0), (14.6, 1.0), (3.0, 0.3), (50.0, 0.3)] {
+        let (gain, w) = hdgear::control::crossing_gain(k, tau);
+        assert!(gain.is_finite() && gain > 0.0 && w > 0.0, "k = {k}: {gain}");
+        let (below, above) = (
+            linear_growth(k, 0.9 * gain, tau, 400.0),
+            linear_growth(k, 1.1 * gain, tau, 400.0),
+        );
+        assert!(
+            below < 0.5 && above > 2.0,
+            "k = {k}, τ_d = {tau}: K = {gain}: growth {below} below, {above} above"
+        );
+    }
+}
+
+/// At the default delay τ_d = 1 the delayed feedback cannot remove the study's bursts while the
+/// loop is stable: the tuner says so from the characteristic roots, without simulating the
+/// unstable loops above the limit (which took minutes), and the limit is the crossing gain at
+/// the stiffness it names. With τ_d = 0.3 a stable gain removes them, below that limit.
+#[test]
+fn the_delay_law_is_refused_above_its_stability_limit() {
+    let p = Params::default();
+    let opts = hdgear::burst::BurstOptions::default();
+    let limit = hdgear::control::delay_limit(&p, 1.0).unwrap().unwrap();
+    assert_eq!(
+        hdgear::control::crossing_gain(limit.stiffness, 1.0).0,
+        limit.gain
+    );
+    // the least over the stiffness range the state meets: no sampled stiffness is lower
+    let (k_lo, k_hi) = hdgear::control::Plant::stiffness_range(&p).unwrap();
+    for j in 0..=1000 {
+        let k = k_lo.max(1e-12) + (k_hi - k_lo) * f64::from(j) / 1000.0;
+        assert!(hdgear::control::crossing_gain(k, 1.0).0 >= limit.gain * (1.0 - 1e-9));
+    }
+    match hdgear::control::tune(&p, "delay", &[1.0], &opts, 1e-3) {
+        Err(hdgear::Error::NoGain { law, reason }) => {
+            assert_eq!(law, "delay");
+            assert!(reason.contains("unstable from K"), "{reason}");
+        }
+        other => panic!("{other:?}"),
+    }
+    let t = hdgear::control::tune(&p, "delay", &[0.3], &opts, 1e-3).unwrap();
+    let short = hdgear::control::delay_limit(&p, 0.3).unwrap().unwrap();
+    assert!(t.tuned.gain < short.gain && t.tuned.removes_bursts());
+}

@@ -619,12 +619,28 @@ fn sobol_text(s: &mut String, sens: &hdgear::robust::Sensitivity) {
             ""
         };
         let _ = writeln!(s, "  {}{what}: mean {:.4e}", measure.name(), ix.mean);
+        let interval = |e: hdgear::robust::sobol::Estimate| {
+            if e.replicates == 0 {
+                format!("{:>7.4} [no resample varies]", e.value)
+            } else {
+                format!("{:>7.4} [{:>7.4}, {:>7.4}]", e.value, e.lo, e.hi)
+            }
+        };
         for (i, name) in sens.parameters.iter().enumerate() {
             let (f, t) = (ix.first[i], ix.total[i]);
             let _ = writeln!(
                 s,
-                "    {name:<9} first {:>7.4} [{:>7.4}, {:>7.4}]  total {:>7.4} [{:>7.4}, {:>7.4}]",
-                f.value, f.lo, f.hi, t.value, t.lo, t.hi
+                "    {name:<9} first {}  total {}",
+                interval(f),
+                interval(t)
+            );
+        }
+        let fewest = ix.first.iter().chain(&ix.total).map(|e| e.replicates).min();
+        if let Some(k) = fewest.filter(|&k| k < hdgear::robust::sobol::BOOTSTRAP) {
+            let _ = writeln!(
+                s,
+                "    (intervals from as few as {k} of {} resamples: the others do not vary)",
+                hdgear::robust::sobol::BOOTSTRAP
             );
         }
     }

@@ -63,8 +63,8 @@ pub use classify::{
     fast_slow_edge, fast_slow_omega_max, turning_point_rate,
 };
 pub use model::{
-    PointVerdict, classify_model, model_curve_facts, response_model, response_model_from,
-    response_model_on, verdict_model,
+    PointVerdict, classify_model, model_curve_facts, model_stiffness_range, response_model,
+    response_model_from, response_model_on, verdict_model,
 };
 pub use plane::{
     BoundaryKind, CURVE_TOL, EDGE_SAMPLES, MAX_TURN, PlaneCurve, PlaneEnd, PlaneOptions,

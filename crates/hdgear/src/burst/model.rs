@@ -280,6 +280,16 @@ pub fn model_curve_facts(m: &Model) -> Result<(f64, bool)> {
     })
 }
 
+/// The stiffness range of the equilibrium a model's state follows
+/// ([`StaticCurve::stiffness_range`]), on the curve its response is measured against.
+pub fn model_stiffness_range(m: &Model) -> Result<(f64, f64)> {
+    Ok(match Curve::of(m)? {
+        Curve::Study(p) => p.stiffness_range(),
+        Curve::Torque(c) => c.stiffness_range(),
+        Curve::Scheduled(c) => c.stiffness_range(),
+    })
+}
+
 /// What a sweep row records of a point: its classification, its response, and the largest
 /// |dx/da| on the equilibrium curve it traverses over a ∈ [−1, 1] (∞ with a fold in range).
 pub type PointVerdict = (super::Classification, Response, f64);

@@ -24,12 +24,14 @@ pub mod drive;
 mod plant;
 mod robustness;
 mod search;
+mod stability;
 pub use averaging::Averaging;
 pub use drive::{DriveControl, DriveEffort, RatingCheck, Ratings, compare_drive};
 pub use plant::Plant;
 pub use robustness::{MODEL_ERROR_PARAMS, Robustness, model_error_plants, robustness};
 pub use search::{GAIN_MAX, GAIN_MIN, GAIN_START, MIN_REL_TOL};
 use search::{check_gain, check_rel_tol, crossing};
+pub use stability::{DelayLimit, crossing_gain, delay_limit};
 
 /// The control laws, by their terms' kinds: the one list `hdgear control` and [`tune`] offer.
 pub const LAWS: [&str; 6] = [
@@ -447,24 +449,26 @@ fn tune_against<P: Plant>(
     open: &OpenLoop,
 ) -> Result<Tuning> {
     let bursts = |gain: f64| bursts_at(p, law, gain, rest, opts);
-    let refuse = |reason: String| Error::InvalidInput {
-        what: "control law",
-        text: law.to_string(),
-        reason,
-    };
     // the open loop's own verdict (a zero gain is not the open loop for every law: a schedule
     // with g'_min = 0 still stiffens a folding plant)
     let o = &open.0;
     if o.verdict == Verdict::NoBursts && !o.continuous {
         return Err(no_control_needed(p, law));
     }
-    let (lo, hi) = crossing(bursts, GAIN_START, GAIN_MIN, GAIN_MAX, rel_tol)?
-        .ok_or_else(|| refuse(format!("no gain up to {GAIN_MAX} removes the bursts")))?;
+    // a delay's loop turns unstable at a gain its characteristic roots give: the search stays
+    // below it, where each run settles, and says so when no such gain removes the bursts
+    let limit = stability::law_limit(p, law, rest)?;
+    let max = limit.map_or(GAIN_MAX, |l| l.gain.min(GAIN_MAX));
+    let (lo, hi) =
+        crossing(bursts, GAIN_START, GAIN_MIN, max, rel_tol)?.ok_or_else(|| Error::NoGain {
+            law: known_law(law),
+            reason: match limit {
+                Some(l) if l.gain < GAIN_MAX => unstable_above(&l),
+                _ => format!("none up to {GAIN_MAX} does"),
+            },
+        })?;
     Ok(Tuning {
-        law: LAWS
-            .into_iter()
-            .find(|l| *l == law)
-            .expect("law_term checked it"),
+        law: known_law(law),
         below: assess_against(p, law_term(law, lo, rest)?, opts, open)?,
         tuned: assess_against(p, law_term(law, hi, rest)?, opts, open)?,
         relative_width: if lo > 0.0 {
@@ -473,6 +477,21 @@ fn tune_against<P: Plant>(
             f64::INFINITY
         },
     })
+}
+
+/// `law` as the entry of [`LAWS`] it names (checked where its term was built).
+fn known_law(law: &str) -> &'static str {
+    LAWS.into_iter().find(|l| *l == law).unwrap_or("the law")
+}
+
+/// Why no gain of a delayed feedback removes the bursts: the loop is unstable above `l.gain`.
+fn unstable_above(l: &DelayLimit) -> String {
+    format!(
+        "with τ_d = {} the closed loop is unstable from K = {:.4} (a root of λ² + λ + k + K − K·e^(−λτ_d) reaches λ = ±{:.4}i at \
+         the equilibrium of stiffness k = {:.4}), and every smaller gain still bursts; a shorter \
+         delay allows more gain",
+        l.taud, l.gain, l.frequency, l.stiffness
+    )
 }
 
 /// The parameters of `law` after its gain on the plant `p`: its term's defaults, with `c.ww` for

@@ -33,6 +33,9 @@ pub trait Plant: Clone + Send + Sync + Serialize {
     fn load_over(&self, s: f64) -> Result<Self>;
     /// Whether the open loop bursts.
     fn bursts(&self, opts: &BurstOptions) -> Result<bool>;
+    /// The least and largest stiffness of the equilibrium the open loop's state follows
+    /// ([`crate::fast::StaticCurve::stiffness_range`]).
+    fn stiffness_range(&self) -> Result<(f64, f64)>;
 }
 
 impl Plant for Params {
@@ -72,6 +75,9 @@ impl Plant for Params {
     fn bursts(&self, opts: &BurstOptions) -> Result<bool> {
         let r = crate::burst::response(self, opts)?;
         Ok(crate::burst::classify(self, &r).bursting)
+    }
+    fn stiffness_range(&self) -> Result<(f64, f64)> {
+        Ok(crate::fast::StaticCurve::stiffness_range(self))
     }
 }
 
@@ -131,6 +137,9 @@ impl Plant for Model {
     fn load_over(&self, s: f64) -> Result<Model> {
         let delta = self.param(Param::Delta.name())?;
         self.with(delta, self.get(delta) / s)
+    }
+    fn stiffness_range(&self) -> Result<(f64, f64)> {
+        crate::burst::model_stiffness_range(self)
     }
     fn bursts(&self, opts: &BurstOptions) -> Result<bool> {
         let r = crate::burst::response_model(self, opts)?;

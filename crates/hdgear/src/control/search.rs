@@ -65,7 +65,7 @@ pub(super) fn check_rel_tol(value: f64) -> Result<()> {
 }
 
 /// Where `bursts` (true for small values of a suppressing variable, false for large ones) turns
-/// false: from `start`, doubled while it bursts (up to `max`: `None` beyond) or halved while half
+/// false: from `start`, doubled while it bursts (up to `max`, tried last: `None` if it bursts) or halved while half
 /// of it does not (down to `min`: the lower end 0 below), then the bracket bisected geometrically
 /// to `rel_tol` (at least [`MIN_REL_TOL`], checked by every caller: wider than three units in
 /// the last place, the midpoint is strictly inside). Returns (largest value found bursting, least
@@ -87,10 +87,10 @@ pub(super) fn crossing(
     }
     while bursts(hi)? {
         lo = hi;
-        hi *= 2.0;
-        if hi > max {
+        if hi >= max {
             return Ok(None);
         }
+        hi = (2.0 * hi).min(max);
     }
     while lo > 0.0 && hi / lo - 1.0 > rel_tol {
         let mid = (lo * hi).sqrt();

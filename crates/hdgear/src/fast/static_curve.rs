@@ -83,6 +83,20 @@ pub trait StaticCurve: Clone + std::fmt::Debug {
     fn slowest_relaxation(&self) -> SlowestRelaxation;
     /// The slowest relaxation at the stable equilibria at a = ±1.
     fn turning_point_relaxation(&self) -> SlowestRelaxation;
+    /// The least and largest fast stiffness ([`StaticCurve::stiffness`]) of the equilibrium the
+    /// state follows over one slow period from the default start (a = sin θ at 1024 phases θ):
+    /// the linear stiffness a feedback law meets on the way.
+    fn stiffness_range(&self) -> (f64, f64) {
+        const PHASES: u32 = 1024;
+        let mut x = self.start();
+        let mut follower = self.follower(x);
+        (0..=PHASES).fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), j| {
+            let a = (std::f64::consts::TAU * f64::from(j) / f64::from(PHASES)).sin();
+            x = follower.at(a, x);
+            let k = self.stiffness(x);
+            (lo.min(k), hi.max(k))
+        })
+    }
     /// The slow period 2π/ω.
     fn slow_period(&self) -> f64 {
         std::f64::consts::TAU / self.omega()

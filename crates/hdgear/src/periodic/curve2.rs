@@ -659,6 +659,7 @@ pub fn continue_curve<O: Oscillator>(
 ) -> Result<Curve2<O::Param>> {
     opts.validate()?;
     box2.validate()?;
+    super::check_orbit_length(o, params, k, box2)?;
     if params[0] == params[1] {
         return Err(Error::InvalidInput {
             what: "parameters",

@@ -26,6 +26,7 @@ pub fn curves_from_branch<O: Oscillator>(
     let start = p.with(r1.param, r1.from)?;
     let box2 = Box2::of([r1, r2]);
     box2.validate()?;
+    super::check_orbit_length(p, [r1.param, r2.param], k, &box2)?;
     let at = start.get(r2.param);
     let one = ContinuationOptions {
         scale: r1.scale,

@@ -16,7 +16,7 @@ use std::fmt::Write as _;
 pub const ROBUST_DRIVE: (f64, f64) = (2000.0, 22.0);
 
 /// Samples of P(burst), rows of the Saltelli design, samples at each load of the load curve.
-pub const ROBUST_SAMPLES: (u64, usize, u64) = (4096, 1024, 1024);
+pub const ROBUST_SAMPLES: (u64, usize, u64) = (1024, 512, 256);
 
 /// The section's figures' file stems, in order.
 pub const ROBUST_FIGURES: [&str; 2] = ["sobol-bars", "load-curve"];

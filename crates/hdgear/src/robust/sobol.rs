@@ -27,10 +27,15 @@ pub const BOOTSTRAP: usize = 200;
 pub struct Estimate {
     /// The estimate from all N rows.
     pub value: f64,
-    /// 2.5 % quantile of the bootstrap replicates.
+    /// 2.5 % quantile of the bootstrap replicates (the estimate itself without any).
     pub lo: f64,
-    /// 97.5 % quantile of the bootstrap replicates.
+    /// 97.5 % quantile of the bootstrap replicates (the estimate itself without any).
     pub hi: f64,
+    /// The replicates the interval is taken from: those whose resampled rows vary. A nearly
+    /// constant output (a few runs differ) leaves some resamples without variance, and so
+    /// without an index; fewer than [`BOOTSTRAP`] says the interval rests on fewer, and 0
+    /// that there is none.
+    pub replicates: usize,
 }
 
 /// The indices of one output.
@@ -87,15 +92,22 @@ pub fn indices(k: usize, f: &[f64]) -> Indices {
         }
     }
     for r in &mut replicates {
+        // a resample whose outputs are all equal has no variance and no index
+        r.retain(|v| v.is_finite());
         r.sort_by(f64::total_cmp);
     }
     let interval = |i: usize, value: f64| {
         let r = &replicates[i];
-        let q = |p: f64| r[((p * (r.len() - 1) as f64).round()) as usize];
+        let q = |p: f64| {
+            r.get(((p * r.len().saturating_sub(1) as f64).round()) as usize)
+                .copied()
+                .unwrap_or(value)
+        };
         Estimate {
             value,
             lo: q(0.025),
             hi: q(0.975),
+            replicates: r.len(),
         }
     };
     Indices {
@@ -247,5 +259,35 @@ mod tests {
             );
             assert!(s.first[i].lo <= s.first[i].value && s.first[i].value <= s.first[i].hi);
         }
+    }
+
+    /// An output that one run in 2N makes vary: the resamples that leave that row out have no
+    /// variance. The intervals come from the others, finite, and say how many; a constant
+    /// output has NaN indices and no replicate.
+    #[test]
+    fn a_nearly_constant_output_has_finite_intervals() {
+        let (k, n) = (2, 8);
+        let mut f = vec![0.0; n * (k + 2)];
+        // row 0 of A differs, and with it A_B's rows 0 (column 0 and 1 taken from B, which
+        // is 0 there: f_AB = 0, as if the change came from either input together)
+        f[0] = 1.0;
+        let s = indices(k, &f);
+        assert!(s.variance > 0.0);
+        // P(a resample of 8 rows misses row 0) = (7/8)^8 ≈ 0.34: some, not all, lack variance
+        for e in s.first.iter().chain(&s.total) {
+            assert!(e.replicates > 0 && e.replicates < BOOTSTRAP, "{e:?}");
+            assert!(
+                e.lo.is_finite() && e.hi.is_finite() && e.lo <= e.hi,
+                "{e:?}"
+            );
+        }
+        let constant = indices(k, &vec![1.0; n * (k + 2)]);
+        assert_eq!(constant.variance, 0.0);
+        assert!(
+            constant
+                .first
+                .iter()
+                .all(|e| e.value.is_nan() && e.replicates == 0)
+        );
     }
 }
