@@ -2,7 +2,7 @@
 //! and one JSON document (hyperfine's one exporter): the flags, their checks before the run, and
 //! the export after it. The `--out` help lists the rows' columns from the row type itself.
 
-use crate::sink::{outln, write_records};
+use crate::sink::{outln, write_records_and};
 use anyhow::Result;
 use clap::Args;
 use hdgear::output::Record;
@@ -61,13 +61,15 @@ impl<R: Record> Export<R> {
         rows: impl FnOnce() -> I,
         figure: impl FnOnce() -> Figure,
     ) -> Result<()> {
-        if let Some(out) = &self.out {
-            write_records(Some(out), meta, rows())?;
+        let plot = || match &self.plot {
+            Some(path) => Ok(hdgear::output::plot::write(&figure(), path)?),
+            None => Ok(()),
+        };
+        match &self.out {
+            // the figure before the rows are made final: where either fails, neither is left
+            Some(out) => write_records_and(Some(out), meta, R::COLUMNS.to_vec(), rows(), plot),
+            None => plot(),
         }
-        if let Some(path) = &self.plot {
-            hdgear::output::plot::write(&figure(), path)?;
-        }
-        Ok(())
     }
 
     /// Prints `doc` as one JSON document with `--json`, the summary without it.

@@ -223,12 +223,27 @@ pub fn write_records_with<T: serde::Serialize>(
     columns: Vec<&'static str>,
     rows: impl IntoIterator<Item = T>,
 ) -> Result<()> {
+    write_records_and(out, meta, columns, rows, || Ok(()))
+}
+
+/// [`write_records_with`], with `also` (the run's other output: its figure) written after the
+/// rows and before they are made final, so that where either fails (a full disk) neither is
+/// left behind.
+pub fn write_records_and<T: serde::Serialize>(
+    out: Option<&Path>,
+    meta: &impl serde::Serialize,
+    columns: Vec<&'static str>,
+    rows: impl IntoIterator<Item = T>,
+    also: impl FnOnce() -> Result<()>,
+) -> Result<()> {
     let (sink, format) = Sink::open(out)?;
     let mut w = RecordWriter::with_columns(sink, format, meta, columns)?;
     for r in rows {
         w.row(&r).context("writing the output")?;
     }
-    w.finish().context("writing the output")?.commit()
+    let sink = w.finish().context("writing the output")?;
+    also()?;
+    sink.commit()
 }
 
 /// Warns when an a-range reaches beyond [−1, 1], which a = sin ωτ never leaves.

@@ -362,3 +362,71 @@ fn a_sweep_stopped_by_a_file_size_limit_resumes() {
     let read = |f: &str| std::fs::read(dir.path().join(f)).unwrap();
     assert_eq!(read("s.csv"), read("w.csv"));
 }
+
+/// A run that writes rows and a figure, stopped by a full disk at the figure (a file-size limit
+/// the small CSV fits in and the PNG does not), leaves neither: the rows are made final only
+/// after the figure is written. Each command writing both through its own path is tried.
+#[test]
+fn rows_and_figure_are_left_together_or_not_at_all() {
+    for args in [
+        &[
+            "lyapunov-map",
+            "--gamma",
+            "10",
+            "--param",
+            "omega=4:6:3",
+            "--param",
+            "delta=10:20:2",
+            "--discard",
+            "5",
+            "--periods",
+            "5",
+            "--out",
+            "l.csv",
+            "--plot",
+            "l.png",
+        ][..],
+        &[
+            "orbit-diagram",
+            "--gamma",
+            "10",
+            "--param",
+            "omega=4:6:3",
+            "--discard",
+            "5",
+            "--out",
+            "d.csv",
+            "--plot",
+            "d.png",
+        ],
+        &[
+            "boundary",
+            "--param",
+            "omega=1e-4:20:log",
+            "--param",
+            "delta=0.5:40:log",
+            "--kinds",
+            "predicted",
+            "--out",
+            "b.csv",
+            "--plot",
+            "b.png",
+        ],
+    ] {
+        let dir = tempfile::tempdir().unwrap();
+        let o = run_with_file_limit(dir.path(), 16, args);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {}", err(&o));
+        // the figure's failure in words, not the drawing library's debug form
+        assert!(
+            err(&o).contains("File too large") && !err(&o).contains("Custom {"),
+            "{args:?}: {}",
+            err(&o)
+        );
+        assert_eq!(
+            crate::common::files_in(dir.path()),
+            Vec::<String>::new(),
+            "{args:?}: {}",
+            err(&o)
+        );
+    }
+}

@@ -99,10 +99,11 @@ fn run_on<S: Periodic>(
     if let Some(e) = failure {
         return Err(anyhow::Error::from(e).context("writing the output"));
     }
-    w.finish().context("writing the output")?.commit()?;
+    let sink = w.finish().context("writing the output")?;
+    // the figure before the rows are made final: where it fails, neither is left
     if let Some(plot) = &a.plot {
         let f = hdgear::figures::orbit_diagram_figure(p, param, &points);
         hdgear::output::plot::write(&f, plot)?;
     }
-    Ok(())
+    sink.commit()
 }

@@ -2,7 +2,7 @@
 //! the study's set or of a scenario's model.
 
 use crate::cli::LyapunovMapArgs;
-use crate::sink::{warn, write_records_with};
+use crate::sink::{warn, write_records_and};
 use anyhow::{Context, Result};
 use hdgear::periodic::DiagramOptions;
 use hdgear::sweep::{Axis, Grid, Sweep, lyapunov_map};
@@ -64,10 +64,17 @@ fn map<S: Sweep>(a: &LyapunovMapArgs, base: S, warnings: &[hdgear::params::Warni
         options: opts,
     };
     let columns = hdgear::sweep::columns::<S, hdgear::periodic::LyapunovRow>(&grid.axes);
-    write_records_with(Some(&a.out), &meta, columns, rows.iter().cloned())?;
-    if let Some(plot) = &a.plot {
-        let f = hdgear::figures::lyapunov_figure(&grid, &rows);
-        hdgear::output::plot::write(&f, plot)?;
-    }
-    Ok(())
+    write_records_and(
+        Some(&a.out),
+        &meta,
+        columns,
+        rows.iter().cloned(),
+        || match &a.plot {
+            Some(plot) => {
+                let f = hdgear::figures::lyapunov_figure(&grid, &rows);
+                Ok(hdgear::output::plot::write(&f, plot)?)
+            }
+            None => Ok(()),
+        },
+    )
 }

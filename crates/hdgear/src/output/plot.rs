@@ -456,20 +456,35 @@ pub fn png(f: &Figure, path: &Path) -> Result<()> {
         .unwrap_or_default();
     let tmp = path.with_file_name(format!(".{name}.tmp-{}.png", std::process::id()));
     super::track_temporary(&tmp);
+    // drawn in memory, then encoded: a failed write (a full disk) is the encoder's io::Error,
+    // reported as such, not as the drawing library's debug form
+    let (w, h) = f.size;
+    let mut pixels = vec![0u8; 3 * w as usize * h as usize];
     let res = {
-        let root = BitMapBackend::new(&tmp, f.size).into_drawing_area();
+        let root = BitMapBackend::with_buffer(&mut pixels, f.size).into_drawing_area();
         draw(root, f)
     };
-    let done = match res {
-        Ok(()) => std::fs::rename(&tmp, path).map_err(|source| Error::Io {
-            path: path.to_path_buf(),
-            source,
-        }),
-        Err(e) => Err(Error::Io {
-            path: path.to_path_buf(),
-            source: std::io::Error::other(e),
-        }),
+    let io = |source| Error::Io {
+        path: path.to_path_buf(),
+        source,
     };
+    let done = res
+        .map_err(|e| io(std::io::Error::other(e)))
+        .and_then(|()| {
+            image::save_buffer_with_format(
+                &tmp,
+                &pixels,
+                w,
+                h,
+                image::ColorType::Rgb8,
+                image::ImageFormat::Png,
+            )
+            .map_err(|e| match e {
+                image::ImageError::IoError(source) => io(source),
+                other => io(std::io::Error::other(other)),
+            })
+        })
+        .and_then(|()| std::fs::rename(&tmp, path).map_err(io));
     if done.is_err() {
         let _ = std::fs::remove_file(&tmp);
     }
