@@ -65,11 +65,11 @@ pub(super) fn check_rel_tol(value: f64) -> Result<()> {
 }
 
 /// Where `bursts` (true for small values of a suppressing variable, false for large ones) turns
-/// false: from `start`, doubled while it bursts (up to `max`, tried last: `None` if it bursts) or halved while half
-/// of it does not (down to `min`: the lower end 0 below), then the bracket bisected geometrically
-/// to `rel_tol` (at least [`MIN_REL_TOL`], checked by every caller: wider than three units in
-/// the last place, the midpoint is strictly inside). Returns (largest value found bursting, least
-/// found not).
+/// false: from `start`, doubled while it bursts (up to `max`, tried last: `None` if it bursts)
+/// or halved while half of it does not (down to `min`: the lower end 0 below), then the bracket
+/// bisected geometrically to `rel_tol` (at least [`MIN_REL_TOL`], checked by every caller: wider
+/// than three units in the last place, the midpoint is strictly inside). Returns (largest value
+/// found bursting, least found not).
 pub(super) fn crossing(
     mut bursts: impl FnMut(f64) -> Result<bool>,
     start: f64,

@@ -75,24 +75,33 @@ pub fn delay_limit<P: Plant>(p: &P, taud: f64) -> Result<Option<DelayLimit>> {
     let k_lo = k_lo.max(f64::MIN_POSITIVE);
     let at = |j: usize| k_lo + (k_hi - k_lo) * j as f64 / SAMPLES as f64;
     let gain = |k: f64| crossing_gain(k, taud).0;
+    // each sample's gain once, then the least
+    let samples: Vec<f64> = (0..=SAMPLES).map(|j| gain(at(j))).collect();
     let best = (0..=SAMPLES)
-        .min_by(|&i, &j| gain(at(i)).total_cmp(&gain(at(j))))
+        .min_by(|&i, &j| samples[i].total_cmp(&samples[j]))
         .unwrap_or(0);
-    // golden sections over the samples around the least one
+    // golden sections over the samples around the least one, one new evaluation per section
     let (mut a, mut b) = (at(best.saturating_sub(1)), at((best + 1).min(SAMPLES)));
     let r = 0.5 * (5f64.sqrt() - 1.0);
+    let (mut c, mut d) = (b - r * (b - a), a + r * (b - a));
+    let (mut gc, mut gd) = (gain(c), gain(d));
     while b - a > 1e-9 * (k_hi - k_lo).max(k_hi * f64::EPSILON) {
-        let (c, d) = (b - r * (b - a), a + r * (b - a));
-        if gain(c) <= gain(d) {
-            b = d;
+        if gc <= gd {
+            (b, d, gd) = (d, c, gc);
+            c = b - r * (b - a);
+            gc = gain(c);
         } else {
-            a = c;
+            (a, c, gc) = (c, d, gd);
+            d = a + r * (b - a);
+            gd = gain(d);
         }
     }
-    let k = [0.5 * (a + b), at(best)]
-        .into_iter()
-        .min_by(|x, y| gain(*x).total_cmp(&gain(*y)))
-        .unwrap_or(k_lo);
+    let mid = 0.5 * (a + b);
+    let k = if gain(mid) < samples[best] {
+        mid
+    } else {
+        at(best)
+    };
     let (g, w) = crossing_gain(k, taud);
     Ok(g.is_finite().then_some(DelayLimit {
         taud,
