@@ -15,6 +15,7 @@ mod curve2;
 mod delay;
 mod dither;
 mod domain;
+mod dop853_terms;
 mod fast;
 mod friction;
 mod friction_reference;

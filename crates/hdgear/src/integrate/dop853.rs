@@ -19,6 +19,12 @@
 use super::{DenseOutput, Options, Stats, Stepper, System, smallest_step, stages};
 use crate::error::{Error, Result, SolverError};
 
+/// The largest defect of a step's dense output ([`Dop853::dense_defect`]) accepted on systems
+/// whose terms limit Taylor's steps: the interpolant may miss the equation by one tolerance over
+/// the step. A decade either way leaves every kind of term within 1e-8 of Taylor's method
+/// (`tests/dop853_terms.rs`).
+pub const DEFECT_LIMIT: f64 = 1.0;
+
 /// The 7th-order continuous extension of one accepted step over [t_old, t_old + h].
 #[derive(Clone, Copy, Debug)]
 pub struct Dense<const N: usize> {
@@ -54,6 +60,31 @@ impl<const N: usize> DenseOutput<N> for Dense<N> {
             *yi = self.y_old[i] + v;
         }
         y
+    }
+}
+
+impl<const N: usize> Dense<N> {
+    /// The interpolated state at `t` and its rate of change (the interpolant's derivative).
+    fn eval_with_rate(&self, t: f64) -> ([f64; N], [f64; N]) {
+        let s = (t - self.t_old) / self.h;
+        let s1 = 1.0 - s;
+        let (mut y, mut r) = ([0.0; N], [0.0; N]);
+        for i in 0..N {
+            // contd8's scheme as in `eval`, each factor's derivative in s carried along
+            let c = |k: usize| self.coef[k][i];
+            let (mut v, mut dv) = (c(6) * s, c(6));
+            for k in (0..6).rev() {
+                let w = v + c(k);
+                (v, dv) = if k % 2 == 1 {
+                    (w * s1, dv * s1 - w)
+                } else {
+                    (w * s, dv * s + w)
+                };
+            }
+            y[i] = self.y_old[i] + v;
+            r[i] = dv / self.h;
+        }
+        (y, r)
     }
 }
 
@@ -205,6 +236,38 @@ impl<'s, S: System<N> + ?Sized, const N: usize> Dop853<'s, S, N> {
         h
     }
 
+    /// `h` shortened to where the system's terms stay within reach of an 8th-order expansion
+    /// about (t, y): [`System::taylor_step`]'s limit on an order-8 pass
+    /// ([`crate::model::terms::Term::step_limit`]), for systems whose terms limit Taylor's steps.
+    /// A step over which a degree-8 polynomial cannot follow a term to atol (a Stribeck dip or a
+    /// tanh turning inside it) is one over which an 8th-order Runge–Kutta step cannot either,
+    /// and where its embedded estimate may not see it: both sample the same local expansion.
+    /// A limit shorter than a tolerance's worth of motion is not applied (see the body).
+    fn feature_limit(&self, h: f64) -> f64 {
+        const ORDER: usize = 8;
+        let mut c = [[0.0; N]; ORDER + 1];
+        let mut work = [super::taylor::Scratch::default(); super::taylor::WORKSPACE_SETS];
+        let limited = self
+            .sys
+            .taylor_step(
+                self.t,
+                &self.y,
+                ORDER,
+                &mut c,
+                self.opts.atol,
+                &mut work,
+                |_| h,
+            )
+            .unwrap_or(h);
+        // a limit over which the state moves by less than one tolerance: the state is at the
+        // feature (a kink's limit shrinks without end as a step ends just short of it), and the
+        // step goes on under the error control alone
+        let moves = (0..N)
+            .map(|i| (self.f[i] * limited / self.scale(self.y[i], self.y[i])).abs())
+            .fold(0.0, f64::max);
+        if moves < 1.0 { h } else { limited.min(h) }
+    }
+
     /// Makes one accepted step, never past `t_bound` (which must lie ahead of t).
     ///
     /// Step-size control is Hairer's: error norm `err` of the 5th/3rd-order estimates, new step
@@ -220,6 +283,9 @@ impl<'s, S: System<N> + ?Sized, const N: usize> Dop853<'s, S, N> {
         let remaining = t_bound - self.t;
         if remaining <= 0.0 {
             return Ok(());
+        }
+        if self.sys.taylor_limits_steps() {
+            self.h = self.feature_limit(self.h);
         }
         loop {
             if let Some(e) = self
@@ -256,6 +322,17 @@ impl<'s, S: System<N> + ?Sized, const N: usize> Dop853<'s, S, N> {
             let fac = (SAFE * err.powf(-1.0 / 8.0)).clamp(FAC_MIN, FAC_MAX);
             if err <= 1.0 {
                 let t_new = if last { t_bound } else { self.t + h };
+                let mut ready = None;
+                if self.sys.taylor_limits_steps() {
+                    let (defect, f) = self.dense_defect(t_new, h, &y_new, &k);
+                    if defect > DEFECT_LIMIT {
+                        self.stats.rejected += 1;
+                        self.last_rejected = true;
+                        self.h = h * (SAFE * defect.powf(-1.0 / 8.0)).clamp(FAC_MIN, SAFE);
+                        continue;
+                    }
+                    ready = Some(f);
+                }
                 // no growth right after a rejection; the shortened last step does not shrink the
                 // next proposal
                 let grow = if self.last_rejected {
@@ -264,7 +341,7 @@ impl<'s, S: System<N> + ?Sized, const N: usize> Dop853<'s, S, N> {
                     fac
                 };
                 let h_next = if last { (h * grow).max(h) } else { h * grow };
-                return self.accept(t_new, y_new, k, h_next);
+                return self.accept(t_new, y_new, k, h_next, ready);
             }
             self.stats.rejected += 1;
             self.last_rejected = true;
@@ -289,16 +366,56 @@ impl<'s, S: System<N> + ?Sized, const N: usize> Dop853<'s, S, N> {
         h.abs() * err5 / (deno * N as f64).sqrt()
     }
 
-    /// Takes an accepted step to (`t_new`, `y_new`) with stages `k`, proposing `h_next`.
+    /// The defect of an attempted step's dense output at its midpoint, h·|y'(t_m) − f(t_m, y(t_m))|
+    /// scaled as the error norm is (RMS over the components), with f at the step's end (which
+    /// the interpolant needs, and the next step reuses). The embedded estimate judges the step's
+    /// end only; on a stiff state (LuGre's bristles relax at σ₀|x'|/g(x')) a step at the method's
+    /// stability limit ends within the tolerance while its interpolant between the ends
+    /// oscillates far beyond it. A defect of 1 is an interpolant that misses the equation, over
+    /// the step, by one tolerance.
+    fn dense_defect(
+        &mut self,
+        t_new: f64,
+        h: f64,
+        y_new: &[f64; N],
+        k: &[[f64; N]; 12],
+    ) -> (f64, ([f64; N], Dense<N>)) {
+        let f_new = self.sys.rhs(t_new, y_new);
+        let coef =
+            stages::dense_coefficients(self.sys, self.t, &self.y, y_new, &f_new, t_new - self.t, k);
+        let d = Dense {
+            t_old: self.t,
+            h: t_new - self.t,
+            y_old: self.y,
+            coef,
+        };
+        let t_mid = self.t + 0.5 * (t_new - self.t);
+        let (y_mid, rate) = d.eval_with_rate(t_mid);
+        let f_mid = self.sys.rhs(t_mid, &y_mid);
+        self.stats.rhs_evals += 5;
+        let sum: f64 = (0..N)
+            .map(|i| (h * (rate[i] - f_mid[i]) / self.scale(self.y[i], y_new[i])).powi(2))
+            .sum();
+        ((sum / N as f64).sqrt(), (f_new, d))
+    }
+
+    /// Takes an accepted step to (`t_new`, `y_new`) with stages `k`, proposing `h_next`; `ready`
+    /// holds f(t_new, y_new) and the step's dense output when they were computed already.
     fn accept(
         &mut self,
         t_new: f64,
         y_new: [f64; N],
         k: [[f64; N]; 12],
         h_next: f64,
+        ready: Option<([f64; N], Dense<N>)>,
     ) -> Result<()> {
-        let f_new = self.sys.rhs(t_new, &y_new);
-        self.stats.rhs_evals += 1;
+        let (f_new, dense) = match ready {
+            Some((f, d)) => (f, Some(d)),
+            None => {
+                self.stats.rhs_evals += 1;
+                (self.sys.rhs(t_new, &y_new), None)
+            }
+        };
         self.stats.steps += 1;
         if let Some(v) = y_new.iter().find(|v| v.abs() > self.opts.blowup) {
             return Err(SolverError::BlowUp {
@@ -311,7 +428,7 @@ impl<'s, S: System<N> + ?Sized, const N: usize> Dop853<'s, S, N> {
         self.y_old = self.y;
         self.h_last = t_new - self.t;
         self.k = k;
-        self.dense = None;
+        self.dense = dense;
         self.t = t_new;
         self.y = y_new;
         self.f = f_new;
