@@ -14,7 +14,10 @@ use clap::Parser;
 use std::process::ExitCode;
 
 fn main() -> ExitCode {
-    let args = cli::Cli::parse();
+    let args = match cli::Cli::try_parse() {
+        Ok(args) => args,
+        Err(e) => return refused_arguments(&e),
+    };
     if args.command.writes_files() {
         signals::install();
     }
@@ -36,4 +39,37 @@ fn main() -> ExitCode {
             ExitCode::from(sink::exit_code(&e))
         }
     }
+}
+
+/// clap's refusal of the arguments in one line, as every other refusal (its tip and the usage
+/// line folded in), exit code 2; help and version print as clap prints them.
+fn refused_arguments(e: &clap::Error) -> ExitCode {
+    use clap::error::ErrorKind;
+    if matches!(
+        e.kind(),
+        ErrorKind::DisplayHelp
+            | ErrorKind::DisplayVersion
+            | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand
+    ) {
+        let _ = e.print();
+        return ExitCode::from(if e.use_stderr() { 2 } else { 0 });
+    }
+    let text = e.render().to_string();
+    let mut line = String::new();
+    for part in text.lines().map(str::trim).filter(|l| !l.is_empty()) {
+        if let Some(tip) = part.strip_prefix("tip: ") {
+            line.push_str(&format!("; {tip}"));
+        } else if let Some(usage) = part.strip_prefix("Usage: ") {
+            line.push_str(&format!(" (usage: {usage})"));
+        } else if part.starts_with("For more information") {
+            continue;
+        } else {
+            if !line.is_empty() {
+                line.push(' ');
+            }
+            line.push_str(part);
+        }
+    }
+    eprintln!("{line}");
+    ExitCode::from(2)
 }

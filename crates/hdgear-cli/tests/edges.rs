@@ -258,3 +258,28 @@ fn answers_known_in_advance_come_at_once() {
         assert!(err.contains(needle), "{args:?}: {err}");
     }
 }
+
+/// clap's own refusals (an unknown flag, a malformed number, a missing argument, a misspelt
+/// command) are one line naming what the user wrote, as every other refusal, with exit code 2;
+/// help is still printed whole.
+#[test]
+fn argument_refusals_are_one_line() {
+    let dir = tempfile::tempdir().unwrap();
+    for (args, needle) in [
+        (&["lyapunov-map", "--lyapunov"][..], "'--lyapunov'"),
+        (&["simulate", "--gamma", "abc"][..], "'abc'"),
+        (&["plot"][..], "--out <FILE>"),
+        (&["simulat"][..], "'simulate'"),
+    ] {
+        let (code, err) = run_in(dir.path(), args);
+        assert_eq!(code, Some(2), "{args:?}: {err}");
+        assert_eq!(err.trim_end().lines().count(), 1, "{args:?}: {err}");
+        assert!(
+            err.starts_with("error: ") && err.contains(needle),
+            "{args:?}: {err}"
+        );
+    }
+    let help = hdgear().args(["simulate", "--help"]).output().unwrap();
+    assert_eq!(help.status.code(), Some(0));
+    assert!(String::from_utf8_lossy(&help.stdout).contains("Usage: hdgear simulate"));
+}
