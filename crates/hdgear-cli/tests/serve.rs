@@ -127,6 +127,8 @@ fn the_api_answers_and_refuses_with_the_cli_messages() {
         ("beta=1", 400, "invalid parameter name 'beta'"),
         ("gamma=abc", 400, "invalid value 'abc' for gamma"),
         ("omega=1e-7", 422, "beyond the explorer's budget"),
+        // so slow that the samples alone would overflow: still the step estimate, not a `dt`
+        ("omega=1e-9", 422, "integration steps, beyond the explorer's budget"),
     ] {
         let (c, body) = get(&s.addr, &format!("/api/view?{query}"));
         assert_eq!(c, code, "{query}: {body}");

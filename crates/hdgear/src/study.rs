@@ -50,6 +50,9 @@ impl Case {
         let analysis = analyze(p, A_RANGE)?;
         let (t0, _) = crate::burst::window(p, opts);
         let t1 = t0 + p.slow_period();
+        // the run's length against the step budget first: a run refused for its length is
+        // refused for that, with its step estimate, not for the samples it would have kept
+        integrate::check_budget(t1, &opts.tol)?;
         // the grid k·dt from τ = 0 to the period's end, as `simulate` samples it, kept from the
         // window's start
         let mut grid = integrate::Grid::new(0.0, t1, SAMPLE_DT)?;
