@@ -207,6 +207,34 @@ fn card_files_are_checked() {
         "[card.friction]\nsource = \"guess\"\ncoulomb = 2.0\nbreakaway = 1.0\n[card.application]",
         "friction.breakaway = 1: the static (breakaway) friction must be at least the Coulomb",
     );
+    // a value the drive's scales cannot hold is named as written, not as the derived parameter
+    // it would break (k1 = 1e-300 was reported as `k1 = NaN`, a huge loss as `c_eq`)
+    bad(
+        "k1 = 1.3e4",
+        "k1 = 1e-300",
+        "stiffness.k1 = 1e-300: magnitude outside",
+    );
+    bad(
+        "loss = 5.8e-4",
+        "loss = 1e300",
+        "hysteresis.loss = 1e300: magnitude outside",
+    );
+    bad(
+        "t1 = 7.0",
+        "t1 = 1e-300",
+        "stiffness.t1 = 1e-300: magnitude outside",
+    );
+    // values each within range that combine into a drive parameter out of it: the card named,
+    // the parameter as the drive's
+    let text = GOOD.replacen("j_load = 0.1", "j_load = 1e-99\nzeta = 1e-99", 1);
+    let f = CardFile::parse(&text).unwrap();
+    let e = hdgear::physical::catalogue::assemble(f.get("my-20-50").unwrap(), None, None)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.starts_with("card MY-20-50: the drive's c_eq (from its values) = 7.2"),
+        "{e}"
+    );
     let twice = format!("{GOOD}\n{}", &GOOD[GOOD.find("[[card]]").unwrap()..]);
     let e = CardFile::parse(&twice).unwrap_err().to_string();
     assert!(e.contains("appears twice"), "{e}");

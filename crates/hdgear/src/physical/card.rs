@@ -394,6 +394,9 @@ impl Card {
         if !(self.ratio.is_finite() && self.ratio >= 1.0) {
             return Err(bad("ratio".into(), fmt(self.ratio), "must be ≥ 1"));
         }
+        if out_of_scale(self.ratio) {
+            return Err(bad("ratio".into(), fmt(self.ratio), OUT_OF_SCALE));
+        }
         for s in self.sections() {
             if !sources.contains_key(s.source()) {
                 let known = sources.keys().cloned().collect::<Vec<_>>().join(", ");
@@ -417,6 +420,7 @@ impl Card {
                     Some(v) if v == 0.0 && POSITIVE.contains(&key.as_str()) => {
                         return Err(bad(key, fmt(v), "must be > 0 (0 has no meaning here)"));
                     }
+                    Some(v) if out_of_scale(v) => return Err(bad(key, fmt(v), OUT_OF_SCALE)),
                     _ => {}
                 }
             }
@@ -493,6 +497,17 @@ impl Card {
 /// The section, or its empty default when the card has none (every value then missing).
 fn or_empty<'a, S: Section>(s: &'a Option<S>, empty: &'a S) -> &'a dyn Section {
     s.as_ref().unwrap_or(empty)
+}
+
+/// Why a card's value beyond [`crate::params::MAGNITUDE_LIMIT`] is refused.
+const OUT_OF_SCALE: &str = "magnitude outside 1e-100 to 1e100 (0 aside): the drive's scales \
+                            built from it would overflow";
+
+/// A nonzero value beyond [`crate::params::MAGNITUDE_LIMIT`] either way: the drive built from
+/// the card would carry a parameter out of its range, named by its derived name.
+fn out_of_scale(v: f64) -> bool {
+    let limit = crate::params::MAGNITUDE_LIMIT;
+    v.abs() > limit || (v != 0.0 && v.abs() < 1.0 / limit)
 }
 
 fn fmt(v: f64) -> String {

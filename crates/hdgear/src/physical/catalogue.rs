@@ -289,7 +289,21 @@ pub fn assemble(card: &Card, t_fit: Option<f64>, zeta: Option<f64>) -> Result<As
         t_am,
         omega: std::f64::consts::TAU * hz,
     };
-    p.validate()?;
+    // values each within range may still combine into a drive parameter out of it: the card is
+    // named, and the parameter as the drive's
+    p.validate().map_err(|e| match e {
+        crate::Error::InvalidParameter {
+            name,
+            value,
+            reason,
+        } => crate::Error::Card {
+            card: card.name.clone(),
+            field: format!("the drive's {name} (from its values)"),
+            value: format!("{value:e}"),
+            reason,
+        },
+        other => other,
+    })?;
     Ok(Assembled {
         drive: p,
         fit: f,
