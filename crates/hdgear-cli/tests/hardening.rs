@@ -347,11 +347,14 @@ fn a_sweep_stopped_by_a_file_size_limit_resumes() {
     let sweep = ["sweep", "--param", "gamma=0.1:30:60:log", "--quiet"];
     let o = run_with_file_limit(dir.path(), 2, &[&sweep[..], &["--out", "s.csv"]].concat());
     assert_eq!(o.status.code(), Some(2), "{}", err(&o));
+    let e = err(&o);
     assert!(
-        err(&o).contains("kept in s.csv.partial: rerun the same command with --resume"),
-        "{}",
-        err(&o)
+        e.contains("kept in s.csv.partial: rerun the same command with --resume"),
+        "{e}"
     );
+    // the failure first, then what to do about it
+    let at = |part: &str| e.find(part).unwrap_or_else(|| panic!("no '{part}' in {e}"));
+    assert!(at("writing ") < at("kept in"), "{e}");
     let resumed = run_in(
         dir.path(),
         &[&sweep[..], &["--out", "s.csv", "--resume"]].concat(),

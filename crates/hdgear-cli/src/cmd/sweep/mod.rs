@@ -273,7 +273,8 @@ where
     })?;
     bar.finish_and_clear();
     if let Some(e) = io_err {
-        return Err(e.context(resume_hint(&partial)));
+        // what failed first, then what to do about it
+        return Err(anyhow::anyhow!("{e:#}; {}", resume_hint(&partial)));
     }
     for old in finished {
         put(&mut out, &old)?;
