@@ -280,7 +280,7 @@ pub(crate) fn check_magnitude(name: &str, v: f64) -> Result<()> {
             "magnitude above 1e100: the model's cubic terms would overflow",
         ));
     }
-    if v != 0.0 && v.abs() < 1.0 / MAGNITUDE_LIMIT {
+    if beyond_magnitude(v) {
         return Err(invalid(
             name,
             v,
@@ -288,6 +288,11 @@ pub(crate) fn check_magnitude(name: &str, v: f64) -> Result<()> {
         ));
     }
     Ok(())
+}
+
+/// Whether a value lies beyond [`MAGNITUDE_LIMIT`] either way (0 is within).
+pub(crate) fn beyond_magnitude(v: f64) -> bool {
+    v.abs() > MAGNITUDE_LIMIT || (v != 0.0 && v.abs() < 1.0 / MAGNITUDE_LIMIT)
 }
 
 pub(crate) fn invalid(name: &str, value: f64, reason: &'static str) -> Error {

@@ -394,7 +394,7 @@ impl Card {
         if !(self.ratio.is_finite() && self.ratio >= 1.0) {
             return Err(bad("ratio".into(), fmt(self.ratio), "must be ≥ 1"));
         }
-        if out_of_scale(self.ratio) {
+        if crate::params::beyond_magnitude(self.ratio) {
             return Err(bad("ratio".into(), fmt(self.ratio), OUT_OF_SCALE));
         }
         for s in self.sections() {
@@ -420,7 +420,9 @@ impl Card {
                     Some(v) if v == 0.0 && POSITIVE.contains(&key.as_str()) => {
                         return Err(bad(key, fmt(v), "must be > 0 (0 has no meaning here)"));
                     }
-                    Some(v) if out_of_scale(v) => return Err(bad(key, fmt(v), OUT_OF_SCALE)),
+                    Some(v) if crate::params::beyond_magnitude(v) => {
+                        return Err(bad(key, fmt(v), OUT_OF_SCALE));
+                    }
                     _ => {}
                 }
             }
@@ -502,13 +504,6 @@ fn or_empty<'a, S: Section>(s: &'a Option<S>, empty: &'a S) -> &'a dyn Section {
 /// Why a card's value beyond [`crate::params::MAGNITUDE_LIMIT`] is refused.
 const OUT_OF_SCALE: &str = "magnitude outside 1e-100 to 1e100 (0 aside): the drive's scales \
                             built from it would overflow";
-
-/// A nonzero value beyond [`crate::params::MAGNITUDE_LIMIT`] either way: the drive built from
-/// the card would carry a parameter out of its range, named by its derived name.
-fn out_of_scale(v: f64) -> bool {
-    let limit = crate::params::MAGNITUDE_LIMIT;
-    v.abs() > limit || (v != 0.0 && v.abs() < 1.0 / limit)
-}
 
 fn fmt(v: f64) -> String {
     format!("{v:?}")
