@@ -46,9 +46,9 @@ pub fn out_help(columns: &[&str]) -> String {
 impl<R: Record> Export<R> {
     /// Refuses a bad `--out` or `--plot` path before anything is computed.
     pub fn check(&self) -> Result<()> {
-        crate::cli::check_out(&self.out)?;
+        crate::args::check_out(&self.out)?;
         if let Some(path) = &self.plot {
-            crate::cli::check_plot(path)?;
+            crate::args::check_plot(path)?;
         }
         Ok(())
     }

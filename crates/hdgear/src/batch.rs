@@ -26,9 +26,10 @@
 use crate::error::Result;
 use crate::error::SolverError;
 use crate::integrate::Options;
+use crate::integrate::approx::mul_add;
 use crate::integrate::approx::{exponent, pow2};
 use crate::integrate::lanes::check_inputs;
-use crate::integrate::taylor::{INV, MAX_ORDER, TaylorDense, mul_add, rule, step_from_norms};
+use crate::integrate::taylor::{INV, MAX_ORDER, TaylorDense, rule, step_from_norms};
 use crate::model::{LaneParams, Rows, TangentRows, tangent_rows, taylor_rows};
 use crate::params::Params;
 use crate::simd::{Simd, dispatched};

@@ -72,4 +72,10 @@ pub use error::{Error, Result};
 #[cfg(doctest)]
 #[doc = include_str!("../../../docs/src/library.md")]
 pub struct GuideLibraryPage;
+
+/// The guide's architecture page (`docs/src/architecture.md`): its worked examples compiled and
+/// run as doc-tests.
+#[cfg(doctest)]
+#[doc = include_str!("../../../docs/src/architecture.md")]
+pub struct GuideArchitecturePage;
 pub use params::Params;

@@ -15,6 +15,7 @@ pub mod branches;
 pub mod control;
 pub mod dahl;
 pub mod delay;
+pub mod delayed;
 pub mod excitation;
 pub mod friction;
 pub mod jet;
@@ -25,20 +26,25 @@ pub mod piecewise;
 mod relation;
 pub mod schedule;
 pub mod spring;
+mod study_terms;
 pub mod switching;
+pub mod tables;
+pub mod term;
 pub mod terms;
 
 mod assembled;
 mod curve;
+mod scheduled_curve;
 pub use assembled::{
     Description, FORCING, Facts, MAX_STATES, MAX_TERMS, Model, ModelParam, ParamValue,
     integrate_models, integrate_switching_models, on_vector_lanes, study_param,
 };
 pub(crate) use curve::refusal;
 pub use curve::{ModelCurve, ModelFollower, StaticTorque, Statics};
+pub use scheduled_curve::ScheduledTorque;
 
 use crate::integrate::System;
-use crate::integrate::taylor::mul_add;
+use crate::integrate::approx::mul_add;
 use crate::params::Params;
 use crate::simd::{Simd, dispatched};
 

@@ -125,7 +125,7 @@ pub struct BearingTables {
     pub input: Option<BTreeMap<String, BTreeMap<String, f64>>>,
 }
 
-pub use crate::model::terms::{TermTable, TermTableError, extra_kinds, term_values};
+pub use crate::model::tables::{TermTable, TermTableError, extra_kinds, term_values};
 
 impl Scenario {
     /// The extra terms' tables as (kind, values), each checked: a known kind, a table, and known

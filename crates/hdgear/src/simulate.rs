@@ -4,7 +4,7 @@ use crate::error::Result;
 use crate::fast::stable_equilibrium;
 use crate::integrate::events::{Detector, Direction};
 use crate::integrate::{DenseOutput, Grid, Options, Stats, Stepper, System, stepper};
-use crate::model::delay::Delayed;
+use crate::model::delayed::Delayed;
 use crate::model::switching::{Mode, Pieces, Switching};
 use crate::model::{Description, Dimensionless, Model};
 use crate::params::Params;

@@ -7,7 +7,7 @@ use hdgear::burst::{BurstOptions, Verdict};
 use hdgear::physical::card::{Card, Friction, builtin, builtin_card};
 use hdgear::physical::check::{DampingChoice, MapGrid, check_card, load_map};
 use hdgear::physical::design::{Judgement, judge, outcome_of};
-use hdgear::physical::friction::{FrictionKnob, FrictionLaw, check, judge as judge_friction, law};
+use hdgear::physical::friction::{FrictionKnob, FrictionLaw, check, judge as judge_friction};
 use hdgear::physical::{PhysicalParams, catalogue::assemble};
 
 /// CSG-20-50 with a friction section (its source one the file has).
@@ -38,14 +38,14 @@ fn a_cards_friction_law_is_read_and_refused() {
         coulomb: Some(2.0),
         ..Default::default()
     });
-    let l = law(&only_coulomb).unwrap().unwrap();
+    let l = only_coulomb.friction_law().unwrap().unwrap();
     assert_eq!((l.coulomb, l.breakaway, l.viscous), (2.0, 2.0, 0.0));
     let measured = with_friction(Friction {
         starting: Some(0.04),
         backdriving: Some(3.9),
         ..Default::default()
     });
-    assert_eq!(law(&measured).unwrap(), None);
+    assert_eq!(measured.friction_law().unwrap(), None);
     let sources = &builtin().sources;
     for (f, key, value) in [
         (fitted(2.0, 1.0, 0.1), "friction.breakaway", "1"),
@@ -84,7 +84,7 @@ fn the_reduced_friction_scales_as_the_load() {
         ..fitted(1.0, 6.0, 0.13)
     });
     let d = assemble(&c, None, None).unwrap().drive;
-    let l = law(&c).unwrap().unwrap();
+    let l = c.friction_law().unwrap().unwrap();
     let n2ji = d.ratio * d.ratio * d.j_in;
     let j = n2ji * d.j_out / (n2ji + d.j_out);
     let (c4, kpj2) = (d.c_eq.powi(4), d.k2 * d.backlash * j * j);
@@ -189,11 +189,11 @@ fn a_cards_efficiency_is_a_mesh_loss() {
             ..Default::default()
         })
     };
-    let l = law(&eta(0.8)).unwrap().unwrap();
+    let l = eta(0.8).friction_law().unwrap().unwrap();
     assert!((l.mesh_loss.unwrap() - 0.25).abs() < 1e-15);
     assert_eq!((l.coulomb, l.breakaway, l.viscous), (0.0, 0.0, 0.0));
     for bad in [0.0, 1.5, -0.2] {
-        let e = law(&eta(bad)).unwrap_err().to_string();
+        let e = eta(bad).friction_law().unwrap_err().to_string();
         assert!(e.contains("friction.efficiency"), "{e}");
     }
     let lossless = FrictionLaw {
@@ -248,7 +248,7 @@ fn the_load_map_carries_the_friction_verdict() {
     };
     let map = map_of(&c);
     let check = check_card(&c, sources, DampingChoice::HysteresisLoss, 0.0, &opts).unwrap();
-    let l = law(&c).unwrap().unwrap();
+    let l = c.friction_law().unwrap().unwrap();
     let mut slips = 0;
     for p in &map {
         let d = PhysicalParams {

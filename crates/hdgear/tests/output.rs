@@ -122,99 +122,6 @@ fn a_failed_commit_leaves_no_temporary() {
     assert_eq!(crate::common::files_in(dir.path()), ["x.csv"]);
 }
 
-/// The files under `dir`, at any depth.
-fn files_under(dir: &std::path::Path) -> Vec<std::path::PathBuf> {
-    let (mut files, mut stack) = (Vec::new(), vec![dir.to_path_buf()]);
-    while let Some(dir) = stack.pop() {
-        for e in std::fs::read_dir(&dir).unwrap().flatten() {
-            let path = e.path();
-            if path.is_dir() {
-                stack.push(path);
-            } else {
-                files.push(path);
-            }
-        }
-    }
-    files
-}
-
-/// The library's top-level modules and the ones each names in code (`crate::m`, `record!`).
-fn module_graph() -> std::collections::BTreeMap<String, std::collections::BTreeSet<String>> {
-    let src = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../hdgear/src");
-    let mut graph = std::collections::BTreeMap::new();
-    for path in files_under(&src) {
-        let rel = path
-            .strip_prefix(&src)
-            .unwrap()
-            .to_string_lossy()
-            .into_owned();
-        let top = rel
-            .split('/')
-            .next()
-            .unwrap()
-            .trim_end_matches(".rs")
-            .to_string();
-        if top == "lib" {
-            continue;
-        }
-        let text = std::fs::read_to_string(&path).unwrap();
-        let deps: &mut std::collections::BTreeSet<String> = graph.entry(top.clone()).or_default();
-        for line in text.lines().filter(|l| !l.trim_start().starts_with("//")) {
-            for part in line.split("crate::").skip(1) {
-                let name: String = part
-                    .chars()
-                    .take_while(|c| c.is_ascii_lowercase() || *c == '_')
-                    .collect();
-                if !name.is_empty() && name != top && name != "record" {
-                    deps.insert(name);
-                }
-            }
-            if line.contains("crate::record!") {
-                deps.insert("output".into());
-            }
-        }
-    }
-    graph
-}
-
-#[test]
-fn the_library_module_graph_has_no_cycle_and_output_is_the_bottom_layer() {
-    let graph = module_graph();
-    assert!(graph.len() > 10, "{graph:?}");
-    // the I/O layer knows nothing above the error type
-    assert_eq!(
-        graph["output"].iter().collect::<Vec<_>>(),
-        ["error"],
-        "output uses {:?}",
-        graph["output"]
-    );
-    // depth-first search for a back edge
-    fn visit<'a>(
-        m: &'a str,
-        graph: &'a std::collections::BTreeMap<String, std::collections::BTreeSet<String>>,
-        state: &mut std::collections::BTreeMap<&'a str, u8>,
-        path: &mut Vec<&'a str>,
-    ) {
-        state.insert(m, 1);
-        path.push(m);
-        for d in graph.get(m).into_iter().flatten() {
-            match state.get(d.as_str()) {
-                Some(1) => panic!("module cycle: {path:?} -> {d}"),
-                Some(_) => {}
-                None => visit(d, graph, state, path),
-            }
-        }
-        path.pop();
-        state.insert(m, 2);
-    }
-    let mut state = std::collections::BTreeMap::new();
-    for m in graph.keys() {
-        if !state.contains_key(m.as_str()) {
-            visit(m, &graph, &mut state, &mut Vec::new());
-        }
-    }
-}
-
 /// The lines of `text`, comments aside, that hold a study parameter's name as a string literal
 /// (`"gamma"`): where a column list, a flag, a key or a message would restate the name.
 fn name_literals(text: &str) -> Vec<&str> {
@@ -250,7 +157,7 @@ fn the_study_s_parameter_names_are_written_only_where_they_are_defined() {
     let (mut definitions, mut restated) = (0, Vec::new());
     let sources = ["hdgear/src", "hdgear-cli/src", "hdgear-py/src"]
         .iter()
-        .flat_map(|d| files_under(&crates.join(d)))
+        .flat_map(|d| crate::house::files_under(&crates.join(d)))
         .filter(|p| p.extension().is_some_and(|x| x == "rs"));
     for path in sources {
         let text = std::fs::read_to_string(&path).unwrap();

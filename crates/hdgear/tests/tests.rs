@@ -19,6 +19,7 @@ mod dop853_terms;
 mod fast;
 mod friction;
 mod friction_reference;
+mod house;
 mod integrate;
 mod kinematic;
 mod memory;

@@ -1,13 +1,40 @@
 //! `hdgear analyze`: the fast subsystem, the prediction, the measured response.
 
 use super::equilibria::{Curve, curve_of};
-use crate::cli::{AnalyzeArgs, parse_range};
+use crate::args::parse_range;
 use crate::sink::{note, warn, warn_range};
 use crate::sources::System;
 use anyhow::Result;
 use hdgear::fast::{CurveAnalysis, curve_analysis};
 use hdgear::model::Model;
 use hdgear::params::Warning;
+
+use crate::args::BurstArgs;
+use crate::sources::ParamArgs;
+use clap::Args;
+
+/// Arguments of `hdgear analyze`.
+#[derive(Args, Debug)]
+pub struct AnalyzeArgs {
+    #[command(flatten)]
+    pub params: ParamArgs,
+    /// Range of the slow variable a, as A0:A1.
+    #[arg(long, default_value = "-1:1", allow_hyphen_values = true)]
+    pub a_range: String,
+    /// Print one JSON document instead of the readable summary.
+    #[arg(long)]
+    pub json: bool,
+    /// Skip the simulated response and its classification (fast-subsystem analysis only).
+    #[arg(long)]
+    pub no_response: bool,
+    /// Also locate the simulated bursting boundaries in gamma and omega through this point, where
+    /// the simulated verdict switches, from the predicted ones (under a second at the study's
+    /// point; longer at small omega, which is slow to simulate).
+    #[arg(long)]
+    pub simulated_boundaries: bool,
+    #[command(flatten)]
+    pub burst: BurstArgs,
+}
 
 pub fn run(a: AnalyzeArgs) -> Result<()> {
     let (system, warnings) = a.params.resolve_system()?;

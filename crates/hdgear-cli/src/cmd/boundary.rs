@@ -2,7 +2,7 @@
 //! subsystem and the edge of the fast-slow domain as curves in a plane of two parameters.
 
 use super::continuation2::PlaneArgs;
-use crate::cli::BurstArgs;
+use crate::args::BurstArgs;
 use crate::export::Export;
 use crate::sink::{outln, warn};
 use anyhow::{Context, Result};

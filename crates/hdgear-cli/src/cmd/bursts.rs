@@ -1,8 +1,25 @@
 //! `hdgear bursts`: one burst per row.
 
-use crate::cli::{BurstsArgs, check_out};
+use crate::args::check_out;
 use crate::sink::{warn, write_records};
 use anyhow::Result;
+
+use crate::args::BurstArgs;
+use crate::sources::ParamArgs;
+use clap::Args;
+use std::path::PathBuf;
+
+/// Arguments of `hdgear bursts`.
+#[derive(Args, Debug)]
+pub struct BurstsArgs {
+    #[command(flatten)]
+    pub params: ParamArgs,
+    #[command(flatten)]
+    pub burst: BurstArgs,
+    /// Output file, .csv, .json or .parquet (CSV on stdout without it).
+    #[arg(long, value_name = "FILE")]
+    pub out: Option<PathBuf>,
+}
 
 pub fn run(a: BurstsArgs) -> Result<()> {
     let (p, model, warnings) = a.params.resolve_model()?;

@@ -1,6 +1,6 @@
 //! `hdgear card`: list, show, check and write drive cards.
 
-use crate::cli::{BurstArgs, as_flag};
+use crate::args::{BurstArgs, as_flag};
 use anyhow::{Context, Result, bail};
 use clap::{Args, Subcommand};
 use hdgear::output::Record;
@@ -305,10 +305,10 @@ fn map(a: CardMapArgs) -> Result<()> {
     } = a;
     let choice = DampingChoice::parse(&damping).context("--damping")?;
     let opts = burst.options()?;
-    crate::cli::check_out(&out)?;
+    crate::args::check_out(&out)?;
     let l = load(&card)?;
     let mut grid = MapGrid::for_card(&l.card, points);
-    if let Some(range) = crate::cli::parse_frequency_range("--hz", hz.as_deref())? {
+    if let Some(range) = crate::args::parse_frequency_range("--hz", hz.as_deref())? {
         grid.hz = range;
     }
     if let Some(t) = t_am_max {
@@ -328,7 +328,7 @@ fn map(a: CardMapArgs) -> Result<()> {
         ];
         as_flag(e, &[&grid_flags[..], &KNEE_FLAG].concat())
     })?;
-    let law = hdgear::physical::friction::law(&l.card)?;
+    let law = l.card.friction_law()?;
     let has_friction = law.is_some();
     let rows = map.iter().map(|p| {
         let (friction_bursting, friction_verdict) = verdict_columns(has_friction, p.friction);

@@ -1,7 +1,6 @@
 //! `hdgear continue`: a branch of periodic orbits by pseudo-arclength continuation, its special
 //! points, and (with --switch) the doubled branches born at its period doublings.
 
-use crate::cli::ContinueArgs;
 use crate::sink::{warn, write_records};
 use anyhow::{Context, Result};
 use hdgear::params::{Param, Warning};
@@ -9,6 +8,34 @@ use hdgear::periodic::{
     Branch, BranchRow, ContinuationOptions, End, Periodic, Range, Special, continue_with_doubled,
 };
 use serde::Serialize;
+
+use crate::sources::ParamArgs;
+use clap::Args;
+use std::path::PathBuf;
+
+/// Arguments of `hdgear continue`.
+#[derive(Args, Debug)]
+pub struct ContinueArgs {
+    #[command(flatten)]
+    pub params: ParamArgs,
+    /// NAME=FROM:TO[:log]: follow the orbit in NAME from FROM (the parameter is set to it) to TO,
+    /// in ln NAME with :log.
+    #[arg(long = "param", value_name = "SPEC", allow_hyphen_values = true)]
+    pub range: String,
+    /// K: follow the orbit of period K·2π/ω.
+    #[arg(long, default_value_t = 1)]
+    pub subharmonic: u32,
+    /// Also follow the doubled branch from every period doubling found (one level).
+    #[arg(long)]
+    pub switch: bool,
+    /// The branch points (branch,subharmonic,param,x0,xdot0,x_min,x_max,…,special) to a .csv,
+    /// .json or .parquet file.
+    #[arg(long, value_name = "FILE")]
+    pub out: Option<PathBuf>,
+    /// Print one JSON document (the branches with every point).
+    #[arg(long)]
+    pub json: bool,
+}
 
 /// What `--json` prints and `--out` carries as metadata.
 #[derive(Serialize)]
@@ -32,7 +59,7 @@ pub fn run(a: ContinueArgs) -> Result<()> {
         );
     }
     let (system, warnings) = a.params.resolve_system()?;
-    crate::cli::check_out(&a.out)?;
+    crate::args::check_out(&a.out)?;
     crate::on_system!(&system, |p| run_on(p, &a, &warnings))
 }
 

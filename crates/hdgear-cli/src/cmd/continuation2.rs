@@ -2,9 +2,9 @@
 //! parameters, started from the special points a one-parameter continuation finds, with their
 //! cusps and generalised period doublings.
 
-use crate::cli::ParamArgs;
 use crate::export::Export;
 use crate::sink::{outln, warn};
+use crate::sources::ParamArgs;
 use anyhow::{Context, Result, bail};
 use clap::Args;
 use hdgear::periodic::{

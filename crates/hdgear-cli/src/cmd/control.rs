@@ -1,8 +1,9 @@
 //! `hdgear control`: feedback laws against the bursts, each tuned to its least gain (or assessed
 //! at a given gain), side by side with what they cost.
 
-use crate::cli::{BurstArgs, ParamArgs};
+use crate::args::BurstArgs;
 use crate::sink::{out, outln, warn};
+use crate::sources::ParamArgs;
 use anyhow::{Context, Result};
 use clap::Args;
 use hdgear::control::{

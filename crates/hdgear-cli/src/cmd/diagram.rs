@@ -1,12 +1,42 @@
 //! `hdgear orbit-diagram`: the stroboscopic section against a parameter, swept up and down.
 
-use crate::cli::OrbitDiagramArgs;
 use crate::sink::{Sink, warn};
 use anyhow::{Context, Result};
 use hdgear::output::RecordWriter;
 use hdgear::periodic::{DiagramOptions, DiagramPoint, Periodic, orbit_diagram};
 use hdgear::sweep::Axis;
 use serde::Serialize;
+
+use crate::sources::ParamArgs;
+use clap::Args;
+use std::path::PathBuf;
+
+/// Arguments of `hdgear orbit-diagram`.
+#[derive(Args, Debug)]
+pub struct OrbitDiagramArgs {
+    #[command(flatten)]
+    pub params: ParamArgs,
+    /// NAME=START:END:COUNT[:log]: the parameter values, swept up then down.
+    #[arg(long = "param", value_name = "SPEC", allow_hyphen_values = true)]
+    pub axis: String,
+    /// Forcing periods discarded at each value.
+    #[arg(long, default_value_t = 200)]
+    pub discard: u32,
+    /// Forcing periods recorded at each value.
+    #[arg(long, default_value_t = 32)]
+    pub record: u32,
+    /// Also the largest Lyapunov exponent at each value, averaged over N forcing periods after
+    /// the recorded ones (Benettin).
+    #[arg(long, value_name = "N", num_args = 0..=1, default_missing_value = "400")]
+    pub lyapunov: Option<u32>,
+    /// The section points (sweep,param,period,lyapunov,x,xdot) to a .csv, .json or .parquet file
+    /// (CSV on stdout without it).
+    #[arg(long, value_name = "FILE")]
+    pub out: Option<PathBuf>,
+    /// The figure to a .svg or .png file.
+    #[arg(long, value_name = "FILE")]
+    pub plot: Option<PathBuf>,
+}
 
 /// One section point: the columns of the output.
 #[derive(Serialize)]
@@ -38,9 +68,9 @@ pub fn run(a: OrbitDiagramArgs) -> Result<()> {
         );
     }
     let (system, warnings) = a.params.resolve_system()?;
-    crate::cli::check_out(&a.out)?;
+    crate::args::check_out(&a.out)?;
     if let Some(plot) = &a.plot {
-        crate::cli::check_plot(plot)?;
+        crate::args::check_plot(plot)?;
     }
     crate::on_system!(&system, |p| run_on(p, &a, &axis, &warnings))
 }

@@ -1,17 +1,37 @@
 //! `hdgear equilibria`: the equilibrium curve, sampled.
 
-use crate::cli::{EquilibriaArgs, check_out, parse_range};
+use crate::args::{check_out, parse_range};
 use crate::sink::{warn, warn_range, write_records};
 use crate::sources::System;
 use anyhow::Result;
 use hdgear::fast::StaticCurve;
 use hdgear::model::{Model, ModelCurve};
 
+use crate::sources::ParamArgs;
+use clap::Args;
+use std::path::PathBuf;
+
+/// Arguments of `hdgear equilibria`.
+#[derive(Args, Debug)]
+pub struct EquilibriaArgs {
+    #[command(flatten)]
+    pub params: ParamArgs,
+    /// Number of curve points (≥ 2), spread uniformly in arc length.
+    #[arg(long, default_value_t = 1001)]
+    pub points: usize,
+    /// Range of the slow variable a, as A0:A1.
+    #[arg(long, default_value = "-1:1", allow_hyphen_values = true)]
+    pub a_range: String,
+    /// Output file, .csv, .json or .parquet (CSV on stdout without it).
+    #[arg(long, value_name = "FILE")]
+    pub out: Option<PathBuf>,
+}
+
 pub fn run(a: EquilibriaArgs) -> Result<()> {
     let (system, warnings) = a.params.resolve_system()?;
     let range = parse_range(&a.a_range)?;
     check_out(&a.out)?;
-    crate::cli::check_points(a.points)?;
+    crate::args::check_points(a.points)?;
     warn(&warnings);
     warn_range(range);
     match system {
@@ -39,7 +59,7 @@ pub enum Curve {
     /// Its static torque's.
     Torque(ModelCurve),
     /// The closed loop's of a scheduled stiffness.
-    Scheduled(ModelCurve<hdgear::model::schedule::ScheduledTorque>),
+    Scheduled(ModelCurve<hdgear::model::ScheduledTorque>),
 }
 
 /// Samples `c` and writes the curve with `params` as its metadata.

@@ -1,11 +1,25 @@
 //! `hdgear frequency-response`: the response amplitude against ω by continuation in ln ω, with
 //! its folds (the jumps of a slow up- or down-sweep) and stability along the curve.
 
-use crate::cli::FrequencyResponseArgs;
 use crate::sink::warn;
 use anyhow::{Context, Result};
 use hdgear::params::Param;
 use hdgear::periodic::{BranchRow, ContinuationOptions, Periodic, Special, frequency_response};
+
+use crate::sources::ParamArgs;
+use clap::Args;
+
+/// Arguments of `hdgear frequency-response`.
+#[derive(Args, Debug)]
+pub struct FrequencyResponseArgs {
+    #[command(flatten)]
+    pub params: ParamArgs,
+    /// LO:HI, the omega range (default: from 1/20 to 3 times the stiffest static frequency).
+    #[arg(long = "omega-range", value_name = "LO:HI")]
+    pub omega_range: Option<String>,
+    #[command(flatten)]
+    pub export: crate::export::Export<hdgear::periodic::BranchRow>,
+}
 
 pub fn run(a: FrequencyResponseArgs) -> Result<()> {
     let omega = Param::Omega;
@@ -14,7 +28,7 @@ pub fn run(a: FrequencyResponseArgs) -> Result<()> {
             "--{omega} does not apply: the curve varies {omega} itself (see --omega-range)"
         );
     }
-    let range = crate::cli::parse_frequency_range("--omega-range", a.omega_range.as_deref())?;
+    let range = crate::args::parse_frequency_range("--omega-range", a.omega_range.as_deref())?;
     let (system, warnings) = a.params.resolve_system()?;
     a.export.check()?;
     warn(&warnings);

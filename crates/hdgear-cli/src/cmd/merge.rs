@@ -7,11 +7,23 @@
 //! whole run's summary: the same space and options checked, every part once, the counts (and the
 //! importance sampling's sums) added, the worst case and Sobol indices taken from part 0.
 
-use crate::cli::MergeArgs;
 use crate::cmd::sweep::file;
 use anyhow::{Context, Result, bail};
 use hdgear::output::{Format, RecordWriter};
 use std::path::{Path, PathBuf};
+
+use clap::Args;
+
+/// Arguments of `hdgear merge`.
+#[derive(Args, Debug)]
+pub struct MergeArgs {
+    /// The shard files (FILE.shard-K-of-N.csv), all N of them, in any order.
+    #[arg(required = true, value_name = "SHARD")]
+    pub shards: Vec<PathBuf>,
+    /// The merged file, .csv, .json or .parquet (default: the shards' name without .shard-K-of-N, .csv).
+    #[arg(long, value_name = "FILE")]
+    pub out: Option<PathBuf>,
+}
 
 /// `DIR/NAME.csv` for `DIR/NAME.shard-K-of-N.csv`.
 fn default_out(shard: &Path) -> Result<PathBuf> {

@@ -1,29 +1,29 @@
 //! One module per command, each turning its checked settings into a run and its export
 //! (ripgrep/hyperfine style: arguments → checked settings → run → export).
 
-mod analyze;
-mod bifurcation;
+pub mod analyze;
+pub mod bifurcation;
 pub mod boundary;
-mod bursts;
+pub mod bursts;
 pub mod card;
-mod continuation;
+pub mod continuation;
 pub mod continuation2;
 pub mod control;
-mod diagram;
-mod equilibria;
-mod frequency;
-mod lyapunov;
-mod merge;
-mod model;
-mod periodic;
-mod physical;
-mod plot;
-mod report;
+pub mod diagram;
+pub mod equilibria;
+pub mod frequency;
+pub mod lyapunov;
+pub mod merge;
+pub mod model;
+pub mod periodic;
+pub mod physical;
+pub mod plot;
+pub mod report;
 pub mod robust;
-mod serve;
-mod simulate;
-mod sweep;
-mod table;
+pub mod serve;
+pub mod simulate;
+pub mod sweep;
+pub mod table;
 
 use crate::cli::{Cli, Command};
 use anyhow::Result;

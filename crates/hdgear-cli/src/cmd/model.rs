@@ -1,12 +1,28 @@
 //! `hdgear model`: the assembled model, its parameters and the facts derived from its terms.
 
-use crate::cli::ModelArgs;
 use crate::sink::{outln, warn};
 use anyhow::Result;
 use hdgear::control::Averaging;
 use hdgear::model::Description;
 use hdgear::model::branches::Branches;
 use serde::Serialize;
+
+use crate::sources::ParamArgs;
+use clap::Args;
+
+/// Arguments of `hdgear model`.
+#[derive(Args, Debug)]
+pub struct ModelArgs {
+    #[command(flatten)]
+    pub params: ParamArgs,
+    /// Also give the quasi-static loading and unloading branches x±(a) of the steady loop under
+    /// a ∈ [−1, 1]: breakaways, steepest points (spiking areas), folds; with --json every point.
+    #[arg(long)]
+    pub branches: bool,
+    /// Print JSON (for programs) instead of text.
+    #[arg(long)]
+    pub json: bool,
+}
 
 /// What `model --json` prints: the description and, for a model with a fast periodic torque,
 /// what averaging makes of it.

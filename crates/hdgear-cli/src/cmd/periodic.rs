@@ -1,7 +1,6 @@
 //! `hdgear periodic`: the periodic orbit by shooting, its Floquet multipliers and stability, and
 //! optionally the largest Lyapunov exponent.
 
-use crate::cli::PeriodicArgs;
 use crate::sink::{warn, write_records};
 use anyhow::Result;
 use hdgear::periodic::{
@@ -9,6 +8,32 @@ use hdgear::periodic::{
     shoot,
 };
 use serde::Serialize;
+
+use crate::args::BurstArgs;
+use crate::sources::ParamArgs;
+use clap::Args;
+use std::path::PathBuf;
+
+/// Arguments of `hdgear periodic`.
+#[derive(Args, Debug)]
+pub struct PeriodicArgs {
+    #[command(flatten)]
+    pub params: ParamArgs,
+    #[command(flatten)]
+    pub burst: BurstArgs,
+    /// K: look for the orbit of period K·2π/ω.
+    #[arg(long, default_value_t = 1)]
+    pub subharmonic: u32,
+    /// Also compute the largest Lyapunov exponent (Benettin, over 50 forcing periods).
+    #[arg(long)]
+    pub lyapunov: bool,
+    /// Print one JSON document.
+    #[arg(long)]
+    pub json: bool,
+    /// The orbit's samples (t,x,xdot every 0.05 over one period) to a .csv, .json or .parquet file.
+    #[arg(long, value_name = "FILE")]
+    pub out: Option<PathBuf>,
+}
 
 /// One sample of the orbit: the columns `t,x,xdot`.
 #[derive(Serialize)]
@@ -40,7 +65,7 @@ const LYAPUNOV_REL_TOL: f64 = 1e-3;
 pub fn run(a: PeriodicArgs) -> Result<()> {
     let (system, warnings) = a.params.resolve_system()?;
     let burst_opts = a.burst.options()?;
-    crate::cli::check_out(&a.out)?;
+    crate::args::check_out(&a.out)?;
     warn(&warnings);
     crate::on_system!(&system, |p| run_on(p, &a, &burst_opts))
 }

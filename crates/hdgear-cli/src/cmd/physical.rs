@@ -1,11 +1,198 @@
 //! `hdgear physical`: reduction summary, two-inertia simulation, design check.
 
-use crate::cli::{PhysicalArgs, check_out};
+use crate::args::check_out;
 use crate::sink::Sink;
 use anyhow::{Context, Result, bail};
 use hdgear::output::RecordWriter;
 use hdgear::physical::model::{Bearings, Physical};
 use hdgear::physical::simulate::{PhysicalSample, simulate_drive};
+
+use crate::args::BurstArgs;
+use crate::cmd::robust::RobustOpts;
+use clap::Args;
+use hdgear::scenario::Scenario;
+use std::path::PathBuf;
+
+/// Arguments of `hdgear physical`.
+#[derive(Args, Debug)]
+pub struct PhysicalArgs {
+    /// The drive's card for the stiffness (k1, k2 fitted to its curve) with documented
+    /// assumptions for the rest: a built-in card (hdgear card list) or a card file
+    /// (FILE.toml, or FILE.toml#NAME when it holds several).
+    #[arg(long, default_value = "CSF-20-50", value_name = "CARD")]
+    pub drive: String,
+    /// Torque up to which the catalogue curve is fitted [N m] (default T2).
+    #[arg(long, allow_negative_numbers = true)]
+    pub fit_torque: Option<f64>,
+    /// TOML scenario file with a [physical] table (keys j_in, j_out, ratio, k1, k2, backlash,
+    /// c_eq, t_m, t_am, omega).
+    #[arg(long, value_name = "FILE")]
+    pub config: Option<PathBuf>,
+    /// J_i, input inertia [kg m^2].
+    #[arg(long, allow_negative_numbers = true)]
+    pub j_in: Option<f64>,
+    /// J_o, output inertia [kg m^2].
+    #[arg(long, allow_negative_numbers = true)]
+    pub j_out: Option<f64>,
+    /// N, reduction ratio.
+    #[arg(long, allow_negative_numbers = true)]
+    pub ratio: Option<f64>,
+    /// k1, linear stiffness [N m/rad].
+    #[arg(long, allow_negative_numbers = true)]
+    pub k1: Option<f64>,
+    /// k2, cubic stiffness [N m/rad^3].
+    #[arg(long, allow_negative_numbers = true)]
+    pub k2: Option<f64>,
+    /// phi, backlash [rad].
+    #[arg(long, allow_negative_numbers = true)]
+    pub backlash: Option<f64>,
+    /// C, equivalent damping [N m s/rad].
+    #[arg(long, allow_negative_numbers = true)]
+    pub c_eq: Option<f64>,
+    /// T_m, mean torque [N m].
+    #[arg(long, allow_negative_numbers = true)]
+    pub t_m: Option<f64>,
+    /// T_am, disturbance amplitude [N m].
+    #[arg(long, allow_negative_numbers = true)]
+    pub t_am: Option<f64>,
+    /// Omega, disturbance frequency [rad/s].
+    #[arg(long, allow_negative_numbers = true)]
+    pub omega: Option<f64>,
+    /// Friction at the output bearing, on θo' (with --simulate): LAW:KEY=VALUE,… in SI units,
+    /// every key given, LAW friction (fc [N m], vs [rad/s]) or stribeck (fc, fs [N m], vst
+    /// [rad/s], cv [N m s/rad], vr [rad/s]); e.g. friction:fc=0.8,vs=1e-3. Replaces the
+    /// scenario's [bearings.output] table.
+    #[arg(long, value_name = "LAW")]
+    pub output_bearing: Option<String>,
+    /// Friction at the wave generator, on θi' (with --simulate): LAW:KEY=VALUE,… as
+    /// --output-bearing. Replaces the scenario's [bearings.input] table.
+    #[arg(long, value_name = "LAW")]
+    pub input_bearing: Option<String>,
+    /// Friction across the compliance, on the twist rate θ' (with --simulate): LAW:KEY=VALUE,…
+    /// as --output-bearing, a torque between the two inertias (the teeth's sliding in mesh).
+    #[arg(long, value_name = "LAW")]
+    pub twist_friction: Option<String>,
+    /// Print one JSON document (the reduction, or with --design the design check).
+    #[arg(long, conflicts_with = "simulate")]
+    pub json: bool,
+    /// Simulate the two-inertia model from rest instead (SI time).
+    #[arg(long)]
+    pub simulate: bool,
+    /// End time of the simulation [s].
+    #[arg(long, requires = "simulate", allow_negative_numbers = true)]
+    pub t_end: Option<f64>,
+    /// Output spacing [s] (default J_eq/C / 20).
+    #[arg(long, requires = "simulate", allow_negative_numbers = true)]
+    pub dt: Option<f64>,
+    /// Trajectory file with --simulate (.csv, .json or .parquet; CSV on stdout without it and
+    /// without --summary), the curve with --frequency-response, or the samples with --robust.
+    #[arg(long, value_name = "FILE")]
+    pub out: Option<PathBuf>,
+    /// The frequency-response curve of the drive (continuation in the disturbance frequency) in
+    /// SI units: twist, torque, stability, folds.
+    #[arg(long, conflicts_with_all = ["simulate", "design"])]
+    pub frequency_response: bool,
+    /// LO:HI, the frequency range in Hz of --frequency-response (default: from 1/20 to 3 times
+    /// the stiffest static frequency).
+    #[arg(long, value_name = "LO:HI", requires = "frequency_response")]
+    pub hz: Option<String>,
+    /// The figure of --frequency-response to a .svg or .png file.
+    #[arg(long, value_name = "FILE", requires = "frequency_response")]
+    pub plot: Option<PathBuf>,
+    /// Print a JSON summary of the simulation.
+    #[arg(long, requires = "simulate")]
+    pub summary: bool,
+    /// Design check: distance to the bursting regime and the single changes that cross it.
+    #[arg(long, conflicts_with = "simulate")]
+    pub design: bool,
+    /// Burst control: the laws of hdgear control tuned on the drive (±20 % robustness), each
+    /// law's torque in N m against the card's ratings.
+    #[arg(long, conflicts_with_all = ["simulate", "design", "frequency_response"])]
+    pub control: bool,
+    /// The design check under manufacturing spread (hdgear robust's analysis of this drive;
+    /// its options below).
+    #[arg(long, conflicts_with_all = ["simulate", "design", "frequency_response", "control"])]
+    pub robust: bool,
+    #[command(flatten)]
+    pub robust_opts: RobustOpts,
+    #[command(flatten)]
+    pub burst: BurstArgs,
+}
+
+impl PhysicalArgs {
+    /// The drive: its card, then file, then flags; validated. With it, the card's name, the
+    /// stiffness fit and what was assumed, and the friction at its bearings (the file's
+    /// `[bearings]` tables, each side replaced by its flag where given).
+    pub fn drive(
+        &self,
+    ) -> Result<(
+        hdgear::physical::PhysicalParams,
+        hdgear::physical::design::CatalogueOrigin,
+        hdgear::physical::model::Bearings,
+    )> {
+        use hdgear::physical::model::Bearings;
+        let card = crate::cmd::card::load(&self.drive).context("--drive")?;
+        let built = hdgear::physical::catalogue::assemble(&card.card, self.fit_torque, None)
+            .context("--drive / --fit-torque")?;
+        let mut d = built.drive;
+        let origin = hdgear::physical::design::CatalogueOrigin {
+            name: card.card.name,
+            fit: built.fit,
+            assumptions: built.assumptions,
+        };
+        let mut from_file = Bearings::default();
+        if let Some(path) = &self.config {
+            let s = Scenario::load(path)?;
+            from_file = s.bearings(path)?;
+            if let Some(name) = s.terms.keys().next() {
+                anyhow::bail!(
+                    "scenario file {}: its [{name}] table is a term of the dimensionless model \
+                     (hdgear model, hdgear simulate), not of the physical drive",
+                    path.display()
+                );
+            }
+            match s.physical {
+                Some(ph) => ph.apply(&mut d),
+                // the drive's friction alone
+                None if s.bearings.is_some() => {}
+                None => anyhow::bail!(
+                    "scenario file {} has no [physical] table{}",
+                    path.display(),
+                    if s.params.is_some() {
+                        " (its [params] table is for the dimensionless commands)"
+                    } else {
+                        ""
+                    }
+                ),
+            }
+        }
+        hdgear::physical::PhysicalOverrides {
+            j_in: self.j_in,
+            j_out: self.j_out,
+            ratio: self.ratio,
+            k1: self.k1,
+            k2: self.k2,
+            backlash: self.backlash,
+            c_eq: self.c_eq,
+            t_m: self.t_m,
+            t_am: self.t_am,
+            omega: self.omega,
+        }
+        .apply(&mut d);
+        d.validate()?;
+        let side = |flag: &str, text: &Option<String>, file| match text {
+            Some(text) => Bearings::parse_law(flag, text)
+                .map(Some)
+                .with_context(|| format!("--{flag}-bearing")),
+            None => Ok(file),
+        };
+        let bearings = Bearings::new(
+            side("output", &self.output_bearing, from_file.output)?,
+            side("input", &self.input_bearing, from_file.input)?,
+        )?;
+        Ok((d, origin, bearings))
+    }
+}
 
 /// Runs the physical command.
 pub fn run(a: PhysicalArgs) -> Result<()> {
@@ -159,10 +346,10 @@ hdgear::record!(
 
 fn frequency_response(a: &PhysicalArgs, d: &hdgear::physical::PhysicalParams) -> Result<()> {
     use hdgear::periodic::{ContinuationOptions, Special, physical_frequency_response};
-    let hz = crate::cli::parse_frequency_range("--hz", a.hz.as_deref())?;
+    let hz = crate::args::parse_frequency_range("--hz", a.hz.as_deref())?;
     check_out(&a.out)?;
     if let Some(plot) = &a.plot {
-        crate::cli::check_plot(plot)?;
+        crate::args::check_plot(plot)?;
     }
     let r = physical_frequency_response(d, hz, &ContinuationOptions::default())
         .context("frequency response")?;

@@ -3,8 +3,26 @@
 use anyhow::{Context, Result};
 use hdgear::report::Stage;
 
-pub fn run(a: crate::cli::ReportArgs) -> Result<()> {
-    let threads = crate::cli::threads(a.threads)?;
+use clap::Args;
+use std::path::PathBuf;
+
+/// Arguments of `hdgear report`.
+#[derive(Args, Debug)]
+pub struct ReportArgs {
+    /// Output directory (index.html, figures/, data/). Files hdgear did not write there are
+    /// never overwritten without --force.
+    #[arg(long, default_value = "report", value_name = "DIR")]
+    pub out: PathBuf,
+    /// Worker threads (default: one per core).
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// Overwrite files in DIR that hdgear did not write.
+    #[arg(long)]
+    pub force: bool,
+}
+
+pub fn run(a: ReportArgs) -> Result<()> {
+    let threads = crate::args::threads(a.threads)?;
     let opts = hdgear::report::ReportOptions {
         threads,
         force: a.force,

@@ -2,9 +2,10 @@
 //! spread, P(burst) with its interval, the worst corner and margin, the Sobol indices, the
 //! catalogue's resonance rule; the samples streamed to a file.
 
-use crate::cli::{BurstArgs, ParamArgs, check_out};
+use crate::args::{BurstArgs, check_out};
 use crate::cmd::card::Loaded;
 use crate::sink::{Sink, out, warn};
+use crate::sources::ParamArgs;
 use crate::sources::System;
 use anyhow::{Context, Result, bail};
 use clap::Args;
@@ -263,7 +264,7 @@ pub fn analyse_and_print(
         ("--load-curve", &r.load_curve),
     ] {
         if let Some(path) = path {
-            crate::cli::check_figure_path(flag, path)?;
+            crate::args::check_figure_path(flag, path)?;
         }
     }
     if let (Nominal::Model(m), Some(path)) = (&space.nominal, &r.cloud) {

@@ -7,7 +7,7 @@
 //! of the curve); their boundaries are located by bisection on the exact curve a(x) to 1e-12 in x.
 
 use super::curve::{check_a_range, x_intervals};
-use super::equilibria::fold_abscissae;
+use super::equilibria::{Fold, fold_abscissae, folds};
 use super::predict::{
     FORCING_RATE_THRESHOLD, Prediction, focus_pieces, forcing_rate, predict,
     predicted_gamma_boundary,
@@ -23,17 +23,6 @@ pub struct Point {
     pub a: f64,
     /// Position.
     pub x: f64,
-}
-
-/// A fold (saddle-node) point of the fast subsystem: g'(x) = 0 on the equilibrium curve.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct Fold {
-    /// a at the fold.
-    pub a: f64,
-    /// x at the fold.
-    pub x: f64,
-    /// True when a lies in the analysed a-range (so the slow variable traverses it).
-    pub in_range: bool,
 }
 
 /// The cusp point of the (a, γ) bifurcation set: γ = 1/(3α), x = 1/(3α), where both folds meet.
@@ -152,33 +141,8 @@ pub struct Analysis {
     pub equilibria: EquilibriaSummary,
 }
 
-/// The slowest relaxation rate min |Re λ| for g' > 0 (0 otherwise), at the study's unit damping
-/// ([`super::relaxation_rate_with`] at c = 1).
-pub fn relaxation_rate(gp: f64) -> f64 {
-    super::relaxation_rate_with(gp, 1.0)
-}
-
 fn a_of(p: &Params, x: f64) -> f64 {
     p.a_at(x)
-}
-
-/// The fold points of the fast subsystem (closed form), each flagged in or out of `a_range`.
-pub fn folds(p: &Params, a_range: (f64, f64)) -> Vec<Fold> {
-    match fold_abscissae(p) {
-        None => Vec::new(),
-        Some((xm, xp)) if p.delta > 0.0 => [xm, xp]
-            .iter()
-            .map(|&x| {
-                let a = a_of(p, x);
-                Fold {
-                    a,
-                    x,
-                    in_range: a >= a_range.0 && a <= a_range.1,
-                }
-            })
-            .collect(),
-        Some(_) => Vec::new(),
-    }
 }
 
 /// The cusp with the other parameters of `p`.

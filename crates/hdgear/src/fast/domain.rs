@@ -16,41 +16,8 @@
 
 use super::equilibria::equilibria;
 use super::predict::settled_branch;
+use super::static_curve::{Along, SlowestRelaxation, relaxation_rate};
 use crate::params::Params;
-use serde::Serialize;
-
-/// Where the slowest relaxation was taken.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum Along {
-    /// Over the whole stable branch the response settles on (it spans a ∈ [−1, 1]).
-    SettledBranch,
-    /// At the turning points a = ±1 (both folds in range, or δ = 0: see the module docs).
-    TurningPoints,
-}
-
-impl Along {
-    /// The name used in text output.
-    pub fn name(self) -> &'static str {
-        match self {
-            Along::SettledBranch => "settled-branch",
-            Along::TurningPoints => "turning-points",
-        }
-    }
-}
-
-/// The slowest relaxation rate of the fast subsystem met on the traversed path, and where.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct SlowestRelaxation {
-    /// min |Re λ| of the fast subsystem there ([`super::relaxation_rate`]).
-    pub rate: f64,
-    /// The slow variable a where it is met.
-    pub a: f64,
-    /// The equilibrium x there.
-    pub x: f64,
-    /// Over what it was taken.
-    pub along: Along,
-}
 
 /// The slowest relaxation met on the path the state follows (see the module docs).
 ///
@@ -70,7 +37,7 @@ pub fn slowest_relaxation(p: &Params) -> SlowestRelaxation {
         Some(b) if !b.must_jump && !b.intervals.is_empty() => {
             let (gp, x) = super::predict::least_gprime(p, &b.intervals);
             SlowestRelaxation {
-                rate: super::relaxation_rate(gp),
+                rate: relaxation_rate(gp),
                 a: p.a_at(x),
                 x,
                 along: Along::SettledBranch,
@@ -91,7 +58,7 @@ pub fn turning_point_relaxation(p: &Params) -> SlowestRelaxation {
     };
     for a in [-1.0, 1.0] {
         for r in equilibria(p, a).roots {
-            let rate = super::relaxation_rate(p.g_prime(r.x));
+            let rate = relaxation_rate(p.g_prime(r.x));
             if r.kind.is_stable() && rate < best.rate {
                 best = SlowestRelaxation {
                     rate,

@@ -307,7 +307,7 @@ pub struct EquilibriumTracker {
 impl EquilibriumTracker {
     /// A tracker for `p` starting from the equilibrium guess `x0`.
     pub fn new(p: &Params, x0: f64) -> EquilibriumTracker {
-        let multi = match super::folds(p, (f64::NEG_INFINITY, f64::INFINITY)).as_slice() {
+        let multi = match folds(p, (f64::NEG_INFINITY, f64::INFINITY)).as_slice() {
             [f1, f2] => Some((f1.a.min(f2.a), f1.a.max(f2.a))),
             _ => None,
         };
@@ -365,5 +365,35 @@ impl EquilibriumTracker {
         let y = super::nearest_stable_equilibrium(p, a, x).unwrap_or(x);
         (self.hint, self.last_a, self.slope, self.curvature) = (y, a, 0.0, 0.0);
         y
+    }
+}
+
+/// A fold (saddle-node) point of the fast subsystem: g'(x) = 0 on the equilibrium curve.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Fold {
+    /// a at the fold.
+    pub a: f64,
+    /// x at the fold.
+    pub x: f64,
+    /// True when a lies in the analysed a-range (so the slow variable traverses it).
+    pub in_range: bool,
+}
+
+/// The fold points of the fast subsystem (closed form), each flagged in or out of `a_range`.
+pub fn folds(p: &Params, a_range: (f64, f64)) -> Vec<Fold> {
+    match fold_abscissae(p) {
+        None => Vec::new(),
+        Some((xm, xp)) if p.delta > 0.0 => [xm, xp]
+            .iter()
+            .map(|&x| {
+                let a = p.a_at(x);
+                Fold {
+                    a,
+                    x,
+                    in_range: a >= a_range.0 && a <= a_range.1,
+                }
+            })
+            .collect(),
+        Some(_) => Vec::new(),
     }
 }

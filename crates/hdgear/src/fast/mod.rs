@@ -23,9 +23,10 @@ pub fn x_extent<C: StaticCurve>(p: &C, a_range: (f64, f64)) -> f64 {
 }
 
 mod analysis;
+mod cubic;
 mod curve;
 mod domain;
-pub use domain::{Along, SlowestRelaxation, slowest_relaxation, turning_point_relaxation};
+pub use domain::{slowest_relaxation, turning_point_relaxation};
 mod equilibria;
 pub(crate) use equilibria::newton;
 pub mod passage;
@@ -35,19 +36,20 @@ pub use passage::{
 };
 mod predict;
 mod static_curve;
-pub use static_curve::{Follower, StaticCurve, relaxation_rate_with};
+pub use static_curve::{
+    Along, Follower, SlowestRelaxation, StaticCurve, relaxation_rate, relaxation_rate_with,
+};
 
 pub use analysis::{
-    Analysis, CurveAnalysis, Cusp, EquilibriaSummary, Fold, FoldRow, Interval, NO_HOPF_REASON,
-    Point, Regime, Slope, analyze, curve_analysis, cusp, fold_curves, folds, max_slope,
-    relaxation_rate,
+    Analysis, CurveAnalysis, Cusp, EquilibriaSummary, FoldRow, Interval, NO_HOPF_REASON, Point,
+    Regime, Slope, analyze, curve_analysis, cusp, fold_curves, max_slope,
 };
 pub use curve::{
     A_RANGE_LIMIT, Branch, CurvePoint, MAX_CURVE_POINTS, check_a_range, curve, x_intervals,
 };
 pub use equilibria::{
-    EqType, Equilibria, Equilibrium, EquilibriumTracker, eigenvalues, equilibria, fold_abscissae,
-    nearest_stable_equilibrium, stable_equilibrium,
+    EqType, Equilibria, Equilibrium, EquilibriumTracker, Fold, eigenvalues, equilibria,
+    fold_abscissae, folds, nearest_stable_equilibrium, stable_equilibrium,
 };
 pub use predict::{
     FORCING_RATE_THRESHOLD, Prediction, SettledBranch, focus_pieces, forcing_rate,

@@ -4,9 +4,8 @@
 //! (`model::ModelCurve`) from a root finder on its static torque. The scan is generic over it, so
 //! the cubic keeps its fast path and any other stiffness law gets the same verdict.
 
-use super::{A_RANGE, EquilibriumTracker, SlowestRelaxation};
 use crate::error::Result;
-use crate::params::Params;
+use serde::Serialize;
 
 /// Follows the stable equilibrium a state tracks while a moves.
 pub trait Follower: Clone + std::fmt::Debug {
@@ -150,88 +149,41 @@ pub fn relaxation_rate_with(gp: f64, c: f64) -> f64 {
     }
 }
 
-impl Follower for EquilibriumTracker {
-    #[inline]
-    fn at(&mut self, a: f64, x: f64) -> f64 {
-        EquilibriumTracker::at(self, a, x)
+/// The slowest relaxation rate min |Re λ| for g' > 0 (0 otherwise), at the study's unit damping
+/// ([`super::relaxation_rate_with`] at c = 1).
+pub fn relaxation_rate(gp: f64) -> f64 {
+    super::relaxation_rate_with(gp, 1.0)
+}
+
+/// Where the slowest relaxation was taken.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Along {
+    /// Over the whole stable branch the response settles on (it spans a ∈ [−1, 1]).
+    SettledBranch,
+    /// At the turning points a = ±1 (both folds in range, or δ = 0: see the module docs).
+    TurningPoints,
+}
+
+impl Along {
+    /// The name used in text output.
+    pub fn name(self) -> &'static str {
+        match self {
+            Along::SettledBranch => "settled-branch",
+            Along::TurningPoints => "turning-points",
+        }
     }
 }
 
-/// The study's cubic: every answer from its closed forms.
-impl StaticCurve for Params {
-    type Follower = EquilibriumTracker;
-    #[inline(always)]
-    fn omega(&self) -> f64 {
-        self.omega
-    }
-    #[inline(always)]
-    fn delta(&self) -> f64 {
-        self.delta
-    }
-    #[inline(always)]
-    fn forcing(&self, a: f64) -> f64 {
-        Params::forcing(self, a)
-    }
-    #[inline(always)]
-    fn g(&self, x: f64) -> f64 {
-        Params::g(self, x)
-    }
-    #[inline(always)]
-    fn g_prime(&self, x: f64) -> f64 {
-        Params::g_prime(self, x)
-    }
-    #[inline(always)]
-    fn a_at(&self, x: f64) -> f64 {
-        Params::a_at(self, x)
-    }
-    fn check(&self) -> Result<()> {
-        self.validate().map(|_| ())
-    }
-    fn roots(&self, a: f64) -> Vec<f64> {
-        super::equilibria(self, a)
-            .roots
-            .iter()
-            .map(|r| r.x)
-            .collect()
-    }
-    fn eigenvalues(&self, x: f64) -> [(f64, f64); 2] {
-        super::equilibria::eigenvalues(Params::g_prime(self, x))
-    }
-    fn kind(&self, x: f64) -> super::EqType {
-        super::EqType::from_g_prime(Params::g_prime(self, x))
-    }
-    fn fold_band(&self) -> Option<(f64, f64)> {
-        super::fold_abscissae(self)
-    }
-    fn follower(&self, x0: f64) -> EquilibriumTracker {
-        EquilibriumTracker::new(self, x0)
-    }
-    fn start(&self) -> f64 {
-        super::stable_equilibrium(self, 0.0)
-    }
-    fn x_extent(&self) -> f64 {
-        super::x_extent(self, A_RANGE)
-    }
-    fn min_traversed_gprime(&self) -> f64 {
-        super::min_gprime(self, &super::x_intervals(self, A_RANGE))
-    }
-    /// Unit damping: the study's x' (so [`super::FOCUS_GPRIME`] = 1/4 and a decay time of 2).
-    fn damping(&self) -> f64 {
-        1.0
-    }
-    fn max_equilibrium_speed(&self) -> f64 {
-        super::max_equilibrium_speed(self)
-    }
-    fn max_first_order_lag(&self) -> f64 {
-        super::max_first_order_lag(self)
-    }
-    fn slowest_relaxation(&self) -> SlowestRelaxation {
-        super::slowest_relaxation(self)
-    }
-    fn turning_point_relaxation(&self) -> SlowestRelaxation {
-        super::turning_point_relaxation(self)
-    }
-    fn slow_period(&self) -> f64 {
-        Params::slow_period(self)
-    }
+/// The slowest relaxation rate of the fast subsystem met on the traversed path, and where.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct SlowestRelaxation {
+    /// min |Re λ| of the fast subsystem there ([`super::relaxation_rate`]).
+    pub rate: f64,
+    /// The slow variable a where it is met.
+    pub a: f64,
+    /// The equilibrium x there.
+    pub x: f64,
+    /// Over what it was taken.
+    pub along: Along,
 }

@@ -7,7 +7,11 @@
 //! `FMA` says whether the caller was compiled with fused multiply-adds ([`mul_add`]); the same
 //! `FMA` gives the same bits on every lane and in every copy.
 
-use super::taylor::mul_add;
+/// a·b + c, fused (one rounding, one instruction) where the caller was compiled for FMA.
+#[inline(always)]
+pub(crate) fn mul_add<const FMA: bool>(a: f64, b: f64, c: f64) -> f64 {
+    if FMA { a.mul_add(b, c) } else { a * b + c }
+}
 
 /// 1.5·2⁵²: adding and subtracting it rounds a double below 2⁵¹ in size to an integer, and a
 /// double in [2⁵², 2⁵³) holds the integer in its low mantissa bits. Both stay in the vector

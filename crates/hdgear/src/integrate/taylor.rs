@@ -22,7 +22,7 @@
 //!   other work (the variational equations of the periodic machinery, whose options ask for
 //!   [`MAX_ORDER`]), not for a plain trajectory (orders 13 to 20 cost about the same there).
 
-use super::approx;
+use super::approx::{self, mul_add};
 use super::lanes::Jet;
 use super::{DenseOutput, Options, SolverError, Stats, Stepper, System};
 use crate::error::{Error, Result};
@@ -552,12 +552,6 @@ impl<'s, S: System<N> + ?Sized, const N: usize> Stepper<N> for Taylor<'s, S, N> 
     fn stats(&self) -> Stats {
         self.stats
     }
-}
-
-/// a·b + c, fused (one rounding, one instruction) where the caller was compiled for FMA.
-#[inline(always)]
-pub(crate) fn mul_add<const FMA: bool>(a: f64, b: f64, c: f64) -> f64 {
-    if FMA { a.mul_add(b, c) } else { a * b + c }
 }
 
 /// The Jorba–Zou step for order `p` from the scaled norms of the last two coefficient rows:

@@ -3,7 +3,6 @@
 //! facts of its fast subsystem are derived from the terms' own definitions
 //! ([`super::terms::Term`]); nothing here restates a term.
 
-use super::mesh_loss::Elastic;
 use super::terms::{AnyTerm, Damping, Domain, MeshLoss, ParamInfo, Side, Stiffness, Term};
 use crate::error::{Error, Result};
 use crate::params::{Param, Params};
@@ -251,7 +250,7 @@ impl Model {
     /// read, or two (the study's stiffness and a piecewise curve).
     fn linked(mut self) -> Result<Model> {
         let (law, second) = {
-            let mut laws = self.terms().filter_map(Elastic::of);
+            let mut laws = self.terms().filter_map(AnyTerm::elastic);
             (laws.next(), laws.next())
         };
         for term in self.terms.iter_mut().flatten() {

@@ -5,7 +5,7 @@
 //! each law does.
 
 use super::jet::sin_cos_coefficients;
-use super::terms::{Domain, ParamInfo, Scratch, StateInfo, Term};
+use super::term::{Domain, ParamInfo, Scratch, StateInfo, Term};
 use serde::Serialize;
 
 /// The SI reading of a stiffness gain (a torque per unit twist at the motor).

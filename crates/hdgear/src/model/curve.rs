@@ -5,7 +5,7 @@
 //! fast subsystem's stiffness and the damping at rest c as the study's closed forms derive them
 //! from the cubic. What g is comes from a [`Statics`]: the model's [`Model::static_torque`]
 //! ([`StaticTorque`]), or the closed loop of a scheduled stiffness
-//! ([`super::schedule::ScheduledTorque`]).
+//! ([`super::scheduled_curve::ScheduledTorque`]).
 
 use super::Model;
 use crate::error::{Error, Result};
@@ -100,15 +100,6 @@ impl ModelCurve {
             ));
         }
         ModelCurve::of(StaticTorque(*m))
-    }
-}
-
-impl ModelCurve<super::schedule::ScheduledTorque> {
-    /// The curve of `m`'s closed loop with its scheduled stiffness
-    /// ([`super::schedule::ScheduledTorque`]); refused as [`ModelCurve::new`] and
-    /// [`super::schedule::ScheduledTorque::new`] say.
-    pub fn scheduled(m: &Model) -> Result<ModelCurve<super::schedule::ScheduledTorque>> {
-        ModelCurve::of(super::schedule::ScheduledTorque::new(m)?)
     }
 }
 

@@ -6,7 +6,7 @@
 //! path of x, not on its speed.
 
 use super::jet::{Jet, Lanes, cauchy, whole_power_rows};
-use super::terms::{
+use super::term::{
     Domain, LANE_PARAMS, LaneRows, MAX_ROWS, ParamInfo, Scratch, Side, StateInfo, Term, piece_sign,
 };
 use crate::integrate::taylor::SCRATCH_ROWS;

@@ -1,7 +1,7 @@
 //! Broadband excitation as a term: a multisine load, the input of system-identification
 //! benchmarks.
 
-use super::terms::{Domain, MAX_ROWS, ParamInfo, Scratch, StateInfo, Term};
+use super::term::{Domain, MAX_ROWS, ParamInfo, Scratch, StateInfo, Term};
 use serde::Serialize;
 
 /// A multisine load u(τ) = a·Σ_{k=k₁}^{k₂} cos(kθ + φ_k) on the phase θ' = Ω₀, with Schroeder's

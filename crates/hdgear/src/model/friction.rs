@@ -6,8 +6,9 @@ use super::jet::{
     Jet, Lanes, cauchy, exp_coefficient, exp_step_limit, square_coefficient, tanh_coefficient,
     tanh_step_limit,
 };
-use super::terms::{
-    Domain, LANE_PARAMS, LaneRows, MAX_ROWS, ParamInfo, Relation, Scratch, Side, Term, piece_sign,
+use super::relation::Relation;
+use super::term::{
+    Domain, LANE_PARAMS, LaneRows, MAX_ROWS, ParamInfo, Scratch, Side, Term, piece_sign,
 };
 use crate::integrate::taylor::SCRATCH_ROWS;
 use serde::Serialize;

@@ -22,8 +22,10 @@
 //! divided by multiplying it with the divisor's reciprocal (1/k from a table, 1/v_r from the
 //! parameter): the reciprocal does not wait for the row, a division would.
 
-use super::terms::MAX_ROWS;
 pub use crate::integrate::lanes::{Jet, LaneMask, Lanes};
+
+/// Rows kept per Taylor coefficient row: orders 0..=[`crate::integrate::taylor::MAX_ORDER`].
+pub const MAX_ROWS: usize = crate::integrate::taylor::MAX_ORDER + 1;
 use crate::integrate::taylor::INV;
 pub use crate::integrate::taylor::{cauchy, square_coefficient};
 

@@ -7,11 +7,14 @@
 //! analytic, and a switching integration ([`super::switching`]) cuts steps where a sign changes.
 //! Both states' rates vanish at x' = 0, so a state is held while the motion rests.
 
+use super::friction::{
+    FRICTION_FC, FRICTION_FS, Level, STATIC_AT_LEAST_SLIDING, STRIBECK_VELOCITY,
+};
 use super::jet::{Jet, Lanes};
 use super::jet::{cauchy, exp_step_limit, quotient_coefficient, whole_power_rows};
-use super::terms::{
-    Domain, FRICTION_FC, FRICTION_FS, LANE_PARAMS, LaneRows, Level, MAX_ROWS, ParamInfo, Relation,
-    STATIC_AT_LEAST_SLIDING, STRIBECK_VELOCITY, Scratch, Side, StateInfo, Term, piece_sign,
+use super::relation::Relation;
+use super::term::{
+    Domain, LANE_PARAMS, LaneRows, MAX_ROWS, ParamInfo, Scratch, Side, StateInfo, Term, piece_sign,
 };
 use crate::integrate::taylor::SCRATCH_ROWS;
 use serde::Serialize;

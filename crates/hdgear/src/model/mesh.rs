@@ -2,7 +2,7 @@
 //! gear mesh, periodic in the wave generator's angle.
 
 use super::jet::sin_cos_coefficients;
-use super::terms::{Domain, ParamInfo, Scratch, StateInfo, Term};
+use super::term::{Domain, ParamInfo, Scratch, StateInfo, Term};
 use serde::Serialize;
 
 /// Kinematic error e(θ_wg) = A·sin(kθ_wg + ψ) at a constant wave-generator speed θ_wg' = Ω_in

@@ -39,9 +39,8 @@
 
 use super::jet::{cauchy, exit_from};
 use super::piecewise::{Piecewise, on_kink};
-use super::terms::{
-    AnyTerm, Domain, ParamInfo, Scratch, Side, StateInfo, Stiffness, Term, piece_sign,
-};
+use super::study_terms::Stiffness;
+use super::term::{Domain, ParamInfo, Scratch, Side, StateInfo, Term, piece_sign};
 use serde::Serialize;
 
 /// The rows of [`Scratch`] the loss keeps for itself (rows below are the elastic law's): T_s's,
@@ -61,15 +60,6 @@ pub enum Elastic {
 }
 
 impl Elastic {
-    /// The elastic law `term` is, if it is one.
-    pub fn of(term: &AnyTerm) -> Option<Elastic> {
-        match term {
-            AnyTerm::Stiffness(s) => Some(Elastic::Stiffness(*s)),
-            AnyTerm::Piecewise(p) => Some(Elastic::Piecewise(*p)),
-            _ => None,
-        }
-    }
-
     /// T_s(x).
     fn torque(&self, x: f64) -> f64 {
         match self {

@@ -30,7 +30,7 @@
 //! assert!(top > 1.5 && top < 2.2);
 //! //! ```
 
-use super::terms::{Domain, ParamInfo, Scratch, Term};
+use super::term::{Domain, ParamInfo, Scratch, Term};
 use serde::Serialize;
 
 /// How near an edge `e` a twist counts as on it (a few rounding errors of e): there the

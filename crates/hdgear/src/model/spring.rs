@@ -3,7 +3,7 @@
 //! backlash offset that the study's reduced form cannot hold (no backlash, or no cubic).
 
 use super::jet::{Jet, Lanes};
-use super::terms::{Domain, LaneRows, ParamInfo, Scratch, Term, cubic_row, cubic_taylor};
+use super::term::{Domain, LaneRows, ParamInfo, Scratch, Term, cubic_row, cubic_taylor};
 use serde::Serialize;
 
 /// The hardening spring T(x) = (k_l + k_c·x²)(x − φ): the flexspline's linear and cubic

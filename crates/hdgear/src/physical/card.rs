@@ -336,30 +336,6 @@ impl Card {
             .collect()
     }
 
-    /// The card's piecewise-linear stiffness curve.
-    pub fn curve(&self) -> super::catalogue::CatalogueDrive {
-        let s = &self.stiffness;
-        let (t2, k3) = (s.t2.unwrap_or(f64::NAN), s.k3);
-        // The curve runs to the momentary peak torque where the catalogue rates it; without a
-        // rating, to T2 (or 2·T2 with a K3 segment, whose end the catalogue does not give).
-        let rated_end = self.torque.as_ref().and_then(|t| t.momentary_peak);
-        let t_max = match (k3, rated_end) {
-            (None, _) => t2,
-            (Some(_), Some(m)) => m.max(t2),
-            (Some(_), None) => 2.0 * t2,
-        };
-        super::catalogue::CatalogueDrive {
-            name: self.name.clone(),
-            ratio: self.ratio,
-            t1: s.t1.unwrap_or(f64::NAN),
-            t2,
-            k1: s.k1.unwrap_or(f64::NAN),
-            k2: s.k2.unwrap_or(f64::NAN),
-            k3,
-            t_max,
-        }
-    }
-
     /// The source of each of its sections, by section key (`sources` is its file's table; the
     /// card is assumed valid against it, see [`Card::validate`]).
     pub fn cited(&self, sources: &BTreeMap<String, Source>) -> BTreeMap<&'static str, Source> {
@@ -458,12 +434,77 @@ impl Card {
         {
             return Err(bad("stiffness.k3".into(), fmt(k3), "must be ≥ k2"));
         }
-        super::friction::law(self)?;
+        self.friction_law()?;
         Ok(())
     }
 }
 
 impl Card {
+    /// The card's fitted friction law, `None` when the card has neither a fitted Coulomb level nor an
+    /// efficiency. A fit needs F_c; F_s defaults to F_c, c_v to 0; a drop (F_s > F_c) needs its
+    /// Stribeck speed; F_s < F_c is refused. An efficiency η in (0, 1] gives the mesh loss
+    /// μ_m = 1/η − 1 (with no fitted level the law is that loss alone, F_c = F_s = 0). Measured
+    /// torques alone (starting, back-driving, no-load running) are not turned into a law: they are
+    /// friction of the rigid-body rotation, not of the twist.
+    pub fn friction_law(&self) -> Result<Option<FrictionLaw>> {
+        let card = self;
+        let Some(f) = &card.friction else {
+            return Ok(None);
+        };
+        let bad = |field: &str, value: Option<f64>, reason: &'static str| Error::Card {
+            card: card.name.clone(),
+            field: format!("friction.{field}"),
+            value: value.map_or("(absent)".into(), |v| v.to_string()),
+            reason,
+        };
+        let mesh_loss = match f.efficiency {
+            Some(eta) if eta > 0.0 && eta <= 1.0 => Some(1.0 / eta - 1.0),
+            None => None,
+            eta => return Err(bad("efficiency", eta, "must lie in (0, 1]")),
+        };
+        let Some(coulomb) = f.coulomb else {
+            return match (f.breakaway, f.stribeck_speed, f.viscous, mesh_loss) {
+                (None, None, None, None) => Ok(None),
+                (None, None, None, Some(_)) => Ok(Some(FrictionLaw {
+                    coulomb: 0.0,
+                    breakaway: 0.0,
+                    stribeck_speed: NO_DROP_SPEED,
+                    viscous: 0.0,
+                    mesh_loss,
+                })),
+                _ => Err(bad(
+                    "coulomb",
+                    None,
+                    "a fitted friction law needs its Coulomb level",
+                )),
+            };
+        };
+        let breakaway = f.breakaway.unwrap_or(coulomb);
+        // the friction terms' own rule, on the card's keys
+        let rule = crate::model::terms::STATIC_AT_LEAST_SLIDING;
+        if !rule.holds(&[coulomb, breakaway]) {
+            return Err(bad("breakaway", Some(breakaway), rule.reason()));
+        }
+        let stribeck_speed = match f.stribeck_speed {
+            Some(v) if v > 0.0 => v,
+            None if breakaway == coulomb => NO_DROP_SPEED,
+            v => {
+                return Err(bad(
+                    "stribeck_speed",
+                    v,
+                    "must be > 0 where the breakaway exceeds the Coulomb level",
+                ));
+            }
+        };
+        Ok(Some(FrictionLaw {
+            coulomb,
+            breakaway,
+            stribeck_speed,
+            viscous: f.viscous.unwrap_or(0.0),
+            mesh_loss,
+        }))
+    }
+
     /// A tolerance table names a known source, drive parameters, and spreads that read (the
     /// nominal value is the drive's, known only when it is built: checked here at 1).
     fn validate_tolerances(
@@ -497,6 +538,25 @@ impl Card {
 }
 
 /// The section, or its empty default when the card has none (every value then missing).
+/// The Stribeck speed a card without a Stribeck drop is given: with F_s = F_c it has no effect.
+const NO_DROP_SPEED: f64 = 1.0;
+
+/// A fitted Coulomb–Stribeck–viscous friction law with sticking, at the output, in SI units.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct FrictionLaw {
+    /// F_c: Coulomb (sliding) friction \[N m\].
+    pub coulomb: f64,
+    /// F_s ≥ F_c: static (breakaway) friction \[N m\], the sticking band.
+    pub breakaway: f64,
+    /// v_s: Stribeck speed \[rad/s\] of the drop from F_s to F_c.
+    pub stribeck_speed: f64,
+    /// c_v: viscous friction \[N m s/rad\].
+    pub viscous: f64,
+    /// μ_m = 1/η − 1: the torque-proportional mesh loss from the card's efficiency η, if it
+    /// gives one ([`super::friction::MESH_ASSUMPTION`]).
+    pub mesh_loss: Option<f64>,
+}
+
 fn or_empty<'a, S: Section>(s: &'a Option<S>, empty: &'a S) -> &'a dyn Section {
     s.as_ref().unwrap_or(empty)
 }

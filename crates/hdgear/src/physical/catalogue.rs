@@ -33,6 +33,32 @@ pub struct CatalogueDrive {
     pub t_max: f64,
 }
 
+impl Card {
+    /// The card's piecewise-linear stiffness curve.
+    pub fn curve(&self) -> CatalogueDrive {
+        let s = &self.stiffness;
+        let (t2, k3) = (s.t2.unwrap_or(f64::NAN), s.k3);
+        // The curve runs to the momentary peak torque where the catalogue rates it; without a
+        // rating, to T2 (or 2·T2 with a K3 segment, whose end the catalogue does not give).
+        let rated_end = self.torque.as_ref().and_then(|t| t.momentary_peak);
+        let t_max = match (k3, rated_end) {
+            (None, _) => t2,
+            (Some(_), Some(m)) => m.max(t2),
+            (Some(_), None) => 2.0 * t2,
+        };
+        CatalogueDrive {
+            name: self.name.clone(),
+            ratio: self.ratio,
+            t1: s.t1.unwrap_or(f64::NAN),
+            t2,
+            k1: s.k1.unwrap_or(f64::NAN),
+            k2: s.k2.unwrap_or(f64::NAN),
+            k3,
+            t_max,
+        }
+    }
+}
+
 impl CatalogueDrive {
     /// The built-in drive's curve by name (case-insensitive).
     pub fn by_name(name: &str) -> Result<CatalogueDrive> {

@@ -444,7 +444,7 @@ pub fn load_map(
     catalogue_curve.map_or(Ok(()), super::curve_law::check_rounding)?;
     let zeta = chosen_zeta(damping, &loss_damping(card, sources));
     let d = assemble(card, None, zeta)?.drive;
-    let law = super::friction::law(card)?;
+    let law = card.friction_law()?;
     let (amps, freqs) = (grid.amplitude_values(), grid.frequency_values());
     let at = |i: usize, j: usize| super::PhysicalParams {
         t_am: amps[i],

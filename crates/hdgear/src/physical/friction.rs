@@ -11,19 +11,20 @@
 //! makes the verdict stick-slip.
 //!
 //! ```
-//! use hdgear::physical::{card, check, friction};
+//! use hdgear::physical::card;
 //! let mut c = card::builtin_card("CSG-20-50").unwrap().clone();
 //! c.friction = Some(card::Friction { source: "hd-torsional-csg".into(), coulomb: Some(1.0),
 //!     breakaway: Some(1.5), stribeck_speed: Some(0.01), ..Default::default() });
-//! let law = friction::law(&c).unwrap().unwrap();
+//! let law = c.friction_law().unwrap().unwrap();
 //! assert_eq!((law.coulomb, law.breakaway, law.viscous), (1.0, 1.5, 0.0));
 //! ```
 
 use super::PhysicalParams;
 use super::card::Card;
+pub use super::card::FrictionLaw;
 use super::design::{Margin, Outcome, judge_model, search_margin};
 use crate::burst::{BurstOptions, Sticking};
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::model::Model;
 use crate::model::friction::Coulomb;
 use crate::model::mesh_loss::MeshLoss;
@@ -56,25 +57,6 @@ pub const MESH_ASSUMPTION: &str = concat!(
 /// harmonic-drive twin's Dahl presliding length, REAL-DRIVES.md), an assumption
 /// ([`MESH_ASSUMPTION`]).
 pub const MESH_PRESLIDING: f64 = mesh_presliding!();
-
-/// The Stribeck speed a card without a Stribeck drop is given: with F_s = F_c it has no effect.
-const NO_DROP_SPEED: f64 = 1.0;
-
-/// A fitted Coulomb–Stribeck–viscous friction law with sticking, at the output, in SI units.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct FrictionLaw {
-    /// F_c: Coulomb (sliding) friction \[N m\].
-    pub coulomb: f64,
-    /// F_s ≥ F_c: static (breakaway) friction \[N m\], the sticking band.
-    pub breakaway: f64,
-    /// v_s: Stribeck speed \[rad/s\] of the drop from F_s to F_c.
-    pub stribeck_speed: f64,
-    /// c_v: viscous friction \[N m s/rad\].
-    pub viscous: f64,
-    /// μ_m = 1/η − 1: the torque-proportional mesh loss from the card's efficiency η, if it
-    /// gives one ([`MESH_ASSUMPTION`]).
-    pub mesh_loss: Option<f64>,
-}
 
 /// The law in the reduced model's units: the `coulomb` term's f_c, f_s, v_st and c_v.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -138,70 +120,6 @@ impl std::fmt::Display for FrictionKnob {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.pad(self.name())
     }
-}
-
-/// The card's fitted law, `None` when the card has neither a fitted Coulomb level nor an
-/// efficiency. A fit needs F_c; F_s defaults to F_c, c_v to 0; a drop (F_s > F_c) needs its
-/// Stribeck speed; F_s < F_c is refused. An efficiency η in (0, 1] gives the mesh loss
-/// μ_m = 1/η − 1 (with no fitted level the law is that loss alone, F_c = F_s = 0). Measured
-/// torques alone (starting, back-driving, no-load running) are not turned into a law: they are
-/// friction of the rigid-body rotation, not of the twist.
-pub fn law(card: &Card) -> Result<Option<FrictionLaw>> {
-    let Some(f) = &card.friction else {
-        return Ok(None);
-    };
-    let bad = |field: &str, value: Option<f64>, reason: &'static str| Error::Card {
-        card: card.name.clone(),
-        field: format!("friction.{field}"),
-        value: value.map_or("(absent)".into(), |v| v.to_string()),
-        reason,
-    };
-    let mesh_loss = match f.efficiency {
-        Some(eta) if eta > 0.0 && eta <= 1.0 => Some(1.0 / eta - 1.0),
-        None => None,
-        eta => return Err(bad("efficiency", eta, "must lie in (0, 1]")),
-    };
-    let Some(coulomb) = f.coulomb else {
-        return match (f.breakaway, f.stribeck_speed, f.viscous, mesh_loss) {
-            (None, None, None, None) => Ok(None),
-            (None, None, None, Some(_)) => Ok(Some(FrictionLaw {
-                coulomb: 0.0,
-                breakaway: 0.0,
-                stribeck_speed: NO_DROP_SPEED,
-                viscous: 0.0,
-                mesh_loss,
-            })),
-            _ => Err(bad(
-                "coulomb",
-                None,
-                "a fitted friction law needs its Coulomb level",
-            )),
-        };
-    };
-    let breakaway = f.breakaway.unwrap_or(coulomb);
-    // the friction terms' own rule, on the card's keys
-    let rule = crate::model::terms::STATIC_AT_LEAST_SLIDING;
-    if !rule.holds(&[coulomb, breakaway]) {
-        return Err(bad("breakaway", Some(breakaway), rule.reason()));
-    }
-    let stribeck_speed = match f.stribeck_speed {
-        Some(v) if v > 0.0 => v,
-        None if breakaway == coulomb => NO_DROP_SPEED,
-        v => {
-            return Err(bad(
-                "stribeck_speed",
-                v,
-                "must be > 0 where the breakaway exceeds the Coulomb level",
-            ));
-        }
-    };
-    Ok(Some(FrictionLaw {
-        coulomb,
-        breakaway,
-        stribeck_speed,
-        viscous: f.viscous.unwrap_or(0.0),
-        mesh_loss,
-    }))
 }
 
 impl FrictionLaw {
@@ -329,7 +247,7 @@ pub fn check(
     d: &PhysicalParams,
     opts: &BurstOptions,
 ) -> Result<Option<FrictionCheck>> {
-    let Some(law) = law(card)? else {
+    let Some(law) = card.friction_law()? else {
         return Ok(None);
     };
     let r = d.reduce()?;

@@ -93,7 +93,7 @@ impl Bearings {
             )));
         }
         let named: Vec<(&str, f64)> = named.into_iter().collect();
-        let (kind, values) = crate::model::terms::term_values(kind, named.iter().copied())
+        let (kind, values) = crate::model::tables::term_values(kind, named.iter().copied())
             .map_err(|e| invalid(e.to_string()))?;
         let params = AnyTerm::params_of(kind).unwrap_or_default();
         for p in params {

@@ -4,6 +4,7 @@
 // HTML blocks end with a newline of their own, for a readable source.
 #![allow(clippy::write_with_newline)]
 
+use super::markup::{cell, esc, num};
 use super::periodic::{BUBBLE_GAMMA, BUBBLE_OMEGA};
 use super::{PHYSICAL_DRIVE, Report};
 use crate::burst::{BOUNDARY_REL_TOL, RINGING_DECAY_TIME, TIME_SCALE_SEPARATION};
@@ -32,32 +33,6 @@ pub fn render(r: &Report, svgs: &[String]) -> String {
     super::memory::html(&mut h, &r.memory);
     methods(&mut h, r);
     h
-}
-
-/// `s` escaped for HTML text and attributes.
-pub(super) fn esc(s: &str) -> String {
-    s.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-        .replace('"', "&quot;")
-}
-
-/// A number as the report shows it: four decimals, or three significant digits in e-notation.
-pub(super) fn num(v: f64) -> String {
-    if v.is_infinite() {
-        "∞".into()
-    } else if v.is_nan() {
-        "–".into()
-    } else if v != 0.0 && (v.abs() < 1e-3 || v.abs() >= 1e5) {
-        format!("{v:.3e}")
-    } else {
-        format!("{}", (v * 1e4).round() / 1e4)
-    }
-}
-
-/// A table cell with its exact value in `data-value`.
-pub(super) fn cell(key: &str, v: f64) -> String {
-    format!("<td data-key=\"{key}\" data-value=\"{v}\">{}</td>", num(v))
 }
 
 /// The six dimensionless parameters as table cells, in the order α, γ, ε, μ, δ, ω.

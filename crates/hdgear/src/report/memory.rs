@@ -4,7 +4,7 @@
 //! branches predict ([`crate::model::branches::Branch::predicted_onsets`]).
 
 use super::control::TRACE_DT;
-use super::html::{cell, esc, num};
+use super::markup::{cell, esc, num};
 use crate::burst::{BurstOptions, Classification, Sticking, classify, response_model, window};
 use crate::error::Result;
 use crate::figures::decimate;

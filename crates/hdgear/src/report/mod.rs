@@ -10,6 +10,7 @@
 pub mod control;
 mod files;
 pub mod html;
+mod markup;
 pub mod memory;
 pub mod periodic;
 pub mod plane;

@@ -2,7 +2,7 @@
 //! ([`ROBUST_DRIVE`]) with the default tolerance bands: P(burst) with its interval, the worst
 //! corner and margin, which tolerance matters, P(burst) against the load, the resonance rule.
 
-use super::html::{cell, esc, num};
+use super::markup::{cell, esc, num};
 use crate::burst::BurstOptions;
 use crate::error::Result;
 use crate::output::plot::Figure;

@@ -26,7 +26,6 @@
 //! [`HEADER_TIMEOUT`] (after connecting, or after its last answer on a kept-alive connection)
 //! is disconnected, so half-sent requests cannot hold connections or memory.
 
-use crate::cli::ServeArgs;
 use anyhow::{Context, Result};
 use axum::Json;
 use axum::extract::{Query, State};
@@ -39,6 +38,23 @@ use std::io::Write;
 use std::sync::Arc;
 use std::time::Duration;
 use tokio::sync::Semaphore;
+
+use clap::Args;
+
+/// Arguments of `hdgear serve`.
+#[derive(Args, Debug)]
+pub struct ServeArgs {
+    /// Port (0: any free port; the URL is printed).
+    #[arg(long, default_value_t = 8080)]
+    pub port: u16,
+    /// Address to listen on. The default, 127.0.0.1, serves this machine only; 0.0.0.0 exposes
+    /// the explorer (and its CPU) to everyone who can reach this machine.
+    #[arg(long, default_value = "127.0.0.1", value_name = "ADDR")]
+    pub bind: String,
+    /// Open the page in the desktop's browser.
+    #[arg(long)]
+    pub open: bool,
+}
 
 /// Longest a view may take before the request is answered with a 503.
 pub const VIEW_TIMEOUT: Duration = Duration::from_secs(5);

@@ -11,7 +11,6 @@
 pub mod file;
 mod slurm;
 
-use crate::cli::SweepArgs;
 use crate::sink::warn;
 use crate::sources::System;
 use anyhow::{Context, Result, anyhow, bail};
@@ -25,6 +24,48 @@ use std::collections::HashSet;
 use std::fs::{File, OpenOptions};
 use std::io::{IsTerminal, Read, Seek, Write};
 use std::path::{Path, PathBuf};
+
+use crate::args::{BurstArgs, GridAxes};
+use crate::sources::ParamArgs;
+use clap::Args;
+
+/// Arguments of `hdgear sweep`.
+#[derive(Args, Debug)]
+pub struct SweepArgs {
+    #[command(flatten)]
+    pub params: ParamArgs,
+    #[command(flatten)]
+    pub burst: BurstArgs,
+    #[command(flatten)]
+    pub grid: GridAxes,
+    /// Worker threads (default: one per core).
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// Output file, .csv, .json or .parquet. Rows stream into FILE.partial as they finish; FILE is written
+    /// in grid order at the end.
+    #[arg(long, value_name = "FILE")]
+    pub out: PathBuf,
+    /// Continue an interrupted sweep from FILE.partial.
+    #[arg(long)]
+    pub resume: bool,
+    /// Compute only shard K of N (K = 0 … N−1): the grid points i with i mod N = K, written to
+    /// DIR/NAME.shard-K-of-N.csv for --out DIR/NAME.EXT. `hdgear merge` joins the shards.
+    #[arg(long, value_name = "K/N")]
+    pub shard: Option<String>,
+    /// Write SLURM scripts (not submitted): a job array of N shards and a merge job that runs
+    /// after them, next to FILE; prints the sbatch command.
+    #[arg(long, value_name = "N", conflicts_with_all = ["shard", "resume"])]
+    pub slurm: Option<usize>,
+    /// SLURM partition of the jobs (with --slurm).
+    #[arg(long, requires = "slurm", value_name = "P")]
+    pub partition: Option<String>,
+    /// SLURM time limit of each shard, e.g. 30:00 or 1-12:00:00 (with --slurm).
+    #[arg(long, requires = "slurm", value_name = "T")]
+    pub time: Option<String>,
+    /// CPUs of each shard, its worker threads (with --slurm; default 1).
+    #[arg(long, requires = "slurm", value_name = "C")]
+    pub cpus_per_task: Option<usize>,
+}
 
 /// The file a shard of a sweep into `out` is written to: `DIR/NAME.shard-K-of-N.csv` for
 /// `DIR/NAME.EXT` (always CSV: see [`file`]).
@@ -128,7 +169,7 @@ fn check_on<S: Sweep>(a: &SweepArgs, base: S, warnings: &[Warning]) -> Result<Jo
         .collect::<hdgear::Result<Vec<_>>>()
         .context("--param")?;
     let grid = Grid::new(base, axes)?;
-    let threads = crate::cli::threads(a.threads)?;
+    let threads = crate::args::threads(a.threads)?;
     let shard = a.shard.as_deref().map(Shard::parse).transpose()?;
     if let Some(s) = shard.filter(|s| s.count > grid.len()) {
         bail!(

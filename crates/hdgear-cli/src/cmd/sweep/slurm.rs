@@ -15,8 +15,8 @@
 //! from the command line, and then parsed back and checked to give the same settings: a scenario
 //! file or preset need not exist on the cluster, and the shards cannot compute anything else.
 
+use super::SweepArgs;
 use super::{Job, check, shard_path};
-use crate::cli::{Cli, Command, SweepArgs};
 use anyhow::{Context, Result, bail};
 use clap::Parser;
 use hdgear::output::AtomicFile;
@@ -149,6 +149,13 @@ fn sweep_args(job: &Job) -> Vec<String> {
     v
 }
 
+/// The job script's command line, `hdgear sweep …`, parsed as the command's own arguments.
+#[derive(Parser)]
+#[command(name = "hdgear")]
+enum SweepLine {
+    Sweep(SweepArgs),
+}
+
 /// Parses the shard command back and checks that it computes `job`'s settings.
 fn verify(job: &Job, args: &[String], out: &Path, count: usize) -> Result<()> {
     for index in [0, count - 1] {
@@ -161,10 +168,8 @@ fn verify(job: &Job, args: &[String], out: &Path, count: usize) -> Result<()> {
             "--shard".into(),
             shard.to_string(),
         ]);
-        let cli = Cli::try_parse_from(&argv).context("the job script's sweep arguments")?;
-        let Command::Sweep(a) = cli.command else {
-            bail!("the job script's command is not a sweep");
-        };
+        let SweepLine::Sweep(a) =
+            SweepLine::try_parse_from(&argv).context("the job script's sweep arguments")?;
         let want = job.settings.clone().with_shard(Some(shard));
         if let Some(d) = check(&a)?.settings.first_difference(&want) {
             bail!(
