@@ -46,7 +46,7 @@ pub enum Command {
     Continue(crate::cmd::continuation::ContinueArgs),
     /// Curves of folds or period doublings in two parameters (two-parameter continuation),
     /// with their cusps and generalised period doublings.
-    Continue2(crate::cmd::continuation2::Continue2Args),
+    Continue2(crate::cmd::two_parameter::Continue2Args),
     /// Boundaries in two parameters as curves: the bursting boundary (predicted and simulated),
     /// the fold set of the fast subsystem, the edge of the fast-slow domain.
     Boundary(crate::cmd::boundary::BoundaryArgs),

@@ -380,7 +380,7 @@ pub fn margin_lines<P: std::fmt::Display>(
     for m in margins {
         match (m.factor, m.boundary_value) {
             (Some(f), Some(v)) => {
-                let side = |x: &Option<hdgear::physical::design::Side>| {
+                let side = |x: &Option<hdgear::physical::design::BracketEnd>| {
                     x.map_or("-".into(), |x| x.to_string())
                 };
                 let _ = writeln!(
@@ -415,7 +415,7 @@ pub fn margin_lines<P: std::fmt::Display>(
 
 /// `, supercritical (c = …)` at a period doubling with its normal-form coefficient, empty
 /// elsewhere: what a summary line of a branch's special point adds.
-pub fn criticality(q: &hdgear::periodic::BranchPoint) -> String {
+pub fn criticality(q: &hdgear::periodic::OrbitPoint) -> String {
     match (q.flip_coefficient, q.criticality()) {
         (Some(c), Some(k)) => format!(", {} (c = {c:.3e})", k.name()),
         _ => String::new(),

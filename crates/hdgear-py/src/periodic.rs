@@ -56,7 +56,7 @@ pub(crate) fn continuation<'py>(
     switch: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     use hdgear::periodic::{
-        Branch, BranchRow, ContinuationOptions, Scale, continue_with_doubled,
+        BranchRow, ContinuationOptions, OrbitBranch, Scale, continue_with_doubled,
         default_frequency_range as frequency_range,
     };
     let param: Param = name.parse().map_err(err)?;
@@ -65,7 +65,7 @@ pub(crate) fn continuation<'py>(
         scale: if log { Scale::Log } else { Scale::Linear },
         ..ContinuationOptions::default()
     };
-    let branches: Vec<Branch<Param>> = py
+    let branches: Vec<OrbitBranch<Param>> = py
         .detach(|| {
             let (start, to) = match to {
                 Some(to) => (p, to),

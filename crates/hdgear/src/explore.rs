@@ -17,7 +17,7 @@
 
 use crate::burst::{BurstOptions, Classification, Response};
 use crate::error::Result;
-use crate::fast::{A_RANGE, Analysis, Branch};
+use crate::fast::{A_RANGE, Analysis, CurveBranch};
 use crate::params::{Params, Warning};
 use crate::study::Case;
 use serde::Serialize;
@@ -45,7 +45,7 @@ pub struct Curve {
     /// Stable (node or focus) or a saddle.
     pub stable: Vec<bool>,
     /// Branch (single, lower, middle, upper).
-    pub branch: Vec<Branch>,
+    pub branch: Vec<CurveBranch>,
 }
 
 /// The trajectory over the first analysed slow period, thinned, as columns.

@@ -5,7 +5,7 @@ use crate::fast::stable_equilibrium;
 use crate::integrate::events::{Detector, Direction};
 use crate::integrate::{DenseOutput, Grid, Options, Stats, Stepper, System, stepper};
 use crate::model::delayed::Delayed;
-use crate::model::switching::{Mode, Pieces, Switching};
+use crate::model::switching::{Pieces, Switching, SwitchingMode};
 use crate::model::{Description, Dimensionless, Model};
 use crate::params::Params;
 use serde::Serialize;
@@ -246,7 +246,7 @@ fn model_run<const N: usize>(
         first = false;
         if let Some(w) = s.last_switch() {
             sticking.switches += 1;
-            sticking.sticks += u64::from(w.to == Mode::Stuck);
+            sticking.sticks += u64::from(w.to == SwitchingMode::Stuck);
         }
         grid.fill(d, s.y(), &mut out);
         on_step(&Step(d));

@@ -4,7 +4,7 @@
 
 use hdgear::Params;
 use hdgear::model::Model;
-use hdgear::model::branches::Branch;
+use hdgear::model::branches::LoopBranch;
 use hdgear::model::terms::AnyTerm;
 use hdgear::simulate::{SimOptions, Start, simulate_model};
 
@@ -23,7 +23,7 @@ fn with(p: &Params, kind: &str, values: &[f64]) -> Model {
 }
 
 /// x on `b` at `a`, interpolated linearly between its points (a monotone along it).
-fn x_on(b: &Branch, a: f64) -> Option<f64> {
+fn x_on(b: &LoopBranch, a: f64) -> Option<f64> {
     b.points.windows(2).find_map(|w| {
         let (lo, hi) = (w[0].a.min(w[1].a), w[0].a.max(w[1].a));
         (lo..=hi)

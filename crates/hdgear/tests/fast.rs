@@ -3,7 +3,7 @@
 
 use hdgear::Params;
 use hdgear::fast::{
-    self, Branch, EqType, analyze, curve, equilibria, fold_abscissae, fold_curves, folds,
+    self, CurveBranch, EqType, analyze, curve, equilibria, fold_abscissae, fold_curves, folds,
 };
 use hdgear::simulate::{SimOptions, simulate};
 use proptest::prelude::*;
@@ -118,7 +118,7 @@ proptest! {
         for q in &c {
             prop_assert!(q.a >= -1.0 && q.a <= 1.0);
             prop_assert!(rel_residual(&p, q.x, q.a) <= 1e-12);
-            prop_assert_eq!(q.branch, Branch::of(&p, q.x));
+            prop_assert_eq!(q.branch, CurveBranch::of(&p, q.x));
         }
     }
 }

@@ -6,7 +6,7 @@
 use hdgear::Params;
 use hdgear::integrate::{Method, Options};
 use hdgear::model::Model;
-use hdgear::model::switching::Mode;
+use hdgear::model::switching::SwitchingMode as Mode;
 use hdgear::model::terms::AnyTerm;
 use hdgear::simulate::{SimOptions, Start, simulate_model};
 

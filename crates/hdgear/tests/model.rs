@@ -325,7 +325,7 @@ fn the_periodic_machinery_runs_on_an_assembly() {
         scale: Scale::Log,
         ..ContinuationOptions::default()
     };
-    fn pd<P>(b: &hdgear::periodic::Branch<P>) -> f64 {
+    fn pd<P>(b: &hdgear::periodic::OrbitBranch<P>) -> f64 {
         b.specials()
             .find(|q| q.special == Some(Special::PeriodDoubling))
             .map(|q| q.param)

@@ -7,9 +7,9 @@ use hdgear::Params;
 use hdgear::integrate::{Method, Options};
 use hdgear::params::Param;
 use hdgear::periodic::{
-    Box2, Branch, BranchPoint, Codim2, ContinuationOptions, Curve2, CurveKind, CurvePoint2, End,
-    Range, Scale, Special, continue_curve, continue_orbit, curves_from_branch, switch_at_gpd,
-    switch_at_period_doubling,
+    Box2, Codim2, ContinuationOptions, Curve2, CurveKind, CurvePoint2, End, OrbitBranch,
+    OrbitPoint, Range, Scale, Special, continue_curve, continue_orbit, curves_from_branch,
+    switch_at_gpd, switch_at_period_doubling,
 };
 use hdgear::simulate::{SimOptions, Start, simulate};
 
@@ -22,7 +22,7 @@ fn log_omega() -> ContinuationOptions {
 }
 
 /// The period-1 branch of γ = 10 at `mu` (δ = 15) in ω from 7 to `to`, with its period doublings.
-fn doubling_branch(mu: f64, to: f64) -> (Params, Branch<Param>, Vec<BranchPoint>) {
+fn doubling_branch(mu: f64, to: f64) -> (Params, OrbitBranch<Param>, Vec<OrbitPoint>) {
     let p = Params {
         gamma: 10.0,
         omega: 7.0,
@@ -39,7 +39,7 @@ fn doubling_branch(mu: f64, to: f64) -> (Params, Branch<Param>, Vec<BranchPoint>
 }
 
 /// The period doublings of the γ = 10 bubble (ω from 7 to 10 at the study's μ and δ = 15).
-fn bubble() -> (Params, Vec<BranchPoint>) {
+fn bubble() -> (Params, Vec<OrbitPoint>) {
     let (p, _, pds) = doubling_branch(Params::default().mu, 10.0);
     (p, pds)
 }
@@ -98,7 +98,7 @@ fn flip_vectors(p: &Params, y: [f64; 2]) -> (f64, [f64; 2], [f64; 2]) {
 
 /// The slope of 1/η² against n over the even periods from n/5 on (least squares), η the centre
 /// coordinate of a simulation started η₀ along q from the doubling's orbit.
-fn measured_slope(p: &Params, pd: &BranchPoint, eta0: f64, n: usize) -> f64 {
+fn measured_slope(p: &Params, pd: &OrbitPoint, eta0: f64, n: usize) -> f64 {
     let y = pd.start;
     let (_, q, pv) = flip_vectors(p, y);
     let states = stroboscopic(p, [y[0] + eta0 * q[0], y[1] + eta0 * q[1]], n);
@@ -165,7 +165,7 @@ fn the_sign_of_the_coefficient_is_the_side_of_the_doubled_branch() {
         for pd in &pds {
             let c = pd.flip_coefficient.unwrap();
             // the doubled branch's point nearest the doubling, and the parent's on its side
-            let near = |pts: &[BranchPoint], side: Option<f64>| -> BranchPoint {
+            let near = |pts: &[OrbitPoint], side: Option<f64>| -> OrbitPoint {
                 *pts.iter()
                     .filter(|q| q.special.is_none())
                     .filter(|q| side.is_none_or(|s| (q.param - pd.param) * s > 0.0))

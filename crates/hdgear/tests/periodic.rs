@@ -267,8 +267,8 @@ fn a_subharmonic_request_reports_the_least_period() {
 
 use hdgear::params::Param;
 use hdgear::periodic::{
-    Branch, ContinuationOptions, DiagramOptions, DiagramPoint, End, Oscillator, Scale, Special,
-    Sweep, continue_orbit, frequency_response, orbit_diagram, switch_at_period_doubling,
+    ContinuationOptions, DiagramOptions, DiagramPoint, End, OrbitBranch, Oscillator, Scale,
+    Special, Sweep, continue_orbit, frequency_response, orbit_diagram, switch_at_period_doubling,
 };
 
 /// The study's point with γ = 30: its frequency-response curve bends over with two folds.
@@ -276,7 +276,7 @@ fn bent() -> Params {
     paper(30.0)
 }
 
-fn specials<P>(b: &Branch<P>, kind: Special) -> Vec<f64> {
+fn specials<P>(b: &OrbitBranch<P>, kind: Special) -> Vec<f64> {
     b.specials()
         .filter(|q| q.special == Some(kind))
         .map(|q| q.param)
@@ -441,7 +441,7 @@ fn a_period_doubling_is_located_to_1e_6_and_its_doubled_branch_followed() {
         "a simulation of 400 periods ends {d2:e} from the doubled orbit"
     );
     // normal form of a period doubling: the split between x(0) and x(T) grows like √|ω − ω_pd|
-    let split = |q: &hdgear::periodic::BranchPoint| {
+    let split = |q: &hdgear::periodic::OrbitPoint| {
         let y = state_at(
             &p.with(Param::Omega, q.param),
             q.start,

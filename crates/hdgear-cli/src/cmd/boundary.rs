@@ -1,7 +1,7 @@
 //! `hdgear boundary`: the bursting boundary (predicted and simulated), the fold set of the fast
 //! subsystem and the edge of the fast-slow domain as curves in a plane of two parameters.
 
-use super::continuation2::PlaneArgs;
+use super::two_parameter::PlaneArgs;
 use crate::args::BurstArgs;
 use crate::export::Export;
 use crate::sink::{outln, warn};
@@ -139,7 +139,7 @@ fn summary<S: PlaneSystem>(
     }
     for (i, c) in curves.iter().enumerate() {
         let extent = |j: usize| {
-            super::continuation2::extent(&names[j], c.points.iter().map(|q| q.params[j]))
+            super::two_parameter::extent(&names[j], c.points.iter().map(|q| q.params[j]))
         };
         let end = match c.end {
             PlaneEnd::Edge => "edge to edge",

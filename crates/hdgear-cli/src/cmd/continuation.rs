@@ -5,7 +5,8 @@ use crate::sink::{warn, write_records};
 use anyhow::{Context, Result};
 use hdgear::params::{Param, Warning};
 use hdgear::periodic::{
-    Branch, BranchRow, ContinuationOptions, End, Periodic, Range, Special, continue_with_doubled,
+    BranchRow, ContinuationOptions, End, OrbitBranch, Periodic, Range, Special,
+    continue_with_doubled,
 };
 use serde::Serialize;
 
@@ -43,7 +44,7 @@ struct Doc<'a, S: Periodic> {
     range: Range<S::Param>,
     params: &'a S,
     options: ContinuationOptions,
-    branches: &'a [Branch<S::Param>],
+    branches: &'a [OrbitBranch<S::Param>],
 }
 
 pub fn run(a: ContinueArgs) -> Result<()> {
@@ -96,7 +97,7 @@ fn run_on<S: Periodic>(p: &S, a: &ContinueArgs, warnings: &[Warning]) -> Result<
     Ok(())
 }
 
-fn print_summary<P: std::fmt::Display>(branches: &[Branch<P>], param: P) -> Result<()> {
+fn print_summary<P: std::fmt::Display>(branches: &[OrbitBranch<P>], param: P) -> Result<()> {
     for (i, b) in branches.iter().enumerate() {
         let (first, last) = (b.points.first(), b.points.last());
         let span = match (first, last) {

@@ -45,7 +45,7 @@ fn run_on<S: Periodic>(p: &S, a: &FrequencyResponseArgs, range: Option<(f64, f64
     a.export.print(&b, || summary(&b))
 }
 
-fn summary<P>(b: &hdgear::periodic::Branch<P>) -> Result<()> {
+fn summary<P>(b: &hdgear::periodic::OrbitBranch<P>) -> Result<()> {
     let peak = b.points.iter().max_by(|x, y| {
         x.amplitude
             .peak_to_peak

@@ -7,7 +7,6 @@ pub mod boundary;
 pub mod bursts;
 pub mod card;
 pub mod continuation;
-pub mod continuation2;
 pub mod control;
 pub mod diagram;
 pub mod equilibria;
@@ -24,6 +23,7 @@ pub mod serve;
 pub mod simulate;
 pub mod sweep;
 pub mod table;
+pub mod two_parameter;
 
 use crate::cli::{Cli, Command};
 use anyhow::Result;
@@ -41,7 +41,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Sweep(a) => sweep::run(a),
         Command::Merge(a) => merge::run(a),
         Command::Continue(a) => continuation::run(a),
-        Command::Continue2(a) => continuation2::run(a),
+        Command::Continue2(a) => two_parameter::run(a),
         Command::Boundary(a) => boundary::run(a),
         Command::FrequencyResponse(a) => frequency::run(a),
         Command::OrbitDiagram(a) => diagram::run(a),

@@ -13,7 +13,7 @@ use serde::Serialize;
 /// Which branch of the equilibrium curve a point lies on.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "kebab-case")]
-pub enum Branch {
+pub enum CurveBranch {
     /// No folds (γ ≥ 1/(3α)): the curve is one monotone branch.
     Single,
     /// x < x− (the lower fold abscissa): stable.
@@ -24,18 +24,18 @@ pub enum Branch {
     Upper,
 }
 
-impl Branch {
+impl CurveBranch {
     /// The branch of abscissa x.
-    pub fn of<C: StaticCurve>(p: &C, x: f64) -> Branch {
+    pub fn of<C: StaticCurve>(p: &C, x: f64) -> CurveBranch {
         match p.fold_band() {
-            None => Branch::Single,
+            None => CurveBranch::Single,
             Some((xm, xp)) => {
                 if x < xm {
-                    Branch::Lower
+                    CurveBranch::Lower
                 } else if x > xp {
-                    Branch::Upper
+                    CurveBranch::Upper
                 } else {
-                    Branch::Middle
+                    CurveBranch::Middle
                 }
             }
         }
@@ -65,7 +65,7 @@ pub struct CurvePoint {
     #[serde(rename = "type")]
     pub kind: EqType,
     /// Branch.
-    pub branch: Branch,
+    pub branch: CurveBranch,
 }
 
 impl CurvePoint {
@@ -92,7 +92,7 @@ impl CurvePoint {
             re2,
             im2,
             kind: p.kind(x),
-            branch: Branch::of(p, x),
+            branch: CurveBranch::of(p, x),
         }
     }
 }

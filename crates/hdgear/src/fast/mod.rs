@@ -45,7 +45,7 @@ pub use analysis::{
     Regime, Slope, analyze, curve_analysis, cusp, fold_curves, max_slope,
 };
 pub use curve::{
-    A_RANGE_LIMIT, Branch, CurvePoint, MAX_CURVE_POINTS, check_a_range, curve, x_intervals,
+    A_RANGE_LIMIT, CurveBranch, CurvePoint, MAX_CURVE_POINTS, check_a_range, curve, x_intervals,
 };
 pub use equilibria::{
     EqType, Equilibria, Equilibrium, EquilibriumTracker, Fold, eigenvalues, equilibria,

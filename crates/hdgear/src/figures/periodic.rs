@@ -11,8 +11,8 @@ use crate::sweep::Axis;
 /// Splits a branch into runs of equal stability, as (stable, points (λ, y)) with the boundary
 /// point in both neighbours so the curve stays connected.
 fn stability_runs<P>(
-    b: &crate::periodic::Branch<P>,
-    xy: &impl Fn(usize, &crate::periodic::BranchPoint) -> (f64, f64),
+    b: &crate::periodic::OrbitBranch<P>,
+    xy: &impl Fn(usize, &crate::periodic::OrbitPoint) -> (f64, f64),
 ) -> Vec<(bool, Vec<(f64, f64)>)> {
     let mut runs: Vec<(bool, Vec<(f64, f64)>)> = Vec::new();
     for (i, q) in b.points.iter().enumerate() {
@@ -32,9 +32,9 @@ fn stability_runs<P>(
 /// One panel of a frequency-response figure: the points `xy(i, point i)` of the branch, with
 /// the axis labels.
 fn response_panel<P>(
-    b: &crate::periodic::Branch<P>,
+    b: &crate::periodic::OrbitBranch<P>,
     (title, x_label): (&str, &str),
-    xy: impl Fn(usize, &crate::periodic::BranchPoint) -> (f64, f64),
+    xy: impl Fn(usize, &crate::periodic::OrbitPoint) -> (f64, f64),
 ) -> Panel {
     use crate::periodic::Special;
     let mut series = Vec::new();
@@ -88,7 +88,7 @@ fn response_panel<P>(
 /// thick, unstable thin, folds and period doublings marked.
 pub fn frequency_response_figure<S: crate::periodic::Periodic>(
     p: &S,
-    b: &crate::periodic::Branch<S::Param>,
+    b: &crate::periodic::OrbitBranch<S::Param>,
 ) -> Figure {
     use crate::periodic::Special;
     let folds: Vec<String> = b

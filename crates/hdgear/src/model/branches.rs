@@ -34,7 +34,7 @@ const CLOSED: f64 = 1e-12;
 
 /// A point of a branch.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct BranchPoint {
+pub struct LoopPoint {
     /// The slow variable.
     pub a: f64,
     /// The twist.
@@ -47,7 +47,7 @@ pub struct BranchPoint {
 
 /// One quasi-static branch, followed from where the motion leaves rest after the reversal.
 #[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct Branch {
+pub struct LoopBranch {
     /// sgn x' along it: +1 loading (a rising), −1 unloading.
     pub side: f64,
     /// a at the reversal before it (the load's turning point).
@@ -56,14 +56,14 @@ pub struct Branch {
     /// torque across the band (the drive stays at rest).
     pub breakaway: Option<f64>,
     /// Its points, from the breakaway to the end of the load's range or the fold.
-    pub points: Vec<BranchPoint>,
+    pub points: Vec<LoopPoint>,
     /// a where K_t reaches 0: the branch ends in a fold (a jump), if it does.
     pub fold: Option<f64>,
     /// The smallest tangent stiffness on the branch, with its a (the steepest point).
     pub min_stiffness: Option<(f64, f64)>,
 }
 
-impl Branch {
+impl LoopBranch {
     /// Where the branch predicts bursts to start: its steepest point (the smallest tangent
     /// stiffness: a spiking area where it nears 0⁺) and its breakaway (the slip after the rest
     /// that follows a reversal), in a.
@@ -75,7 +75,7 @@ impl Branch {
             .collect()
     }
 
-    /// The prediction ([`Branch::predicted_onsets`]) nearest to `a`, if there is one.
+    /// The prediction ([`LoopBranch::predicted_onsets`]) nearest to `a`, if there is one.
     pub fn nearest_prediction(&self, a: f64) -> Option<f64> {
         self.predicted_onsets()
             .into_iter()
@@ -87,9 +87,9 @@ impl Branch {
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Branches {
     /// Loading (a from −1 to 1).
-    pub loading: Branch,
+    pub loading: LoopBranch,
     /// Unloading (a from 1 to −1).
-    pub unloading: Branch,
+    pub unloading: LoopBranch,
     /// The change of x at a = 1 over the last cycle: how closed the loop is.
     pub closure: f64,
 }
@@ -98,7 +98,7 @@ impl Branches {
     /// The branch a response under the load μ + δ sin ωτ follows at time τ: the loading one
     /// while the load rises, else the unloading one. A burst starts on the branch at its pulse,
     /// `branches.at(burst.t_peak, omega)`.
-    pub fn at(&self, tau: f64, omega: f64) -> &Branch {
+    pub fn at(&self, tau: f64, omega: f64) -> &LoopBranch {
         if (omega * tau).cos() > 0.0 {
             &self.loading
         } else {
@@ -179,12 +179,12 @@ impl Model {
     }
 
     /// The branch on side `s` from the state `(x, z)` the reversal at `from` left, to `to`.
-    fn sweep(&self, s: f64, from: f64, to: f64, (x, z): (f64, [f64; MAX_STATES])) -> Branch {
+    fn sweep(&self, s: f64, from: f64, to: f64, (x, z): (f64, [f64; MAX_STATES])) -> LoopBranch {
         let [mu, delta, _] = self.forcing();
         let (torque, ..) = self.creep(s, x, &z);
         // the rest lasts until the load meets this side's creep torque
         let start = ((torque - mu) / delta - from) * s;
-        let mut branch = Branch {
+        let mut branch = LoopBranch {
             side: s,
             reversal: from,
             breakaway: None,
@@ -210,10 +210,10 @@ impl Model {
         let mut y = [0.0; 1 + MAX_STATES];
         y[0] = x;
         y[1..].copy_from_slice(&z);
-        let push = |a: f64, y: &[f64; 1 + MAX_STATES], b: &mut Branch| {
+        let push = |a: f64, y: &[f64; 1 + MAX_STATES], b: &mut LoopBranch| {
             let z = std::array::from_fn(|j| y[1 + j]);
             let k = self.creep(s, y[0], &z).1;
-            b.points.push(BranchPoint {
+            b.points.push(LoopPoint {
                 a,
                 x: y[0],
                 z,
@@ -239,7 +239,7 @@ impl Model {
 /// by the parabola in x through it and its two neighbours (exact where K_t is quadratic in x, as
 /// the study's g'(x) is; near a steep point the points lie far apart in x, since dx/da = δ/K_t).
 /// a at the vertex is where the segment's cubic Hermite x(a) (slopes δ/K_t) reaches it.
-fn steepest(points: &[BranchPoint], delta: f64) -> Option<(f64, f64)> {
+fn steepest(points: &[LoopPoint], delta: f64) -> Option<(f64, f64)> {
     let i =
         (0..points.len()).min_by(|&i, &j| points[i].stiffness.total_cmp(&points[j].stiffness))?;
     let sample = Some((points[i].a, points[i].stiffness));
@@ -268,7 +268,7 @@ fn steepest(points: &[BranchPoint], delta: f64) -> Option<(f64, f64)> {
     let k = q.stiffness + d1 * (xv - q.x) + curvature * (xv - q.x) * (xv - p.x);
     // a where x = xv on the segment: x(a) as the cubic Hermite of its ends, whose slopes
     // dx/da = δ/K_t are the field's (fourth order in the step, as the points are)
-    let (h, slope) = (hi.a - lo.a, |b: &BranchPoint| delta / b.stiffness);
+    let (h, slope) = (hi.a - lo.a, |b: &LoopPoint| delta / b.stiffness);
     let x_at = |t: f64| {
         let (t2, t3) = (t * t, t * t * t);
         (2.0 * t3 - 3.0 * t2 + 1.0) * lo.x
@@ -303,7 +303,7 @@ fn rk4<const M: usize>(
 /// Where a sweep left the drive at the end of the load's range: its last point (at a fold, where
 /// the quasi-static picture ends in a jump it does not follow, the fold's), or the state it
 /// rested in throughout.
-fn end_of(b: &Branch, state: (f64, [f64; MAX_STATES])) -> (f64, (f64, [f64; MAX_STATES])) {
+fn end_of(b: &LoopBranch, state: (f64, [f64; MAX_STATES])) -> (f64, (f64, [f64; MAX_STATES])) {
     let end = b.side;
     match b.points.last() {
         Some(p) => (end, (p.x, p.z)),

@@ -23,7 +23,7 @@
 //!
 //! ```
 //! use hdgear::integrate::{Options, Stepper};
-//! use hdgear::model::{Model, switching::{Mode, Pieces, Switching}, terms::AnyTerm};
+//! use hdgear::model::{Model, switching::{Pieces, Switching, SwitchingMode}, terms::AnyTerm};
 //! use hdgear::Params;
 //! let p = Params { delta: 1.0, omega: 0.5, ..Params::default() };
 //! let m = Model::study(&p).with_term(AnyTerm::new("coulomb", &[0.3, 0.4, 0.1, 0.0]).unwrap()).unwrap();
@@ -33,7 +33,7 @@
 //! while s.t() < 40.0 {
 //!     let (t0, was) = (s.t(), s.mode());
 //!     s.step(40.0).unwrap();
-//!     if was == Mode::Stuck { stuck += s.t() - t0; }
+//!     if was == SwitchingMode::Stuck { stuck += s.t() - t0; }
 //! }
 //! assert!(stuck > 0.0 && stuck < 40.0);
 //! ```
@@ -131,12 +131,12 @@ impl Pieces {
     }
 
     /// What the motion does from rest at (t, y): sticks while |A| ≤ band, else slips along A.
-    pub fn mode_at_rest(&self, t: f64, y: &[f64]) -> Mode {
+    pub fn mode_at_rest(&self, t: f64, y: &[f64]) -> SwitchingMode {
         let a = self.applied(t, y);
         if a.abs() <= self.band {
-            Mode::Stuck
+            SwitchingMode::Stuck
         } else {
-            Mode::slipping(a)
+            SwitchingMode::slipping(a)
         }
     }
 
@@ -147,14 +147,14 @@ impl Pieces {
     /// where A vanishes to its rounding and its sign says nothing: the motion leaves rest as A
     /// pushes at t + h (before that, the drive moves by at most |A|·h²/2), and a state at 0
     /// leaves it as that push moves it, its signs read at t + h.
-    fn mode_leaving_rest(&self, t: f64, y: &[f64]) -> (Mode, f64) {
+    fn mode_leaving_rest(&self, t: f64, y: &[f64]) -> (SwitchingMode, f64) {
         match self.mode_at_rest(t, y) {
-            Mode::Stuck => (Mode::Stuck, t),
+            SwitchingMode::Stuck => (SwitchingMode::Stuck, t),
             slipping => {
                 let later_t = t + self.stick_spacing() / 64.0;
                 let later = self.applied(later_t, y);
                 if later * slipping.side() < 0.0 {
-                    (Mode::slipping(later), later_t)
+                    (SwitchingMode::slipping(later), later_t)
                 } else {
                     (slipping, t)
                 }
@@ -163,11 +163,11 @@ impl Pieces {
     }
 
     /// The piece of a slipping `mode` with the internal states' signs `bits`.
-    fn piece(&self, mode: Mode, bits: usize) -> &Model {
+    fn piece(&self, mode: SwitchingMode, bits: usize) -> &Model {
         match mode {
-            Mode::Forward => &self.slipping[0][bits],
-            Mode::Backward => &self.slipping[1][bits],
-            Mode::Stuck => &self.free,
+            SwitchingMode::Forward => &self.slipping[0][bits],
+            SwitchingMode::Backward => &self.slipping[1][bits],
+            SwitchingMode::Stuck => &self.free,
         }
     }
 
@@ -175,7 +175,7 @@ impl Pieces {
     /// sign, or where z = 0 the sign of its first nonzero Taylor row on the piece (the direction
     /// it leaves 0 in; the rows below it do not depend on that sign, the |z| parts vanishing at
     /// z = 0 to the order of z's exponent).
-    fn signs<const N: usize>(&self, mode: Mode, t: f64, y: &[f64; N]) -> usize {
+    fn signs<const N: usize>(&self, mode: SwitchingMode, t: f64, y: &[f64; N]) -> usize {
         let mut bits = 0;
         let mut rows = None;
         for i in self.free.switching_states() {
@@ -198,7 +198,7 @@ impl Pieces {
 /// The mode of a switching integration.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "kebab-case")]
-pub enum Mode {
+pub enum SwitchingMode {
     /// Slipping with x' > 0.
     Forward,
     /// Slipping with x' < 0.
@@ -207,22 +207,22 @@ pub enum Mode {
     Stuck,
 }
 
-impl Mode {
+impl SwitchingMode {
     /// Slipping in the direction of `a` (which is ≠ 0).
-    fn slipping(a: f64) -> Mode {
+    fn slipping(a: f64) -> SwitchingMode {
         if a > 0.0 {
-            Mode::Forward
+            SwitchingMode::Forward
         } else {
-            Mode::Backward
+            SwitchingMode::Backward
         }
     }
 
     /// sgn x' in this mode.
     pub fn side(self) -> f64 {
         match self {
-            Mode::Forward => 1.0,
-            Mode::Backward => -1.0,
-            Mode::Stuck => 0.0,
+            SwitchingMode::Forward => 1.0,
+            SwitchingMode::Backward => -1.0,
+            SwitchingMode::Stuck => 0.0,
         }
     }
 }
@@ -235,9 +235,9 @@ pub struct Switch {
     /// x there (x' = 0 at every switch).
     pub x: f64,
     /// The mode left.
-    pub from: Mode,
+    pub from: SwitchingMode,
     /// The mode entered.
-    pub to: Mode,
+    pub to: SwitchingMode,
 }
 
 /// The dense output of one step of a [`Switching`] integration.
@@ -340,7 +340,7 @@ pub struct Switching<'p, const N: usize> {
     pieces: &'p Pieces,
     opts: Options,
     inner: Option<AnyStepper<'p, Model, N>>,
-    mode: Mode,
+    mode: SwitchingMode,
     /// The switching internal states' signs on the current piece.
     bits: usize,
     t: f64,
@@ -360,7 +360,7 @@ impl<'p, const N: usize> Switching<'p, N> {
         let (mode, signs_at) = if y0[1] == 0.0 {
             pieces.mode_leaving_rest(t0, &y0)
         } else {
-            (Mode::slipping(y0[1]), t0)
+            (SwitchingMode::slipping(y0[1]), t0)
         };
         let mut s = Switching {
             pieces,
@@ -380,7 +380,7 @@ impl<'p, const N: usize> Switching<'p, N> {
     }
 
     /// The current mode.
-    pub fn mode(&self) -> Mode {
+    pub fn mode(&self) -> SwitchingMode {
         self.mode
     }
 
@@ -390,13 +390,13 @@ impl<'p, const N: usize> Switching<'p, N> {
     }
 
     /// Enters `mode` at the current (t, y): a fresh stepper on its piece when it slips.
-    fn enter(&mut self, mode: Mode) -> Result<()> {
+    fn enter(&mut self, mode: SwitchingMode) -> Result<()> {
         self.enter_reading_signs_at(mode, self.t)
     }
 
     /// [`Switching::enter`], the internal states' signs read from the piece's Taylor rows at
     /// `signs_at` (the current t but at an equilibrium start, [`Pieces::mode_leaving_rest`]).
-    fn enter_reading_signs_at(&mut self, mode: Mode, signs_at: f64) -> Result<()> {
+    fn enter_reading_signs_at(&mut self, mode: SwitchingMode, signs_at: f64) -> Result<()> {
         self.mode = mode;
         if let Some(inner) = &self.inner {
             let s = inner.stats();
@@ -404,7 +404,7 @@ impl<'p, const N: usize> Switching<'p, N> {
             self.done.rejected += s.rejected;
             self.done.rhs_evals += s.rhs_evals;
         }
-        if mode != Mode::Stuck {
+        if mode != SwitchingMode::Stuck {
             self.bits = self.pieces.signs(mode, signs_at, &self.y);
             // a Taylor stepper moves to the new piece in place (a new one is a pass and a
             // workspace to fill, at every switch)
@@ -414,7 +414,7 @@ impl<'p, const N: usize> Switching<'p, N> {
             }
         }
         self.inner = match mode {
-            Mode::Stuck => {
+            SwitchingMode::Stuck => {
                 self.y[1] = 0.0;
                 let p = self.pieces;
                 if p.held.moves_at_rest(&self.y) {
@@ -447,7 +447,7 @@ impl<'p, const N: usize> Switching<'p, N> {
     }
 
     /// Ends the current mode at (t, y) at rest and enters `to`.
-    fn switch(&mut self, t: f64, mut y: [f64; N], to: Mode) -> Result<()> {
+    fn switch(&mut self, t: f64, mut y: [f64; N], to: SwitchingMode) -> Result<()> {
         y[1] = 0.0;
         self.cut(t, y)?;
         self.last = Some(Switch {
@@ -474,7 +474,7 @@ impl<'p, const N: usize> Switching<'p, N> {
         self.dense = SwitchingDense::Stuck { t0: self.t, t1, y };
         self.last = None;
         match unstick {
-            Some(t) => self.switch(t, y, Mode::slipping(p.applied(t, &y))),
+            Some(t) => self.switch(t, y, SwitchingMode::slipping(p.applied(t, &y))),
             None => {
                 self.t = t_bound;
                 Ok(())
@@ -497,7 +497,7 @@ impl<'p, const N: usize> Switching<'p, N> {
         };
         self.last = None;
         match unstick {
-            Some(t) => self.switch(t, y_end, Mode::slipping(p.applied(t, &y_end))),
+            Some(t) => self.switch(t, y_end, SwitchingMode::slipping(p.applied(t, &y_end))),
             None => {
                 (self.t, self.y) = (t1, y1);
                 Ok(())
@@ -569,7 +569,7 @@ impl<'p, const N: usize> Switching<'p, N> {
     /// lanes steps ([`super::integrate_switching_models`]), followed by
     /// [`Switching::after_inner_step`]. `None` at rest, or when the pieces run another method.
     pub(crate) fn on_piece(&mut self) -> Option<&mut Taylor<'p, Model, N>> {
-        if self.mode == Mode::Stuck {
+        if self.mode == SwitchingMode::Stuck {
             return None;
         }
         match self.inner.as_mut() {
@@ -591,7 +591,7 @@ impl<'p, const N: usize> Switching<'p, N> {
             return Ok(());
         };
         let d = inner.dense();
-        if self.mode == Mode::Stuck {
+        if self.mode == SwitchingMode::Stuck {
             let end = (inner.t(), *inner.y());
             return self.drift(d, end);
         }

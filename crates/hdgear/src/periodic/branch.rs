@@ -93,7 +93,7 @@ impl Special {
 
 /// One point of a branch.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct BranchPoint {
+pub struct OrbitPoint {
     /// The parameter λ.
     pub param: f64,
     /// (x, x') at phase 0.
@@ -114,8 +114,8 @@ pub struct BranchPoint {
     pub flip_coefficient: Option<f64>,
 }
 
-impl BranchPoint {
-    /// At a period doubling, which way it goes (from [`BranchPoint::flip_coefficient`]).
+impl OrbitPoint {
+    /// At a period doubling, which way it goes (from [`OrbitPoint::flip_coefficient`]).
     pub fn criticality(&self) -> Option<super::Criticality> {
         self.flip_coefficient.and_then(super::Criticality::of)
     }
@@ -152,20 +152,20 @@ pub enum End {
 
 /// A branch of periodic orbits.
 #[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct Branch<P> {
+pub struct OrbitBranch<P> {
     /// The parameter followed.
     pub param: P,
     /// k: the orbits have period k·2π/ω.
     pub subharmonic: u32,
     /// The points in order along the branch, special points in their place.
-    pub points: Vec<BranchPoint>,
+    pub points: Vec<OrbitPoint>,
     /// Why it ended.
     pub end: End,
 }
 
-impl<P> Branch<P> {
+impl<P> OrbitBranch<P> {
     /// The special points.
-    pub fn specials(&self) -> impl Iterator<Item = &BranchPoint> {
+    pub fn specials(&self) -> impl Iterator<Item = &OrbitPoint> {
         self.points.iter().filter(|p| p.special.is_some())
     }
 }
@@ -215,7 +215,7 @@ crate::record!(
 
 impl BranchRow {
     /// The row of point `q` of branch number `branch` with subharmonic `k`.
-    pub fn new(branch: usize, k: u32, q: &BranchPoint) -> BranchRow {
+    pub fn new(branch: usize, k: u32, q: &OrbitPoint) -> BranchRow {
         BranchRow {
             branch,
             subharmonic: k,

@@ -68,7 +68,7 @@ struct Tracer<'a, O: Oscillator> {
     /// its largest |x|, |x'| or peak-to-peak x, at least 1).
     scale: f64,
     /// Points where the branch ends if it passes through them: (z, the point, why).
-    terminals: Vec<([f64; 3], BranchPoint, End)>,
+    terminals: Vec<([f64; 3], OrbitPoint, End)>,
 }
 
 fn dot(a: [f64; 3], b: [f64; 3]) -> f64 {
@@ -209,7 +209,7 @@ impl<O: Oscillator> Tracer<'_, O> {
         Some(t.map(|v| s * v / n))
     }
 
-    fn branch_point(&self, p: &Point, special: Option<Special>) -> Result<BranchPoint> {
+    fn branch_point(&self, p: &Point, special: Option<Special>) -> Result<OrbitPoint> {
         let multipliers = super::multipliers(&p.flow);
         let o = self.at(p.z[2])?;
         let critical_direction = special.map(|s| critical_direction(&p.flow, s));
@@ -222,7 +222,7 @@ impl<O: Oscillator> Tracer<'_, O> {
             }
             _ => None,
         };
-        Ok(BranchPoint {
+        Ok(OrbitPoint {
             param: self.opts.scale.to_lambda(p.z[2]),
             start: self.state(p.z),
             multipliers,
@@ -239,15 +239,15 @@ impl<O: Oscillator> Tracer<'_, O> {
         &self,
         mut p: Point,
         mut t: [f64; 3],
-        mut points: Vec<BranchPoint>,
-    ) -> Result<Branch<O::Param>> {
+        mut points: Vec<OrbitPoint>,
+    ) -> Result<OrbitBranch<O::Param>> {
         let (min, max) = (
             self.opts.min_step * self.range,
             self.opts.max_step * self.range,
         );
         let mut ds = self.opts.initial_step * self.range;
         let mut psi = test_functions(&p.flow);
-        let mut first_terminal: Option<([f64; 3], BranchPoint, End)> = None;
+        let mut first_terminal: Option<([f64; 3], OrbitPoint, End)> = None;
         loop {
             if points.len() >= self.opts.max_points {
                 return Ok(self.finish(points, End::MaxPoints));
@@ -279,7 +279,7 @@ impl<O: Oscillator> Tracer<'_, O> {
                 let b = points[0];
                 let z0 = self.unknowns(b.start, self.opts.scale.to_u(b.param));
                 if norm(sub(q.z, z0)) > 2.0 * norm(sub(q.z, p.z)) {
-                    let closing = BranchPoint {
+                    let closing = OrbitPoint {
                         special: None,
                         flip_coefficient: None,
                         ..b
@@ -315,7 +315,7 @@ impl<O: Oscillator> Tracer<'_, O> {
         tq: [f64; 3],
         psi: [f64; 2],
         psi_q: [f64; 2],
-    ) -> Result<Vec<BranchPoint>> {
+    ) -> Result<Vec<OrbitPoint>> {
         let mut found = Vec::new();
         for (i, kind) in [(0, Special::BranchPoint), (1, Special::PeriodDoubling)] {
             let (a, b) = (psi[i], psi_q[i]);
@@ -343,10 +343,10 @@ impl<O: Oscillator> Tracer<'_, O> {
     /// of the chord's length of it, beyond p.
     fn terminal_hit<'t>(
         &'t self,
-        extra: Option<&'t ([f64; 3], BranchPoint, End)>,
+        extra: Option<&'t ([f64; 3], OrbitPoint, End)>,
         p: &Point,
         q: &Point,
-    ) -> Option<&'t ([f64; 3], BranchPoint, End)> {
+    ) -> Option<&'t ([f64; 3], OrbitPoint, End)> {
         let chord = sub(q.z, p.z);
         self.terminals.iter().chain(extra).find(|(z, _, _)| {
             let rel = sub(*z, p.z);
@@ -358,7 +358,7 @@ impl<O: Oscillator> Tracer<'_, O> {
 
     /// The point on the end of the range between p (inside) and q (outside), corrected with the
     /// parameter fixed at the end, which it carries exactly.
-    fn edge_point(&self, p: &Point, q: &Point) -> Result<Option<BranchPoint>> {
+    fn edge_point(&self, p: &Point, q: &Point) -> Result<Option<OrbitPoint>> {
         let high = q.z[2] > self.bounds[1];
         let edge = self.bounds[usize::from(high)];
         let w = (edge - p.z[2]) / (q.z[2] - p.z[2]);
@@ -382,8 +382,8 @@ impl<O: Oscillator> Tracer<'_, O> {
         u >= self.bounds[0] - slack && u <= self.bounds[1] + slack
     }
 
-    fn finish(&self, points: Vec<BranchPoint>, end: End) -> Branch<O::Param> {
-        Branch {
+    fn finish(&self, points: Vec<OrbitPoint>, end: End) -> OrbitBranch<O::Param> {
+        OrbitBranch {
             param: self.param,
             subharmonic: self.k,
             points,
@@ -461,7 +461,7 @@ pub fn continue_orbit<O: Oscillator>(
     guess: Option<[f64; 2]>,
     to: f64,
     opts: &ContinuationOptions,
-) -> Result<Branch<O::Param>> {
+) -> Result<OrbitBranch<O::Param>> {
     opts.validate()?;
     o.check()?;
     let from = o.get(param);
@@ -568,11 +568,11 @@ pub fn switch_at_period_doubling<O: Oscillator>(
     o: &O,
     param: O::Param,
     k: u32,
-    at: &BranchPoint,
-    others: &[BranchPoint],
+    at: &OrbitPoint,
+    others: &[OrbitPoint],
     range: [f64; 2],
     opts: &ContinuationOptions,
-) -> Result<Branch<O::Param>> {
+) -> Result<OrbitBranch<O::Param>> {
     opts.validate()?;
     let Some(v) = at
         .critical_direction
@@ -658,13 +658,13 @@ pub fn continue_with_doubled<O: Oscillator>(
     to: f64,
     switch: bool,
     opts: &ContinuationOptions,
-) -> Result<Vec<Branch<O::Param>>> {
+) -> Result<Vec<OrbitBranch<O::Param>>> {
     let from = o.get(param);
     let mut branches = vec![continue_orbit(o, param, k, None, to, opts)?];
     if !switch {
         return Ok(branches);
     }
-    let pds: Vec<BranchPoint> = branches[0]
+    let pds: Vec<OrbitPoint> = branches[0]
         .specials()
         .filter(|q| q.special == Some(Special::PeriodDoubling))
         .copied()

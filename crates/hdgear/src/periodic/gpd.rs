@@ -18,10 +18,10 @@
 //! the box or reaches another GPD of the same period-doubling curve ([`End::Rejoined`]).
 
 use super::continuation::SWITCH_LADDER;
-use super::curve2::{axpy, dot, tracer};
 use super::floquet::{flow, multipliers};
 use super::normal_form::flip_direction;
 use super::shooting::minimal_subharmonic;
+use super::two_parameter::{axpy, dot, tracer};
 use super::{Box2, Codim2, ContinuationOptions, Curve2, CurveKind, CurvePoint2, End, Oscillator};
 use crate::error::{Error, Result};
 use std::f64::consts::TAU;

@@ -37,7 +37,6 @@ use serde::Serialize;
 
 mod branch;
 mod continuation;
-mod curve2;
 mod diagram;
 mod floquet;
 mod from_branch;
@@ -48,10 +47,10 @@ mod orbit_length;
 mod oscillator;
 mod response;
 mod shooting;
+mod two_parameter;
 pub use crate::params::{Box2, Scale};
 pub use branch::*;
 pub use continuation::*;
-pub use curve2::*;
 pub use diagram::*;
 pub use floquet::*;
 pub use from_branch::{curves_at_gpds, curves_from_branch};
@@ -62,6 +61,7 @@ pub use orbit_length::{MAX_ORBIT_STEPS, check_orbit_length};
 pub use oscillator::Oscillator;
 pub use response::*;
 pub use shooting::*;
+pub use two_parameter::*;
 
 /// Longest piece (dimensionless time) over which Φ is integrated from I: 10 decay times of the
 /// fast subsystem (1/2 each), so Φ's entries stay within e^{±10}·(growth of the node direction).

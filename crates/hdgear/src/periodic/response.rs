@@ -3,7 +3,7 @@
 //! an up- or down-sweep — come out with the unstable middle branch), for the dimensionless model
 //! and for a physical drive in SI units.
 
-use super::{Branch, BranchPoint, ContinuationOptions, Scale, Special, continue_orbit};
+use super::{ContinuationOptions, OrbitBranch, OrbitPoint, Scale, Special, continue_orbit};
 use crate::error::{Error, Result};
 use crate::model::terms::Term;
 use crate::params::{Param, Params};
@@ -152,7 +152,7 @@ pub fn frequency_response<S: super::Periodic>(
     p: &S,
     range: Option<(f64, f64)>,
     opts: &ContinuationOptions,
-) -> Result<Branch<S::Param>> {
+) -> Result<OrbitBranch<S::Param>> {
     let (lo, hi) = range.unwrap_or_else(|| p.frequency_range());
     if !(lo > 0.0 && hi > lo && hi.is_finite()) {
         return Err(Error::InvalidOption {
@@ -204,7 +204,7 @@ pub struct PhysicalResponse {
     pub points: Vec<PhysicalPoint>,
     /// The dimensionless branch it comes from.
     #[serde(skip)]
-    pub branch: Branch<Param>,
+    pub branch: OrbitBranch<Param>,
 }
 
 /// The frequency-response curve of a drive over `hz` (default: the dimensionless default range
@@ -231,7 +231,7 @@ pub fn physical_frequency_response(
     })
 }
 
-fn physical_point(d: &PhysicalParams, r: &Reduction, q: &BranchPoint) -> PhysicalPoint {
+fn physical_point(d: &PhysicalParams, r: &Reduction, q: &OrbitPoint) -> PhysicalPoint {
     let omega_rad_s = q.param / r.time_scale;
     let (t0, t1) = (r.theta(q.amplitude.x_min), r.theta(q.amplitude.x_max));
     PhysicalPoint {

@@ -79,14 +79,14 @@ impl Judgement {
 
 /// One end of a margin's final bracket.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct Side {
+pub struct BracketEnd {
     /// The factor applied to the parameter.
     pub factor: f64,
     /// The verdict there.
     pub judgement: Judgement,
 }
 
-impl std::fmt::Display for Side {
+impl std::fmt::Display for BracketEnd {
     /// `×1.2345 overshoot`: the factor and the verdict there.
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(f, "×{:.4} {}", self.factor, self.judgement.label())
@@ -110,9 +110,9 @@ pub struct Margin<P = DriveParam> {
     /// `enters bursting` or `leaves bursting`.
     pub effect: &'static str,
     /// The end of the bracket with the current verdict.
-    pub inside: Option<Side>,
+    pub inside: Option<BracketEnd>,
     /// The end of the bracket with the other verdict.
-    pub outside: Option<Side>,
+    pub outside: Option<BracketEnd>,
     /// Why no factor is given although the search went on: the move leaves the fast-slow domain,
     /// or a changed drive could not be judged.
     pub refused: Option<String>,
@@ -452,11 +452,11 @@ pub(crate) fn search_margin<P>(
     margin.factor = Some(f);
     margin.boundary_value = Some(f * current);
     margin.change_percent = Some(100.0 * (f - 1.0));
-    margin.inside = Some(Side {
+    margin.inside = Some(BracketEnd {
         factor: a.exp2(),
         judgement: ja,
     });
-    margin.outside = Some(Side {
+    margin.outside = Some(BracketEnd {
         factor: b.exp2(),
         judgement: jb,
     });

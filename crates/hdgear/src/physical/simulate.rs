@@ -225,7 +225,7 @@ pub struct FinalState {
 
 /// What `hdgear physical --simulate --summary` prints.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct SummaryReport {
+pub struct SimulationSummary {
     /// Final time \[s\].
     pub t_end: f64,
     /// Final state.
@@ -243,9 +243,9 @@ pub struct SummaryReport {
 
 impl PhysicalSummary {
     /// The printed summary.
-    pub fn report(&self) -> SummaryReport {
+    pub fn report(&self) -> SimulationSummary {
         let f = self.final_state;
-        SummaryReport {
+        SimulationSummary {
             t_end: self.t_end,
             final_state: FinalState {
                 theta: f.theta,

@@ -27,7 +27,7 @@ pub const RATINGS_CARD: &str = "SHG-20-50";
 pub const SPREAD: f64 = 0.2;
 
 /// A labelled trace: the loop's name and its points (τ, x').
-pub type Trace = (String, Vec<(f64, f64)>);
+pub type LabelledTrace = (String, Vec<(f64, f64)>);
 
 /// The section's numbers.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -38,7 +38,7 @@ pub struct ControlEvidence {
     pub drive: DriveControl,
     /// x'(τ) through the first burst: per γ, the open loop then each law at its least gain.
     #[serde(skip)]
-    pub traces: Vec<Vec<Trace>>,
+    pub traces: Vec<Vec<LabelledTrace>>,
 }
 
 impl ControlEvidence {
@@ -142,7 +142,7 @@ pub(super) const TRACE_DT: f64 = crate::control::SAMPLE_DT;
 const TRACE_SPAN: (f64, f64) = (20.0, 60.0);
 
 /// x'(τ) around the open loop's first burst in the window: the open loop, then each tuned law.
-fn traces(cmp: &Comparison, opts: &BurstOptions) -> Result<Vec<Trace>> {
+fn traces(cmp: &Comparison, opts: &BurstOptions) -> Result<Vec<LabelledTrace>> {
     let p = &cmp.params;
     let open = response(p, opts)?;
     let onset = open.bursts.first().map_or(open.window_start, |b| b.onset);

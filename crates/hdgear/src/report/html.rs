@@ -48,7 +48,7 @@ fn margin_rows(c: &crate::physical::design::DesignCheck) -> String {
     c.margins
         .iter()
         .map(|m| {
-            let side = |s: &Option<crate::physical::design::Side>| {
+            let side = |s: &Option<crate::physical::design::BracketEnd>| {
                 s.map_or("–".into(), |s| s.to_string())
             };
             format!(
@@ -588,7 +588,7 @@ fn control_drive(h: &mut String, dc: &crate::control::DriveControl) {
 
 /// Special points of a branch of one kind, as "8.4135, 7.8608".
 fn special_list(
-    b: &crate::periodic::Branch<crate::params::Param>,
+    b: &crate::periodic::OrbitBranch<crate::params::Param>,
     kind: crate::periodic::Special,
 ) -> String {
     let v: Vec<String> = b

@@ -1,7 +1,7 @@
 //! The report's section on memory in the drive: friction and hysteresis on the twist, the
 //! quasi-static loading and unloading branches x±(a) that replace the equilibrium curve
 //! ([`crate::model::Model::branches`]), and where the simulated bursts start against what the
-//! branches predict ([`crate::model::branches::Branch::predicted_onsets`]).
+//! branches predict ([`crate::model::branches::LoopBranch::predicted_onsets`]).
 
 use super::control::TRACE_DT;
 use super::markup::{cell, esc, num};
@@ -9,7 +9,7 @@ use crate::burst::{BurstOptions, Classification, Sticking, classify, response_mo
 use crate::error::Result;
 use crate::figures::decimate;
 use crate::model::Model;
-use crate::model::branches::{Branch, Branches};
+use crate::model::branches::{Branches, LoopBranch};
 use crate::model::terms::AnyTerm;
 use crate::output::plot::{Figure, Panel, Series, Style};
 use crate::params::Params;
@@ -43,7 +43,7 @@ pub const MEMORY_CASES: [(f64, &str, &[f64], &str); 3] = [
 ];
 
 /// Points in the (a, x) plane.
-pub type Points = Vec<(f64, f64)>;
+pub type PlanePoints = Vec<(f64, f64)>;
 
 /// Where a simulated burst starts, against the predictions of the branch it starts on.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -70,7 +70,7 @@ pub struct BranchSummary {
 }
 
 impl BranchSummary {
-    fn of(b: &Branch) -> BranchSummary {
+    fn of(b: &LoopBranch) -> BranchSummary {
         BranchSummary {
             breakaway: b.breakaway,
             steepest: b.min_stiffness,
@@ -108,7 +108,7 @@ pub struct MemoryCase {
     pub branches: Branches,
     /// The response over the window in the (a, x) plane, and the onsets' (a, x).
     #[serde(skip)]
-    pub path: (Points, Points),
+    pub path: (PlanePoints, PlanePoints),
 }
 
 impl MemoryCase {
@@ -187,7 +187,7 @@ fn trajectory(
     p: &Params,
     opts: &BurstOptions,
     onsets: &[f64],
-) -> Result<(Points, Points)> {
+) -> Result<(PlanePoints, PlanePoints)> {
     let (w0, w1) = window(p, opts);
     let samples = super::control::samples(m, (w0 - TRACE_DT, w1), opts, 0)?;
     let a = |t: f64| (p.omega * t).sin();
@@ -244,7 +244,7 @@ impl MemoryEvidence {
 }
 
 /// The point of `b` nearest to `a` in a, as (a, x).
-fn on_branch(b: &Branch, a: f64) -> Option<(f64, f64)> {
+fn on_branch(b: &LoopBranch, a: f64) -> Option<(f64, f64)> {
     b.points
         .iter()
         .min_by(|p, q| (p.a - a).abs().total_cmp(&(q.a - a).abs()))
@@ -254,7 +254,7 @@ fn on_branch(b: &Branch, a: f64) -> Option<(f64, f64)> {
 /// One case's panel.
 fn panel(c: &MemoryCase) -> Panel {
     let x_span = c.path.0.iter().map(|q| q.1.abs()).fold(1e-12, f64::max);
-    let branch = |b: &Branch, label: &str, color| Series {
+    let branch = |b: &LoopBranch, label: &str, color| Series {
         label: label.into(),
         points: decimate(
             &b.points.iter().map(|p| (p.a, p.x)).collect::<Vec<_>>(),

@@ -380,7 +380,7 @@ impl Report {
         out.csv("data/sweep-gamma.csv", &self.sweep.rows)?;
         out.csv("data/map-gamma-delta.csv", &self.map.rows)?;
         let pe = &self.periodic;
-        let rows = |branches: &[&crate::periodic::Branch<crate::params::Param>]| {
+        let rows = |branches: &[&crate::periodic::OrbitBranch<crate::params::Param>]| {
             branches
                 .iter()
                 .enumerate()

@@ -8,7 +8,7 @@ use crate::error::Result;
 use crate::output::plot::Figure;
 use crate::params::{Param, Params};
 use crate::periodic::{
-    Branch, ContinuationOptions, DiagramOptions, DiagramPoint, LyapunovRow, PeriodicOptions,
+    ContinuationOptions, DiagramOptions, DiagramPoint, LyapunovRow, OrbitBranch, PeriodicOptions,
     PhysicalResponse, Scale, burst_verdict, continue_with_doubled, frequency_response,
     orbit_diagram, physical_frequency_response, shoot,
 };
@@ -50,11 +50,11 @@ pub struct PeriodicEvidence {
     /// The study's four γ.
     pub orbits: Vec<StudyOrbit>,
     /// The frequency response at the study's point.
-    pub response: Branch<Param>,
+    pub response: OrbitBranch<Param>,
     /// The branch through the period-doubling bubble (γ = [`BUBBLE_GAMMA`]).
-    pub bubble: Branch<Param>,
+    pub bubble: OrbitBranch<Param>,
     /// Its doubled branch.
-    pub doubled: Option<Branch<Param>>,
+    pub doubled: Option<OrbitBranch<Param>>,
     /// The orbit diagram over [`BUBBLE_OMEGA`].
     #[serde(skip)]
     pub diagram: Vec<DiagramPoint>,
@@ -163,9 +163,9 @@ fn study_orbit(p: &Params, burst: &BurstOptions) -> Result<StudyOrbit> {
 /// What [`dimensionless_part`] computes.
 type Dimensionless = (
     Vec<StudyOrbit>,
-    Branch<Param>,
-    Branch<Param>,
-    Option<Branch<Param>>,
+    OrbitBranch<Param>,
+    OrbitBranch<Param>,
+    Option<OrbitBranch<Param>>,
     Vec<DiagramPoint>,
 );
 

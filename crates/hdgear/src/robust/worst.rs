@@ -50,14 +50,14 @@ pub struct Corner {
     pub outcome: std::result::Result<Outcome, Failure>,
     /// The bracket in s of the ray's first change of verdict: its end with the nominal verdict,
     /// its end with the other, and their outcomes. None: no change up to `reach`.
-    pub crossing: Option<Crossing>,
+    pub crossing: Option<VerdictChange>,
     /// How far along the ray the verdict was searched (the last scale in the domain).
     pub reach: f64,
 }
 
 /// A bracketed change of verdict along a ray.
 #[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct Crossing {
+pub struct VerdictChange {
     /// The end with the nominal verdict.
     pub inside: f64,
     /// The end with the other verdict.
@@ -219,7 +219,7 @@ fn scan_ray(signs: Vec<i8>, values: Vec<f64>, on_ray: &[Sample], nominal: &Outco
         let Ok(o) = sample.outcome else { break };
         ray.reach = s;
         if o.bursting != nominal.bursting {
-            ray.crossing = Some(Crossing {
+            ray.crossing = Some(VerdictChange {
                 inside: last.0,
                 outside: s,
                 inside_outcome: last.1,
