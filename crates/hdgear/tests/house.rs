@@ -124,19 +124,35 @@ fn use_paths(prefix: &[String], tree: &str, out: &mut Vec<Vec<String>>) {
     }
 }
 
-/// Each `use` statement of `code`: whether it is `pub` (any visibility), and its tree.
-fn use_statements(code: &str) -> Vec<(bool, String)> {
-    let mut out = Vec::new();
+/// A file's `use` statements, read once.
+struct Uses {
+    /// Each statement's tree, with whether it is `pub` (any visibility).
+    statements: Vec<(bool, String)>,
+    /// The code without its `pub use` statements (they forward names; they use nothing).
+    plain: String,
+}
+
+/// The `use` statements of `code`. A statement is `pub` when the token just before `use` is
+/// `pub` or `pub(…)`.
+fn uses(code: &str) -> Uses {
+    let (mut statements, mut plain) = (Vec::new(), String::with_capacity(code.len()));
     let mut rest = code;
     while let Some(at) = find_word(rest, "use") {
         let before = rest[..at].trim_end();
-        let public = before.ends_with("pub") || before.ends_with(')') && before.contains("pub(");
+        let visibility = before.rsplit(char::is_whitespace).next().unwrap_or("");
+        let public = visibility == "pub" || visibility.starts_with("pub(");
         let after = &rest[at + 3..];
         let end = after.find(';').unwrap_or(after.len());
-        out.push((public, after[..end].to_string()));
+        statements.push((public, after[..end].to_string()));
+        plain.push_str(if public {
+            &before[..before.len() - visibility.len()]
+        } else {
+            &rest[..at + 3 + end]
+        });
         rest = &after[end..];
     }
-    out
+    plain.push_str(rest);
+    Uses { statements, plain }
 }
 
 /// The byte offset of `word` standing alone in `text`.
@@ -222,53 +238,52 @@ impl Graph {
             .filter(|f| f.extension().is_some_and(|e| e == "rs"))
             .map(|f| (mod_path(src, &f, root), f))
             .collect();
-        let code: BTreeMap<&ModPath, String> = files
+        let code: BTreeMap<ModPath, Uses> = files
             .iter()
-            .map(|(m, f)| (m, code_of(&std::fs::read_to_string(f).unwrap())))
+            .map(|(m, f)| {
+                (
+                    m.clone(),
+                    uses(&code_of(&std::fs::read_to_string(f).unwrap())),
+                )
+            })
             .collect();
         let mut g = Graph {
-            files: files.clone(),
+            files,
             edges: BTreeMap::new(),
         };
         // `pub use` re-exports: a name in a module → the path it forwards to
         let mut exports: BTreeMap<ModPath, BTreeMap<String, ModPath>> = BTreeMap::new();
-        for (m, c) in &code {
-            for (public, tree) in use_statements(c) {
+        for (m, u) in &code {
+            for (_, tree) in u.statements.iter().filter(|(public, _)| *public) {
                 let mut paths = Vec::new();
-                use_paths(&[], &tree, &mut paths);
-                for p in paths.into_iter().filter(|_| public) {
+                use_paths(&[], tree, &mut paths);
+                for p in paths {
                     let (name, target) = match p.last().map(String::as_str) {
                         Some("self") => (p[p.len() - 2].clone(), p[..p.len() - 1].to_vec()),
                         Some("*") | None => continue,
                         Some(n) => (n.to_string(), p.clone()),
                     };
                     if let Some(t) = g.absolute(m, &target) {
-                        exports.entry((*m).clone()).or_default().insert(name, t);
+                        exports.entry(m.clone()).or_default().insert(name, t);
                     }
                 }
             }
         }
-        for (m, c) in &code {
+        for (m, u) in &code {
             let mut paths = Vec::new();
-            for (public, tree) in use_statements(c) {
-                if !public {
-                    use_paths(&[], &tree, &mut paths);
-                }
+            for (_, tree) in u.statements.iter().filter(|(public, _)| !*public) {
+                use_paths(&[], tree, &mut paths);
             }
-            let mut plain = c.clone();
-            for (public, tree) in use_statements(c) {
-                if public {
-                    plain = plain.replace(&tree, "");
-                }
-            }
+            let plain = &u.plain;
             for head in ["crate", "super", "self"] {
-                paths.extend(paths_from(&plain, head));
+                paths.extend(paths_from(plain, head));
             }
-            for child in files
+            for child in g
+                .files
                 .keys()
                 .filter(|k| k.len() == m.len() + 1 && k.starts_with(m))
             {
-                for mut p in paths_from(&plain, child.last().unwrap()) {
+                for mut p in paths_from(plain, child.last().unwrap()) {
                     p.insert(0, "self".into());
                     paths.push(p);
                 }
@@ -280,12 +295,12 @@ impl Graph {
                 let Some(abs) = g.absolute(m, &p) else {
                     continue;
                 };
-                let Some(target) = resolve(&files, &exports, &abs, 0) else {
+                let Some(target) = resolve(&g.files, &exports, &abs, 0) else {
                     continue;
                 };
                 // a file's use of its own ancestors' items is the folder's shared vocabulary
-                if target != **m && !m.starts_with(&target) {
-                    g.edges.entry((*m).clone()).or_default().insert(target);
+                if target != *m && !m.starts_with(&target) {
+                    g.edges.entry(m.clone()).or_default().insert(target);
                 }
             }
         }
