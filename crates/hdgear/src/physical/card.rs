@@ -447,12 +447,11 @@ impl Card {
     /// torques alone (starting, back-driving, no-load running) are not turned into a law: they are
     /// friction of the rigid-body rotation, not of the twist.
     pub fn friction_law(&self) -> Result<Option<FrictionLaw>> {
-        let card = self;
-        let Some(f) = &card.friction else {
+        let Some(f) = &self.friction else {
             return Ok(None);
         };
         let bad = |field: &str, value: Option<f64>, reason: &'static str| Error::Card {
-            card: card.name.clone(),
+            card: self.name.clone(),
             field: format!("friction.{field}"),
             value: value.map_or("(absent)".into(), |v| v.to_string()),
             reason,
