@@ -6,7 +6,7 @@
 use hdgear::Params;
 use hdgear::integrate::{Method, Options};
 use hdgear::model::Model;
-use hdgear::model::switching::SwitchingMode as Mode;
+use hdgear::model::switching::SwitchingMode;
 use hdgear::model::terms::AnyTerm;
 use hdgear::simulate::{SimOptions, Start, simulate_model};
 
@@ -30,7 +30,7 @@ struct Reference {
 /// What the reference records: the samples on the grid and the switches (t, x, mode entered).
 struct Run {
     samples: Vec<(f64, [f64; 2])>,
-    switches: Vec<(f64, f64, Mode)>,
+    switches: Vec<(f64, f64, SwitchingMode)>,
 }
 
 impl Reference {
@@ -51,14 +51,14 @@ impl Reference {
         let f = |t: f64, y: [f64; 2]| [y[1], self.accel(t, y[0], y[1], s)];
         crate::common::rk4_step(f, t, y, h)
     }
-    fn mode_at_rest(&self, t: f64, x: f64) -> Mode {
+    fn mode_at_rest(&self, t: f64, x: f64) -> SwitchingMode {
         let a = self.applied(t, x);
         if a.abs() <= self.f.fs {
-            Mode::Stuck
+            SwitchingMode::Stuck
         } else if a > 0.0 {
-            Mode::Forward
+            SwitchingMode::Forward
         } else {
-            Mode::Backward
+            SwitchingMode::Backward
         }
     }
     /// From (0, y0) to `t_end`, samples every `dt`.
@@ -70,9 +70,9 @@ impl Reference {
         let (mut t, mut y) = (0.0, y0);
         let mut mode = if y0[1] != 0.0 {
             if y0[1] > 0.0 {
-                Mode::Forward
+                SwitchingMode::Forward
             } else {
-                Mode::Backward
+                SwitchingMode::Backward
             }
         } else {
             self.mode_at_rest(0.0, y0[0])
@@ -81,7 +81,7 @@ impl Reference {
         let sample_at = |k: usize| (k as f64 * dt).min(t_end);
         while t < t_end {
             let next = sample_at(k);
-            if mode == Mode::Stuck {
+            if mode == SwitchingMode::Stuck {
                 let g = |t: f64| self.applied(t, y[0]).abs() - self.f.fs;
                 // scan to the next sample for |A| reaching the band, then bisect
                 let mut ta = t;
@@ -103,9 +103,9 @@ impl Reference {
                     Some(tu) => {
                         t = tu;
                         mode = if self.applied(tu, y[0]) > 0.0 {
-                            Mode::Forward
+                            SwitchingMode::Forward
                         } else {
-                            Mode::Backward
+                            SwitchingMode::Backward
                         };
                         out.switches.push((t, y[0], mode));
                     }
@@ -117,7 +117,11 @@ impl Reference {
                 }
                 continue;
             }
-            let s = if mode == Mode::Forward { 1.0 } else { -1.0 };
+            let s = if mode == SwitchingMode::Forward {
+                1.0
+            } else {
+                -1.0
+            };
             let h = self.h.min(next - t);
             let y1 = self.rk4(t, y, h, s);
             if s * y1[1] < 0.0 {
@@ -254,11 +258,16 @@ fn sticking_friction_matches_an_independent_event_driven_integration() {
     // the cases cover both: the first sticks (and slips), the second reverses at rest
     let runs =
         cases().map(|(p, f, t_end)| Reference { p, f, h: 2e-4 }.run([0.0, 0.0], t_end, 0.05));
-    let sticks = |r: &Run| r.switches.iter().filter(|s| s.2 == Mode::Stuck).count();
+    let sticks = |r: &Run| {
+        r.switches
+            .iter()
+            .filter(|s| s.2 == SwitchingMode::Stuck)
+            .count()
+    };
     let reversals = |r: &Run| {
         r.switches
             .windows(2)
-            .filter(|w| w[0].2 != Mode::Stuck && w[1].2 != Mode::Stuck)
+            .filter(|w| w[0].2 != SwitchingMode::Stuck && w[1].2 != SwitchingMode::Stuck)
             .count()
     };
     assert!(sticks(&runs[0]) >= 4, "{:?}", runs[0].switches);
@@ -477,8 +486,8 @@ fn first_stick_end(m: &Model, y0: [f64; 3], state: &dyn Fn(f64) -> f64, method: 
     let tol = crate::common::tight(method);
     let pieces = Pieces::new(m).unwrap();
     let mut s = Switching::new(&pieces, 0.0, y0, tol).unwrap();
-    assert_eq!(s.mode(), Mode::Stuck);
-    while s.mode() == Mode::Stuck {
+    assert_eq!(s.mode(), SwitchingMode::Stuck);
+    while s.mode() == SwitchingMode::Stuck {
         s.step(100.0).unwrap();
         let d = s.dense();
         for i in 0..=8 {
