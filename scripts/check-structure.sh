@@ -3,8 +3,8 @@
 #   * the README at most 250 lines (a front door; the reference is the guide in docs/);
 #   * no file of code over 900 lines (generated code excepted: the DOP853 stage formulas);
 #   * no `json!` in the binary (its JSON documents are typed structs);
-#   * no `unsafe` outside the library's one dispatch module, and the command and the Python
-#     binding forbid it.
+#   * no `unsafe` outside the library's one dispatch module and the FMU's C ABI module, and
+#     the command and the Python binding forbid it.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 fail=0
@@ -17,6 +17,9 @@ done < <(git ls-files '*.rs' '*.py' '*.js' '*.sh' | grep -v '^crates/hdgear/src/
 if grep -rn 'json!' crates/hdgear-cli/src; then echo "json! in the binary: use a typed struct"; fail=1; fi
 if grep -rln '\bunsafe\b' crates/hdgear/src | grep -v '^crates/hdgear/src/simd.rs$'; then
   echo "unsafe outside crates/hdgear/src/simd.rs"; fail=1
+fi
+if grep -rln '\bunsafe\b' crates/hdgear-fmu/src | grep -v '^crates/hdgear-fmu/src/ffi.rs$'; then
+  echo "unsafe outside crates/hdgear-fmu/src/ffi.rs (the FMU's C ABI)"; fail=1
 fi
 for f in crates/hdgear-cli/src/main.rs crates/hdgear-py/src/lib.rs; do
   grep -q '^#!\[forbid(unsafe_code)\]' "$f" || { echo "$f: no #![forbid(unsafe_code)]"; fail=1; }

@@ -2,12 +2,13 @@
 # The Python package, built and tested as a user would get it (run by .ci/run; run it yourself
 # after `cargo build --release`):
 #   1. a virtual environment (target/py-venv) with maturin, numpy, pandas, pytest, matplotlib,
-#      dask[distributed], nbclient and ziglang from PyPI;
+#      dask[distributed], nbclient, ziglang and mujoco from PyPI;
 #   2. one wheel, built the way a user installs from source (`pip wheel ./crates/hdgear-py`: pip
 #      runs maturin, release build), as a manylinux2014 wheel linked with zig (abi3: CPython
 #      ≥ 3.9), so that one build serves every test below;
-#   3. that wheel installed into the venv, then pytest, the examples (study figure, Dask
-#      LocalCluster map, the notebook run top to bottom) and the overhead benchmark;
+#   3. that wheel installed into the venv, then pytest, hdgear.mujoco's tests, the examples
+#      (study figure, Dask LocalCluster map, the notebook run top to bottom) and the overhead
+#      benchmark;
 #   4. the same wheel installed into fresh environments of two other Python versions (pyenv's
 #      3.9 and 3.13) and tested there (without pandas: the plain-dict path).
 set -euo pipefail
@@ -20,7 +21,7 @@ export HDGEAR_BIN="$bin"
 
 venv="$root/target/py-venv"
 [ -x "$venv/bin/python" ] || python3 -m venv "$venv"
-"$venv/bin/pip" install -q maturin numpy pandas pytest matplotlib "dask[distributed]" nbclient nbformat ipykernel ziglang
+"$venv/bin/pip" install -q maturin numpy pandas pytest matplotlib "dask[distributed]" nbclient nbformat ipykernel ziglang "mujoco==4.0.1"
 echo "== pip wheel ./crates/hdgear-py: one manylinux2014 wheel, linked with zig"
 rm -rf target/wheels
 # pip runs maturin (the package's build backend) in an isolated environment; MATURIN_PEP517_ARGS
@@ -37,6 +38,8 @@ esac
 echo "== the wheel in $("$venv/bin/python" --version)"
 "$venv/bin/pip" install -q --force-reinstall --no-deps "$wheel"
 "$venv/bin/python" -m pytest -q crates/hdgear-py/tests
+echo "== hdgear.mujoco: the drive between two MuJoCo hinges"
+"$venv/bin/python" -m pytest -q crates/hdgear-py/tests_mujoco
 echo "== examples"
 "$venv/bin/python" examples/python/study.py target/py-examples
 "$venv/bin/python" examples/python/dask_sweep.py

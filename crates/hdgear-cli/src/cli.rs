@@ -62,6 +62,8 @@ pub enum Command {
     Merge(crate::cmd::merge::MergeArgs),
     /// A physical drive in SI units: reduction, two-inertia simulation, design check.
     Physical(Box<crate::cmd::physical::PhysicalArgs>),
+    /// A drive for another tool: an FMI 2.0 co-simulation FMU of the two-inertia model.
+    Export(crate::cmd::fmu::ExportArgs),
     /// Drive cards: a drive's catalogue numbers with their sources (list, show, check, map, new).
     Card(CardArgs),
     /// Feedback laws against the bursts (virtual stiffness and damping, washout, scheduled

@@ -9,6 +9,7 @@ mod cli;
 mod control;
 mod docs;
 mod edges;
+mod fmu;
 mod hardening;
 mod hostile;
 mod interrupted;

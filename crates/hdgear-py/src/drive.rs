@@ -87,6 +87,12 @@ impl Drive {
         ))
     }
 
+    /// The torque across the compliance [N m] at the twist θ [rad] and its rate θ' [rad/s]: the
+    /// drive's spring with its backlash, and its damping (`Physical::twist_torque`).
+    fn twist_torque(&self, theta: f64, theta_dot: f64) -> f64 {
+        hdgear::physical::model::Physical::new(self.inner).twist_torque(theta, theta_dot)
+    }
+
     /// The design check as a dict.
     #[pyo3(signature = (detection))]
     fn design_check<'py>(

@@ -11,6 +11,7 @@ mod card_curve_law;
 mod card_friction;
 mod cards;
 mod control;
+mod cosim;
 mod delay;
 mod dither;
 mod domain;

@@ -10,6 +10,7 @@ pub mod continuation;
 pub mod control;
 pub mod diagram;
 pub mod equilibria;
+pub mod fmu;
 pub mod frequency;
 pub mod lyapunov;
 pub mod merge;
@@ -48,6 +49,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::LyapunovMap(a) => lyapunov::run(a),
         Command::Periodic(a) => periodic::run(a),
         Command::Physical(a) => physical::run(*a),
+        Command::Export(a) => fmu::run(a),
         Command::Card(a) => card::run(a),
         Command::Control(a) => control::run(a),
         Command::Robust(a) => robust::run(a),

@@ -13,9 +13,10 @@ use clap::Args;
 use hdgear::scenario::Scenario;
 use std::path::PathBuf;
 
-/// Arguments of `hdgear physical`.
+/// The drive a command of the two-inertia model runs: its card, a scenario's `[physical]` and
+/// `[bearings]` tables, and flags for each value (`hdgear physical`, `hdgear export fmu`).
 #[derive(Args, Debug)]
-pub struct PhysicalArgs {
+pub struct DriveArgs {
     /// The drive's card for the stiffness (k1, k2 fitted to its curve) with documented
     /// assumptions for the rest: a built-in card (hdgear card list) or a card file
     /// (FILE.toml, or FILE.toml#NAME when it holds several).
@@ -58,20 +59,27 @@ pub struct PhysicalArgs {
     /// Omega, disturbance frequency [rad/s].
     #[arg(long, allow_negative_numbers = true)]
     pub omega: Option<f64>,
-    /// Friction at the output bearing, on θo' (with --simulate): LAW:KEY=VALUE,… in SI units,
+    /// Friction at the output bearing, on θo' (the two-inertia model: --simulate, hdgear export fmu): LAW:KEY=VALUE,… in SI units,
     /// every key given, LAW friction (fc [N m], vs [rad/s]) or stribeck (fc, fs [N m], vst
     /// [rad/s], cv [N m s/rad], vr [rad/s]); e.g. friction:fc=0.8,vs=1e-3. Replaces the
     /// scenario's [bearings.output] table.
     #[arg(long, value_name = "LAW")]
     pub output_bearing: Option<String>,
-    /// Friction at the wave generator, on θi' (with --simulate): LAW:KEY=VALUE,… as
+    /// Friction at the wave generator, on θi' (the two-inertia model: --simulate, hdgear export fmu): LAW:KEY=VALUE,… as
     /// --output-bearing. Replaces the scenario's [bearings.input] table.
     #[arg(long, value_name = "LAW")]
     pub input_bearing: Option<String>,
-    /// Friction across the compliance, on the twist rate θ' (with --simulate): LAW:KEY=VALUE,…
+    /// Friction across the compliance, on the twist rate θ' (the two-inertia model: --simulate, hdgear export fmu): LAW:KEY=VALUE,…
     /// as --output-bearing, a torque between the two inertias (the teeth's sliding in mesh).
     #[arg(long, value_name = "LAW")]
     pub twist_friction: Option<String>,
+}
+
+/// Arguments of `hdgear physical`.
+#[derive(Args, Debug)]
+pub struct PhysicalArgs {
+    #[command(flatten)]
+    pub spec: DriveArgs,
     /// Print one JSON document (the reduction, or with --design the design check).
     #[arg(long, conflicts_with = "simulate")]
     pub json: bool,
@@ -119,7 +127,7 @@ pub struct PhysicalArgs {
     pub burst: BurstArgs,
 }
 
-impl PhysicalArgs {
+impl DriveArgs {
     /// The drive: its card, then file, then flags; validated. With it, the card's name, the
     /// stiffness fit and what was assumed, and the friction at its bearings (the file's
     /// `[bearings]` tables, each side replaced by its flag where given).
@@ -130,7 +138,6 @@ impl PhysicalArgs {
         hdgear::physical::design::CatalogueOrigin,
         hdgear::physical::model::Bearings,
     )> {
-        use hdgear::physical::model::Bearings;
         let card = crate::cmd::card::load(&self.drive).context("--drive")?;
         let built = hdgear::physical::catalogue::assemble(&card.card, self.fit_torque, None)
             .context("--drive / --fit-torque")?;
@@ -192,22 +199,30 @@ impl PhysicalArgs {
         )?;
         Ok((d, origin, bearings))
     }
-}
 
-/// Runs the physical command.
-pub fn run(a: PhysicalArgs) -> Result<()> {
-    let (d, origin, bearings) = a.drive()?;
-    let opts = a.burst.options()?;
-    if a.simulate {
+    /// The two-inertia model: the drive with its bearings and the friction across its
+    /// compliance; with it, the card's name and what was assumed.
+    pub fn system(&self) -> Result<(Physical, hdgear::physical::design::CatalogueOrigin)> {
+        let (d, origin, bearings) = self.drive()?;
         let mut sys = Physical::with_bearings(d, bearings);
-        if let Some(text) = &a.twist_friction {
+        if let Some(text) = &self.twist_friction {
             sys = Bearings::parse_law("twist", text)
                 .and_then(|law| sys.with_twist_friction(law))
                 .context("--twist-friction")?;
         }
-        return simulate(&a, &sys, opts.tol);
+        Ok((sys, origin))
     }
-    if a.twist_friction.is_some() {
+}
+
+/// Runs the physical command.
+pub fn run(a: PhysicalArgs) -> Result<()> {
+    if a.simulate {
+        let (sys, _) = a.spec.system()?;
+        return simulate(&a, &sys, a.burst.options()?.tol);
+    }
+    let (d, origin, bearings) = a.spec.drive()?;
+    let opts = a.burst.options()?;
+    if a.spec.twist_friction.is_some() {
         bail!("--twist-friction acts in the two-inertia model: only --simulate runs it");
     }
     if bearings.any() {
@@ -228,7 +243,7 @@ pub fn run(a: PhysicalArgs) -> Result<()> {
     }
     if a.robust {
         let nominal = hdgear::robust::Nominal::Drive(d);
-        let card = crate::cmd::card::load(&a.drive).context("--drive")?;
+        let card = crate::cmd::card::load(&a.spec.drive).context("--drive")?;
         return crate::cmd::robust::analyse_and_print(
             nominal,
             Some(&card),
@@ -239,7 +254,7 @@ pub fn run(a: PhysicalArgs) -> Result<()> {
         );
     }
     if a.control {
-        let card = crate::cmd::card::load(&a.drive).context("--drive")?;
+        let card = crate::cmd::card::load(&a.spec.drive).context("--drive")?;
         let c = hdgear::control::ControlOptions {
             spread: Some(0.2),
             ..Default::default()

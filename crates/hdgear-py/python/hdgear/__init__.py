@@ -375,6 +375,12 @@ class Drive:
             setattr(out, k, c)
         return out
 
+    def twist_torque(self, theta, theta_dot):
+        """The torque across the compliance [N m] at the twist ``theta`` = θo − θi/N [rad] and its
+        rate [rad/s]: the spring (k1 + k2θ²)(θ − φ) and the damping C·θ', the torque the drive
+        transmits (``hdgear.mujoco`` applies it between two joints)."""
+        return self._native.twist_torque(float(theta), float(theta_dot))
+
     def design_check(self, discard=1.0, window_periods=2, rtol=1e-10, atol=1e-10):
         """The distance to the bursting regime and the single changes that cross it (what
         ``hdgear physical --design --json`` prints), as a Result."""

@@ -8,6 +8,7 @@
 #[cfg(feature = "parquet")]
 pub mod parquet;
 pub mod plot;
+pub mod zip;
 
 use crate::error::{Error, Result};
 use std::fs::File;

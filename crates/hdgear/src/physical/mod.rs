@@ -20,8 +20,10 @@
 pub mod card;
 pub mod catalogue;
 pub mod check;
+pub mod cosim;
 pub mod curve_law;
 pub mod design;
+pub mod fmu;
 pub mod friction;
 pub mod model;
 pub mod simulate;
@@ -111,6 +113,38 @@ impl DriveParam {
             DriveParam::TM => "t_m",
             DriveParam::TAm => "t_am",
             DriveParam::Omega => "omega",
+        }
+    }
+}
+
+impl DriveParam {
+    /// Its unit as FMI and Modelica write it (`None`: a pure number).
+    pub fn unit(self) -> Option<&'static str> {
+        match self {
+            DriveParam::JIn | DriveParam::JOut => Some("kg.m2"),
+            DriveParam::Ratio => None,
+            DriveParam::K1 => Some("N.m/rad"),
+            DriveParam::K2 => Some("N.m/rad3"),
+            DriveParam::Backlash => Some("rad"),
+            DriveParam::CEq => Some("N.m.s/rad"),
+            DriveParam::TM | DriveParam::TAm => Some("N.m"),
+            DriveParam::Omega => Some("rad/s"),
+        }
+    }
+
+    /// What it is, in a line.
+    pub fn meaning(self) -> &'static str {
+        match self {
+            DriveParam::JIn => "input-side inertia (motor and wave generator)",
+            DriveParam::JOut => "output-side inertia (flexspline and load)",
+            DriveParam::Ratio => "reduction ratio",
+            DriveParam::K1 => "linear torsional stiffness",
+            DriveParam::K2 => "cubic torsional stiffness",
+            DriveParam::Backlash => "backlash",
+            DriveParam::CEq => "equivalent damping across the compliance",
+            DriveParam::TM => "mean torque on the output (held by the input)",
+            DriveParam::TAm => "amplitude of the output torque disturbance T_am sin(omega t)",
+            DriveParam::Omega => "frequency of the output torque disturbance",
         }
     }
 }

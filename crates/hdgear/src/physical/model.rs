@@ -37,6 +37,47 @@ pub struct Bearings {
 /// step (a switched law's sign would need the piecewise integration of the reduced model).
 pub const BEARING_KINDS: [&str; 2] = [Friction::KIND, Stribeck::KIND];
 
+/// What a parameter of a bearing's law ([`BEARING_KINDS`]) measures, in SI units.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+pub enum Quantity {
+    /// A torque \[N m\].
+    Torque,
+    /// A rate \[rad/s\].
+    Rate,
+    /// A viscous coefficient \[N m s/rad\].
+    Viscous,
+}
+
+impl Quantity {
+    /// Its unit as FMI and Modelica write it.
+    pub fn unit(self) -> &'static str {
+        match self {
+            Quantity::Torque => "N.m",
+            Quantity::Rate => "rad/s",
+            Quantity::Viscous => "N.m.s/rad",
+        }
+    }
+}
+
+/// What each parameter of a bearing's law measures, in the order of its values; `None` for a
+/// kind that is not one of [`BEARING_KINDS`].
+///
+/// ```
+/// use hdgear::physical::model::{Quantity, law_quantities};
+/// assert_eq!(law_quantities("friction"), Some(&[Quantity::Torque, Quantity::Rate][..]));
+/// assert_eq!(law_quantities("lugre"), None);
+/// ```
+pub fn law_quantities(kind: &str) -> Option<&'static [Quantity]> {
+    use Quantity::{Rate, Torque, Viscous};
+    if kind == Friction::KIND {
+        Some(&[Torque, Rate])
+    } else if kind == Stribeck::KIND {
+        Some(&[Torque, Torque, Rate, Viscous, Rate])
+    } else {
+        None
+    }
+}
+
 /// What a law on `side` is called in an error: a bearing's (`output`, `input`), or the friction
 /// across the compliance (`twist`, [`Physical::with_twist_friction`]).
 fn law_of(side: &str) -> &'static str {
@@ -204,6 +245,8 @@ pub struct Physical {
     twist_friction: Option<AnyTerm>,
     /// The reciprocals the equations multiply by, so that no division waits on a Taylor row.
     inv: Reciprocals,
+    /// Torques a host applies, held constant (motor, load) \[N m\] ([`Physical::with_inputs`]).
+    inputs: [f64; 2],
 }
 
 /// The factors the equations multiply by, so that no division waits on a Taylor row: 1/T_c,
@@ -262,7 +305,31 @@ impl Physical {
                 n_j_in: t_c * unit / (d.ratio * d.j_in),
                 ratio: 1.0 / d.ratio,
             },
+            inputs: [0.0; 2],
         }
+    }
+
+    /// The drive with torques applied from outside, held constant until changed (what a
+    /// co-simulation host gives over one communication step, [`super::cosim`]): `motor` \[N m\]
+    /// on the input inertia in θi's sense, `load` \[N m\] on the output inertia in θo's sense (the
+    /// sense of T_m). They add to T_m and T_am sin Ωt; zero (the default) is the drive alone, to
+    /// the bit.
+    ///
+    /// ```
+    /// use hdgear::physical::{PhysicalParams, model::Physical};
+    /// let d = PhysicalParams { j_in: 1e-4, j_out: 1.0, ratio: 50.0, k1: 2e3, k2: 1e9,
+    ///     backlash: 1e-3, c_eq: 5.0, t_m: 0.0, t_am: 0.0, omega: 1.0 };
+    /// let sys = Physical::new(d).with_inputs(0.0, 2.0);
+    /// assert_eq!(sys.inputs(), [0.0, 2.0]);
+    /// ```
+    pub fn with_inputs(mut self, motor: f64, load: f64) -> Physical {
+        self.inputs = [motor, load];
+        self
+    }
+
+    /// The torques applied from outside (motor, load) \[N m\] ([`Physical::with_inputs`]).
+    pub fn inputs(&self) -> [f64; 2] {
+        self.inputs
     }
 
     /// The drive with friction at its bearings.
@@ -341,18 +408,18 @@ impl Physical {
     /// assert_eq!(with.twist_friction(), Some(law));
     /// ```
     pub fn with_twist_friction(self, law: AnyTerm) -> Result<Physical> {
-        let (torque, rate, viscous) = (1.0 / self.unit, self.t_c, 1.0 / self.d.c_eq);
-        let scales: &[f64] = match law {
-            AnyTerm::Friction(_) => &[torque, rate],
-            AnyTerm::Stribeck(_) => &[torque, torque, rate, viscous, rate],
-            _ => {
-                return Err(Error::InvalidInput {
-                    what: "friction across the compliance",
-                    text: law.kind().to_string(),
-                    reason: format!("the twist's friction is {}", BEARING_KINDS.join(" or ")),
-                });
-            }
+        let Some(quantities) = law_quantities(law.kind()) else {
+            return Err(Error::InvalidInput {
+                what: "friction across the compliance",
+                text: law.kind().to_string(),
+                reason: format!("the twist's friction is {}", BEARING_KINDS.join(" or ")),
+            });
         };
+        let scales = quantities.iter().map(|q| match q {
+            Quantity::Torque => 1.0 / self.unit,
+            Quantity::Rate => self.t_c,
+            Quantity::Viscous => 1.0 / self.d.c_eq,
+        });
         let values: Vec<f64> = law
             .values()
             .iter()
@@ -410,19 +477,22 @@ impl Physical {
 
     /// The two-inertia equations, written once for the right-hand side and for the Taylor rows
     /// (row k of each torque gives row k of each acceleration): (T_c·θ'', T_c·θo'') from the mean
-    /// torque `load` (on both inertias), the disturbance on the output, the torque `twist` across
-    /// the compliance and the bearings' friction (output, input), all in the twist's unit U.
+    /// torque `load` (on both inertias), the torques applied from outside (motor, load), the
+    /// disturbance on the output, the torque `twist` across the compliance and the bearings'
+    /// friction (output, input), all in the twist's unit U. Zero outside torques leave every
+    /// sum as it was without them, to the bit.
     #[inline(always)]
     fn accelerations(
         &self,
         load: f64,
+        [motor, outside]: [f64; 2],
         disturbance: f64,
         twist: f64,
         [f_out, f_in]: [f64; 2],
     ) -> [f64; 2] {
         let inv = &self.inv;
-        let acc_out = (load + disturbance - twist - f_out) * inv.j_out;
-        let acc_in = (twist - load) * inv.n_j_in - f_in * inv.j_in;
+        let acc_out = (load + outside + disturbance - twist - f_out) * inv.j_out;
+        let acc_in = (twist - load) * inv.n_j_in - (f_in - motor) * inv.j_in;
         [acc_out - acc_in * inv.ratio, acc_out]
     }
 
@@ -463,7 +533,9 @@ impl System<4> for Physical {
             [0.0; 2]
         };
         let disturbance = d.t_am * u * libm::sin(d.omega * t);
-        let [acc_rel, acc_out] = self.accelerations(d.t_m * u, disturbance, twist, friction);
+        let outside = self.inputs.map(|f| f * u);
+        let [acc_rel, acc_out] =
+            self.accelerations(d.t_m * u, outside, disturbance, twist, friction);
         [z[1] * self.inv.t_c, acc_rel, z[3] * self.inv.t_c, acc_out]
     }
 
@@ -558,14 +630,19 @@ impl Physical {
         c[0] = *z;
         for k in 0..n {
             (x[k], v[k]) = (c[k][0], c[k][1]);
-            let load = if k == 0 { d.t_m * u } else { 0.0 };
+            let (load, outside) = if k == 0 {
+                (d.t_m * u, self.inputs.map(|f| f * u))
+            } else {
+                (0.0, [0.0; 2])
+            };
             let twist = self.twist_row(k, &x, &v, work);
             let friction = if bearings {
                 self.bearing_rows(k, &c[k], &mut rates, work).map(|f| f * u)
             } else {
                 [0.0; 2]
             };
-            let [acc_rel, acc_out] = self.accelerations(load, d.t_am * u * s[k], twist, friction);
+            let [acc_rel, acc_out] =
+                self.accelerations(load, outside, d.t_am * u * s[k], twist, friction);
             c[k + 1] = [
                 c[k][1] * self.inv.t_c * INV[k],
                 acc_rel * INV[k],

@@ -1,0 +1,139 @@
+"""hdgear.mujoco: a drive between two MuJoCo hinges against hdgear's own two-inertia simulation
+of the same inertias (first-order convergence in MuJoCo's step), and the linear drive against
+MuJoCo's own spring and damper on the twist (a fixed tendon), an independent check of signs and
+the ratio. Run by scripts/python-tests.sh in the environment that has MuJoCo."""
+
+import math
+
+import mujoco
+import numpy as np
+import pytest
+
+import hdgear
+from hdgear.mujoco import DriveJoint
+
+T_END = 0.1
+SAMPLE = 0.005  # the spacing of the comparison [seconds]
+
+
+def mjcf(drive, dt, integrator, tendon=""):
+    d = drive.to_dict()
+    return f"""
+<mujoco>
+  <option timestep="{dt!r}" integrator="{integrator}" gravity="0 0 0"/>
+  <worldbody>
+    <body name="rotor">
+      <joint name="rotor" type="hinge" axis="0 0 1"/>
+      <inertial pos="0 0 0" mass="1" diaginertia="{d['j_in']!r} {d['j_in']!r} {d['j_in']!r}"/>
+    </body>
+    <body name="link">
+      <joint name="output" type="hinge" axis="0 0 1"/>
+      <inertial pos="0 0 0" mass="1" diaginertia="{d['j_out']!r} {d['j_out']!r} {d['j_out']!r}"/>
+    </body>
+  </worldbody>
+  {tendon}
+</mujoco>"""
+
+
+def loads(drive, t):
+    """The loads of hdgear's two-inertia model: −T_m/N on the rotor, T_m + T_am sin Ωt on the
+    output."""
+    d = drive.to_dict()
+    return -d["t_m"] / d["ratio"], d["t_m"] + d["t_am"] * math.sin(d["omega"] * t)
+
+
+def run_coupled(drive, dt, integrator="Euler"):
+    model = mujoco.MjModel.from_xml_string(mjcf(drive, dt, integrator))
+    data = mujoco.MjData(model)
+    joint = DriveJoint(model, drive, "rotor", "output")
+    return sampled(model, data, dt, lambda t: joint.step(model, data, *loads(drive, t)))
+
+
+def run_native(drive, dt):
+    """The linear drive as MuJoCo's own fixed tendon θo − θi/N with stiffness k1 and damping C."""
+    d = drive.to_dict()
+    tendon = f"""<tendon><fixed name="twist" stiffness="{d['k1']!r}" damping="{d['c_eq']!r}"
+        springlength="0"><joint joint="output" coef="1"/><joint joint="rotor"
+        coef="{-1 / d['ratio']!r}"/></fixed></tendon>"""
+    model = mujoco.MjModel.from_xml_string(mjcf(drive, dt, "Euler", tendon))
+    data = mujoco.MjData(model)
+
+    def step(t):
+        motor, load = loads(drive, t)
+        data.qfrc_applied[:] = [motor, load]
+        mujoco.mj_step(model, data)
+
+    return sampled(model, data, dt, step)
+
+
+def sampled(model, data, dt, step):
+    """(θi, θo) every SAMPLE seconds up to T_END."""
+    per = round(SAMPLE / dt)
+    out = [(data.qpos[0], data.qpos[1])]
+    for k in range(round(T_END / dt)):
+        step(k * dt)
+        if (k + 1) % per == 0:
+            out.append((data.qpos[0], data.qpos[1]))
+    return np.array(out)
+
+
+def reference(drive):
+    r = drive.simulate(T_END, SAMPLE, rtol=1e-12, atol=1e-12)
+    return np.column_stack([r.theta_in, r.theta_out])
+
+
+def error(run, ref):
+    """Largest difference of the twist θo − θi/N over its range."""
+    n = len(ref)
+    ratio = 50.0
+    twist = lambda a: a[:n, 1] - a[:n, 0] / ratio
+    return np.max(np.abs(twist(run) - twist(ref))) / np.ptp(twist(ref))
+
+
+@pytest.fixture(scope="module")
+def card():
+    return hdgear.Drive.catalogue("CSF-20-50")
+
+
+@pytest.mark.parametrize("integrator", ["Euler", "RK4"])
+def test_coupling_converges_at_first_order_to_hdgears_answer(card, integrator):
+    ref = reference(card)
+    steps = [4e-5, 2e-5, 1e-5]
+    errors = [error(run_coupled(card, dt, integrator), ref) for dt in steps]
+    # the torque is held over each step: halving the step halves the error, whatever MuJoCo's
+    # integrator does with the rest
+    for coarse, fine in zip(errors, errors[1:]):
+        assert 1.6 < coarse / fine < 2.5, errors
+    assert errors[-1] < 2e-2, errors
+
+
+def test_linear_drive_equals_mujocos_own_spring(card):
+    d = card.to_dict()
+    linear = hdgear.Drive(**{**d, "k2": 0.0, "backlash": 0.0})
+    ref = reference(linear)
+    for dt in [2e-5, 1e-5]:
+        coupled, native = run_coupled(linear, dt), run_native(linear, dt)
+        # MuJoCo's Euler evaluates the tendon's spring and damper at the step's start, as the
+        # coupling holds its torque over the step: the same computation, so the same twist to
+        # rounding (a wrong sign or ratio would be off by the whole twist)
+        apart = error(coupled, native)
+        assert apart < 1e-9, apart
+    assert error(coupled, ref) < 2e-2
+
+
+def test_implicit_integrators_are_refused(card):
+    model = mujoco.MjModel.from_xml_string(mjcf(card, 1e-4, "implicitfast"))
+    with pytest.raises(ValueError, match="2433"):
+        DriveJoint(model, card, "rotor", "output")
+    model = mujoco.MjModel.from_xml_string(mjcf(card, 1e-4, "Euler"))
+    with pytest.raises(KeyError):
+        DriveJoint(model, card, "rotor", "nothing")
+
+
+def test_the_guide_example_runs(tmp_path, monkeypatch):
+    """The ```python mujoco block of docs/src/fmu.md."""
+    from pathlib import Path
+    page = (Path(__file__).resolve().parents[3] / "docs" / "src" / "fmu.md").read_text()
+    code = page.split("```python mujoco\n")[1].split("```")[0]
+    monkeypatch.chdir(tmp_path)
+    exec(compile(code, "docs/src/fmu.md", "exec"), {})

@@ -1,0 +1,18 @@
+#!/usr/bin/env bash
+# The drive's FMU checked as its users check FMUs (run by .ci/run; run it yourself after
+# `cargo build --release`): FMPy's validation and simulation against hdgear's own answer
+# (crates/hdgear-fmu/tests/test_fmu.py), in a virtual environment (target/fmu-venv) with fmpy,
+# numpy and pytest from PyPI.
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+cd "$root"
+export PIP_DISABLE_PIP_VERSION_CHECK=1
+bin="$root/target/release/hdgear"
+lib="$root/target/release/libhdgear_fmu.so"
+[ -x "$bin" ] && [ -f "$lib" ] || cargo build --release --quiet
+export HDGEAR_BIN="$bin"
+venv="$root/target/fmu-venv"
+[ -x "$venv/bin/python" ] || python3 -m venv "$venv"
+"$venv/bin/pip" install -q fmpy numpy pytest
+echo "== fmpy $("$venv/bin/python" -c 'import fmpy; print(fmpy.__version__)')"
+"$venv/bin/python" -m pytest -q crates/hdgear-fmu/tests
