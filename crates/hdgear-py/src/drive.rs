@@ -108,3 +108,28 @@ impl Drive {
         to_py(py, &c)
     }
 }
+
+/// A bearing's friction law in SI units (see `hdgear.mujoco.DriveJoint`).
+#[pyclass(frozen, module = "hdgear._hdgear")]
+pub(crate) struct Bearing {
+    law: hdgear::physical::model::Bearings,
+}
+
+#[pymethods]
+impl Bearing {
+    /// The law `LAW:KEY=VALUE,…` on `side` (`output` or `input`), as the CLI's
+    /// `--output-bearing` takes it (`friction` or `stribeck`, every key given).
+    #[new]
+    fn new(side: &str, text: &str) -> PyResult<Bearing> {
+        use hdgear::physical::model::Bearings;
+        let law = Bearings::parse_law(side, text).map_err(err)?;
+        Ok(Bearing {
+            law: Bearings::new(Some(law), None).map_err(err)?,
+        })
+    }
+
+    /// The friction torque [N m] at the rate [rad/s], opposing it.
+    fn torque(&self, rate: f64) -> f64 {
+        self.law.torques(rate, 0.0)[0]
+    }
+}

@@ -29,6 +29,7 @@ use pyo3::prelude::*;
 fn _hdgear(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<params::Params>()?;
     m.add_class::<drive::Drive>()?;
+    m.add_class::<drive::Bearing>()?;
     for f in [
         wrap_pyfunction!(simulate::simulate, m)?,
         wrap_pyfunction!(simulate::time_simulate_in_rust, m)?,

@@ -137,3 +137,34 @@ def test_the_guide_example_runs(tmp_path, monkeypatch):
     code = page.split("```python mujoco\n")[1].split("```")[0]
     monkeypatch.chdir(tmp_path)
     exec(compile(code, "docs/src/fmu.md", "exec"), {})
+
+
+def test_a_bearing_holds_the_output_until_its_breakaway_torque(card):
+    """A motor torque ramped slowly on the rotor: the output bearing's Stribeck friction holds
+    the link (its speed stays below the Stribeck speed) until the transmitted torque reaches the
+    law's breakaway f_s, then lets it go; without the law the link moves at once."""
+    fs, vst = 9.5, 0.01
+    law = f"stribeck:fc=6.5,fs={fs},vst={vst},cv=0.01,vr=1e-4"
+    dt, ramp = 2e-5, 1.2  # N m per second on the rotor: 60 N m/s transmitted (ratio 50)
+
+    def breakaway(bearing):
+        """The largest transmitted torque |T| before the link's speed passes v_st, and when."""
+        model = mujoco.MjModel.from_xml_string(mjcf(card, dt, "Euler"))
+        data = mujoco.MjData(model)
+        joint = DriveJoint(model, card, "rotor", "output", output_bearing=bearing)
+        most = 0.0
+        for k in range(20000):
+            most = max(most, abs(joint.step(model, data, motor=ramp * k * dt)))
+            if abs(data.qvel[1]) > vst:
+                return most, k * dt
+        raise AssertionError("the link never moved")
+
+    held, at = breakaway(law)
+    assert abs(held - fs) / fs < 0.01, held
+    # quasi-static: the ramp reaches f_s, transmitted at ratio 50, after f_s/(50·ramp) seconds
+    assert abs(at - fs / (50 * ramp)) / at < 0.05, at
+    # without the law, the link moves at once (the spring's backlash term pushes it at rest)
+    assert breakaway(None)[1] < 0.01 * at
+    with pytest.raises(ValueError, match="stribeck"):
+        DriveJoint(mujoco.MjModel.from_xml_string(mjcf(card, dt, "Euler")), card, "rotor",
+                   "output", output_bearing="stribeck:fc=1")

@@ -21,14 +21,21 @@ import math
 
 import mujoco
 
+from . import _hdgear
+
 __all__ = ["DriveJoint"]
 
 
 class DriveJoint:
     """The drive ``drive`` (an :class:`hdgear.Drive`; its t_m, t_am and omega are not used:
-    loads are what you apply) between the hinge joints ``rotor`` and ``output`` of ``model``."""
+    loads are what you apply) between the hinge joints ``rotor`` and ``output`` of ``model``.
 
-    def __init__(self, model, drive, rotor, output):
+    ``output_bearing`` and ``input_bearing`` add friction at the output bearing (on θo') and at
+    the wave generator (on θi'), written as ``hdgear physical``'s ``--output-bearing`` takes it:
+    ``"stribeck:fc=0.8,fs=1.2,vst=0.05,cv=0.01,vr=1e-3"`` or ``"friction:fc=0.8,vs=1e-3"``, in
+    N m, rad/s and N m s/rad."""
+
+    def __init__(self, model, drive, rotor, output, output_bearing=None, input_bearing=None):
         explicit = (mujoco.mjtIntegrator.mjINT_EULER, mujoco.mjtIntegrator.mjINT_RK4)
         if model.opt.integrator not in explicit:
             raise ValueError(
@@ -37,6 +44,8 @@ class DriveJoint:
                 "their derivatives (MuJoCo #2433); use Euler or RK4")
         self.drive = drive
         self.ratio = drive.ratio
+        law = lambda side, text: None if text is None else _hdgear.Bearing(side, text)
+        self._bearings = (law("input", input_bearing), law("output", output_bearing))
         self._q, self._v = [], []
         for name in (rotor, output):
             joint = model.joint(name)
@@ -55,13 +64,20 @@ class DriveJoint:
         """The torque across the compliance T [N m] in the joints' present state."""
         return self.drive.twist_torque(*self.twist(data))
 
+    def friction(self, data):
+        """The bearings' friction torques (rotor, output) [N m] at the joints' speeds, each
+        opposing its speed (0 without a law)."""
+        return tuple(0.0 if law is None else law.torque(data.qvel[v])
+                     for law, v in zip(self._bearings, self._v))
+
     def apply(self, data, motor=0.0, load=0.0):
         """Writes the drive's torques to ``data.qfrc_applied``: T/N + ``motor`` on the rotor,
-        −T + ``load`` on the output [N m]. Returns T."""
+        −T + ``load`` on the output [N m], each less its bearing's friction. Returns T."""
         t = self.torque(data)
+        f_in, f_out = self.friction(data)
         vi, vo = self._v
-        data.qfrc_applied[vi] = t / self.ratio + motor
-        data.qfrc_applied[vo] = -t + load
+        data.qfrc_applied[vi] = t / self.ratio + motor - f_in
+        data.qfrc_applied[vo] = -t + load - f_out
         return t
 
     def step(self, model, data, motor=0.0, load=0.0):
