@@ -8,8 +8,8 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
 export PIP_DISABLE_PIP_VERSION_CHECK=1
 bin="$root/target/release/hdgear"
-lib="$root/target/release/libhdgear_fmu.so"
-[ -x "$bin" ] && [ -f "$lib" ] || cargo build --release --quiet
+# the FMU's shared library is built with hdgear (target/release/deps), where it looks for it
+[ -x "$bin" ] || cargo build --release --quiet
 export HDGEAR_BIN="$bin"
 venv="$root/target/fmu-venv"
 [ -x "$venv/bin/python" ] || python3 -m venv "$venv"

@@ -36,7 +36,7 @@ pub struct FmuArgs {
     pub out: PathBuf,
     /// Relative and absolute tolerance of hdgear's stepper inside the FMU (the absolute one in
     /// units of the drive's angle scale); a host's fmi2SetupExperiment tolerance replaces it.
-    #[arg(long, default_value_t = 1e-10)]
+    #[arg(long, default_value = "1e-10")]
     pub tolerance: f64,
     /// Communication step of the default experiment and the reference result [s] (default
     /// J_eq/C / 20, the spacing of physical --simulate).
