@@ -7,10 +7,9 @@ set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 cd "$root"
 export PIP_DISABLE_PIP_VERSION_CHECK=1
-bin="$root/target/release/hdgear"
 # the FMU's shared library is built with hdgear (target/release/deps), where it looks for it
-[ -x "$bin" ] || cargo build --release --quiet
-export HDGEAR_BIN="$bin"
+export HDGEAR_BIN="$root/target/release/hdgear"
+[ -x "$HDGEAR_BIN" ] || cargo build --release --quiet
 venv="$root/target/fmu-venv"
 [ -x "$venv/bin/python" ] || python3 -m venv "$venv"
 "$venv/bin/pip" install -q fmpy numpy pytest

@@ -168,3 +168,25 @@ def test_a_bearing_holds_the_output_until_its_breakaway_torque(card):
     with pytest.raises(ValueError, match="stribeck"):
         DriveJoint(mujoco.MjModel.from_xml_string(mjcf(card, dt, "Euler")), card, "rotor",
                    "output", output_bearing="stribeck:fc=1")
+
+
+def test_installed_drive_keeps_rk4_at_order_four(card):
+    """With the torques evaluated at every stage (mjcb_passive), RK4 converges at order 4 and
+    Euler at order 1, to hdgear's answer."""
+    ref = reference(card)
+
+    def installed(dt, integrator):
+        model = mujoco.MjModel.from_xml_string(mjcf(card, dt, integrator))
+        data = mujoco.MjData(model)
+        joint = DriveJoint(model, card, "rotor", "output")
+        joint.install(lambda t: loads(card, t))
+        try:
+            return sampled(model, data, dt, lambda t: mujoco.mj_step(model, data))
+        finally:
+            DriveJoint.remove()
+
+    rk4 = [error(installed(dt, "RK4"), ref) for dt in [1e-4, 5e-5, 2.5e-5]]
+    for coarse, fine in zip(rk4, rk4[1:]):
+        assert 12 < coarse / fine < 20, rk4
+    euler = [error(installed(dt, "Euler"), ref) for dt in [4e-5, 2e-5]]
+    assert 1.6 < euler[0] / euler[1] < 2.5, euler

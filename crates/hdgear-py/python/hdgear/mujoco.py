@@ -10,7 +10,9 @@ Each step, :meth:`DriveJoint.step` reads both joints' angles and speeds, compute
 torques to ``data.qfrc_applied`` (with the motor and load torques you give), then calls
 ``mujoco.mj_step``. The torque is held over the step, so the coupling is first order in the
 time step whatever MuJoCo's integrator: halving ``model.opt.timestep`` halves the error (the
-tests check this against hdgear's own two-inertia simulation). Use an explicit integrator
+tests check this against hdgear's own two-inertia simulation). :meth:`DriveJoint.install`
+instead has MuJoCo evaluate the torques at every stage of its integrator (its ``mjcb_passive``
+callback): RK4 then converges at order 4. Use an explicit integrator
 (``Euler`` or ``RK4``): MuJoCo's implicit integrators do not see applied forces in their
 derivatives (MuJoCo issue #2433), which the constructor refuses. Keep the step well below the
 drive's torsional period: ``timestep`` ≤ 0.05/f, f = √(k/J_eq)/2π with k the stiffness at the
@@ -70,15 +72,42 @@ class DriveJoint:
         return tuple(0.0 if law is None else law.torque(data.qvel[v])
                      for law, v in zip(self._bearings, self._v))
 
-    def apply(self, data, motor=0.0, load=0.0):
-        """Writes the drive's torques to ``data.qfrc_applied``: T/N + ``motor`` on the rotor,
-        −T + ``load`` on the output [N m], each less its bearing's friction. Returns T."""
+    def forces(self, data, motor=0.0, load=0.0):
+        """(rotor, output) [N m]: T/N + ``motor`` and −T + ``load``, each less its bearing's
+        friction, in the joints' present state; and T."""
         t = self.torque(data)
         f_in, f_out = self.friction(data)
+        return t / self.ratio + motor - f_in, -t + load - f_out, t
+
+    def apply(self, data, motor=0.0, load=0.0):
+        """Writes the drive's torques to ``data.qfrc_applied`` (:meth:`forces`). Returns T."""
+        rotor, output, t = self.forces(data, motor, load)
         vi, vo = self._v
-        data.qfrc_applied[vi] = t / self.ratio + motor - f_in
-        data.qfrc_applied[vo] = -t + load - f_out
+        data.qfrc_applied[vi] = rotor
+        data.qfrc_applied[vo] = output
         return t
+
+    def install(self, loads=None):
+        """Makes MuJoCo compute the drive's torques itself, at every evaluation of its forces
+        (MuJoCo's ``mjcb_passive`` callback), so that RK4 keeps its order 4 instead of the
+        held torque's order 1. ``loads(t)`` gives (motor, load) [N m] at the time MuJoCo
+        evaluates. Step with ``mujoco.mj_step`` then, not :meth:`step`. The callback is global
+        in MuJoCo: one drive per process while installed; :meth:`remove` takes it out."""
+        vi, vo = self._v
+
+        def passive(model, data):
+            motor, load = loads(data.time) if loads else (0.0, 0.0)
+            rotor, output, _ = self.forces(data, motor, load)
+            data.qfrc_passive[vi] += rotor
+            data.qfrc_passive[vo] += output
+
+        self._passive = passive  # MuJoCo holds only a reference
+        mujoco.set_mjcb_passive(passive)
+
+    @staticmethod
+    def remove():
+        """Takes the installed drive out of MuJoCo's force evaluation."""
+        mujoco.set_mjcb_passive(None)
 
     def step(self, model, data, motor=0.0, load=0.0):
         """One MuJoCo step with the drive's torques held over it. Returns T at its start."""
