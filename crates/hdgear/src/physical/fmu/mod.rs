@@ -48,7 +48,7 @@ impl Law {
 
 /// Where a law acts: the FMU's variables of its parameters are named `<side>.<parameter>`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-pub enum Side {
+pub enum LawSite {
     /// Friction at the output bearing, on θo'.
     OutputBearing,
     /// Friction at the wave generator, on θi'.
@@ -57,15 +57,19 @@ pub enum Side {
     Twist,
 }
 
-impl Side {
-    const ALL: [Side; 3] = [Side::OutputBearing, Side::InputBearing, Side::Twist];
+impl LawSite {
+    const ALL: [LawSite; 3] = [
+        LawSite::OutputBearing,
+        LawSite::InputBearing,
+        LawSite::Twist,
+    ];
 
     /// The prefix of its variables' names.
     pub fn name(self) -> &'static str {
         match self {
-            Side::OutputBearing => "output_bearing",
-            Side::InputBearing => "input_bearing",
-            Side::Twist => "twist_friction",
+            LawSite::OutputBearing => "output_bearing",
+            LawSite::InputBearing => "input_bearing",
+            LawSite::Twist => "twist_friction",
         }
     }
 }
@@ -124,7 +128,7 @@ pub enum Slot {
     /// A parameter of the drive.
     Drive(DriveParam),
     /// Parameter `1` of the law on side `0`.
-    Law(Side, usize),
+    Law(LawSite, usize),
     /// Input 0 (motor torque) or 1 (load torque).
     Input(usize),
     /// An output.
@@ -235,19 +239,19 @@ impl FmuDrive {
         Ok(spec)
     }
 
-    fn law(&self, side: Side) -> Option<&Law> {
+    fn law(&self, side: LawSite) -> Option<&Law> {
         match side {
-            Side::OutputBearing => self.output_bearing.as_ref(),
-            Side::InputBearing => self.input_bearing.as_ref(),
-            Side::Twist => self.twist_friction.as_ref(),
+            LawSite::OutputBearing => self.output_bearing.as_ref(),
+            LawSite::InputBearing => self.input_bearing.as_ref(),
+            LawSite::Twist => self.twist_friction.as_ref(),
         }
     }
 
-    fn law_mut(&mut self, side: Side) -> Option<&mut Law> {
+    fn law_mut(&mut self, side: LawSite) -> Option<&mut Law> {
         match side {
-            Side::OutputBearing => self.output_bearing.as_mut(),
-            Side::InputBearing => self.input_bearing.as_mut(),
-            Side::Twist => self.twist_friction.as_mut(),
+            LawSite::OutputBearing => self.output_bearing.as_mut(),
+            LawSite::InputBearing => self.input_bearing.as_mut(),
+            LawSite::Twist => self.twist_friction.as_mut(),
         }
     }
 
@@ -279,7 +283,7 @@ impl FmuDrive {
                 slot: Slot::Drive(p),
             })
             .collect();
-        for side in Side::ALL {
+        for side in LawSite::ALL {
             let Some(law) = self.law(side) else { continue };
             let infos = AnyTerm::params_of(&law.kind).unwrap_or_default();
             let units = law_quantities(&law.kind).unwrap_or_default();
