@@ -59,18 +59,19 @@ pub struct DriveArgs {
     /// Omega, disturbance frequency [rad/s].
     #[arg(long, allow_negative_numbers = true)]
     pub omega: Option<f64>,
-    /// Friction at the output bearing, on θo' (the two-inertia model: --simulate, hdgear export fmu): LAW:KEY=VALUE,… in SI units,
-    /// every key given, LAW friction (fc [N m], vs [rad/s]) or stribeck (fc, fs [N m], vst
-    /// [rad/s], cv [N m s/rad], vr [rad/s]); e.g. friction:fc=0.8,vs=1e-3. Replaces the
-    /// scenario's [bearings.output] table.
+    /// Friction at the output bearing, on θo' (the two-inertia model: --simulate, hdgear export
+    /// fmu): LAW:KEY=VALUE,… in SI units, every key given, LAW friction (fc [N m], vs [rad/s])
+    /// or stribeck (fc, fs [N m], vst [rad/s], cv [N m s/rad], vr [rad/s]); e.g.
+    /// friction:fc=0.8,vs=1e-3. Replaces the scenario's [bearings.output] table.
     #[arg(long, value_name = "LAW")]
     pub output_bearing: Option<String>,
-    /// Friction at the wave generator, on θi' (the two-inertia model: --simulate, hdgear export fmu): LAW:KEY=VALUE,… as
-    /// --output-bearing. Replaces the scenario's [bearings.input] table.
+    /// Friction at the wave generator, on θi' (the two-inertia model: --simulate, hdgear export
+    /// fmu): LAW:KEY=VALUE,… as --output-bearing. Replaces the scenario's [bearings.input] table.
     #[arg(long, value_name = "LAW")]
     pub input_bearing: Option<String>,
-    /// Friction across the compliance, on the twist rate θ' (the two-inertia model: --simulate, hdgear export fmu): LAW:KEY=VALUE,…
-    /// as --output-bearing, a torque between the two inertias (the teeth's sliding in mesh).
+    /// Friction across the compliance, on the twist rate θ' (the two-inertia model: --simulate,
+    /// hdgear export fmu): LAW:KEY=VALUE,… as --output-bearing, a torque between the two
+    /// inertias (the teeth's sliding in mesh).
     #[arg(long, value_name = "LAW")]
     pub twist_friction: Option<String>,
 }

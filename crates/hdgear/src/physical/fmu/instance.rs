@@ -77,7 +77,10 @@ pub enum FmuError {
 /// ```
 #[derive(Clone, Debug)]
 pub struct Instance {
+    /// The values as set by the host.
     spec: FmuDrive,
+    /// The values the instance was made with, the description's start values (for reset).
+    start: FmuDrive,
     variables: Vec<Variable>,
     inputs: [f64; 2],
     t0: f64,
@@ -92,6 +95,7 @@ impl Instance {
         Instance {
             variables: spec.variables(),
             tolerance: spec.tolerance,
+            start: spec.clone(),
             spec,
             inputs: [0.0; 2],
             t0: 0.0,
@@ -209,23 +213,7 @@ impl Instance {
 
     /// `fmi2Reset`: back to instantiated, with the FMU's own start values.
     pub fn reset(&mut self) {
-        *self = Instance::new(self.spec_at_start());
-    }
-
-    fn spec_at_start(&self) -> FmuDrive {
-        // the parameters set by the host are dropped: the start values are the description's
-        let mut spec = self.spec.clone();
-        for v in &self.variables {
-            if let (Role::Parameter(start), Slot::Drive(p)) = (v.role, v.slot) {
-                spec.drive = spec.drive.with(p, start);
-            }
-            if let (Role::Parameter(start), Slot::Law(side, i)) = (v.role, v.slot)
-                && let Some(law) = spec.law_mut(side)
-            {
-                law.values[i] = start;
-            }
-        }
-        spec
+        *self = Instance::new(self.start.clone());
     }
 
     fn variable(&self, vr: u32) -> Result<&Variable, FmuError> {
