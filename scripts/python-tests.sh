@@ -2,11 +2,12 @@
 # The Python package, built and tested as a user would get it (run by .ci/run; run it yourself
 # after `cargo build --release`):
 #   1. a virtual environment (target/py-venv) with maturin, numpy, pandas, pytest, matplotlib,
-#      dask[distributed], nbclient, ziglang and mujoco from PyPI;
+#      dask[distributed], nbclient, ziglang, mujoco and scipy from PyPI;
 #   2. one wheel, built the way a user installs from source (`pip wheel ./crates/hdgear-py`: pip
 #      runs maturin, release build), as a manylinux2014 wheel linked with zig (abi3: CPython
 #      ≥ 3.9), so that one build serves every test below;
-#   3. that wheel installed into the venv, then pytest, hdgear.mujoco's tests, the examples
+#   3. that wheel installed into the venv, then pytest, hdgear.mujoco's tests, `hdgear fit`
+#      against scipy (scripts/fit_scipy_check.py), the examples
 #      (study figure, Dask LocalCluster map, the notebook run top to bottom) and the overhead
 #      benchmark;
 #   4. the same wheel installed into fresh environments of two other Python versions (pyenv's
@@ -21,7 +22,7 @@ export HDGEAR_BIN="$bin"
 
 venv="$root/target/py-venv"
 [ -x "$venv/bin/python" ] || python3 -m venv "$venv"
-"$venv/bin/pip" install -q maturin numpy pandas pytest matplotlib "dask[distributed]" nbclient nbformat ipykernel ziglang "mujoco==4.0.1"
+"$venv/bin/pip" install -q maturin numpy pandas pytest matplotlib "dask[distributed]" nbclient nbformat ipykernel ziglang "mujoco==4.0.1" scipy
 echo "== pip wheel ./crates/hdgear-py: one manylinux2014 wheel, linked with zig"
 rm -rf target/wheels
 # pip runs maturin (the package's build backend) in an isolated environment; MATURIN_PEP517_ARGS
@@ -40,6 +41,8 @@ echo "== the wheel in $("$venv/bin/python" --version)"
 "$venv/bin/python" -m pytest -q crates/hdgear-py/tests
 echo "== hdgear.mujoco: the drive between two MuJoCo hinges"
 "$venv/bin/python" -m pytest -q crates/hdgear-py/tests_mujoco
+echo "== hdgear fit against scipy's least_squares on the same data"
+"$venv/bin/python" scripts/fit_scipy_check.py "$bin"
 echo "== examples"
 "$venv/bin/python" examples/python/study.py target/py-examples
 "$venv/bin/python" examples/python/dask_sweep.py

@@ -64,6 +64,10 @@ pub enum Command {
     Physical(Box<crate::cmd::physical::PhysicalArgs>),
     /// A drive for another tool: an FMI 2.0 co-simulation FMU of the two-inertia model.
     Export(crate::cmd::fmu::ExportArgs),
+    /// Fit a law's parameters to measured data (a friction sweep or a torque–twist loop): the
+    /// estimates with 95 % intervals (JᵀJ and profile likelihood), correlations, the
+    /// combinations the data do not determine, the residual plot, a fitted card.
+    Fit(Box<crate::cmd::fit::FitArgs>),
     /// Drive cards: a drive's catalogue numbers with their sources (list, show, check, map, new).
     Card(CardArgs),
     /// Feedback laws against the bursts (virtual stiffness and damping, washout, scheduled

@@ -9,6 +9,7 @@ mod cli;
 mod control;
 mod docs;
 mod edges;
+mod fit;
 mod fmu;
 mod hardening;
 mod hostile;

@@ -23,6 +23,22 @@ pub(crate) fn err(e: hdgear::Error) -> PyErr {
     }
 }
 
+/// Terms from their tables ({kind: {key: value}}, as a scenario file's), the keys left out at
+/// their defaults.
+pub(crate) fn terms_of(
+    tables: &std::collections::BTreeMap<String, std::collections::BTreeMap<String, f64>>,
+) -> PyResult<Vec<hdgear::model::terms::AnyTerm>> {
+    tables
+        .iter()
+        .map(|(name, table)| {
+            let named = table.iter().map(|(k, &v)| (k.as_str(), v));
+            let (kind, values) = hdgear::scenario::term_values(name, named)
+                .map_err(|e| PyValueError::new_err(format!("invalid terms: {e}")))?;
+            hdgear::model::terms::AnyTerm::new(kind, &values).map_err(err)
+        })
+        .collect()
+}
+
 /// A `ValueError` naming the argument and the value given.
 pub(crate) fn invalid(name: &str, value: impl std::fmt::Display, reason: &str) -> PyErr {
     PyValueError::new_err(format!("invalid {name} = {value}: {reason}"))

@@ -1,9 +1,8 @@
 //! The fast subsystem (equilibria, the equilibrium curve) and the point analysis.
 
-use crate::convert::{Detection, err, invalid, to_py};
+use crate::convert::{Detection, err, invalid, terms_of, to_py};
 use crate::params::Params;
 use numpy::IntoPyArray;
-use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::collections::BTreeMap;
@@ -67,11 +66,7 @@ pub(crate) fn branches<'py>(
     terms: BTreeMap<String, BTreeMap<String, f64>>,
 ) -> PyResult<Bound<'py, PyAny>> {
     let mut model = hdgear::model::Model::study(&params.inner);
-    for (name, table) in &terms {
-        let named = table.iter().map(|(k, &v)| (k.as_str(), v));
-        let (kind, values) = hdgear::scenario::term_values(name, named)
-            .map_err(|e| PyValueError::new_err(format!("invalid terms: {e}")))?;
-        let term = hdgear::model::terms::AnyTerm::new(kind, &values).map_err(err)?;
+    for term in terms_of(&terms)? {
         model = model.with_term(term).map_err(err)?;
     }
     let b = py.detach(|| model.branches()).map_err(err)?;

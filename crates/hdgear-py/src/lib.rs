@@ -16,6 +16,7 @@ mod control;
 mod convert;
 mod drive;
 mod fast;
+mod fit;
 mod params;
 mod periodic;
 mod robust;
@@ -36,6 +37,7 @@ fn _hdgear(m: &Bound<'_, PyModule>) -> PyResult<()> {
         wrap_pyfunction!(fast::equilibria, m)?,
         wrap_pyfunction!(fast::curve, m)?,
         wrap_pyfunction!(fast::branches, m)?,
+        wrap_pyfunction!(fit::fit, m)?,
         wrap_pyfunction!(fast::analyze, m)?,
         wrap_pyfunction!(sweep::sweep, m)?,
         wrap_pyfunction!(sweep::bursts, m)?,

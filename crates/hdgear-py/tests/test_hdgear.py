@@ -441,3 +441,47 @@ def test_two_parameter_curves_equal_the_cli(tmp_path, monkeypatch):
         hdgear.boundary("omega=1e-4:0.2:log", "gamma=0.3:3:log", kinds=["hopf"])
     with pytest.raises(ValueError, match="fold:9"):
         hdgear.continuation2("omega=0.3:20:log", "delta=0.5:40:log", start="fold:9")
+
+
+def _sweep(noise=0.0, seed=3):
+    v = np.concatenate([-np.geomspace(2, 1e-3, 30), np.geomspace(1e-3, 2, 30)])
+    tau = (0.5 + 0.3 * np.exp(-(v / 0.02) ** 2)) * np.sign(v) + 0.3 * v
+    return v, tau + noise * np.random.default_rng(seed).standard_normal(len(v))
+
+
+FREE = {"fc": (0, 5), "fs": (0, 5), "vst": (1e-4, 1), "cv": (0, 2)}
+
+
+def test_fit_returns_the_truth_and_equals_the_cli(tmp_path):
+    v, tau = _sweep(noise=5e-3)
+    f = hdgear.fit({"speed": v, "torque": tau}, {"coulomb": {"fc": 1.0, "fs": 1.0, "vst": 0.1}}, FREE)
+    lo, hi = f.interval("fs")
+    assert lo < 0.8 < hi and f.estimates[1]["name"] == "coulomb.fs"
+    # the same data through the command line: the same estimates, bit for bit
+    csv = tmp_path / "s.csv"
+    np.savetxt(csv, np.column_stack([v, tau]), delimiter=",", header="speed [rad/s],torque [N m]", comments="")
+    law = tmp_path / "law.toml"
+    law.write_text("[coulomb]\nfc = 1.0\nfs = 1.0\nvst = 0.1\n")
+    args = [BIN, "fit", "--data", str(csv), "--kind", "friction", "--config", str(law), "--json"]
+    for k, (a, b) in FREE.items():
+        args += ["--free", f"{k}={float(a)!r}:{float(b)!r}"]
+    doc = json.loads(subprocess.run(args, capture_output=True, text=True, check=True).stdout)
+    assert [e["value"] for e in doc["estimates"]] == [e["value"] for e in f.estimates]
+    import matplotlib
+    matplotlib.use("Agg")
+    top, bottom = f.plot()
+    assert len(top.lines) == 2 and len(bottom.lines) == 2
+
+
+def test_fit_names_bad_data_and_unseen_parameters():
+    v, tau = _sweep()
+    tau[3] = np.nan
+    f = hdgear.fit({"speed": v, "torque": tau}, {"lugre": {"sigma0": 1e4}},
+                   {"fc": (0, 5), "fs": (0, 5), "vst": (1e-4, 1), "sigma1": (0, 100)}, profile=False)
+    assert any("1 rows left out" in w for w in f.warnings), f.warnings
+    assert any("lugre.sigma1" in w and "do not depend" in w for w in f.warnings), f.warnings
+    assert f.interval("sigma1") is None
+    with pytest.raises(ValueError, match="LO < HI"):
+        hdgear.fit({"speed": v, "torque": tau}, {"coulomb": {}}, {"fc": (5, 0)})
+    with pytest.raises(ValueError, match="data kind"):
+        hdgear.fit({"speed": v, "torque": tau}, {"coulomb": {}}, {"fc": (0, 5)}, kind="torsion")

@@ -48,6 +48,7 @@ pub mod error;
 pub mod explore;
 pub mod fast;
 pub mod figures;
+pub mod fit;
 pub mod integrate;
 pub mod model;
 pub mod output;

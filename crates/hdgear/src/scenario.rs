@@ -130,7 +130,7 @@ pub use crate::model::tables::{TermTable, TermTableError, extra_kinds, term_valu
 impl Scenario {
     /// The extra terms' tables as (kind, values), each checked: a known kind, a table, and known
     /// keys with numbers (errors name the table and the key).
-    fn term_tables(&self, path: &Path) -> Result<Vec<TermTable>> {
+    pub fn term_tables(&self, path: &Path) -> Result<Vec<TermTable>> {
         let err = |message: String| Error::Config {
             path: path.to_path_buf(),
             message,

@@ -17,6 +17,7 @@ mod dither;
 mod domain;
 mod dop853_terms;
 mod fast;
+mod fit;
 mod friction;
 mod friction_reference;
 mod house;

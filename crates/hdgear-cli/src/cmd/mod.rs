@@ -10,6 +10,7 @@ pub mod continuation;
 pub mod control;
 pub mod diagram;
 pub mod equilibria;
+pub mod fit;
 pub mod fmu;
 pub mod frequency;
 pub mod lyapunov;
@@ -50,6 +51,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Periodic(a) => periodic::run(a),
         Command::Physical(a) => physical::run(*a),
         Command::Export(a) => fmu::run(a),
+        Command::Fit(a) => fit::run(*a),
         Command::Card(a) => card::run(a),
         Command::Control(a) => control::run(a),
         Command::Robust(a) => robust::run(a),

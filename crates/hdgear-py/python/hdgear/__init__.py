@@ -25,7 +25,7 @@ from ._hdgear import Params
 __version__ = _hdgear.__version__
 __all__ = ["Params", "Trajectory", "Result", "Drive", "simulate", "equilibria", "curve", "branches",
            "analyze", "bursts", "sweep", "periodic", "continuation", "continuation2",
-           "frequency_response", "boundary", "control", "robust"]
+           "frequency_response", "boundary", "control", "robust", "fit", "Fit"]
 
 
 class Result:
@@ -126,6 +126,11 @@ def branches(terms, params=None):
         >>> round((1.0 - b.unloading.breakaway) * p.delta, 9)  # the load falls by 2 f_s first
         1.0
     """
+    return Result(_hdgear.branches(_params(params), _tables(terms)))
+
+
+def _tables(terms):
+    """Term tables {kind: {key: value}} checked and as floats."""
     if not isinstance(terms, dict):
         raise TypeError(f"terms: expected a dict {{kind: {{key: value}}}}, got {type(terms).__name__}")
     tables = {}
@@ -133,7 +138,71 @@ def branches(terms, params=None):
         if not isinstance(table, dict):
             raise TypeError(f"terms[{kind!r}]: expected a dict {{key: value}}, got {type(table).__name__}")
         tables[str(kind)] = {str(k): float(v) for k, v in table.items()}
-    return Result(_hdgear.branches(_params(params), tables))
+    return tables
+
+
+class Fit(Result):
+    """The result of :func:`fit`: ``estimates`` (each with ``name``, ``value``, ``std_error``,
+    ``wald`` and ``profile`` intervals), ``covariance``, ``correlation``, ``x``, ``measured``,
+    ``predicted``, ``residuals``, ``noise``, ``dof``, ``law`` and ``warnings``, as ``hdgear fit
+    --json`` prints them; :meth:`plot` draws the data, the fitted law and the residuals."""
+
+    def interval(self, name):
+        """The reported 95 % interval of parameter ``name`` (``fs`` or ``coulomb.fs``): the
+        profile likelihood's where computed, else JᵀJ's; None where the data do not determine it."""
+        for e in self._data["estimates"]:
+            if e["name"] == name or e["name"].split(".", 1)[1] == name:
+                p = e.get("profile")
+                return (p["lo"], p["hi"]) if p else (tuple(e["wald"]) if e["wald"] else None)
+        raise KeyError(name)
+
+    def plot(self, axes=None):
+        """Measured and fitted torque against speed or twist, and the residuals below (matplotlib;
+        returns the two axes)."""
+        import matplotlib.pyplot as plt
+        if axes is None:
+            _, axes = plt.subplots(2, 1, sharex=True, figsize=(7, 6))
+        x = _np.asarray(self._data["x"])
+        order = _np.argsort(x) if self._data["kind"] == "friction" else _np.arange(len(x))
+        axes[0].plot(x[order], _np.asarray(self._data["measured"])[order], ".", label="measured")
+        axes[0].plot(x[order], _np.asarray(self._data["predicted"])[order], "-", label="fitted")
+        axes[0].set_ylabel("torque [N m]")
+        axes[0].legend()
+        axes[1].plot(x[order], _np.asarray(self._data["residuals"])[order], ".")
+        axes[1].axhline(0.0, color="gray", lw=0.5)
+        axes[1].set_ylabel("residual")
+        axes[1].set_xlabel("speed [rad/s]" if self._data["kind"] == "friction" else "twist [rad]")
+        return axes
+
+
+def fit(data, terms, free, kind="friction", x=None, torque="torque", sd=None, starts=16, seed=1,
+        profile=True, repeat=0):
+    """Fits the ``free`` parameters of a law to measured data (what ``hdgear fit`` does).
+
+    ``data`` is a DataFrame or a dict of columns in SI units: ``x`` (default ``speed`` for
+    ``kind="friction"``, ``twist`` for ``kind="loop"``) and ``torque``, and the torques' standard
+    deviations ``sd`` if given. ``terms`` are the law's term tables as a scenario file's
+    (``{"coulomb": {"fc": 1.0}}``: the start values; keys left out at their defaults); ``free``
+    maps names to bounds (``{"fc": (0, 5)}``). Returns a :class:`Fit`; its data warnings and
+    the fit's are in ``warnings``.
+
+        >>> import hdgear, numpy as np
+        >>> v = np.concatenate([-np.geomspace(2, 1e-3, 30), np.geomspace(1e-3, 2, 30)])
+        >>> tau = (0.5 + 0.3 * np.exp(-(v / 0.02) ** 2)) * np.sign(v) + 0.3 * v
+        >>> f = hdgear.fit({"speed": v, "torque": tau}, {"coulomb": {}},
+        ...                {"fc": (0, 5), "fs": (0, 5), "vst": (1e-4, 1), "cv": (0, 2)})
+        >>> round(f.estimates[1]["value"], 9)
+        0.8
+    """
+    column = x or {"friction": "speed", "loop": "twist"}.get(kind, "speed")
+    xs = _np.asarray(data[column], dtype=float).tolist()
+    ts = _np.asarray(data[torque], dtype=float).tolist()
+    sds = None if sd is None else _np.asarray(data[sd], dtype=float).tolist()
+    bounds = [f"{k}={float(lo)!r}:{float(hi)!r}" for k, (lo, hi) in dict(free).items()]
+    result, warnings = _hdgear.fit(str(kind), xs, ts, sds, _tables(terms), bounds, int(starts),
+                                   int(seed), bool(profile), int(repeat))
+    result["warnings"] = warnings
+    return Fit(result)
 
 
 def _detection(discard, window_periods, rtol, atol, method):
