@@ -154,6 +154,18 @@ pub fn run(a: FitArgs) -> Result<()> {
     for (_, out) in a.outputs() {
         check_not_input(out, [a.data.as_path()], "the data file")?;
     }
+    if let Some(p) = &a.plot {
+        let ext = p
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase);
+        if !matches!(ext.as_deref(), Some("svg" | "png")) {
+            bail!(
+                "invalid option --plot '{}': the extension must be .svg or .png",
+                p.display()
+            );
+        }
+    }
     let card = a
         .card
         .as_deref()

@@ -100,8 +100,10 @@ impl std::str::FromStr for Free {
                 .map_err(|_| bad("its bounds must be numbers"))
         };
         let (lo, hi) = (number(lo)?, number(hi)?);
-        if !(lo.is_finite() && hi.is_finite() && lo < hi) {
-            return Err(bad("its bounds must be finite with LO < HI"));
+        if !(lo < hi && (hi - lo).is_finite()) {
+            return Err(bad(
+                "its bounds must be finite with LO < HI (and HI − LO finite)",
+            ));
         }
         Ok(Free {
             name: name.trim().into(),
@@ -135,6 +137,13 @@ impl Default for Options {
         }
     }
 }
+
+/// The most starts: each is a whole minimisation, and past a thousand Sobol points the design
+/// covers bounds of a handful of parameters finer than their minima are apart.
+pub const MAX_STARTS: usize = 1024;
+/// The most preconditioning passes of a loop's path: a test cycles a drive a few times before
+/// recording, and a rate-independent loop settles within a few cycles.
+pub const MAX_REPEAT: usize = 1000;
 
 /// A warning about the data or the fit: what it means and what to change.
 #[derive(Clone, Debug, PartialEq, Serialize, thiserror::Error)]
@@ -368,12 +377,17 @@ pub fn fit(law: &Law, data: &Data, free: &[Free], options: &Options) -> Result<F
             ),
         });
     }
-    if options.starts == 0 {
-        return Err(Error::InvalidInput {
-            what: "starts",
-            text: "0".into(),
-            reason: "a fit needs at least one start".into(),
-        });
+    for (what, value, max) in [
+        ("starts", options.starts, MAX_STARTS),
+        ("repeat", options.repeat, MAX_REPEAT),
+    ] {
+        if value > max || (what == "starts" && value == 0) {
+            return Err(Error::InvalidInput {
+                what,
+                text: value.to_string(),
+                reason: format!("must be from {} to {max}", usize::from(what == "starts")),
+            });
+        }
     }
     let problem = Problem {
         law,
