@@ -37,9 +37,11 @@ pub struct FitArgs {
     /// (speed, twist or torque; repeatable).
     #[arg(long = "column", value_name = "QUANTITY=HEADER")]
     pub columns: Vec<String>,
-    /// A quantity's unit where the header does not give it: QUANTITY=UNIT (rad/s, rpm, deg/s;
-    /// rad, mrad, deg, arcmin, arcsec; N m, mN m).
-    #[arg(long = "unit", value_name = "QUANTITY=UNIT")]
+    /// A quantity's unit where the header does not give it: QUANTITY=UNIT.
+    #[arg(long = "unit", value_name = "QUANTITY=UNIT", help = format!(
+        "A quantity's unit where the header does not give it: QUANTITY=UNIT ({})",
+        hdgear::fit::units_text()
+    ))]
     pub units: Vec<String>,
     /// Starts of the minimisation: the law's values, then a Sobol design in the bounds.
     #[arg(long, default_value_t = 16)]

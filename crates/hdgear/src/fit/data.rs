@@ -92,6 +92,15 @@ pub const TWIST: Quantity = Quantity {
     ],
 };
 
+/// The units each quantity takes, as help texts list them: `rad/s, rpm, deg/s; rad, …`.
+pub fn units_text() -> String {
+    [&SPEED, &TWIST, &TORQUE]
+        .iter()
+        .map(|q| q.units.iter().map(|u| u.0).collect::<Vec<_>>().join(", "))
+        .collect::<Vec<_>>()
+        .join("; ")
+}
+
 impl Quantity {
     /// The factor to SI of `unit`, or an error naming the units this quantity takes.
     pub fn factor(&self, unit: &str) -> Result<f64> {

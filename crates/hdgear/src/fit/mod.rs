@@ -39,7 +39,7 @@ mod reference;
 mod stats;
 
 pub use card::{citation, fitted_card};
-pub use data::{Column, Data, DataKind, DataSource, Quantity, SPEED, TORQUE, TWIST};
+pub use data::{Column, Data, DataKind, DataSource, Quantity, SPEED, TORQUE, TWIST, units_text};
 pub use figure::figure;
 pub use law::{Law, LawParam};
 pub use lm::{Residuals, Stop};
