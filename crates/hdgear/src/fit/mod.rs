@@ -271,11 +271,11 @@ pub struct Fit {
     pub noise: f64,
     /// t for the 95 % intervals.
     pub t: f64,
-    /// Starts run, and how many reached the best.
+    /// Starts run.
     pub starts: usize,
     /// Starts whose minimum equals the best to 1e-6 of its sum of squares.
     pub starts_at_best: usize,
-    /// The best start's iterations and why it stopped.
+    /// The best start's iterations.
     pub iterations: usize,
     /// Why the best minimisation stopped.
     pub stop: Stop,
@@ -569,9 +569,8 @@ fn identify(
         .zip(&widths)
         .map(|(p, w)| if *p != 0.0 { p.abs() } else { *w })
         .collect();
-    let data = problem.data;
-    let size = (0..data.len())
-        .map(|i| (data.torque[i] / data.sd.as_ref().map_or(1.0, |s| s[i])).powi(2))
+    let size = (0..problem.data.len())
+        .map(|i| (problem.data.torque[i] / problem.weight(i)).powi(2))
         .sum::<f64>()
         .sqrt();
     covariance(&a, s2, &scales, &widths, size, names, warnings)

@@ -81,7 +81,8 @@ impl Problem<'_> {
         }
     }
 
-    fn weight(&self, i: usize) -> f64 {
+    /// Row i's standard deviation (1 where the data give none): what its residual is divided by.
+    pub(crate) fn weight(&self, i: usize) -> f64 {
         self.data.sd.as_ref().map_or(1.0, |s| s[i])
     }
 }
@@ -172,11 +173,7 @@ fn steady_state(t: &AnyTerm, v: f64) -> Result<f64> {
 /// rate depends on the speed (LuGre with a drop) is refused: a quasi-static loop sees only its
 /// limit at rest.
 fn rate_independent(t: &AnyTerm, x: &[f64]) -> bool {
-    let (lo, hi) = x
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
-            (a.min(v), b.max(v))
-        });
+    let (lo, hi) = span(x);
     let zs = [
         t.state_at_rest(lo),
         0.37 * (hi - lo) + 1e-3,
@@ -191,6 +188,14 @@ fn rate_independent(t: &AnyTerm, x: &[f64]) -> bool {
             })
         })
     })
+}
+
+/// The smallest and largest of the measured twists.
+fn span(x: &[f64]) -> (f64, f64) {
+    x.iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
+            (a.min(v), b.max(v))
+        })
 }
 
 /// A stateful term's index among the states, and where its sensitivities start.
@@ -226,11 +231,7 @@ fn quasi_static(
     for s in &stateful {
         y[s.at] = terms[s.term].state_at_rest(x[0]);
     }
-    let (lo, hi) = x
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &v| {
-            (a.min(v), b.max(v))
-        });
+    let (lo, hi) = span(x);
     let h_max = (hi - lo).max(f64::MIN_POSITIVE) / STEPS_PER_RANGE;
     let sides = arrival_sides(x);
     let field = |s: f64, xv: f64, y: &[f64], dy: &mut [f64]| {
