@@ -467,8 +467,15 @@ def test_fit_returns_the_truth_and_equals_the_cli(tmp_path):
         args += ["--free", f"{k}={float(a)!r}:{float(b)!r}"]
     doc = json.loads(subprocess.run(args, capture_output=True, text=True, check=True).stdout)
     assert [e["value"] for e in doc["estimates"]] == [e["value"] for e in f.estimates]
-    import matplotlib
+
+
+def test_fit_plot_draws_data_fit_and_residuals():
+    # matplotlib is optional: the environments without it (other Python versions) skip this
+    matplotlib = pytest.importorskip("matplotlib")
     matplotlib.use("Agg")
+    v, tau = _sweep(noise=5e-3)
+    f = hdgear.fit({"speed": v, "torque": tau}, {"coulomb": {"fc": 1.0, "fs": 1.0, "vst": 0.1}}, FREE,
+                   profile=False)
     top, bottom = f.plot()
     assert len(top.lines) == 2 and len(bottom.lines) == 2
 
