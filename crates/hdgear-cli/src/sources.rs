@@ -3,6 +3,7 @@
 
 use anyhow::Result;
 use clap::Args;
+use hdgear::model::Subject;
 use hdgear::model::terms::Domain;
 use hdgear::params::{self, Param, ParamOverrides, Params, Warning};
 use hdgear::scenario::Scenario;
@@ -10,30 +11,6 @@ use std::path::PathBuf;
 
 /// The parameter set, the scenario file read (if any) with its path, and the set's warnings.
 type Sources<'a> = (Params, Option<(&'a PathBuf, Scenario)>, Vec<Warning>);
-
-/// The system a command runs: the study's set when the assembled model is the study's (its closed
-/// forms and Taylor recurrence: the same numbers as before the model was assembled), else the
-/// model with its terms. A command generic over the library's seam runs either.
-// one value per command run, borrowed as the type the library's seam takes: not boxed
-#[allow(clippy::large_enum_variant)]
-pub enum System {
-    /// The study's model.
-    Study(Params),
-    /// A model with terms beyond the study's.
-    Model(hdgear::model::Model),
-}
-
-/// Runs `$body` with `$s` bound to the system's set or model, whichever it holds (the two are
-/// different types behind one library trait, so the body is compiled for each).
-#[macro_export]
-macro_rules! on_system {
-    ($system:expr, |$s:ident| $body:expr) => {
-        match $system {
-            $crate::sources::System::Study($s) => $body,
-            $crate::sources::System::Model($s) => $body,
-        }
-    };
-}
 
 /// Model parameters shared by every command: preset, then file, then flags.
 #[derive(Args, Debug, Clone)]
@@ -180,15 +157,11 @@ impl ParamArgs {
         Ok((p, model, warnings))
     }
 
-    /// The system these sources give ([`System`]): the study's set where the assembled model is
-    /// the study's ([`hdgear::model::Model::study_params`]), else the model.
-    pub fn resolve_system(&self) -> Result<(System, Vec<Warning>)> {
+    /// What these sources give to run on ([`Subject`]): the study's set where the assembled
+    /// model is the study's, else the model.
+    pub fn resolve_system(&self) -> Result<(Subject, Vec<Warning>)> {
         let (_, model, warnings) = self.resolve_model()?;
-        let system = match model.study_params() {
-            Some(p) => System::Study(p),
-            None => System::Model(model),
-        };
-        Ok((system, warnings))
+        Ok((model.subject(), warnings))
     }
 
     /// The parameter set and the scenario file it read, if any.

@@ -3,7 +3,7 @@
 //! into the library's checked types, runs the library with the GIL released, and hands back numpy
 //! arrays (columns of numbers) or Python objects (dicts and lists of nested results).
 //!
-//! One module per part of the library: [`params`], [`simulate`], [`fast`], [`sweep`],
+//! One module per part of the library: [`params`], [`model`], [`simulate`], [`fast`], [`sweep`],
 //! [`drive`], [`periodic`], [`control`], [`robust`]; what they share (errors, conversions, limits, Ctrl-C) in [`convert`].
 //!
 //! Errors: the library's input errors become `ValueError` with the CLI's message; a failed
@@ -17,6 +17,7 @@ mod convert;
 mod drive;
 mod fast;
 mod fit;
+mod model;
 mod params;
 mod periodic;
 mod robust;
@@ -29,6 +30,7 @@ use pyo3::prelude::*;
 #[pymodule]
 fn _hdgear(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<params::Params>()?;
+    m.add_class::<model::Model>()?;
     m.add_class::<drive::Drive>()?;
     m.add_class::<drive::Bearing>()?;
     for f in [

@@ -3,21 +3,23 @@
 
 use crate::convert::{Detection, err, interruptible, record_columns, to_py};
 use crate::drive::Drive;
-use crate::params::Params;
+use crate::model::subject_of;
+use hdgear::model::Subject;
 use hdgear::robust::{AnalysisOptions, McOptions, Nominal, SampleRow, Space, analyse};
 use pyo3::exceptions::PyValueError;
 use pyo3::prelude::*;
 use pyo3::types::PyDict;
 use std::sync::atomic::Ordering;
 
-/// (summary dict, sample columns) of the analysis of `params` or `drive` under `tolerances`
-/// (`NAME=SPEC` strings; a drive without any takes its default bands).
+/// (summary dict, sample columns) of the analysis of `params` (a `Params` or a `Model`, whose
+/// term parameters spread by name) or `drive` under `tolerances` (`NAME=SPEC` strings; a drive
+/// without any takes its default bands).
 #[pyfunction]
 #[pyo3(signature = (params, drive, tolerances, samples, sampler, seed, level, width, sobol, worst, importance, load_curve, detection))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn robust<'py>(
     py: Python<'py>,
-    params: Option<&Params>,
+    params: Option<&Bound<'py, PyAny>>,
     drive: Option<&Drive>,
     tolerances: Vec<String>,
     samples: u64,
@@ -34,7 +36,10 @@ pub(crate) fn robust<'py>(
     let opts = detection.0;
     let nominal = match (params, drive) {
         (_, Some(d)) => Nominal::Drive(d.inner),
-        (Some(p), None) => Nominal::Study(p.inner),
+        (Some(p), None) => match subject_of(p)? {
+            Subject::Study(p) => Nominal::Study(p),
+            Subject::Model(m) => Nominal::Model(m),
+        },
         (None, None) => Nominal::Study(hdgear::Params::default()),
     };
     let tolerances = match (tolerances.is_empty(), nominal) {

@@ -492,3 +492,126 @@ def test_fit_names_bad_data_and_unseen_parameters():
         hdgear.fit({"speed": v, "torque": tau}, {"coulomb": {}}, {"fc": (5, 0)})
     with pytest.raises(ValueError, match="data kind"):
         hdgear.fit({"speed": v, "torque": tau}, {"coulomb": {}}, {"fc": (0, 5)}, kind="torsion")
+
+
+# ---- Model -----------------------------------------------------------------------------------
+
+LUGRE = "[params]\ngamma = 1.0\n[lugre]\nfc = 0.05\nfs = 0.08\n"
+FRICTION = "[params]\ngamma = 30.0\n[friction]\nfc = 0.1\nvs = 0.05\n"
+
+
+def _scenario(tmp_path, text, name="m.toml"):
+    f = tmp_path / name
+    f.write_text(text)
+    return str(f)
+
+
+def test_model_from_tables_equals_the_scenario_file_and_names_its_parameters(tmp_path):
+    m = hdgear.Model.from_toml(_scenario(tmp_path, LUGRE))
+    assert m == hdgear.Model(hdgear.Params(gamma=1.0), {"lugre": {"fc": 0.05, "fs": 0.08}})
+    assert m["lugre.fs"] == m["fs"] == 0.08 and m["gamma"] == 1.0
+    d = m.to_dict()
+    assert d["lugre.sigma0"] == 100.0 and d["forcing.delta"] == 15.0
+    assert m.describe()["states"] == ["x", "x'", "s"]
+    r = m.replace({"lugre.fc": 0.06}, delta=12.0)
+    assert (r["fc"], r["delta"], m["fc"]) == (0.06, 12.0, 0.05)
+    # f_s ≥ f_c is judged on the values asked for together, and the refusal names them
+    with pytest.raises(ValueError, match=r"fs = 0\.08.*fc = 0\.2"):
+        m.replace({"fc": 0.2})
+    assert m.replace({"fc": 0.2, "fs": 0.3})["fs"] == 0.3
+    with pytest.raises(KeyError, match="nope"):
+        m["nope"]
+    with pytest.raises(ValueError, match="unknown table"):
+        hdgear.Model.from_toml(_scenario(tmp_path, "[nope]\nfc = 1\n", "bad.toml"))
+    with pytest.raises(TypeError, match="hdgear.Params or hdgear.Model"):
+        hdgear.simulate("gamma=1")
+
+
+def test_a_model_without_terms_runs_as_the_study_s_set_to_the_last_bit():
+    p = hdgear.Params(gamma=1.0)
+    a, b = hdgear.simulate(p, periods=0.25), hdgear.simulate(hdgear.Model(p), periods=0.25)
+    assert np.array_equal(a.x, b.x) and np.array_equal(a.xdot, b.xdot) and b.states == {}
+    assert hdgear.analyze(hdgear.Model(p)).to_dict() == hdgear.analyze(p).to_dict()
+
+
+def test_model_simulate_equals_the_cli_with_its_states(tmp_path):
+    f = _scenario(tmp_path, LUGRE)
+    tr = hdgear.simulate(hdgear.Model.from_toml(f), t_end=150.0, dt=0.5)
+    out = cli("simulate", "--config", f, "--t-end", "150", "--dt", "0.5", "--out", str(tmp_path / "t.csv"))
+    assert out.returncode == 0, out.stderr
+    rows = read_csv(tmp_path / "t.csv")
+    assert len(rows) == len(tr) and list(tr.states) == ["s"]
+    for k, v in [("t", tr.t), ("a", tr.a), ("x", tr.x), ("xdot", tr.xdot), ("s", tr.states["s"])]:
+        assert all(same(r[k], w) for r, w in zip(rows, v)), k
+    assert tr.summary["model"]["states"] == ["x", "x'", "s"] and tr.summary["params"]["gamma"] == 1.0
+    assert "s" in tr.to_dict()
+
+
+def test_model_sweep_takes_term_parameters_and_equals_the_cli(tmp_path):
+    f = _scenario(tmp_path, FRICTION)
+    out = cli("sweep", "--config", f, "--param", "fc=0.05:0.2:3", "--param", "delta=10:15:2",
+              "--out", str(tmp_path / "s.csv"))
+    assert out.returncode == 0, out.stderr
+    rows = read_csv(tmp_path / "s.csv")
+    m = hdgear.Model.from_toml(f)
+    s = hdgear.sweep({"fc": [0.05, 0.125, 0.2], "delta": [10.0, 15.0]}, base=m)
+    assert list(s)[:3] == ["index", "fc", "delta"] and len(s["index"]) == len(rows) == 6
+    columns_equal(s, rows)
+    # qualified names work too, and name their columns as written
+    q = hdgear.sweep({"friction.fc": [0.05, 0.2], "delta": [10.0, 15.0]}, base=m, grid=False)
+    assert list(q["friction.fc"]) == [0.05, 0.2]
+    assert list(q["max_slope"]) == [float(rows[0]["max_slope"]), float(rows[5]["max_slope"])]
+    with pytest.raises(ValueError, match="nope"):
+        hdgear.sweep({"friction.nope": [1.0]}, base=m)
+
+
+def test_model_analyze_periodic_and_continuation_equal_the_cli(tmp_path):
+    f = _scenario(tmp_path, FRICTION)
+    m = hdgear.Model.from_toml(f)
+    assert hdgear.analyze(m).to_dict() == cli_json("analyze", "--config", f, "--json")
+    o, c = hdgear.periodic(m), cli_json("periodic", "--config", f, "--json")
+    assert o.start == c["start"] and o.multipliers == c["multipliers"] and o.samples == c["samples"]
+    assert o.bursts.to_dict() == c["bursts"]
+    b = hdgear.continuation("fc", 0.3, params=m)
+    out = cli("continue", "--config", f, "--param", "fc=0.1:0.3", "--out", str(tmp_path / "b.csv"))
+    assert out.returncode == 0, out.stderr
+    rows = read_csv(tmp_path / "b.csv")
+    assert [float(r["param"]) for r in rows] == b["param"].tolist()
+    assert [float(r["peak_to_peak"]) for r in rows] == b["peak_to_peak"].tolist()
+    # the curve of a model is its static torque's (roots found numerically) at its own damping:
+    # friction adds no static torque, so it is the study's cubic's (closed form) to rounding
+    np.testing.assert_allclose(hdgear.curve(m)["x"], hdgear.curve(hdgear.Params(gamma=30.0))["x"],
+                               rtol=1e-12, atol=0)
+
+
+def test_model_control_and_robust_equal_the_cli(tmp_path):
+    f = _scenario(tmp_path, "[params]\ngamma = 0.1\n[friction]\nfc = 0.02\nvs = 0.05\n")
+    m = hdgear.Model.from_toml(f)
+    a = hdgear.control("washout", params=m, gain=10, ww=0.03)
+    c = cli_json("control", "washout", "--config", f, "--gain", "10", "--ww", "0.03", "--json")
+    assert a.to_dict() == c and len(c["assessments"]) == 1
+    s, df = hdgear.robust(m, {"friction.fc": "±50%"}, samples=32, worst=False)
+    doc = cli_json("robust", "--config", f, "--tolerance", "friction.fc=±50%", "--samples", "32",
+                   "--no-worst", "--json", "--out", str(tmp_path / "s.csv"))
+    assert s.probability.to_dict() == doc["probability"] and s.probability.judged == 32
+    rows = read_csv(tmp_path / "s.csv")
+    assert [r["verdict"] for r in rows] == list(df["verdict"])
+
+
+def test_equilibria_refuses_a_model_and_points_to_curve(tmp_path):
+    m = hdgear.Model.from_toml(_scenario(tmp_path, FRICTION))
+    with pytest.raises(TypeError, match=r"hdgear\.curve\(model\)"):
+        hdgear.equilibria(m, 0.1)
+    with pytest.raises(ValueError, match="simulated_boundaries"):
+        hdgear.analyze(m, simulated_boundaries=True)
+
+
+def test_the_docstring_examples_run():
+    import doctest
+    result = doctest.testmod(hdgear, extraglobs={"hdgear": hdgear})
+    assert result.failed == 0 and result.attempted >= 4, result
+    finder, runner = doctest.DocTestFinder(), doctest.DocTestRunner()
+    tests = finder.find(hdgear.Model, "hdgear.Model", globs={"hdgear": hdgear})
+    for t in tests:
+        runner.run(t)
+    assert runner.failures == 0 and runner.tries >= 2

@@ -36,12 +36,12 @@ mod assembled;
 mod curve;
 mod scheduled_curve;
 pub use assembled::{
-    Description, FORCING, Facts, MAX_STATES, MAX_TERMS, Model, ModelParam, ParamValue,
+    Description, FORCING, Facts, MAX_STATES, MAX_TERMS, Model, ModelParam, ParamValue, Subject,
     integrate_models, integrate_switching_models, on_vector_lanes, study_param,
 };
 pub(crate) use curve::refusal;
 pub use curve::{ModelCurve, ModelFollower, StaticTorque, Statics};
-pub use scheduled_curve::ScheduledTorque;
+pub use scheduled_curve::{AnyCurve, ScheduledTorque};
 
 use crate::integrate::System;
 use crate::integrate::approx::mul_add;

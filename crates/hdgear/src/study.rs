@@ -259,3 +259,61 @@ pub struct PointAnalysis {
     /// Remarks on the parameter set, as text.
     pub warnings: Vec<String>,
 }
+
+/// What `hdgear analyze` reports for a model with terms ([`analyze_model`]): its equilibrium
+/// curve's analysis at its own damping at rest and, when asked for, the measured response against
+/// that curve.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ModelAnalysis {
+    /// The model (serialised as its description).
+    pub model: crate::model::Model,
+    /// Its equilibrium curve's analysis.
+    pub analysis: crate::fast::CurveAnalysis,
+    /// The measured response.
+    pub response: Option<Response>,
+    /// Its classification.
+    pub classification: Option<Classification>,
+    /// Remarks on the parameter set, as text.
+    pub warnings: Vec<String>,
+}
+
+/// The analysis of `m`'s equilibrium curve ([`crate::model::AnyCurve`]) over `a_range` and,
+/// with `response` options, its measured response and classification.
+///
+/// ```
+/// use hdgear::{Params, burst::BurstOptions, model::{Model, terms::AnyTerm}};
+/// let m = Model::study(&Params::default())
+///     .with_term(AnyTerm::new("friction", &[0.1, 0.05]).unwrap())
+///     .unwrap();
+/// let a = hdgear::study::analyze_model(&m, (-1.0, 1.0), None, Vec::new()).unwrap();
+/// // the damping at rest is the unit damping plus the friction's slope f_c/v_s at rest
+/// assert!((a.analysis.damping_at_rest - 3.0).abs() < 1e-12);
+/// assert!(a.response.is_none() && a.analysis.folds.is_empty()); // γ = 0.1: g' > 0 throughout
+/// ```
+pub fn analyze_model(
+    m: &crate::model::Model,
+    a_range: (f64, f64),
+    response: Option<&BurstOptions>,
+    warnings: Vec<String>,
+) -> Result<ModelAnalysis> {
+    use crate::model::AnyCurve;
+    let analysis = match AnyCurve::of(m)? {
+        AnyCurve::Torque(c) => crate::fast::curve_analysis(&c, a_range)?,
+        AnyCurve::Scheduled(c) => crate::fast::curve_analysis(&c, a_range)?,
+    };
+    let (response, classification) = match response {
+        Some(opts) => {
+            let r = crate::burst::response_model(m, opts)?;
+            let c = crate::burst::classify_model(m, &r)?;
+            (Some(r), Some(c))
+        }
+        None => (None, None),
+    };
+    Ok(ModelAnalysis {
+        model: *m,
+        analysis,
+        response,
+        classification,
+        warnings,
+    })
+}

@@ -1,12 +1,10 @@
 //! `hdgear analyze`: the fast subsystem, the prediction, the measured response.
 
-use super::equilibria::{Curve, curve_of};
 use crate::args::parse_range;
 use crate::sink::{note, warn, warn_range};
-use crate::sources::System;
 use anyhow::Result;
-use hdgear::fast::{CurveAnalysis, curve_analysis};
 use hdgear::model::Model;
+use hdgear::model::Subject;
 use hdgear::params::Warning;
 
 use crate::args::BurstArgs;
@@ -39,23 +37,13 @@ pub struct AnalyzeArgs {
 pub fn run(a: AnalyzeArgs) -> Result<()> {
     let (system, warnings) = a.params.resolve_system()?;
     match system {
-        System::Study(p) => run_study(p, warnings, a),
-        System::Model(m) => run_model(&m, warnings, &a),
+        Subject::Study(p) => run_study(p, warnings, a),
+        Subject::Model(m) => run_model(&m, warnings, &a),
     }
 }
 
-/// What `--json` prints for a model with terms.
-#[derive(serde::Serialize)]
-struct ModelDoc<'a> {
-    model: &'a Model,
-    analysis: CurveAnalysis,
-    response: Option<hdgear::burst::Response>,
-    classification: Option<hdgear::burst::Classification>,
-    warnings: Vec<String>,
-}
-
-/// A model with terms: its equilibrium curve's analysis at its own damping, and the measured
-/// response against that curve.
+/// A model with terms: its equilibrium curve's analysis at its own damping at rest, and the
+/// measured response against that curve.
 fn run_model(m: &Model, warnings: Vec<Warning>, a: &AnalyzeArgs) -> Result<()> {
     let range = parse_range(&a.a_range)?;
     let opts = a.burst.options()?;
@@ -66,28 +54,14 @@ fn run_model(m: &Model, warnings: Vec<Warning>, a: &AnalyzeArgs) -> Result<()> {
             term_kinds(m)
         );
     }
-    let an = match curve_of(m)? {
-        Curve::Torque(c) => curve_analysis(&c, range)?,
-        Curve::Scheduled(c) => curve_analysis(&c, range)?,
-    };
+    let remarks = warnings.iter().map(ToString::to_string).collect();
+    let response = (!a.no_response).then_some(&opts);
+    let doc = hdgear::study::analyze_model(m, range, response, remarks)?;
     warn_range(range);
-    let measured = if a.no_response {
-        None
-    } else {
-        let r = hdgear::burst::response_model(m, &opts)?;
-        let c = hdgear::burst::classify_model(m, &r)?;
-        crate::sink::tolerance_note(&r, &opts.tol);
-        Some((r, c))
-    };
+    if let Some(r) = &doc.response {
+        crate::sink::tolerance_note(r, &opts.tol);
+    }
     if a.json {
-        let (response, classification) = measured.unzip();
-        let doc = ModelDoc {
-            model: m,
-            analysis: an,
-            response,
-            classification,
-            warnings: warnings.iter().map(ToString::to_string).collect(),
-        };
         crate::sink::outln!("{}", serde_json::to_string_pretty(&doc)?);
         return Ok(());
     }
@@ -100,8 +74,8 @@ fn run_model(m: &Model, warnings: Vec<Warning>, a: &AnalyzeArgs) -> Result<()> {
         ));
     }
     crate::sink::outln!("model {}", m.equation());
-    crate::sink::out!("{}", crate::summary::curve_analysis_text(&an));
-    if let Some((r, c)) = &measured {
+    crate::sink::out!("{}", crate::summary::curve_analysis_text(&doc.analysis));
+    if let (Some(r), Some(c)) = (&doc.response, &doc.classification) {
         crate::sink::out!("{}", crate::summary::response_text(r, c));
     }
     Ok(())

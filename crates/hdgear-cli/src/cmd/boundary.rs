@@ -50,7 +50,7 @@ struct Doc<'a, S: Periodic> {
 
 pub fn run(a: BoundaryArgs) -> Result<()> {
     let (system, warnings) = a.plane.params.resolve_system()?;
-    crate::on_system!(system, |s| boundaries_of(&a, s, &warnings))
+    hdgear::on_subject!(system, |s| boundaries_of(&a, s, &warnings))
 }
 
 /// The boundaries of `base`, the study's set (every kind) or a model (the simulated boundary:

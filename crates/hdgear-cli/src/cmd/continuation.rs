@@ -61,7 +61,7 @@ pub fn run(a: ContinueArgs) -> Result<()> {
     }
     let (system, warnings) = a.params.resolve_system()?;
     crate::args::check_out(&a.out)?;
-    crate::on_system!(&system, |p| run_on(p, &a, &warnings))
+    hdgear::on_subject!(&system, |p| run_on(p, &a, &warnings))
 }
 
 /// The branches of the study's set or of a model, exported and summarised.

@@ -81,7 +81,7 @@ pub fn run(a: ControlArgs) -> Result<()> {
     }
     let (system, warnings) = a.params.resolve_system()?;
     warn(&warnings);
-    crate::on_system!(&system, |p| {
+    hdgear::on_subject!(&system, |p| {
         let doc = compare(p, &laws, &a.options(), &opts)?;
         print(&doc, a.json, text)
     })

@@ -72,7 +72,7 @@ pub fn run(a: OrbitDiagramArgs) -> Result<()> {
     if let Some(plot) = &a.plot {
         crate::args::check_plot(plot)?;
     }
-    crate::on_system!(&system, |p| run_on(p, &a, &axis, &warnings))
+    hdgear::on_subject!(&system, |p| run_on(p, &a, &axis, &warnings))
 }
 
 /// The diagram of the study's set or of a model (the axis names one of the study's parameters,

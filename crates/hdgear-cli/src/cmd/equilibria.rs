@@ -2,10 +2,10 @@
 
 use crate::args::{check_out, parse_range};
 use crate::sink::{warn, warn_range, write_records};
-use crate::sources::System;
 use anyhow::Result;
 use hdgear::fast::StaticCurve;
-use hdgear::model::{Model, ModelCurve};
+use hdgear::model::AnyCurve;
+use hdgear::model::Subject;
 
 use crate::sources::ParamArgs;
 use clap::Args;
@@ -35,31 +35,12 @@ pub fn run(a: EquilibriaArgs) -> Result<()> {
     warn(&warnings);
     warn_range(range);
     match system {
-        System::Study(p) => write(&p, p, range, &a),
-        System::Model(m) => match curve_of(&m)? {
-            Curve::Torque(c) => write(&c, m, range, &a),
-            Curve::Scheduled(c) => write(&c, m, range, &a),
+        Subject::Study(p) => write(&p, p, range, &a),
+        Subject::Model(m) => match AnyCurve::of(&m)? {
+            AnyCurve::Torque(c) => write(&c, m, range, &a),
+            AnyCurve::Scheduled(c) => write(&c, m, range, &a),
         },
     }
-}
-
-/// The equilibrium curve of a model's fast subsystem, at the model's own damping at rest: its
-/// static torque's, or the closed loop's of a scheduled stiffness
-/// ([`hdgear::model::ModelCurve`]; refused as it says).
-pub fn curve_of(m: &Model) -> Result<Curve> {
-    Ok(if m.is_scheduled() {
-        Curve::Scheduled(ModelCurve::scheduled(m)?)
-    } else {
-        Curve::Torque(ModelCurve::new(m)?)
-    })
-}
-
-/// A model's equilibrium curve, of either kind.
-pub enum Curve {
-    /// Its static torque's.
-    Torque(ModelCurve),
-    /// The closed loop's of a scheduled stiffness.
-    Scheduled(ModelCurve<hdgear::model::ScheduledTorque>),
 }
 
 /// Samples `c` and writes the curve with `params` as its metadata.

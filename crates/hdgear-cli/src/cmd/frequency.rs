@@ -32,7 +32,7 @@ pub fn run(a: FrequencyResponseArgs) -> Result<()> {
     let (system, warnings) = a.params.resolve_system()?;
     a.export.check()?;
     warn(&warnings);
-    crate::on_system!(&system, |p| run_on(p, &a, range))
+    hdgear::on_subject!(&system, |p| run_on(p, &a, range))
 }
 
 /// The curve of the study's set or of a model, exported and summarised.

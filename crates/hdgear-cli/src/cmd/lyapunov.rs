@@ -49,7 +49,7 @@ struct Meta<'a, S: Sweep> {
 
 pub fn run(a: LyapunovMapArgs) -> Result<()> {
     let (system, warnings) = a.params.resolve_system()?;
-    crate::on_system!(system, |s| map(&a, s, &warnings))
+    hdgear::on_subject!(system, |s| map(&a, s, &warnings))
 }
 
 /// The map over `base`, the study's set or a model, whose parameters the axes name.

@@ -67,7 +67,7 @@ pub fn run(a: PeriodicArgs) -> Result<()> {
     let burst_opts = a.burst.options()?;
     crate::args::check_out(&a.out)?;
     warn(&warnings);
-    crate::on_system!(&system, |p| run_on(p, &a, &burst_opts))
+    hdgear::on_subject!(&system, |p| run_on(p, &a, &burst_opts))
 }
 
 /// The orbit of the study's set or of a model, its verdict, exports and summary.

@@ -6,9 +6,9 @@ use crate::args::{BurstArgs, check_out};
 use crate::cmd::card::Loaded;
 use crate::sink::{Sink, out, warn};
 use crate::sources::ParamArgs;
-use crate::sources::System;
 use anyhow::{Context, Result, bail};
 use clap::Args;
+use hdgear::model::Subject;
 use hdgear::output::RecordWriter;
 use hdgear::robust::{
     APPLICATIONS, Analysis, AnalysisOptions, McOptions, Measure, ModelSampleRow, Nominal, Sample,
@@ -230,8 +230,8 @@ pub fn run(a: RobustArgs) -> Result<()> {
             let (system, warnings) = a.params.resolve_system()?;
             warn(&warnings);
             match system {
-                System::Study(p) => (Nominal::Study(p), None),
-                System::Model(m) => (Nominal::Model(m), None),
+                Subject::Study(p) => (Nominal::Study(p), None),
+                Subject::Model(m) => (Nominal::Model(m), None),
             }
         }
     };

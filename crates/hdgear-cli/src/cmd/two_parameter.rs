@@ -129,7 +129,7 @@ pub fn run(a: Continue2Args) -> Result<()> {
     }
     let (kind, nth) = CurveKind::parse_start(&a.from).context("--from")?;
     let (system, warnings) = a.plane.params.resolve_system()?;
-    crate::on_system!(system, |s| curves_of(&a, s, kind, nth, &warnings))
+    hdgear::on_subject!(system, |s| curves_of(&a, s, kind, nth, &warnings))
 }
 
 /// The curves of `base`, the study's set or a model, written and summarised.

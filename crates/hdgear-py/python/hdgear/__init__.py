@@ -20,10 +20,10 @@ import math as _math
 import numpy as _np
 
 from . import _hdgear
-from ._hdgear import Params
+from ._hdgear import Model, Params
 
 __version__ = _hdgear.__version__
-__all__ = ["Params", "Trajectory", "Result", "Drive", "simulate", "equilibria", "curve", "branches",
+__all__ = ["Params", "Model", "Trajectory", "Result", "Drive", "simulate", "equilibria", "curve", "branches",
            "analyze", "bursts", "sweep", "periodic", "continuation", "continuation2",
            "frequency_response", "boundary", "control", "robust", "fit", "Fit"]
 
@@ -55,11 +55,14 @@ def _frame(columns):
 
 
 class Trajectory:
-    """A simulation: numpy arrays ``t, a, x, xdot`` (a = sin ωτ) and ``stats`` (integrator
-    work: steps, rejected, rhs_evals) and ``summary`` (initial and final state, max |x'|)."""
+    """A simulation: numpy arrays ``t, a, x, xdot`` (a = sin ωτ), ``states`` (a dict of arrays:
+    a model's terms' own states by name, ``s`` of LuGre, ``z`` of Bouc–Wen; empty for the
+    study's model), ``stats`` (integrator work: steps, rejected, rhs_evals) and ``summary``
+    (initial and final state, max |x'|; a model's description and sticking)."""
 
-    def __init__(self, t, a, x, xdot, summary):
+    def __init__(self, t, a, x, xdot, summary, states=None):
         self.t, self.a, self.x, self.xdot = t, a, x, xdot
+        self.states = {} if states is None else states
         self.summary = summary
         self.stats = summary["stats"]
 
@@ -68,7 +71,7 @@ class Trajectory:
 
     def to_dict(self):
         """The columns as a dict of arrays."""
-        return {"t": self.t, "a": self.a, "x": self.x, "xdot": self.xdot}
+        return {"t": self.t, "a": self.a, "x": self.x, "xdot": self.xdot, **self.states}
 
     def to_dataframe(self):
         """The columns as a pandas DataFrame (needs pandas)."""
@@ -80,29 +83,37 @@ class Trajectory:
 
 
 def _params(p):
+    """What a function runs on: a :class:`Params` or a :class:`Model` (the study's set by
+    default)."""
     if p is None:
         return Params()
-    if not isinstance(p, Params):
-        raise TypeError(f"expected hdgear.Params, got {type(p).__name__}")
+    if not isinstance(p, (Params, Model)):
+        raise TypeError(f"expected hdgear.Params or hdgear.Model, got {type(p).__name__}")
     return p
 
 
 def simulate(params=None, t_end=None, periods=3.0, dt=0.05, x0=None, v0=None, from_rest=False,
              rtol=1e-10, atol=1e-10, method="taylor"):
-    """Simulates the dimensionless model from τ = 0 to ``t_end`` (default ``periods`` slow
-    periods 2π/ω), sampled every ``dt``; starts on the stable equilibrium at a = 0 (or at ``x0``,
-    ``v0``, or at rest). Returns a :class:`Trajectory`."""
+    """Simulates the study's model (a :class:`Params`) or an assembled one (a :class:`Model`)
+    from τ = 0 to ``t_end`` (default ``periods`` slow periods 2π/ω), sampled every ``dt``; starts
+    on the stable equilibrium at a = 0 (or at ``x0``, ``v0``, or at rest). Returns a
+    :class:`Trajectory`, with a model's internal states in ``states``."""
     p = _params(params)
     if t_end is None:
-        t_end = periods * 2 * _math.pi / p.omega
-    t, a, x, xdot, summary = _hdgear.simulate(p, float(t_end), float(dt), x0, v0, bool(from_rest),
-                                              float(rtol), float(atol), method)
-    return Trajectory(t, a, x, xdot, summary)
+        t_end = periods * 2 * _math.pi / p["omega"] if isinstance(p, Model) else \
+            periods * 2 * _math.pi / p.omega
+    t, a, x, xdot, states, summary = _hdgear.simulate(p, float(t_end), float(dt), x0, v0,
+                                                      bool(from_rest), float(rtol), float(atol),
+                                                      method)
+    return Trajectory(t, a, x, xdot, summary, states)
 
 
 def equilibria(params, a):
     """The equilibria of the fast subsystem at the slow value ``a``: a Result with ``x`` (array),
     their ``types`` and ``stable`` flags."""
+    if isinstance(params, Model):
+        raise TypeError("equilibria takes hdgear.Params (the study's cubic, in closed form), not "
+                        "a Model: hdgear.curve(model) gives a model's equilibrium curve")
     return Result(_hdgear.equilibria(_params(params), float(a)))
 
 
@@ -259,7 +270,8 @@ def robust(nominal=None, tolerances=None, samples=4096, sampler="sobol", seed=1,
     """The design check under manufacturing spread (what ``hdgear robust --json`` and ``hdgear
     physical --robust --json`` print): returns ``(summary, samples)``.
 
-    ``nominal`` is a :class:`Params` or a :class:`Drive` (the study's set by default);
+    ``nominal`` is a :class:`Params`, a :class:`Model` (any of its parameters spreads by name,
+    ``{"friction.fc": "±20%"}``) or a :class:`Drive` (the study's set by default);
     ``tolerances`` maps parameter names to spreads as the CLI writes them (``{"k1": "±15%",
     "c_eq": "normal:10%"}``; a drive without any takes the default bands, marked as assumptions).
     ``summary`` is a :class:`Result` with ``probability`` (P(burst), its Wilson interval at
@@ -293,12 +305,15 @@ def sweep(axes, base=None, grid=True, threads=0, discard=1.0, window_periods=2, 
     """Runs the burst analysis at many parameter sets in parallel (all cores, ``threads=0``)
     with the GIL released.
 
-    ``axes`` maps parameter names to values, e.g. ``{"gamma": np.geomspace(0.1, 30, 1000)}``.
+    ``axes`` maps parameter names to values, e.g. ``{"gamma": np.geomspace(0.1, 30, 1000)}``;
+    ``base`` is a :class:`Params` or a :class:`Model`, whose parameters sweep by name
+    (``{"coulomb.fs": …, "delta": …}``).
     With ``grid=True`` the points are every combination, the first name varying fastest (the
     order of ``hdgear sweep``); with ``grid=False`` the arrays are zipped (equal lengths) and
     each position is one point. Returns the columns of ``hdgear sweep`` (index, the six
     parameters, mode, mechanism, the rates, max_slope, error; NaN and '' for a failed point) as a
-    DataFrame, or a dict of numpy arrays without pandas."""
+    DataFrame, or a dict of numpy arrays without pandas. A model's rows hold the swept parameters,
+    as named, in place of the six."""
     if not axes:
         raise ValueError("give at least one parameter to sweep")
     names = list(axes)

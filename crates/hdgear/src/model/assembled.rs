@@ -880,5 +880,6 @@ mod study;
 mod switching_lanes;
 mod system;
 pub use lanes::{integrate_models, on_vector_lanes};
+pub use study::Subject;
 pub use switching_lanes::integrate_switching_models;
 use system::state;

@@ -197,3 +197,24 @@ impl Statics for ScheduledTorque {
         Some(self.roots_at(a, true))
     }
 }
+
+/// A model's equilibrium curve at its own damping at rest, of either kind: its static
+/// torque's ([`ModelCurve::new`]) or, with a scheduled stiffness, the closed loop's
+/// ([`ModelCurve::scheduled`]).
+pub enum AnyCurve {
+    /// The static torque's.
+    Torque(ModelCurve),
+    /// The closed loop's of a scheduled stiffness.
+    Scheduled(ModelCurve<ScheduledTorque>),
+}
+
+impl AnyCurve {
+    /// The curve of `m`, of the kind its terms call for; refused as the two constructors say.
+    pub fn of(m: &Model) -> Result<AnyCurve> {
+        Ok(if m.is_scheduled() {
+            AnyCurve::Scheduled(ModelCurve::scheduled(m)?)
+        } else {
+            AnyCurve::Torque(ModelCurve::new(m)?)
+        })
+    }
+}

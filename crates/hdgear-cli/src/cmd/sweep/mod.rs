@@ -12,10 +12,10 @@ pub mod file;
 mod slurm;
 
 use crate::sink::warn;
-use crate::sources::System;
 use anyhow::{Context, Result, anyhow, bail};
 use file::sibling;
 use hdgear::burst::BurstOptions;
+use hdgear::model::Subject;
 use hdgear::output::Format;
 use hdgear::params::{Params, Warning};
 use hdgear::sweep::{Axis, Grid, Settings, Shard, Sweep, SweepRow};
@@ -195,7 +195,7 @@ fn check_on<S: Sweep>(a: &SweepArgs, base: S, warnings: &[Warning]) -> Result<Jo
 pub fn run(a: SweepArgs) -> Result<()> {
     let (system, warnings) = a.params.resolve_system()?;
     match system {
-        System::Study(p) => {
+        Subject::Study(p) => {
             let cluster = a.slurm.map(|n| slurm::Cluster::check(&a, n)).transpose()?;
             let job = check_on(&a, p, &warnings)?;
             match cluster {
@@ -203,7 +203,7 @@ pub fn run(a: SweepArgs) -> Result<()> {
                 None => compute(&job),
             }
         }
-        System::Model(m) => {
+        Subject::Model(m) => {
             if let Some(flag) = [
                 ("--shard", a.shard.is_some()),
                 ("--slurm", a.slurm.is_some()),

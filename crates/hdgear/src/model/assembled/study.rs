@@ -21,12 +21,18 @@ impl Model {
     /// assert_eq!(f.equivalent_params(), Some(p)); // friction has no static torque
     /// ```
     pub fn study_params(&self) -> Option<Params> {
+        let p = self.study_set()?;
+        (*self == Model::study(&p)).then_some(p)
+    }
+
+    /// The study's six values this model carries, whatever else it holds: its cubic
+    /// stiffness's α, γ, ε and its forcing's μ, δ, ω; `None` without the study's stiffness.
+    pub fn study_set(&self) -> Option<Params> {
         let [alpha, gamma, eps] = self.terms().find_map(|t| match t {
             AnyTerm::Stiffness(s) => Some(s.0),
             _ => None,
         })?;
-        let p = self.set_with([alpha, gamma, eps]);
-        (*self == Model::study(&p)).then_some(p)
+        Some(self.set_with([alpha, gamma, eps]))
     }
 
     /// The study's set with the stiffness `[α, γ, ε]` under this model's forcing.
@@ -55,4 +61,63 @@ impl Serialize for Model {
     fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {
         self.describe().serialize(s)
     }
+}
+
+/// What a computation runs on: the study's set when the assembled model is the study's own
+/// (its closed forms and its batch integrator: the same numbers as before models were
+/// assembled), else the model with its terms. The library's generic seams
+/// ([`crate::periodic::Periodic`], [`crate::sweep::Sweep`], [`crate::burst::PlaneSystem`]) take
+/// either; [`crate::on_subject!`] runs one body on whichever a `Subject` holds.
+///
+/// ```
+/// use hdgear::{Params, model::{Model, Subject, terms::AnyTerm}};
+/// let p = Params::default();
+/// assert_eq!(Model::study(&p).subject(), Subject::Study(p));
+/// let f = Model::study(&p).with_term(AnyTerm::new("friction", &[0.1, 0.05]).unwrap()).unwrap();
+/// assert_eq!(f.subject(), Subject::Model(f));
+/// let omega = hdgear::on_subject!(&f.subject(), |s| hdgear::periodic::Oscillator::omega(s));
+/// assert_eq!(omega, p.omega);
+/// ```
+// one value per run, borrowed as the type the library's seams take: not boxed
+#[allow(clippy::large_enum_variant)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Subject {
+    /// The study's model.
+    Study(Params),
+    /// A model with terms beyond the study's, or without the study's own.
+    Model(Model),
+}
+
+impl Model {
+    /// This model as a [`Subject`]: [`Subject::Study`] where it is the study's model
+    /// ([`Model::study_params`]).
+    pub fn subject(self) -> Subject {
+        match self.study_params() {
+            Some(p) => Subject::Study(p),
+            None => Subject::Model(self),
+        }
+    }
+}
+
+impl Subject {
+    /// The assembled model (the study's, built from the set, for [`Subject::Study`]).
+    pub fn model(&self) -> Model {
+        match self {
+            Subject::Study(p) => Model::study(p),
+            Subject::Model(m) => *m,
+        }
+    }
+}
+
+/// Runs `$body` with `$s` bound to the [`Subject`]'s parameter set or model, whichever it holds:
+/// the two are different types behind the library's generic seams, so the body is compiled for
+/// each.
+#[macro_export]
+macro_rules! on_subject {
+    ($system:expr, |$s:ident| $body:expr) => {
+        match $system {
+            $crate::model::Subject::Study($s) => $body,
+            $crate::model::Subject::Model($s) => $body,
+        }
+    };
 }
