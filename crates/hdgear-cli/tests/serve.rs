@@ -17,8 +17,14 @@ struct Server {
 
 impl Server {
     fn start() -> Server {
+        Server::start_with(&[])
+    }
+
+    /// `hdgear serve --port 0` with `args` (a scenario's `--config FILE`).
+    fn start_with(args: &[&str]) -> Server {
         let mut child = Command::new(assert_cmd::cargo::cargo_bin("hdgear"))
             .args(["serve", "--port", "0", "--quiet"])
+            .args(args)
             .stdout(Stdio::piped())
             .stderr(Stdio::null())
             .spawn()
@@ -80,6 +86,70 @@ fn get(addr: &str, path: &str) -> (u16, String) {
 
 fn json(body: &str) -> serde_json::Value {
     serde_json::from_str(body).unwrap_or_else(|e| panic!("{e}: {body:.200}"))
+}
+
+/// A scenario file in `dir` with smooth friction f_c·tanh(x'/v_s) on the study's point: its path.
+fn friction_scenario(dir: &std::path::Path) -> String {
+    let path = dir.join("friction.toml");
+    std::fs::write(&path, "[friction]\nfc = 0.1\nvs = 0.05\n").unwrap();
+    path.display().to_string()
+}
+
+#[test]
+fn a_scenario_s_model_is_served_with_its_parameters_as_sliders() {
+    use hdgear::explore::ModelView;
+    use hdgear::model::{Model, terms::AnyTerm};
+    let dir = tempfile::tempdir().unwrap();
+    let s = Server::start_with(&["--config", &friction_scenario(dir.path())]);
+    // the page's sliders: the study's six, then the friction's two, each at the model's value
+    let (code, script) = get(&s.addr, "/app.js");
+    assert_eq!(code, 200);
+    let table = script
+        .split("const PARAMS = ")
+        .nth(1)
+        .and_then(|r| r.split(";\n").next())
+        .unwrap();
+    let sliders = json(table);
+    let keys: Vec<&str> = sliders
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| s["key"].as_str().unwrap())
+        .collect();
+    assert_eq!(
+        keys,
+        ["alpha", "gamma", "eps", "mu", "delta", "omega", "fc", "vs"]
+    );
+    assert_eq!(sliders[6]["def"], 0.1);
+    // a view with the friction raised is the library's view of that model, to the last bit
+    let (code, body) = get(&s.addr, "/api/view?fc=0.2&friction.vs=0.04&delta=12");
+    assert_eq!(code, 200, "{body}");
+    let p = Params {
+        delta: 12.0,
+        ..Params::default()
+    };
+    let m = Model::study(&p)
+        .with_term(AnyTerm::new("friction", &[0.2, 0.04]).unwrap())
+        .unwrap();
+    let remarks = p
+        .validate()
+        .unwrap()
+        .iter()
+        .map(|w| w.to_string())
+        .collect();
+    let want = ModelView::compute(&m, remarks, &View::options()).unwrap();
+    assert_eq!(json(&body), serde_json::to_value(&want).unwrap());
+    assert!((want.analysis.damping_at_rest - 6.0).abs() < 1e-12); // 1 + f_c/v_s
+    // refusals name what was wrong, in one line
+    let (code, body) = get(&s.addr, "/api/view?fs=1");
+    assert_eq!(code, 400);
+    assert!(body.contains("'fs'") && body.contains("fc, vs"), "{body}");
+    let (code, body) = get(&s.addr, "/api/view?fc=-1");
+    assert_eq!(code, 400);
+    assert!(body.contains("fc = -1"), "{body}");
+    let (code, body) = get(&s.addr, "/api/boundaries?fc=0.2");
+    assert_eq!(code, 422);
+    assert!(body.contains("not for a model with terms"), "{body}");
 }
 
 #[test]
@@ -298,6 +368,9 @@ fn the_explorer_in_a_real_browser() {
         Err(e) => panic!("{e}"),
     };
     let s = Server::start();
+    let dir = tempfile::tempdir().unwrap();
+    let scenario = friction_scenario(dir.path());
+    let m = Server::start_with(&["--config", &scenario]);
     let shots = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("explorer-screenshots");
     std::fs::create_dir_all(&shots).unwrap();
     let script = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/browser/explorer.py");
@@ -306,6 +379,7 @@ fn the_explorer_in_a_real_browser() {
         .arg(format!("http://{}/", s.addr))
         .arg(browser)
         .arg(&shots)
+        .arg(format!("http://{}/", m.addr))
         .output()
         .unwrap();
     let (stdout, stderr) = (
@@ -322,6 +396,7 @@ fn the_explorer_in_a_real_browser() {
         "explorer-g0.1-1400.png",
         "explorer-g0.1-800.png",
         "explorer-g0.1-zoom.png",
+        "explorer-model-1400.png",
     ] {
         assert!(
             std::fs::metadata(shots.join(name)).unwrap().len() > 20_000,

@@ -1,6 +1,7 @@
-//! What the live explorer (`hdgear serve`) shows for one parameter set, computed in one pass:
-//! the fast-subsystem analysis, the response and its verdict, the equilibrium curve, and the
-//! trajectory over one slow period thinned for the screen.
+//! What the live explorer (`hdgear serve`) shows for one parameter set ([`View`], computed in
+//! one pass) or one model with terms ([`ModelView`]): the fast-subsystem analysis, the response
+//! and its verdict, the equilibrium curve, and the trajectory over one slow period thinned for
+//! the screen.
 //!
 //! The trajectory is sampled every [`crate::study::SAMPLE_DT`] (up to 10⁵ samples at small ω)
 //! and thinned to at most 2·[`TRACE_BUCKETS`] points by keeping, in each of [`TRACE_BUCKETS`]
@@ -17,7 +18,8 @@
 
 use crate::burst::{BurstOptions, Classification, Response};
 use crate::error::Result;
-use crate::fast::{A_RANGE, Analysis, CurveBranch};
+use crate::fast::{A_RANGE, Analysis, CurveAnalysis, CurveBranch, StaticCurve};
+use crate::model::{AnyCurve, Model};
 use crate::params::{Params, Warning};
 use crate::study::Case;
 use serde::Serialize;
@@ -92,31 +94,134 @@ impl View {
     /// Computes the view of `p` (with its `warnings`) under `opts`.
     pub fn compute(p: &Params, warnings: Vec<Warning>, opts: &BurstOptions) -> Result<View> {
         let case = Case::compute(p, opts)?;
-        let mut curve = Curve::default();
-        for c in crate::fast::curve(p, A_RANGE, CURVE_POINTS)? {
-            curve.a.push(c.a);
-            curve.x.push(c.x);
-            curve.slope.push(c.slope);
-            curve.stable.push(c.kind.is_stable());
-            curve.branch.push(c.branch);
-        }
-        let mut trace = Trace::default();
-        for i in thin(&case.samples, TRACE_BUCKETS) {
-            let (t, x, v) = case.samples[i];
-            trace.t.push(t);
-            trace.a.push((p.omega * t).sin());
-            trace.x.push(x);
-            trace.xdot.push(v);
-        }
         Ok(View {
             params: *p,
             warnings: warnings.iter().map(ToString::to_string).collect(),
             analysis: case.analysis,
             classification: case.classification,
             response: case.response,
-            curve,
-            trace,
+            curve: Curve::of(p)?,
+            trace: Trace::of(&case.samples, p.omega),
         })
+    }
+}
+
+impl Curve {
+    /// The equilibrium curve `c` at [`CURVE_POINTS`] points over a ∈ [−1, 1].
+    fn of(c: &impl StaticCurve) -> Result<Curve> {
+        let mut curve = Curve::default();
+        for c in crate::fast::curve(c, A_RANGE, CURVE_POINTS)? {
+            curve.a.push(c.a);
+            curve.x.push(c.x);
+            curve.slope.push(c.slope);
+            curve.stable.push(c.kind.is_stable());
+            curve.branch.push(c.branch);
+        }
+        Ok(curve)
+    }
+}
+
+impl Trace {
+    /// The samples (τ, x, x') thinned ([`thin`]), with a = sin ωτ.
+    fn of(samples: &[(f64, f64, f64)], omega: f64) -> Trace {
+        let mut trace = Trace::default();
+        for i in thin(samples, TRACE_BUCKETS) {
+            let (t, x, v) = samples[i];
+            trace.t.push(t);
+            trace.a.push((omega * t).sin());
+            trace.x.push(x);
+            trace.xdot.push(v);
+        }
+        trace
+    }
+}
+
+/// Samples (τ, x, x') of a run.
+type Samples = Vec<(f64, f64, f64)>;
+
+/// Everything one view of a model with terms shows: as [`View`], with the analysis of the
+/// model's own equilibrium curve ([`CurveAnalysis`]: folds, damping at rest, relaxation) in place
+/// of the study's closed forms, and the model itself (serialised as its description: equation,
+/// terms, parameters).
+///
+/// ```
+/// use hdgear::{Params, explore::{ModelView, View}, model::{Model, terms::AnyTerm}};
+/// let m = Model::study(&Params::default())
+///     .with_term(AnyTerm::new("friction", &[0.1, 0.05]).unwrap())
+///     .unwrap();
+/// let v = ModelView::compute(&m, Vec::new(), &View::options()).unwrap();
+/// assert!((v.analysis.damping_at_rest - 3.0).abs() < 1e-12); // 1 + f_c/v_s
+/// assert_eq!(v.curve.a.len(), hdgear::explore::CURVE_POINTS);
+/// assert!(v.trace.t.len() > 100);
+/// ```
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ModelView {
+    /// The model.
+    pub model: Model,
+    /// Remarks on its study set (α·ε ≠ 1, …), as sentences.
+    pub warnings: Vec<String>,
+    /// Its equilibrium curve's analysis.
+    pub analysis: CurveAnalysis,
+    /// The verdict.
+    pub classification: Classification,
+    /// The measured response.
+    pub response: Response,
+    /// The equilibrium curve.
+    pub curve: Curve,
+    /// The trajectory over the first analysed slow period.
+    pub trace: Trace,
+}
+
+impl ModelView {
+    /// Computes the view of `m` (with its study set's `warnings`) under `opts`. The verdict is
+    /// [`crate::burst::response_model`]'s; the trace is a second run of the same model from the
+    /// same start with the same tolerances, sampled every [`crate::study::SAMPLE_DT`] over the
+    /// first slow period the verdict analyses.
+    pub fn compute(m: &Model, warnings: Vec<String>, opts: &BurstOptions) -> Result<ModelView> {
+        let (analysis, curve, samples) = match AnyCurve::of(m)? {
+            AnyCurve::Torque(c) => Self::parts(m, &c, opts)?,
+            AnyCurve::Scheduled(c) => Self::parts(m, &c, opts)?,
+        };
+        let response = crate::burst::response_model(m, opts)?;
+        Ok(ModelView {
+            model: *m,
+            warnings,
+            analysis,
+            classification: crate::burst::classify_model(m, &response)?,
+            response,
+            curve,
+            trace: Trace::of(&samples, m.forcing()[2]),
+        })
+    }
+
+    /// The analysis and samples of `c`, and the samples of `m`'s run over the first slow period
+    /// the verdict analyses.
+    fn parts<C: StaticCurve>(
+        m: &Model,
+        c: &C,
+        opts: &BurstOptions,
+    ) -> Result<(CurveAnalysis, Curve, Samples)> {
+        use crate::simulate::{SimOptions, Start, simulate_model};
+        let analysis = crate::fast::curve_analysis(c, A_RANGE)?;
+        let (t0, _) = crate::burst::window(c, opts);
+        let t1 = t0 + c.slow_period();
+        crate::integrate::check_budget(t1, &opts.tol)?;
+        let sim = SimOptions {
+            t_end: t1,
+            dt: crate::study::SAMPLE_DT,
+            start: Start::Given {
+                x0: c.start(),
+                v0: m.rest_rate(),
+            },
+            tol: opts.tol,
+        };
+        let mut samples = Vec::new();
+        simulate_model(m, &sim, |t, y| {
+            if t >= t0 {
+                samples.push((t, y[0], y[1]));
+            }
+        })?;
+        Ok((analysis, Curve::of(c)?, samples))
     }
 }
 

@@ -1,12 +1,14 @@
 """Drives `hdgear serve` in a real Chromium (Debian's, through Playwright; no browser download).
 
-    python explorer.py URL CHROMIUM OUTDIR
+    python explorer.py URL CHROMIUM OUTDIR [MODEL_URL]
 
 Loads the page at γ = 30, checks the verdict says "not bursting", drags the γ slider with the
 mouse from 30 down to 0.1 (a storm of input events), checks the verdict turns to "bursting", the
 equilibrium curve was redrawn (its path changed), the quick button γ = 0.1 gives the study's
 numbers, the permalink reproduces the view, a bad value shows the server's one-line message, and
-no console error or page error occurred. Screenshots at 1400 and 800 px wide go to OUTDIR.
+no console error or page error occurred; with MODEL_URL (a server of a scenario with smooth
+friction), that the model's parameters are sliders and its friction level changes the view.
+Screenshots at 1400 and 800 px wide go to OUTDIR.
 Prints one JSON line of what it measured; exits 1 on the first failed check.
 """
 import json
@@ -17,6 +19,7 @@ import time
 from playwright.sync_api import sync_playwright
 
 URL, CHROMIUM, OUT = sys.argv[1], sys.argv[2], sys.argv[3]
+MODEL_URL = sys.argv[4] if len(sys.argv) > 4 else None
 ARGS = ["--headless=new", "--no-sandbox", "--disable-gpu", "--disable-quic", "--no-first-run",
         "--disable-background-networking", "--disable-component-update", "--disable-sync"]
 
@@ -165,10 +168,35 @@ with sync_playwright() as p:
     page.wait_for_selector("#verdict .err", timeout=10_000)
     err = page.locator("#verdict .err").inner_text()
     check("invalid parameter omega" in err, f"a bad ω shows the server's message ({err!r})")
+
+    # a scenario's model (MODEL_URL, served with --config: friction f_c tanh(x'/v_s) at γ = 0.1):
+    # its friction level is a slider, and raising it changes the view
+    model = {}
+    if MODEL_URL:
+        mp = browser.new_page(viewport={"width": 1400, "height": 1000})
+        mp.on("console", lambda m: errors.append(f"console {m.type}: {m.text}") if m.type == "error" else None)
+        mp.on("pageerror", lambda e: errors.append(f"page error: {e}"))
+        mp.goto(MODEL_URL)
+        verdict(mp)
+        settle(mp)
+        keys = mp.eval_on_selector_all("#sliders input[type=range]", "els => els.map(e => e.getAttribute('aria-label'))")
+        check(keys == ["alpha", "gamma", "eps", "mu", "delta", "omega", "fc", "vs"], f"the model's sliders ({keys})")
+        text = mp.locator("#verdict").inner_text()
+        check("damping at rest" in text, f"the verdict shows the model's curve ({text!r})")
+        check("tanh" in mp.locator("#equation").inner_text(), "the page names the model's equation")
+        peak = mp.locator("#trace-path").get_attribute("d")
+        mp.fill("#n-fc", "0.5")
+        mp.press("#n-fc", "Enter")
+        settle(mp)
+        check(mp.locator("#trace-path").get_attribute("d") != peak, "f_c = 0.5 redraws the response")
+        check("damping at rest\n11" in mp.locator("#verdict").inner_text(), "1 + f_c/v_s = 11 at rest")
+        check("fc=0.5" in mp.url, f"the permalink holds f_c ({mp.url})")
+        mp.screenshot(path=f"{OUT}/explorer-model-1400.png", full_page=True)
+        model = {"model_verdict": verdict(mp)}
     # console errors from the 400 response itself are the browser's network log, not the page's
     errors = [e for e in errors if "status of 400" not in e]
     check(not errors, f"no console errors: {errors}")
     browser.close()
     print(json.dumps({"drag_seconds": round(drag_s, 2), "update_ms": round(update_ms),
                       "bursts_shaded": bursts, "gamma_after_drag": g, "located": located,
-                      "csf_32_50": drive_verdict}))
+                      "csf_32_50": drive_verdict, **model}))

@@ -1,10 +1,13 @@
 //! `hdgear serve`: a local web server with one page (the live explorer) and a small JSON API.
 //!
 //! - `GET /` (and `/app.js`, `/app.css`): the page, embedded in the binary (`include_str!`); the
-//!   script starts with its sliders' table, from the library's parameter list.
+//!   script starts with its sliders' table, from the served model's parameter list: the study's
+//!   six, and with `--config FILE` every parameter of the scenario's terms.
 //! - `GET /api/view?alpha=…&gamma=…&eps=…&mu=…&delta=…&omega=…` (any subset; the rest from the
-//!   study's default point): [`hdgear::explore::View`] as JSON.
-//! - `GET /api/boundaries?…`: the bursting boundaries located by simulation (seconds).
+//!   served model; a model's term parameters by name, `fc=…`, or `friction.fc=…`):
+//!   [`hdgear::explore::View`] as JSON, or [`hdgear::explore::ModelView`] for a model with terms.
+//! - `GET /api/boundaries?…`: the bursting boundaries located by simulation (seconds; the
+//!   study's set only: a 422 for a model with terms).
 //! - `GET /api/control?law=vdamping&gain=…&…`: one control law ([`hdgear::control::LAWS`]) on the
 //!   parameters, assessed at `gain` or, without it, tuned to its least gain
 //!   ([`hdgear::control::Comparison`]); `ww`, `wd`, `taud` as `hdgear control` takes them.
@@ -26,13 +29,16 @@
 //! [`HEADER_TIMEOUT`] (after connecting, or after its last answer on a kept-alive connection)
 //! is disconnected, so half-sent requests cannot hold connections or memory.
 
+use crate::sources::ParamArgs;
 use anyhow::{Context, Result};
 use axum::Json;
 use axum::extract::{Query, State};
 use axum::http::{StatusCode, header};
 use axum::response::{IntoResponse, Response};
 use axum::routing::get;
-use hdgear::params::{Param, Params, Warning};
+use hdgear::model::terms::Domain;
+use hdgear::model::{Model, Subject};
+use hdgear::params::{Param, Warning};
 use std::collections::BTreeMap;
 use std::io::Write;
 use std::sync::Arc;
@@ -54,6 +60,10 @@ pub struct ServeArgs {
     /// Open the page in the desktop's browser.
     #[arg(long)]
     pub open: bool,
+    /// The model the page starts from: the study's set (preset and flags), or a scenario file's
+    /// model, whose every parameter is a slider.
+    #[command(flatten)]
+    pub params: ParamArgs,
 }
 
 /// Longest a view may take before the request is answered with a 503.
@@ -97,11 +107,27 @@ fn slider(q: Param) -> (f64, f64, bool) {
     }
 }
 
-/// One slider of the page: the library's name, symbol, meaning and default of a parameter with
-/// its [`slider`] range.
+/// The range a term parameter's slider spans at first, around its value `v` in the model, by
+/// its domain: two decades either way on a log scale for a positive one, up to four times it
+/// for a non-negative one, [0, 1] for a fraction, ±4|v| for any sign. A view's choice, not a
+/// verdict: a value typed beyond it widens it. `None` for whole-number parameters (a
+/// multisine's line, an exponent), which keep the model's value.
+fn term_slider(domain: Domain, v: f64) -> Option<(f64, f64, bool)> {
+    let size = if v != 0.0 { v.abs() } else { 1.0 };
+    match domain {
+        Domain::Positive => Some((size / 100.0, size * 100.0, true)),
+        Domain::NonNegative => Some((0.0, 4.0 * size, false)),
+        Domain::Fraction => Some((0.0, 1.0, false)),
+        Domain::Any => Some((v - 4.0 * size, v + 4.0 * size, false)),
+        Domain::Exponent | Domain::Line => None,
+    }
+}
+
+/// One slider of the page: the library's name, symbol, meaning and value of a parameter with
+/// its range ([`slider`], [`term_slider`]).
 #[derive(serde::Serialize)]
 struct Slider {
-    key: &'static str,
+    key: String,
     sym: &'static str,
     hint: &'static str,
     def: f64,
@@ -110,23 +136,39 @@ struct Slider {
     log: bool,
 }
 
-/// `/app.js`: the page's script with its sliders' table `PARAMS` written in, read from the
-/// library's parameter list (the study's model's definitions, in [`Param::ALL`]'s order).
-static APP: std::sync::LazyLock<String> = std::sync::LazyLock::new(|| {
-    let sliders: Vec<Slider> = Param::ALL
-        .iter()
-        .map(|&q| {
-            let info = hdgear::model::study_param(q);
-            let (min, max, log) = slider(q);
-            Slider {
-                key: info.name,
+/// `/app.js` for the model `base`: the page's script with its sliders' table `PARAMS` written
+/// in, read from the model's parameter list (the study's six in [`Param::ALL`]'s order, then
+/// each term's), each keyed by its name, or by TERM.NAME where two terms share the name.
+fn app_script(base: &Model) -> String {
+    let mut values = base.param_values();
+    // the study's six first, in their usual order, then the terms' in the model's (stable)
+    values.sort_by_key(|v| {
+        Param::ALL
+            .iter()
+            .position(|q| q.name() == v.info.name)
+            .unwrap_or(usize::MAX)
+    });
+    let sliders: Vec<Slider> = values
+        .into_iter()
+        .filter_map(|v| {
+            let info = v.info;
+            let (min, max, log) = match info.name.parse::<Param>() {
+                Ok(q) if base.param(info.name).is_ok() => slider(q),
+                _ => term_slider(info.domain, v.value)?,
+            };
+            let key = match base.param(info.name) {
+                Ok(_) => info.name.to_string(),
+                Err(_) => format!("{}.{}", v.term, info.name),
+            };
+            Some(Slider {
+                key,
                 sym: info.symbol,
                 hint: info.meaning,
-                def: info.default,
+                def: v.value,
                 min,
                 max,
                 log,
-            }
+            })
         })
         .collect();
     let table = serde_json::to_string(&sliders).expect("plain data serialises");
@@ -135,7 +177,7 @@ static APP: std::sync::LazyLock<String> = std::sync::LazyLock::new(|| {
         "app.js holds one {SLIDERS}"
     );
     APP_JS.replacen(SLIDERS, &table, 1)
-});
+}
 
 /// An API error: status and one line.
 struct ApiError(StatusCode, String);
@@ -213,17 +255,28 @@ fn number(k: &str, v: &str) -> Result<f64, ApiError> {
     })
 }
 
-/// Query → checked parameters (the CLI's validation and messages).
-fn params(q: &BTreeMap<String, String>) -> Result<(Params, Vec<Warning>), ApiError> {
-    let mut p = Params::preset("paper")?;
-    for (k, v) in q {
-        let param: Param = k
-            .parse()
-            .map_err(|e: hdgear::Error| ApiError(StatusCode::BAD_REQUEST, e.to_string()))?;
-        p = p.with(param, number(k, v)?);
+/// Query → what to compute: the server's model with the query's values, checked (the CLI's
+/// validation and messages), and its study set's warnings.
+fn params(base: &Model, q: &BTreeMap<String, String>) -> Result<(Subject, Vec<Warning>), ApiError> {
+    let bad = |e: hdgear::Error| ApiError(StatusCode::BAD_REQUEST, e.to_string());
+    if let Subject::Study(mut p) = base.subject() {
+        for (k, v) in q {
+            let param: Param = k.parse().map_err(bad)?;
+            p = p.with(param, number(k, v)?);
+        }
+        let warnings = p.validate()?;
+        return Ok((Subject::Study(p), warnings));
     }
-    let warnings = p.validate()?;
-    Ok((p, warnings))
+    let mut changes = Vec::new();
+    for (k, v) in q {
+        changes.push((base.param(k).map_err(bad)?, number(k, v)?));
+    }
+    let m = base.with_all(&changes).map_err(bad)?;
+    let warnings = match m.study_set() {
+        Some(p) => p.validate()?,
+        None => Vec::new(),
+    };
+    Ok((m.subject(), warnings))
 }
 
 /// The computations' limits: workers running at once, and requests admitted (running or
@@ -317,18 +370,47 @@ fn options_until(deadline: std::time::Instant) -> hdgear::burst::BurstOptions {
 
 type Q = Query<BTreeMap<String, String>>;
 
-async fn view(State(workers): State<Workers>, Query(q): Q) -> Result<Response, ApiError> {
-    let (p, warnings) = params(&q)?;
-    let v = compute(&workers, VIEW_TIMEOUT, move |deadline| {
-        hdgear::explore::View::compute(&p, warnings, &options_until(deadline))
-    })
-    .await?;
-    Ok(Json(v).into_response())
+/// What the handlers share: the workers, and the model the page was served for.
+#[derive(Clone)]
+struct App {
+    workers: Workers,
+    base: Model,
 }
 
-async fn boundaries(State(workers): State<Workers>, Query(q): Q) -> Result<Response, ApiError> {
-    let (p, _) = params(&q)?;
-    let b = compute(&workers, BOUNDARY_TIMEOUT, move |deadline| {
+async fn view(State(app): State<App>, Query(q): Q) -> Result<Response, ApiError> {
+    use hdgear::explore::{ModelView, View};
+    Ok(match params(&app.base, &q)? {
+        (Subject::Study(p), warnings) => {
+            let v = compute(&app.workers, VIEW_TIMEOUT, move |deadline| {
+                View::compute(&p, warnings, &options_until(deadline))
+            })
+            .await?;
+            Json(v).into_response()
+        }
+        (Subject::Model(m), warnings) => {
+            let remarks = warnings.iter().map(ToString::to_string).collect();
+            let v = compute(&app.workers, VIEW_TIMEOUT, move |deadline| {
+                ModelView::compute(&m, remarks, &options_until(deadline))
+            })
+            .await?;
+            Json(v).into_response()
+        }
+    })
+}
+
+async fn boundaries(State(app): State<App>, Query(q): Q) -> Result<Response, ApiError> {
+    let p = match params(&app.base, &q)? {
+        (Subject::Study(p), _) => p,
+        (Subject::Model(_), _) => {
+            return Err(ApiError(
+                StatusCode::UNPROCESSABLE_ENTITY,
+                "the simulated boundaries are searched in the study's gamma and omega: not for a \
+                 model with terms (hdgear boundary --config FILE traces a model's)"
+                    .into(),
+            ));
+        }
+    };
+    let b = compute(&app.workers, BOUNDARY_TIMEOUT, move |deadline| {
         hdgear::burst::boundaries(&p, &options_until(deadline))
     })
     .await?;
@@ -339,7 +421,7 @@ async fn boundaries(State(workers): State<Workers>, Query(q): Q) -> Result<Respo
 /// [`hdgear::control::ControlOptions`] the explorer sets.
 const CONTROL_KEYS: [&str; 5] = ["law", "gain", "ww", "wd", "taud"];
 
-async fn control(State(workers): State<Workers>, Query(mut q): Q) -> Result<Response, ApiError> {
+async fn control(State(app): State<App>, Query(mut q): Q) -> Result<Response, ApiError> {
     let mut take = |k: &str| q.remove(k);
     let [law, gain, ww, wd, taud] = CONTROL_KEYS.map(&mut take);
     let law = law.ok_or_else(|| {
@@ -356,12 +438,14 @@ async fn control(State(workers): State<Workers>, Query(mut q): Q) -> Result<Resp
         taud: value("taud", taud)?,
         ..hdgear::control::ControlOptions::default()
     };
-    let (p, _) = params(&q)?;
-    let doc = compute(&workers, BOUNDARY_TIMEOUT, move |deadline| {
-        hdgear::control::compare(&p, &[law.as_str()], &c, &options_until(deadline))
+    let (subject, _) = params(&app.base, &q)?;
+    hdgear::on_subject!(subject, |p| {
+        let doc = compute(&app.workers, BOUNDARY_TIMEOUT, move |deadline| {
+            hdgear::control::compare(&p, &[law.as_str()], &c, &options_until(deadline))
+        })
+        .await?;
+        Ok(Json(doc).into_response())
     })
-    .await?;
-    Ok(Json(doc).into_response())
 }
 
 /// The answer of `/api/laws`.
@@ -407,7 +491,7 @@ async fn drive(Query(q): Q) -> Result<Response, ApiError> {
     .into_response())
 }
 
-fn asset(kind: &'static str, body: &'static str) -> Response {
+fn asset(kind: &'static str, body: impl IntoResponse) -> Response {
     (
         [
             (header::CONTENT_TYPE, kind),
@@ -418,8 +502,9 @@ fn asset(kind: &'static str, body: &'static str) -> Response {
         .into_response()
 }
 
-/// The application: routes and their shared state.
-pub fn router() -> axum::Router {
+/// The application for the model `base`: routes and their shared state.
+pub fn router(base: Model) -> axum::Router {
+    let script = app_script(&base);
     axum::Router::new()
         .route(
             "/",
@@ -427,7 +512,7 @@ pub fn router() -> axum::Router {
         )
         .route(
             "/app.js",
-            get(|| async { asset("text/javascript; charset=utf-8", APP.as_str()) }),
+            get(move || async move { asset("text/javascript; charset=utf-8", script) }),
         )
         .route(
             "/app.css",
@@ -440,7 +525,10 @@ pub fn router() -> axum::Router {
         .route("/api/drives", get(drives))
         .route("/api/drive", get(drive))
         .fallback(|| async { ApiError(StatusCode::NOT_FOUND, "no such page".into()) })
-        .with_state(Workers::new())
+        .with_state(App {
+            workers: Workers::new(),
+            base,
+        })
 }
 
 /// Serves `app` on `listener`: one task per connection, at most [`MAX_CONNECTIONS`] at once,
@@ -476,6 +564,8 @@ async fn serve(listener: tokio::net::TcpListener, app: axum::Router) {
 
 /// Runs the serve command until Ctrl-C.
 pub fn run(a: ServeArgs) -> Result<()> {
+    let (_, model, warnings) = a.params.resolve_model()?;
+    crate::sink::warn(&warnings);
     let ip: std::net::IpAddr = a.bind.parse().map_err(|_| {
         anyhow::anyhow!(
             "invalid --bind '{}': expected an IP address such as 127.0.0.1",
@@ -503,7 +593,7 @@ pub fn run(a: ServeArgs) -> Result<()> {
         if a.open {
             open(&url);
         }
-        serve(listener, router()).await;
+        serve(listener, router(model)).await;
         Ok(())
     })
 }

@@ -2,8 +2,8 @@
 // step, no dependencies: everything is served by the hdgear binary itself.
 "use strict";
 
-// The sliders: the server writes them in place of the empty list, from the library's parameter
-// list (serve/mod.rs).
+// The sliders: the server writes them in place of the empty list, from the served model's
+// parameter list (serve/mod.rs).
 const PARAMS = /*PARAMS*/[];
 const STEPS = 1000;
 const state = {};
@@ -186,8 +186,22 @@ function steepWindow(eq) {
   return { min: Math.max(-1, mid - half), max: Math.min(1, mid + half) };
 }
 
+// The equilibria's facts the views mark: the study's closed forms, or for a model with terms
+// (its view has `model`) the folds of its own curve and the steepest point read off the curve.
+function equilibria(v) {
+  if (!v.model) return v.analysis.equilibria;
+  const c = v.curve;
+  let k = 0;
+  for (let i = 1; i < c.slope.length; i++) if (Math.abs(c.slope[i]) > Math.abs(c.slope[k])) k = i;
+  const folds = v.analysis.folds;
+  return {
+    folds, spiking_areas: [],
+    max_slope: folds.length ? { a: NaN, value: Infinity } : { a: c.a[k], value: Math.abs(c.slope[k]) },
+  };
+}
+
 function drawPhase() {
-  const svg = $("phase"), c = view.curve, tr = view.trace, eq = view.analysis.equilibria;
+  const svg = $("phase"), c = view.curve, tr = view.trace, eq = equilibria(view);
   const w = state.zoom ? steepWindow(eq) : { min: -1, max: 1 };
   const xr = { ...w, log: false, label: state.zoom ? "a = sin ωτ (the steep part)" : "a = sin ωτ" };
   const inside = (xs, ys) => ys.filter((_, i) => xs[i] >= w.min && xs[i] <= w.max);
@@ -204,7 +218,7 @@ function drawPhase() {
 }
 
 function drawSlope() {
-  const svg = $("slope"), c = view.curve, eq = view.analysis.equilibria;
+  const svg = $("slope"), c = view.curve, eq = equilibria(view);
   const abs = c.slope.map(Math.abs);
   const fin = abs.filter((v) => Number.isFinite(v) && v > 0);
   const lo = Math.min(...fin), hi = Math.max(...fin);
@@ -220,25 +234,32 @@ function drawSlope() {
 }
 
 function drawVerdict() {
-  const v = view, c = v.classification, r = v.response, an = v.analysis, eq = an.equilibria, sg = r.signatures;
+  const v = view, c = v.classification, r = v.response, an = v.analysis, eq = equilibria(v), sg = r.signatures;
   const yes = c.bursting;
   const sig = ["jump", "overshoot", "ringing"].filter((k) => sg[k]).join(", ") || "none";
   const items = [
     ["mode", c.mode], ["mechanism", c.mechanism], ["signatures", sig],
     ["bursts per period", fmt(r.bursts_per_period)], ["spikes per burst", fmt(r.spikes_per_burst)],
     ["peak |x'|", fmt(r.peak_abs_xdot)], ["quiescent fraction", fmt(r.quiescent_fraction, 3)],
+  ];
+  if (v.model) items.push(
+    ["curve", `${an.min_count === an.max_count ? an.min_count : `${an.min_count}–${an.max_count}`} equilibria, ${an.folds.length} folds, max |dx/da| ${fmt(eq.max_slope.value)}`],
+    ["damping at rest", fmt(an.damping_at_rest)],
+    ["predicted and simulated boundaries", "the study's closed forms: not for a model with terms (hdgear boundary --config FILE traces them)"],
+  );
+  else items.push(
     ["curve", `${an.regime}, max |dx/da| ${fmt(eq.max_slope.value)}`],
     ["predicted boundary in γ", eq.predicted_gamma_boundary === null ? "none" : fmt(eq.predicted_gamma_boundary)],
     ["predicted boundary in ω", fmt(eq.prediction.omega_boundary)],
     ["simulated boundaries", `<span id="simulated">–</span> <button type="button" id="simulate-b" title="where the simulated verdict switches, from the prediction (under a second to a few seconds)">locate</button>`],
-  ];
+  );
   let s = `<div class="big ${yes ? "yes" : "no"}" id="verdict-word">${yes ? "bursting" : "not bursting"}</div>`;
   s += `<div class="small">verdict: ${esc(c.verdict)}${r.continuous_fast_motion ? " — the fast motion never settles" : ""}</div>`;
   s += `<dl>${items.map(([k, val]) => `<div><dt>${k}</dt><dd>${val.startsWith("<") ? val : esc(val)}</dd></div>`).join("")}</dl>`;
   for (const w of v.warnings) s += `<div class="warn">${esc(w)}</div>`;
   if (!c.fast_slow_domain) s += `<div class="warn">ω is not slow against the fast subsystem here: the fast-slow picture does not apply (mode not-fast-slow)</div>`;
   $("verdict").innerHTML = s;
-  $("simulate-b").addEventListener("click", locate);
+  $("simulate-b")?.addEventListener("click", locate);
 }
 
 async function locate() {
@@ -253,6 +274,7 @@ async function locate() {
 
 function render() {
   if (!view) return;
+  if (view.model) $("equation").textContent = view.model.equation;
   drawVerdict();
   drawTrace();
   drawPhase();
@@ -319,7 +341,8 @@ async function useDrive() {
   if (!r.ok) { showError(d.error); return; }
   const p = d.reduction.params;
   $("drive-info").innerHTML = `${esc(d.name)}: α = ${fmt(p.alpha)}, γ = ${fmt(p.gamma)}, ε = ${fmt(p.eps)}, μ = ${fmt(p.mu)}, δ = ${fmt(p.delta)}, ω = ${fmt(p.omega)} (α·ε = ${fmt(d.alpha_eps)}); τ = t / ${fmt(d.reduction.time_scale)} s, x = θ / ${fmt(d.reduction.length_scale)} rad. Stiffness from the catalogue; inertias, damping and loads assumed (hover for the assumptions).`;
-  for (const q of PARAMS) set(q.key, p[q.key], "drive");
+  // the drive gives the study's six; a model's own parameters keep their values
+  for (const q of PARAMS) if (q.key in p) set(q.key, p[q.key], "drive");
 }
 
 async function loadLaws() {
