@@ -206,8 +206,12 @@ pub enum SolverError {
         /// The budget.
         max_steps: u64,
     },
-    /// The caller's deadline ([`crate::integrate::Options::deadline`]) passed.
-    #[error("stopped at t = {t:?}: the deadline passed (the result was no longer wanted)")]
+    /// The caller's deadline ([`crate::integrate::Options::deadline`]) passed, or its cancel
+    /// flag ([`crate::integrate::Options::cancel`]) was set.
+    #[error(
+        "stopped at t = {t:?}: the result was no longer wanted (its deadline passed or its caller \
+         cancelled it)"
+    )]
     Deadline {
         /// Time reached.
         t: f64,

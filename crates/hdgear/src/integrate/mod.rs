@@ -214,6 +214,40 @@ pub struct Options {
     /// explorer, after its timeout) stops the work. Not serialised. Default `None`.
     #[serde(skip)]
     pub deadline: Option<std::time::Instant>,
+    /// A flag that, once set, stops the integration as a passed deadline does (looked at as
+    /// often): how a caller stops work whose result is no longer wanted before its deadline
+    /// (the explorer, when its client hangs up). Not serialised. Default `None`.
+    #[serde(skip)]
+    pub cancel: Option<Cancel>,
+}
+
+/// A flag that stops the integrations that carry it ([`Options::cancel`]) once set. It is a
+/// `static` the caller owns (a server keeps a fixed set, one per computation in flight), so that
+/// [`Options`] stays `Copy`; two are equal when they are the same flag.
+///
+/// ```
+/// use std::sync::atomic::{AtomicBool, Ordering};
+/// use hdgear::{Params, integrate::{Cancel, Options}, simulate::integrate_periods};
+/// static STOP: AtomicBool = AtomicBool::new(true);
+/// let tol = Options { cancel: Some(Cancel(&STOP)), ..Options::default() };
+/// assert!(integrate_periods(&Params::default(), 3.0, tol).is_err()); // stopped at once
+/// STOP.store(false, Ordering::Relaxed);
+/// assert!(integrate_periods(&Params::default(), 3.0, tol).is_ok());
+/// ```
+#[derive(Clone, Copy, Debug)]
+pub struct Cancel(pub &'static std::sync::atomic::AtomicBool);
+
+impl PartialEq for Cancel {
+    fn eq(&self, other: &Cancel) -> bool {
+        std::ptr::eq(self.0, other.0)
+    }
+}
+
+impl Cancel {
+    /// Whether the flag is set.
+    pub fn is_set(self) -> bool {
+        self.0.load(std::sync::atomic::Ordering::Relaxed)
+    }
 }
 
 /// Steps between two looks at the clock for [`Options::deadline`]. A look costs about as much
@@ -234,6 +268,7 @@ impl Default for Options {
             method: Method::default(),
             order: None,
             deadline: None,
+            cancel: None,
         }
     }
 }
@@ -253,13 +288,14 @@ impl Options {
             .then_some(SolverError::Deadline { t })
     }
 
-    /// Whether the deadline has passed, looked at only when `count` is a multiple of
-    /// [`DEADLINE_EVERY`].
+    /// Whether the deadline has passed or the cancel flag is set, looked at only when `count`
+    /// is a multiple of [`DEADLINE_EVERY`].
     pub(crate) fn past_deadline(&self, count: u64) -> bool {
         count.is_multiple_of(DEADLINE_EVERY)
-            && self
-                .deadline
-                .is_some_and(|d| std::time::Instant::now() >= d)
+            && (self.cancel.is_some_and(Cancel::is_set)
+                || self
+                    .deadline
+                    .is_some_and(|d| std::time::Instant::now() >= d))
     }
 
     /// Checks that the tolerances and limits are usable.

@@ -20,7 +20,8 @@
 //! a 422 with the reason; every computation runs on the blocking pool (never on the async
 //! runtime, so requests do not block each other), at most two per core at once. A request not
 //! answered [`VIEW_TIMEOUT`] after it came (boundaries: [`BOUNDARY_TIMEOUT`]) gets a 503 with
-//! `Retry-After`, and its computation stops at that deadline (see [`compute`]). At most
+//! `Retry-After`, and its computation stops at that deadline, or as soon as its client hangs up
+//! ([`work`]). At most
 //! [`QUEUE_PER_WORKER`] requests per worker wait for one; beyond that a request is answered
 //! with a 503 at once.
 //!
@@ -279,94 +280,8 @@ fn params(base: &Model, q: &BTreeMap<String, String>) -> Result<(Subject, Vec<Wa
     Ok((m.subject(), warnings))
 }
 
-/// The computations' limits: workers running at once, and requests admitted (running or
-/// waiting for a worker).
-#[derive(Clone)]
-struct Workers {
-    running: Arc<Semaphore>,
-    admitted: Arc<Semaphore>,
-    count: usize,
-}
-
-impl Workers {
-    /// Two per core: a computation that waits on nothing keeps a core busy, and the second lets
-    /// a cheap view run beside a long boundary search.
-    fn new() -> Workers {
-        let cores = std::thread::available_parallelism().map_or(2, |n| n.get());
-        let count = 2 * cores;
-        Workers {
-            running: Arc::new(Semaphore::new(count)),
-            admitted: Arc::new(Semaphore::new(count * (1 + QUEUE_PER_WORKER))),
-            count,
-        }
-    }
-}
-
-/// Runs `f` on the blocking pool under the concurrency limit; the request is answered with a 503
-/// at once when [`QUEUE_PER_WORKER`] requests per worker are already waiting, and once `limit`
-/// has passed since it came (waiting for a worker included). `f` gets that deadline for its
-/// integrations ([`hdgear::integrate::Options::deadline`]): abandoned work stops there, and it
-/// holds its permits until it has stopped, so at most the limit's number of computations ever
-/// run and the queue's bound counts them.
-async fn compute<T: Send + 'static>(
-    workers: &Workers,
-    limit: Duration,
-    f: impl FnOnce(std::time::Instant) -> hdgear::Result<T> + Send + 'static,
-) -> Result<T, ApiError> {
-    let deadline = std::time::Instant::now() + limit;
-    let admitted = workers.admitted.clone().try_acquire_owned().map_err(|_| {
-        ApiError(
-            StatusCode::SERVICE_UNAVAILABLE,
-            format!(
-                "busy: all {} workers and {} waiting places are taken; try again in a moment",
-                workers.count,
-                workers.count * QUEUE_PER_WORKER
-            ),
-        )
-    })?;
-    let work =
-        async {
-            let permit =
-                workers.running.clone().acquire_owned().await.map_err(|_| {
-                    ApiError(StatusCode::SERVICE_UNAVAILABLE, "shutting down".into())
-                })?;
-            tokio::task::spawn_blocking(move || {
-                let _permits = (permit, admitted);
-                f(deadline)
-            })
-            .await
-            .map_err(|e| {
-                ApiError(
-                    StatusCode::INTERNAL_SERVER_ERROR,
-                    format!("the computation failed: {e}"),
-                )
-            })
-        };
-    let too_long = || {
-        ApiError(
-            StatusCode::SERVICE_UNAVAILABLE,
-            format!(
-                "refused: the computation took longer than {} s (waiting for a free worker \
-                 included)",
-                limit.as_secs()
-            ),
-        )
-    };
-    match tokio::time::timeout(limit, work).await {
-        // the integrations' own deadline is the same limit, seen from inside: whichever notices
-        // first, the answer is the timeout's
-        Ok(Ok(Err(hdgear::Error::Solver(hdgear::error::SolverError::Deadline { .. }))))
-        | Err(_) => Err(too_long()),
-        Ok(r) => Ok(r??),
-    }
-}
-
-/// The explorer's detection options with the integrations' deadline.
-fn options_until(deadline: std::time::Instant) -> hdgear::burst::BurstOptions {
-    let mut o = hdgear::explore::View::options();
-    o.tol.deadline = Some(deadline);
-    o
-}
+mod work;
+use work::{Workers, compute, options_until};
 
 type Q = Query<BTreeMap<String, String>>;
 
@@ -381,16 +296,16 @@ async fn view(State(app): State<App>, Query(q): Q) -> Result<Response, ApiError>
     use hdgear::explore::{ModelView, View};
     Ok(match params(&app.base, &q)? {
         (Subject::Study(p), warnings) => {
-            let v = compute(&app.workers, VIEW_TIMEOUT, move |deadline| {
-                View::compute(&p, warnings, &options_until(deadline))
+            let v = compute(&app.workers, VIEW_TIMEOUT, move |stop| {
+                View::compute(&p, warnings, &options_until(stop))
             })
             .await?;
             Json(v).into_response()
         }
         (Subject::Model(m), warnings) => {
             let remarks = warnings.iter().map(ToString::to_string).collect();
-            let v = compute(&app.workers, VIEW_TIMEOUT, move |deadline| {
-                ModelView::compute(&m, remarks, &options_until(deadline))
+            let v = compute(&app.workers, VIEW_TIMEOUT, move |stop| {
+                ModelView::compute(&m, remarks, &options_until(stop))
             })
             .await?;
             Json(v).into_response()
@@ -410,8 +325,8 @@ async fn boundaries(State(app): State<App>, Query(q): Q) -> Result<Response, Api
             ));
         }
     };
-    let b = compute(&app.workers, BOUNDARY_TIMEOUT, move |deadline| {
-        hdgear::burst::boundaries(&p, &options_until(deadline))
+    let b = compute(&app.workers, BOUNDARY_TIMEOUT, move |stop| {
+        hdgear::burst::boundaries(&p, &options_until(stop))
     })
     .await?;
     Ok(Json(b).into_response())
@@ -440,8 +355,8 @@ async fn control(State(app): State<App>, Query(mut q): Q) -> Result<Response, Ap
     };
     let (subject, _) = params(&app.base, &q)?;
     hdgear::on_subject!(subject, |p| {
-        let doc = compute(&app.workers, BOUNDARY_TIMEOUT, move |deadline| {
-            hdgear::control::compare(&p, &[law.as_str()], &c, &options_until(deadline))
+        let doc = compute(&app.workers, BOUNDARY_TIMEOUT, move |stop| {
+            hdgear::control::compare(&p, &[law.as_str()], &c, &options_until(stop))
         })
         .await?;
         Ok(Json(doc).into_response())
