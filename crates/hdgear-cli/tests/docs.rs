@@ -320,3 +320,18 @@ fn the_matcher_accepts_what_it_should_and_nothing_else() {
     );
     assert_eq!(hdgear_args("ls -l"), None);
 }
+
+/// The fit page's list of units is the library's ([`hdgear::fit::units_text`]), each unit in
+/// the order the library reads them, so the page cannot fall behind a unit added there.
+#[test]
+fn the_fit_page_lists_the_units_the_library_reads() {
+    let page = std::fs::read_to_string(root().join("docs/src/fit.md")).unwrap();
+    let start = page.find("Units: ").expect("the fit page lists the units") + "Units: ".len();
+    let end = start + page[start..].find(".\n").unwrap();
+    let listed: String = page[start..end]
+        .split_whitespace()
+        .collect::<Vec<_>>()
+        .join(" ")
+        .replace('`', "");
+    assert_eq!(listed, hdgear::fit::units_text());
+}
