@@ -86,6 +86,23 @@ fn a_fit_writes_its_residuals_plot_law_and_card() {
         shown.contains("breakaway") && shown.contains("fit"),
         "{shown}"
     );
+    // and the design check runs the drive with the fitted law, named by the fit's source
+    let out = hdgear()
+        .current_dir(dir.path())
+        .args(["card", "check", "card.toml", "--json", "--quiet"])
+        .assert()
+        .success();
+    let check: serde_json::Value = serde_json::from_slice(&out.get_output().stdout).unwrap();
+    let friction = &check["friction"];
+    assert_eq!(friction["law"]["breakaway"].as_f64().unwrap(), fs);
+    assert!(
+        friction["source"]
+            .as_str()
+            .unwrap()
+            .starts_with("fit-friction-"),
+        "{friction}"
+    );
+    assert!(friction["outcome"]["verdict"].is_string(), "{friction}");
 }
 
 #[test]
