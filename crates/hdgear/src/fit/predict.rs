@@ -345,7 +345,8 @@ fn creep(
     torque
 }
 
-/// Classic RK4 from twist `a` to `b` in steps of at most `h_max`, on side `s`.
+/// RK4 ([`crate::integrate::rk4_step`]) from twist `a` to `b` in equal steps of at most
+/// `h_max`, on side `s`.
 fn rk4(
     f: &impl Fn(f64, f64, &[f64], &mut [f64]),
     s: f64,
@@ -359,34 +360,12 @@ fn rk4(
     }
     let n = ((b - a).abs() / h_max).ceil().max(1.0) as usize;
     let h = (b - a) / n as f64;
-    let m = y.len();
-    let (mut k1, mut k2, mut k3, mut k4, mut tmp) = (
-        vec![0.0; m],
-        vec![0.0; m],
-        vec![0.0; m],
-        vec![0.0; m],
-        vec![0.0; m],
-    );
+    let mut scratch = vec![0.0; 5 * y.len()];
+    let mut field = |x: f64, y: &[f64], dy: &mut [f64]| {
+        f(s, x, y, dy);
+        true
+    };
     for step in 0..n {
-        let xa = a + h * step as f64;
-        f(s, xa, y, &mut k1);
-        tmp.iter_mut()
-            .zip(y.iter())
-            .zip(&k1)
-            .for_each(|((t, y), k)| *t = y + 0.5 * h * k);
-        f(s, xa + 0.5 * h, &tmp, &mut k2);
-        tmp.iter_mut()
-            .zip(y.iter())
-            .zip(&k2)
-            .for_each(|((t, y), k)| *t = y + 0.5 * h * k);
-        f(s, xa + 0.5 * h, &tmp, &mut k3);
-        tmp.iter_mut()
-            .zip(y.iter())
-            .zip(&k3)
-            .for_each(|((t, y), k)| *t = y + h * k);
-        f(s, xa + h, &tmp, &mut k4);
-        for j in 0..m {
-            y[j] += h / 6.0 * (k1[j] + 2.0 * (k2[j] + k3[j]) + k4[j]);
-        }
+        crate::integrate::rk4_step(&mut field, a + h * step as f64, h, y, &mut scratch);
     }
 }

@@ -19,6 +19,8 @@
 pub(crate) mod approx;
 mod dop853;
 pub mod events;
+mod rk4;
+pub(crate) use rk4::rk4_step;
 pub(crate) mod lanes;
 mod stages;
 pub mod taylor;

@@ -200,13 +200,16 @@ impl Model {
         branch.breakaway = Some(a0);
         let n = ((to - a0).abs() * STEPS_PER_UNIT).ceil().max(1.0) as usize;
         let h = (to - a0) / n as f64;
-        // y = (x, z): dy/da = (δ/K_t)·(1, dz/dx)
-        let field = |y: &[f64; 1 + MAX_STATES]| -> Option<[f64; 1 + MAX_STATES]> {
+        // y = (x, z): dy/da = (δ/K_t)·(1, dz/dx), undefined at a fold (K_t ≤ 0)
+        let mut field = |_: f64, y: &[f64], dy: &mut [f64]| {
             let z = std::array::from_fn(|j| y[1 + j]);
             let (_, k, dz) = self.creep(s, y[0], &z);
-            (k > 0.0)
-                .then(|| std::array::from_fn(|j| delta / k * if j == 0 { 1.0 } else { dz[j - 1] }))
+            for (j, d) in dy.iter_mut().enumerate() {
+                *d = delta / k * if j == 0 { 1.0 } else { dz[j - 1] };
+            }
+            k > 0.0
         };
+        let mut scratch = [0.0; 5 * (1 + MAX_STATES)];
         let mut y = [0.0; 1 + MAX_STATES];
         y[0] = x;
         y[1..].copy_from_slice(&z);
@@ -223,11 +226,10 @@ impl Model {
         push(a0, &y, &mut branch);
         for i in 0..n {
             let a = a0 + h * i as f64;
-            let Some(next) = rk4(&field, &y, h) else {
+            if !crate::integrate::rk4_step(&mut field, a, h, &mut y, &mut scratch) {
                 branch.fold = Some(a);
                 break;
-            };
-            y = next;
+            }
             push(a + h, &y, &mut branch);
         }
         branch.min_stiffness = steepest(&branch.points, delta);
@@ -282,22 +284,6 @@ fn steepest(points: &[LoopPoint], delta: f64) -> Option<(f64, f64)> {
     });
     let a = lo.a + h * 0.5 * (t0 + t1);
     Some((a, k.min(q.stiffness)))
-}
-
-/// One classical RK4 step of `f` (None where the field is, at a fold).
-fn rk4<const M: usize>(
-    f: &impl Fn(&[f64; M]) -> Option<[f64; M]>,
-    y: &[f64; M],
-    h: f64,
-) -> Option<[f64; M]> {
-    let at = |k: &[f64; M], c: f64| std::array::from_fn(|j| y[j] + c * h * k[j]);
-    let k1 = f(y)?;
-    let k2 = f(&at(&k1, 0.5))?;
-    let k3 = f(&at(&k2, 0.5))?;
-    let k4 = f(&at(&k3, 1.0))?;
-    Some(std::array::from_fn(|j| {
-        y[j] + h / 6.0 * (k1[j] + 2.0 * k2[j] + 2.0 * k3[j] + k4[j])
-    }))
 }
 
 /// Where a sweep left the drive at the end of the load's range: its last point (at a fold, where
