@@ -116,6 +116,52 @@ impl Drop for RunProgress {
     }
 }
 
+/// A spinner on stderr for a trace of unknown length: the points `count` holds so far and the
+/// time elapsed, refreshed five times a second by a thread (woken to stop at once), shown only on a terminal and not
+/// with `--quiet`; cleared when dropped.
+pub struct PointsProgress {
+    stop: std::sync::Arc<std::sync::atomic::AtomicBool>,
+    thread: Option<std::thread::JoinHandle<()>>,
+}
+
+impl PointsProgress {
+    /// The spinner over `count`, `what` naming what is traced ("fold curves").
+    pub fn new(count: &'static std::sync::atomic::AtomicU64, what: &str) -> PointsProgress {
+        use std::io::IsTerminal;
+        use std::sync::atomic::Ordering;
+        let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+        let shown = std::io::stderr().is_terminal() && !QUIET.load(Ordering::Relaxed);
+        let thread = shown.then(|| {
+            let bar = indicatif::ProgressBar::new_spinner();
+            let template = format!("{{spinner}} {what}: {{pos}} points traced, {{elapsed}}");
+            if let Ok(style) = indicatif::ProgressStyle::with_template(&template) {
+                bar.set_style(style);
+            }
+            let stop = stop.clone();
+            std::thread::spawn(move || {
+                while !stop.load(Ordering::Relaxed) {
+                    bar.set_position(count.load(Ordering::Relaxed));
+                    bar.tick();
+                    // woken early by the drop, so a short trace is not held up by the spinner
+                    std::thread::park_timeout(std::time::Duration::from_millis(200));
+                }
+                bar.finish_and_clear();
+            })
+        });
+        PointsProgress { stop, thread }
+    }
+}
+
+impl Drop for PointsProgress {
+    fn drop(&mut self) {
+        self.stop.store(true, std::sync::atomic::Ordering::Relaxed);
+        if let Some(t) = self.thread.take() {
+            t.thread().unpark();
+            let _ = t.join();
+        }
+    }
+}
+
 /// Prints one warning line unless `--quiet`.
 pub fn note(text: &str) {
     if !QUIET.load(std::sync::atomic::Ordering::Relaxed) {

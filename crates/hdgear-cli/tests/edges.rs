@@ -283,3 +283,47 @@ fn argument_refusals_are_one_line() {
     assert_eq!(help.status.code(), Some(0));
     assert!(String::from_utf8_lossy(&help.stdout).contains("Usage: hdgear simulate"));
 }
+
+/// A long two-parameter trace shows its progress on a terminal: under `script` (a pseudo-
+/// terminal) the spinner's count of traced points rises while the trace runs; without a
+/// terminal nothing but the summary is printed.
+#[test]
+fn a_long_trace_shows_its_progress_on_a_terminal() {
+    let bin = assert_cmd::cargo::cargo_bin("hdgear");
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("c.csv");
+    let args = format!(
+        "{} continue2 --param omega=1e-4:1e3:log --param delta=1e-3:1e4:log --out {}",
+        bin.display(),
+        out.display()
+    );
+    let Ok(run) = std::process::Command::new("script")
+        .args(["-qec", &args, "/dev/null"])
+        .output()
+    else {
+        assert!(
+            std::env::var_os("CI").is_none(),
+            "no `script` (util-linux) to give the run a terminal"
+        );
+        return;
+    };
+    assert!(run.status.success(), "{run:?}");
+    let tty = String::from_utf8_lossy(&run.stdout);
+    let counts: Vec<u64> = tty
+        .split(['\r', '\n'])
+        .filter_map(|l| l.split("continue2: ").nth(1))
+        .filter_map(|l| l.split(' ').next()?.parse().ok())
+        .collect();
+    assert!(
+        counts.windows(2).all(|w| w[0] <= w[1]) && counts.iter().any(|&c| c > 100),
+        "{counts:?}"
+    );
+    let plain = hdgear()
+        .args(["continue2", "--param", "omega=1e-4:1e3:log"])
+        .args(["--param", "delta=1e-3:1e4:log", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(plain.status.success());
+    assert!(!String::from_utf8_lossy(&plain.stderr).contains("points traced"));
+}

@@ -69,12 +69,16 @@ fn run_on<S: Periodic>(p: &S, a: &ContinueArgs, warnings: &[Warning]) -> Result<
     let range = Range::parse_for(&a.range, p).context("--param")?;
     let p = p.with(range.param, range.from).context("--param")?;
     warn(warnings);
+    static TRACED: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
     let opts = ContinuationOptions {
         scale: range.scale,
+        progress: Some(hdgear::periodic::Counter(&TRACED)),
         ..ContinuationOptions::default()
     };
+    let progress = crate::sink::PointsProgress::new(&TRACED, "continue");
     let branches =
         continue_with_doubled(&p, range.param, a.subharmonic, range.to, a.switch, &opts)?;
+    drop(progress);
     let doc = Doc {
         range,
         params: &p,

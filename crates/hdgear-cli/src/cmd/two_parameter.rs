@@ -141,7 +141,12 @@ fn curves_of<S: Periodic>(
     warnings: &[hdgear::params::Warning],
 ) -> Result<()> {
     let (p, [r1, r2]) = request(a, base, warnings)?;
-    let opts = ContinuationOptions::default();
+    static TRACED: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+    let opts = ContinuationOptions {
+        progress: Some(hdgear::periodic::Counter(&TRACED)),
+        ..ContinuationOptions::default()
+    };
+    let progress = crate::sink::PointsProgress::new(&TRACED, "continue2");
     let mut curves = match &a.restart {
         Some(spec) => vec![restart(spec, &p, [r1, r2], &opts)?],
         None => curves_from_branch(&p, [r1, r2], kind, nth, a.subharmonic, &opts)
@@ -151,6 +156,7 @@ fn curves_of<S: Periodic>(
         let more = curves_at_gpds(&p, [r1, r2], &curves, &opts).context("--switch")?;
         curves.extend(more);
     }
+    drop(progress);
     let doc = Doc {
         params: p,
         ranges: [r1, r2],

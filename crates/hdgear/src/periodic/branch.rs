@@ -24,6 +24,41 @@ pub struct ContinuationOptions {
     pub max_corrector: usize,
     /// Points at most.
     pub max_points: usize,
+    /// A count the tracers add each point they accept to, for a caller's progress display (a
+    /// long two-parameter trace takes minutes). Not serialised. Default `None`.
+    #[serde(skip)]
+    pub progress: Option<Counter>,
+}
+
+/// A count of the points continuations have traced ([`ContinuationOptions::progress`]): a
+/// `static` the caller owns and reads while the trace runs, so that the options stay `Copy`;
+/// two are equal when they are the same counter.
+///
+/// ```
+/// use std::sync::atomic::{AtomicU64, Ordering};
+/// use hdgear::{Params, periodic::{ContinuationOptions, Counter, continue_orbit}};
+/// static TRACED: AtomicU64 = AtomicU64::new(0);
+/// let opts = ContinuationOptions { progress: Some(Counter(&TRACED)), ..Default::default() };
+/// let p = Params { gamma: 30.0, ..Params::default() };
+/// let b = continue_orbit(&p, hdgear::params::Param::Omega, 1, None, 0.02, &opts).unwrap();
+/// assert!(TRACED.load(Ordering::Relaxed) as usize >= b.points.len() - 2);
+/// ```
+#[derive(Clone, Copy, Debug)]
+pub struct Counter(pub &'static std::sync::atomic::AtomicU64);
+
+impl PartialEq for Counter {
+    fn eq(&self, other: &Counter) -> bool {
+        std::ptr::eq(self.0, other.0)
+    }
+}
+
+impl ContinuationOptions {
+    /// Counts one more accepted point ([`ContinuationOptions::progress`]).
+    pub(crate) fn traced(&self) {
+        if let Some(c) = self.progress {
+            c.0.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        }
+    }
 }
 
 impl Default for ContinuationOptions {
@@ -37,6 +72,7 @@ impl Default for ContinuationOptions {
             max_turn: 0.3,
             max_corrector: 8,
             max_points: 5000,
+            progress: None,
         }
     }
 }

@@ -292,6 +292,7 @@ impl<O: Oscillator> Tracer<'_, O> {
                 return Ok(self.finish(points, End::Reached));
             }
             points.push(self.branch_point(&q, None)?);
+            self.opts.traced();
             ds = if q.iterations <= 2 {
                 (ds * 1.5).min(max)
             } else if q.iterations >= 5 {

@@ -615,6 +615,7 @@ impl<O: Oscillator> Tracer<'_, O> {
             }
             left |= from_start > 3.0 * ds;
             points.push(self.curve_point_with(&q, None, flip_q)?);
+            self.opts.traced();
             ds = if q.iterations <= 3 {
                 (ds * 1.5).min(max)
             } else {
