@@ -72,7 +72,7 @@ fn run_on<S: Periodic>(p: &S, a: &ContinueArgs, warnings: &[Warning]) -> Result<
     static TRACED: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
     let opts = ContinuationOptions {
         scale: range.scale,
-        progress: Some(hdgear::periodic::Counter(&TRACED)),
+        progress: Some(hdgear::integrate::Shared(&TRACED)),
         ..ContinuationOptions::default()
     };
     let progress = crate::sink::PointsProgress::new(&TRACED, "continue");

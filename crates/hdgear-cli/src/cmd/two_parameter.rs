@@ -143,7 +143,7 @@ fn curves_of<S: Periodic>(
     let (p, [r1, r2]) = request(a, base, warnings)?;
     static TRACED: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
     let opts = ContinuationOptions {
-        progress: Some(hdgear::periodic::Counter(&TRACED)),
+        progress: Some(hdgear::integrate::Shared(&TRACED)),
         ..ContinuationOptions::default()
     };
     let progress = crate::sink::PointsProgress::new(&TRACED, "continue2");

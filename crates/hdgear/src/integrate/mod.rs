@@ -223,27 +223,39 @@ pub struct Options {
     pub cancel: Option<Cancel>,
 }
 
-/// A flag that stops the integrations that carry it ([`Options::cancel`]) once set. It is a
-/// `static` the caller owns (a server keeps a fixed set, one per computation in flight), so that
-/// [`Options`] stays `Copy`; two are equal when they are the same flag.
+/// A `static` the caller owns and the library reads or adds to while it runs: a [`Cancel`]
+/// flag, a [`crate::periodic::Counter`] of traced points. Holding a `'static` reference keeps
+/// the options that carry it `Copy`; two are equal when they are the same static.
+#[derive(Debug)]
+pub struct Shared<T: 'static>(pub &'static T);
+
+impl<T> Clone for Shared<T> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+
+impl<T> Copy for Shared<T> {}
+
+impl<T> PartialEq for Shared<T> {
+    fn eq(&self, other: &Shared<T>) -> bool {
+        std::ptr::eq(self.0, other.0)
+    }
+}
+
+/// A flag that stops the integrations that carry it ([`Options::cancel`]) once set (a server
+/// keeps a fixed set, one per computation in flight).
 ///
 /// ```
 /// use std::sync::atomic::{AtomicBool, Ordering};
-/// use hdgear::{Params, integrate::{Cancel, Options}, simulate::integrate_periods};
+/// use hdgear::{Params, integrate::{Options, Shared}, simulate::integrate_periods};
 /// static STOP: AtomicBool = AtomicBool::new(true);
-/// let tol = Options { cancel: Some(Cancel(&STOP)), ..Options::default() };
+/// let tol = Options { cancel: Some(Shared(&STOP)), ..Options::default() };
 /// assert!(integrate_periods(&Params::default(), 3.0, tol).is_err()); // stopped at once
 /// STOP.store(false, Ordering::Relaxed);
 /// assert!(integrate_periods(&Params::default(), 3.0, tol).is_ok());
 /// ```
-#[derive(Clone, Copy, Debug)]
-pub struct Cancel(pub &'static std::sync::atomic::AtomicBool);
-
-impl PartialEq for Cancel {
-    fn eq(&self, other: &Cancel) -> bool {
-        std::ptr::eq(self.0, other.0)
-    }
-}
+pub type Cancel = Shared<std::sync::atomic::AtomicBool>;
 
 impl Cancel {
     /// Whether the flag is set.

@@ -31,26 +31,18 @@ pub struct ContinuationOptions {
 }
 
 /// A count of the points continuations have traced ([`ContinuationOptions::progress`]): a
-/// `static` the caller owns and reads while the trace runs, so that the options stay `Copy`;
-/// two are equal when they are the same counter.
+/// `static` the caller reads while the trace runs ([`crate::integrate::Shared`]).
 ///
 /// ```
 /// use std::sync::atomic::{AtomicU64, Ordering};
-/// use hdgear::{Params, periodic::{ContinuationOptions, Counter, continue_orbit}};
+/// use hdgear::{Params, integrate::Shared, periodic::{ContinuationOptions, continue_orbit}};
 /// static TRACED: AtomicU64 = AtomicU64::new(0);
-/// let opts = ContinuationOptions { progress: Some(Counter(&TRACED)), ..Default::default() };
+/// let opts = ContinuationOptions { progress: Some(Shared(&TRACED)), ..Default::default() };
 /// let p = Params { gamma: 30.0, ..Params::default() };
 /// let b = continue_orbit(&p, hdgear::params::Param::Omega, 1, None, 0.02, &opts).unwrap();
 /// assert!(TRACED.load(Ordering::Relaxed) as usize >= b.points.len() - 2);
 /// ```
-#[derive(Clone, Copy, Debug)]
-pub struct Counter(pub &'static std::sync::atomic::AtomicU64);
-
-impl PartialEq for Counter {
-    fn eq(&self, other: &Counter) -> bool {
-        std::ptr::eq(self.0, other.0)
-    }
-}
+pub type Counter = crate::integrate::Shared<std::sync::atomic::AtomicU64>;
 
 impl ContinuationOptions {
     /// Counts one more accepted point ([`ContinuationOptions::progress`]).

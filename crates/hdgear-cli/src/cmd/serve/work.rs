@@ -12,7 +12,7 @@
 
 use super::{ApiError, QUEUE_PER_WORKER};
 use axum::http::StatusCode;
-use hdgear::integrate::Cancel;
+use hdgear::integrate::{Cancel, Shared};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
@@ -42,7 +42,7 @@ impl Flag {
     }
 
     fn cancel(&self) -> Cancel {
-        Cancel(&FLAGS[self.0])
+        Shared(&FLAGS[self.0])
     }
 }
 
