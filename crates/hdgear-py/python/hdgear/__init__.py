@@ -3,7 +3,9 @@
 The model x'' + x' + αx³ − x² + γ(x − ε) = μ + δ sin ωτ (the study's dimensionless harmonic
 drive), its fast subsystem, bursting verdicts, sweeps and the physical drive, computed by the Rust
 library (the GIL is released during every computation) and returned as numpy arrays, dicts, or
-pandas DataFrames when pandas is installed.
+pandas DataFrames when pandas is installed. A model with friction, hysteresis or control terms is
+a :class:`Model` (``Model(params, {"coulomb": {...}})`` or ``Model.from_toml(path)``), taken
+wherever a :class:`Params` is.
 
     >>> import hdgear, numpy as np
     >>> tr = hdgear.simulate(hdgear.Params.paper(gamma=0.1))
