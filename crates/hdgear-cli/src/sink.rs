@@ -116,19 +116,25 @@ impl Drop for RunProgress {
     }
 }
 
-/// A spinner on stderr for a trace of unknown length: the points `count` holds so far and the
-/// time elapsed, refreshed five times a second by a thread (woken to stop at once), shown only on a terminal and not
-/// with `--quiet`; cleared when dropped.
+/// The count of points the run's trace adds to ([`PointsProgress::counter`]; one trace per run).
+static TRACED: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+
+/// A spinner on stderr for a trace of unknown length: the points traced so far
+/// ([`PointsProgress::counter`]) and the time elapsed, refreshed five times a second by a thread
+/// (woken to stop at once), shown only on a terminal and not with `--quiet`; cleared when
+/// dropped.
 pub struct PointsProgress {
     stop: std::sync::Arc<std::sync::atomic::AtomicBool>,
     thread: Option<std::thread::JoinHandle<()>>,
 }
 
 impl PointsProgress {
-    /// The spinner over `count`, `what` naming what is traced ("fold curves").
-    pub fn new(count: &'static std::sync::atomic::AtomicU64, what: &str) -> PointsProgress {
+    /// The spinner, `what` naming what is traced ("continue2"), its count at zero.
+    pub fn new(what: &str) -> PointsProgress {
         use std::io::IsTerminal;
         use std::sync::atomic::Ordering;
+        let count = &TRACED;
+        count.store(0, Ordering::Relaxed);
         let stop = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
         let shown = std::io::stderr().is_terminal() && !QUIET.load(Ordering::Relaxed);
         let thread = shown.then(|| {
@@ -149,6 +155,12 @@ impl PointsProgress {
             })
         });
         PointsProgress { stop, thread }
+    }
+
+    /// The count the trace adds to: a continuation's [`hdgear::periodic::ContinuationOptions`]
+    /// `progress`.
+    pub fn counter(&self) -> hdgear::periodic::Counter {
+        hdgear::integrate::Shared(&TRACED)
     }
 }
 

@@ -109,10 +109,11 @@ pub(crate) fn analyze<'py>(
             let range = hdgear::fast::A_RANGE;
             // the study set's remarks, as the CLI gives them for a scenario's [params]
             let remarks: Vec<String> = m
-                .study_set()
-                .and_then(|p| p.validate().ok())
-                .map(|w| w.iter().map(ToString::to_string).collect())
-                .unwrap_or_default();
+                .study_warnings()
+                .unwrap_or_default()
+                .iter()
+                .map(ToString::to_string)
+                .collect();
             let doc = py
                 .detach(|| {
                     hdgear::study::analyze_model(&m, range, response.then_some(&opts), remarks)

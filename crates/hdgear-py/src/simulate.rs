@@ -67,10 +67,9 @@ pub(crate) fn simulate<'py>(
         (None, None, false) => Start::Equilibrium,
         (None, None, true) => Start::Rest,
         (x, v, false) => Start::Given {
-            x0: match (x, &subject) {
-                (Some(x), _) => x,
-                (None, Subject::Study(p)) => hdgear::fast::stable_equilibrium(p, 0.0),
-                (None, Subject::Model(m)) => m.stable_equilibrium(0.0).map_err(err)?,
+            x0: match x {
+                Some(x) => x,
+                None => subject.stable_equilibrium(0.0).map_err(err)?,
             },
             v0: v.unwrap_or(m.rest_rate()),
         },

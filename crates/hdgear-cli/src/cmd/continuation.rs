@@ -69,13 +69,12 @@ fn run_on<S: Periodic>(p: &S, a: &ContinueArgs, warnings: &[Warning]) -> Result<
     let range = Range::parse_for(&a.range, p).context("--param")?;
     let p = p.with(range.param, range.from).context("--param")?;
     warn(warnings);
-    static TRACED: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+    let progress = crate::sink::PointsProgress::new("continue");
     let opts = ContinuationOptions {
         scale: range.scale,
-        progress: Some(hdgear::integrate::Shared(&TRACED)),
+        progress: Some(progress.counter()),
         ..ContinuationOptions::default()
     };
-    let progress = crate::sink::PointsProgress::new(&TRACED, "continue");
     let branches =
         continue_with_doubled(&p, range.param, a.subharmonic, range.to, a.switch, &opts)?;
     drop(progress);

@@ -68,6 +68,7 @@ impl SimulateArgs {
     /// Checks every value and resolves the parameters.
     pub fn check(&self) -> Result<SimulateRun> {
         let (params, model, warnings) = self.params.resolve_model()?;
+        let subject = model.subject();
         let model = model.has_extra_terms().then_some(model);
         let tol = self.tol.options()?;
         let t_end = match self.t_end {
@@ -89,10 +90,7 @@ impl SimulateArgs {
                 (x0, v0) => {
                     let x0 = match x0 {
                         Some(x) => check_finite("x0", x)?,
-                        None => match &model {
-                            Some(m) => m.stable_equilibrium(0.0)?,
-                            None => hdgear::fast::stable_equilibrium(&params, 0.0),
-                        },
+                        None => subject.stable_equilibrium(0.0)?,
                     };
                     let rest = model.as_ref().map_or(0.0, |m| m.rest_rate());
                     let v0 = check_finite("v0", v0.unwrap_or(rest))?;

@@ -141,12 +141,11 @@ fn curves_of<S: Periodic>(
     warnings: &[hdgear::params::Warning],
 ) -> Result<()> {
     let (p, [r1, r2]) = request(a, base, warnings)?;
-    static TRACED: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+    let progress = crate::sink::PointsProgress::new("continue2");
     let opts = ContinuationOptions {
-        progress: Some(hdgear::integrate::Shared(&TRACED)),
+        progress: Some(progress.counter()),
         ..ContinuationOptions::default()
     };
-    let progress = crate::sink::PointsProgress::new(&TRACED, "continue2");
     let mut curves = match &a.restart {
         Some(spec) => vec![restart(spec, &p, [r1, r2], &opts)?],
         None => curves_from_branch(&p, [r1, r2], kind, nth, a.subharmonic, &opts)

@@ -153,13 +153,16 @@ fn app_script(base: &Model) -> String {
         .into_iter()
         .filter_map(|v| {
             let info = v.info;
+            // a name no other parameter of the model shares is its own key
+            let unique = base.param(info.name).is_ok();
             let (min, max, log) = match info.name.parse::<Param>() {
-                Ok(q) if base.param(info.name).is_ok() => slider(q),
+                Ok(q) if unique => slider(q),
                 _ => term_slider(info.domain, v.value)?,
             };
-            let key = match base.param(info.name) {
-                Ok(_) => info.name.to_string(),
-                Err(_) => format!("{}.{}", v.term, info.name),
+            let key = if unique {
+                info.name.to_string()
+            } else {
+                format!("{}.{}", v.term, info.name)
             };
             Some(Slider {
                 key,
@@ -273,11 +276,7 @@ fn params(base: &Model, q: &BTreeMap<String, String>) -> Result<(Subject, Vec<Wa
         changes.push((base.param(k).map_err(bad)?, number(k, v)?));
     }
     let m = base.with_all(&changes).map_err(bad)?;
-    let warnings = match m.study_set() {
-        Some(p) => p.validate()?,
-        None => Vec::new(),
-    };
-    Ok((m.subject(), warnings))
+    Ok((m.subject(), m.study_warnings()?))
 }
 
 mod work;

@@ -25,6 +25,12 @@ impl Model {
         (*self == Model::study(&p)).then_some(p)
     }
 
+    /// The remarks on the study's set this model carries ([`Model::study_set`]: α·ε ≠ 1, …);
+    /// none without the study's stiffness.
+    pub fn study_warnings(&self) -> crate::error::Result<Vec<crate::params::Warning>> {
+        self.study_set().map_or(Ok(Vec::new()), |p| p.validate())
+    }
+
     /// The study's six values this model carries, whatever else it holds: its cubic
     /// stiffness's α, γ, ε and its forcing's μ, δ, ω; `None` without the study's stiffness.
     pub fn study_set(&self) -> Option<Params> {
@@ -100,6 +106,16 @@ impl Model {
 }
 
 impl Subject {
+    /// The stable equilibrium the default start takes at slow variable `a`: the cubic's in
+    /// closed form for the study's set ([`crate::fast::stable_equilibrium`]), the model's own
+    /// else ([`Model::stable_equilibrium`]).
+    pub fn stable_equilibrium(&self, a: f64) -> crate::error::Result<f64> {
+        match self {
+            Subject::Study(p) => Ok(crate::fast::stable_equilibrium(p, a)),
+            Subject::Model(m) => m.stable_equilibrium(a),
+        }
+    }
+
     /// The assembled model (the study's, built from the set, for [`Subject::Study`]).
     pub fn model(&self) -> Model {
         match self {
