@@ -3,8 +3,8 @@
 use crate::sink::{Sink, warn};
 use anyhow::{Context, Result};
 use hdgear::output::RecordWriter;
-use hdgear::periodic::{DiagramOptions, DiagramPoint, Periodic, orbit_diagram};
-use hdgear::sweep::Axis;
+use hdgear::periodic::{DiagramOptions, DiagramPoint, orbit_diagram};
+use hdgear::sweep::{Axis, Sweep};
 use serde::Serialize;
 
 use crate::sources::ParamArgs;
@@ -51,39 +51,33 @@ struct Row {
 hdgear::record!(Row: "sweep", "param", "period", "lyapunov", "x", "xdot");
 
 #[derive(Serialize)]
-struct Meta<'a, S> {
-    axis: &'a Axis,
+struct Meta<'a, S, P> {
+    axis: &'a Axis<P>,
     params: &'a S,
     options: DiagramOptions,
 }
 
 pub fn run(a: OrbitDiagramArgs) -> Result<()> {
-    let axis = Axis::parse(&a.axis).context("--param")?;
-    hdgear::periodic::check_diagram_values(axis.count).context("--param")?;
-    if a.params.given(axis.param) {
-        anyhow::bail!(
-            "--{0} does not apply: --param {1} varies {0} itself",
-            axis.param,
-            a.axis
-        );
-    }
     let (system, warnings) = a.params.resolve_system()?;
     crate::args::check_out(&a.out)?;
     if let Some(plot) = &a.plot {
         crate::args::check_plot(plot)?;
     }
-    hdgear::on_subject!(&system, |p| run_on(p, &a, &axis, &warnings))
+    hdgear::on_subject!(&system, |p| run_on(p, &a, &warnings))
 }
 
-/// The diagram of the study's set or of a model (the axis names one of the study's parameters,
-/// which a model holds by the same name), written and plotted.
-fn run_on<S: Periodic>(
+/// The diagram of the study's set or of a model, along one of its parameters (a model's by its
+/// qualified name), written and plotted.
+fn run_on<S: Sweep>(
     p: &S,
     a: &OrbitDiagramArgs,
-    axis: &Axis,
     warnings: &[hdgear::params::Warning],
 ) -> Result<()> {
-    let param = p.param_named(axis.param.name()).context("--param")?;
+    let axis = Axis::parse_for(&a.axis, p).context("--param")?;
+    hdgear::periodic::check_diagram_values(axis.count).context("--param")?;
+    a.params
+        .not_given(&axis.param.to_string(), "--param varies")?;
+    let param = axis.param;
     p.check_periodic()?;
     let opts = DiagramOptions {
         discard: a.discard,
@@ -96,7 +90,7 @@ fn run_on<S: Periodic>(
     values.dedup();
     warn(warnings);
     let meta = Meta {
-        axis,
+        axis: &axis,
         params: p,
         options: opts,
     };
