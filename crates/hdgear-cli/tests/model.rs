@@ -149,7 +149,7 @@ fn the_fast_subsystem_and_the_periodic_machinery_run_on_a_friction_scenario() {
 }
 
 #[test]
-fn orbit_diagram_and_control_run_on_a_friction_scenario_and_coulomb_orbits_are_refused() {
+fn orbit_diagram_control_and_coulomb_orbits_run_on_friction_scenarios() {
     let dir = tempfile::tempdir().unwrap();
     let f = friction_scenario(dir.path());
     // orbit-diagram: the stroboscopic section of the model against a study parameter
@@ -184,7 +184,7 @@ fn orbit_diagram_and_control_run_on_a_friction_scenario_and_coulomb_orbits_are_r
     ]);
     assert_eq!(d["params"]["terms"][2]["kind"], "friction");
     assert!(d["tunings"][0]["tuned"]["gain"].as_f64().unwrap() > 0.0);
-    // a sticking Coulomb term: the analysis runs, shooting is refused naming the term
+    // a sticking Coulomb term: the analysis runs, and the orbit is shot switch by switch
     let c = scenario(
         dir.path(),
         "c.toml",
@@ -194,15 +194,32 @@ fn orbit_diagram_and_control_run_on_a_friction_scenario_and_coulomb_orbits_are_r
         .args(["analyze", "--config", &c, "--no-response"])
         .assert()
         .success();
-    for cmd in ["periodic", "frequency-response"] {
-        hdgear()
-            .args([cmd, "--config", &c])
-            .assert()
-            .code(2)
-            .stderr(predicate::str::contains(
-                "invalid model 'coulomb': periodic orbits are not computed for it",
-            ));
-    }
+    let orbit = json_of(&["periodic", "--config", &c, "--json"]);
+    let rests = orbit["rests"]["rests"]
+        .as_u64()
+        .expect("a sticking model counts its rests");
+    // a rest forgets the speed: then the second multiplier is 0 (ln = −∞, null in JSON)
+    assert_eq!(
+        orbit["multipliers"][1]["log_abs"].is_null(),
+        rests > 0,
+        "{orbit}"
+    );
+    let fr = json_of(&[
+        "frequency-response",
+        "--config",
+        &c,
+        "--json",
+        "--omega-range",
+        "0.5:2",
+    ]);
+    assert!(fr["points"].as_array().unwrap().len() > 2);
+    // a term with a state of its own has orbits outside the plane: refused in one line
+    let l = scenario(dir.path(), "l.toml", "[params]\ngamma = 1\n[lugre]\n");
+    hdgear()
+        .args(["periodic", "--config", &l])
+        .assert()
+        .code(2)
+        .stderr(predicate::str::contains("internal states"));
 }
 
 #[test]
@@ -431,7 +448,8 @@ fn sweep_maps_a_coulomb_scenario_over_its_friction_level_as_bursts_sees_each_poi
         let here: f64 = row[col("bursts_per_period")].parse().unwrap();
         assert!(here == per_period || (here.is_nan() && per_period.is_nan()));
     }
-    // the Lyapunov map takes the model too; a sticking model's is refused naming the term
+    // the Lyapunov map takes the sticking model too, its tangent carried across each switch by
+    // the saltation matrix: each point's exponent is its periodic orbit's ln|m1|/T
     let ly = dir.path().join("ly.csv");
     hdgear()
         .args([
@@ -440,13 +458,34 @@ fn sweep_maps_a_coulomb_scenario_over_its_friction_level_as_bursts_sees_each_poi
             &f,
             "--param",
             "coulomb.fs=0.1:0.3:2",
+            "--quiet",
             "--out",
         ])
         .arg(&ly)
         .assert()
-        .code(2)
-        .stderr(predicate::str::contains("'coulomb'").and(predicate::str::contains("saltation")));
-    assert!(!ly.exists());
+        .success();
+    let csv = std::fs::read_to_string(&ly).unwrap();
+    let rows: Vec<Vec<&str>> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').collect())
+        .collect();
+    assert_eq!(rows.len(), 2);
+    for row in rows {
+        let (fs, lyapunov): (f64, f64) = (row[1].parse().unwrap(), row[2].parse().unwrap());
+        assert_eq!((row[3], row[4]), ("1", ""), "{row:?}: a period-1 response");
+        let orbit = json_of(&[
+            "periodic",
+            "--config",
+            &scenario(dir.path(), "o.toml", &text(fs, 15.0)),
+            "--json",
+        ]);
+        let per_time = orbit["floquet_exponents"][0].as_f64().unwrap();
+        assert!(
+            (lyapunov - per_time).abs() < 1e-6 * per_time.abs(),
+            "fs {fs}: Benettin {lyapunov} against the orbit's {per_time}"
+        );
+    }
     hdgear()
         .args(sweep)
         .args(["--shard", "0/2", "--out"])

@@ -584,6 +584,20 @@ def test_model_analyze_periodic_and_continuation_equal_the_cli(tmp_path):
                                rtol=1e-12, atol=0)
 
 
+def test_a_sticking_model_s_orbit_is_shot_and_equals_the_cli(tmp_path):
+    # x'' + x' + 4x + 0.3·sgn x' = 2 sin 2.2τ: Den Hartog's closed form (the Rust test
+    # den_hartog::stick_free_orbits_are_den_hartog_s writes it out) gives X = 0.6936453137272…
+    f = _scenario(tmp_path, "[params]\nmu = 0.0\ndelta = 2.0\nomega = 2.2\n"
+                            "[spring]\nklin = 4.0\n[coulomb]\nfc = 0.3\nfs = 0.3\n")
+    o, c = hdgear.periodic(hdgear.Model.from_toml(f)), cli_json("periodic", "--config", f, "--json")
+    assert abs(o.x_range[1] - 0.6936453137272) < 1e-8
+    assert o.start == c["start"] and o.rests.to_dict() == c["rests"] and o.rests.rests == 0
+    # with more friction it rests at each turn, and a rest forgets the speed: m2 = 0 exactly
+    s = hdgear.periodic(hdgear.Model.from_toml(f).replace({"coulomb.fs": 1.5, "coulomb.fc": 1.5}))
+    # (ln|m2| = −∞ is None, as the CLI's JSON has null)
+    assert s.rests.rests == 2 and s.multipliers[1]["log_abs"] is None
+
+
 def test_model_control_and_robust_equal_the_cli(tmp_path):
     f = _scenario(tmp_path, "[params]\ngamma = 0.1\n[friction]\nfc = 0.02\nvs = 0.05\n")
     m = hdgear.Model.from_toml(f)

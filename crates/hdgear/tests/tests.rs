@@ -13,6 +13,7 @@ mod cards;
 mod control;
 mod cosim;
 mod delay;
+mod den_hartog;
 mod dither;
 mod domain;
 mod dop853_terms;

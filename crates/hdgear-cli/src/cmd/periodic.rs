@@ -119,7 +119,11 @@ fn print_orbit<S>(
 ) -> Result<()> {
     let m = |k: usize| {
         let q = orbit.multipliers[k];
-        format!("ln|m{}| = {:.10}, arg {:.4}", k + 1, q.log_abs, q.arg)
+        if q.log_abs == f64::NEG_INFINITY {
+            format!("m{} = 0 (a rest forgets the speed)", k + 1)
+        } else {
+            format!("ln|m{}| = {:.10}, arg {:.4}", k + 1, q.log_abs, q.arg)
+        }
     };
     crate::sink::outln!(
         "periodic orbit of period {} × 2π/ω = {:.6}: starts at (x, x') = ({:.12}, {:.12}) at τ = 0",
@@ -154,6 +158,15 @@ fn print_orbit<S>(
         orbit.peak_to_peak,
         orbit.max_abs_xdot
     );
+    if let Some(r) = orbit.rests {
+        crate::sink::outln!(
+            "  rests per period: {}, {} switches, at rest for {:.6} ({:.1} % of the period)",
+            r.rests,
+            r.switches,
+            r.time_stuck,
+            100.0 * r.time_stuck / orbit.period
+        );
+    }
     crate::sink::outln!(
         "  bursts on the orbit itself: {} (verdict {}, mode {}, mechanism {})",
         if bursts.bursting { "yes" } else { "no" },

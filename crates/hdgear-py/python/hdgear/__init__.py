@@ -340,7 +340,10 @@ def periodic(params=None, subharmonic=1):
     """The periodic orbit of period ``subharmonic``·2π/ω by shooting (Newton on the stroboscopic
     map, monodromy from the variational equations): ``start``, ``period``, ``multipliers``
     (``log_abs``, ``arg``), ``floquet_exponents``, ``stable``, the amplitudes, ``bursts`` (the
-    burst verdict on the orbit itself) and ``samples`` ((τ, x, x') every 0.05) as a Result."""
+    burst verdict on the orbit itself) and ``samples`` ((τ, x, x') every 0.05) as a Result. A
+    model whose friction sticks is shot switch by switch (saltation matrices) and has ``rests``
+    (rests and switches per period, time at rest); an orbit that rests has a second multiplier of
+    exactly 0 (``log_abs`` None, for ln 0 = −∞, as the CLI's JSON has null)."""
     return Result(_hdgear.periodic(_params(params), int(subharmonic)))
 
 

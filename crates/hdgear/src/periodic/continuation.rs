@@ -327,7 +327,15 @@ impl<O: Oscillator> Tracer<'_, O> {
                 } else {
                     kind
                 };
-                if let Some((sigma, s)) = self.locate(p, t, dot(t, q.z) - dot(t, p.z), i, a, b)? {
+                let located = self.locate(p, t, dot(t, q.z) - dot(t, p.z), i, a, b)?;
+                if let Some((sigma, s)) = located.filter(|(_, s)| {
+                    // a root of the test function, not a jump across 0: a grazing rest of a
+                    // model whose friction sticks makes the flow map non-differentiable, and
+                    // the multipliers jump there (the locator's bracket shrinks onto the jump
+                    // with the value staying at the jump's size, while at a root it falls to
+                    // the corrector's 1e-10)
+                    test_functions(&s.flow)[i].abs() <= (JUMP * a.abs().max(b.abs())).max(1e-10)
+                }) {
                     found.push((sigma, s, kind));
                 }
             }
@@ -416,6 +424,13 @@ impl<O: Oscillator> Tracer<'_, O> {
         })
     }
 }
+
+/// The largest test-function value, relative to its values at the step's ends, at which a
+/// located sign change is a root (or at most the locator's own 1e-10): a root is located to
+/// 1e-10 in value or to a bracket 1e-12 of the step wide, where a differentiable test function
+/// is within about 1e-12 of its change over the step, nine decades below this; a jump across 0
+/// keeps a value of the ends' order, three decades above it.
+const JUMP: f64 = 1e-3;
 
 /// ψ₊ = det(M − I) = (m1 − 1)(m2 − 1) and ψ₋ = det(M + I) = (m1 + 1)(m2 + 1): symmetric in the
 /// multipliers, so continuous along the branch even where a multiplier crosses ±1 and collides

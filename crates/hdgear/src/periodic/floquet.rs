@@ -4,9 +4,10 @@
 use super::*;
 
 /// The flow over a span with its monodromy: Φ = `m`·e^{`log_scale`}, ln|det Φ| = `log_det`, and
-/// w = ∂y/∂λ for the parameter asked for (0 otherwise).
+/// w = ∂y/∂λ for the parameter asked for (0 otherwise). What the shooting, the Floquet
+/// multipliers and continuation read; built inside the crate only.
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct Flow {
+pub struct Flow {
     pub(crate) y: [f64; 2],
     pub(crate) m: [[f64; 2]; 2],
     pub(crate) log_scale: f64,
@@ -16,6 +17,53 @@ pub(crate) struct Flow {
 }
 
 impl Flow {
+    /// The flow over an empty span at `y`: Φ = I, w = 0.
+    pub(crate) fn start(y: [f64; 2]) -> Flow {
+        Flow {
+            y,
+            m: [[1.0, 0.0], [0.0, 1.0]],
+            log_scale: 0.0,
+            log_det: 0.0,
+            det_sign: 1.0,
+            w: [0.0; 2],
+        }
+    }
+
+    /// A linear piece: Φ = `a` (its determinant accumulated as ln|det a|, −∞ for a singular
+    /// one), w = `w`, ending at `y`.
+    pub(crate) fn linear(a: [[f64; 2]; 2], w: [f64; 2], y: [f64; 2]) -> Flow {
+        let det = a[0][0] * a[1][1] - a[0][1] * a[1][0];
+        Flow {
+            y,
+            m: a,
+            log_scale: 0.0,
+            log_det: det.abs().ln(),
+            det_sign: det.signum(),
+            w,
+        }
+    }
+
+    /// This flow followed by `next`: Φ = Φ_next·Φ (kept normalised, its scale apart),
+    /// w = Φ_next·w + w_next, the end at `next`'s.
+    pub(crate) fn then(&mut self, next: &Flow) {
+        let s = next.log_scale.exp();
+        let n = next.m;
+        self.w = [
+            (n[0][0] * self.w[0] + n[0][1] * self.w[1]) * s + next.w[0],
+            (n[1][0] * self.w[0] + n[1][1] * self.w[1]) * s + next.w[1],
+        ];
+        self.m = mul(n, self.m);
+        self.log_scale += next.log_scale;
+        self.log_det += next.log_det;
+        self.det_sign *= next.det_sign;
+        self.y = next.y;
+        let norm = self.m.iter().flatten().fold(0.0f64, |n, v| n.max(v.abs()));
+        if norm > 0.0 && norm.is_finite() {
+            self.m.iter_mut().flatten().for_each(|v| *v /= norm);
+            self.log_scale += norm.ln();
+        }
+    }
+
     /// M − I, or None when M's scale overflows.
     pub(crate) fn m_minus_i(&self) -> Option<[[f64; 2]; 2]> {
         let s = self.log_scale.exp();
@@ -40,9 +88,26 @@ fn mul(a: [[f64; 2]; 2], b: [[f64; 2]; 2]) -> [[f64; 2]; 2] {
     ]
 }
 
-/// Integrates state, Φ and w from phase `s0` and state `y0` over `span` (in phase), piece by
-/// piece (each piece at most [`PIECE`] units of τ).
+/// Integrates state, Φ and w from phase `s0` and state `y0` over `span` (in phase): piece by
+/// piece for a smooth oscillator ([`smooth_flow`]), switch by switch with the saltation matrices
+/// for one whose friction sticks ([`Oscillator::switching_flow`]).
 pub(crate) fn flow<O: Oscillator>(
+    o: &O,
+    param: Option<O::Param>,
+    s0: f64,
+    y0: [f64; 2],
+    span: f64,
+    tol: Options,
+) -> Result<Flow> {
+    match o.switching_flow(param, s0, y0, span, tol) {
+        Some(f) => f,
+        None => smooth_flow(o, param, s0, y0, span, tol),
+    }
+}
+
+/// [`flow`] of a smooth oscillator: the variational equations integrated with the state, piece
+/// by piece (each piece at most [`PIECE`] units of τ).
+pub(crate) fn smooth_flow<O: Oscillator>(
     o: &O,
     param: Option<O::Param>,
     s0: f64,
@@ -57,14 +122,7 @@ pub(crate) fn flow<O: Oscillator>(
         inv_omega: 1.0 / omega,
     };
     let pieces = (span / (PIECE * omega)).ceil().max(1.0) as usize;
-    let mut out = Flow {
-        y: y0,
-        m: [[1.0, 0.0], [0.0, 1.0]],
-        log_scale: 0.0,
-        log_det: 0.0,
-        det_sign: 1.0,
-        w: [0.0; 2],
-    };
+    let mut out = Flow::start(y0);
     // the error control acts on x, x' and the variations alike; atol is meant in τ-units of
     // x' and stays as given
     for k in 0..pieces {
@@ -79,21 +137,7 @@ pub(crate) fn flow<O: Oscillator>(
         }
         let z = *s.y();
         let piece = [[z[2], z[4]], [z[3], z[5]]];
-        let det = piece[0][0] * piece[1][1] - piece[0][1] * piece[1][0];
-        out.log_det += det.abs().ln();
-        out.det_sign *= det.signum();
-        out.y = [z[0], z[1]];
-        // w_total = Φ_piece w_total + w_piece
-        out.w = [
-            piece[0][0] * out.w[0] + piece[0][1] * out.w[1] + z[6],
-            piece[1][0] * out.w[0] + piece[1][1] * out.w[1] + z[7],
-        ];
-        out.m = mul(piece, out.m);
-        let norm = out.m.iter().flatten().fold(0.0f64, |n, v| n.max(v.abs()));
-        if norm > 0.0 && norm.is_finite() {
-            out.m.iter_mut().flatten().for_each(|v| *v /= norm);
-            out.log_scale += norm.ln();
-        }
+        out.then(&Flow::linear(piece, [z[6], z[7]], [z[0], z[1]]));
     }
     Ok(out)
 }

@@ -29,7 +29,9 @@ pub fn lyapunov<O: Oscillator>(
 }
 
 /// Integrates the state and tangent `z` from τ = t0 to t1 (phase ωτ), renormalising the tangent
-/// every [`PIECE`] time units; returns the sum of the logarithms of the growth factors.
+/// every [`PIECE`] time units; returns the sum of the logarithms of the growth factors. A
+/// switching oscillator carries the tangent by its flow's monodromy, saltations included
+/// ([`Oscillator::switching_flow`]); where a rest zeroes it the sum is −∞.
 fn advance<O: Oscillator>(
     sys: &Phase<'_, O>,
     z: &mut [f64; 8],
@@ -37,6 +39,24 @@ fn advance<O: Oscillator>(
     tol: Options,
 ) -> Result<f64> {
     let omega = sys.o.omega();
+    // a switching oscillator's flow keeps its monodromy normalised over the whole span
+    if let Some(f) = sys
+        .o
+        .switching_flow(None, t0 * omega, [z[0], z[1]], (t1 - t0) * omega, tol)
+    {
+        let f = f?;
+        let m = f.m;
+        let u = [
+            m[0][0] * z[2] + m[0][1] * z[3],
+            m[1][0] * z[2] + m[1][1] * z[3],
+        ];
+        let n = u[0].hypot(u[1]);
+        if n == 0.0 {
+            return Ok(f64::NEG_INFINITY);
+        }
+        [z[0], z[1], z[2], z[3]] = [f.y[0], f.y[1], u[0] / n, u[1] / n];
+        return Ok(n.ln() + f.log_scale);
+    }
     let (mut t, mut sum) = (t0, 0.0);
     while t < t1 {
         let b = (t + PIECE).min(t1);

@@ -46,6 +46,7 @@ mod normal_form;
 mod orbit_length;
 mod oscillator;
 mod response;
+mod saltation;
 mod shooting;
 mod two_parameter;
 pub use crate::params::{Box2, Scale};

@@ -3,8 +3,10 @@
 //! derivatives shooting, monodromy and continuation use. [`Params`] (the study's model) is one;
 //! any forced oscillator can be another (the tests use a lightly damped Duffing oscillator).
 
+use super::Flow;
 use crate::error::Result;
 use crate::integrate::Options;
+use crate::model::switching::Pieces;
 use crate::model::{Model, ModelParam};
 use crate::params::{Param, Params};
 use std::fmt;
@@ -51,6 +53,25 @@ pub trait Oscillator: Copy + Send + Sync {
         _c: &mut [[f64; N]],
     ) -> bool {
         false
+    }
+    /// The pieces of the motion of an oscillator whose vector field switches (friction that
+    /// sticks, [`Pieces`]): its state is then integrated switch by switch. `None`, the default,
+    /// for a smooth oscillator.
+    fn pieces(&self) -> Option<Pieces> {
+        None
+    }
+    /// [`Oscillator::pieces`]' flow with its monodromy Φ and parameter sensitivity w, carried
+    /// across each switch by its saltation matrix (the guide's periodic page). `None`, the default,
+    /// for a smooth oscillator, whose variational equations are integrated with the state.
+    fn switching_flow(
+        &self,
+        _param: Option<Self::Param>,
+        _s0: f64,
+        _y0: [f64; 2],
+        _span: f64,
+        _tol: Options,
+    ) -> Option<Result<Flow>> {
+        None
     }
     /// Benettin's largest Lyapunov exponent ([`super::lyapunov`]) of each `(oscillator, start,
     /// (discard, span))`, several at once: one by one by default; [`Params`] with Taylor's method
@@ -251,6 +272,22 @@ impl Oscillator for Model {
     }
     fn is_frequency(param: ModelParam) -> bool {
         param.is_frequency()
+    }
+    fn pieces(&self) -> Option<Pieces> {
+        Pieces::new(self)
+    }
+    fn switching_flow(
+        &self,
+        param: Option<ModelParam>,
+        s0: f64,
+        y0: [f64; 2],
+        span: f64,
+        tol: Options,
+    ) -> Option<Result<Flow>> {
+        let pieces = Pieces::new(self)?;
+        Some(super::saltation::flow(
+            self, &pieces, param, s0, y0, span, tol,
+        ))
     }
     fn check(&self) -> Result<()> {
         if self.dim() > 2 {

@@ -38,6 +38,10 @@ pub struct PeriodicOrbit<S = Params> {
     pub x_range: [f64; 2],
     /// Peak-to-peak amplitude of x.
     pub peak_to_peak: f64,
+    /// For a model whose friction sticks: its rests on one period (then a rest forgets the
+    /// speed, and the second multiplier is exactly 0, ln|m₂| = −∞, `null` in JSON).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rests: Option<Rests>,
     /// (τ, x, x') every `dt` over one period.
     #[serde(skip)]
     pub samples: Vec<[f64; 3]>,
@@ -135,43 +139,74 @@ const EXTREMUM_PROBES: usize = 6;
 
 /// The [`Amplitude`] of the response through `y0` at phase 0 over `k` forcing periods.
 pub fn amplitude<O: Oscillator>(o: &O, y0: [f64; 2], k: u32, tol: Options) -> Result<Amplitude> {
-    use crate::integrate::DenseOutput;
-    let sys = Plain(o, 1.0 / o.omega());
     let end = std::f64::consts::TAU * f64::from(k);
-    let mut s = stepper(&sys, 0.0, y0, method_for::<O>(tol))?;
-    let (mut lo, mut hi, mut vmax) = (y0[0], y0[0], y0[1].abs());
-    let acc = |t: f64, y: [f64; 2]| o.accel(t, y[0], y[1]);
-    while s.t() < end {
-        s.step(end)?;
-        let d = s.dense();
-        let (t0, t1) = (d.t_start(), d.t_end());
-        let mut prev_t = t0;
-        let mut prev = d.eval(t0);
-        for j in 1..=EXTREMUM_PROBES {
-            let t = t0 + (t1 - t0) * j as f64 / EXTREMUM_PROBES as f64;
-            let y = d.eval(t);
-            lo = lo.min(y[0]);
-            hi = hi.max(y[0]);
-            vmax = vmax.max(y[1].abs());
-            if (prev[1] > 0.0) != (y[1] > 0.0) {
-                let z = d.eval(bisect(prev_t, t, |u| d.eval(u)[1]));
-                lo = lo.min(z[0]);
-                hi = hi.max(z[0]);
-            }
-            if (acc(prev_t, prev) > 0.0) != (acc(t, y) > 0.0) {
-                let z = d.eval(bisect(prev_t, t, |u| acc(u, d.eval(u))));
-                vmax = vmax.max(z[1].abs());
-            }
-            prev_t = t;
-            prev = y;
+    let mut extent = Extent {
+        lo: y0[0],
+        hi: y0[0],
+        vmax: y0[1].abs(),
+    };
+    if let Some(pieces) = o.pieces() {
+        // switch by switch, in τ: every switch (x' = 0) ends a step, so x's extremes there are
+        // step ends
+        let omega = o.omega();
+        let free = pieces.model();
+        super::saltation::motion(free, &pieces, y0, end, tol, |d| {
+            extent.probe(d, |t, y| free.accel(omega * t, y[0], y[1]));
+        })?;
+    } else {
+        let sys = Plain(o, 1.0 / o.omega());
+        let mut s = stepper(&sys, 0.0, y0, method_for::<O>(tol))?;
+        while s.t() < end {
+            s.step(end)?;
+            extent.probe(&s.dense(), |t, y| o.accel(t, y[0], y[1]));
         }
     }
+    let Extent { lo, hi, vmax } = extent;
     Ok(Amplitude {
         x_min: lo,
         x_max: hi,
         peak_to_peak: hi - lo,
         max_abs_xdot: vmax,
     })
+}
+
+/// The extremes of x and |x'| seen so far.
+struct Extent {
+    lo: f64,
+    hi: f64,
+    vmax: f64,
+}
+
+impl Extent {
+    /// Widens by one step's dense output `d`: sampled at [`EXTREMUM_PROBES`] points, x located
+    /// at each sign change of x' and |x'| at each of x'' = `acc`(t, y).
+    fn probe<D: crate::integrate::DenseOutput<2>>(
+        &mut self,
+        d: &D,
+        acc: impl Fn(f64, [f64; 2]) -> f64,
+    ) {
+        let (t0, t1) = (d.t_start(), d.t_end());
+        let mut prev_t = t0;
+        let mut prev = d.eval(t0);
+        for j in 1..=EXTREMUM_PROBES {
+            let t = t0 + (t1 - t0) * j as f64 / EXTREMUM_PROBES as f64;
+            let y = d.eval(t);
+            self.lo = self.lo.min(y[0]);
+            self.hi = self.hi.max(y[0]);
+            self.vmax = self.vmax.max(y[1].abs());
+            if (prev[1] > 0.0) != (y[1] > 0.0) {
+                let z = d.eval(bisect(prev_t, t, |u| d.eval(u)[1]));
+                self.lo = self.lo.min(z[0]);
+                self.hi = self.hi.max(z[0]);
+            }
+            if (acc(prev_t, prev) > 0.0) != (acc(t, y) > 0.0) {
+                let z = d.eval(bisect(prev_t, t, |u| acc(u, d.eval(u))));
+                self.vmax = self.vmax.max(z[1].abs());
+            }
+            prev_t = t;
+            prev = y;
+        }
+    }
 }
 
 /// A sign change of `f` on [a, b], by bisection to the resolution of f64.
@@ -200,8 +235,9 @@ pub trait Periodic: Oscillator<Param: Serialize> + Serialize {
     fn param_named(&self, name: &str) -> Result<Self::Param>;
     /// The default ω range of a frequency response ([`super::default_frequency_range`]).
     fn frequency_range(&self) -> (f64, f64);
-    /// (τ, x, x') every `opts.dt` over `period` from `y` at τ = 0, by Taylor's method.
-    fn samples(&self, y: [f64; 2], period: f64, opts: &PeriodicOptions) -> Result<Vec<[f64; 3]>>;
+    /// (τ, x, x') every `opts.dt` over `period` from `y` at τ = 0, by Taylor's method, and for
+    /// a system whose friction sticks the rests on that period of the orbit ([`Rests`]).
+    fn samples(&self, y: [f64; 2], period: f64, opts: &PeriodicOptions) -> Result<Samples>;
     /// The burst verdict on the response from `start` at τ = 0 measured with `opts`.
     fn verdict_from(
         &self,
@@ -238,9 +274,10 @@ impl Periodic for Params {
     fn frequency_range(&self) -> (f64, f64) {
         super::default_frequency_range(self)
     }
-    fn samples(&self, y: [f64; 2], period: f64, opts: &PeriodicOptions) -> Result<Vec<[f64; 3]>> {
+    fn samples(&self, y: [f64; 2], period: f64, opts: &PeriodicOptions) -> Result<Samples> {
         let sim = sample_options(y, period, opts);
-        collect(|out| crate::simulate::simulate(self, &sim, |t, s| out(t, s)))
+        let (samples, _) = collect(|out| crate::simulate::simulate(self, &sim, |t, s| out(t, s)))?;
+        Ok((samples, None))
     }
     fn verdict_from(
         &self,
@@ -258,9 +295,10 @@ impl Periodic for Params {
     }
 }
 
-/// A model's orbit lives in the plane (x, x') and its flow must be smooth for the variational
-/// equations: a model with internal states, a switching term, a dither (a second, fast period)
-/// or a delay (a history, not a point, is the state) is refused, naming the term.
+/// A model's orbit lives in the plane (x, x'): a model with internal states, a dither (a second,
+/// fast period) or a delay (a history, not a point, is the state) is refused, naming the term.
+/// Friction that sticks is shot switch by switch, its monodromy carried across each switch by
+/// the saltation matrix ([`Oscillator::switching_flow`]).
 impl Periodic for Model {
     fn check_periodic(&self) -> Result<()> {
         Oscillator::check(self)?;
@@ -272,13 +310,6 @@ impl Periodic for Model {
         let has = |what: fn(&crate::model::terms::AnyTerm) -> bool| {
             self.terms().find(|t| what(t)).map(|t| t.kind())
         };
-        if let Some(kind) = has(|t| t.switches_at_rest() || t.switches_at_zero_state()) {
-            return Err(refuse(
-                kind,
-                "its sticking switches the vector field, and the monodromy across a switch needs \
-                 a saltation matrix, which the shooting does not apply",
-            ));
-        }
         if let Some(kind) = has(|t| t.dither().is_some()) {
             return Err(refuse(
                 kind,
@@ -313,9 +344,23 @@ impl Periodic for Model {
         let ws = stiffest.sqrt().max(1e-3);
         (ws / 20.0, 3.0 * ws)
     }
-    fn samples(&self, y: [f64; 2], period: f64, opts: &PeriodicOptions) -> Result<Vec<[f64; 3]>> {
+    fn samples(&self, y: [f64; 2], period: f64, opts: &PeriodicOptions) -> Result<Samples> {
         let sim = sample_options(y, period, opts);
-        collect(|out| crate::simulate::simulate_model(self, &sim, |t, s| out(t, s)))
+        let (samples, summary) =
+            collect(|out| crate::simulate::simulate_model(self, &sim, |t, s| out(t, s)))?;
+        let rests = summary.sticking.map(|s| {
+            // a rest that spans τ = 0 is counted at the start and again where the period ends
+            let spans_zero = y[1] == 0.0
+                && crate::model::switching::Pieces::new(self).is_some_and(|p| {
+                    p.mode_at_rest(0.0, &y) == crate::model::switching::SwitchingMode::Stuck
+                });
+            Rests {
+                rests: s.sticks - u64::from(spans_zero && s.sticks > 0),
+                switches: s.switches,
+                time_stuck: s.time_stuck,
+            }
+        });
+        Ok((samples, rests))
     }
     fn verdict_from(
         &self,
@@ -330,13 +375,27 @@ impl Periodic for Model {
     }
 }
 
-/// The samples (τ, x, x') a run shows its output callback.
+/// An orbit's samples (τ, x, x') over one period, with its rests where its friction sticks.
+pub type Samples = (Vec<[f64; 3]>, Option<Rests>);
+
+/// The rests of a periodic orbit whose friction sticks, over one period.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Rests {
+    /// How many times the motion comes to rest and sticks (a rest that spans τ = 0 once).
+    pub rests: u64,
+    /// Changes of mode (slip → stick, stick → slip, reversals at rest).
+    pub switches: u64,
+    /// The time at rest.
+    pub time_stuck: f64,
+}
+
+/// The samples (τ, x, x') a run shows its output callback, and the run's summary.
 fn collect(
     run: impl FnOnce(&mut dyn FnMut(f64, &[f64])) -> Result<crate::simulate::SimSummary>,
-) -> Result<Vec<[f64; 3]>> {
+) -> Result<(Vec<[f64; 3]>, crate::simulate::SimSummary)> {
     let mut samples = Vec::new();
-    run(&mut |t, s| samples.push([t, s[0], s[1]]))?;
-    Ok(samples)
+    let summary = run(&mut |t, s| samples.push([t, s[0], s[1]]))?;
+    Ok((samples, summary))
 }
 
 /// The run that samples an orbit: from `y` over `period`, by Taylor's method.
@@ -420,7 +479,7 @@ fn orbit<S: Periodic>(
     let y = solved.y;
     let multipliers = multipliers(&solved.flow);
     let log_abs = [multipliers[0].log_abs, multipliers[1].log_abs];
-    let samples = p.samples(y, period, opts)?;
+    let (samples, rests) = p.samples(y, period, opts)?;
     let amp = amplitude(p, y, k, opts.tol)?;
     Ok(PeriodicOrbit {
         params: *p,
@@ -437,6 +496,7 @@ fn orbit<S: Periodic>(
         max_abs_xdot: amp.max_abs_xdot,
         x_range: [amp.x_min, amp.x_max],
         peak_to_peak: amp.peak_to_peak,
+        rests,
         samples,
     })
 }
