@@ -149,11 +149,23 @@ impl ParamArgs {
     /// The model these sources give: the study's with the parameter set, and a term for each of
     /// the scenario file's term tables (`[friction]`, …), checked.
     pub fn resolve_model(&self) -> Result<(Params, hdgear::model::Model, Vec<Warning>)> {
-        let (p, scenario, warnings) = self.sources()?;
+        let (p, scenario, mut warnings) = self.sources()?;
         let model = match &scenario {
             Some((path, s)) => s.model(&p, path)?,
             None => hdgear::model::Model::study(&p),
         };
+        if model.study_set().is_none() {
+            // a [spring] table replaced the study's stiffness: its α, γ, ε are not the model's
+            for q in [Param::Alpha, Param::Gamma, Param::Eps] {
+                if self.given(q) {
+                    anyhow::bail!(
+                        "--{q} does not apply: the scenario's [spring] table is the model's \
+                         stiffness, in place of the study's"
+                    );
+                }
+            }
+            warnings.retain(|w| !matches!(w, Warning::AlphaEpsNotOne { .. }));
+        }
         Ok((p, model, warnings))
     }
 

@@ -173,13 +173,36 @@ impl Scenario {
     }
 
     /// The model these tables give on top of the study's with `p`: each term's table, its
-    /// missing keys at their defaults, checked against the parameters' domains.
+    /// missing keys at their defaults, checked against the parameters' domains. A `[spring]`
+    /// table is the model's stiffness: it replaces the study's αx³ − x² + γ(x − ε), which leaves
+    /// the unit inertia and damping under μ + δ sin ωτ ([`crate::model::Model::damped`]; a linear
+    /// oscillator with Coulomb friction, say), and `[params]` may then not set α, γ or ε.
     pub fn model(&self, p: &crate::Params, path: &Path) -> Result<crate::model::Model> {
-        self.term_tables(path)?
-            .into_iter()
-            .try_fold(crate::model::Model::study(p), |m, (kind, values)| {
-                m.with_term(crate::model::terms::AnyTerm::new(kind, &values)?)
-            })
+        use crate::model::{Model, spring::Spring, terms::Term};
+        let tables = self.term_tables(path)?;
+        let base = if tables.iter().any(|(kind, _)| *kind == Spring::KIND) {
+            use crate::params::Param;
+            let given = self.params.as_ref().and_then(|o| {
+                [Param::Alpha, Param::Gamma, Param::Eps]
+                    .into_iter()
+                    .find_map(|q| Some((q.name(), o.get(q)?)))
+            });
+            if let Some((name, v)) = given {
+                return Err(Error::Config {
+                    path: path.to_path_buf(),
+                    message: format!(
+                        "[params] {name} = {v} does not apply: the [spring] table is the model's \
+                         stiffness, in place of the study's αx³ − x² + γ(x − ε)"
+                    ),
+                });
+            }
+            Model::damped(p.mu, p.delta, p.omega)
+        } else {
+            Model::study(p)
+        };
+        tables.into_iter().try_fold(base, |m, (kind, values)| {
+            m.with_term(crate::model::terms::AnyTerm::new(kind, &values)?)
+        })
     }
 }
 
