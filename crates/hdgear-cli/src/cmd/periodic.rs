@@ -149,7 +149,12 @@ fn print_orbit<S>(
         "  Floquet exponents {:.8}, {:.8}: {}",
         orbit.floquet_exponents[0],
         orbit.floquet_exponents[1],
-        if orbit.stable { "stable" } else { "unstable" }
+        match orbit.rests {
+            // every x near a rest that lasts the whole period rests too: m1 = 1 exactly
+            Some(r) if r.switches == 0 && r.time_stuck > 0.0 => "neutral (at rest all period)",
+            _ if orbit.stable => "stable",
+            _ => "unstable",
+        }
     );
     crate::sink::outln!(
         "  x from {:.6} to {:.6} (peak to peak {:.6}), max |x'| {:.6}",

@@ -349,13 +349,14 @@ impl Periodic for Model {
         let (samples, summary) =
             collect(|out| crate::simulate::simulate_model(self, &sim, |t, s| out(t, s)))?;
         let rests = summary.sticking.map(|s| {
-            // a rest that spans τ = 0 is counted at the start and again where the period ends
+            // a rest that spans τ = 0 and ends within the period is counted at the start and
+            // again where the period ends (one that lasts the whole period, once)
             let spans_zero = y[1] == 0.0
                 && crate::model::switching::Pieces::new(self).is_some_and(|p| {
                     p.mode_at_rest(0.0, &y) == crate::model::switching::SwitchingMode::Stuck
                 });
             Rests {
-                rests: s.sticks - u64::from(spans_zero && s.sticks > 0),
+                rests: s.sticks - u64::from(spans_zero && s.sticks > 1),
                 switches: s.switches,
                 time_stuck: s.time_stuck,
             }
