@@ -256,7 +256,7 @@ fn term_tables_are_refused_where_they_would_be_ignored_and_bad_ones_named() {
             "unknown key v in [friction] (known: fc, vs)",
         ),
         ("[friction]\nfc = \"x\"\n", "[friction] fc must be a number"),
-        ("[friction]\nfc = -1\n", "fc = -1.0"),
+        ("[friction]\nfc = -1\n", "fc = -1:"),
         ("[stiffness]\nalpha = 1\n", "unknown table [stiffness]"),
         ("friction = 3\n", "[friction] must be a table"),
     ] {

@@ -7,7 +7,7 @@ use std::path::PathBuf;
 #[derive(Debug, thiserror::Error)]
 pub enum Error {
     /// A model parameter is out of its domain.
-    #[error("invalid parameter {name} = {value:?}: {reason}")]
+    #[error("invalid parameter {name} = {}: {reason}", shown(*value))]
     InvalidParameter {
         /// Parameter name as the user writes it (e.g. `alpha`, `j_in`).
         name: String,
@@ -18,7 +18,11 @@ pub enum Error {
     },
     /// A term's parameter that breaks a rule relating it to another of the same term
     /// ([`crate::model::terms::Relation`]).
-    #[error("invalid parameter {name} = {value:?}: {reason} (here {other} = {other_value:?})")]
+    #[error(
+        "invalid parameter {name} = {}: {reason} (here {other} = {})",
+        shown(*value),
+        shown(*other_value)
+    )]
     RelationBroken {
         /// The parameter the rule bounds, as the user writes it.
         name: String,

@@ -168,12 +168,12 @@ fn card_files_are_checked() {
     bad(
         "t1 = 7.0",
         "t1 = 30.0",
-        "stiffness.t1 = 30.0: must be below t2",
+        "stiffness.t1 = 30: must be below t2",
     );
     bad(
         "k2 = 1.8e4",
         "k2 = 1.0e4",
-        "stiffness.k2 = 10000.0: must be ≥ k1",
+        "stiffness.k2 = 10000: must be ≥ k1",
     );
     bad("k1 = 1.3e4", "", "stiffness.k1 = missing");
     bad(
@@ -199,7 +199,7 @@ fn card_files_are_checked() {
     bad(
         "t_mean = 10.0",
         "t_mean = 10.0\nfrequency = 0.0",
-        "application.frequency = 0.0: must be > 0",
+        "application.frequency = 0: must be > 0",
     );
     // a static friction below the Coulomb level: the friction terms' own rule, on the card's key
     bad(

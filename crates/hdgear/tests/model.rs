@@ -285,7 +285,7 @@ fn models_refuse_bad_assemblies_and_values_naming_them() {
         "{e}"
     );
     let e = AnyTerm::new("friction", &[0.1, 0.0]).unwrap_err();
-    assert!(e.to_string().contains("vs = 0.0"), "{e}");
+    assert!(e.to_string().contains("vs = 0:"), "{e}");
     let e = AnyTerm::new("preisach", &[]).unwrap_err();
     assert!(
         e.to_string()
@@ -304,7 +304,7 @@ fn models_refuse_bad_assemblies_and_values_naming_them() {
     assert_eq!(both.dim(), 4);
     assert_eq!(both.states(), ["x", "x'", "s", "z"]);
     let e = f.with(f.param("omega").unwrap(), -1.0).unwrap_err();
-    assert!(e.to_string().contains("omega = -1.0"), "{e}");
+    assert!(e.to_string().contains("omega = -1:"), "{e}");
     assert!(
         f.param("nope")
             .unwrap_err()

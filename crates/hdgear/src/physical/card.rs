@@ -12,6 +12,9 @@
 //! assert_eq!(card.stiffness.k3, Some(2.3e4));
 //! assert_eq!(card.torque.as_ref().unwrap().rated, Some(33.0));
 //! ```
+//!
+//! **Why one file.** A card's sections, their fields with units and sources, and the checks that
+//! tie them are one format: its reader, its writer and its checks change together.
 
 use crate::error::{Error, Result};
 use serde::{Deserialize, Serialize};
@@ -565,7 +568,7 @@ const OUT_OF_SCALE: &str = "magnitude outside 1e-100 to 1e100 (0 aside): the dri
                             built from it would overflow";
 
 fn fmt(v: f64) -> String {
-    format!("{v:?}")
+    crate::error::shown(v)
 }
 
 impl CardFile {
