@@ -1,4 +1,7 @@
 //! The command line: formats, row counts, summary keys, and every bad input.
+//!
+//! **Why one file.** What every command shares (formats, row counts, summary keys, bad input),
+//! tested in one module of the test binary.
 
 use crate::common::{fails_with, files_in, hdgear, json_of, stdout_of};
 use predicates::prelude::*;

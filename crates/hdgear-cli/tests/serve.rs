@@ -1,6 +1,8 @@
 //! `hdgear serve`: the JSON API (answers, refusals with the CLI's messages), 2,000 requests from
 //! 16 concurrent clients (every answer checked against the library, memory flat), and the page
 //! driven in a real Chromium (tests/browser/explorer.py, Playwright with the system Chromium).
+//!
+//! **Why one file.** The tests of one command, the explorer, in one module of the test binary.
 
 use hdgear::Params;
 use hdgear::explore::View;

@@ -1,7 +1,9 @@
 """Tests of the hdgear Python package: every function, errors, dtypes and shapes, agreement with
 the command-line tool to the last bit, and the GIL released during computations.
 
-The CLI is found at $HDGEAR_BIN (default: target/release/hdgear of this checkout)."""
+The CLI is found at $HDGEAR_BIN (default: target/release/hdgear of this checkout).
+
+Why one file: the package's one face, tested against the CLI with the same helpers throughout."""
 import csv
 import json
 import math

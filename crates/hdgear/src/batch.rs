@@ -22,6 +22,10 @@
 //! AVX2 with FMA, else the portable SSE2 path). The two FMA paths compute bit-identical results;
 //! the portable one rounds each product separately, so it differs from them at the rounding
 //! level (a relative 1e-16 per operation, far below the tolerance).
+//!
+//! **Why one file.** The lock-step lanes, their Taylor series, step rule and tangent are one loop's
+//! state, kept in registers together; splitting the loop's pieces across files would hide what is
+//! vectorised with what.
 
 use crate::error::Result;
 use crate::error::SolverError;

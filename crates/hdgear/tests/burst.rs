@@ -1,4 +1,7 @@
 //! Bursts, modes and mechanisms at the study's point, the tables, and sweeps.
+//!
+//! **Why one file.** The tests of one capability, the burst verdict, in one module of the test
+//! binary.
 
 use hdgear::Params;
 use hdgear::burst::{BurstOptions, Classification, Mechanism, Mode, Verdict, classify, response};

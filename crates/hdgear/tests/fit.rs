@@ -2,6 +2,8 @@
 //! family, derivatives against finite differences written here, the Dahl loop against its closed
 //! form, intervals that cover over noisy sets, and identifiability warnings where the data
 //! cannot tell parameters apart.
+//!
+//! **Why one file.** The tests of one capability, identification, in one module of the test binary.
 
 use hdgear::fit::{Data, DataKind, Fit, FitWarning, Free, Law, Options, fit, predict};
 use hdgear::model::terms::AnyTerm;

@@ -1,4 +1,7 @@
 //! The integrator against closed forms: convergence order, dense output, events, accounting.
+//!
+//! **Why one file.** The tests of one capability, the integrators, in one module of the test
+//! binary.
 
 use hdgear::Params;
 use hdgear::integrate::events::{Detector, Direction};

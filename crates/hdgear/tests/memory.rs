@@ -5,6 +5,9 @@
 //! presliding stiffness against the linear response it implies, Bouc–Wen's energy balance and
 //! rate independence, Noël & Schoukens' Bouc–Wen benchmark under a multisine, and Dahl's law
 //! against its closed-form branch and the two laws it equals at exponent 1.
+//!
+//! **Why one file.** The tests of one capability, the terms with memory (LuGre, Bouc–Wen, Dahl), in
+//! one module of the test binary.
 
 use hdgear::Params;
 use hdgear::integrate::{DenseOutput, Method, Options, Stepper, System};

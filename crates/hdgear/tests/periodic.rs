@@ -1,6 +1,9 @@
 //! The periodic response (issue 16, first part): shooting against long simulations, the monodromy
 //! against finite differences, Liouville's formula, and Benettin's Lyapunov exponent against the
 //! largest Floquet exponent.
+//!
+//! **Why one file.** The tests of one capability, periodic orbits and their continuation, in one
+//! module of the test binary.
 
 use hdgear::Params;
 use hdgear::integrate::{Method, Options};

@@ -1,4 +1,7 @@
 //! `hdgear card`: list, show, check and write drive cards.
+//!
+//! **Why one file.** A command owns its arguments, checks and output in its own file; `card` has
+//! five actions (list, show, new, check, map) that share the card loader and the check's text.
 
 use crate::args::{BurstArgs, as_flag};
 use anyhow::{Context, Result, bail};

@@ -1,6 +1,10 @@
 //! `hdgear robust` (and `hdgear physical --robust`): the design check under manufacturing
 //! spread, P(burst) with its interval, the worst corner and margin, the Sobol indices, the
 //! catalogue's resonance rule; the samples streamed to a file.
+//!
+//! **Why one file.** A command owns its arguments, checks and output in its own file; `robust`
+//! prints five analyses (probability, worst case, importance, Sobol indices, the catalogue's
+//! resonance rule) from one run.
 
 use crate::args::{BurstArgs, check_out};
 use crate::cmd::card::Loaded;

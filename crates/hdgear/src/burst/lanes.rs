@@ -9,6 +9,9 @@
 //! the scan of one trajectory. The steps kept for pulse onsets are one copy of the batch's x' rows
 //! per step, with a lower bound of |x'| on each, so the onset search passes over most of them
 //! without evaluating them.
+//!
+//! **Why one file.** The lane scan is the scalar scan (`scan.rs`) over all lanes at once: its
+//! samples, trackers and step bookkeeping are one loop's state, read beside each other.
 
 use super::scan::{
     self, Past, Sample, Scan, Scanner, TURN_BACK_MAX, measure, midpoint, onset_in, turn_back,

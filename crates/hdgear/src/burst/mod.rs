@@ -46,6 +46,10 @@
 //! Bursts are counted in a window of whole slow periods starting at the first turning point of a
 //! (a = ±1) after the discarded transient; the scan starts a margin earlier and ends a margin later
 //! (min(T/4, 5G)) so that bursts at the window's edges are seen whole.
+//!
+//! **Why one file.** The options, the burst and its signatures, the measures and the response are
+//! the vocabulary every part of the verdict (scan, lanes, classification, boundaries: their own
+//! files) shares.
 
 mod boundary;
 mod bursts;

@@ -2,6 +2,9 @@
 //! classification as the study's model, of a model whose equilibria are a study parameter set's
 //! ([`Model::equivalent_params`]): its further terms (friction, control laws) act on the motion
 //! and enter its own x'', measured against that set's equilibrium curve.
+//!
+//! **Why one file.** The projections of a model's state onto the scan (on a piece, averaged over a
+//! fast torque) and the verdict built on them are read together; the scan itself is `scan.rs`.
 
 use super::scan::{History, Pivot, Scan, ScanStep};
 use super::{BurstOptions, Plan, Response, Sticking};

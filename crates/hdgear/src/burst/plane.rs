@@ -37,6 +37,10 @@
 //! predicted boundary's starts: on the same edge, a window of `lanes` values around the predicted
 //! switch, widened until it holds a switch. Curves that close inside the box without touching its
 //! edges are not found.
+//!
+//! **Why one file.** One tracer follows every kind of boundary: the kinds, the tracer (start
+//! search, steps, exits through the box's edges) and its rows are read together, and the tracer's
+//! helpers are private to it.
 
 use super::{BOUNDARY_REL_TOL, BurstOptions, boundary::simulated_bursting, fast_slow_omega_max};
 use crate::error::{Error, Result};

@@ -2,6 +2,9 @@
 //! signatures: the extrema of x' (pruned to swings above a floor), the lobes of the tracking error
 //! e = x − x*(a) on the leading side, and the jumps across the unstable band. Every event is a
 //! root located on the step's interpolant, so nothing depends on where the steps land.
+//!
+//! **Why one file.** The three signatures' raw material comes from one pass over each step, sharing
+//! the step's samples and the history of the pass; one scanner keeps them in step with each other.
 
 use crate::fast::{Follower, StaticCurve};
 use crate::integrate::DenseOutput;

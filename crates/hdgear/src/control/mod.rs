@@ -7,6 +7,10 @@
 //! the caller. The verdict is the burst scan's on the closed loop ([`response_model`]), whose
 //! equilibria are a study parameter set's; the measures come from a second pass sampled every
 //! [`SAMPLE_DT`] over the same window.
+//!
+//! **Why one file.** Assessing a law and tuning its gain share the open-loop run, the sampled
+//! measures and the quadrature over the window; the gain search, stability and robustness already
+//! live in their own files.
 
 use crate::burst::{BurstOptions, Verdict, classify_model, response_model};
 use crate::error::{Error, Result};

@@ -27,6 +27,10 @@
 //! let result = fit(&start, &data, &free, &Options::default()).unwrap();
 //! assert!((result.estimates[1].value - 0.8).abs() < 1e-9);
 //! ```
+//!
+//! **Why one file.** The fit's steps (multistart design, Levenberg–Marquardt, covariance,
+//! identifiability, profiles) all read and fill the one `Fit` it returns; the data, the laws, the
+//! solver and the statistics live in their own files.
 
 mod card;
 mod data;

@@ -15,6 +15,10 @@
 //! s.integrate_to(10.0).unwrap();
 //! assert!((s.y()[0] - 10f64.sin()).abs() < 1e-9);
 //! ```
+//!
+//! **Why one file.** The seam of every integrator (`System`, `Stepper`, `DenseOutput`), the options
+//! validated once and the budgets are one contract; each method (Taylor, DOP853, RK4, events) lives
+//! in its own file behind it.
 
 pub(crate) mod approx;
 mod dop853;

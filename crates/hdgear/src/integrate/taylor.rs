@@ -21,6 +21,10 @@
 //!   order takes fewer, longer steps for more work per step: it pays where each step carries
 //!   other work (the variational equations of the periodic machinery, whose options ask for
 //!   [`MAX_ORDER`]), not for a plain trajectory (orders 13 to 20 cost about the same there).
+//!
+//! **Why one file.** The Jorba–Zou order and step rule, the series helpers and the stepper that
+//! uses them are one method; the batch driver (`batch.rs`) and the terms' rows (`model/jet.rs`)
+//! stand on them.
 
 use super::approx::{self, mul_add};
 use super::lanes::Jet;

@@ -2,6 +2,9 @@
 //! inertia. Its right-hand side, Jacobian, Taylor coefficients, parameter derivatives and the
 //! facts of its fast subsystem are derived from the terms' own definitions
 //! ([`super::terms::Term`]); nothing here restates a term.
+//!
+//! **Why one file.** These are the inherent methods of one type, `Model` (building, parameters,
+//! evaluation, the derived facts); its system, lane and study parts already live in `assembled/`.
 
 use super::terms::{AnyTerm, Damping, Domain, MeshLoss, ParamInfo, Side, Stiffness, Term};
 use crate::error::{Error, Result};

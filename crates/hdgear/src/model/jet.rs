@@ -21,6 +21,9 @@
 //! computed enter a sum last where the sum allows it ([`quotient_coefficient`]), and a row is
 //! divided by multiplying it with the divisor's reciprocal (1/k from a table, 1/v_r from the
 //! parameter): the reciprocal does not wait for the row, a division would.
+//!
+//! **Why one file.** Every term's Taylor rows are built from these few operations (products,
+//! exponentials, step limits) on any jet, scalar or lanes; one place for Taylor arithmetic.
 
 pub use crate::integrate::lanes::{Jet, LaneMask, Lanes};
 

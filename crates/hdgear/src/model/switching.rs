@@ -37,6 +37,10 @@
 //! }
 //! assert!(stuck > 0.0 && stuck < 40.0);
 //! ```
+//!
+//! **Why one file.** The pieces of a switching model, its modes and its stepper (slip, stick,
+//! drift, the switch located between them) are one state machine whose transitions must be read
+//! together.
 
 use super::Model;
 use super::assembled::MAX_STATES;

@@ -38,6 +38,10 @@
 //! assert!((b.points.last().unwrap().param - 0.2).abs() < 1e-12);
 //! assert!(b.points.iter().all(|q| q.stable));
 //! ```
+//!
+//! **Why one file.** The predictor, the corrector, the step control and the location of special
+//! points share the tracer's private state; the branch types, the two-parameter curves and the
+//! switching at special points live apart.
 
 use super::branch::*;
 use super::{Amplitude, Oscillator, Scale, Solved, amplitude, flow};

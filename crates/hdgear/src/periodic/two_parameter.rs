@@ -38,6 +38,10 @@
 //! after a failure, a tangent turn over `max_turn` or a corrector that lands farther from the
 //! predictor than the step; the curve ends where it leaves the box (on its edge exactly), closes
 //! on itself, or the step falls below `min_step`.
+//!
+//! **Why one file.** The curve's unknowns, its corrector, the location of its codimension-two
+//! points and its rows share the tracer's private state and the 4-vector helpers; split, they would
+//! have to be made visible to each other.
 
 use super::branch::{ContinuationOptions, End};
 use super::continuation::test_functions;

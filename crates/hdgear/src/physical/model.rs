@@ -1,4 +1,8 @@
 //! The two-inertia drive as a [`System`], with friction at its bearings ([`Bearings`]).
+//!
+//! **Why one file.** The two-inertia system's right-hand side, Jacobian and Taylor coefficients
+//! must agree term by term, bearings included; they are written beside each other so that they are
+//! read and changed together.
 
 use crate::error::{Error, Result};
 use crate::integrate::System;

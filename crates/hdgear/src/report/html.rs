@@ -1,5 +1,8 @@
 //! The report as HTML: one function per section, each reading the computed [`Report`]. The
 //! methods text takes its numbers from the options and constants it describes.
+//!
+//! **Why one file.** One function per section of one document, in the document's order, sharing the
+//! page's markup helpers: reading this file top to bottom is reading the report.
 
 // HTML blocks end with a newline of their own, for a readable source.
 #![allow(clippy::write_with_newline)]

@@ -11,6 +11,10 @@
 //! and classified against the model's own equilibrium curve. Sample i of a run is a function
 //! of the seed and i alone ([`sequence`]), so a run is reproducible to the byte on any thread
 //! count and in any shard split.
+//!
+//! **Why one file.** The nominal drive, its tolerance space, the Monte Carlo options and the
+//! probability with its interval are the vocabulary the samplers, the worst case and the Sobol
+//! indices (their own files) all use.
 
 use crate::burst::BurstOptions;
 use crate::error::{Error, Result};

@@ -4,6 +4,10 @@
 //! result does not depend on the number of threads or on the order in which points finish.
 //! Rows are handed to the caller as they finish (for streaming and resuming); the caller puts
 //! them in grid order at the end.
+//!
+//! **Why one file.** The axis, the grid, the `Sweep` seam (the study's set and a model) and the row
+//! a point gives are one vocabulary that every sweep command and the maps use; the maps and the
+//! shards live apart.
 
 use crate::burst::{BurstOptions, Mechanism, Mode, PlaneSystem, Rates, classify, response};
 use crate::error::{Error, Result};
