@@ -101,18 +101,17 @@ pub(crate) fn flow<O: Oscillator>(
 ) -> Result<Flow> {
     match o.switching_flow(param, s0, y0, span, tol) {
         Some(f) => f,
-        None => smooth_flow(o, param, s0, y0, span, tol),
+        None => smooth_flow(o, param, y0, (s0, span), tol),
     }
 }
 
-/// [`flow`] of a smooth oscillator: the variational equations integrated with the state, piece
-/// by piece (each piece at most [`PIECE`] units of τ).
+/// [`flow`] of a smooth oscillator from `y0` over the phases (s0, s0 + span): the variational
+/// equations integrated with the state, piece by piece (each piece at most [`PIECE`] units of τ).
 pub(crate) fn smooth_flow<O: Oscillator>(
     o: &O,
     param: Option<O::Param>,
-    s0: f64,
     y0: [f64; 2],
-    span: f64,
+    (s0, span): (f64, f64),
     tol: Options,
 ) -> Result<Flow> {
     let omega = o.omega();

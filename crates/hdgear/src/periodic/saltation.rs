@@ -79,7 +79,7 @@ fn segment(
     }
     let piece = m.directed(mode.side(), [0.0; MAX_STATES]);
     let omega = m.forcing()[2];
-    let f = smooth_flow(&piece, param, omega * ta, ya, omega * (tb - ta), tol)?;
+    let f = smooth_flow(&piece, param, ya, (omega * ta, omega * (tb - ta)), tol)?;
     out.then(&f);
     Ok(())
 }
