@@ -167,7 +167,7 @@ impl Pieces {
     }
 
     /// The piece of a slipping `mode` with the internal states' signs `bits`.
-    fn piece(&self, mode: SwitchingMode, bits: usize) -> &Model {
+    pub(crate) fn piece(&self, mode: SwitchingMode, bits: usize) -> &Model {
         match mode {
             SwitchingMode::Forward => &self.slipping[0][bits],
             SwitchingMode::Backward => &self.slipping[1][bits],

@@ -208,7 +208,7 @@ fn advance<O: Oscillator>(o: &O, y: [f64; 2], periods: u32, tol: Options) -> Res
     }
     let end = TAU * f64::from(periods);
     if let Some(pieces) = o.pieces() {
-        return super::saltation::motion(pieces.model(), &pieces, y, end, tol, |_| {});
+        return super::saltation::motion(&pieces, y, end, tol, |_| {});
     }
     let sys = Plain(o, 1.0 / o.omega());
     let mut s = stepper(&sys, 0.0, y, super::method_for::<O>(tol))?;

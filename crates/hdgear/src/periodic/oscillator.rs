@@ -285,9 +285,7 @@ impl Oscillator for Model {
         tol: Options,
     ) -> Option<Result<Flow>> {
         let pieces = Pieces::new(self)?;
-        Some(super::saltation::flow(
-            self, &pieces, param, s0, y0, span, tol,
-        ))
+        Some(super::saltation::flow(&pieces, param, s0, y0, span, tol))
     }
     fn check(&self) -> Result<()> {
         if self.dim() > 2 {

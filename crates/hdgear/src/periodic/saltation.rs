@@ -27,13 +27,12 @@
 
 use super::*;
 use crate::integrate::{DenseOutput, Stepper};
+use crate::model::ModelParam;
 use crate::model::switching::{Pieces, Switch, Switching, SwitchingMode};
-use crate::model::{MAX_STATES, Model, ModelParam};
 
-/// The flow of a switching model `m` (pieces `pieces`) from phase `s0` and `y0` over `span`:
+/// The flow of the switching model `pieces` are of from phase `s0` and `y0` over `span`:
 /// [`super::floquet::flow`] with the saltation matrices (module docs).
 pub(crate) fn flow(
-    m: &Model,
     pieces: &Pieces,
     param: Option<ModelParam>,
     s0: f64,
@@ -41,24 +40,24 @@ pub(crate) fn flow(
     span: f64,
     tol: Options,
 ) -> Result<Flow> {
-    let omega = m.forcing()[2];
+    let omega = pieces.model().forcing()[2];
     let (t0, t1) = (s0 / omega, (s0 + span) / omega);
     let mut run = Switching::<2>::new(pieces, t0, y0, tol)?;
     let mut out = Flow::start(y0);
     if run.mode() == SwitchingMode::Stuck {
         // the run starts at rest: a speed given there dies before it moves x (S of a stick)
-        out.then(&Flow::linear([[1.0, 0.0], [0.0, 0.0]], [0.0; 2], y0));
+        out.then(&stop(y0));
     }
     let mut from = (t0, *run.y(), run.mode());
     while run.t() < t1 {
         run.step(t1)?;
         if let Some(switch) = run.last_switch() {
-            segment(m, param, from, switch.t, &mut out, tol)?;
-            out.then(&saltation(m, pieces, param, &switch));
+            segment(pieces, param, from, switch.t, &mut out, tol)?;
+            out.then(&saltation(pieces, param, &switch));
             from = (switch.t, *run.y(), switch.to);
         }
     }
-    segment(m, param, from, t1, &mut out, tol)?;
+    segment(pieces, param, from, t1, &mut out, tol)?;
     out.y = *run.y();
     Ok(out)
 }
@@ -66,7 +65,7 @@ pub(crate) fn flow(
 /// Carries `out` over [t_a, t_b] in one mode from the state `y_a`: at rest Φ = I and w stays; a
 /// slipping piece by its smooth variational equations.
 fn segment(
-    m: &Model,
+    pieces: &Pieces,
     param: Option<ModelParam>,
     (ta, ya, mode): (f64, [f64; 2], SwitchingMode),
     tb: f64,
@@ -77,34 +76,32 @@ fn segment(
         out.y = ya;
         return Ok(());
     }
-    let piece = m.directed(mode.side(), [0.0; MAX_STATES]);
-    let omega = m.forcing()[2];
-    let f = smooth_flow(&piece, param, ya, (omega * ta, omega * (tb - ta)), tol)?;
+    let piece = pieces.piece(mode, 0);
+    let omega = piece.forcing()[2];
+    let f = smooth_flow(piece, param, ya, (omega * ta, omega * (tb - ta)), tol)?;
     out.then(&f);
     Ok(())
 }
 
 /// The saltation matrix of `switch` and the jump of w there, as a linear piece (module docs).
-fn saltation(m: &Model, pieces: &Pieces, param: Option<ModelParam>, switch: &Switch) -> Flow {
+fn saltation(pieces: &Pieces, param: Option<ModelParam>, switch: &Switch) -> Flow {
+    let m = pieces.model();
     let omega = m.forcing()[2];
     let phase = omega * switch.t;
     let y = [switch.x, 0.0];
-    let slope = |mode: SwitchingMode| {
-        m.directed(mode.side(), [0.0; MAX_STATES])
-            .accel(phase, switch.x, 0.0)
-    };
+    // x'' of a slipping piece at the switch (no internal state: its signs are bits 0)
+    let slope = |mode: SwitchingMode| pieces.piece(mode, 0).accel(phase, switch.x, 0.0);
     match (switch.from, switch.to) {
         (SwitchingMode::Stuck, to) => {
-            let free = pieces.model();
             let sigma = to.side();
             let a_plus = slope(to);
-            let a_x = free.accel_gradient(switch.x, 0.0)[0];
+            let a_x = m.accel_gradient(switch.x, 0.0)[0];
             // A_s: only the load μ + δ sin s depends on the phase (a model that switches has
             // no internal state, so no other load)
             let a_s = m.forcing()[1] * libm::cos(phase);
             let den = omega * sigma * a_s;
             let h_lambda = param.map_or(0.0, |q| {
-                sigma * free.accel_derivative(q, phase, switch.x, 0.0) - band_derivative(m, q)
+                sigma * m.accel_derivative(q, phase, switch.x, 0.0) - band_derivative(m, q)
             });
             Flow::linear(
                 [[1.0, 0.0], [a_plus * a_x / (omega * a_s), 1.0]],
@@ -112,15 +109,20 @@ fn saltation(m: &Model, pieces: &Pieces, param: Option<ModelParam>, switch: &Swi
                 y,
             )
         }
-        (_, SwitchingMode::Stuck) => Flow::linear([[1.0, 0.0], [0.0, 0.0]], [0.0; 2], y),
+        (_, SwitchingMode::Stuck) => stop(y),
         (from, to) => Flow::linear([[1.0, 0.0], [0.0, slope(to) / slope(from)]], [0.0; 2], y),
     }
+}
+
+/// The saltation matrix of a stop at `y`, diag(1, 0): a rest forgets the speed.
+fn stop(y: [f64; 2]) -> Flow {
+    Flow::linear([[1.0, 0.0], [0.0, 0.0]], [0.0; 2], y)
 }
 
 /// ∂b/∂λ of the static band b = Σ f_s: the band is the sum of the sticking terms' breakaway
 /// torques, each one of its term's parameters, so it is affine in every parameter and a
 /// difference quotient is exact to rounding (taken on the side the parameter's domain allows).
-fn band_derivative(m: &Model, q: ModelParam) -> f64 {
+fn band_derivative(m: &crate::model::Model, q: ModelParam) -> f64 {
     let v = m.get(q);
     let h = 1e-6 * v.abs().max(1.0);
     let band = |v: f64| m.with(q, v).ok().map(|m| m.breakaway().unwrap_or(0.0));
@@ -132,17 +134,16 @@ fn band_derivative(m: &Model, q: ModelParam) -> f64 {
     }
 }
 
-/// Runs the switching motion from phase 0 and `y0` over `span` (phase), showing `each` every
-/// step's dense output (in τ) with the model on its piece; returns the end state.
+/// Runs the switching motion of `pieces` from phase 0 and `y0` over `span` (phase), showing
+/// `each` every step's dense output (in τ); returns the end state.
 pub(crate) fn motion(
-    m: &Model,
     pieces: &Pieces,
     y0: [f64; 2],
     span: f64,
     tol: Options,
     mut each: impl FnMut(&crate::model::switching::SwitchingDense<2>),
 ) -> Result<[f64; 2]> {
-    let t1 = span / m.forcing()[2];
+    let t1 = span / pieces.model().forcing()[2];
     let mut run = Switching::<2>::new(pieces, 0.0, y0, tol)?;
     while run.t() < t1 {
         run.step(t1)?;

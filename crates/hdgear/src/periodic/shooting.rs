@@ -150,7 +150,7 @@ pub fn amplitude<O: Oscillator>(o: &O, y0: [f64; 2], k: u32, tol: Options) -> Re
         // step ends
         let omega = o.omega();
         let free = pieces.model();
-        super::saltation::motion(free, &pieces, y0, end, tol, |d| {
+        super::saltation::motion(&pieces, y0, end, tol, |d| {
             extent.probe(d, |t, y| free.accel(omega * t, y[0], y[1]));
         })?;
     } else {
