@@ -15,7 +15,7 @@ type Sources<'a> = (Params, Option<(&'a PathBuf, Scenario)>, Vec<Warning>);
 /// Model parameters shared by every command: preset, then file, then flags.
 #[derive(Args, Debug, Clone)]
 pub struct ParamArgs {
-    #[arg(long, default_value = "paper", help = preset_help())]
+    #[arg(long, default_value = ParamArgs::DEFAULT_PRESET, help = preset_help())]
     pub preset: String,
     #[arg(long, value_name = "FILE", help = config_help())]
     pub config: Option<PathBuf>,
@@ -83,7 +83,8 @@ impl Args for ParamFlags {
 
 /// The commands that run the model a scenario's term tables assemble (the others refuse them).
 const MODEL_COMMANDS: &str = "model, simulate, bursts, analyze, equilibria, periodic, continue, \
-     frequency-response, orbit-diagram, control, sweep, lyapunov-map, continue2, robust, boundary";
+     frequency-response, orbit-diagram, control, sweep, lyapunov-map, continue2, robust, boundary, \
+     report";
 
 /// `--preset`'s help: the library's presets, a name that repeats another's set marked so.
 fn preset_help() -> String {
@@ -116,6 +117,9 @@ fn config_help() -> String {
 }
 
 impl ParamArgs {
+    /// The preset taken without `--preset`: the study's set.
+    pub const DEFAULT_PRESET: &'static str = "paper";
+
     /// Whether the flag of parameter `param` was given.
     pub fn given(&self, param: Param) -> bool {
         self.values.0.get(param).is_some()

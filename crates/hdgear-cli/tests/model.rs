@@ -219,7 +219,7 @@ fn orbit_diagram_control_and_coulomb_orbits_run_on_friction_scenarios() {
         .args(["periodic", "--config", &l])
         .assert()
         .code(2)
-        .stderr(predicate::str::contains("internal states"));
+        .stderr(predicate::str::contains("its lugre term's s"));
 }
 
 #[test]

@@ -15,6 +15,7 @@ mod hardening;
 mod hostile;
 mod interrupted;
 mod model;
+mod model_report;
 mod output;
 mod periodic;
 mod pipes;

@@ -76,6 +76,25 @@ impl Default for SimOptions {
     }
 }
 
+/// One sample of a trajectory in the plane: the columns `t,x,xdot`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct StateSample {
+    /// τ.
+    pub t: f64,
+    /// x.
+    pub x: f64,
+    /// x'.
+    pub xdot: f64,
+}
+crate::record!(StateSample: "t", "x", "xdot");
+
+impl From<[f64; 3]> for StateSample {
+    /// (τ, x, x') as an orbit's samples hold them.
+    fn from([t, x, xdot]: [f64; 3]) -> StateSample {
+        StateSample { t, x, xdot }
+    }
+}
+
 /// The outcome of a simulation besides its samples.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct SimSummary {

@@ -419,3 +419,43 @@ fn branches_across_switches_follow_den_hartog() {
     let fr = frequency_response(&d.model(), Some((1.5, 4.0)), &opts).unwrap();
     compare(&fr, &|omega| DenHartog { omega, ..d });
 }
+
+/// A friction whose breakaway exceeds the load everywhere (F ≥ P: the band holds the spring at
+/// rest at x = 0 with the load inside it all period) rests all period: its orbit is the rest, m₁ = 1
+/// exactly (every x whose spring torque k·x stays within F − P of the band rests too), m₂ = 0,
+/// neutral; and no branch follows from it, which the continuation says in one line rather than
+/// failing on its singular tangent.
+#[test]
+fn a_drive_held_all_period_is_neutral_and_has_no_branch() {
+    use hdgear::periodic::{ContinuationOptions, Stability, frequency_response};
+    let d = DenHartog {
+        k: 4.0,
+        p: 1.0,
+        f: 1.5,
+        omega: 2.0,
+    };
+    let o = orbit(&d);
+    assert_eq!(o.stability(), Stability::RestsAllPeriod);
+    assert_eq!(o.multipliers[0].log_abs, 0.0);
+    assert_eq!(o.multipliers[1].log_abs, f64::NEG_INFINITY);
+    assert_eq!((o.peak_to_peak, o.max_abs_xdot), (0.0, 0.0));
+    let e = frequency_response(
+        &d.model(),
+        Some((1.0, 3.0)),
+        &ContinuationOptions::default(),
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(!e.contains('\n'), "{e}");
+    assert!(e.contains("at rest all period"), "{e}");
+    // one slip per half period (F < P) is an isolated orbit: stable, and continued
+    let slipping = DenHartog { f: 0.3, ..d };
+    assert_eq!(orbit(&slipping).stability(), Stability::Stable);
+    let b = frequency_response(
+        &slipping.model(),
+        Some((1.0, 3.0)),
+        &ContinuationOptions::default(),
+    )
+    .unwrap();
+    assert!(b.points.len() > 2);
+}

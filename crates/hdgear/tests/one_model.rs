@@ -182,7 +182,10 @@ fn memory_models_are_refused_by_shooting_and_sticking_ones_shot() {
         .unwrap_err()
         .to_string();
     assert!(!e.contains('\n'), "{e}");
-    assert!(e.contains("periodic orbits"), "{e}");
+    assert!(
+        e.contains("no periodic orbit") && e.contains("lugre term"),
+        "{e}"
+    );
     let coulomb = with("coulomb", &[0.1, 0.15, 0.05, 0.0]);
     let o = shoot(&coulomb, 1, &PeriodicOptions::default()).unwrap();
     assert!(o.rests.is_some() && o.residual < 1e-10, "{:?}", o.rests);

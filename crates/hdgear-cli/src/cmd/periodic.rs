@@ -35,15 +35,6 @@ pub struct PeriodicArgs {
     pub out: Option<PathBuf>,
 }
 
-/// One sample of the orbit: the columns `t,x,xdot`.
-#[derive(Serialize)]
-struct Sample {
-    t: f64,
-    x: f64,
-    xdot: f64,
-}
-hdgear::record!(Sample: "t", "x", "xdot");
-
 /// The JSON document: the orbit and, when asked, the Lyapunov exponent.
 #[derive(Serialize)]
 struct Doc<'a, S: Serialize> {
@@ -90,11 +81,10 @@ fn run_on<S: Periodic>(
         None
     };
     if let Some(out) = &a.out {
-        let rows = orbit.samples.iter().map(|s| Sample {
-            t: s[0],
-            x: s[1],
-            xdot: s[2],
-        });
+        let rows = orbit
+            .samples
+            .iter()
+            .map(|&s| hdgear::simulate::StateSample::from(s));
         write_records(Some(out), &orbit, rows)?;
     }
     if a.json {
@@ -149,12 +139,7 @@ fn print_orbit<S>(
         "  Floquet exponents {:.8}, {:.8}: {}",
         orbit.floquet_exponents[0],
         orbit.floquet_exponents[1],
-        match orbit.rests {
-            // every x near a rest that lasts the whole period rests too: m1 = 1 exactly
-            Some(r) if r.switches == 0 && r.time_stuck > 0.0 => "neutral (at rest all period)",
-            _ if orbit.stable => "stable",
-            _ => "unstable",
-        }
+        orbit.stability().name()
     );
     crate::sink::outln!(
         "  x from {:.6} to {:.6} (peak to peak {:.6}), max |x'| {:.6}",

@@ -9,12 +9,14 @@ use crate::study::Study;
 
 mod decimate;
 mod maps;
+mod model;
 mod periodic;
 mod robust;
 mod study;
 
 pub use decimate::decimate;
 pub use maps::{boundary_figure, fold_delta, map_figure, sweep_figure};
+pub use model::{fast_slow_figure, orbit_figure, response_figure};
 pub use periodic::{
     LYAPUNOV_BINS, frequency_response_figure, frequency_response_kind, lyapunov_figure,
     lyapunov_map_kind, orbit_diagram_figure, orbit_diagram_kind, physical_response_figure,
@@ -22,6 +24,17 @@ pub use periodic::{
 };
 pub use robust::{CLOUD_POINTS, cloud_figure, load_figure, sobol_figure};
 pub use study::{phase_plane, slope, transformed_phase, x_equilibrium, xdot_gamma};
+
+/// The spread of the points' ordinates (at least 1e-12): the scale a figure's decimation
+/// tolerance is a fraction of.
+pub(crate) fn span_of(points: &[(f64, f64)]) -> f64 {
+    let (lo, hi) = points
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), q| {
+            (l.min(q.1), h.max(q.1))
+        });
+    (hi - lo).max(1e-12)
+}
 
 /// The figure kinds (`hdgear plot KIND`, the report's figures). Adding a figure is a variant
 /// here, a line in [`KINDS`] and its function.

@@ -27,15 +27,6 @@ fn burst_label(w: &Case) -> String {
     }
 }
 
-fn y_span(points: &[(f64, f64)]) -> f64 {
-    let (lo, hi) = points
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), q| {
-            (l.min(q.1), h.max(q.1))
-        });
-    (hi - lo).max(1e-12)
-}
-
 /// x'(t) over one slow period for the study's four γ, bursts shaded.
 pub fn xdot_gamma(base: &Params, study: &mut Study) -> Result<Figure> {
     let mut panels = Vec::new();
@@ -44,7 +35,7 @@ pub fn xdot_gamma(base: &Params, study: &mut Study) -> Result<Figure> {
         let (gamma, c) = (w.params.gamma, &w.classification);
         let t1 = w.sample_end();
         let pts: Vec<(f64, f64)> = w.samples.iter().map(|s| (s.0, s.2)).collect();
-        let tol = 1e-3 * y_span(&pts);
+        let tol = 1e-3 * super::span_of(&pts);
         panels.push(Panel {
             title: format!(
                 "γ = {gamma}: {} (max |x'| = {:.4})",
@@ -98,7 +89,7 @@ pub fn x_equilibrium(p: &Params, study: &mut Study) -> Result<Figure> {
     let w = study.case(p)?;
     let t1 = w.sample_end();
     let x: Vec<(f64, f64)> = w.samples.iter().map(|s| (s.0, s.1)).collect();
-    let tol = 1e-3 * y_span(&x);
+    let tol = 1e-3 * super::span_of(&x);
     let xs = tracked_equilibrium(p, w);
     let mut panels = vec![Panel {
         title: format!("x and x*(a), γ = {}, one slow period", p.gamma),
@@ -348,7 +339,7 @@ pub fn phase_plane(p: &Params, study: &mut Study) -> Result<Figure> {
             y_label: "x'".into(),
             series: vec![Series {
                 label: String::new(),
-                points: decimate(&pts, 1e-4 * y_span(&pts)),
+                points: decimate(&pts, 1e-4 * super::span_of(&pts)),
                 color: 0,
                 style: Style::Line,
             }],

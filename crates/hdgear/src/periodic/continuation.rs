@@ -490,7 +490,18 @@ pub fn continue_orbit<O: Oscillator>(
         Some(y) => super::newton(o, k, y, &opts.periodic)?,
         None => super::settle_and_solve(o, k, [0.0, 0.0], &opts.periodic)?,
     };
-    tracer.scale = state_scale(y, &amplitude(o, y, k, opts.periodic.tol)?);
+    let extent = amplitude(o, y, k, opts.periodic.tol)?;
+    if o.pieces().is_some() && extent.peak_to_peak == 0.0 && extent.max_abs_xdot == 0.0 {
+        return Err(Error::InvalidInput {
+            what: "periodic orbit",
+            text: format!("a rest at x = {}", y[0]),
+            reason: "the friction holds the drive at rest all period: every x of its sticking \
+                     band is such an orbit, none isolated, so no branch follows from it (a \
+                     smaller breakaway or a larger load makes it slip)"
+                .into(),
+        });
+    }
+    tracer.scale = state_scale(y, &extent);
     let u = opts.scale.to_u(from);
     let z = tracer.unknowns(y, u);
     let first = tracer

@@ -289,11 +289,21 @@ impl Oscillator for Model {
     }
     fn check(&self) -> Result<()> {
         if self.dim() > 2 {
+            let own: Vec<String> = self
+                .terms()
+                .filter_map(|t| {
+                    t.state()
+                        .map(|s| format!("its {} term's {}", t.kind(), s.name))
+                })
+                .collect();
             return Err(crate::error::Error::InvalidInput {
                 what: "model",
                 text: self.equation(),
-                reason: "periodic orbits of a model with internal states are not computed yet"
-                    .into(),
+                reason: format!(
+                    "no periodic orbit is computed for a state beyond (x, x'): {} makes the \
+                     orbit live outside the plane the shooting works in",
+                    own.join(" and ")
+                ),
             });
         }
         Model::check(self)

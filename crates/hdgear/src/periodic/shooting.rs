@@ -47,6 +47,41 @@ pub struct PeriodicOrbit<S = Params> {
     pub samples: Vec<[f64; 3]>,
 }
 
+/// How the neighbours of a periodic orbit behave, read from its multipliers.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "kebab-case")]
+pub enum Stability {
+    /// Both multipliers inside the unit circle: nearby motion settles on the orbit.
+    Stable,
+    /// A multiplier outside (or on) the unit circle.
+    Unstable,
+    /// The drive rests all period (a sticking friction holds it): m₁ = 1 exactly, as every x
+    /// near the rest, within the sticking band, rests too. Neither attracting nor repelling.
+    RestsAllPeriod,
+}
+
+impl Stability {
+    /// The word the command-line tool and the report print.
+    pub fn name(self) -> &'static str {
+        match self {
+            Stability::Stable => "stable",
+            Stability::Unstable => "unstable",
+            Stability::RestsAllPeriod => "neutral (at rest all period)",
+        }
+    }
+}
+
+impl<S> PeriodicOrbit<S> {
+    /// The orbit's [`Stability`].
+    pub fn stability(&self) -> Stability {
+        match self.rests {
+            Some(r) if r.switches == 0 && r.time_stuck > 0.0 => Stability::RestsAllPeriod,
+            _ if self.stable => Stability::Stable,
+            _ => Stability::Unstable,
+        }
+    }
+}
+
 /// A converged shooting solution: the start at phase 0 and the flow over k periods from it.
 pub(crate) struct Solved {
     pub(crate) y: [f64; 2],

@@ -174,6 +174,16 @@ pub fn drive_model(d: &PhysicalParams, law: &FrictionLaw) -> Result<Model> {
     reduced_model(d, law, &d.reduce()?)
 }
 
+/// The reduced model of drive `d` built from `card`: with the card's fitted friction
+/// ([`drive_model`]) when it has a `[friction]` table, else the study's equation at `d`'s
+/// reduced parameters.
+pub fn card_model(card: &Card, d: &PhysicalParams) -> Result<Model> {
+    match card.friction_law()? {
+        Some(law) => drive_model(d, &law),
+        None => Ok(Model::study(&d.reduce()?.params)),
+    }
+}
+
 /// [`drive_model`] with `d`'s reduction `r` at hand.
 fn reduced_model(d: &PhysicalParams, law: &FrictionLaw, r: &super::Reduction) -> Result<Model> {
     let f = law.reduced(d, r);

@@ -3,7 +3,9 @@
 
 use super::MANIFEST;
 use crate::error::{Error, Result};
+use crate::output::plot::{self, Figure};
 use crate::output::{Format, Record, RecordWriter, write_atomic};
+use rayon::prelude::*;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 
@@ -135,6 +137,36 @@ impl Files {
         }
         let bytes = w.finish().map_err(io(&path))?;
         self.bytes(name, &bytes)
+    }
+
+    /// Every figure of `figures` as `figures/NAME.svg` and `.png`; returns the SVG texts, in
+    /// order. Every figure's two files are listed first (see [`Files::claim`]), then the
+    /// figures are drawn and written on all cores: drawing is most of a report's writing time,
+    /// and one figure's files do not depend on another's.
+    pub fn figures(&mut self, figures: &[Figure]) -> Result<Vec<String>> {
+        let names: Vec<(String, String)> = figures
+            .iter()
+            .map(|f| {
+                (
+                    format!("figures/{}.svg", f.name),
+                    format!("figures/{}.png", f.name),
+                )
+            })
+            .collect();
+        for (svg, png) in &names {
+            self.claim(svg)?;
+            self.claim(png)?;
+        }
+        figures
+            .par_iter()
+            .zip(&names)
+            .map(|(f, (svg_name, png_name))| {
+                let svg = plot::svg(f)?;
+                self.write_claimed(svg_name, svg.as_bytes())?;
+                plot::png(f, &self.path(png_name))?;
+                Ok(svg)
+            })
+            .collect()
     }
 
     /// `v` as pretty JSON.

@@ -47,7 +47,7 @@ fn param_cells(p: &Params) -> String {
 }
 
 /// The rows of a design check's margin table.
-fn margin_rows(c: &crate::physical::design::DesignCheck) -> String {
+pub(super) fn margin_rows(c: &crate::physical::design::DesignCheck) -> String {
     c.margins
         .iter()
         .map(|m| {
@@ -84,14 +84,39 @@ figure{margin:1.5em 0;border:1px solid #ddd;padding:.5em}figure svg{width:100%;h
 .bad{color:#b00020;font-weight:bold}.good{color:#007a3d;font-weight:bold}code{background:#f3f3f3;padding:0 .2em}
 nav a{margin-right:1em}";
 
+/// The study report's page start.
 fn head(h: &mut String) {
+    page_start(
+        h,
+        "hdgear report: fast-slow oscillations of a harmonic drive",
+        "Fast-slow oscillations of a harmonic drive gear: the study reproduced",
+        &[
+            ("model", "Model"),
+            ("corrections", "Corrections"),
+            ("tables", "Tables"),
+            ("figures", "Figures"),
+            ("mechanism", "Mechanism"),
+            ("physical", "Physical drive"),
+            ("periodic", "Periodic response"),
+            ("methods", "Methods"),
+        ],
+    );
+}
+
+/// The page's start: doctype, `title`, the style sheet, the heading `h1` and a navigation bar
+/// of (anchor, label) links. Shared by the study's report and a model's.
+pub(super) fn page_start(h: &mut String, title: &str, h1: &str, nav: &[(&str, &str)]) {
+    let links: String = nav
+        .iter()
+        .map(|(id, label)| format!("<a href=\"#{id}\">{label}</a>"))
+        .collect();
     let _ = write!(
         h,
-        "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>hdgear report: fast-slow oscillations of a harmonic drive</title>\
+        "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\"><title>{}</title>\
          <meta name=\"viewport\" content=\"width=device-width, initial-scale=1\"><style>{CSS}</style></head><body>\n\
-         <h1>Fast-slow oscillations of a harmonic drive gear: the study reproduced</h1>\n\
-         <nav><a href=\"#model\">Model</a><a href=\"#corrections\">Corrections</a><a href=\"#tables\">Tables</a>\
-         <a href=\"#figures\">Figures</a><a href=\"#mechanism\">Mechanism</a><a href=\"#physical\">Physical drive</a><a href=\"#periodic\">Periodic response</a><a href=\"#methods\">Methods</a></nav>\n"
+         <h1>{}</h1>\n<nav>{links}</nav>\n",
+        esc(title),
+        esc(h1)
     );
 }
 
@@ -264,19 +289,25 @@ fn effects_table(h: &mut String, r: &Report) {
 fn figures(h: &mut String, r: &Report, svgs: &[String]) {
     h.push_str("<section id=\"figures\"><h2>Figures</h2>\n");
     for (f, svg) in r.figures.iter().zip(svgs) {
-        let name = &f.name;
-        let svg = svg.trim_start_matches(|c| c != '<');
-        let svg = svg
-            .strip_prefix("<?xml version=\"1.0\" encoding=\"UTF-8\"?>")
-            .unwrap_or(svg);
-        let _ = write!(
-            h,
-            "<figure id=\"fig-{name}\" data-figure=\"{name}\">{svg}<figcaption><b>Figure: {name}.</b> {} \
-             (<a href=\"figures/{name}.svg\">SVG</a>, <a href=\"figures/{name}.png\">PNG</a>)</figcaption></figure>\n",
-            esc(&f.caption)
-        );
+        figure(h, f, svg);
     }
     h.push_str("</section>\n");
+}
+
+/// One figure inline: its SVG text `svg` (the XML declaration dropped), its caption and links
+/// to its files.
+pub(super) fn figure(h: &mut String, f: &crate::output::plot::Figure, svg: &str) {
+    let name = &f.name;
+    let svg = svg.trim_start_matches(|c| c != '<');
+    let svg = svg
+        .strip_prefix("<?xml version=\"1.0\" encoding=\"UTF-8\"?>")
+        .unwrap_or(svg);
+    let _ = write!(
+        h,
+        "<figure id=\"fig-{name}\" data-figure=\"{name}\">{svg}<figcaption><b>Figure: {name}.</b> {} \
+         (<a href=\"figures/{name}.svg\">SVG</a>, <a href=\"figures/{name}.png\">PNG</a>)</figcaption></figure>\n",
+        esc(&f.caption)
+    );
 }
 
 /// The mechanism: the fast subsystem's evidence for each γ, and the γ sweep.

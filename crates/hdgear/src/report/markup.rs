@@ -10,7 +10,7 @@ pub(super) fn esc(s: &str) -> String {
 }
 
 /// A number as the report shows it: four decimals, or three significant digits in e-notation.
-pub(super) fn num(v: f64) -> String {
+pub(crate) fn num(v: f64) -> String {
     if v.is_infinite() {
         "∞".into()
     } else if v.is_nan() {

@@ -6,12 +6,17 @@
 //! [`Report::write`] puts it, the figures as SVG and PNG and the data behind every table and
 //! figure as CSV/JSON into a directory. Table cells carry their exact values in `data-value`
 //! attributes so tests (and scripts) can check them against `hdgear table --json`.
+//!
+//! A model of the user's own (`hdgear report --config FILE`, `--card CARD`) gets its own,
+//! shorter document: [`model::ModelReport`].
 
 pub mod control;
 mod files;
 pub mod html;
-mod markup;
+pub(crate) mod markup;
 pub mod memory;
+pub mod model;
+mod model_html;
 pub mod periodic;
 pub mod plane;
 pub mod robust;
@@ -20,7 +25,7 @@ use crate::burst::{Boundaries, BurstOptions};
 use crate::error::Result;
 use crate::fast::{A_RANGE, CurvePoint, curve};
 use crate::figures::FigureKind;
-use crate::output::plot::{self, Figure};
+use crate::output::plot::Figure;
 use crate::params::Params;
 use crate::physical::PhysicalParams;
 use crate::physical::catalogue::{CatalogueDrive, Fit};
@@ -29,7 +34,6 @@ use crate::physical::simulate::{ReductionCheck, check_reduction};
 use crate::study::{Case, GridRun, Study};
 use crate::table::{STUDY_GAMMAS, Tables, tables_in};
 use files::Files;
-use rayon::prelude::*;
 use serde::Serialize;
 use std::path::Path;
 
@@ -400,34 +404,7 @@ impl Report {
         out.json("data/control.json", &self.control)?;
         out.json("data/robust.json", &self.robust)?;
         out.json("data/memory.json", &self.memory)?;
-        // every figure's two files listed first (see `Files::claim`), then the figures drawn
-        // and written on all cores: drawing is most of this stage's time, and one figure's
-        // files do not depend on another's
-        let names: Vec<(String, String)> = self
-            .figures
-            .iter()
-            .map(|f| {
-                (
-                    format!("figures/{}.svg", f.name),
-                    format!("figures/{}.png", f.name),
-                )
-            })
-            .collect();
-        for (svg, png) in &names {
-            out.claim(svg)?;
-            out.claim(png)?;
-        }
-        let svgs = self
-            .figures
-            .par_iter()
-            .zip(&names)
-            .map(|(f, (svg_name, png_name))| {
-                let svg = plot::svg(f)?;
-                out.write_claimed(svg_name, svg.as_bytes())?;
-                plot::png(f, &out.path(png_name))?;
-                Ok(svg)
-            })
-            .collect::<Result<Vec<_>>>()?;
+        let svgs = out.figures(&self.figures)?;
         out.bytes("index.html", html::render(self, &svgs).as_bytes())?;
         Ok(ReportSummary {
             files: out.written,
