@@ -7,6 +7,9 @@
 //! * `fast`: the fast-subsystem analysis without simulation.
 //! * `sweep_1000_gamma`: a 1000-point γ sweep with burst analysis on 1 and 2 threads.
 //! * `physical_300_tau`: the two-inertia model as the input inertia shrinks (stiffness check).
+//! * `study_path`: the study's hand-scheduled fast path ([`Dimensionless`], the study's batch)
+//!   against the generic path of the model assembled from terms ([`Model::study`]) on the same
+//!   work: what keeps the fast path (issue 94 keeps one only where it is ≥ 1.2× faster).
 //!
 //! Against other tools in the same run: `bench/compare_heyoka.py`, `bench/compare_scipy.py`.
 
@@ -210,10 +213,86 @@ fn physical_group(c: &mut Criterion) {
     g.finish();
 }
 
+// The study's fast path against the generic path on the same work: three slow periods of the
+// default start at rtol = atol = 1e-10 by Taylor's method, γ ∈ {30, 0.1}, one trajectory
+// (`Dimensionless` against `Model::study`) and sixteen on the vector lanes (`integrate_batch`
+// against `integrate_models`, γ log-spaced 0.1–30). The two are held together by
+// `tests/model.rs` (right-hand side to rounding, Taylor rows to 1e-12). Steps are printed: equal
+// steps mean the time is the cost per step.
+
+/// Taylor's method on `sys` from (x0, 0) to `t_end`: the final x and the steps taken.
+fn taylor_run<S: hdgear::integrate::System<2>>(
+    sys: &S,
+    x0: f64,
+    t_end: f64,
+    opts: Options,
+) -> (f64, u64) {
+    use hdgear::integrate::{Stepper, Taylor};
+    let mut s = Taylor::new(sys, 0.0, [x0, 0.0], opts).unwrap();
+    while s.t() < t_end {
+        s.step(t_end).unwrap();
+    }
+    (s.y()[0], s.stats().steps)
+}
+
+fn study_path_group(c: &mut Criterion) {
+    use hdgear::batch::integrate_batch;
+    use hdgear::model::{Model, integrate_models};
+    let mut g = c.benchmark_group("study_path");
+    let opts = Options::default();
+    for gamma in [30.0, 0.1] {
+        let p = Params {
+            gamma,
+            ..Params::default()
+        };
+        let x0 = hdgear::fast::stable_equilibrium(&p, 0.0);
+        let t_end = 3.0 * p.slow_period();
+        let (fast, generic) = (Dimensionless::new(p), Model::study(&p));
+        let (a, b) = (
+            taylor_run(&fast, x0, t_end, opts),
+            taylor_run(&generic, x0, t_end, opts),
+        );
+        eprintln!(
+            "gamma {gamma}: steps specialised {}, generic {}; final x differs by {:.1e}",
+            a.1,
+            b.1,
+            (a.0 - b.0).abs()
+        );
+        g.bench_function(format!("scalar-specialised/gamma={gamma}"), |b| {
+            b.iter(|| black_box(taylor_run(&fast, x0, t_end, opts)))
+        });
+        g.bench_function(format!("scalar-generic/gamma={gamma}"), |b| {
+            b.iter(|| black_box(taylor_run(&generic, x0, t_end, opts)))
+        });
+    }
+    let points: Vec<Params> = (0..16)
+        .map(|i| Params {
+            gamma: 0.1 * 300f64.powf(f64::from(i) / 15.0),
+            ..Params::default()
+        })
+        .collect();
+    let models: Vec<Model> = points.iter().map(Model::study).collect();
+    let starts: Vec<[f64; 2]> = points
+        .iter()
+        .map(|p| [hdgear::fast::stable_equilibrium(p, 0.0), 0.0])
+        .collect();
+    let t_end = 3.0 * points[0].slow_period();
+    let spans = vec![(t_end, t_end); 16];
+    g.bench_function("batch16-specialised", |b| {
+        b.iter(|| black_box(integrate_batch(&points, &starts, t_end, opts).unwrap()))
+    });
+    g.bench_function("batch16-generic", |b| {
+        b.iter(|| {
+            black_box(integrate_models::<2>(&models, &starts, &spans, opts, |_, _| {}).unwrap())
+        })
+    });
+    g.finish();
+}
+
 // No criterion plots: its plotters backend would need a font this binary does not register.
 criterion_group! {
     name = benches;
     config = Criterion::default().without_plots();
-    targets = simulate_group, fast_group, sweep_group, physical_group
+    targets = simulate_group, fast_group, sweep_group, physical_group, study_path_group
 }
 criterion_main!(benches);

@@ -4,9 +4,9 @@
 use super::decimate;
 use crate::burst::{Classification, Response};
 use crate::fast::{A_RANGE, StaticCurve};
+use crate::output::num;
 use crate::output::plot::{Figure, Panel, Series, Style};
 use crate::periodic::{PeriodicOrbit, Stability};
-use crate::report::markup::num;
 use crate::simulate::StateSample;
 
 /// x(τ) and x'(τ) over the sampled slow period, bursts shaded.

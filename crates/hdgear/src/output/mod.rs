@@ -16,6 +16,20 @@ use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 
+/// A number as the report and the figures' captions show it: four decimals, or three
+/// significant digits in e-notation.
+pub(crate) fn num(v: f64) -> String {
+    if v.is_infinite() {
+        "∞".into()
+    } else if v.is_nan() {
+        "–".into()
+    } else if v != 0.0 && (v.abs() < 1e-3 || v.abs() >= 1e5) {
+        format!("{v:.3e}")
+    } else {
+        format!("{}", (v * 1e4).round() / 1e4)
+    }
+}
+
 /// The temporaries of this process that are not yet committed or removed, and whether the
 /// process is shutting down (then no new temporary may be created).
 static TEMPORARIES: Mutex<(Vec<PathBuf>, bool)> = Mutex::new((Vec::new(), false));

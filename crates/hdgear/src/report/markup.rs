@@ -9,18 +9,7 @@ pub(super) fn esc(s: &str) -> String {
         .replace('"', "&quot;")
 }
 
-/// A number as the report shows it: four decimals, or three significant digits in e-notation.
-pub(crate) fn num(v: f64) -> String {
-    if v.is_infinite() {
-        "∞".into()
-    } else if v.is_nan() {
-        "–".into()
-    } else if v != 0.0 && (v.abs() < 1e-3 || v.abs() >= 1e5) {
-        format!("{v:.3e}")
-    } else {
-        format!("{}", (v * 1e4).round() / 1e4)
-    }
-}
+pub(crate) use crate::output::num;
 
 /// A table cell with its exact value in `data-value`.
 pub(super) fn cell(key: &str, v: f64) -> String {

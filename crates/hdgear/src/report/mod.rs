@@ -13,10 +13,9 @@
 pub mod control;
 mod files;
 pub mod html;
-pub(crate) mod markup;
+mod markup;
 pub mod memory;
 pub mod model;
-mod model_html;
 pub mod periodic;
 pub mod plane;
 pub mod robust;

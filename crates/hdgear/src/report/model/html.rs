@@ -4,12 +4,12 @@
 // HTML blocks end with a newline of their own, for a readable source.
 #![allow(clippy::write_with_newline)]
 
-use super::html::{figure, margin_rows, page_start};
-use super::markup::{cell, esc, num};
-use super::model::{DriveEvidence, ModelReport, OrbitEvidence, ResponseEvidence, Section};
+use super::{DriveEvidence, ModelReport, OrbitEvidence, ResponseEvidence, Section};
 use crate::fast::CurveAnalysis;
 use crate::model::{Description, ModelParam};
 use crate::periodic::{OrbitBranch, Special};
+use crate::report::html::{figure, margin_rows, page_start};
+use crate::report::markup::{cell, esc, num};
 use std::fmt::Write as _;
 
 /// `index.html` of the model report, with the figures' SVG texts `svgs` inline.

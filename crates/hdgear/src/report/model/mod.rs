@@ -7,6 +7,8 @@
 //! Each section is the same computation the command of its name runs (`analyze`, `bursts`,
 //! `periodic`, `frequency-response`, `physical`), on the same [`Model`].
 
+mod html;
+
 use super::files::Files;
 use crate::burst::{BurstOptions, Classification, Response};
 use crate::error::Result;
@@ -240,10 +242,7 @@ impl ModelReport {
             out.csv("data/frequency-response.csv", &rows)?;
         }
         let svgs = out.figures(&self.figures)?;
-        out.bytes(
-            "index.html",
-            super::model_html::render(self, &svgs).as_bytes(),
-        )?;
+        out.bytes("index.html", html::render(self, &svgs).as_bytes())?;
         Ok(out.written)
     }
 }
