@@ -39,6 +39,11 @@ RUNS = [
     ("hdgear against scipy", "compare_scipy.py", [],
      "One three-period run of the study's model: scipy's solve_ivp DOP853 against hdgear in "
      "process.", None),
+    ("The study's fast path against the generic path", "study_path.py", [],
+     "The study's hand-scheduled Taylor recurrence (`model::Dimensionless`, the study's batch) "
+     "against the model assembled from terms (`Model::study`) on the same three slow periods: "
+     "what keeps the fast path (chosen by `Model::subject`, held to the generic path's Taylor "
+     "rows to 1e-14 by tests/model.rs).", None),
     ("Python against Rust", "python_overhead.py", [],
      "The same calls from Python (the hdgear package) and from Rust, in one run.", PACKAGE_PY),
 ]
