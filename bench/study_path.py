@@ -2,7 +2,7 @@
 """The study's hand-scheduled fast path against the generic path of the model assembled from
 terms, on the same work (`cargo bench --bench hdgear -- study_path`): three slow periods of the
 default start at rtol = atol = 1e-10 by Taylor's method, one trajectory at γ = 30 and 0.1, and
-sixteen on the vector lanes. Issue 94 keeps a specialised path only where it is ≥ 1.2× faster.
+sixteen on the vector lanes; and the periodic orbit by shooting. Issue 94 keeps a specialised path only where it is ≥ 1.2× faster.
 
     python3 bench/study_path.py         # prints a Markdown table
 """
@@ -32,13 +32,14 @@ def main():
     steps = re.findall(r"(gamma \S+: steps specialised \d+, generic \d+; final x differs by \S+)", text)
     print("| work | specialised ms | generic ms | generic / specialised |")
     print("|---|---|---|---|")
-    for case in sorted({n.split("-", 1)[1] if n.startswith("batch") else n.split("/", 1)[1]
-                        for n in times} - {"specialised", "generic"}) + ["batch16"]:
+    for case in sorted({n.split("/", 1)[1] for n in times if n.startswith("scalar")}) + ["batch16", "shoot"]:
         fast = times.get(f"scalar-specialised/{case}", times.get(f"{case}-specialised"))
         slow = times.get(f"scalar-generic/{case}", times.get(f"{case}-generic"))
         if fast is None or slow is None:
             continue
-        label = "16 trajectories on the lanes" if case == "batch16" else f"one trajectory, {case.replace('gamma=', 'γ = ')}"
+        label = {"batch16": "16 trajectories on the lanes",
+                 "shoot": "the periodic orbit by shooting, study's point"}.get(
+            case, f"one trajectory, {case.replace('gamma=', 'γ = ')}")
         print(f"| {label} | {fast:.3f} | {slow:.3f} | {slow / fast:.2f} |")
     print()
     for s in steps:

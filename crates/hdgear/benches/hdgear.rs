@@ -217,7 +217,8 @@ fn physical_group(c: &mut Criterion) {
 // default start at rtol = atol = 1e-10 by Taylor's method, γ ∈ {30, 0.1}, one trajectory
 // (`Dimensionless` against `Model::study`) and sixteen on the vector lanes (`integrate_batch`
 // against `integrate_models`, γ log-spaced 0.1–30). The two are held together by
-// `tests/model.rs` (right-hand side to rounding, Taylor rows to 1e-12). Steps are printed: equal
+// `tests/model.rs` (right-hand side to rounding, Taylor rows to 1e-14). And the periodic orbit
+// by shooting at the study's point, the study's variational recurrence against the model's. Steps are printed: equal
 // steps mean the time is the cost per step.
 
 /// Taylor's method on `sys` from (x0, 0) to `t_end`: the final x and the steps taken.
@@ -265,6 +266,17 @@ fn study_path_group(c: &mut Criterion) {
             b.iter(|| black_box(taylor_run(&generic, x0, t_end, opts)))
         });
     }
+    // the periodic orbit by shooting (Newton with the variational equations) at the study's
+    // point: the study's own variational recurrence against the model's
+    let p = Params::default();
+    let po = hdgear::periodic::PeriodicOptions::default();
+    g.bench_function("shoot-specialised", |b| {
+        b.iter(|| black_box(hdgear::periodic::shoot(&p, 1, &po).unwrap().start))
+    });
+    let m = Model::study(&p);
+    g.bench_function("shoot-generic", |b| {
+        b.iter(|| black_box(hdgear::periodic::shoot(&m, 1, &po).unwrap().start))
+    });
     let points: Vec<Params> = (0..16)
         .map(|i| Params {
             gamma: 0.1 * 300f64.powf(f64::from(i) / 15.0),

@@ -8,7 +8,12 @@
 //! `pub use` itself is name forwarding, not a dependency. A folder's face (`model.rs` or
 //! `mod.rs`) and the files under it are one room: a file's use of its own ancestors' items
 //! (`super::Model`) is how Rust folders share their vocabulary, and is not counted; the face's
-//! use of its children is.
+//! use of its children is. And the equation of motion is hand-written only where a benchmark
+//! keeps a specialised path.
+//!
+//! **Why one file.** Every check here reads the same source through the same comment-stripping
+//! and file walk: the graph, its floors and the scan for a hand-written equation are one reading
+//! of the code.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
@@ -591,6 +596,63 @@ fn the_architecture_pages_floors_are_the_codes() {
         assert!(
             text[i..j] == picture,
             "docs/src/architecture.md: the floors are not the code's; rerun with HDGEAR_BLESS=1\n{picture}"
+        );
+    }
+}
+
+/// The drive's equation of motion is written once, as terms (`model/study_terms.rs` and the term
+/// files), and every path derives from them; a hand-written acceleration with the study's unit
+/// damping (`… − x' − g(x)`) stands only where a benchmark keeps a specialised path, each named
+/// here with its measurement (`python3 bench/study_path.py`), and in the cusp passage's normal
+/// form, which is another equation (the fast subsystem's local form, not the drive's).
+#[test]
+fn the_equation_of_motion_is_hand_written_only_where_a_benchmark_keeps_it() {
+    // the unit damping's x' subtracted by hand between a load and a stiffness
+    const PATTERNS: [&str; 3] = ["- y[1] - ", "- v - self.g(", "- v[j] - "];
+    const KEPT: [(&str, &str); 3] = [
+        (
+            "model.rs",
+            "Dimensionless: 2.7-3.2x one trajectory, 5.5-6.1x sixteen lanes (study_path)",
+        ),
+        (
+            "periodic/oscillator.rs",
+            "the study's variational recurrence: 7.2x a shooting (study_path/shoot)",
+        ),
+        (
+            "fast/passage.rs",
+            "the cusp passage's normal form, not the drive's equation",
+        ),
+    ];
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut found = Vec::new();
+    for file in files_under(&src) {
+        if file.extension().is_none_or(|e| e != "rs") {
+            continue;
+        }
+        let code = code_of(&std::fs::read_to_string(&file).unwrap());
+        let rel = file
+            .strip_prefix(&src)
+            .unwrap()
+            .to_string_lossy()
+            .replace('\\', "/");
+        if PATTERNS.iter().any(|p| code.contains(p)) {
+            found.push(rel);
+        }
+    }
+    found.sort();
+    let stray: Vec<&String> = found
+        .iter()
+        .filter(|f| !KEPT.iter().any(|k| k.0 == f.as_str()))
+        .collect();
+    assert!(
+        stray.is_empty(),
+        "a hand-written equation of motion in {stray:?}"
+    );
+    // each kept path still is one (else its entry, and its benchmark, go)
+    for (file, why) in KEPT {
+        assert!(
+            found.iter().any(|f| f == file),
+            "{file} ({why}) no longer hand-writes it"
         );
     }
 }

@@ -100,9 +100,6 @@ pub const CLASSIFICATION_TOL: f64 = 1e-8;
 /// [`fast_slow_domain`]).
 pub const TIME_SCALE_SEPARATION: f64 = 10.0;
 
-/// Decay time of every oscillatory fast motion: the eigenvalues of a focus have real part −1/2.
-pub const RINGING_DECAY_TIME: f64 = 2.0;
-
 /// Options of burst detection; `Default` is the documented rule.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct BurstOptions {
@@ -166,14 +163,8 @@ impl BurstOptions {
         self.tol.validate()
     }
 
-    /// The group gap G = min(gap_decay_times·τ_r, T/8) for slow period `period`, at the study's
-    /// decay time τ_r = [`RINGING_DECAY_TIME`].
-    pub fn group_gap(&self, period: f64) -> f64 {
-        self.group_gap_for(period, RINGING_DECAY_TIME)
-    }
-
-    /// [`BurstOptions::group_gap`] for a fast subsystem of decay time `decay_time` (2/c at
-    /// damping c: [`StaticCurve::decay_time`]).
+    /// The group gap G = min(gap_decay_times·τ_r, T/8) for slow period `period` and a fast
+    /// subsystem of decay time τ_r = `decay_time` (2/c at damping c: [`StaticCurve::decay_time`]).
     pub fn group_gap_for(&self, period: f64, decay_time: f64) -> f64 {
         (self.gap_decay_times * decay_time).min(period / 8.0)
     }

@@ -69,7 +69,7 @@ impl StaticCurve for Params {
     fn min_traversed_gprime(&self) -> f64 {
         super::min_gprime(self, &super::x_intervals(self, A_RANGE))
     }
-    /// Unit damping: the study's x' (so [`super::FOCUS_GPRIME`] = 1/4 and a decay time of 2).
+    /// Unit damping: the study's x' (so a focus above g' = c²/4 = 1/4, a decay time of 2).
     fn damping(&self) -> f64 {
         1.0
     }

@@ -14,9 +14,10 @@
 //! a = ±1 ([`turning_point_relaxation`]). The same holds without a moving equilibrium (δ = 0):
 //! the state rests at one point.
 
+use super::StaticCurve;
 use super::equilibria::equilibria;
 use super::predict::settled_branch;
-use super::static_curve::{Along, SlowestRelaxation, relaxation_rate};
+use super::static_curve::{Along, SlowestRelaxation, relaxation_rate_with};
 use crate::params::Params;
 
 /// The slowest relaxation met on the path the state follows (see the module docs).
@@ -37,7 +38,7 @@ pub fn slowest_relaxation(p: &Params) -> SlowestRelaxation {
         Some(b) if !b.must_jump && !b.intervals.is_empty() => {
             let (gp, x) = super::predict::least_gprime(p, &b.intervals);
             SlowestRelaxation {
-                rate: relaxation_rate(gp),
+                rate: relaxation_rate_with(gp, p.damping()),
                 a: p.a_at(x),
                 x,
                 along: Along::SettledBranch,
@@ -58,7 +59,7 @@ pub fn turning_point_relaxation(p: &Params) -> SlowestRelaxation {
     };
     for a in [-1.0, 1.0] {
         for r in equilibria(p, a).roots {
-            let rate = relaxation_rate(p.g_prime(r.x));
+            let rate = relaxation_rate_with(p.g_prime(r.x), p.damping());
             if r.kind.is_stable() && rate < best.rate {
                 best = SlowestRelaxation {
                     rate,

@@ -33,7 +33,7 @@ pub enum EqType {
 impl EqType {
     /// The type for a given g'(x).
     pub fn from_g_prime(gp: f64) -> EqType {
-        // the unit damping's c²/4 is FOCUS_GPRIME
+        // the study's damping at rest c = 1: a focus above c²/4
         EqType::with_damping(gp, 1.0)
     }
 

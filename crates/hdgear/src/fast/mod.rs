@@ -5,10 +5,6 @@
 //! subsystem can never undergo a Hopf bifurcation. Equilibria are stable iff g'(x) > 0; the only
 //! bifurcations are folds where g'(x) = 0, which exist iff γ < 1/(3α); γ = 1/(3α) is a cusp.
 
-/// g'(x) above which a stable equilibrium is a focus (eigenvalues −1/2 ± √(1/4 − g')), so that
-/// the fast subsystem can ring about it; between 0 and this value it is a node.
-pub const FOCUS_GPRIME: f64 = 0.25;
-
 /// The range of the slow variable a = sin ωτ: what every response traverses.
 pub const A_RANGE: (f64, f64) = (-1.0, 1.0);
 
@@ -36,9 +32,7 @@ pub use passage::{
 };
 mod predict;
 mod static_curve;
-pub use static_curve::{
-    Along, Follower, SlowestRelaxation, StaticCurve, relaxation_rate, relaxation_rate_with,
-};
+pub use static_curve::{Along, Follower, SlowestRelaxation, StaticCurve, relaxation_rate_with};
 
 pub use analysis::{
     Analysis, CurveAnalysis, Cusp, EquilibriaSummary, FoldRow, Interval, NO_HOPF_REASON, Point,

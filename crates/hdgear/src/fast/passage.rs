@@ -136,7 +136,11 @@ pub fn ramp_threshold_at(gprime_min: f64, swing_fraction: f64, edge: f64) -> Res
 /// Spacing in g'_min of the table [`ramp_threshold`] interpolates (ln s_c is smooth in g'_min:
 /// linear interpolation over this spacing is within the threshold's own tolerance, checked
 /// against direct solves between the nodes in `tests/burst.rs`).
-pub const TABLE_STEP: f64 = super::FOCUS_GPRIME / INTERVALS as f64;
+pub const TABLE_STEP: f64 = NODE_FOCUS / INTERVALS as f64;
+
+/// The normal form's focus threshold c²/4 at its unit damping (c = 1, the study's): the table
+/// covers the node part below it.
+const NODE_FOCUS: f64 = 0.25;
 
 /// Intervals of the table over 0 ≤ g'_min ≤ 1/4.
 const INTERVALS: usize = 50;
@@ -166,7 +170,7 @@ fn node(j: usize) -> Option<f64> {
 /// assert!(s0 > 1e-3 && s1 > s0); // a stiffer node part needs a faster ramp
 /// ```
 pub fn ramp_threshold(gprime_min: f64) -> Option<f64> {
-    if !(0.0..=super::FOCUS_GPRIME).contains(&gprime_min) {
+    if !(0.0..=NODE_FOCUS).contains(&gprime_min) {
         return None;
     }
     let u = gprime_min / TABLE_STEP;

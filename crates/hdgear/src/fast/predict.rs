@@ -22,6 +22,7 @@
 //! κ is proportional to ω, so the predicted ω boundary is a closed form, ω_b = ω·κ_c/max κ,
 //! and bursts vanish as ω → 0 on a normally hyperbolic branch, as Fenichel's theorem requires.
 
+use super::StaticCurve;
 use super::curve::x_intervals;
 use super::equilibria::fold_abscissae;
 use super::passage::CuspPassage;
@@ -167,7 +168,7 @@ fn focus_pieces_of(p: &Params, branch: &SettledBranch) -> Vec<(f64, f64)> {
         pts.extend(cuts.iter().copied().filter(|&c| c > l && c < r));
         pts.sort_by(f64::total_cmp);
         for w in pts.windows(2) {
-            if p.g_prime(0.5 * (w[0] + w[1])) > super::FOCUS_GPRIME {
+            if p.g_prime(0.5 * (w[0] + w[1])) > p.focus_gprime() {
                 out.push((w[0], w[1]));
             }
         }
@@ -364,8 +365,7 @@ pub fn predict(p: &Params) -> Prediction {
         at_a: if bx.is_nan() { f64::NAN } else { p.a_at(bx) },
         at_x: bx,
         omega_boundary: kappa_boundary.min(cusp_boundary),
-        node_min_gprime: Some(min_gprime(p, &branch.intervals))
-            .filter(|&g| g < super::FOCUS_GPRIME),
+        node_min_gprime: Some(min_gprime(p, &branch.intervals)).filter(|&g| g < p.focus_gprime()),
         cusp,
     }
 }
@@ -377,7 +377,7 @@ fn cusp_passage(p: &Params, branch: &SettledBranch) -> Option<CuspPassage> {
     let xi = p.critical_gamma(); // the inflection, 1/(3α)
     let gprime_min = p.g_prime(xi);
     let inside = branch.intervals.iter().any(|&(l, r)| l < xi && xi < r);
-    if !inside || !(0.0..super::FOCUS_GPRIME).contains(&gprime_min) {
+    if !inside || !(0.0..p.focus_gprime()).contains(&gprime_min) {
         return None;
     }
     let at_a = p.a_at(xi);

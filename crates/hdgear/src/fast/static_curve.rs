@@ -149,12 +149,6 @@ pub fn relaxation_rate_with(gp: f64, c: f64) -> f64 {
     }
 }
 
-/// The slowest relaxation rate min |Re λ| for g' > 0 (0 otherwise), at the study's unit damping
-/// ([`super::relaxation_rate_with`] at c = 1).
-pub fn relaxation_rate(gp: f64) -> f64 {
-    super::relaxation_rate_with(gp, 1.0)
-}
-
 /// Where the slowest relaxation was taken.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "kebab-case")]
@@ -178,7 +172,7 @@ impl Along {
 /// The slowest relaxation rate of the fast subsystem met on the traversed path, and where.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct SlowestRelaxation {
-    /// min |Re λ| of the fast subsystem there ([`super::relaxation_rate`]).
+    /// min |Re λ| of the fast subsystem there ([`super::relaxation_rate_with`] at the curve's damping).
     pub rate: f64,
     /// The slow variable a where it is met.
     pub a: f64,

@@ -10,8 +10,8 @@
 use super::markup::{cell, esc, num};
 use super::periodic::{BUBBLE_GAMMA, BUBBLE_OMEGA};
 use super::{PHYSICAL_DRIVE, Report};
-use crate::burst::{BOUNDARY_REL_TOL, RINGING_DECAY_TIME, TIME_SCALE_SEPARATION};
-use crate::fast::{FOCUS_GPRIME, FORCING_RATE_THRESHOLD, NO_HOPF_REASON};
+use crate::burst::{BOUNDARY_REL_TOL, TIME_SCALE_SEPARATION};
+use crate::fast::{FORCING_RATE_THRESHOLD, NO_HOPF_REASON, StaticCurve};
 use crate::params::{Param, Params};
 use std::fmt::Write as _;
 
@@ -858,6 +858,8 @@ fn plane(h: &mut String, e: &super::plane::PlaneEvidence) {
 /// How each number was computed, from the options and constants themselves.
 fn methods(h: &mut String, r: &Report) {
     let opts = &r.options;
+    // the study's fast subsystem's facts, from its damping at rest (c = 1)
+    let (focus, decay) = (opts.base.focus_gprime(), opts.base.decay_time());
     // methods
     let _ = write!(
         h,
@@ -867,16 +869,16 @@ fn methods(h: &mut String, r: &Report) {
          <li><b>Equilibria, folds, cusp, slopes</b>: closed forms on the cubic g(x) = μ + δa (roots bracketed between the fold \
          abscissae and polished by Newton); the curve is sampled by x, so steep parts are exact.</li>\
          <li><b>Prediction and spiking areas</b>: κ = |g''|·ω·δ·√(1 − a²)/g'², the rate at which the equilibrium's speed \
-         changes, on the part of the curve where the fast subsystem is a focus (g' &gt; {FOCUS_GPRIME}, where it can ring); bursting is \
+         changes, on the part of the curve where the fast subsystem is a focus (g' &gt; {focus}, where it can ring); bursting is \
          predicted where κ &gt; {} or a fold lies in a ∈ [−1, 1].</li>\
          <li><b>Bursts</b> are judged by the three signatures the fast mode can show (trace −1: no Hopf, no cycles), each \
          located on the dense output: a <i>jump</i> across the band between the folds; an <i>overshoot</i>, a lobe of \
          x − x* on the leading side (adiabatic tracking always lags) of at least {:e}·X; <i>ringing</i>, three or more extrema \
-         of x' in one group, swings below {:e}·ω·X pruned. Events closer than min({}·τ_r, T/8) (τ_r = {RINGING_DECAY_TIME}, the decay time of \
+         of x' in one group, swings below {:e}·ω·X pruned. Events closer than min({}·τ_r, T/8) (τ_r = {decay}, the decay time of \
          the fast oscillation) group into one burst, counted where its pulse (largest |x'|) lies; {} slow period(s) discarded, \
          {} analysed from the next turning point of a. Spikes: swings of x' of at least {} of the burst's largest.</li>\
          <li><b>Modes</b> from the signatures: normal (none), transitional (ringing only), fast-slow (overshoot where the \
-         slowest traversed point is a focus), pronounced bursting (overshoot where it is a node, g' ≤ {FOCUS_GPRIME}), relaxation \
+         slowest traversed point is a focus), pronounced bursting (overshoot where it is a node, g' ≤ {focus}), relaxation \
          (jumps); not fast-slow when ω &gt; r/{TIME_SCALE_SEPARATION} (r: the relaxation rate at a = ±1) or ω ≥ the slowest relaxation rate on the path the state follows or the fast motion never stops. \
          Mechanism: fold-hysteresis when a jump is measured, sharp-quantitative-change for overshoot or ringing.</li>\
          <li><b>Sweep and map</b>: {} and {} × {} independent simulations in parallel at rtol = atol = {:e}, the \
