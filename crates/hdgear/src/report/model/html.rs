@@ -18,7 +18,7 @@ pub(super) fn render(r: &ModelReport, svgs: &[String]) -> String {
     page_start(
         &mut h,
         &format!("hdgear report: {}", r.origin),
-        &format!("The model of {}", r.origin),
+        &format!("Report on {}", r.origin),
         &[
             ("model", "Model"),
             ("fast", "Fast subsystem"),
