@@ -13,6 +13,7 @@ use super::files::Files;
 use crate::burst::{BurstOptions, Classification, Response};
 use crate::error::Result;
 use crate::fast::{A_RANGE, CurveAnalysis};
+use crate::model::terms::AnyTerm;
 use crate::model::{AnyCurve, Description, Model, ModelParam};
 use crate::output::plot::Figure;
 use crate::periodic::{
@@ -176,6 +177,7 @@ impl ModelReport {
                 )
             },
         );
+        let drive = drive?;
         let mut report = ModelReport {
             version: env!("CARGO_PKG_VERSION"),
             origin: origin.to_string(),
@@ -185,11 +187,10 @@ impl ModelReport {
             response,
             orbit,
             frequency,
-            drive: drive?,
-            elsewhere: Vec::new(),
+            elsewhere: elsewhere(drive.is_some(), m),
+            drive,
             figures: Vec::new(),
         };
-        report.elsewhere = elsewhere(origin, &report.model);
         report.figures = report.build_figures(m)?;
         Ok(report)
     }
@@ -298,22 +299,17 @@ fn drive_of((card, d, assumptions): CardDrive<'_>, opts: &BurstOptions) -> Resul
 }
 
 /// The study report's sections this report leaves out, each with the command that computes it
-/// for this model (`origin` tells a card from a scenario file).
-fn elsewhere(origin: &str, d: &Description) -> Vec<Elsewhere> {
-    let source = if origin.starts_with("card ") {
-        "--card CARD"
-    } else {
-        "--config FILE"
-    };
+/// for this model (built from a card when `card`, else from a scenario file).
+fn elsewhere(card: bool, m: &Model) -> Vec<Elsewhere> {
+    let source = if card { "--card CARD" } else { "--config FILE" };
     // an example name: the first parameter of a term beyond the study's, qualified as the
     // sweeps take it, else the load's amplitude
-    let name = d
-        .parameters
-        .iter()
-        .find(|p| !["forcing", "damping", "stiffness"].contains(&p.term))
-        .map_or(crate::params::Param::Delta.name().to_string(), |p| {
-            format!("{}.{}", p.term, p.info.name)
-        });
+    let name = m
+        .terms()
+        .map(|t| t.kind())
+        .filter(|&k| Model::is_extra_kind(k))
+        .find_map(|k| Some(format!("{k}.{}", AnyTerm::params_of(k)?.first()?.name)))
+        .unwrap_or_else(|| crate::params::Param::Delta.name().to_string());
     let mut v = vec![
         Elsewhere {
             section: "Tables 1 and 2",
@@ -350,7 +346,7 @@ fn elsewhere(origin: &str, d: &Description) -> Vec<Elsewhere> {
             ),
         },
     ];
-    if !origin.starts_with("card ") {
+    if !card {
         v.push(Elsewhere {
             section: "A physical drive",
             reason: "a dimensionless model has no SI units; `hdgear report --card CARD` reports \
