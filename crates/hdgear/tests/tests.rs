@@ -24,6 +24,7 @@ mod friction_reference;
 mod house;
 mod integrate;
 mod kinematic;
+mod law;
 mod memory;
 mod mesh_loss;
 mod model;

@@ -6,6 +6,7 @@
 pub use super::control::{Dither, VirtualDamping, VirtualStiffness, Washout};
 pub use super::dahl::Dahl;
 pub use super::delay::Delay;
+pub use super::drag::Drag;
 pub use super::excitation::Multisine;
 pub use super::friction::STATIC_AT_LEAST_SLIDING;
 pub use super::friction::{Coulomb, Friction, Stribeck};
@@ -248,6 +249,7 @@ any_term!(
     Piecewise,
     Scheduled,
     Spring,
+    Drag,
 );
 
 impl AnyTerm {
