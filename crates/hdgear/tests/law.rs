@@ -255,20 +255,8 @@ fn declared_drag_follows_its_equation_integrated_here() {
     for (n, row) in taylor.iter().enumerate().skip(1) {
         for i in 0..per_sample {
             let t = (n - 1) as f64 * dt + i as f64 * h;
-            let k1 = f(t, y);
-            let k2 = f(
-                t + h / 2.0,
-                [y[0] + h / 2.0 * k1[0], y[1] + h / 2.0 * k1[1]],
-            );
-            let k3 = f(
-                t + h / 2.0,
-                [y[0] + h / 2.0 * k2[0], y[1] + h / 2.0 * k2[1]],
-            );
-            let k4 = f(t + h, [y[0] + h * k3[0], y[1] + h * k3[1]]);
             let before = y[1];
-            for j in 0..2 {
-                y[j] += h / 6.0 * (k1[j] + 2.0 * k2[j] + 2.0 * k3[j] + k4[j]);
-            }
+            y = crate::common::rk4_step(&f, t, y, h);
             crossings += usize::from(before.signum() != y[1].signum());
         }
         worst = worst.max((row[0] - y[0]).abs()).max((row[1] - y[1]).abs());

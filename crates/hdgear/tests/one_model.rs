@@ -40,20 +40,7 @@ fn rk4(p: &Params, fc: f64, vs: f64, y: [f64; 2], period: f64, n: usize) -> [f64
     let f = |t: f64, y: [f64; 2]| [y[1], accel(p, fc, vs, t, y[0], y[1])];
     let mut y = y;
     for i in 0..n {
-        let t = i as f64 * h;
-        let k1 = f(t, y);
-        let k2 = f(
-            t + h / 2.0,
-            [y[0] + h / 2.0 * k1[0], y[1] + h / 2.0 * k1[1]],
-        );
-        let k3 = f(
-            t + h / 2.0,
-            [y[0] + h / 2.0 * k2[0], y[1] + h / 2.0 * k2[1]],
-        );
-        let k4 = f(t + h, [y[0] + h * k3[0], y[1] + h * k3[1]]);
-        for j in 0..2 {
-            y[j] += h / 6.0 * (k1[j] + 2.0 * k2[j] + 2.0 * k3[j] + k4[j]);
-        }
+        y = crate::common::rk4_step(&f, i as f64 * h, y, h);
     }
     y
 }
