@@ -10,9 +10,9 @@
 //! * `study_path`: the study's hand-scheduled fast path ([`Dimensionless`], the study's batch)
 //!   against the generic path of the model assembled from terms ([`Model::study`]) on the same
 //!   work: what keeps the fast path (issue 94 keeps one only where it is ≥ 1.2× faster).
-//! * `law_rows`: a term's Taylor rows 0..=20 written by hand ([`Spring`]) against the same law
-//!   declared once ([`hdgear::model::law`]), on one number and on sixteen lanes: what a
-//!   declaration costs per step.
+//! * `law_rows`: the spring's Taylor rows 0..=20 written by hand (here) against the library's
+//!   [`Spring`], declared once ([`hdgear::model::law`]), on one number and on sixteen lanes:
+//!   what a declaration costs per step.
 //!
 //! Against other tools in the same run: `bench/compare_heyoka.py`, `bench/compare_scipy.py`.
 
@@ -306,32 +306,30 @@ fn study_path_group(c: &mut Criterion) {
     g.finish();
 }
 
-/// The hardening spring (k_l + k_c·x²)(x − φ) declared: [`Spring`]'s law, for `law_rows`.
-#[derive(Clone, Copy, Debug, PartialEq)]
-struct SpringLaw;
-
-impl hdgear::model::law::Law for SpringLaw {
-    const KIND: &'static str = "spring";
-    const ABOUT: &'static str = "";
-    const PARAMS: &'static [hdgear::model::terms::ParamInfo] = Spring::PARAMS;
-    const TEXT: &'static str = "";
-    const LATEX: &'static str = "";
-    fn torque<N: hdgear::model::law::Num>(s: &hdgear::model::law::Vars<N>, p: &[N]) -> N {
-        (p[0] + p[1] * (s.x * s.x)) * (s.x - p[2])
-    }
+/// The spring (k_l + k_c·x²)(x − φ)'s Taylor row k written by hand, as the library's [`Spring`]
+/// was before it was declared: (x²)_k by the symmetric half sum kept in `sq`, (x³)_k a Cauchy
+/// sum, then c₃x³ + c₂x² + c₁x + c₀ with c = [k_c, −k_c·φ, k_l, −k_l·φ].
+#[inline(always)]
+fn hand_spring_row<J: hdgear::model::jet::Jet>(
+    [kl, kc, phi]: [J; 3],
+    k: usize,
+    x: &[J],
+    sq: &mut [J],
+) -> J {
+    use hdgear::model::jet::{cauchy, square_coefficient};
+    sq[k] = square_coefficient(x, k);
+    let cube = cauchy(sq, x, k);
+    let linear = kl * x[k] + if k == 0 { -(kl * phi) } else { J::splat(0.0) };
+    kc * cube + -(kc * phi) * sq[k] + linear
 }
 
 fn law_rows_group(c: &mut Criterion) {
     use hdgear::integrate::taylor::{SCRATCH_ROWS, Scratch};
     use hdgear::model::jet::{Jet, Lanes};
-    use hdgear::model::law::Declared;
     use hdgear::model::terms::{LaneRows, MAX_ROWS};
     let mut g = c.benchmark_group("law_rows");
     let values = [2.0, 0.7, 0.1];
-    let (hand, declared) = (
-        Spring::from_values(&values),
-        Declared::<SpringLaw>::from_values(&values),
-    );
+    let declared = Spring::from_values(&values);
     let x: [f64; MAX_ROWS] =
         std::array::from_fn(|k| 0.5f64.powi(k as i32) * (1.0 + 0.1 * k as f64));
     let zero = [0.0; MAX_ROWS];
@@ -341,7 +339,7 @@ fn law_rows_group(c: &mut Criterion) {
         (0..=order).map(|k| t(k, &mut rows)).sum::<f64>()
     };
     let (a, b) = (
-        rows_of(&|k, r| hand.taylor(k, &x, &zero, &zero, r)),
+        rows_of(&|k, r| hand_spring_row(values, k, &x, &mut r.0[0])),
         rows_of(&|k, r| declared.taylor(k, &x, &zero, &zero, r)),
     );
     eprintln!(
@@ -351,7 +349,7 @@ fn law_rows_group(c: &mut Criterion) {
     g.bench_function("scalar-hand", |bch| {
         bch.iter(|| {
             black_box(rows_of(&|k, r| {
-                hand.taylor(k, black_box(&x), &zero, &zero, r)
+                hand_spring_row(values, k, black_box(&x), &mut r.0[0])
             }))
         })
     });
@@ -364,25 +362,23 @@ fn law_rows_group(c: &mut Criterion) {
     });
     let lx: [Lanes; MAX_ROWS] = x.map(Lanes::splat);
     let lz = [Lanes::splat(0.0); MAX_ROWS];
-    let lane_rows = |f: &dyn Fn(usize, &mut LaneRows) -> Option<Lanes>| {
+    let lane_rows = |f: &dyn Fn(usize, &mut LaneRows) -> Lanes| {
         let mut rows: LaneRows = [[Lanes::splat(0.0); MAX_ROWS]; SCRATCH_ROWS];
-        (0..=order)
-            .map(|k| f(k, &mut rows).unwrap().0[0])
-            .sum::<f64>()
+        (0..=order).map(|k| f(k, &mut rows).0[0]).sum::<f64>()
     };
-    let hv = hand.lane_values().map(Lanes::splat);
+    let hv = values.map(Lanes::splat);
     let dv = declared.lane_values().map(Lanes::splat);
     g.bench_function("lanes-hand", |bch| {
         bch.iter(|| {
             black_box(lane_rows(&|k, r| {
-                Spring::taylor_lanes(&hv, k, black_box(&lx), &lz, &lz, r)
+                hand_spring_row(hv, k, black_box(&lx), &mut r[0])
             }))
         })
     });
     g.bench_function("lanes-declared", |bch| {
         bch.iter(|| {
             black_box(lane_rows(&|k, r| {
-                Declared::<SpringLaw>::taylor_lanes(&dv, k, black_box(&lx), &lz, &lz, r)
+                Spring::taylor_lanes(&dv, k, black_box(&lx), &lz, &lz, r).unwrap()
             }))
         })
     });

@@ -33,6 +33,7 @@ impl Law for DragLaw {
     const SWITCHES_AT_REST: bool = true;
     const TEXT: &'static str = " + c_q·x'·|x'|";
     const LATEX: &'static str = r" + c_q \dot x |\dot x|";
+    #[inline(always)]
     fn torque<N: Num>(s: &Vars<N>, p: &[N]) -> N {
         p[0] * s.sv * (s.v * s.v)
     }

@@ -1,10 +1,10 @@
 //! The drive's spring in its physical form as a term: the two-inertia model's twist law
 //! ([`crate::physical::model::Physical`]) and, in any model, a hardening stiffness with a
 //! backlash offset that the study's reduced form cannot hold (no backlash, or no cubic).
+//! Declared once ([`super::law`]).
 
-use super::jet::{Jet, Lanes};
-use super::term::{Domain, LaneRows, ParamInfo, Scratch, Term, cubic_row, cubic_taylor};
-use serde::Serialize;
+use super::law::{Declared, Law, Num, Vars};
+use super::term::{Domain, ParamInfo};
 
 /// The hardening spring T(x) = (k_l + k_c·x²)(x − φ): the flexspline's linear and cubic
 /// stiffness acting on the twist beyond the backlash offset φ. In SI units (x = θ in rad, k_l in
@@ -16,19 +16,21 @@ use serde::Serialize;
 /// ```
 /// use hdgear::model::terms::{AnyTerm, Term};
 /// use hdgear::model::spring::Spring;
-/// let s = Spring([2e3, 1e9, 1e-3]);
+/// let s = Spring::from_values(&[2e3, 1e9, 1e-3]);
 /// assert_eq!(s.torque(1e-3, 0.0, 0.0), 0.0);
 /// assert!((s.torque(2e-3, 0.0, 0.0) - (2e3 + 1e9 * 4e-6) * 1e-3).abs() < 1e-12);
 /// assert!(AnyTerm::new("spring", &[2e3, -1.0, 0.0]).is_err()); // k_c ≥ 0: hardening
 /// ```
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct Spring(pub [f64; 3]);
+pub type Spring = Declared<SpringLaw>;
 
-impl Term for Spring {
+/// [`Spring`]'s law.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SpringLaw;
+
+impl Law for SpringLaw {
     const KIND: &'static str = "spring";
     const ABOUT: &'static str = "hardening spring with backlash offset (k_l + k_c·x²)(x − φ): the \
          two-inertia drive's twist law";
-    const ON_LANES: bool = true;
     const PARAMS: &'static [ParamInfo] = &[
         ParamInfo {
             name: "klin",
@@ -58,29 +60,10 @@ impl Term for Spring {
             si: "φ/L (φ in rad)",
         },
     ];
-    fn from_values(v: &[f64]) -> Self {
-        Spring([v[0], v[1], v[2]])
-    }
-    fn values(&self) -> &[f64] {
-        &self.0
-    }
-    fn torque(&self, x: f64, _v: f64, _z: f64) -> f64 {
-        let [kl, kc, phi] = self.0;
-        (kl + kc * x * x) * (x - phi)
-    }
-    fn gradient(&self, x: f64, _v: f64, _z: f64) -> [f64; 3] {
-        let [kl, kc, phi] = self.0;
-        [kl + kc * x * (3.0 * x - 2.0 * phi), 0.0, 0.0]
-    }
-    fn param_derivative(&self, i: usize, x: f64, _v: f64, _z: f64) -> f64 {
-        let [kl, kc, phi] = self.0;
-        [x - phi, x * x * (x - phi), -(kl + kc * x * x)][i]
-    }
-    cubic_taylor!(|[kl, kc, phi]| [kc, -(kc * phi), kl, -(kl * phi)]);
-    fn text(&self) -> String {
-        " + (k_l + k_c·x²)(x − φ)".into()
-    }
-    fn latex(&self) -> String {
-        r" + (k_l + k_c x^2)(x - \varphi)".into()
+    const TEXT: &'static str = " + (k_l + k_c·x²)(x − φ)";
+    const LATEX: &'static str = r" + (k_l + k_c x^2)(x - \varphi)";
+    #[inline(always)]
+    fn torque<N: Num>(s: &Vars<N>, p: &[N]) -> N {
+        (p[0] + p[1] * s.x * s.x) * (s.x - p[2])
     }
 }

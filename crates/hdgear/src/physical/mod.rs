@@ -251,7 +251,11 @@ impl PhysicalParams {
     /// assert_eq!(d.spring().torque(1e-3, 0.0, 0.0), 0.0);
     /// ```
     pub fn spring(&self) -> crate::model::terms::Spring {
-        crate::model::terms::Spring([self.k1, self.k2, self.backlash])
+        <crate::model::terms::Spring as crate::model::terms::Term>::from_values(&[
+            self.k1,
+            self.k2,
+            self.backlash,
+        ])
     }
 
     /// The reduction to dimensionless form; an error when φ = 0 or k2 = 0 (L undefined).

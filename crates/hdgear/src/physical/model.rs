@@ -286,8 +286,7 @@ impl Physical {
     pub fn new(d: super::PhysicalParams) -> Self {
         let t_c = d.j_eq() / d.c_eq;
         let unit = d.c_eq / t_c;
-        let [k1, k2, phi] = d.spring().0;
-        let spring = Spring([k1 / unit, k2 / unit, phi]);
+        let spring = Spring::from_values(&[d.k1 / unit, d.k2 / unit, d.backlash]);
         let twist = Model::damped(0.0, 0.0, 1.0)
             .with_term(AnyTerm::Spring(spring))
             .expect("a model of the damping alone has room for a spring");
