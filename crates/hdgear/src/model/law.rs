@@ -23,6 +23,10 @@
 //! steps. |x'| is s_v·x'; a law that reads s_v switches at x' = 0 and says so
 //! ([`Law::SWITCHES_AT_REST`]), one that reads s_z at z = 0. Laws with a transcendental
 //! function (tanh, exp) or sticking are written as [`Term`]s, with their own step limits.
+//!
+//! **Why one file.** The declaration, the three kinds of number it is evaluated over and the
+//! [`Term`] derived from them are one mechanism: a number's operations and the derivation that
+//! reads them change together.
 
 #[cfg(doc)]
 use super::jet::square_coefficient;
@@ -101,22 +105,22 @@ pub trait Law: Copy + std::fmt::Debug + PartialEq + 'static {
     const ABOUT: &'static str;
     /// Its parameters, in the order `p` holds them (at most [`MAX_PARAMS`]).
     const PARAMS: &'static [ParamInfo];
-    /// Rules between its parameters beyond their domains.
-    const RELATIONS: &'static [Relation] = &[];
-    /// Its internal state, if it has one (then [`Law::rate`] is its equation).
-    const STATE: Option<StateInfo> = None;
-    /// Whether the law reads s_v (it is not analytic across x' = 0).
-    const SWITCHES_AT_REST: bool = false;
-    /// Whether the law reads s_z (it is not analytic across z = 0).
-    const SWITCHES_AT_ZERO_STATE: bool = false;
     /// The term in the equation's text (`x'` the velocity), with a leading sign.
     const TEXT: &'static str;
     /// The term in LaTeX, with a leading sign.
     const LATEX: &'static str;
+    /// Whether the law reads s_v (it is not analytic across x' = 0).
+    const SWITCHES_AT_REST: bool = false;
+    /// Whether the law reads s_z (it is not analytic across z = 0).
+    const SWITCHES_AT_ZERO_STATE: bool = false;
+    /// Its internal state, if it has one (then [`Law::rate`] is its equation).
+    const STATE: Option<StateInfo> = None;
     /// Its state's equation as text (`z' = …`), for a law with a state.
     const RATE_TEXT: Option<&'static str> = None;
     /// Its state's equation in LaTeX, for a law with a state.
     const RATE_LATEX: Option<&'static str> = None;
+    /// Rules between its parameters beyond their domains.
+    const RELATIONS: &'static [Relation] = &[];
     /// T(x, x', z) on the piece `s`, with the parameters `p`. Mark it `#[inline(always)]`: a
     /// Taylor pass is straight-line code only when the law is inlined into it (the bench
     /// `law_rows` measured a spring's scalar rows 3.5× slower with the law left out of line,

@@ -64,6 +64,6 @@ impl Law for SpringLaw {
     const LATEX: &'static str = r" + (k_l + k_c x^2)(x - \varphi)";
     #[inline(always)]
     fn torque<N: Num>(s: &Vars<N>, p: &[N]) -> N {
-        (p[0] + p[1] * s.x * s.x) * (s.x - p[2])
+        (p[0] + p[1] * (s.x * s.x)) * (s.x - p[2])
     }
 }
