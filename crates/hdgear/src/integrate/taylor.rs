@@ -126,12 +126,19 @@ pub const INV: [f64; MAX_ORDER + 1] = {
 /// sums it measured slower here, not faster.)
 #[inline(always)]
 pub fn cauchy<J: Jet>(a: &[J], b: &[J], k: usize) -> J {
+    let (a, b) = (&a[..=k], &b[..=k]);
+    cauchy_by(|j| a[j], |j| b[j], k)
+}
+
+/// [`cauchy`] over rows read by index (rows 0..=k of each): for rows kept where no plain slice
+/// of them exists ([`crate::model::law`]'s intermediates).
+#[inline(always)]
+pub fn cauchy_by<J: Jet>(a: impl Fn(usize) -> J, b: impl Fn(usize) -> J, k: usize) -> J {
     // a plain loop from −0 (the sum an iterator's `sum` forms, to the bit): the iterator's fold
     // need not be inlined into a caller's recurrence
-    let (a, b) = (&a[..=k], &b[..=k]);
     let mut s = J::splat(-0.0);
     for j in 0..k + 1 {
-        s = s + a[j] * b[k - j];
+        s = s + a(j) * b(k - j);
     }
     s
 }
@@ -141,12 +148,18 @@ pub fn cauchy<J: Jet>(a: &[J], b: &[J], k: usize) -> J {
 #[inline(always)]
 pub fn square_coefficient<J: Jet>(a: &[J], k: usize) -> J {
     let a = &a[..=k];
+    square_by(|j| a[j], k)
+}
+
+/// [`square_coefficient`] over rows read by index, as [`cauchy_by`].
+#[inline(always)]
+pub fn square_by<J: Jet>(a: impl Fn(usize) -> J, k: usize) -> J {
     let mut half = J::splat(-0.0);
     for j in 0..k.div_ceil(2) {
-        half = half + a[j] * a[k - j];
+        half = half + a(j) * a(k - j);
     }
     let middle = if k.is_multiple_of(2) {
-        a[k / 2] * a[k / 2]
+        a(k / 2) * a(k / 2)
     } else {
         J::splat(0.0)
     };

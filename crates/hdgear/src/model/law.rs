@@ -28,12 +28,13 @@
 //! [`Term`] derived from them are one mechanism: a number's operations and the derivation that
 //! reads them change together.
 
-#[cfg(doc)]
-use super::jet::square_coefficient;
 use super::jet::{Jet, Lanes};
 use super::relation::Relation;
 use super::term::piece_sign;
 use super::term::{LANE_PARAMS, LaneRows, MAX_ROWS, ParamInfo, Scratch, Side, StateInfo, Term};
+#[cfg(doc)]
+use crate::integrate::taylor::square_coefficient;
+use crate::integrate::taylor::{cauchy_by, square_by};
 use std::cell::Cell;
 use std::marker::PhantomData;
 use std::ops::{Add, Mul, Neg, Sub};
@@ -344,40 +345,14 @@ impl<J: Jet> Row<'_, '_, J> {
             _ => false,
         };
         match (self.view(k), o.view(k)) {
-            (View::Plain(a), View::Plain(_)) if same => square(|j| a[j], k),
-            (View::Kept(a), View::Kept(_)) if same => square(|j| a[j].get(), k),
-            (View::Plain(a), View::Plain(b)) => product(|j| a[j], |j| b[j], k),
-            (View::Plain(a), View::Kept(b)) => product(|j| a[j], |j| b[j].get(), k),
-            (View::Kept(a), View::Plain(b)) => product(|j| a[j].get(), |j| b[j], k),
-            (View::Kept(a), View::Kept(b)) => product(|j| a[j].get(), |j| b[j].get(), k),
+            (View::Plain(a), View::Plain(_)) if same => square_by(|j| a[j], k),
+            (View::Kept(a), View::Kept(_)) if same => square_by(|j| a[j].get(), k),
+            (View::Plain(a), View::Plain(b)) => cauchy_by(|j| a[j], |j| b[j], k),
+            (View::Plain(a), View::Kept(b)) => cauchy_by(|j| a[j], |j| b[j].get(), k),
+            (View::Kept(a), View::Plain(b)) => cauchy_by(|j| a[j].get(), |j| b[j], k),
+            (View::Kept(a), View::Kept(b)) => cauchy_by(|j| a[j].get(), |j| b[j].get(), k),
         }
     }
-}
-
-/// Σ_{j=0..=k} a_j b_{k−j} (as [`cauchy`](crate::integrate::taylor::cauchy), over rows read by
-/// index).
-#[inline(always)]
-fn product<J: Jet>(a: impl Fn(usize) -> J, b: impl Fn(usize) -> J, k: usize) -> J {
-    let mut s = J::splat(-0.0);
-    for j in 0..k + 1 {
-        s = s + a(j) * b(k - j);
-    }
-    s
-}
-
-/// (a²)_k by the symmetric half of its Cauchy sum, as [`square_coefficient`].
-#[inline(always)]
-fn square<J: Jet>(a: impl Fn(usize) -> J, k: usize) -> J {
-    let mut half = J::splat(-0.0);
-    for j in 0..k.div_ceil(2) {
-        half = half + a(j) * a(k - j);
-    }
-    let middle = if k.is_multiple_of(2) {
-        a(k / 2) * a(k / 2)
-    } else {
-        J::splat(0.0)
-    };
-    J::splat(2.0) * half + middle
 }
 
 impl<'t, 'a, J: Jet> Add for Row<'t, 'a, J> {
