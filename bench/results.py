@@ -44,6 +44,10 @@ RUNS = [
      "against the model assembled from terms (`Model::study`) on the same three slow periods: "
      "what keeps the fast path (chosen by `Model::subject`, held to the generic path's Taylor "
      "rows to 1e-14 by tests/model.rs).", None),
+    ("Cost per step of each term kind", "term_costs.py", ["20"],
+     "The study's model (the forcing of the friction runs: μ 0.07, δ 1, ω 0.5) with one term of "
+     "each kind at its defaults, 60 time units from rest at 1e-10, per accepted step, one "
+     "trajectory and 16 lanes, beside the study's hand-scheduled recurrence: the floor.", None),
     ("Python against Rust", "python_overhead.py", [],
      "The same calls from Python (the hdgear package) and from Rust, in one run.", PACKAGE_PY),
 ]

@@ -162,12 +162,12 @@ fn a_stdout_only_run_ends_by_the_signal_and_leaves_nothing() {
     }
 }
 
-/// A sweep long enough (over a second on one thread) that the signals and checks the tests
-/// below send at fixed times land inside it, with room for a machine twice as fast.
+/// A sweep long enough (over a second on one thread) that the signals and checks the tests below
+/// send at fixed times land inside it, with room for a machine three times as fast.
 const SWEEP: [&str; 7] = [
     "sweep",
     "--param",
-    "gamma=0.1:30:4000:log",
+    "gamma=0.1:30:16000:log",
     "--threads",
     "1",
     "--out",
@@ -208,7 +208,7 @@ fn an_interrupted_sweep_resumes_to_the_same_file() {
         .assert()
         .success()
         .stderr(predicates::str::contains(
-            "wrote s.csv: 4000 rows, 0 failed",
+            "wrote s.csv: 16000 rows, 0 failed",
         ));
     assert_eq!(std::fs::read(dir.path().join("s.csv")).unwrap(), whole);
 }

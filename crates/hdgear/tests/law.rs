@@ -9,7 +9,8 @@ use hdgear::Params;
 use hdgear::integrate::Method;
 use hdgear::integrate::taylor::{SCRATCH_ROWS, Scratch};
 use hdgear::model::Model;
-use hdgear::model::terms::{AnyTerm, Domain, MAX_ROWS, Side};
+use hdgear::model::law::{Declared, Law, Num, Vars};
+use hdgear::model::terms::{AnyTerm, Domain, MAX_ROWS, ParamInfo, Side, Term};
 
 use crate::common::uniform;
 
@@ -42,7 +43,7 @@ fn point_on_piece(t: AnyTerm, u: &mut impl FnMut() -> f64) -> (AnyTerm, [f64; 3]
 }
 
 /// A term's torque or rate at (x, v, z).
-type Law = fn(AnyTerm, [f64; 3]) -> f64;
+type Function = fn(AnyTerm, [f64; 3]) -> f64;
 
 /// The fourth-order central difference of `g` at 0 with step `h`:
 /// (8(g(h) − g(−h)) − (g(2h) − g(−2h)))/(12h), in error ~h⁴·|g⁽⁵⁾|/30 + ε·|g|/h.
@@ -76,7 +77,7 @@ fn every_kind_has_the_finite_difference_jacobian_and_parameter_derivatives() {
             };
             let (t, at) = point_on_piece(t, &mut u);
             let h = 1e-4;
-            let fns: [(&str, Law); 2] = [
+            let fns: [(&str, Function); 2] = [
                 ("torque", |t, [x, v, z]| t.torque(x, v, z)),
                 ("rate", |t, [x, v, z]| t.rate(x, v, z)),
             ];
@@ -263,4 +264,110 @@ fn declared_drag_follows_its_equation_integrated_here() {
     }
     assert!(crossings >= 4, "the motion reverses: {crossings} crossings");
     assert!(worst < 1e-7, "Taylor against RK4: {worst:e}");
+}
+
+/// A law's friction written in the declaration's vocabulary, here: f_c·tanh(x'/v_s).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct TanhFriction;
+
+impl Law for TanhFriction {
+    const KIND: &'static str = "tanh-friction";
+    const ABOUT: &'static str = "f_c·tanh(x'/v_s), declared";
+    const PARAMS: &'static [ParamInfo] = &[FRICTION_PARAM, FRICTION_PARAM];
+    const TEXT: &'static str = " + f_c·tanh(x'/v_s)";
+    const LATEX: &'static str = r" + f_c \tanh(\dot x / v_s)";
+    const LIMITS_STEPS: bool = true;
+    #[inline(always)]
+    fn torque<N: Num>(s: &Vars<N>, p: &[N]) -> N {
+        p[0] * (s.v / p[1]).tanh(p[0])
+    }
+}
+
+/// The Stribeck law without its viscous part, (f_c + (f_s − f_c)e^{−(x'/v_st)²})·tanh(x'/v_r),
+/// declared: its e^q scaled by |f_s − f_c|, its tanh by f_s (≥ f_c).
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct DeclaredStribeck;
+
+impl Law for DeclaredStribeck {
+    const KIND: &'static str = "declared-stribeck";
+    const ABOUT: &'static str = "Stribeck friction, declared";
+    const PARAMS: &'static [ParamInfo] = &[FRICTION_PARAM; 4];
+    const TEXT: &'static str = " + (f_c + (f_s − f_c)·exp(−(x'/v_st)²))·tanh(x'/v_r)";
+    const LATEX: &'static str = r" + g(\dot x) \tanh(\dot x / v_r)";
+    const LIMITS_STEPS: bool = true;
+    #[inline(always)]
+    fn torque<N: Num>(s: &Vars<N>, p: &[N]) -> N {
+        let [fc, fs, vst, vr] = [p[0], p[1], p[2], p[3]];
+        let e = (s.v * s.v / -(vst * vst)).exp(fs - fc);
+        let t = (s.v / vr).tanh(fs);
+        fc * t + (fs - fc) * (e * t)
+    }
+}
+
+const FRICTION_PARAM: ParamInfo = ParamInfo {
+    name: "f",
+    symbol: "f",
+    latex: "f",
+    meaning: "a friction parameter",
+    domain: Domain::Positive,
+    default: 0.1,
+    si: "-",
+};
+
+#[test]
+fn declared_tanh_and_exp_give_the_hand_written_friction_rows_and_steps_to_the_bit() {
+    // the declaration's tanh and exp run the recurrences and step rules the hand-written
+    // friction terms run, on the same rows in the same order: every row, the value at the
+    // start and the step limit agree exactly, at speeds from deep in the regularisation
+    // (|x'| ≪ v) to far outside it (where the step rule is what keeps the step short)
+    let mut u = uniform(47);
+    for case in 0..40 {
+        let [fc, fs, vst, vr] = [
+            0.05 + 0.3 * u(),
+            0.4 + 0.3 * u(),
+            0.05 + 0.1 * u(),
+            [1e-2, 1e-3, 1e-4][case % 3],
+        ];
+        let [x, mut v, z] = motion(&mut u);
+        v[0] *= [1e-3, 1e-2, 0.1, 1.0][case % 4];
+        let hands = [
+            AnyTerm::new("friction", &[fc, vr]).unwrap(),
+            AnyTerm::new("stribeck", &[fc, fs, vst, 0.0, vr]).unwrap(),
+        ];
+        for (i, hand) in hands.iter().enumerate() {
+            let mut rows = Scratch([[0.0; MAX_ROWS]; SCRATCH_ROWS]);
+            let mut ours = Scratch([[0.0; MAX_ROWS]; SCRATCH_ROWS]);
+            let (tanh, stribeck) = (
+                Declared::<TanhFriction>::from_values(&[fc, vr]),
+                Declared::<DeclaredStribeck>::from_values(&[fc, fs, vst, vr]),
+            );
+            for k in 0..MAX_ROWS {
+                let want = hand.taylor(k, &x, &v, &z, &mut rows);
+                let got = if i == 0 {
+                    tanh.taylor(k, &x, &v, &z, &mut ours)
+                } else {
+                    stribeck.taylor(k, &x, &v, &z, &mut ours)
+                };
+                assert_eq!(want.to_bits(), got.to_bits(), "case {case} law {i} row {k}");
+            }
+            for order in [8, 16, MAX_ROWS - 1] {
+                let want = hand.step_limit(&rows, order, 1.0, 1e-12);
+                let got = if i == 0 {
+                    tanh.step_limit(&ours, order, 1.0, 1e-12)
+                } else {
+                    stribeck.step_limit(&ours, order, 1.0, 1e-12)
+                };
+                assert_eq!(want, got, "case {case} law {i} order {order}");
+            }
+            let (want, got) = if i == 0 {
+                (hand.torque(0.0, v[0], 0.0), tanh.torque(0.0, v[0], 0.0))
+            } else {
+                (hand.torque(0.0, v[0], 0.0), stribeck.torque(0.0, v[0], 0.0))
+            };
+            assert!(
+                (want - got).abs() <= 1e-15 * (1.0 + want.abs()),
+                "{want} {got}"
+            );
+        }
+    }
 }

@@ -402,7 +402,7 @@ fn the_twist_refuses_states_switches_and_loads_and_its_spring_is_the_studys() {
     );
     let (alpha, gamma) = (16.0, 0.7);
     let spring = Spring::from_values(&[gamma, alpha, 1.0 / alpha]);
-    let study = Stiffness([alpha, gamma, 1.0 / alpha]);
+    let study = Stiffness::from_values(&[alpha, gamma, 1.0 / alpha]);
     for x in [-2.0, -0.3, 0.0, 0.05, 1.0, 3.0] {
         let (a, b) = (spring.torque(x, 0.0, 0.0), study.torque(x, 0.0, 0.0));
         assert!((a - b).abs() <= 1e-13 * (1.0 + b.abs()), "{x}: {a} {b}");

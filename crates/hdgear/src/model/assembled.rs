@@ -190,7 +190,9 @@ impl Model {
     /// The study's model x'' + x' + αx³ − x² + γ(x − ε) = μ + δ sin ωτ with `p`'s values.
     pub fn study(p: &Params) -> Model {
         let mut m = Model::damped(p.mu, p.delta, p.omega);
-        m.terms[1] = Some(AnyTerm::Stiffness(Stiffness([p.alpha, p.gamma, p.eps])));
+        m.terms[1] = Some(AnyTerm::Stiffness(Stiffness::from_values(&[
+            p.alpha, p.gamma, p.eps,
+        ])));
         m
     }
 
@@ -537,10 +539,10 @@ impl Model {
     /// −A²/2 to a₀.
     pub fn equivalent_params(&self) -> Option<Params> {
         let [alpha, gamma, eps] = self.terms().find_map(|t| match t {
-            AnyTerm::Stiffness(s) if !self.is_scheduled() => Some(s.0),
+            AnyTerm::Stiffness(s) if !self.is_scheduled() => Some(s.array()),
             _ => None,
         })?;
-        let study = Stiffness([alpha, gamma, eps]);
+        let study = Stiffness::from_values(&[alpha, gamma, eps]);
         let rest = |x: f64| self.static_torque(x) - study.torque(x, 0.0, 0.0);
         let (a0, a1) = (rest(0.0), rest(1.0) - rest(0.0));
         let affine_at = |x: f64| {

@@ -5,6 +5,7 @@
 //! each law does.
 
 use super::jet::sin_cos_coefficients;
+use super::law::{Declared, Law, Num, Vars};
 use super::term::{Domain, ParamInfo, Scratch, StateInfo, Term};
 use serde::Serialize;
 
@@ -13,10 +14,13 @@ const STIFFNESS_GAIN_SI: &str = "K·J_eq²/(N²·J_i·C²) (K in N m/rad of twis
 
 /// Virtual stiffness ũ = −k_p·x: feedback on the twist. Exactly the open-loop model with
 /// γ → γ + k_p and ε → γε/(γ + k_p) (the term is linear in x and folds into the stiffness).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct VirtualStiffness(pub [f64; 1]);
+pub type VirtualStiffness = Declared<VirtualStiffnessLaw>;
 
-impl Term for VirtualStiffness {
+/// [`VirtualStiffness`]'s law.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct VirtualStiffnessLaw;
+
+impl Law for VirtualStiffnessLaw {
     const KIND: &'static str = "vstiffness";
     const ABOUT: &'static str = "virtual stiffness: control torque ũ = −k_p·x on the twist";
     const PARAMS: &'static [ParamInfo] = &[ParamInfo {
@@ -28,38 +32,22 @@ impl Term for VirtualStiffness {
         default: 0.0,
         si: STIFFNESS_GAIN_SI,
     }];
-    fn from_values(v: &[f64]) -> Self {
-        VirtualStiffness([v[0]])
-    }
-    fn values(&self) -> &[f64] {
-        &self.0
-    }
-    fn torque(&self, x: f64, _v: f64, _z: f64) -> f64 {
-        self.0[0] * x
-    }
-    fn gradient(&self, _x: f64, _v: f64, _z: f64) -> [f64; 3] {
-        [self.0[0], 0.0, 0.0]
-    }
-    fn param_derivative(&self, _i: usize, x: f64, _v: f64, _z: f64) -> f64 {
-        x
-    }
+    const TEXT: &'static str = " + k_p·x";
+    const LATEX: &'static str = " + k_p x";
     #[inline(always)]
-    fn taylor(&self, k: usize, x: &[f64], _v: &[f64], _z: &[f64], _rows: &mut Scratch) -> f64 {
-        self.0[0] * x[k]
-    }
-    fn text(&self) -> String {
-        " + k_p·x".into()
-    }
-    fn latex(&self) -> String {
-        " + k_p x".into()
+    fn torque<N: Num>(s: &Vars<N>, p: &[N]) -> N {
+        p[0] * s.x
     }
 }
 
 /// Virtual damping ũ = −k_d·x': feedback on the twist rate (adds to the unit damping).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct VirtualDamping(pub [f64; 1]);
+pub type VirtualDamping = Declared<VirtualDampingLaw>;
 
-impl Term for VirtualDamping {
+/// [`VirtualDamping`]'s law.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct VirtualDampingLaw;
+
+impl Law for VirtualDampingLaw {
     const KIND: &'static str = "vdamping";
     const ABOUT: &'static str = "virtual damping: control torque ũ = −k_d·x' on the twist rate";
     const PARAMS: &'static [ParamInfo] = &[ParamInfo {
@@ -71,40 +59,24 @@ impl Term for VirtualDamping {
         default: 0.0,
         si: "K_d·J_eq/(N²·J_i·C) (K_d in N m s/rad of twist)",
     }];
-    fn from_values(v: &[f64]) -> Self {
-        VirtualDamping([v[0]])
-    }
-    fn values(&self) -> &[f64] {
-        &self.0
-    }
-    fn torque(&self, _x: f64, v: f64, _z: f64) -> f64 {
-        self.0[0] * v
-    }
-    fn gradient(&self, _x: f64, _v: f64, _z: f64) -> [f64; 3] {
-        [0.0, self.0[0], 0.0]
-    }
-    fn param_derivative(&self, _i: usize, _x: f64, v: f64, _z: f64) -> f64 {
-        v
-    }
+    const TEXT: &'static str = " + k_d·x'";
+    const LATEX: &'static str = r" + k_d \dot x";
     #[inline(always)]
-    fn taylor(&self, k: usize, _x: &[f64], v: &[f64], _z: &[f64], _rows: &mut Scratch) -> f64 {
-        self.0[0] * v[k]
-    }
-    fn text(&self) -> String {
-        " + k_d·x'".into()
-    }
-    fn latex(&self) -> String {
-        r" + k_d \dot x".into()
+    fn torque<N: Num>(s: &Vars<N>, p: &[N]) -> N {
+        p[0] * s.v
     }
 }
 
 /// Washout feedback ũ = −k_w·(x − ξ), ξ' = ω_w·(x − ξ): a high-pass filter of the twist, zero on
 /// every equilibrium (ξ = x at rest), so the equilibrium curve is the open loop's and only
 /// departures faster than ω_w are opposed, with the stiffness k_w.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct Washout(pub [f64; 2]);
+pub type Washout = Declared<WashoutLaw>;
 
-impl Term for Washout {
+/// [`Washout`]'s law.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct WashoutLaw;
+
+impl Law for WashoutLaw {
     const KIND: &'static str = "washout";
     const ABOUT: &'static str =
         "washout feedback: ũ = −k_w·(x − ξ) with the filter state ξ' = ω_w·(x − ξ)";
@@ -132,51 +104,20 @@ impl Term for Washout {
             si: "Ω_w·J_eq/C",
         },
     ];
-    fn from_values(v: &[f64]) -> Self {
-        Washout([v[0], v[1]])
-    }
-    fn values(&self) -> &[f64] {
-        &self.0
-    }
-    fn torque(&self, x: f64, _v: f64, xi: f64) -> f64 {
-        self.0[0] * (x - xi)
-    }
-    fn gradient(&self, _x: f64, _v: f64, _xi: f64) -> [f64; 3] {
-        [self.0[0], 0.0, -self.0[0]]
-    }
-    fn param_derivative(&self, i: usize, x: f64, _v: f64, xi: f64) -> f64 {
-        if i == 0 { x - xi } else { 0.0 }
+    const TEXT: &'static str = " + k_w·(x − ξ)";
+    const LATEX: &'static str = r" + k_w (x - \xi)";
+    const RATE_TEXT: Option<&'static str> = Some("ξ' = ω_w·(x − ξ)");
+    const RATE_LATEX: Option<&'static str> = Some(r"\dot\xi = \omega_w (x - \xi)");
+    #[inline(always)]
+    fn torque<N: Num>(s: &Vars<N>, p: &[N]) -> N {
+        p[0] * (s.x - s.z)
     }
     #[inline(always)]
-    fn taylor(&self, k: usize, x: &[f64], _v: &[f64], xi: &[f64], _rows: &mut Scratch) -> f64 {
-        self.0[0] * (x[k] - xi[k])
+    fn rate<N: Num>(s: &Vars<N>, p: &[N]) -> N {
+        p[1] * (s.x - s.z)
     }
-    fn rate(&self, x: f64, _v: f64, xi: f64) -> f64 {
-        self.0[1] * (x - xi)
-    }
-    fn rate_gradient(&self, _x: f64, _v: f64, _xi: f64) -> [f64; 3] {
-        [self.0[1], 0.0, -self.0[1]]
-    }
-    fn rate_param_derivative(&self, i: usize, x: f64, _v: f64, xi: f64) -> f64 {
-        if i == 1 { x - xi } else { 0.0 }
-    }
-    #[inline(always)]
-    fn rate_taylor(&self, k: usize, x: &[f64], _v: &[f64], xi: &[f64], _r: &mut Scratch) -> f64 {
-        self.0[1] * (x[k] - xi[k])
-    }
-    fn text(&self) -> String {
-        " + k_w·(x − ξ)".into()
-    }
-    fn latex(&self) -> String {
-        r" + k_w (x - \xi)".into()
-    }
-    fn rate_text(&self) -> Option<String> {
-        Some("ξ' = ω_w·(x − ξ)".into())
-    }
-    fn rate_latex(&self) -> Option<String> {
-        Some(r"\dot\xi = \omega_w (x - \xi)".into())
-    }
-    fn state_at_rest(&self, x: f64) -> f64 {
+    /// ξ = x: the filter has followed the twist to rest.
+    fn state_at_rest(x: f64, _p: &[f64]) -> f64 {
         x
     }
 }

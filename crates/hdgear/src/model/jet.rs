@@ -38,9 +38,15 @@ fn weighted<J: Jet>(u: &[J], w: &[J], k: usize) -> J {
     // rows 0..=k only: the loop's indices need no checks; the loops in this module run over
     // half-open ranges (an inclusive range's iterator costs an extra test at every turn)
     let (u, w) = (&u[..=k], &w[..k]);
+    weighted_by(|j| u[j], |j| w[j], k)
+}
+
+/// [`weighted`] over rows read by index (u's rows 0..=k, w's 0..k).
+#[inline(always)]
+fn weighted_by<J: Jet>(u: impl Fn(usize) -> J, w: impl Fn(usize) -> J, k: usize) -> J {
     let mut s = J::splat(0.0);
     for j in 1..k + 1 {
-        s = s + J::splat(j as f64) * u[j] * w[k - j];
+        s = s + J::splat(j as f64) * u(j) * w(k - j);
     }
     s * J::splat(INV[k - 1])
 }
@@ -61,6 +67,17 @@ pub fn exp_coefficient<J: Jet>(u: &[J], e: &[J], k: usize) -> J {
         u[0].map(f64::exp)
     } else {
         weighted(u, e, k)
+    }
+}
+
+/// [`exp_coefficient`] over rows read by index (u's rows 0..=k, exp(u)'s 0..k): for rows kept
+/// where no plain slice of them exists ([`crate::model::law`]'s intermediates).
+#[inline(always)]
+pub fn exp_coefficient_by<J: Jet>(u: impl Fn(usize) -> J, e: impl Fn(usize) -> J, k: usize) -> J {
+    if k == 0 {
+        u(0).map(f64::exp)
+    } else {
+        weighted_by(u, e, k)
     }
 }
 
@@ -342,16 +359,23 @@ fn shorten<J: Jet>(mut h: J, converged: J, u: &[J], order: usize, reach: J) -> J
 /// (the caller keeps `sq` with [`square_coefficient`] once row k is known).
 #[inline(always)]
 pub fn tanh_coefficient<J: Jet>(u: &[J], sq: &[J], k: usize) -> J {
+    let (u, sq) = (&u[..=k], &sq[..k]);
+    tanh_coefficient_by(|j| u[j], |j| sq[j], k)
+}
+
+/// [`tanh_coefficient`] over rows read by index (u's rows 0..=k, tanh(u)²'s 0..k): for rows kept
+/// where no plain slice of them exists ([`crate::model::law`]'s intermediates).
+#[inline(always)]
+pub fn tanh_coefficient_by<J: Jet>(u: impl Fn(usize) -> J, sq: impl Fn(usize) -> J, k: usize) -> J {
     if k == 0 {
-        return u[0].map(f64::tanh);
+        return u(0).map(f64::tanh);
     }
     // (1 − t²)_{k−j}: 1 − (t²)₀ at j = k, −(t²)_{k−j} below
-    let (u, sq) = (&u[..=k], &sq[..k]);
     let mut s = J::splat(0.0);
     for j in 1..k {
-        s = s + J::splat(j as f64) * u[j] * -sq[k - j];
+        s = s + J::splat(j as f64) * u(j) * -sq(k - j);
     }
-    s = s + J::splat(k as f64) * u[k] * (J::splat(1.0) - sq[0]);
+    s = s + J::splat(k as f64) * u(k) * (J::splat(1.0) - sq(0));
     s * J::splat(INV[k - 1])
 }
 
@@ -369,12 +393,25 @@ pub fn sin_cos_coefficients(u: &[f64], s: &[f64], c: &[f64], k: usize) -> (f64, 
 /// n = q·d, so q_k = (n_k − Σ_{j=1..k} d_j·q_{k−j})/d₀.
 #[inline(always)]
 pub fn quotient_coefficient<J: Jet>(n: &[J], d: &[J], q: &[J], k: usize) -> J {
+    quotient_coefficient_by(n[k], |j| d[j], |j| q[j], k)
+}
+
+/// [`quotient_coefficient`] from n's row k and d's (rows 0..=k) and q's (rows 0..k) read by
+/// index: for rows kept where no plain slice of them exists ([`crate::model::law`]'s
+/// intermediates).
+#[inline(always)]
+pub fn quotient_coefficient_by<J: Jet>(
+    n_k: J,
+    d: impl Fn(usize) -> J,
+    q: impl Fn(usize) -> J,
+    k: usize,
+) -> J {
     // n_k, the new row, last (as in `cauchy`)
     let mut s = J::splat(-0.0);
     for j in 1..k + 1 {
-        s = s + d[j] * q[k - j];
+        s = s + d(j) * q(k - j);
     }
-    (n[k] - s) * (J::splat(1.0) / d[0])
+    (n_k - s) * (J::splat(1.0) / d(0))
 }
 
 /// Row k of p = √w (w₀ > 0) from w's row k and p's rows 0..k: p² = w, so

@@ -16,19 +16,26 @@
 //!   is straight-line code, so each call makes the same operations in the same order and the
 //!   compiler, which sees the whole function, inlines it into the stepper (a monomorphised term).
 //!
-//! The vocabulary is the ring operations (+, −, ×, by numbers too) over x, x', z, the
-//! parameters and the piece's signs s_v = sgn x' and s_z = sgn z ([`Vars`]). A law written in
-//! it is a polynomial in x, x' and z on each piece of its law, so its Taylor series converge
-//! for every step and the state's own rows show their size: a declared term never limits
-//! steps. |x'| is s_v·x'; a law that reads s_v switches at x' = 0 and says so
-//! ([`Law::SWITCHES_AT_REST`]), one that reads s_z at z = 0. Laws with a transcendental
-//! function (tanh, exp) or sticking are written as [`Term`]s, with their own step limits.
+//! The vocabulary is the field operations (+, −, ×, ÷, by numbers too), tanh and exp, over x,
+//! x', z, the parameters and the piece's signs s_v = sgn x' and s_z = sgn z ([`Vars`]). |x'| is
+//! s_v·x'; a law that reads s_v switches at x' = 0 and says so ([`Law::SWITCHES_AT_REST`]), one
+//! that reads s_z at z = 0. A law of the rational operations alone has Taylor series whose size
+//! the state's own rows show, and never limits steps. A tanh or an exp can be tiny where a step
+//! starts and grow within it, which the state's rows do not show: each carries the scale of the
+//! torque it multiplies, and a second pass over the same operations, after the rows, applies
+//! its step rule ([`tanh_step_limit`], [`exp_step_limit`]) to the rows its first pass kept.
+//! Laws with sticking are written as [`Term`]s, and so, still, are the friction laws: declared,
+//! they give the hand-written rows and step limits to the bit (the tests hold them so), but
+//! dispatched among a model's terms their passes cost more per step than the hand-written ones.
 //!
 //! **Why one file.** The declaration, the three kinds of number it is evaluated over and the
 //! [`Term`] derived from them are one mechanism: a number's operations and the derivation that
 //! reads them change together.
 
-use super::jet::{Jet, Lanes};
+use super::jet::{
+    Jet, Lanes, exp_coefficient_by, exp_step_limit, quotient_coefficient_by, tanh_coefficient_by,
+    tanh_step_limit,
+};
 use super::relation::Relation;
 use super::term::piece_sign;
 use super::term::{LANE_PARAMS, LaneRows, MAX_ROWS, ParamInfo, Scratch, Side, StateInfo, Term};
@@ -37,21 +44,39 @@ use crate::integrate::taylor::square_coefficient;
 use crate::integrate::taylor::{cauchy_by, square_by};
 use std::cell::Cell;
 use std::marker::PhantomData;
-use std::ops::{Add, Mul, Neg, Sub};
+use std::ops::{Add, Div, Mul, Neg, Sub};
 
-/// The numbers a law is written over: the ring operations, with plain numbers on the right.
+/// The numbers a law is written over: the field operations, with plain numbers on the right,
+/// and the two transcendental functions friction laws need.
 pub trait Num:
     Copy
     + Add<Output = Self>
     + Sub<Output = Self>
     + Mul<Output = Self>
+    + Div<Output = Self>
     + Neg<Output = Self>
     + Add<f64, Output = Self>
     + Mul<f64, Output = Self>
 {
+    /// tanh of this number. `scale`, made of the parameters, is the largest torque the factor
+    /// multiplies: each step is kept where tanh's series has converged or its change times
+    /// `scale` is negligible ([`tanh_step_limit`]). A law that calls it sets
+    /// [`Law::LIMITS_STEPS`].
+    fn tanh(self, scale: Self) -> Self;
+    /// e to the power of this number, `scale` as for [`Num::tanh`] ([`exp_step_limit`]).
+    fn exp(self, scale: Self) -> Self;
 }
 
-impl Num for f64 {}
+impl Num for f64 {
+    #[inline(always)]
+    fn tanh(self, _scale: f64) -> f64 {
+        f64::tanh(self)
+    }
+    #[inline(always)]
+    fn exp(self, _scale: f64) -> f64 {
+        f64::exp(self)
+    }
+}
 
 /// What a law reads: the twist x, its rate v = x', the term's state z (0 without one) and the
 /// signs of the piece of its law, s_v = sgn x' and s_z = sgn z (each ±1 on a piece, fixed
@@ -122,6 +147,14 @@ pub trait Law: Copy + std::fmt::Debug + PartialEq + 'static {
     const RATE_LATEX: Option<&'static str> = None;
     /// Rules between its parameters beyond their domains.
     const RELATIONS: &'static [Relation] = &[];
+    /// Whether the law calls [`Num::tanh`] or [`Num::exp`], whose step rules then apply (a law
+    /// that calls them without it is refused by an assertion on its first Taylor row).
+    const LIMITS_STEPS: bool = false;
+    /// Its state at rest at twist `x` with the parameters `p` (as [`Term::state_at_rest`]; 0,
+    /// the default, for a virgin memory state).
+    fn state_at_rest(_x: f64, _p: &[f64]) -> f64 {
+        0.0
+    }
     /// T(x, x', z) on the piece `s`, with the parameters `p`. Mark it `#[inline(always)]`: a
     /// Taylor pass is straight-line code only when the law is inlined into it (the bench
     /// `law_rows` measured a spring's scalar rows 3.5× slower with the law left out of line,
@@ -214,50 +247,90 @@ impl Mul<f64> for Dual {
         }
     }
 }
-impl Num for Dual {}
+impl Div for Dual {
+    type Output = Dual;
+    // the quotient rule: (a/b)' = (a' − (a/b)·b')/b
+    #[allow(clippy::suspicious_arithmetic_impl)]
+    fn div(self, o: Dual) -> Dual {
+        let q = self.value / o.value;
+        Dual {
+            value: q,
+            d: [0, 1, 2].map(|i| (self.d[i] - q * o.d[i]) / o.value),
+        }
+    }
+}
+impl Num for Dual {
+    fn tanh(self, _scale: Dual) -> Dual {
+        let t = self.value.tanh();
+        Dual {
+            value: t,
+            d: self.d.map(|d| d * (1.0 - t * t)),
+        }
+    }
+    fn exp(self, _scale: Dual) -> Dual {
+        let e = self.value.exp();
+        Dual {
+            value: e,
+            d: self.d.map(|d| d * e),
+        }
+    }
+}
 
-/// Where a [`Row`]'s coefficients are: a constant (row 0 only), one of the series x, x', z, or
-/// the rows of an intermediate kept in the term's scratch.
-#[derive(Clone, Copy, Debug)]
-enum Source<J> {
-    Constant(J),
+/// Rows a pass can read in place: one of the series x, x', z, or an intermediate kept in the
+/// term's scratch.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Base {
     Series(usize),
     Kept(usize),
 }
 
-/// The Taylor pass of one order k over a law: the series of x, x' and z (rows 0..=k), the
-/// term's scratch rows as cells, and the next scratch row an operation takes. The torque's
-/// operations take rows from the first up, the rate's from the last down.
+/// What a [`Row`] is: a constant (row 0 only), rows read in place, or an intermediate of which
+/// only row k is known. An intermediate is kept (its row k stored in a scratch row) only where an
+/// operation reads its earlier rows (a product, a divisor, a tanh's or exp's argument): the same
+/// operation kept its earlier rows on the earlier passes.
+#[derive(Clone, Copy, Debug)]
+enum Source<J> {
+    Constant(J),
+    Plain(Base),
+    Value(J),
+}
+
+/// The term's scratch rows as a pass sees them: written on a pass of the rows, read on a pass of
+/// the step rules.
+#[derive(Clone, Copy)]
+enum Store<'a, J> {
+    Write(&'a [Cell<J>]),
+    Read(&'a [J]),
+}
+
+/// A pass of the step rules over the rows a step computed (rows 0..=`order`): each tanh or exp
+/// shortens `h` by its rule.
+struct Limit<J> {
+    order: usize,
+    negligible: J,
+    h: Cell<J>,
+}
+
+/// A pass over a law: of one order k (each operation computes its row k, from the series of x,
+/// x' and z and the rows its operations kept in the term's scratch), or of the step rules
+/// (`limit`: the same operations replayed, taking the same scratch rows, over the rows a step
+/// computed). The torque's operations take scratch rows from the first up, the rate's from the
+/// last down.
 pub struct Tape<'a, J> {
     k: usize,
     series: [&'a [J]; 3],
-    rows: &'a [Cell<J>],
+    rows: Store<'a, J>,
     next: Cell<usize>,
     down: bool,
+    limit: Option<Limit<J>>,
+    limits_steps: bool,
 }
 
 impl<'a, J: Jet> Tape<'a, J> {
-    /// The pass of order `k` over the series `x`, `v`, `z` keeping its rows in `rows`.
-    #[inline(always)]
-    fn new(k: usize, [x, v, z]: [&'a [J]; 3], rows: &'a mut [[J; MAX_ROWS]], down: bool) -> Self {
-        let rows = Cell::from_mut(rows.as_flattened_mut()).as_slice_of_cells();
-        let next = if down { rows.len() / MAX_ROWS } else { 0 };
-        Tape {
-            k,
-            series: [x, v, z],
-            rows,
-            next: Cell::new(next),
-            down,
-        }
-    }
-
     /// The law's inputs on this pass, with the piece's signs `sv`, `sz`.
     #[inline(always)]
     fn vars<'t>(&'t self, [sv, sz]: [J; 2]) -> Vars<Row<'t, 'a, J>> {
-        let series = |i| Row {
-            tape: self,
-            source: Source::Series(i),
-        };
+        let series = |i| self.row(Source::Plain(Base::Series(i)));
         Vars {
             x: series(0),
             v: series(1),
@@ -267,90 +340,167 @@ impl<'a, J: Jet> Tape<'a, J> {
         }
     }
 
+    /// The intermediate at `source` on this pass.
+    #[inline(always)]
+    fn row<'t>(&'t self, source: Source<J>) -> Row<'t, 'a, J> {
+        Row { tape: self, source }
+    }
+
     /// A constant on this pass.
     #[inline(always)]
     fn constant<'t>(&'t self, c: J) -> Row<'t, 'a, J> {
-        Row {
-            tape: self,
-            source: Source::Constant(c),
+        self.row(Source::Constant(c))
+    }
+
+    /// An intermediate of which row k is `value`.
+    #[inline(always)]
+    fn value<'t>(&'t self, value: J) -> Row<'t, 'a, J> {
+        self.row(Source::Value(value))
+    }
+
+    /// Takes the next scratch row.
+    #[inline(always)]
+    fn reserve(&self) -> usize {
+        let slot = if self.down {
+            self.next.get() - 1
+        } else {
+            self.next.get()
+        };
+        self.next.set(if self.down { slot } else { slot + 1 });
+        slot
+    }
+
+    /// Stores row k of the scratch row `slot` (on a pass of the rows).
+    #[inline(always)]
+    fn write(&self, slot: usize, value: impl FnOnce() -> J) {
+        if let (Store::Write(rows), None) = (self.rows, &self.limit) {
+            rows[slot * MAX_ROWS + self.k].set(value());
         }
     }
 
-    /// Keeps `value` as row k of the next intermediate.
+    /// Keeps `value` as row k of the next scratch row.
     #[inline(always)]
-    fn keep<'t>(&'t self, value: J) -> Row<'t, 'a, J> {
-        let slot = if self.down {
-            let s = self.next.get() - 1;
-            self.next.set(s);
-            s
-        } else {
-            let s = self.next.get();
-            self.next.set(s + 1);
-            s
-        };
-        self.rows[slot * MAX_ROWS + self.k].set(value);
-        Row {
-            tape: self,
-            source: Source::Kept(slot),
+    fn keep(&self, value: impl FnOnce() -> J) -> Base {
+        let slot = self.reserve();
+        self.write(slot, value);
+        Base::Kept(slot)
+    }
+
+    /// Row j (≤ k) of the scratch row `slot`.
+    #[inline(always)]
+    fn kept(&self, slot: usize, j: usize) -> J {
+        match self.rows {
+            Store::Write(rows) => rows[slot * MAX_ROWS + j].get(),
+            Store::Read(rows) => rows[slot * MAX_ROWS + j],
+        }
+    }
+
+    /// Row j (≤ k) of the rows at `b` (on a pass of the step rules, which has no series, a
+    /// series reads as 0: no rule reads one).
+    #[inline(always)]
+    fn base_at(&self, b: Base, j: usize) -> J {
+        match b {
+            Base::Series(_) if self.limit.is_some() => J::splat(0.0),
+            Base::Series(i) => self.series[i][j],
+            Base::Kept(s) => self.kept(s, j),
+        }
+    }
+
+    /// Rows 0..=`order` of the scratch row `slot` on a pass of the step rules (what a rule
+    /// reads).
+    #[inline(always)]
+    fn read(&self, slot: usize, order: usize) -> &'a [J] {
+        match self.rows {
+            Store::Read(rows) => &rows[slot * MAX_ROWS..][..=order],
+            Store::Write(_) => unreachable!("a pass of the rows applies no step rule"),
+        }
+    }
+
+    /// Row k of the product of the rows at `a` and `b`: the Cauchy sum Σ_{j=0..=k} a_j b_{k−j},
+    /// or for a square its symmetric half (as [`square_coefficient`]).
+    #[inline(always)]
+    fn cauchy_row(&self, a: Base, b: Base) -> J {
+        let k = self.k;
+        let at = |b: Base| move |j: usize| self.base_at(b, j);
+        match (a, b) {
+            (Base::Series(i), Base::Series(j)) if i == j => square_by(|j| self.series[i][j], k),
+            (Base::Series(i), Base::Series(j)) => {
+                let (a, b) = (&self.series[i][..=k], &self.series[j][..=k]);
+                cauchy_by(|j| a[j], |j| b[j], k)
+            }
+            (Base::Kept(_), Base::Kept(_)) if a == b => square_by(at(a), k),
+            _ => cauchy_by(at(a), at(b), k),
+        }
+    }
+
+    /// The amplitude a step rule reads from `scale` (made of the parameters: a constant).
+    #[inline(always)]
+    fn amplitude(&self, scale: Source<J>) -> J {
+        match scale {
+            Source::Constant(a) => a.abs(),
+            _ => unreachable!("a step rule's scale is made of the parameters"),
         }
     }
 }
 
-/// A law's intermediate on a Taylor pass ([`Tape`]): its operations compute their row k.
+/// A law's intermediate on a pass ([`Tape`]): its operations compute their row k.
 #[derive(Clone, Copy)]
 pub struct Row<'t, 'a, J> {
     tape: &'t Tape<'a, J>,
     source: Source<J>,
 }
 
-/// An intermediate's rows 0..=k, read in place: a series' or kept rows.
-enum View<'x, J> {
-    Plain(&'x [J]),
-    Kept(&'x [Cell<J>]),
-}
-
 impl<J: Jet> Row<'_, '_, J> {
-    /// Row j (≤ k) of this intermediate.
+    /// Row k of this intermediate.
     #[inline(always)]
-    fn at(&self, j: usize) -> J {
+    fn now(&self) -> J {
+        let k = self.tape.k;
         match self.source {
             Source::Constant(c) => {
-                if j == 0 {
+                if k == 0 {
                     c
                 } else {
                     J::splat(0.0)
                 }
             }
-            Source::Series(i) => self.tape.series[i][j],
-            Source::Kept(s) => self.tape.rows[s * MAX_ROWS + j].get(),
+            Source::Plain(b) => self.tape.base_at(b, k),
+            Source::Value(v) => v,
         }
     }
 
-    /// Rows 0..=k of a series or a kept intermediate (not of a constant).
+    /// The rows of this intermediate, which is not a constant, in place: row k of one that is
+    /// only a value is kept.
     #[inline(always)]
-    fn view(&self, k: usize) -> View<'_, J> {
+    fn base(&self) -> Base {
         match self.source {
-            Source::Series(i) => View::Plain(&self.tape.series[i][..=k]),
-            Source::Kept(s) => View::Kept(&self.tape.rows[s * MAX_ROWS..][..=k]),
-            Source::Constant(_) => unreachable!("a constant's product is not a Cauchy sum"),
+            Source::Plain(b) => b,
+            Source::Value(v) => self.tape.keep(|| v),
+            Source::Constant(_) => unreachable!("a constant's product is a scaling"),
         }
     }
 
-    /// Row k of the product of two intermediates that are not constants: the Cauchy sum
-    /// Σ_{j=0..=k} a_j b_{k−j}, or for a square its symmetric half (as [`square_coefficient`]).
+    /// The rows of this intermediate in the scratch (a series' row k is copied there): what a
+    /// step rule reads.
     #[inline(always)]
-    fn cauchy_row(&self, o: &Self, k: usize) -> J {
-        let same = match (self.source, o.source) {
-            (Source::Series(i), Source::Series(j)) | (Source::Kept(i), Source::Kept(j)) => i == j,
-            _ => false,
-        };
-        match (self.view(k), o.view(k)) {
-            (View::Plain(a), View::Plain(_)) if same => square_by(|j| a[j], k),
-            (View::Kept(a), View::Kept(_)) if same => square_by(|j| a[j].get(), k),
-            (View::Plain(a), View::Plain(b)) => cauchy_by(|j| a[j], |j| b[j], k),
-            (View::Plain(a), View::Kept(b)) => cauchy_by(|j| a[j], |j| b[j].get(), k),
-            (View::Kept(a), View::Plain(b)) => cauchy_by(|j| a[j].get(), |j| b[j], k),
-            (View::Kept(a), View::Kept(b)) => cauchy_by(|j| a[j].get(), |j| b[j].get(), k),
+    fn scratch(&self) -> usize {
+        match self.source {
+            Source::Plain(Base::Kept(s)) => s,
+            _ => {
+                let v = self.now();
+                match self.tape.keep(|| v) {
+                    Base::Kept(s) => s,
+                    Base::Series(_) => unreachable!("keep returns a scratch row"),
+                }
+            }
+        }
+    }
+
+    /// `f` of this intermediate's and `o`'s row k.
+    #[inline(always)]
+    fn combine(self, o: Self, f: impl Fn(J, J) -> J) -> Self {
+        match (self.source, o.source) {
+            (Source::Constant(a), Source::Constant(b)) => self.tape.constant(f(a, b)),
+            _ => self.tape.value(f(self.now(), o.now())),
         }
     }
 }
@@ -359,20 +509,14 @@ impl<'t, 'a, J: Jet> Add for Row<'t, 'a, J> {
     type Output = Self;
     #[inline(always)]
     fn add(self, o: Self) -> Self {
-        match (self.source, o.source) {
-            (Source::Constant(a), Source::Constant(b)) => self.tape.constant(a + b),
-            _ => self.tape.keep(self.at(self.tape.k) + o.at(self.tape.k)),
-        }
+        self.combine(o, |a, b| a + b)
     }
 }
 impl<'t, 'a, J: Jet> Sub for Row<'t, 'a, J> {
     type Output = Self;
     #[inline(always)]
     fn sub(self, o: Self) -> Self {
-        match (self.source, o.source) {
-            (Source::Constant(a), Source::Constant(b)) => self.tape.constant(a - b),
-            _ => self.tape.keep(self.at(self.tape.k) - o.at(self.tape.k)),
-        }
+        self.combine(o, |a, b| a - b)
     }
 }
 impl<'t, 'a, J: Jet> Neg for Row<'t, 'a, J> {
@@ -381,7 +525,7 @@ impl<'t, 'a, J: Jet> Neg for Row<'t, 'a, J> {
     fn neg(self) -> Self {
         match self.source {
             Source::Constant(a) => self.tape.constant(-a),
-            _ => self.tape.keep(-self.at(self.tape.k)),
+            _ => self.tape.value(-self.now()),
         }
     }
 }
@@ -389,12 +533,39 @@ impl<'t, 'a, J: Jet> Mul for Row<'t, 'a, J> {
     type Output = Self;
     #[inline(always)]
     fn mul(self, o: Self) -> Self {
-        let k = self.tape.k;
+        let tape = self.tape;
+        // a constant scales every row
         match (self.source, o.source) {
-            (Source::Constant(a), Source::Constant(b)) => self.tape.constant(a * b),
-            (Source::Constant(a), _) => self.tape.keep(a * o.at(k)),
-            (_, Source::Constant(b)) => self.tape.keep(self.at(k) * b),
-            _ => self.tape.keep(self.cauchy_row(&o, k)),
+            (Source::Constant(a), Source::Constant(b)) => tape.constant(a * b),
+            (Source::Constant(c), _) => tape.value(c * o.now()),
+            (_, Source::Constant(c)) => tape.value(self.now() * c),
+            _ => {
+                let (a, b) = (self.base(), o.base());
+                if tape.limit.is_some() {
+                    return tape.value(J::splat(0.0));
+                }
+                tape.value(tape.cauchy_row(a, b))
+            }
+        }
+    }
+}
+impl<'t, 'a, J: Jet> Div for Row<'t, 'a, J> {
+    type Output = Self;
+    /// By a constant, a scaling by its reciprocal; by an intermediate d, the quotient's row k from
+    /// d's rows and its own (kept): q_k = (n_k − Σ_{j=1..k} d_j q_{k−j})/d₀.
+    #[inline(always)]
+    fn div(self, o: Self) -> Self {
+        let tape = self.tape;
+        match o.source {
+            Source::Constant(c) => self * tape.constant(J::splat(1.0) / c),
+            _ => {
+                let (n, d) = (self.now(), o.base());
+                let q = tape.reserve();
+                tape.write(q, || {
+                    quotient_coefficient_by(n, |j| tape.base_at(d, j), |j| tape.kept(q, j), tape.k)
+                });
+                tape.row(Source::Plain(Base::Kept(q)))
+            }
         }
     }
 }
@@ -412,7 +583,63 @@ impl<'t, 'a, J: Jet> Mul<f64> for Row<'t, 'a, J> {
         self * self.tape.constant(J::splat(c))
     }
 }
-impl<J: Jet> Num for Row<'_, '_, J> {}
+impl<J: Jet> Num for Row<'_, '_, J> {
+    /// tanh u by its recurrence from u's rows (kept) and tanh²'s (kept beside tanh's); on a pass of
+    /// the step rules, [`tanh_step_limit`] on those rows.
+    #[inline(always)]
+    fn tanh(self, scale: Self) -> Self {
+        let tape = self.tape;
+        if let Source::Constant(c) = self.source {
+            return tape.constant(c.map(f64::tanh));
+        }
+        assert!(
+            tape.limits_steps,
+            "a law that calls tanh sets Law::LIMITS_STEPS"
+        );
+        let u = self.scratch();
+        let (t, sq) = (tape.reserve(), tape.reserve());
+        if let Some(l) = &tape.limit {
+            let o = l.order;
+            let (u, sq) = (tape.read(u, o), tape.read(sq, o));
+            let a = tape.amplitude(scale.source);
+            l.h.set(tanh_step_limit(u, sq, o, l.h.get(), a, l.negligible));
+        } else {
+            let k = tape.k;
+            tape.write(t, || {
+                tanh_coefficient_by(|j| tape.kept(u, j), |j| tape.kept(sq, j), k)
+            });
+            tape.write(sq, || square_by(|j| tape.kept(t, j), k));
+        }
+        tape.row(Source::Plain(Base::Kept(t)))
+    }
+    /// e^u by its recurrence from u's rows (kept) and its own (kept); on a pass of the step rules,
+    /// [`exp_step_limit`] on those rows.
+    #[inline(always)]
+    fn exp(self, scale: Self) -> Self {
+        let tape = self.tape;
+        if let Source::Constant(c) = self.source {
+            return tape.constant(c.map(f64::exp));
+        }
+        assert!(
+            tape.limits_steps,
+            "a law that calls exp sets Law::LIMITS_STEPS"
+        );
+        let u = self.scratch();
+        let e = tape.reserve();
+        if let Some(l) = &tape.limit {
+            let o = l.order;
+            let (u, e) = (tape.read(u, o), tape.read(e, o));
+            let a = tape.amplitude(scale.source);
+            l.h.set(exp_step_limit(u, e, o, l.h.get(), a, l.negligible));
+        } else {
+            let k = tape.k;
+            tape.write(e, || {
+                exp_coefficient_by(|j| tape.kept(u, j), |j| tape.kept(e, j), k)
+            });
+        }
+        tape.row(Source::Plain(Base::Kept(e)))
+    }
+}
 
 /// The term a [`Law`] declares: its parameter values and the piece it is on. Every [`Term`]
 /// item is derived from the law.
@@ -423,7 +650,27 @@ pub struct Declared<L> {
     law: PhantomData<L>,
 }
 
+/// The law with its parameters' defaults.
+impl<L: Law> Default for Declared<L> {
+    fn default() -> Self {
+        let defaults: Vec<f64> = L::PARAMS.iter().map(|p| p.default).collect();
+        Declared::from_values(&defaults)
+    }
+}
+
 impl<L: Law> Declared<L> {
+    /// Its `N` parameter values as an array (`N` the law's count of parameters).
+    pub fn array<const N: usize>(&self) -> [f64; N] {
+        debug_assert_eq!(
+            N,
+            L::PARAMS.len(),
+            "{} has {} parameters",
+            L::KIND,
+            L::PARAMS.len()
+        );
+        std::array::from_fn(|i| self.values[i])
+    }
+
     /// The parameters as numbers of kind `N` (`wrap` of each value).
     #[inline(always)]
     fn params<N>(&self, wrap: impl Fn(usize, f64) -> N) -> [N; MAX_PARAMS] {
@@ -483,7 +730,27 @@ impl<L: Law> Declared<L> {
         xvz: [&[J]; 3],
         rows: &mut [[J; MAX_ROWS]],
     ) -> J {
-        let tape = Tape::new(k, xvz, rows, rate);
+        let first = if rate { rows.len() } else { 0 };
+        let tape = Tape {
+            k,
+            series: xvz,
+            rows: Store::Write(Cell::from_mut(rows.as_flattened_mut()).as_slice_of_cells()),
+            next: Cell::new(first),
+            down: rate,
+            limit: None,
+            limits_steps: L::LIMITS_STEPS,
+        };
+        Self::replay(&tape, values, signs, rate).now()
+    }
+
+    /// The torque (or with `rate` the state's rate) over `tape`'s numbers.
+    #[inline(always)]
+    fn replay<'t, 'a, J: Jet>(
+        tape: &'t Tape<'a, J>,
+        values: &[J],
+        signs: [J; 2],
+        rate: bool,
+    ) -> Row<'t, 'a, J> {
         let p: [Row<'_, '_, J>; MAX_PARAMS] = std::array::from_fn(|i| tape.constant(values[i]));
         let (s, p) = (tape.vars(signs), &p[..L::PARAMS.len()]);
         if rate {
@@ -491,7 +758,41 @@ impl<L: Law> Declared<L> {
         } else {
             L::torque(&s, p)
         }
-        .at(k)
+    }
+
+    /// The longest step, at most `h`, that the step rules of the law's tanh and exp allow over
+    /// the rows 0..=`order` a step computed in `rows` (the torque's and the state's rate's).
+    #[inline(always)]
+    fn limit_of<J: Jet>(
+        values: &[J],
+        rows: &[[J; MAX_ROWS]],
+        order: usize,
+        h: J,
+        negligible: J,
+    ) -> J {
+        let mut h = h;
+        for rate in [false, true] {
+            if rate && L::STATE.is_none() {
+                break;
+            }
+            let tape = Tape {
+                k: order,
+                series: [&[]; 3],
+                rows: Store::Read(rows.as_flattened()),
+                next: Cell::new(if rate { rows.len() } else { 0 }),
+                down: rate,
+                limit: Some(Limit {
+                    order,
+                    negligible,
+                    h: Cell::new(h),
+                }),
+                limits_steps: L::LIMITS_STEPS,
+            };
+            // the signs pick no scratch rows
+            Self::replay(&tape, values, [J::splat(1.0); 2], rate);
+            h = tape.limit.map_or(h, |l| l.h.get());
+        }
+        h
     }
 
     /// The piece's signs on lanes: each fixed sign, else the sign of the series' row 0.
@@ -513,6 +814,20 @@ impl<L: Law> Term for Declared<L> {
     const SWITCHES_AT_REST: bool = L::SWITCHES_AT_REST;
     const SWITCHES_AT_ZERO_STATE: bool = L::SWITCHES_AT_ZERO_STATE;
     const ON_LANES: bool = true;
+    const LIMITS_STEPS: bool = L::LIMITS_STEPS;
+    fn step_limit(&self, rows: &Scratch, order: usize, h: f64, negligible: f64) -> f64 {
+        Self::limit_of(&self.values, &rows.0, order, h, negligible)
+    }
+    #[inline(always)]
+    fn step_limit_lanes(
+        values: &[Lanes],
+        rows: &LaneRows,
+        order: usize,
+        h: Lanes,
+        negligible: Lanes,
+    ) -> Lanes {
+        Self::limit_of(values, rows, order, h, negligible)
+    }
 
     fn from_values(values: &[f64]) -> Self {
         let mut v = [0.0; MAX_PARAMS];
@@ -621,5 +936,8 @@ impl<L: Law> Term for Declared<L> {
     }
     fn directed(self, side: Side) -> Self {
         Declared { side, ..self }
+    }
+    fn state_at_rest(&self, x: f64) -> f64 {
+        L::state_at_rest(x, self.values())
     }
 }

@@ -90,7 +90,7 @@ impl Elastic {
     fn roots(&self) -> ([f64; 3], usize) {
         match self {
             Elastic::Stiffness(s) => {
-                let [alpha, gamma, eps] = s.0;
+                let [alpha, gamma, eps] = s.array();
                 let p = crate::Params {
                     alpha,
                     gamma,

@@ -1,67 +1,52 @@
-//! The study's own two terms: the unit damping x' and the cubic stiffness
-//! αx³ − x² + γ(x − ε), the model every study command starts from.
+//! The study's own two terms, declared ([`super::law`]): the unit damping x' and the cubic
+//! stiffness αx³ − x² + γ(x − ε), the model every study command starts from.
 
-use super::jet::{Jet, Lanes};
-use super::term::{Domain, LaneRows, ParamInfo, Scratch, Term, cubic_row, cubic_taylor};
+use super::law::{Declared, Law, Num, Vars};
+use super::term::{Domain, ParamInfo};
 use crate::params::Param;
-use serde::Serialize;
 
 /// Unit linear damping x' (the dimensionless time scale makes its coefficient 1).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
-pub struct Damping([f64; 0]);
+///
+/// ```
+/// use hdgear::model::terms::{Damping, Term};
+/// assert_eq!(Damping::default().torque(0.3, -2.0, 0.0), -2.0);
+/// ```
+pub type Damping = Declared<DampingLaw>;
 
-impl Term for Damping {
+/// [`Damping`]'s law.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DampingLaw;
+
+impl Law for DampingLaw {
     const KIND: &'static str = "damping";
     const ABOUT: &'static str = "unit linear damping x' (the time scale makes it 1)";
-    const ON_LANES: bool = true;
     const PARAMS: &'static [ParamInfo] = &[];
-    fn from_values(_: &[f64]) -> Self {
-        Damping([])
-    }
-    fn values(&self) -> &[f64] {
-        &self.0
-    }
-    fn torque(&self, _x: f64, v: f64, _z: f64) -> f64 {
-        v
-    }
-    fn gradient(&self, _x: f64, _v: f64, _z: f64) -> [f64; 3] {
-        [0.0, 1.0, 0.0]
-    }
-    fn param_derivative(&self, _i: usize, _x: f64, _v: f64, _z: f64) -> f64 {
-        0.0
-    }
+    const TEXT: &'static str = " + x'";
+    const LATEX: &'static str = r" + \dot x";
     #[inline(always)]
-    fn taylor(&self, k: usize, _x: &[f64], v: &[f64], _z: &[f64], _rows: &mut Scratch) -> f64 {
-        v[k]
-    }
-    #[inline(always)]
-    fn taylor_lanes(
-        _: &[Lanes],
-        k: usize,
-        _x: &[Lanes],
-        v: &[Lanes],
-        _z: &[Lanes],
-        _: &mut LaneRows,
-    ) -> Option<Lanes> {
-        Some(v[k])
-    }
-    fn text(&self) -> String {
-        " + x'".into()
-    }
-    fn latex(&self) -> String {
-        r" + \dot x".into()
+    fn torque<N: Num>(s: &Vars<N>, _p: &[N]) -> N {
+        s.v
     }
 }
 
 /// The study's stiffness g(x) = αx³ − x² + γ(x − ε): the flexspline's cubic hardening, the
 /// quadratic of the tooth contact and the linear stiffness with its backlash offset.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct Stiffness(pub [f64; 3]);
+///
+/// ```
+/// use hdgear::model::terms::{Stiffness, Term};
+/// let g = Stiffness::from_values(&[16.0, 0.1, 0.71]);
+/// assert!((g.torque(0.5, 0.0, 0.0) - (2.0 - 0.25 + 0.1 * (0.5 - 0.71))).abs() < 1e-15);
+/// assert_eq!(g.array(), [16.0, 0.1, 0.71]);
+/// ```
+pub type Stiffness = Declared<StiffnessLaw>;
 
-impl Term for Stiffness {
+/// [`Stiffness`]'s law.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StiffnessLaw;
+
+impl Law for StiffnessLaw {
     const KIND: &'static str = "stiffness";
     const ABOUT: &'static str = "cubic stiffness with backlash offset, αx³ − x² + γ(x − ε)";
-    const ON_LANES: bool = true;
     const PARAMS: &'static [ParamInfo] = &[
         ParamInfo {
             name: Param::Alpha.name(),
@@ -91,29 +76,12 @@ impl Term for Stiffness {
             si: "k2·φ²·J_eq/C²",
         },
     ];
-    fn from_values(v: &[f64]) -> Self {
-        Stiffness([v[0], v[1], v[2]])
-    }
-    fn values(&self) -> &[f64] {
-        &self.0
-    }
-    fn torque(&self, x: f64, _v: f64, _z: f64) -> f64 {
-        let [alpha, gamma, eps] = self.0;
-        (alpha * x - 1.0) * x * x + gamma * (x - eps)
-    }
-    fn gradient(&self, x: f64, _v: f64, _z: f64) -> [f64; 3] {
-        let [alpha, gamma, _] = self.0;
-        [(3.0 * alpha * x - 2.0) * x + gamma, 0.0, 0.0]
-    }
-    fn param_derivative(&self, i: usize, x: f64, _v: f64, _z: f64) -> f64 {
-        let [_, gamma, eps] = self.0;
-        [x * x * x, x - eps, -gamma][i]
-    }
-    cubic_taylor!(|[alpha, gamma, eps]| [alpha, J::splat(-1.0), gamma, -(gamma * eps)]);
-    fn text(&self) -> String {
-        " + αx³ − x² + γ(x − ε)".into()
-    }
-    fn latex(&self) -> String {
-        r" + \alpha x^3 - x^2 + \gamma (x - \varepsilon)".into()
+    const TEXT: &'static str = " + αx³ − x² + γ(x − ε)";
+    const LATEX: &'static str = r" + \alpha x^3 - x^2 + \gamma (x - \varepsilon)";
+    /// Written as α·x²·x − x² + (γx − γε), the cube by one square and one product.
+    #[inline(always)]
+    fn torque<N: Num>(s: &Vars<N>, p: &[N]) -> N {
+        let x2 = s.x * s.x;
+        p[0] * (x2 * s.x) - x2 + (p[1] * s.x - p[1] * p[2])
     }
 }

@@ -4,7 +4,7 @@
 //! has is [`super::terms::AnyTerm`].
 
 pub use super::jet::MAX_ROWS;
-use super::jet::{Jet, Lanes, cauchy, square_coefficient};
+use super::jet::{Jet, Lanes};
 use super::relation::Relation;
 use crate::error::{Error, Result};
 use serde::Serialize;
@@ -326,52 +326,3 @@ pub trait Term: Copy {
         None
     }
 }
-
-/// Row k of a static cubic torque c₃x³ + c₂x² + c₁x + c₀ on any [`Jet`]: (x²)_k by its
-/// symmetric Cauchy sum into row 0, (x³)_k = Σ (x²)_j x_{k−j}, the constant in row 0 only.
-#[inline(always)]
-pub(crate) fn cubic_row<J: Jet>(
-    [c3, c2, c1, c0]: [J; 4],
-    k: usize,
-    x: &[J],
-    rows: &mut [[J; MAX_ROWS]; crate::integrate::taylor::SCRATCH_ROWS],
-) -> J {
-    let sq = &mut rows[0];
-    sq[k] = square_coefficient(x, k);
-    let cube = cauchy(sq, x, k);
-    let linear = c1 * x[k] + if k == 0 { c0 } else { J::splat(0.0) };
-    c3 * cube + c2 * sq[k] + linear
-}
-
-/// [`Term::taylor`] and [`Term::taylor_lanes`] of a term whose torque is a static cubic in x:
-/// `$coefficients` maps the term's three values to [c₃, c₂, c₁, c₀] on any [`Jet`] `J`, and
-/// both methods run one recurrence, [`cubic_row`].
-macro_rules! cubic_taylor {
-    (|$values:pat_param| $coefficients:expr) => {
-        #[inline(always)]
-        fn taylor(&self, k: usize, x: &[f64], _v: &[f64], _z: &[f64], rows: &mut Scratch) -> f64 {
-            #[inline(always)]
-            fn coefficients<J: Jet>($values: [J; 3]) -> [J; 4] {
-                $coefficients
-            }
-            cubic_row(coefficients(self.0), k, x, &mut rows.0)
-        }
-        #[inline(always)]
-        fn taylor_lanes(
-            values: &[Lanes],
-            k: usize,
-            x: &[Lanes],
-            _v: &[Lanes],
-            _z: &[Lanes],
-            rows: &mut LaneRows,
-        ) -> Option<Lanes> {
-            #[inline(always)]
-            fn coefficients<J: Jet>($values: [J; 3]) -> [J; 4] {
-                $coefficients
-            }
-            let c = coefficients([values[0], values[1], values[2]]);
-            Some(cubic_row(c, k, x, rows))
-        }
-    };
-}
-pub(crate) use cubic_taylor;

@@ -35,7 +35,7 @@ impl Model {
     /// stiffness's α, γ, ε and its forcing's μ, δ, ω; `None` without the study's stiffness.
     pub fn study_set(&self) -> Option<Params> {
         let [alpha, gamma, eps] = self.terms().find_map(|t| match t {
-            AnyTerm::Stiffness(s) => Some(s.0),
+            AnyTerm::Stiffness(s) => Some(s.array()),
             _ => None,
         })?;
         Some(self.set_with([alpha, gamma, eps]))
