@@ -13,23 +13,15 @@
 //! Usage: `cargo run --profile dist --example term_costs [REPS [KIND]]` (default 20 repetitions,
 //! every kind).
 
-use hdgear::Params;
-use hdgear::batch::LANES;
-use hdgear::integrate::{Options, Stats, Stepper, System, stepper};
+use hdgear::integrate::{Options, Stats, System, stepper};
 use hdgear::model::switching::{Pieces, Switching};
 use hdgear::model::terms::AnyTerm;
-use hdgear::model::{Dimensionless, Model, integrate_models, integrate_switching_models};
-use std::time::Instant;
+use hdgear::model::{Dimensionless, Model};
 
-/// The study's model where it slips and sticks under friction (as `time_terms`).
-const PARAMS: Params = Params {
-    alpha: 16.0,
-    gamma: 0.1,
-    eps: 0.71,
-    mu: 0.07,
-    delta: 1.0,
-    omega: 0.5,
-};
+#[path = "common/timing.rs"]
+mod timing;
+use timing::{PARAMS, batch_time, time};
+
 /// The span of each run.
 const T_END: f64 = 60.0;
 /// The tolerance of each run (rtol = atol).
@@ -47,7 +39,9 @@ fn main() {
     println!("| model | steps | ns per step | ns per lane-step (16 lanes) |");
     println!("|---|---|---|---|");
     let floor = Dimensionless::new(PARAMS);
-    let (t, st) = scalar(reps, || stepper(&floor, 0.0, [0.0; 2], o));
+    let (t, _, st) = time(reps, T_END, || {
+        stepper(&floor, 0.0, [0.0; 2], o).expect("valid options")
+    });
     row(
         "the study's hand-scheduled recurrence (the floor)",
         t,
@@ -98,66 +92,26 @@ fn row(label: &str, seconds: f64, st: Stats, lane_step: Option<(f64, bool)>) {
     println!("| {label} | {} | {per_step:.0} | {lanes} |", st.steps);
 }
 
-/// The best time per run of `m` from rest, by the stepper its commands take.
+/// The best time per run of `m` from rest, by the stepper its commands take, with its work.
 fn one<const N: usize>(reps: u32, m: &Model, o: Options) -> (f64, Stats)
 where
     Model: System<N>,
 {
-    match Pieces::new(m) {
-        Some(p) => scalar(reps, || Switching::<N>::new(&p, 0.0, [0.0; N], o)),
-        None => scalar(reps, || stepper(m, 0.0, [0.0; N], o)),
-    }
-}
-
-/// The best time per run of the stepper `start` makes, to [`T_END`], with its work.
-fn scalar<const N: usize, S: Stepper<N>, E: std::fmt::Debug>(
-    reps: u32,
-    start: impl Fn() -> Result<S, E>,
-) -> (f64, Stats) {
-    let run = || {
-        let mut s = start().expect("valid options");
-        while s.t() < T_END {
-            s.step(T_END).expect("the run completes");
-        }
-        s.stats()
+    let (best, _, st) = match Pieces::new(m) {
+        Some(p) => time(reps, T_END, || {
+            Switching::<N>::new(&p, 0.0, [0.0; N], o).expect("valid options")
+        }),
+        None => time(reps, T_END, || {
+            stepper(m, 0.0, [0.0; N], o).expect("valid options")
+        }),
     };
-    let mut stats = run();
-    let best = best_per_run(reps, || stats = std::hint::black_box(run()));
-    (best, stats)
+    (best, st)
 }
 
-/// The best time per lane-step of [`LANES`] copies of `m` on the lanes, taking `steps` steps
+/// The best time per lane-step of 16 copies of `m` on the lanes, taking `steps` steps
 /// each (a lane takes its scalar run's steps), and whether its passes ran on vector lanes (else
 /// the lanes' scalar passes interleaved: a term with no copy on lanes).
 fn lanes<const N: usize>(reps: u32, m: &Model, o: Options, steps: u64) -> (f64, bool) {
     let vector = m.terms().all(|t| t.on_lanes());
-    let models = [*m; LANES];
-    let spans = [(T_END, T_END); LANES];
-    let starts = [[0.0; N]; LANES];
-    let run = || {
-        let ends = if m.switches() {
-            integrate_switching_models::<N>(&models, &starts, &spans, o, |_, _| {})
-        } else {
-            integrate_models::<N>(&models, &starts, &spans, o, |_, _| {})
-        };
-        ends.expect("valid input")
-    };
-    let best = best_per_run(reps, || {
-        std::hint::black_box(run());
-    });
-    (best / (LANES as f64 * steps as f64), vector)
-}
-
-/// The best time per call of `once` over 5 batches of `reps` calls (the least-disturbed
-/// estimate on a shared machine).
-fn best_per_run(reps: u32, mut once: impl FnMut()) -> f64 {
-    let mut best = f64::INFINITY;
-    for _ in 0..5 {
-        let t0 = Instant::now();
-        for _ in 0..reps {
-            once();
-        }
-        best = best.min(t0.elapsed().as_secs_f64() / f64::from(reps));
-    }
-    best
+    (batch_time::<N>(reps, T_END, m, o) / steps as f64, vector)
 }
