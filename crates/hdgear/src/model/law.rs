@@ -653,8 +653,11 @@ pub struct Declared<L> {
 /// The law with its parameters' defaults.
 impl<L: Law> Default for Declared<L> {
     fn default() -> Self {
-        let defaults: Vec<f64> = L::PARAMS.iter().map(|p| p.default).collect();
-        Declared::from_values(&defaults)
+        Declared {
+            values: std::array::from_fn(|i| L::PARAMS.get(i).map_or(0.0, |p| p.default)),
+            side: Side::default(),
+            law: PhantomData,
+        }
     }
 }
 
