@@ -40,6 +40,9 @@
 //! ```
 #![warn(missing_docs)]
 
+// `#[derive(Record)]` names the crate `::hdgear`, inside it as outside
+extern crate self as hdgear;
+
 pub mod batch;
 pub mod burst;
 pub mod control;

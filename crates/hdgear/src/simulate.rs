@@ -77,7 +77,7 @@ impl Default for SimOptions {
 }
 
 /// One sample of a trajectory in the plane: the columns `t,x,xdot`.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, crate::output::Record)]
 pub struct StateSample {
     /// τ.
     pub t: f64,
@@ -86,7 +86,6 @@ pub struct StateSample {
     /// x'.
     pub xdot: f64,
 }
-crate::record!(StateSample: "t", "x", "xdot");
 
 impl From<[f64; 3]> for StateSample {
     /// (τ, x, x') as an orbit's samples hold them.

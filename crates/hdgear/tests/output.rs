@@ -5,7 +5,35 @@ use hdgear::Params;
 use hdgear::output::{AtomicFile, Format, Record, RecordWriter};
 use std::io::Write;
 
-/// The header serde/csv would derive from an instance.
+/// The names serde writes for an instance, in order, a nested struct's in its place (as csv
+/// writes its values; csv itself writes no header for a nested struct): the keys of its JSON
+/// text whose values are not objects, read off the text in the order serde wrote them.
+fn serde_names<T: serde::Serialize>(v: &T) -> Vec<String> {
+    let text = serde_json::to_string(v).unwrap();
+    let (mut names, mut chars) = (Vec::new(), text.chars().peekable());
+    while let Some(c) = chars.next() {
+        if c != '"' {
+            continue;
+        }
+        let mut s = String::new();
+        while let Some(c) = chars.next() {
+            match c {
+                '\\' => s.push(chars.next().unwrap()),
+                '"' => break,
+                c => s.push(c),
+            }
+        }
+        if chars.peek() == Some(&':') {
+            chars.next();
+            if chars.peek() != Some(&'{') {
+                names.push(s);
+            }
+        }
+    }
+    names
+}
+
+/// The header serde and csv derive from an instance of a flat row.
 fn serde_header<T: serde::Serialize>(v: &T) -> String {
     let mut w = csv::Writer::from_writer(Vec::new());
     w.serialize(v).unwrap();
@@ -13,8 +41,13 @@ fn serde_header<T: serde::Serialize>(v: &T) -> String {
     text.lines().next().unwrap().to_string()
 }
 
+/// A record's columns are the names serde writes; a flat row's also the header csv writes.
 fn check<T: Record>(v: &T) {
-    assert_eq!(serde_header(v), T::COLUMNS.join(","));
+    assert_eq!(serde_names(v), T::COLUMNS);
+    let nested = T::COLUMNS.len() != serde_json::to_value(v).unwrap().as_object().unwrap().len();
+    if !nested {
+        assert_eq!(serde_header(v), T::COLUMNS.join(","));
+    }
 }
 
 #[test]
@@ -24,6 +57,59 @@ fn record_columns_match_the_fields() {
     check(&hdgear::fast::fold_curves(&p, 0.0, 2).unwrap()[0]);
     let r = hdgear::burst::response(&p, &Default::default()).unwrap();
     check(&r.bursts[0]);
+    check(&p);
+    assert_eq!(Params::COLUMNS, hdgear::params::Param::NAMES);
+    check(&hdgear::simulate::StateSample::from([0.5, 1.0, -2.0]));
+    // a point whose exponent failed: the row's columns are the same
+    check(&hdgear::periodic::LyapunovRow {
+        index: 3,
+        params: p,
+        lyapunov: f64::NAN,
+        period: None,
+        error: "no exponent".into(),
+    });
+}
+
+/// What `#[derive(Record)]` reads of a struct, held to the header serde and csv write for it:
+/// renamed and skipped fields, raw identifiers, nested records (csv writes their fields in
+/// place), a type parameter at its default, a borrowed field.
+#[test]
+fn the_derived_columns_are_the_header_serde_writes() {
+    #[derive(serde::Serialize, Record)]
+    struct Inner {
+        #[serde(rename = "inner_a")]
+        a: f64,
+        b: u32,
+    }
+    #[derive(serde::Serialize, Record)]
+    struct Row<'a, V = Inner> {
+        r#type: &'a str,
+        #[serde(skip)]
+        _hidden: f64,
+        #[record(nested)]
+        first: V,
+        #[serde(rename = "middle")]
+        m: Option<f64>,
+        #[record(nested)]
+        second: Params,
+        last: bool,
+    }
+    let row = Row {
+        r#type: "fold",
+        _hidden: 1.0,
+        first: Inner { a: 1.0, b: 2 },
+        m: None,
+        second: Params::default(),
+        last: true,
+    };
+    assert_eq!(
+        Row::COLUMNS,
+        [
+            "type", "inner_a", "b", "middle", "alpha", "gamma", "eps", "mu", "delta", "omega",
+            "last"
+        ]
+    );
+    check(&row);
 }
 
 /// Leaf keys of a JSON object, nested objects opened (sorted: `Value` keeps no order).
@@ -148,7 +234,7 @@ fn is_name_definition(line: &str) -> bool {
 #[test]
 fn the_study_s_parameter_names_are_written_only_where_they_are_defined() {
     // the scan flags a restated name and passes a definition
-    let planted = "crate::record!(Row: \"index\", \"gamma\", \"mode\");\n// \"gamma\" in a comment";
+    let planted = "const COLUMNS: &[&str] = &[\"index\", \"gamma\"];\n// \"gamma\" in a comment";
     assert_eq!(name_literals(planted).len(), 1);
     assert!(!is_name_definition(name_literals(planted)[0]));
     assert!(is_name_definition("            Param::Gamma => \"gamma\","));

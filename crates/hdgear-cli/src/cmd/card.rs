@@ -196,7 +196,7 @@ struct Checked {
 }
 
 /// One row of `hdgear card map`.
-#[derive(serde::Serialize)]
+#[derive(serde::Serialize, hdgear::output::Record)]
 struct MapRow {
     t_am_nm: f64,
     frequency_hz: f64,
@@ -228,12 +228,6 @@ struct MapRow {
     /// As `computed`, for the held drive's verdict.
     held_computed: bool,
 }
-hdgear::record!(
-    MapRow: "t_am_nm", "frequency_hz", "bursting", "verdict", "basis", "fast_slow_domain",
-    "friction_bursting", "friction_verdict", "catalogue_bursting", "catalogue_verdict", "computed",
-    "friction_computed", "catalogue_computed", "held_bursting", "held_verdict",
-    "held_fast_slow_domain", "held_computed"
-);
 
 /// The metadata of `hdgear card map`'s table.
 #[derive(serde::Serialize)]

@@ -39,7 +39,7 @@ pub struct OrbitDiagramArgs {
 }
 
 /// One section point: the columns of the output.
-#[derive(Serialize)]
+#[derive(Serialize, hdgear::output::Record)]
 struct Row {
     sweep: &'static str,
     param: f64,
@@ -48,7 +48,6 @@ struct Row {
     x: f64,
     xdot: f64,
 }
-hdgear::record!(Row: "sweep", "param", "period", "lyapunov", "x", "xdot");
 
 #[derive(Serialize)]
 struct Meta<'a, S, P> {

@@ -342,7 +342,7 @@ fn simulate(a: &PhysicalArgs, sys: &Physical, tol: hdgear::integrate::Options) -
 }
 
 /// One point of a drive's frequency-response curve: the columns of `--frequency-response --out`.
-#[derive(serde::Serialize)]
+#[derive(serde::Serialize, hdgear::output::Record)]
 struct ResponseRow {
     frequency_hz: f64,
     omega_rad_s: f64,
@@ -355,10 +355,6 @@ struct ResponseRow {
     stable: bool,
     special: &'static str,
 }
-hdgear::record!(
-    ResponseRow: "frequency_hz", "omega_rad_s", "twist_min", "twist_max", "twist_peak_to_peak",
-    "max_twist_rate", "torque_min", "torque_max", "stable", "special"
-);
 
 fn frequency_response(a: &PhysicalArgs, d: &hdgear::physical::PhysicalParams) -> Result<()> {
     use hdgear::periodic::{ContinuationOptions, Special, physical_frequency_response};

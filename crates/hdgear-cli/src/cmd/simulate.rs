@@ -125,7 +125,13 @@ struct Sample<'a> {
     dim: usize,
     states: &'a [&'static str],
 }
-hdgear::record!(Sample<'_>: "t", "a", "x", "xdot");
+
+/// The columns every trajectory has, which the `Serialize` below writes; the model's own states
+/// follow them (its columns are known at run time, so this row's serialisation is written here,
+/// not derived).
+impl Record for Sample<'_> {
+    const COLUMNS: &'static [&'static str] = &["t", "a", "x", "xdot"];
+}
 
 impl Serialize for Sample<'_> {
     fn serialize<S: serde::Serializer>(&self, s: S) -> std::result::Result<S::Ok, S::Error> {

@@ -171,7 +171,7 @@ impl BurstOptions {
 }
 
 /// One burst: a group of events with at least one signature.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, crate::output::Record)]
 pub struct Burst {
     /// Last time before the pulse at which |x'| was below half the pulse.
     pub onset: f64,
@@ -258,7 +258,7 @@ pub struct Measures {
 }
 
 /// A response's burst statistics over its window: what a sweep row reports of it.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, crate::output::Record)]
 pub struct Rates {
     /// Bursts whose pulse lies in the window, per slow period; `None` when the fast motion never
     /// stops ([`Response::continuous_fast_motion`]) or the point failed.
@@ -635,5 +635,3 @@ impl BurstsSetup {
         }
     }
 }
-
-crate::record!(Burst: "onset", "end", "a_onset", "duration", "t_peak", "a_peak", "peak_abs_xdot", "spikes", "extrema", "ringing_swing", "overshoot", "overshoot_lobes", "jumps", "complete");

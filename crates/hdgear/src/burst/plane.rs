@@ -361,7 +361,7 @@ pub struct PlaneCurve<A = Param> {
 }
 
 /// A point of a boundary curve as a row of its output file.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, crate::output::Record)]
 pub struct PlaneRow {
     /// Index of the curve.
     pub curve: usize,
@@ -380,9 +380,6 @@ pub struct PlaneRow {
     /// λ₂ there.
     pub inside2: f64,
 }
-crate::record!(
-    PlaneRow: "curve", "kind", "param1", "param2", "outside1", "outside2", "inside1", "inside2"
-);
 
 impl PlaneRow {
     /// The rows of curve number `i`.

@@ -427,7 +427,7 @@ pub fn analyze(p: &Params, a_range: (f64, f64)) -> Result<Analysis> {
 
 /// One row of the two-parameter bifurcation set: the two folds at one γ < 1/(3α).
 /// `lower` is the fold at the smaller x (x−, where g has its local maximum: the larger a).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, crate::output::Record)]
 pub struct FoldRow {
     /// γ.
     pub gamma: f64,
@@ -501,8 +501,6 @@ pub fn fold_curves(p: &Params, gamma_min: f64, points: usize) -> Result<Vec<Fold
         })
         .collect()
 }
-
-crate::record!(FoldRow: Param::Gamma.name(), "a_lower", "x_lower", "a_upper", "x_upper");
 
 /// The fast subsystem's analysis of any equilibrium curve ([`super::StaticCurve`]): what
 /// `hdgear analyze` shows for a model assembled from terms, derived from its static torque g and

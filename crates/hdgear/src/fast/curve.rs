@@ -43,7 +43,7 @@ impl CurveBranch {
 }
 
 /// One point of the equilibrium curve: the columns of `hdgear equilibria`.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, crate::output::Record)]
 pub struct CurvePoint {
     /// Slow variable.
     pub a: f64,
@@ -304,5 +304,3 @@ fn sample_polyline<C: StaticCurve>(
         out.push(pt);
     }
 }
-
-crate::record!(CurvePoint: "a", "x", "slope", "gprime", "re1", "im1", "re2", "im2", "type", "branch");

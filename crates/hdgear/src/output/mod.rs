@@ -10,6 +10,8 @@ pub mod parquet;
 pub mod plot;
 pub mod zip;
 
+pub use hdgear_record::Record;
+
 use crate::error::{Error, Result};
 use std::fs::File;
 use std::io::{BufWriter, Write};
@@ -277,9 +279,23 @@ impl Format {
     }
 }
 
-/// A row type of a table: a `Serialize` struct with scalar fields, and its column names (the
-/// field names, in order; a test checks they match what serde writes), so that a CSV with no
-/// rows still has its header.
+/// A row type of a table: a `Serialize` struct with scalar fields, and its column names, so that
+/// a CSV with no rows still has its header. `#[derive(Record)]` writes them from the fields serde
+/// writes (a nested record's columns in its place, `#[record(nested)]`); a test holds them to
+/// serde's header.
+///
+/// ```
+/// use hdgear::output::Record;
+/// #[derive(serde::Serialize, Record)]
+/// struct Row {
+///     t: f64,
+///     #[serde(rename = "xdot")]
+///     v: f64,
+///     #[record(nested)]
+///     params: hdgear::Params,
+/// }
+/// assert_eq!(Row::COLUMNS, ["t", "xdot", "alpha", "gamma", "eps", "mu", "delta", "omega"]);
+/// ```
 pub trait Record: serde::Serialize {
     /// Column names, in field order.
     const COLUMNS: &'static [&'static str];
@@ -400,7 +416,7 @@ impl<W: Write + Send, T: serde::Serialize> RecordWriter<W, T> {
 }
 
 /// The column names of `parts`, in order, as one array of `N` names (`N` their total count,
-/// [`column_count`]): how [`crate::record!`] splices a list of names into a row's columns at compile
+/// [`column_count`]): how `#[derive(Record)]` splices its fields and nested records into a row's columns at compile
 /// time.
 pub const fn join_columns<const N: usize>(parts: &[&[&'static str]]) -> [&'static str; N] {
     let mut out = [""; N];
@@ -425,27 +441,4 @@ pub const fn column_count(parts: &[&[&str]]) -> usize {
         p += 1;
     }
     n
-}
-
-/// Implements [`Record`] for a type with the given column names (constant expressions, so a
-/// column can be a name the library defines elsewhere). In a list of literals, `..NAMES` splices
-/// in the constant array of names at the path `NAMES` (a row's flattened parameter set: its
-/// columns are the parameters' names, listed once where the parameters are defined).
-#[macro_export]
-macro_rules! record {
-    ($t:ty: $($pre:literal,)* ..$names:path $(, $post:literal)* $(,)?) => {
-        impl $crate::output::Record for $t {
-            const COLUMNS: &'static [&'static str] = {
-                const PARTS: &[&[&str]] = &[&[$($pre),*], &$names, &[$($post),*]];
-                const COLUMNS: [&str; $crate::output::column_count(PARTS)] =
-                    $crate::output::join_columns(PARTS);
-                &COLUMNS
-            };
-        }
-    };
-    ($t:ty: $($c:expr),+ $(,)?) => {
-        impl $crate::output::Record for $t {
-            const COLUMNS: &'static [&'static str] = &[$($c),+];
-        }
-    };
 }

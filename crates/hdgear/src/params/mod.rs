@@ -15,7 +15,7 @@ use std::fmt;
 /// x'' + x' + α x³ − x² + γ (x − ε) = μ + δ sin(ω τ).
 ///
 /// The default is the study's point with γ = 0.1 (pronounced bursting).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize, crate::output::Record)]
 pub struct Params {
     /// α > 0: cubic stiffness (what confines the motion).
     pub alpha: f64,
@@ -75,7 +75,7 @@ impl Param {
     ];
 
     /// The six names in [`Param::ALL`]'s order: the columns of every table row that carries a
-    /// parameter set ([`crate::record!`]'s `..Param::NAMES`).
+    /// parameter set (the fields of [`Params`], held to these by a test).
     pub const NAMES: [&'static str; 6] = {
         let mut names = [""; 6];
         let mut i = 0;

@@ -200,7 +200,7 @@ impl<P> OrbitBranch<P> {
 
 /// One row of a branch table (`hdgear continue --out`): the branch's index (0 the branch asked
 /// for, 1, 2, … the doubled branches), its subharmonic, and the point.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, crate::output::Record)]
 pub struct BranchRow {
     /// Index of the branch.
     pub branch: usize,
@@ -235,11 +235,6 @@ pub struct BranchRow {
     /// At a period doubling, its normal-form coefficient (> 0 supercritical); empty elsewhere.
     pub flip_coefficient: Option<f64>,
 }
-crate::record!(
-    BranchRow: "branch", "subharmonic", "param", "x0", "xdot0", "x_min", "x_max",
-    "peak_to_peak", "max_abs_xdot", "ln_abs_m1", "arg_m1", "ln_abs_m2", "arg_m2", "stable",
-    "special", "flip_coefficient"
-);
 
 impl BranchRow {
     /// The row of point `q` of branch number `branch` with subharmonic `k`.

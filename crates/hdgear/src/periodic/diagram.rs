@@ -219,12 +219,13 @@ fn advance<O: Oscillator>(o: &O, y: [f64; 2], periods: u32, tol: Options) -> Res
 }
 
 /// One point of a Lyapunov map (`hdgear lyapunov-map`).
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, crate::output::Record)]
 pub struct LyapunovRow<V = crate::params::Params> {
     /// Grid index (first axis fastest).
     pub index: usize,
     /// The point's parameters (the study's six; a model's swept ones,
     /// [`crate::sweep::Values`]).
+    #[record(nested)]
     pub params: V,
     /// The largest Lyapunov exponent per unit τ (NaN when the point failed).
     pub lyapunov: f64,
@@ -233,10 +234,6 @@ pub struct LyapunovRow<V = crate::params::Params> {
     /// Empty, or the error that stopped this point.
     pub error: String,
 }
-crate::record!(
-    LyapunovRow: "index", ..crate::params::Param::NAMES, "lyapunov",
-    "period", "error"
-);
 
 /// The largest Lyapunov exponent at one parameter set: from the default start (the stable
 /// equilibrium at a = 0, at rest), `opts.discard` periods settle, `opts.record` periods give the

@@ -787,7 +787,7 @@ pub(super) fn tracer<'a, O: Oscillator>(
 }
 
 /// A point of a two-parameter curve as a row of its output file.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, crate::output::Record)]
 pub struct CurveRow {
     /// Index of the curve.
     pub curve: usize,
@@ -820,10 +820,6 @@ pub struct CurveRow {
     /// The period doubling's normal-form coefficient (period-doubling curves; empty on folds).
     pub flip_coefficient: Option<f64>,
 }
-crate::record!(
-    CurveRow: "curve", "kind", "subharmonic", "param1", "param2", "x0", "xdot0", "peak_to_peak",
-    "max_abs_xdot", "ln_abs_m1", "arg_m1", "ln_abs_m2", "arg_m2", "special", "flip_coefficient"
-);
 
 impl CurveRow {
     /// The rows of curve number `i`.

@@ -5,7 +5,7 @@ use crate::integrate::{Options, Stats};
 use serde::Serialize;
 
 /// A sample of the physical simulation: the CSV columns `t,theta_in,theta_out,theta,theta_dot`.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, crate::output::Record)]
 pub struct PhysicalSample {
     /// Time \[s\].
     pub t: f64,
@@ -18,7 +18,6 @@ pub struct PhysicalSample {
     /// θ' \[rad/s\].
     pub theta_dot: f64,
 }
-crate::record!(PhysicalSample: "t", "theta_in", "theta_out", "theta", "theta_dot");
 
 /// The outcome of a physical simulation besides its samples.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]

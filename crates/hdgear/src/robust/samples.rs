@@ -184,7 +184,7 @@ fn evaluate_models(
 
 /// A sample as a row of the samples file: its index, the dimensionless set it reduces to, its
 /// verdict and measures (NaN where there are none), and why it has no verdict (empty otherwise).
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, crate::output::Record)]
 pub struct SampleRow {
     /// Index in the run's sequence.
     pub index: u64,
@@ -216,10 +216,6 @@ pub struct SampleRow {
     /// Why there is no verdict.
     pub error: String,
 }
-crate::record!(
-    SampleRow: "index", ..crate::params::Param::NAMES, "verdict", "burst",
-    "peak_abs_xdot", "max_overshoot", "max_ringing_swing", "speed_ratio", "error"
-);
 
 /// A sample's columns after its parameters: the verdict's label, the measures (NaN without a
 /// verdict) and why there is none (empty otherwise).

@@ -430,17 +430,19 @@ impl Grid {
 
 /// One sweep result: the CSV columns of `hdgear sweep` (nested structs are written as their
 /// fields in order, so the columns stay flat; JSON keeps the nesting).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize, crate::output::Record)]
 pub struct SweepRow<V = Params> {
     /// Grid index (first axis fastest).
     pub index: usize,
     /// The point's parameters (the study's six; a model's swept ones, [`Values`]).
+    #[record(nested)]
     pub params: V,
     /// Oscillation mode (empty when the point failed: see `error`).
     pub mode: Option<Mode>,
     /// Mechanism (empty when the point failed).
     pub mechanism: Option<Mechanism>,
     /// The burst statistics (unknown when the point failed).
+    #[record(nested)]
     pub rates: Rates,
     /// Largest |dx/da| on a ∈ [−1, 1] (inf with folds in range).
     pub max_slope: f64,
@@ -809,5 +811,3 @@ fn flatten(prefix: &str, v: &serde_json::Value, out: &mut BTreeMap<String, Strin
         }
     }
 }
-
-crate::record!(SweepRow: "index", ..crate::params::Param::NAMES, "mode", "mechanism", "bursts_per_period", "spikes_per_burst", "burst_amplitude", "peak_abs_xdot", "quiescent_duration", "quiescent_fraction", "max_tracking_error", "max_slope", "error");
