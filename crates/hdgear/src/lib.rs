@@ -30,6 +30,7 @@
 //! * [`robust`]: the design check under manufacturing spread (P(burst), worst case and margin,
 //!   Sobol indices), on the [`distribution`]s of the parameters.
 //! * [`study::Study`] and [`report::Report`]: computations done once, then rendered.
+//! * [`prelude`]: the names most programs start from, in one `use hdgear::prelude::*`.
 //!
 //! ```
 //! use hdgear::{Params, simulate::{simulate, SimOptions}};
@@ -58,6 +59,7 @@ pub mod output;
 pub mod params;
 pub mod periodic;
 pub mod physical;
+pub mod prelude;
 pub mod refine;
 pub mod report;
 pub mod robust;
