@@ -12,6 +12,7 @@ pub const BOX_SIGMAS: f64 = 3.0;
 /// The spread of one parameter.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(tag = "kind", rename_all = "kebab-case")]
+#[non_exhaustive]
 pub enum Distribution {
     /// Uniform on [lo, hi].
     Uniform {

@@ -5,6 +5,7 @@ use std::path::PathBuf;
 
 /// Errors of the hdgear library.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum Error {
     /// A model parameter is out of its domain.
     #[error("invalid parameter {name} = {}: {reason}", shown(*value))]
@@ -172,6 +173,7 @@ pub enum Error {
 
 /// Failures of an integration on valid input, with the time they happened at.
 #[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum SolverError {
     /// The adaptive step size fell below the rounding level of t.
     #[error(

@@ -6,6 +6,7 @@ use super::*;
 /// no-bursts).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
+#[non_exhaustive]
 pub enum Verdict {
     /// The state follows the equilibrium adiabatically.
     NoBursts,
@@ -24,6 +25,7 @@ pub enum Verdict {
 /// meaning as ω changes), plus the two cases the study's words do not cover.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
+#[non_exhaustive]
 pub enum Mode {
     /// No signature: the state follows the equilibrium (x' is the smooth slow wave).
     Normal,
@@ -46,6 +48,7 @@ pub enum Mode {
 /// The mechanism behind the bursts.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
+#[non_exhaustive]
 pub enum Mechanism {
     /// No signature.
     None,

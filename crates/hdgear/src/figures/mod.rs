@@ -40,6 +40,7 @@ pub(crate) fn span_of(points: &[(f64, f64)]) -> f64 {
 /// here, a line in [`KINDS`] and its function.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
 #[serde(rename_all = "kebab-case")]
+#[non_exhaustive]
 pub enum FigureKind {
     /// x'(τ) over one slow period for the study's four γ.
     XdotGamma,

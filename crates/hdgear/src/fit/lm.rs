@@ -33,6 +33,7 @@ pub trait Residuals {
 /// Why a minimisation stopped.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "kebab-case")]
+#[non_exhaustive]
 pub enum Stop {
     /// The step became negligible.
     Step,

@@ -152,6 +152,7 @@ pub const MAX_REPEAT: usize = 1000;
 /// A warning about the data or the fit: what it means and what to change.
 #[derive(Clone, Debug, PartialEq, Serialize, thiserror::Error)]
 #[serde(tag = "kind", rename_all = "kebab-case")]
+#[non_exhaustive]
 pub enum FitWarning {
     /// Rows were left out.
     #[error("{count} rows left out ({why}), the first at line {first_line}")]

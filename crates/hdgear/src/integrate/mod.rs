@@ -142,6 +142,7 @@ pub trait Stepper<const N: usize> {
 /// The integration method.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
+#[non_exhaustive]
 pub enum Method {
     /// Taylor's method with the Jorba–Zou order and step rule ([`Taylor`]), for systems that
     /// provide [`System::taylor`] (both models do).

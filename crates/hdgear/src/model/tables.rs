@@ -11,6 +11,7 @@ pub type TermTable = (&'static str, Vec<f64>);
 
 /// Why a term's named values cannot be read ([`term_values`]).
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum TermTableError {
     /// No extra term has this kind.
     #[error("unknown term {name} (known: {})", known.join(", "))]

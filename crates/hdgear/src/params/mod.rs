@@ -124,6 +124,7 @@ pub const PRESETS: [(&str, f64); 5] = [
 /// A non-fatal remark about a parameter set.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 #[serde(tag = "kind", rename_all = "kebab-case")]
+#[non_exhaustive]
 pub enum Warning {
     /// α·ε ≠ 1: no physical drive reduces to this set (α·ε = C²/(k2φ²J)·k2φ²J/C² = 1; guide: corrections to the study).
     AlphaEpsNotOne {

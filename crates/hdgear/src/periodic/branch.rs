@@ -98,6 +98,7 @@ impl ContinuationOptions {
 /// A special point of a branch.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "kebab-case")]
+#[non_exhaustive]
 pub enum Special {
     /// A multiplier through +1 where the parameter turns back: a fold (saddle-node) of cycles,
     /// the jump of a frequency-response curve.

@@ -62,6 +62,7 @@ pub const PSI_TOL: f64 = 1e-11;
 /// Which curve.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "kebab-case")]
+#[non_exhaustive]
 pub enum CurveKind {
     /// Folds of cycles: a multiplier at +1.
     Fold,
@@ -122,6 +123,7 @@ impl CurveKind {
 /// second parameter.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "kebab-case")]
+#[non_exhaustive]
 pub enum Codim2 {
     /// Two folds meet: the hysteresis is born here.
     Cusp,

@@ -80,6 +80,7 @@ impl Outcome {
 /// Why a sample has no verdict.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 #[serde(tag = "kind", content = "message", rename_all = "kebab-case")]
+#[non_exhaustive]
 pub enum Failure {
     /// Its parameter values are outside the model's domain (a negative stiffness, …).
     OutsideDomain(String),

@@ -59,6 +59,7 @@ const BITS: usize = 32;
 /// How the points are drawn.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "kebab-case")]
+#[non_exhaustive]
 pub enum Sampler {
     /// Digitally shifted Sobol points (quasi-Monte Carlo).
     Sobol,

@@ -747,6 +747,7 @@ pub struct Difference {
 
 /// A row that does not belong to the file's settings.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[non_exhaustive]
 pub enum RowError {
     /// The row's index is beyond the grid.
     #[error("row index {index} is outside the grid of {len} points")]

@@ -85,6 +85,7 @@ impl std::fmt::Display for Shard {
 
 /// Why shards cannot be merged. Each names the file and says what to do.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum MergeError {
     /// No files were given.
     #[error("no shard files given")]

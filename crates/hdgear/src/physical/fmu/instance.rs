@@ -23,6 +23,7 @@ pub enum Phase {
 
 /// Why an FMU call was refused: what the exported library logs before it returns `fmi2Error`.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum FmuError {
     /// No variable has this value reference.
     #[error("no variable has value reference {0}")]
