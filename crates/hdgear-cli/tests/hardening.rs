@@ -17,7 +17,11 @@ fn report_never_overwrites_foreign_files() {
         .arg(&out)
         .assert()
         .code(2)
-        .stderr(predicates::str::contains("figures/slope.png"));
+        .stderr(predicates::str::contains("figures/slope.png"))
+        // the library says what to do, the command names its flags
+        .stderr(predicates::str::contains(
+            "choose another directory, or let the report overwrite them (--out DIR, or --force)",
+        ));
     assert_eq!(
         std::fs::read(out.join("figures/slope.png")).unwrap(),
         b"mine"

@@ -141,7 +141,7 @@ fn merge_refuses_missing_duplicated_and_foreign_shards() {
     refused(
         d,
         &[s0, s2],
-        "shard 1 of 3 missing: rerun the sweep with --shard 1/3",
+        "shard 1 of 3 missing: rerun the sweep for it (--shard 1/3)",
     );
     refused(d, &[s2], "shards 0, 1 of 3 missing");
     refused(d, &[s0, s1, s2, s1], "shard 1/3 is given twice");
@@ -217,7 +217,7 @@ fn merge_refuses_edited_and_unfinished_shard_files() {
     type Edit = fn(&mut Vec<String>);
     let cases: [(&str, Edit); 5] = [
         (
-            "ends before grid point 5 of shard 1/2: finish it with --shard 1/2 --resume",
+            "ends before grid point 5 of shard 1/2: resume that shard to finish it (--shard 1/2 --resume)",
             |r| {
                 r.pop();
             },

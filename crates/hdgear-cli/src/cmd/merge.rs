@@ -43,6 +43,22 @@ fn default_out(shard: &Path) -> Result<PathBuf> {
     }
 }
 
+/// A merge error with the flags that rerun or resume the shards it names: the library's message
+/// names the shards, the command its own flags.
+fn with_flags(e: anyhow::Error) -> anyhow::Error {
+    use hdgear::sweep::MergeError;
+    let flags = match e.downcast_ref::<MergeError>() {
+        Some(MergeError::MissingShards { missing, count }) => missing
+            .iter()
+            .map(|k| format!("--shard {k}/{count}"))
+            .collect::<Vec<_>>()
+            .join(", "),
+        Some(MergeError::Incomplete { shard, .. }) => format!("--shard {shard} --resume"),
+        _ => return e,
+    };
+    anyhow::anyhow!("{e} ({flags})")
+}
+
 /// Runs the merge command.
 pub fn run(a: MergeArgs) -> Result<()> {
     if a.shards
@@ -69,15 +85,17 @@ pub fn run(a: MergeArgs) -> Result<()> {
         headers.push((path.display().to_string(), settings));
         readers.push(rows);
     }
-    let plan = hdgear::sweep::plan(headers)?;
+    let plan = hdgear::sweep::plan(headers).map_err(|e| with_flags(e.into()))?;
     let (sink, _) = crate::sink::Sink::open(Some(&out))?;
     let mut w = RecordWriter::new(sink, format, plan.settings())?;
     let mut failed = 0;
-    let n = plan.merge(readers, |row| {
-        failed += usize::from(!row.error.is_empty());
-        w.row(&row)
-            .with_context(|| format!("writing {}", out.display()))
-    })?;
+    let n = plan
+        .merge(readers, |row| {
+            failed += usize::from(!row.error.is_empty());
+            w.row(&row)
+                .with_context(|| format!("writing {}", out.display()))
+        })
+        .map_err(with_flags)?;
     w.finish()
         .with_context(|| format!("writing {}", out.display()))?
         .commit()?;

@@ -43,6 +43,18 @@ impl ReportArgs {
     }
 }
 
+/// A refused directory's remedy in this command's flags: the library's message says to choose
+/// another directory or to let the report overwrite the files it did not write.
+fn with_flags(e: hdgear::Error, a: &ReportArgs) -> anyhow::Error {
+    match &e {
+        hdgear::Error::InvalidInput {
+            what: "report directory",
+            ..
+        } if a.out.is_dir() && !a.force => anyhow::anyhow!("{e} (--out DIR, or --force)"),
+        _ => e.into(),
+    }
+}
+
 pub fn run(a: ReportArgs) -> Result<()> {
     let threads = crate::args::threads(a.threads)?;
     if a.model_asked() {
@@ -63,6 +75,7 @@ pub fn run(a: ReportArgs) -> Result<()> {
             stage.describe(&opts)
         );
     })
+    .map_err(|e| with_flags(e, &a))
     .with_context(|| format!("writing the report to {}", a.out.display()))?;
     done(summary.files.len(), start, &a.out);
     Ok(())
@@ -114,6 +127,7 @@ fn run_model(a: &ReportArgs, threads: usize) -> Result<()> {
             hdgear::report::model::build(&a.out, &model, &origin, None, &opts)
         }
     }
+    .map_err(|e| with_flags(e, a))
     .with_context(|| format!("writing the report to {}", a.out.display()))?;
     done(files.len(), start, &a.out);
     Ok(())

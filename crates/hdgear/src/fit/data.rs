@@ -286,7 +286,7 @@ fn locate(
         (None, Some(u)) => u.to_string(),
         (None, None) => {
             return Err(bad(format!(
-                "column {want} has no unit: write it in the header ({want} [{}]) or give --unit {}={}",
+                "column {want} has no unit: write it in the header ({want} [{}]) or give its unit ({}={})",
                 q.si, q.name, q.si
             )));
         }

@@ -176,7 +176,7 @@ pub enum FitWarning {
     },
     /// An estimate sits on its bound.
     #[error(
-        "{name} = {value:e} sits on its bound: its interval is not valid; widen --free {name}=LO:HI if the law allows"
+        "{name} = {value:e} sits on its bound: its interval is not valid; widen its free range ({name}=LO:HI) if the law allows"
     )]
     AtBound {
         /// The parameter.
@@ -194,7 +194,7 @@ pub enum FitWarning {
     },
     /// Only one start reached the best minimum.
     #[error(
-        "only {at_best} of {starts} starts reached the best fit: the sum of squares has other minima; more --starts would show whether a better one exists"
+        "only {at_best} of {starts} starts reached the best fit: the sum of squares has other minima; more starts would show whether a better one exists"
     )]
     FewStartsAtBest {
         /// Starts that reached the best.

@@ -80,8 +80,8 @@ impl Files {
                 what: "report directory",
                 text: dir.display().to_string(),
                 reason: format!(
-                    "holds files hdgear did not write ({}{}): choose another --out, or pass \
-                     --force to overwrite",
+                    "holds files hdgear did not write ({}{}): choose another directory, or let \
+                     the report overwrite them",
                     foreign[..foreign.len().min(3)].join(", "),
                     if foreign.len() > 3 { ", …" } else { "" }
                 ),

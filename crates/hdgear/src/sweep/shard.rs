@@ -133,10 +133,10 @@ pub enum MergeError {
     },
     /// Shards not given.
     #[error(
-        "{} of {count} missing: rerun the sweep with {}",
+        "{} of {count} missing: rerun the sweep for {}",
         if missing.len() == 1 { format!("shard {}", missing[0]) }
         else { format!("shards {}", list(missing)) },
-        missing.iter().map(|k| format!("--shard {k}/{count}")).collect::<Vec<_>>().join(", ")
+        if missing.len() == 1 { "it" } else { "them" }
     )]
     MissingShards {
         /// The missing shard indices (K).
@@ -154,7 +154,7 @@ pub enum MergeError {
     },
     /// A shard file that ends before its last grid point (an unfinished shard).
     #[error(
-        "{file} ends before grid point {index} of shard {shard}: finish it with --shard {shard} --resume"
+        "{file} ends before grid point {index} of shard {shard}: resume that shard to finish it"
     )]
     Incomplete {
         /// The file.
