@@ -2,7 +2,7 @@
 //! prints the result.
 
 use crate::convert::{err, terms_of, to_py};
-use hdgear::fit::{Data, Free, Law, Options};
+use hdgear::fit::{Data, FitLaw, FitOptions, Free};
 use pyo3::prelude::*;
 use std::collections::BTreeMap;
 
@@ -25,7 +25,7 @@ pub(crate) fn fit<'py>(
     repeat: usize,
 ) -> PyResult<(Bound<'py, PyAny>, Vec<String>)> {
     let kind = kind.parse().map_err(err)?;
-    let law = Law::new(terms_of(&terms)?).map_err(err)?;
+    let law = FitLaw::new(terms_of(&terms)?).map_err(err)?;
     let free: Vec<Free> = free
         .iter()
         .map(|f| f.parse())
@@ -37,7 +37,7 @@ pub(crate) fn fit<'py>(
         ));
     }
     let (data, warnings) = Data::new(kind, x, torque, sd).map_err(err)?;
-    let options = Options {
+    let options = FitOptions {
         starts,
         seed,
         profile,

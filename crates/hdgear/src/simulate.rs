@@ -3,7 +3,7 @@
 use crate::error::Result;
 use crate::fast::stable_equilibrium;
 use crate::integrate::events::{Detector, Direction};
-use crate::integrate::{DenseOutput, Grid, Options, Stats, Stepper, System, stepper};
+use crate::integrate::{DenseOutput, Options, SampleGrid, Stats, Stepper, System, stepper};
 use crate::model::delayed::Delayed;
 use crate::model::switching::{Pieces, Switching, SwitchingMode};
 use crate::model::{Description, Dimensionless, Model};
@@ -249,7 +249,7 @@ fn model_run<const N: usize>(
     let Some(pieces) = Pieces::new(m) else {
         return sampled(m, opts, y0, out, |d| on_step(&Step(d)));
     };
-    let mut grid = Grid::new(0.0, opts.t_end, opts.dt)?;
+    let mut grid = SampleGrid::new(0.0, opts.t_end, opts.dt)?;
     grid.start(&y0, &mut out);
     let mut sticking = Sticking::default();
     let mut solver = Switching::new(&pieces, 0.0, y0, opts.tol)?;
@@ -294,7 +294,7 @@ fn sampled<S: System<N>, const N: usize>(
     mut out: impl FnMut(f64, &[f64; N]),
     mut on_step: impl FnMut(&crate::integrate::AnyDense<N>),
 ) -> Result<SimSummary> {
-    let mut grid = Grid::new(0.0, opts.t_end, opts.dt)?;
+    let mut grid = SampleGrid::new(0.0, opts.t_end, opts.dt)?;
     grid.start(&y0, &mut out);
     let mut solver = stepper(sys, 0.0, y0, opts.tol)?;
     let accel = |t: f64, y: &[f64; N]| sys.rhs(t, y)[1];

@@ -55,7 +55,7 @@ impl Case {
         integrate::check_budget(t1, &opts.tol)?;
         // the grid k·dt from τ = 0 to the period's end, as `simulate` samples it, kept from the
         // window's start
-        let mut grid = integrate::Grid::new(0.0, t1, SAMPLE_DT)?;
+        let mut grid = integrate::SampleGrid::new(0.0, t1, SAMPLE_DT)?;
         let mut samples = Vec::new();
         let mut push = |t: f64, y: &[f64; 2]| {
             if t >= t0 {

@@ -5,11 +5,11 @@
 //!
 //! **Why one file.** The tests of one capability, identification, in one module of the test binary.
 
-use hdgear::fit::{Data, DataKind, Fit, FitWarning, Free, Law, Options, fit, predict};
+use hdgear::fit::{Data, DataKind, Fit, FitLaw, FitOptions, FitWarning, Free, fit, predict};
 use hdgear::model::terms::AnyTerm;
 
-fn law(terms: &[(&str, &[f64])]) -> Law {
-    Law::new(
+fn law(terms: &[(&str, &[f64])]) -> FitLaw {
+    FitLaw::new(
         terms
             .iter()
             .map(|(k, v)| AnyTerm::new(k, v).unwrap())
@@ -75,12 +75,12 @@ impl Noise {
 
 /// Fits `free` of `start` to what `truth` predicts on `x`, plus noise of `sd`.
 fn fit_synthetic(
-    (truth, start, kind): (&Law, &Law, DataKind),
+    (truth, start, kind): (&FitLaw, &FitLaw, DataKind),
     x: &[f64],
     free: &[Free],
     sd: f64,
     noise: &mut Noise,
-    options: &Options,
+    options: &FitOptions,
 ) -> Fit {
     let mut tau = predict(truth, kind, x, options.repeat).unwrap();
     tau.iter_mut().for_each(|t| *t += sd * noise.normal());
@@ -89,7 +89,7 @@ fn fit_synthetic(
     fit(start, &data, free, options).unwrap()
 }
 
-fn assert_recovered(f: &Fit, truth: &Law) {
+fn assert_recovered(f: &Fit, truth: &FitLaw) {
     for e in &f.estimates {
         let want = truth.get(&truth.param(&e.name).unwrap());
         assert!(
@@ -105,12 +105,12 @@ fn assert_recovered(f: &Fit, truth: &Law) {
 #[test]
 fn friction_sweeps_return_the_truth() {
     let none = &mut Noise(0);
-    let opts = Options {
+    let opts = FitOptions {
         profile: false,
-        ..Options::default()
+        ..FitOptions::default()
     };
     // sticking Coulomb–Stribeck–viscous, the regularised Stribeck law and LuGre's steady curve
-    let cases: [(Law, Law, Vec<Free>); 3] = [
+    let cases: [(FitLaw, FitLaw, Vec<Free>); 3] = [
         (
             law(&[("coulomb", &[0.5, 0.8, 0.02, 0.3])]),
             law(&[("coulomb", &[1.0, 1.0, 0.1, 0.0])]),
@@ -144,12 +144,12 @@ fn friction_sweeps_return_the_truth() {
 #[test]
 fn loops_return_the_truth() {
     let none = &mut Noise(0);
-    let opts = Options {
+    let opts = FitOptions {
         profile: false,
         starts: 8,
-        ..Options::default()
+        ..FitOptions::default()
     };
-    let cases: [(Law, Law, Vec<Free>); 2] = [
+    let cases: [(FitLaw, FitLaw, Vec<Free>); 2] = [
         (
             // a catalogue curve with Bouc–Wen hysteresis (A = 1, n = 1, ρ = 0 fixed: the
             // law's scale and its linear part would otherwise repeat the curve's)
@@ -275,13 +275,13 @@ fn sensitivities_match_finite_differences() {
 /// The share of (set, parameter) pairs whose reported 95 % interval holds the truth, over `sets`
 /// data sets with normal noise of 1 % of the largest torque.
 fn coverage(
-    truth: &Law,
-    start: &Law,
+    truth: &FitLaw,
+    start: &FitLaw,
     kind: DataKind,
     x: &[f64],
     free: &[Free],
     sets: usize,
-    options: &Options,
+    options: &FitOptions,
 ) -> f64 {
     let scale = predict(truth, kind, x, 0)
         .unwrap()
@@ -313,16 +313,16 @@ fn coverage(
 /// One family of the coverage test: name, truth, start, kind, abscissa, free, options.
 type Family<'a> = (
     &'a str,
-    Law,
-    Law,
+    FitLaw,
+    FitLaw,
     DataKind,
     Vec<f64>,
     Vec<Free>,
-    &'a Options,
+    &'a FitOptions,
 );
 
 /// The families of the coverage test.
-fn coverage_families<'a>(sweep: &'a Options, loops: &'a Options) -> Vec<Family<'a>> {
+fn coverage_families<'a>(sweep: &'a FitOptions, loops: &'a FitOptions) -> Vec<Family<'a>> {
     vec![
         (
             "Stribeck (sticking Coulomb) sweep, profile",
@@ -385,14 +385,14 @@ fn coverage_families<'a>(sweep: &'a Options, loops: &'a Options) -> Vec<Family<'
 /// shows.
 #[test]
 fn intervals_cover_the_truth() {
-    let sweep = Options {
+    let sweep = FitOptions {
         starts: 4,
-        ..Options::default()
+        ..FitOptions::default()
     };
-    let loops = Options {
+    let loops = FitOptions {
         starts: 2,
         profile: false,
-        ..Options::default()
+        ..FitOptions::default()
     };
     let families = coverage_families(&sweep, &loops);
     println!("| family | sets | parameters | coverage of the 95 % interval |\n|---|---|---|---|");
@@ -411,10 +411,10 @@ fn intervals_cover_the_truth() {
 #[test]
 fn undetermined_parameters_are_named() {
     let truth = law(&[("lugre", &[0.4, 0.7, 0.05, 1e4, 30.0, 0.2])]);
-    let opts = Options {
+    let opts = FitOptions {
         starts: 2,
         profile: false,
-        ..Options::default()
+        ..FitOptions::default()
     };
     let f = fit_synthetic(
         (&truth, &truth, DataKind::Friction),
@@ -478,9 +478,9 @@ fn undetermined_parameters_are_named() {
 fn a_fit_becomes_a_card() {
     let base = hdgear::physical::card::builtin_card("CSG-20-50").unwrap();
     let sources = &hdgear::physical::card::builtin().sources;
-    let opts = Options {
+    let opts = FitOptions {
         starts: 4,
-        ..Options::default()
+        ..FitOptions::default()
     };
     let truth = law(&[("coulomb", &[0.5, 0.8, 0.02, 0.3])]);
     let f = fit_synthetic(
@@ -508,7 +508,7 @@ fn a_fit_becomes_a_card() {
         &free,
         0.05,
         &mut Noise(8),
-        &Options {
+        &FitOptions {
             profile: false,
             ..opts
         },
@@ -553,7 +553,7 @@ fn bad_data_is_named() {
         &start,
         &data,
         &frees(&["fc=0:5", "fs=0:5", "vst=1e-4:1", "cv=0:2"]),
-        &Options::default(),
+        &FitOptions::default(),
     )
     .unwrap_err();
     assert!(
@@ -565,11 +565,11 @@ fn bad_data_is_named() {
         &start,
         &data,
         &frees(&["fc=0:5", "coulomb.fc=0:5"]),
-        &Options::default(),
+        &FitOptions::default(),
     )
     .unwrap_err();
     assert!(err.to_string().contains("given twice"), "{err}");
-    let err = fit(&start, &data, &frees(&["f_c=0:5"]), &Options::default()).unwrap_err();
+    let err = fit(&start, &data, &frees(&["f_c=0:5"]), &FitOptions::default()).unwrap_err();
     assert!(err.to_string().contains("coulomb.fc"), "{err}");
     assert!("fc=5:0".parse::<Free>().is_err() && "fc".parse::<Free>().is_err());
 
@@ -589,7 +589,7 @@ fn bad_data_is_named() {
     // a rate-dependent law on a quasi-static loop is refused by name
     let (data, _) = Data::new(DataKind::Loop, twist_path(1e-3), vec![0.0; 181], None).unwrap();
     let lugre = law(&[("lugre", &[0.4, 0.7, 0.05, 1e4, 30.0, 0.2])]);
-    let err = fit(&lugre, &data, &frees(&["fc=0:1"]), &Options::default()).unwrap_err();
+    let err = fit(&lugre, &data, &frees(&["fc=0:1"]), &FitOptions::default()).unwrap_err();
     assert!(
         err.to_string().contains("lugre") && err.to_string().contains("friction sweep"),
         "{err}"
@@ -604,9 +604,9 @@ fn published_ergocub_laws_are_fitted_back() {
     assert_eq!(joints.len(), 6);
     let start = law(&[("coulomb", &[1.0, 1.0, 0.1, 0.0])]);
     let free = frees(&["fc=0:5", "fs=0:5", "vst=1e-4:1", "cv=0:5"]);
-    let opts = Options {
+    let opts = FitOptions {
         profile: false,
-        ..Options::default()
+        ..FitOptions::default()
     };
     for j in joints {
         let f = fit_synthetic(

@@ -271,7 +271,8 @@ fn a_subharmonic_request_reports_the_least_period() {
 use hdgear::params::Param;
 use hdgear::periodic::{
     ContinuationOptions, DiagramOptions, DiagramPoint, End, OrbitBranch, Oscillator, Scale,
-    Special, Sweep, continue_orbit, frequency_response, orbit_diagram, switch_at_period_doubling,
+    Special, SweepDirection, continue_orbit, frequency_response, orbit_diagram,
+    switch_at_period_doubling,
 };
 
 /// The study's point with γ = 30: its frequency-response curve bends over with two folds.
@@ -287,7 +288,7 @@ fn specials<P>(b: &OrbitBranch<P>, kind: Special) -> Vec<f64> {
 }
 
 /// The diagram's points of one sweep, in sweep order.
-fn sweep_of(points: &[DiagramPoint], s: Sweep) -> Vec<&DiagramPoint> {
+fn sweep_of(points: &[DiagramPoint], s: SweepDirection) -> Vec<&DiagramPoint> {
     points.iter().filter(|q| q.sweep == s).collect()
 }
 
@@ -319,7 +320,7 @@ fn folds_of_the_frequency_response_are_where_slow_sweeps_jump() {
         |q| points.push(q),
     )
     .unwrap();
-    let jump = |s: Sweep| {
+    let jump = |s: SweepDirection| {
         let pts = sweep_of(&points, s);
         let (i, size) = pts
             .windows(2)
@@ -329,12 +330,12 @@ fn folds_of_the_frequency_response_are_where_slow_sweeps_jump() {
             .unwrap();
         (pts[i].param, pts[i + 1].param, size)
     };
-    let (a, b_, size) = jump(Sweep::Up);
+    let (a, b_, size) = jump(SweepDirection::Up);
     assert!(
         size > 0.5 && a.min(b_) - step <= upper && upper <= a.max(b_) + step,
         "the up-sweep jumps between ω = {a} and {b_} (by {size}); the upper fold is at {upper}"
     );
-    let (a, b_, size) = jump(Sweep::Down);
+    let (a, b_, size) = jump(SweepDirection::Down);
     assert!(
         size > 0.5 && a.min(b_) - step <= lower && lower <= a.max(b_) + step,
         "the down-sweep jumps between ω = {a} and {b_} (by {size}); the lower fold is at {lower}"
@@ -481,7 +482,7 @@ fn the_diagrams_lyapunov_exponent_is_the_floquet_exponent() {
     };
     let mut points = Vec::new();
     orbit_diagram(&p, Param::Omega, &[6.5, 8.7], &opts, |q| points.push(q)).unwrap();
-    let up = sweep_of(&points, Sweep::Up);
+    let up = sweep_of(&points, SweepDirection::Up);
     // Benettin converges like 1/span: over 400 periods the error is a few 1e-3 (measured 0.2–
     // 5e-3 over ω ∈ [6, 7.5]); 1e-2 is the bound
     assert_eq!(up[0].period, Some(1));

@@ -1,17 +1,17 @@
 //! The burst verdict on a model with sticking friction ([`hdgear::burst::response_model`] on a
-//! switching model): the same scan run piece by piece, its rests measured ([`Sticking`]), and
+//! switching model): the same scan run piece by piece, its rests measured ([`StickSlip`]), and
 //! stick-slip as a signature and a mechanism.
 
 use hdgear::Params;
 use hdgear::burst::{
-    BurstOptions, Mechanism, Response, Sticking, Verdict, classify, response, response_model,
+    BurstOptions, Mechanism, Response, StickSlip, Verdict, classify, response, response_model,
 };
 use hdgear::model::Model;
 use hdgear::model::terms::AnyTerm;
 
 /// The study's model at `p` with Coulomb–Stribeck friction f_c, f_s, v_st (no viscous part),
 /// judged.
-fn judged(p: &Params, fc: f64, fs: f64, vst: f64) -> (Response, Sticking) {
+fn judged(p: &Params, fc: f64, fs: f64, vst: f64) -> (Response, StickSlip) {
     let m = Model::study(p)
         .with_term(AnyTerm::new("coulomb", &[fc, fs, vst, 0.0]).unwrap())
         .unwrap();

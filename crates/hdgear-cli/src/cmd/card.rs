@@ -612,7 +612,7 @@ fn check_text(r: &CardCheck) -> String {
         )),
         c.t_max
     );
-    let fit_line = |f: &hdgear::physical::catalogue::Fit| {
+    let fit_line = |f: &hdgear::physical::catalogue::CubicFit| {
         format!(
             "k1 = {:.4e} N m/rad, k2 = {:.4e} N m/rad^3 fitted up to {} N m: twist error {:.2} % at T1, \
              {:.2} % at T2, largest torque error {:.2} % of the fitted range",
@@ -767,7 +767,7 @@ fn verdict_columns(asked: bool, j: Option<Judgement>) -> (Option<bool>, Option<&
 
 /// A simulated verdict in `card check`'s words: bursting or not, its signature, mode and
 /// mechanism, and whether it lies outside the fast-slow domain.
-fn outcome_text(o: &hdgear::physical::design::Outcome) -> String {
+fn outcome_text(o: &hdgear::physical::design::DriveVerdict) -> String {
     let j = &o.judgement;
     format!(
         "{} (signature {}, mode {}, mechanism {}){}",

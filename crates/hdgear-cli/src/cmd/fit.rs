@@ -4,7 +4,7 @@
 use crate::sink::{ComputationFailed, check_not_input, note, outln};
 use anyhow::{Context, Result, bail};
 use clap::Args;
-use hdgear::fit::{Column, Data, DataKind, Fit, Free, Law, Options};
+use hdgear::fit::{Column, Data, DataKind, Fit, FitLaw, FitOptions, Free};
 use hdgear::model::terms::AnyTerm;
 use hdgear::scenario::Scenario;
 use std::path::{Path, PathBuf};
@@ -99,7 +99,7 @@ fn pairs<'a>(flag: &str, list: &'a [String], kind: DataKind) -> Result<Vec<(&'a 
 
 impl FitArgs {
     /// The law from --config and --term.
-    fn law(&self) -> Result<Law> {
+    fn law(&self) -> Result<FitLaw> {
         let mut terms = Vec::new();
         if let Some(path) = &self.config {
             let scenario = Scenario::load(path)?;
@@ -115,7 +115,7 @@ impl FitArgs {
         if terms.is_empty() {
             bail!("give the law to fit: --config FILE with its term tables, or --term KIND");
         }
-        Ok(Law::new(terms)?)
+        Ok(FitLaw::new(terms)?)
     }
 
     /// The columns for the data's quantities.
@@ -176,7 +176,7 @@ pub fn run(a: FitArgs) -> Result<()> {
         .context("--card")?;
     let (x, torque) = a.columns()?;
     let (data, warnings) = Data::read(&a.data, a.kind, &x, &torque)?;
-    let options = Options {
+    let options = FitOptions {
         starts: a.starts,
         seed: a.seed,
         profile: !a.no_profile,

@@ -307,7 +307,7 @@ fn simulate(a: &PhysicalArgs, sys: &Physical, tol: hdgear::integrate::Options) -
         simulate_drive(sys, t_end, t_end, tol, |s| progress.at(s.t))?
     } else {
         let (sink, format) = Sink::open(a.out.as_deref())?;
-        let meta = hdgear::physical::simulate::Setup {
+        let meta = hdgear::physical::simulate::PhysicalSetup {
             drive: *d,
             bearings: sys.bearings(),
             twist_friction: sys.twist_friction(),

@@ -15,8 +15,8 @@ use clap::Args;
 use hdgear::model::Subject;
 use hdgear::output::RecordWriter;
 use hdgear::robust::{
-    APPLICATIONS, Analysis, AnalysisOptions, McOptions, Measure, ModelSampleRow, Nominal, Sample,
-    SampleRow, Sampler, Space, analyse,
+    APPLICATIONS, AnalysisOptions, McOptions, Measure, ModelSampleRow, Nominal, RobustAnalysis,
+    Sample, SampleRow, Sampler, Space, analyse,
 };
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -335,7 +335,7 @@ pub fn analyse_and_print(
 
 /// The one page: what spreads, P(burst), worst case and margin, which tolerance matters, the
 /// resonance rule.
-pub fn text(a: &Analysis) -> String {
+pub fn text(a: &RobustAnalysis) -> String {
     let mut s = String::new();
     match &a.space.nominal {
         Nominal::Drive(d) => s.push_str(&crate::summary::drive_line(d)),
@@ -407,7 +407,7 @@ pub fn text(a: &Analysis) -> String {
     s
 }
 
-fn load_text(s: &mut String, a: &Analysis, points: &[hdgear::robust::LoadPoint]) {
+fn load_text(s: &mut String, a: &RobustAnalysis, points: &[hdgear::robust::LoadPoint]) {
     let _ = writeln!(
         s,
         "P(burst) against the load amplitude ({}, {} samples each):",
@@ -459,7 +459,7 @@ fn probability(p: f64) -> String {
     }
 }
 
-fn importance_text(s: &mut String, a: &Analysis, i: &hdgear::robust::Importance) {
+fn importance_text(s: &mut String, a: &RobustAnalysis, i: &hdgear::robust::Importance) {
     let names: Vec<&str> = a.space.tolerances.iter().map(|t| t.target.name()).collect();
     match (&i.design, &i.note) {
         (Some(d), _) => {
@@ -513,7 +513,7 @@ fn importance_text(s: &mut String, a: &Analysis, i: &hdgear::robust::Importance)
     }
 }
 
-fn worst_text(s: &mut String, a: &Analysis, w: &hdgear::robust::WorstCase) {
+fn worst_text(s: &mut String, a: &RobustAnalysis, w: &hdgear::robust::WorstCase) {
     let names: Vec<&str> = a.space.tolerances.iter().map(|t| t.target.name()).collect();
     let nominal = if w.nominal.bursting {
         "bursts"
@@ -624,7 +624,7 @@ fn sobol_text(s: &mut String, sens: &hdgear::robust::Sensitivity) {
             ""
         };
         let _ = writeln!(s, "  {}{what}: mean {:.4e}", measure.name(), ix.mean);
-        let interval = |e: hdgear::robust::sobol::Estimate| {
+        let interval = |e: hdgear::robust::sobol::BootstrapEstimate| {
             if e.replicates == 0 {
                 format!("{:>7.4} [no resample varies]", e.value)
             } else {

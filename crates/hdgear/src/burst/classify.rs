@@ -15,7 +15,7 @@ pub enum Verdict {
     /// The state gets ahead of the equilibrium it follows.
     Overshoot,
     /// The motion sticks, and the largest burst is a slip after a breakaway (a model with
-    /// sticking friction: [`Sticking`]).
+    /// sticking friction: [`StickSlip`]).
     StickSlip,
     /// The state jumps across the unstable band between two folds.
     FoldJump,
@@ -217,7 +217,7 @@ pub fn turning_point_rate(p: &impl StaticCurve) -> f64 {
 /// * verdict: the strongest signature (fold-jump > stick-slip > overshoot > ringing > no-bursts);
 ///   bursting when any is present;
 /// * mechanism: `fold-hysteresis` when a jump is measured, `stick-slip` when the largest burst
-///   is a slip from a breakaway ([`Sticking::slip_dominates`]), `sharp-quantitative-change` for
+///   is a slip from a breakaway ([`StickSlip::slip_dominates`]), `sharp-quantitative-change` for
 ///   overshoot or ringing on a single branch, `none` otherwise;
 /// * mode: `not-fast-slow` outside [`fast_slow_domain`]; else `relaxation` (jump), `stick-slip`,
 ///   `pronounced-bursting` (overshoot, slowest traversed point a node: g' ≤ 1/4), `fast-slow`

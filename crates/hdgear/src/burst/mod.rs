@@ -323,7 +323,7 @@ pub struct Response {
     /// How the motion stuck and slipped, for a model with sticking friction (absent from the
     /// JSON otherwise).
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub sticking: Option<Sticking>,
+    pub sticking: Option<StickSlip>,
 }
 
 /// How a model with sticking friction rested and slipped over the window ([`Response::sticking`]).
@@ -332,7 +332,7 @@ pub struct Response {
 /// other. (A breakaway always releases some: at rest x' = 0, while the equilibrium the slip
 /// follows moves on; whether that is a burst is the scan's usual floors' decision.)
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct Sticking {
+pub struct StickSlip {
     /// Rests per slow period.
     pub sticks_per_period: f64,
     /// Their mean duration (0 without rests).
@@ -350,7 +350,7 @@ pub struct Sticking {
     pub slip_dominates: bool,
 }
 
-impl Sticking {
+impl StickSlip {
     /// The stick-slip signature: a slip burst in the window.
     pub fn stick_slip(&self) -> bool {
         self.slip_bursts_per_period > 0.0
@@ -608,7 +608,7 @@ pub struct BurstsSetup {
     pub window: (f64, f64),
     /// The rests and slips, for a model with sticking friction (absent from the JSON otherwise).
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub sticking: Option<Sticking>,
+    pub sticking: Option<StickSlip>,
 }
 
 impl BurstsSetup {

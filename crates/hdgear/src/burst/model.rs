@@ -7,7 +7,7 @@
 //! fast torque) and the verdict built on them are read together; the scan itself is `scan.rs`.
 
 use super::scan::{History, Pivot, Scan, ScanStep};
-use super::{BurstOptions, Plan, Response, Sticking};
+use super::{BurstOptions, Plan, Response, StickSlip};
 use crate::error::Result;
 use crate::fast::StaticCurve;
 use crate::integrate::{AnyDense, DenseOutput, Stepper, stepper};
@@ -226,7 +226,7 @@ impl<const N: usize> ScanStep for Averaged<N> {
 ///
 /// A model with switching terms (sticking friction, LuGre, Bouc–Wen) is run piece by piece
 /// ([`Switching`]) and scanned on its pieces, at rest with x'' = 0; its rests are measured
-/// ([`Response::sticking`]), and a burst released by a breakaway is a slip ([`Sticking`]).
+/// ([`Response::sticking`]), and a burst released by a breakaway is a slip ([`StickSlip`]).
 ///
 /// A model with a scheduled stiffness ([`Model::is_scheduled`]) is measured against its closed
 /// loop's curve ([`ModelCurve::scheduled`]), whose equilibria move with the load through the
@@ -577,7 +577,7 @@ impl Rests {
         periods: f64,
         pivots: &[Pivot],
         r: &Response,
-    ) -> Sticking {
+    ) -> StickSlip {
         let broke: Vec<(f64, f64)> = self
             .ended
             .iter()
@@ -604,7 +604,7 @@ impl Rests {
             .bursts
             .iter()
             .max_by(|a, b| a.peak_abs_xdot.total_cmp(&b.peak_abs_xdot));
-        Sticking {
+        StickSlip {
             sticks_per_period: broke.len() as f64 / periods,
             mean_stick: if broke.is_empty() {
                 0.0
@@ -632,7 +632,7 @@ fn slip_side<const N: usize>(d: &SwitchingDense<N>) -> f64 {
 }
 
 /// The scan of a switching model's run from `y0`, piece by piece ([`Switching`]), with its rests
-/// measured ([`Sticking`]).
+/// measured ([`StickSlip`]).
 fn run_switching<C: StaticCurve, const N: usize>(
     m: &Model,
     p: &C,

@@ -147,8 +147,8 @@ pub fn orbit_diagram_figure<S: crate::periodic::Periodic>(
     param: S::Param,
     points: &[crate::periodic::DiagramPoint],
 ) -> Figure {
-    use crate::periodic::Sweep;
-    let series = [Sweep::Up, Sweep::Down]
+    use crate::periodic::SweepDirection;
+    let series = [SweepDirection::Up, SweepDirection::Down]
         .into_iter()
         .enumerate()
         .map(|(i, s)| Series {
@@ -168,7 +168,7 @@ pub fn orbit_diagram_figure<S: crate::periodic::Periodic>(
     });
     let lyap: Vec<(f64, f64)> = points
         .iter()
-        .filter(|q| q.sweep == Sweep::Up)
+        .filter(|q| q.sweep == SweepDirection::Up)
         .filter_map(|q| q.lyapunov.map(|l| (q.param, l)))
         .collect();
     let x_log = positive && hi > 10.0 * lo;

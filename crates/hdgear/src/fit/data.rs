@@ -30,7 +30,7 @@ impl DataKind {
     }
 
     /// The quantity the torque is measured against.
-    pub fn abscissa(self) -> &'static Quantity {
+    pub fn abscissa(self) -> &'static MeasuredQuantity {
         match self {
             DataKind::Friction => &SPEED,
             DataKind::Loop => &TWIST,
@@ -48,7 +48,7 @@ impl std::str::FromStr for DataKind {
 /// A measured quantity: its column name, SI unit and the units it may be given in, each with its
 /// factor to SI.
 #[derive(Debug, PartialEq, Serialize)]
-pub struct Quantity {
+pub struct MeasuredQuantity {
     /// The column's name.
     pub name: &'static str,
     /// Its SI unit.
@@ -58,7 +58,7 @@ pub struct Quantity {
 }
 
 /// A sliding speed.
-pub const SPEED: Quantity = Quantity {
+pub const SPEED: MeasuredQuantity = MeasuredQuantity {
     name: "speed",
     si: "rad/s",
     units: &[
@@ -68,7 +68,7 @@ pub const SPEED: Quantity = Quantity {
     ],
 };
 /// A torque.
-pub const TORQUE: Quantity = Quantity {
+pub const TORQUE: MeasuredQuantity = MeasuredQuantity {
     name: "torque",
     si: "N m",
     units: &[
@@ -80,7 +80,7 @@ pub const TORQUE: Quantity = Quantity {
     ],
 };
 /// A twist.
-pub const TWIST: Quantity = Quantity {
+pub const TWIST: MeasuredQuantity = MeasuredQuantity {
     name: "twist",
     si: "rad",
     units: &[
@@ -101,7 +101,7 @@ pub fn units_text() -> String {
         .join("; ")
 }
 
-impl Quantity {
+impl MeasuredQuantity {
     /// The factor to SI of `unit`, or an error naming the units this quantity takes.
     pub fn factor(&self, unit: &str) -> Result<f64> {
         let unit = unit.trim();
@@ -205,7 +205,8 @@ impl Data {
             .iter()
             .map(str::to_string)
             .collect();
-        let find = |q: &Quantity, c: &Column, required: bool| locate(&header, q, c, required, bad);
+        let find =
+            |q: &MeasuredQuantity, c: &Column, required: bool| locate(&header, q, c, required, bad);
         let q = kind.abscissa();
         let (ix, fx) = find(q, x, true)?.expect("required");
         let (it, ft) = find(&TORQUE, torque, true)?.expect("required");
@@ -265,7 +266,7 @@ impl Data {
 /// column that is not there and not `required`); `bad` turns a reason into the file's error.
 fn locate(
     header: &[String],
-    q: &Quantity,
+    q: &MeasuredQuantity,
     c: &Column,
     required: bool,
     bad: impl Fn(String) -> Error,

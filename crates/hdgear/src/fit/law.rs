@@ -9,11 +9,11 @@ use serde::Serialize;
 /// The terms whose sum is fitted to the data, each with its values in the data's (SI) units, as
 /// a drive's bearing laws are given ([`crate::scenario::Scenario::bearings`]).
 #[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct Law {
+pub struct FitLaw {
     terms: Vec<AnyTerm>,
 }
 
-/// A parameter of a [`Law`]: term `term`'s `index`-th, with its qualified name `kind.name`.
+/// A parameter of a [`FitLaw`]: term `term`'s `index`-th, with its qualified name `kind.name`.
 #[derive(Clone, Debug, PartialEq, Eq, Serialize)]
 pub struct LawParam {
     /// `kind.name`, e.g. `coulomb.fs`.
@@ -24,9 +24,9 @@ pub struct LawParam {
     pub index: usize,
 }
 
-impl Law {
+impl FitLaw {
     /// The law of these terms: at least one, each kind once.
-    pub fn new(terms: Vec<AnyTerm>) -> Result<Law> {
+    pub fn new(terms: Vec<AnyTerm>) -> Result<FitLaw> {
         let refuse = |text: String, reason: &str| Error::InvalidInput {
             what: "fitted law",
             text,
@@ -40,12 +40,12 @@ impl Law {
                 return Err(refuse(t.kind().into(), "each kind of term may appear once"));
             }
         }
-        Ok(Law { terms })
+        Ok(FitLaw { terms })
     }
 
     /// The law of a scenario file's term tables ([`crate::scenario::Scenario::term_tables`]).
-    pub fn from_tables(tables: &[TermTable]) -> Result<Law> {
-        Law::new(
+    pub fn from_tables(tables: &[TermTable]) -> Result<FitLaw> {
+        FitLaw::new(
             tables
                 .iter()
                 .map(|(kind, values)| AnyTerm::new(kind, values))
@@ -109,7 +109,7 @@ impl Law {
 
     /// The law with the parameters `qs` set to `values`, each term checked whole (domains and
     /// relations such as f_s ≥ f_c).
-    pub fn with(&self, qs: &[LawParam], values: &[f64]) -> Result<Law> {
+    pub fn with(&self, qs: &[LawParam], values: &[f64]) -> Result<FitLaw> {
         let mut tables: Vec<Vec<f64>> = self.terms.iter().map(|t| t.values().to_vec()).collect();
         for (q, &v) in qs.iter().zip(values) {
             tables[q.term][q.index] = v;
@@ -120,7 +120,7 @@ impl Law {
             .zip(&tables)
             .map(|(t, values)| AnyTerm::new(t.kind(), values))
             .collect::<Result<_>>()?;
-        Ok(Law { terms })
+        Ok(FitLaw { terms })
     }
 
     /// The law as a scenario file's term tables (`[coulomb]` with `fc = …`), values written to

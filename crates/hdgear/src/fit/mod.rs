@@ -1,7 +1,7 @@
 //! Identification: a law's parameters fitted to measured data, with intervals that can be
 //! trusted and a warning where the data do not determine them.
 //!
-//! The law is the model's own terms ([`Law`]: Stribeck, sticking Coulomb, LuGre, Dahl,
+//! The law is the model's own terms ([`FitLaw`]: Stribeck, sticking Coulomb, LuGre, Dahl,
 //! Bouc–Wen, a piecewise or cubic stiffness, in the data's SI units); the data a friction sweep
 //! or a quasi-static torque–twist loop ([`Data`]). [`fit`] minimises the weighted output error by
 //! Levenberg–Marquardt with the gradients of the forward sensitivities ([`predict`]), from a
@@ -15,16 +15,16 @@
 //!   scaled JᵀJ.
 //!
 //! ```
-//! use hdgear::fit::{fit, Data, DataKind, Free, Law, Options};
+//! use hdgear::fit::{fit, Data, DataKind, Free, FitLaw, FitOptions};
 //! use hdgear::model::terms::AnyTerm;
 //! // a Coulomb–Stribeck–viscous law, measured at 40 speeds
 //! let truth = AnyTerm::new("coulomb", &[0.5, 0.8, 0.02, 0.3]).unwrap();
 //! let v: Vec<f64> = (1..=40).map(|i| 0.002 * 1.15_f64.powi(i)).collect();
 //! let tau: Vec<f64> = v.iter().map(|&v| truth.torque(0.0, v, 0.0)).collect();
 //! let (data, _) = Data::new(DataKind::Friction, v, tau, None).unwrap();
-//! let start = Law::new(vec![AnyTerm::new("coulomb", &[1.0, 1.0, 0.1, 0.0]).unwrap()]).unwrap();
+//! let start = FitLaw::new(vec![AnyTerm::new("coulomb", &[1.0, 1.0, 0.1, 0.0]).unwrap()]).unwrap();
 //! let free = ["fc=0:5", "fs=0:5", "vst=1e-4:1", "cv=0:2"].map(|f| f.parse::<Free>().unwrap());
-//! let result = fit(&start, &data, &free, &Options::default()).unwrap();
+//! let result = fit(&start, &data, &free, &FitOptions::default()).unwrap();
 //! assert!((result.estimates[1].value - 0.8).abs() < 1e-9);
 //! ```
 //!
@@ -43,9 +43,11 @@ mod reference;
 mod stats;
 
 pub use card::{citation, fitted_card};
-pub use data::{Column, Data, DataKind, DataSource, Quantity, SPEED, TORQUE, TWIST, units_text};
+pub use data::{
+    Column, Data, DataKind, DataSource, MeasuredQuantity, SPEED, TORQUE, TWIST, units_text,
+};
 pub use figure::figure;
-pub use law::{Law, LawParam};
+pub use law::{FitLaw, LawParam};
 pub use lm::{Residuals, Stop};
 pub use reference::{ERGOCUB_TOML, JointFriction, ergocub};
 pub use stats::t_quantile;
@@ -119,7 +121,7 @@ impl std::str::FromStr for Free {
 
 /// How a fit runs.
 #[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct Options {
+pub struct FitOptions {
     /// Starts: the law's own values, then a Sobol design in the bounds.
     pub starts: usize,
     /// The Sobol design's seed.
@@ -131,9 +133,9 @@ pub struct Options {
     pub repeat: usize,
 }
 
-impl Default for Options {
+impl Default for FitOptions {
     fn default() -> Self {
-        Options {
+        FitOptions {
             starts: 16,
             seed: 1,
             profile: true,
@@ -249,7 +251,7 @@ pub struct Fit {
     /// Where the data come from.
     pub source: DataSource,
     /// The fitted law.
-    pub law: Law,
+    pub law: FitLaw,
     /// The free parameters' estimates, in the order given.
     pub estimates: Vec<Estimate>,
     /// Their covariance (NaN where undetermined).
@@ -298,14 +300,14 @@ impl Fit {
 /// The torques `law` gives on the speeds or twists `x` of a kind of data (a loop's path run
 /// `repeat` times first): what a fit compares with the measurements, and how synthetic data are
 /// made.
-pub fn predict(law: &Law, kind: DataKind, x: &[f64], repeat: usize) -> Result<Vec<f64>> {
+pub fn predict(law: &FitLaw, kind: DataKind, x: &[f64], repeat: usize) -> Result<Vec<f64>> {
     Ok(evaluate(law, kind, x, &[], repeat)?.0)
 }
 
 /// ∂torque/∂p of [`predict`] for the parameters `names` (row-major, a row per point): the
 /// forward sensitivities a fit's steps use.
 pub fn jacobian(
-    law: &Law,
+    law: &FitLaw,
     kind: DataKind,
     x: &[f64],
     names: &[&str],
@@ -315,7 +317,7 @@ pub fn jacobian(
 }
 
 fn evaluate(
-    law: &Law,
+    law: &FitLaw,
     kind: DataKind,
     x: &[f64],
     names: &[&str],
@@ -349,7 +351,7 @@ fn evaluate(
 /// Fits `free`'s parameters of `law` (its other values held, its values the first start) to
 /// `data`. Refused: unknown or repeated parameters, a start outside the bounds, fewer points
 /// than free parameters + 1, a law the kind of data cannot determine.
-pub fn fit(law: &Law, data: &Data, free: &[Free], options: &Options) -> Result<Fit> {
+pub fn fit(law: &FitLaw, data: &Data, free: &[Free], options: &FitOptions) -> Result<Fit> {
     let qs: Vec<LawParam> = free
         .iter()
         .map(|f| law.param(&f.name))
@@ -433,10 +435,10 @@ pub fn fit(law: &Law, data: &Data, free: &[Free], options: &Options) -> Result<F
 /// uniform in each bound, or log-uniform where the bounds are positive and span a decade or
 /// more (a Stribeck speed, a stiffness).
 fn design(
-    law: &Law,
+    law: &FitLaw,
     qs: &[LawParam],
     bounds: &[(f64, f64)],
-    options: &Options,
+    options: &FitOptions,
 ) -> Result<Vec<Vec<f64>>> {
     let first: Vec<f64> = qs
         .iter()
@@ -476,7 +478,7 @@ fn report(
     bounds: &[(f64, f64)],
     best: Minimum,
     (starts, at_best): (usize, usize),
-    options: &Options,
+    options: &FitOptions,
 ) -> Result<Fit> {
     let (n, k) = (problem.data.len(), problem.free.len());
     let dof = n - k;

@@ -14,7 +14,7 @@
 //!   the exact derivatives of the computed path.
 
 use super::data::{Data, DataKind};
-use super::law::{Law, LawParam};
+use super::law::{FitLaw, LawParam};
 use super::lm::Residuals;
 use crate::error::{Error, Result};
 use crate::model::term::Side;
@@ -32,7 +32,7 @@ const MAX_SUBSTEPS: f64 = 1e4;
 
 /// The weighted residuals (model − data)/sd of a law with parameters `free` on `data`.
 pub(crate) struct Problem<'a> {
-    pub(crate) law: &'a Law,
+    pub(crate) law: &'a FitLaw,
     pub(crate) free: &'a [LawParam],
     pub(crate) data: &'a Data,
     /// Passes of the measured path run before the one compared (a loop's preconditioning).
@@ -67,7 +67,7 @@ impl Problem<'_> {
     }
 
     /// The law's predictions at every point, and their derivatives (row-major, points × free).
-    pub(crate) fn predict(&self, law: &Law, out: &mut [f64], jac: &mut [f64]) -> Result<()> {
+    pub(crate) fn predict(&self, law: &FitLaw, out: &mut [f64], jac: &mut [f64]) -> Result<()> {
         jac.fill(0.0);
         let k = self.free.len();
         match self.data.kind {
@@ -115,7 +115,7 @@ impl Residuals for Problem<'_> {
 }
 
 /// The law's steady torque at sliding speed v, its derivatives added into `row`.
-fn steady(law: &Law, free: &[LawParam], v: f64, row: &mut [f64]) -> Result<f64> {
+fn steady(law: &FitLaw, free: &[LawParam], v: f64, row: &mut [f64]) -> Result<f64> {
     let mut torque = 0.0;
     for (ti, t) in law.terms().iter().enumerate() {
         let own = || free.iter().enumerate().filter(move |(_, q)| q.term == ti);
@@ -207,7 +207,7 @@ struct Stateful {
 /// The law along the measured twist path `x` (see the module's text), run `repeat` times before
 /// the pass compared.
 fn quasi_static(
-    law: &Law,
+    law: &FitLaw,
     free: &[LawParam],
     x: &[f64],
     repeat: usize,

@@ -2,7 +2,7 @@
 //! the fit: the ergoCub humanoid's identified Stribeck–Coulomb–viscous laws
 //! (`laws/ergocub-friction.toml`, with its citation).
 
-use super::Law;
+use super::FitLaw;
 use crate::model::terms::AnyTerm;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
@@ -18,7 +18,7 @@ pub struct JointFriction {
     /// Its harmonic drive's ratio.
     pub ratio: f64,
     /// The law as hdgear's `coulomb` term (F_c, F_s, v_s, F_v), joint side, SI.
-    pub law: Law,
+    pub law: FitLaw,
 }
 
 #[derive(Deserialize)]
@@ -40,7 +40,7 @@ pub fn ergocub() -> Vec<JointFriction> {
         .map(|(joint, t)| JointFriction {
             joint,
             ratio: t.ratio,
-            law: Law::new(vec![
+            law: FitLaw::new(vec![
                 AnyTerm::new("coulomb", &[t.fc, t.fs, t.vst, t.cv]).expect("a valid law"),
             ])
             .expect("one term"),

@@ -1,7 +1,7 @@
 //! Integrators behind one seam: a [`System`] (right-hand side, optionally its Jacobian and Taylor
 //! coefficients) is stepped by a [`Stepper`] — Taylor's method ([`taylor`], the default) or
 //! DOP853 ([`Dop853`], the independent cross-check) — with [`Options`] validated once, [`Stats`],
-//! dense output ([`DenseOutput`]), output grids ([`Grid`], [`sample`]) and zero-crossing events
+//! dense output ([`DenseOutput`]), output grids ([`SampleGrid`], [`sample`]) and zero-crossing events
 //! ([`events`]). States are `[f64; N]` on the stack.
 //!
 //! ```
@@ -465,7 +465,7 @@ pub const MAX_SAMPLES: f64 = 1e10;
 /// plus `t_end` itself when the grid does not land on it. Samples come from the dense output,
 /// never from shortened steps, so `dt` does not change the steps taken.
 #[derive(Clone, Copy, Debug)]
-pub struct Grid {
+pub struct SampleGrid {
     t0: f64,
     t_end: f64,
     dt: f64,
@@ -473,9 +473,9 @@ pub struct Grid {
     next: u64,
 }
 
-impl Grid {
+impl SampleGrid {
     /// A grid over [t0, t_end] with spacing dt.
-    pub fn new(t0: f64, t_end: f64, dt: f64) -> Result<Grid> {
+    pub fn new(t0: f64, t_end: f64, dt: f64) -> Result<SampleGrid> {
         if !(t_end.is_finite() && t_end > t0) {
             return Err(Error::InvalidOption {
                 name: "t_end",
@@ -499,7 +499,7 @@ impl Grid {
             });
         }
         let n_grid = (n + 1e-9).floor() as u64;
-        Ok(Grid {
+        Ok(SampleGrid {
             t0,
             t_end,
             dt,
@@ -673,7 +673,7 @@ impl<'s, S: System<N> + ?Sized, const N: usize> Stepper<N> for AnyStepper<'s, S,
     }
 }
 
-/// Integrates from (t0, y0) to `t_end` and calls `out(t, y)` on the [`Grid`] t0 + k·dt.
+/// Integrates from (t0, y0) to `t_end` and calls `out(t, y)` on the [`SampleGrid`] t0 + k·dt.
 /// Returns the final state and the work counters.
 pub fn sample<S: System<N> + ?Sized, const N: usize>(
     sys: &S,
@@ -684,7 +684,7 @@ pub fn sample<S: System<N> + ?Sized, const N: usize>(
     opts: Options,
     mut out: impl FnMut(f64, &[f64; N]),
 ) -> Result<([f64; N], Stats)> {
-    let mut grid = Grid::new(t0, t_end, dt)?;
+    let mut grid = SampleGrid::new(t0, t_end, dt)?;
     let mut solver = stepper(sys, t0, y0, opts)?;
     grid.start(&y0, &mut out);
     while solver.t() < t_end {

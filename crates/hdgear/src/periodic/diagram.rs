@@ -44,19 +44,19 @@ impl Default for DiagramOptions {
 /// The direction of a sweep.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "lowercase")]
-pub enum Sweep {
+pub enum SweepDirection {
     /// Values in increasing order.
     Up,
     /// Values in decreasing order.
     Down,
 }
 
-impl Sweep {
+impl SweepDirection {
     /// The name written in tables.
     pub fn name(self) -> &'static str {
         match self {
-            Sweep::Up => "up",
-            Sweep::Down => "down",
+            SweepDirection::Up => "up",
+            SweepDirection::Down => "down",
         }
     }
 }
@@ -67,7 +67,7 @@ pub struct DiagramPoint {
     /// The parameter.
     pub param: f64,
     /// The sweep it belongs to.
-    pub sweep: Sweep,
+    pub sweep: SweepDirection,
     /// (x, x') at phase 0 of each recorded period.
     pub section: Vec<[f64; 2]>,
     /// The least j ≤ record/2 with section\[i + j\] = section\[i\] for all i (to 1e-6 relative):
@@ -153,9 +153,9 @@ pub fn orbit_diagram<O: Oscillator>(
         oscillators.push(q);
     }
     let mut y = [0.0, 0.0];
-    let order: Vec<(usize, Sweep)> = (0..values.len())
-        .map(|i| (i, Sweep::Up))
-        .chain((0..values.len()).rev().map(|i| (i, Sweep::Down)))
+    let order: Vec<(usize, SweepDirection)> = (0..values.len())
+        .map(|i| (i, SweepDirection::Up))
+        .chain((0..values.len()).rev().map(|i| (i, SweepDirection::Down)))
         .collect();
     // the values one after the other (each from the previous one's state), their Lyapunov
     // exponents (which feed nothing back) [`LANES`](crate::batch::LANES) values at a time;

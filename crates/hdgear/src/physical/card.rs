@@ -131,7 +131,7 @@ macro_rules! section {
                 vec![$(self.$field),*]
             }
         }
-        impl Section for $name {
+        impl CardSection for $name {
             fn key(&self) -> &'static str { Self::KEY }
             fn fields(&self) -> &'static [Field] { Self::FIELDS }
             fn values(&self) -> Vec<Option<f64>> { $name::values(self) }
@@ -142,7 +142,7 @@ macro_rules! section {
 }
 
 /// What every card section offers: its key, quantities, values, source and note.
-pub trait Section {
+pub trait CardSection {
     /// The section's key.
     fn key(&self) -> &'static str;
     /// Its quantities.
@@ -295,15 +295,15 @@ const REQUIRED: [&str; 4] = ["t1", "t2", "k1", "k2"];
 
 impl Card {
     /// Its sections that are present, in the card's order.
-    pub fn sections(&self) -> Vec<&dyn Section> {
-        let mut s: Vec<&dyn Section> = vec![&self.stiffness];
-        let opt: [Option<&dyn Section>; 6] = [
-            self.torque.as_ref().map(|v| v as &dyn Section),
-            self.speed.as_ref().map(|v| v as &dyn Section),
-            self.inertia.as_ref().map(|v| v as &dyn Section),
-            self.hysteresis.as_ref().map(|v| v as &dyn Section),
-            self.friction.as_ref().map(|v| v as &dyn Section),
-            self.application.as_ref().map(|v| v as &dyn Section),
+    pub fn sections(&self) -> Vec<&dyn CardSection> {
+        let mut s: Vec<&dyn CardSection> = vec![&self.stiffness];
+        let opt: [Option<&dyn CardSection>; 6] = [
+            self.torque.as_ref().map(|v| v as &dyn CardSection),
+            self.speed.as_ref().map(|v| v as &dyn CardSection),
+            self.inertia.as_ref().map(|v| v as &dyn CardSection),
+            self.hysteresis.as_ref().map(|v| v as &dyn CardSection),
+            self.friction.as_ref().map(|v| v as &dyn CardSection),
+            self.application.as_ref().map(|v| v as &dyn CardSection),
         ];
         s.extend(opt.into_iter().flatten());
         s
@@ -319,7 +319,7 @@ impl Card {
             Hysteresis::default(),
             Friction::default(),
         );
-        let all: [&dyn Section; 6] = [
+        let all: [&dyn CardSection; 6] = [
             &self.stiffness,
             or_empty(&self.torque, &t),
             or_empty(&self.speed, &sp),
@@ -559,7 +559,7 @@ pub struct FrictionLaw {
     pub mesh_loss: Option<f64>,
 }
 
-fn or_empty<'a, S: Section>(s: &'a Option<S>, empty: &'a S) -> &'a dyn Section {
+fn or_empty<'a, S: CardSection>(s: &'a Option<S>, empty: &'a S) -> &'a dyn CardSection {
     s.as_ref().unwrap_or(empty)
 }
 

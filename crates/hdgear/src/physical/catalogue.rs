@@ -129,7 +129,7 @@ impl CatalogueDrive {
 
 /// The least-squares fit T(θ) = k1 θ + k2 θ³ of a catalogue curve up to a torque.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct Fit {
+pub struct CubicFit {
     /// The torque the fit runs to \[N m\].
     pub t_fit: f64,
     /// k1 \[N m/rad\].
@@ -165,7 +165,7 @@ pub fn cubic_twist(k1: f64, k2: f64, t: f64) -> f64 {
 /// let f = fit(&d, d.t2).unwrap();
 /// assert!(f.k1 > 0.0 && f.k2 > 0.0);
 /// ```
-pub fn fit(d: &CatalogueDrive, t_fit: f64) -> Result<Fit> {
+pub fn fit(d: &CatalogueDrive, t_fit: f64) -> Result<CubicFit> {
     if !(t_fit.is_finite() && t_fit > 0.0 && t_fit <= d.max_torque()) {
         return Err(Error::InvalidOption {
             name: "fit_torque",
@@ -203,7 +203,7 @@ pub fn fit(d: &CatalogueDrive, t_fit: f64) -> Result<Fit> {
         .fold(0.0, f64::max)
         / t_fit;
     let rel = |t: f64| (cubic_twist(k1, k2, t) - d.twist(t)).abs() / d.twist(t);
-    Ok(Fit {
+    Ok(CubicFit {
         t_fit,
         k1,
         k2,
@@ -265,7 +265,7 @@ pub struct Assembled {
     /// The drive.
     pub drive: PhysicalParams,
     /// The cubic fit of the card's curve.
-    pub fit: Fit,
+    pub fit: CubicFit,
     /// The damping ratio of the linear torsional mode the drive was given.
     pub zeta: f64,
     /// The assumptions standing in for the application values the card leaves out.
@@ -340,7 +340,7 @@ pub fn assemble(card: &Card, t_fit: Option<f64>, zeta: Option<f64>) -> Result<As
 
 /// A complete built-in drive by name, fitted up to `t_fit` (default T2), with the documented
 /// assumptions ([`ASSUMPTIONS`]) for everything the card does not give.
-pub fn preset(name: &str, t_fit: Option<f64>) -> Result<(PhysicalParams, Fit)> {
+pub fn preset(name: &str, t_fit: Option<f64>) -> Result<(PhysicalParams, CubicFit)> {
     let a = assemble(builtin_card(name)?, t_fit, None)?;
     Ok((a.drive, a.fit))
 }

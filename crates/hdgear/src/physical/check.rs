@@ -13,8 +13,10 @@
 //! ```
 
 use super::card::{Card, Source, SourceKind};
-use super::catalogue::{Fit, assemble, fit};
-use super::design::{CatalogueOrigin, DriveSummary, Judgement, Outcome, outcome_of, summarize};
+use super::catalogue::{CubicFit, assemble, fit};
+use super::design::{
+    CatalogueOrigin, DriveSummary, DriveVerdict, Judgement, outcome_of, summarize,
+};
 use crate::burst::BurstOptions;
 use crate::error::Result;
 use rayon::prelude::*;
@@ -135,7 +137,7 @@ pub struct HeldInput {
     /// ζ = C/(2√(k1 J_o)) of the held torsional mode (γ = 1/(4ζ²)).
     pub zeta: f64,
     /// The verdict with the input held.
-    pub outcome: Outcome,
+    pub outcome: DriveVerdict,
     /// N·T_st: the card's starting torque at the input as a torque at the output \[N m\], when
     /// the card gives one.
     pub starting_at_output: Option<f64>,
@@ -181,9 +183,9 @@ pub struct CardCheck {
     /// The piecewise curve.
     pub curve: CurveFacts,
     /// The cubic fit used for the drive (up to T2).
-    pub fit: Fit,
+    pub fit: CubicFit,
     /// The cubic fit up to the rated torque, when the card rates one within its curve.
-    pub fit_to_rated: Option<Fit>,
+    pub fit_to_rated: Option<CubicFit>,
     /// The damping.
     pub damping: DampingFacts,
     /// The torsional mode's frequencies.

@@ -20,7 +20,7 @@
 //! ```
 
 use super::card::Card;
-use super::design::{Outcome, judge_model};
+use super::design::{DriveVerdict, judge_model};
 use super::{PhysicalParams, Reduction};
 use crate::burst::{BurstOptions, Signatures};
 use crate::error::Result;
@@ -51,7 +51,7 @@ pub struct CatalogueLaw {
     pub assumption: &'static str,
     /// The verdict (`None` when it could not be simulated: the reduced ω below
     /// [`super::design::MIN_SIMULATED_OMEGA`], or more steps than a search allows).
-    pub outcome: Option<Outcome>,
+    pub outcome: Option<DriveVerdict>,
     /// How large what the verdict saw is (with the outcome): the largest overshoot in units of
     /// the slow swing X, the largest ringing swing of x' in units of ω·X, the bursts per period.
     pub signatures: Option<Signatures>,

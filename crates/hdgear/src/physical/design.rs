@@ -226,11 +226,11 @@ fn judge_set(
     Ok((j, c))
 }
 
-/// The verdict on a drive's reduced set `p` as an [`Outcome`] ([`judge`] on a reduction the
+/// The verdict on a drive's reduced set `p` as a [`DriveVerdict`] ([`judge`] on a reduction the
 /// caller chose: [`PhysicalParams::reduce_held`]'s for a held wave generator).
-pub fn outcome_of(p: &crate::Params, opts: &BurstOptions) -> Result<Outcome> {
+pub fn outcome_of(p: &crate::Params, opts: &BurstOptions) -> Result<DriveVerdict> {
     let (judgement, c) = judge_set(p, opts)?;
-    Ok(Outcome {
+    Ok(DriveVerdict {
         judgement,
         mode: c.map(|c| c.mode),
         mechanism: c.map(|c| c.mechanism),
@@ -251,7 +251,7 @@ pub(crate) fn search_options(opts: &BurstOptions) -> BurstOptions {
 pub(crate) fn judge_model(
     m: &crate::model::Model,
     opts: &BurstOptions,
-) -> Result<Option<(Outcome, crate::burst::Response)>> {
+) -> Result<Option<(DriveVerdict, crate::burst::Response)>> {
     if m.forcing()[2] < MIN_SIMULATED_OMEGA {
         return Ok(None);
     }
@@ -263,7 +263,7 @@ pub(crate) fn judge_model(
         Err(e) => return Err(e),
     };
     let c = crate::burst::classify_model(m, &resp)?;
-    let outcome = Outcome {
+    let outcome = DriveVerdict {
         judgement: Judgement::simulated(&c),
         mode: Some(c.mode),
         mechanism: Some(c.mechanism),
@@ -502,14 +502,14 @@ pub struct CatalogueOrigin {
     /// Catalogue name.
     pub name: String,
     /// The stiffness fit.
-    pub fit: super::catalogue::Fit,
+    pub fit: super::catalogue::CubicFit,
     /// What the preset assumes beyond the catalogue.
     pub assumptions: Vec<&'static str>,
 }
 
 /// The verdict on a drive as it is, with the mode and mechanism when it was simulated.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct Outcome {
+pub struct DriveVerdict {
     /// The verdict (its fields at the top level).
     #[serde(flatten)]
     pub judgement: Judgement,
@@ -546,7 +546,7 @@ pub struct DriveSummary {
     /// 3αγ = 3k1/(k2φ²): the fast subsystem has folds iff it is below 1, whatever the damping.
     pub three_alpha_gamma: f64,
     /// The verdict.
-    pub predicted: Outcome,
+    pub predicted: DriveVerdict,
 }
 
 /// The summary of drive `d` from `catalogue` (simulated when its reduced ω allows, see

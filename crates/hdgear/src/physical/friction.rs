@@ -22,8 +22,8 @@
 use super::PhysicalParams;
 use super::card::Card;
 pub use super::card::FrictionLaw;
-use super::design::{Margin, Outcome, judge_model, search_margin};
-use crate::burst::{BurstOptions, Sticking};
+use super::design::{DriveVerdict, Margin, judge_model, search_margin};
+use crate::burst::{BurstOptions, StickSlip};
 use crate::error::Result;
 use crate::model::Model;
 use crate::model::friction::Coulomb;
@@ -200,9 +200,9 @@ fn reduced_model(d: &PhysicalParams, law: &FrictionLaw, r: &super::Reduction) ->
 pub struct FrictionOutcome {
     /// The verdict, mode and mechanism (its fields at the top level).
     #[serde(flatten)]
-    pub outcome: Outcome,
+    pub outcome: DriveVerdict,
     /// The rests and slips of the response.
-    pub sticking: Option<Sticking>,
+    pub sticking: Option<StickSlip>,
     /// The largest slip's peak twist rate \[rad/s\] (0 without rests).
     pub slip_peak_rate: f64,
 }

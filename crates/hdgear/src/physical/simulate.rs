@@ -192,7 +192,7 @@ pub fn check_reduction(
 
 /// What produced a physical trajectory: the `meta` of its JSON output.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct Setup {
+pub struct PhysicalSetup {
     /// The drive.
     pub drive: super::PhysicalParams,
     /// Friction at its bearings.

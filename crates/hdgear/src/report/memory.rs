@@ -5,7 +5,7 @@
 
 use super::control::TRACE_DT;
 use super::markup::{cell, esc, num};
-use crate::burst::{BurstOptions, Classification, Sticking, classify, response_model, window};
+use crate::burst::{BurstOptions, Classification, StickSlip, classify, response_model, window};
 use crate::error::Result;
 use crate::figures::decimate;
 use crate::model::Model;
@@ -94,7 +94,7 @@ pub struct MemoryCase {
     /// Verdict, mode and mechanism of the simulated response.
     pub classification: Classification,
     /// Its rests and slips (`None` without a sticking term).
-    pub sticking: Option<Sticking>,
+    pub sticking: Option<StickSlip>,
     /// The loading branch (a rising).
     pub loading: BranchSummary,
     /// The unloading branch.

@@ -27,7 +27,7 @@ use crate::figures::FigureKind;
 use crate::output::plot::Figure;
 use crate::params::Params;
 use crate::physical::PhysicalParams;
-use crate::physical::catalogue::{CatalogueDrive, Fit};
+use crate::physical::catalogue::{CatalogueDrive, CubicFit};
 use crate::physical::design::{DesignCheck, design_check};
 use crate::physical::simulate::{ReductionCheck, check_reduction};
 use crate::study::{Case, GridRun, Study};
@@ -203,7 +203,7 @@ pub struct PhysicalEvidence {
     /// The drive built from them.
     pub drive: PhysicalParams,
     /// Its stiffness fit.
-    pub fit: Fit,
+    pub fit: CubicFit,
     /// Its design check (which includes the reduction).
     pub check: DesignCheck,
     /// The same drive judged with the catalogue's own piecewise-linear curve in place of the fit

@@ -7,7 +7,7 @@ use crate::burst::BurstOptions;
 use crate::error::Result;
 use crate::output::plot::Figure;
 use crate::physical::PhysicalParams;
-use crate::robust::{Analysis, AnalysisOptions, McOptions, Measure, Nominal, Space, analyse};
+use crate::robust::{AnalysisOptions, McOptions, Measure, Nominal, RobustAnalysis, Space, analyse};
 use serde::Serialize;
 use std::fmt::Write as _;
 
@@ -25,7 +25,7 @@ pub const ROBUST_FIGURES: [&str; 2] = ["sobol-bars", "load-curve"];
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct RobustEvidence {
     /// The analysis of [`ROBUST_DRIVE`] under the default bands.
-    pub analysis: Analysis,
+    pub analysis: RobustAnalysis,
 }
 
 impl RobustEvidence {
@@ -122,7 +122,7 @@ pub(super) fn html(h: &mut String, ev: &RobustEvidence) {
     h.push_str("</section>\n");
 }
 
-fn worst_html(h: &mut String, a: &Analysis, w: &crate::robust::WorstCase) {
+fn worst_html(h: &mut String, a: &RobustAnalysis, w: &crate::robust::WorstCase) {
     let names: Vec<&str> = a.space.tolerances.iter().map(|t| t.target.name()).collect();
     let corner: Vec<String> = names
         .iter()

@@ -579,7 +579,7 @@ pub fn probability(
 
 /// Everything the design check under spread reports: the one page of a design review.
 #[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct Analysis {
+pub struct RobustAnalysis {
     /// The space.
     pub space: Space,
     /// P(burst).
@@ -626,7 +626,7 @@ pub fn analyse(
     opts: &BurstOptions,
     a: &AnalysisOptions,
     each: impl FnMut(&[Sample]) -> Result<()>,
-) -> Result<Analysis> {
+) -> Result<RobustAnalysis> {
     // what cannot be run is refused before the sampling, not after it: a design that cannot be
     // held, importance samples beyond the sequence
     if let Some(n) = a.sobol {
@@ -664,7 +664,7 @@ pub fn analyse(
         .sobol
         .map(|n| sobol::sensitivity(space, opts, n, a.mc.sampler, a.mc.seed))
         .transpose()?;
-    Ok(Analysis {
+    Ok(RobustAnalysis {
         space: space.clone(),
         probability,
         sampling: a.mc,

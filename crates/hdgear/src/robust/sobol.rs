@@ -24,7 +24,7 @@ pub const BOOTSTRAP: usize = 200;
 
 /// An estimate with its 95 % bootstrap interval.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct Estimate {
+pub struct BootstrapEstimate {
     /// The estimate from all N rows.
     pub value: f64,
     /// 2.5 % quantile of the bootstrap replicates (the estimate itself without any).
@@ -46,9 +46,9 @@ pub struct Indices {
     /// Its variance V (0: the output does not vary, and the indices are NaN).
     pub variance: f64,
     /// First-order index of each input.
-    pub first: Vec<Estimate>,
+    pub first: Vec<BootstrapEstimate>,
     /// Total index of each input.
-    pub total: Vec<Estimate>,
+    pub total: Vec<BootstrapEstimate>,
 }
 
 /// The Saltelli design's unit points: rows of A (j < N), B (N ≤ j < 2N) and A_B⁽ⁱ⁾
@@ -103,7 +103,7 @@ pub fn indices(k: usize, f: &[f64]) -> Indices {
                 .copied()
                 .unwrap_or(value)
         };
-        Estimate {
+        BootstrapEstimate {
             value,
             lo: q(0.025),
             hi: q(0.975),

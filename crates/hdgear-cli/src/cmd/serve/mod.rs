@@ -218,7 +218,7 @@ struct DrivesBody {
 struct DriveBody<'a> {
     alpha_eps: f64,
     drive: hdgear::physical::PhysicalParams,
-    fit: hdgear::physical::catalogue::Fit,
+    fit: hdgear::physical::catalogue::CubicFit,
     name: &'a str,
     reduction: hdgear::physical::Reduction,
 }

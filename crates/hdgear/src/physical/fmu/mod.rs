@@ -25,17 +25,17 @@ pub const MODEL_IDENTIFIER: &str = "hdgear_fmu";
 /// in SI units, as the FMU's resources hold it.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
-pub struct Law {
+pub struct LawValues {
     /// One of [`super::model::BEARING_KINDS`].
     pub kind: String,
     /// Its values, in the order of its parameter table.
     pub values: Vec<f64>,
 }
 
-impl Law {
+impl LawValues {
     /// The law of a term.
-    pub fn of(term: &AnyTerm) -> Law {
-        Law {
+    pub fn of(term: &AnyTerm) -> LawValues {
+        LawValues {
             kind: term.kind().to_string(),
             values: term.values().to_vec(),
         }
@@ -85,11 +85,11 @@ pub struct FmuDrive {
     /// The drive.
     pub drive: PhysicalParams,
     /// Friction at the output bearing.
-    pub output_bearing: Option<Law>,
+    pub output_bearing: Option<LawValues>,
     /// Friction at the wave generator.
-    pub input_bearing: Option<Law>,
+    pub input_bearing: Option<LawValues>,
     /// Friction across the compliance.
-    pub twist_friction: Option<Law>,
+    pub twist_friction: Option<LawValues>,
     /// Relative and absolute tolerance of hdgear's stepper (the absolute one in units of the
     /// drive's angle scale), unless the host's `fmi2SetupExperiment` gives one.
     pub tolerance: f64,
@@ -230,16 +230,16 @@ impl FmuDrive {
         let spec = FmuDrive {
             name: name.to_string(),
             drive: *sys.drive(),
-            output_bearing: b.output.as_ref().map(Law::of),
-            input_bearing: b.input.as_ref().map(Law::of),
-            twist_friction: sys.twist_friction().as_ref().map(Law::of),
+            output_bearing: b.output.as_ref().map(LawValues::of),
+            input_bearing: b.input.as_ref().map(LawValues::of),
+            twist_friction: sys.twist_friction().as_ref().map(LawValues::of),
             tolerance,
         };
         spec.physical()?;
         Ok(spec)
     }
 
-    fn law(&self, side: LawSite) -> Option<&Law> {
+    fn law(&self, side: LawSite) -> Option<&LawValues> {
         match side {
             LawSite::OutputBearing => self.output_bearing.as_ref(),
             LawSite::InputBearing => self.input_bearing.as_ref(),
@@ -247,7 +247,7 @@ impl FmuDrive {
         }
     }
 
-    fn law_mut(&mut self, side: LawSite) -> Option<&mut Law> {
+    fn law_mut(&mut self, side: LawSite) -> Option<&mut LawValues> {
         match side {
             LawSite::OutputBearing => self.output_bearing.as_mut(),
             LawSite::InputBearing => self.input_bearing.as_mut(),
@@ -258,7 +258,7 @@ impl FmuDrive {
     /// The two-inertia model these values make (checked: the drive's domain, each law's).
     pub fn physical(&self) -> crate::error::Result<Physical> {
         self.drive.validate()?;
-        let term = |law: Option<&Law>| law.map(Law::term).transpose();
+        let term = |law: Option<&LawValues>| law.map(LawValues::term).transpose();
         let bearings = Bearings::new(
             term(self.output_bearing.as_ref())?,
             term(self.input_bearing.as_ref())?,
