@@ -654,3 +654,57 @@ fn the_equation_of_motion_is_hand_written_only_where_a_benchmark_keeps_it() {
         );
     }
 }
+
+/// The public type names a line of `code` defines (`pub struct Name`, `pub enum`, `pub trait`,
+/// `pub type`), at any indentation.
+fn public_type_names(code: &str) -> Vec<String> {
+    code.lines()
+        .filter_map(|l| {
+            let rest = l.trim_start().strip_prefix("pub ")?;
+            let rest = ["struct ", "enum ", "trait ", "type "]
+                .iter()
+                .find_map(|k| rest.strip_prefix(k))?;
+            let name: String = rest
+                .chars()
+                .take_while(|c| c.is_alphanumeric() || *c == '_')
+                .collect();
+            (!name.is_empty()).then_some(name)
+        })
+        .collect()
+}
+
+/// Each public type name of the library is defined once (issue 99): a reader who meets `Grid` or
+/// `Law` knows which one is meant without looking at the path.
+#[test]
+fn each_public_type_name_is_defined_once() {
+    // the scan reads the definitions, not mentions
+    assert_eq!(
+        public_type_names(
+            "pub struct A {\n    pub enum_field: u8,\n  pub enum B<T> {\n// pub trait C\n"
+        ),
+        ["A", "B"]
+    );
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut seen: BTreeMap<String, Vec<String>> = BTreeMap::new();
+    for file in files_under(&src) {
+        if file.extension().is_none_or(|e| e != "rs") {
+            continue;
+        }
+        let code = code_of(&std::fs::read_to_string(&file).unwrap());
+        let rel = file.strip_prefix(&src).unwrap().display().to_string();
+        for name in public_type_names(&code) {
+            seen.entry(name).or_default().push(rel.clone());
+        }
+    }
+    assert!(seen.len() > 300, "the scan saw the library: {}", seen.len());
+    let twice: Vec<String> = seen
+        .iter()
+        .filter(|(_, files)| files.len() > 1)
+        .map(|(name, files)| format!("{name}: {}", files.join(", ")))
+        .collect();
+    assert!(
+        twice.is_empty(),
+        "defined more than once:\n{}",
+        twice.join("\n")
+    );
+}
