@@ -584,7 +584,10 @@ fn bad_data_is_named() {
     assert!(err.to_string().contains("no column speed"), "{err}");
     std::fs::write(&path, "speed,torque [N m]\n1,1\n").unwrap();
     let err = Data::read(&path, DataKind::Friction, &plain, &plain).unwrap_err();
-    assert!(err.to_string().contains("--unit speed=rad/s"), "{err}");
+    assert!(
+        err.to_string().contains("give its unit (speed=rad/s)"),
+        "{err}"
+    );
 
     // a rate-dependent law on a quasi-static loop is refused by name
     let (data, _) = Data::new(DataKind::Loop, twist_path(1e-3), vec![0.0; 181], None).unwrap();
