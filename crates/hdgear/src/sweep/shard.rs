@@ -215,7 +215,7 @@ pub struct Plan {
 /// let whole = Settings::new(&grid, &Default::default());
 /// let part = |k| ("s.csv".to_string(), whole.clone().with_shard(Some(Shard { index: k, count: 3 })));
 /// let err = plan(vec![part(0), part(2)]).unwrap_err();
-/// assert_eq!(err.to_string(), "shard 1 of 3 missing: rerun the sweep with --shard 1/3");
+/// assert_eq!(err.to_string(), "shard 1 of 3 missing: rerun the sweep for it");
 /// assert_eq!(plan(vec![part(2), part(0), part(1)]).unwrap().settings(), &whole);
 /// ```
 pub fn plan(files: Vec<(String, Settings)>) -> std::result::Result<Plan, MergeError> {
