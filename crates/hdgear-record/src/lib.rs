@@ -50,15 +50,15 @@ fn expand(input: &DeriveInput) -> syn::Result<Tokens> {
     let mut parts = Vec::new();
     for field in &fields.named {
         let ident = field.ident.as_ref().expect("named fields have names");
-        let mut name = Some(ident.to_string().trim_start_matches("r#").to_string());
+        let (mut rename, mut skip) = (None, false);
         for attr in field.attrs.iter().filter(|a| a.path().is_ident("serde")) {
             attr.parse_nested_meta(|m| {
                 if m.path.is_ident("rename") {
                     let lit: LitStr = m.value()?.parse()?;
-                    name = name.take().map(|_| lit.value());
+                    rename = Some(lit.value());
                     Ok(())
                 } else if m.path.is_ident("skip") || m.path.is_ident("skip_serializing") {
-                    name = None;
+                    skip = true;
                     Ok(())
                 } else if m.path.is_ident("default") || m.path.is_ident("alias") {
                     // reading only: the columns written are the same
@@ -82,11 +82,14 @@ fn expand(input: &DeriveInput) -> syn::Result<Tokens> {
                 }
             })?;
         }
-        match (name, nested) {
-            (None, _) => {}
-            (Some(_), true) => parts.push(Part::Nested(with_defaults(&field.ty, &defaults))),
-            (Some(n), false) => parts.push(Part::Name(n)),
+        if skip {
+            continue;
         }
+        parts.push(if nested {
+            Part::Nested(with_defaults(&field.ty, &defaults))
+        } else {
+            Part::Name(rename.unwrap_or_else(|| ident.to_string().trim_start_matches("r#").into()))
+        });
     }
     let name = &input.ident;
     let parts = runs(parts);
