@@ -56,6 +56,19 @@ pub enum Error {
         /// What is expected.
         reason: String,
     },
+    /// A report directory that holds files hdgear did not write, which a report would overwrite.
+    #[error(
+        "invalid report directory '{dir}': holds files hdgear did not write ({}{}): choose another \
+         directory, or let the report overwrite them",
+        files[..files.len().min(3)].join(", "),
+        if files.len() > 3 { ", …" } else { "" }
+    )]
+    ForeignFiles {
+        /// The directory.
+        dir: String,
+        /// The files in it hdgear did not write, relative to it.
+        files: Vec<String>,
+    },
     /// A control law that no gain within reach makes remove the bursts (a valid request whose
     /// answer is "none").
     #[error("no gain of {law} removes the bursts: {reason}")]

@@ -45,12 +45,9 @@ impl ReportArgs {
 
 /// A refused directory's remedy in this command's flags: the library's message says to choose
 /// another directory or to let the report overwrite the files it did not write.
-fn with_flags(e: hdgear::Error, a: &ReportArgs) -> anyhow::Error {
+fn with_flags(e: hdgear::Error) -> anyhow::Error {
     match &e {
-        hdgear::Error::InvalidInput {
-            what: "report directory",
-            ..
-        } if a.out.is_dir() && !a.force => anyhow::anyhow!("{e} (--out DIR, or --force)"),
+        hdgear::Error::ForeignFiles { .. } => anyhow::anyhow!("{e} (--out DIR, or --force)"),
         _ => e.into(),
     }
 }
@@ -75,7 +72,7 @@ pub fn run(a: ReportArgs) -> Result<()> {
             stage.describe(&opts)
         );
     })
-    .map_err(|e| with_flags(e, &a))
+    .map_err(with_flags)
     .with_context(|| format!("writing the report to {}", a.out.display()))?;
     done(summary.files.len(), start, &a.out);
     Ok(())
@@ -127,7 +124,7 @@ fn run_model(a: &ReportArgs, threads: usize) -> Result<()> {
             hdgear::report::model::build(&a.out, &model, &origin, None, &opts)
         }
     }
-    .map_err(|e| with_flags(e, a))
+    .map_err(with_flags)
     .with_context(|| format!("writing the report to {}", a.out.display()))?;
     done(files.len(), start, &a.out);
     Ok(())

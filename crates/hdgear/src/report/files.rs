@@ -76,15 +76,9 @@ impl Files {
         }
         let foreign = foreign_files(dir);
         if !force && !foreign.is_empty() {
-            return Err(Error::InvalidInput {
-                what: "report directory",
-                text: dir.display().to_string(),
-                reason: format!(
-                    "holds files hdgear did not write ({}{}): choose another directory, or let \
-                     the report overwrite them",
-                    foreign[..foreign.len().min(3)].join(", "),
-                    if foreign.len() > 3 { ", …" } else { "" }
-                ),
+            return Err(Error::ForeignFiles {
+                dir: dir.display().to_string(),
+                files: foreign,
             });
         }
         std::fs::create_dir_all(dir.join("figures")).map_err(io(dir))?;
